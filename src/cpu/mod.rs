@@ -1,0 +1,23 @@
+//! CPU twins of the compute shaders: plain functions over flat slices that read like the WGSL
+//! kernels in `shaders/` (same stem, same inputs in binding order). They are the reference in
+//! tests and the fallback when no GPU adapter exists.
+
+mod displace;
+mod envelope_cols;
+mod envelope_rows;
+mod glance;
+mod heat;
+mod layout;
+mod sample;
+pub mod reference;
+mod zbuffer;
+
+pub use displace::{displace, falloff_table};
+pub use envelope_cols::envelope_cols;
+pub use envelope_rows::envelope_rows;
+pub use glance::glance;
+pub use heat::{heat, heat_step};
+pub use layout::{
+    DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff,
+};
+pub use zbuffer::zbuffer;

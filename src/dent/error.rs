@@ -1,0 +1,61 @@
+//! Errors raised while building dent maps and applying them.
+
+use crate::mesh::MeshError;
+
+/// Everything that can go wrong between an impact and a dented mesh.
+///
+/// Every entry point validates its input before touching a mesh, so an error always leaves the
+/// caller's meshes unchanged.
+#[derive(Debug, thiserror::Error)]
+pub enum DentError {
+    /// A [`DentParams`](super::DentParams) field is out of range.
+    #[error("invalid dent parameter `{name}` = {value}: {reason}")]
+    InvalidParameter {
+        /// Field name, as in `DentParams`.
+        name: &'static str,
+        /// The value given, formatted.
+        value: String,
+        /// What range is accepted.
+        reason: &'static str,
+    },
+    /// An [`Impact`](super::Impact) field is unusable (non-finite, zero normal).
+    #[error("invalid impact: {0}")]
+    InvalidImpact(String),
+    /// The relative velocity points away from the target: the bodies are separating.
+    #[error("the projectile moves away from the target (velocity·normal = {normal_speed} m/s); nothing to dent")]
+    Separating {
+        /// Relative velocity component along the denting normal, m/s (negative).
+        normal_speed: f32,
+    },
+    /// The whole projectile lies beyond the collision plane, inside the target's half-space.
+    #[error("the projectile lies entirely behind the collision plane (its nearest point is {distance} units past it)")]
+    ProjectileBehindPlane {
+        /// Distance of the projectile's rearmost point past the plane, world units.
+        distance: f32,
+    },
+    /// No part of the projectile within the dent distance of its tip projects onto the grid.
+    #[error("the projectile leaves no imprint on the dent grid (it misses the impact point)")]
+    EmptyProfile,
+    /// A mesh is invalid.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// An artist dent map image could not be read or has an unsupported layout.
+    #[error("dent map image {path}: {message}")]
+    Image {
+        /// The image file.
+        path: std::path::PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// Applying the map would produce a non-finite vertex position.
+    #[error("the dent would move vertex {index} to a non-finite position")]
+    NonFiniteResult {
+        /// Index of the vertex.
+        index: usize,
+    },
+}
+
+/// Builds an [`DentError::InvalidParameter`].
+pub(crate) fn invalid(name: &'static str, value: impl std::fmt::Display, reason: &'static str) -> DentError {
+    DentError::InvalidParameter { name, value: value.to_string(), reason }
+}

@@ -1,0 +1,72 @@
+//! The collision data a dent starts from.
+
+use glam::Vec3;
+
+use super::DentError;
+
+/// One contact between a target A (the body being dented) and a projectile B, as a rigid-body
+/// solver reports it.
+///
+/// # Example
+/// ```
+/// use dentbend::{glam::Vec3, Impact};
+/// // B hits the top face of A straight down at 3 m/s.
+/// let impact = Impact { point: Vec3::ZERO, normal: -Vec3::Y, relative_velocity: Vec3::new(0.0, -3.0, 0.0) };
+/// assert!(impact.validate().is_ok());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Impact {
+    /// Contact point, world units.
+    pub point: Vec3,
+    /// Denting normal: points from the contact into A (need not be unit length, must be non-zero).
+    pub normal: Vec3,
+    /// Velocity of B relative to A at the contact point (`v_B + ω_B×r_B − v_A − ω_A×r_A`), m/s.
+    /// A zero vector means head-on along `normal`.
+    pub relative_velocity: Vec3,
+}
+
+impl Impact {
+    /// A head-on impact at `point` along `normal`.
+    pub fn head_on(point: Vec3, normal: Vec3) -> Self {
+        Self { point, normal, relative_velocity: normal }
+    }
+
+    /// Checks that every field is finite and the normal is non-zero.
+    ///
+    /// # Errors
+    /// [`DentError::InvalidImpact`] naming the bad field, or [`DentError::Separating`] when the
+    /// relative velocity points out of A.
+    pub fn validate(&self) -> Result<(), DentError> {
+        for (name, v) in
+            [("point", self.point), ("normal", self.normal), ("relative_velocity", self.relative_velocity)]
+        {
+            if !v.is_finite() {
+                return Err(DentError::InvalidImpact(format!("{name} {v} is not finite")));
+            }
+        }
+        if self.normal.length_squared() < f32::MIN_POSITIVE {
+            return Err(DentError::InvalidImpact("normal is the zero vector".into()));
+        }
+        let normal_speed = self.relative_velocity.dot(self.normal.normalize());
+        if normal_speed < -1e-6 * self.relative_velocity.length() {
+            return Err(DentError::Separating { normal_speed });
+        }
+        Ok(())
+    }
+
+    /// Unit denting normal (assumes [`validate`](Self::validate) passed).
+    pub fn unit_normal(&self) -> Vec3 {
+        self.normal.normalize()
+    }
+
+    /// Unit viewing direction of the Z-buffer: the relative velocity's direction, or the normal
+    /// when the velocity is zero.
+    pub fn view_direction(&self) -> Vec3 {
+        self.relative_velocity.try_normalize().unwrap_or_else(|| self.unit_normal())
+    }
+
+    /// The same contact seen from B: normal and velocity reversed.
+    pub fn reversed(&self) -> Self {
+        Self { point: self.point, normal: -self.normal, relative_velocity: -self.relative_velocity }
+    }
+}

@@ -1,0 +1,141 @@
+//! The dent map: a 3-vector displacement per cell of a grid on the collision plane, and how it is
+//! applied to a target mesh.
+
+use glam::Vec3;
+
+use super::error::invalid;
+use super::{Attenuation, DentError, Grid};
+use crate::cpu::{self, DisplaceParams};
+use crate::mesh::TriMesh;
+
+/// A dent map `D̂(x, y)` on the collision plane (paper §3.1): `grid.axis_z` is the denting
+/// normal and each cell holds `[Δx, Δy, Δz, height]`, the world-space displacement of a target
+/// point at that cell and the unsheared height it came from, world units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DentMap {
+    /// Grid on the collision plane, centred on the impact point.
+    pub grid: Grid,
+    /// `res × res` cells, row-major `[row][col]`.
+    pub cells: Vec<[f32; 4]>,
+    /// Dent distance d the map was built for, world units.
+    pub dent_distance: f32,
+}
+
+/// What applying a dent map did.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct DisplaceReport {
+    /// Vertices that moved.
+    pub moved_vertices: usize,
+    /// Largest vertex displacement, world units.
+    pub max_displacement: f32,
+    /// Human-readable warnings (a falloff steep enough to fold thin walls, paper Figure 2d).
+    pub warnings: Vec<String>,
+}
+
+/// New positions computed for a mesh, not yet written into it.
+pub(crate) struct PendingDisplacement {
+    positions: Vec<Vec3>,
+    moved: Vec<bool>,
+    pub(crate) report: DisplaceReport,
+}
+
+impl PendingDisplacement {
+    /// Writes the positions into `target` (the mesh they were computed from) and refreshes the
+    /// normals around the moved vertices.
+    pub(crate) fn commit(self, target: &mut TriMesh) -> DisplaceReport {
+        target.positions_mut().copy_from_slice(&self.positions);
+        target.recompute_normals_near(&self.moved);
+        self.report
+    }
+}
+
+impl DentMap {
+    /// Displacement stored at cell (`row`, `col`), world units.
+    pub fn displacement(&self, row: u32, col: u32) -> Vec3 {
+        let [x, y, z, _] = self.cells[(row * self.grid.res + col) as usize];
+        Vec3::new(x, y, z)
+    }
+
+    /// The unsheared heights (the smoothed profile mapped onto the plane), row-major.
+    pub fn heights(&self) -> Vec<f32> {
+        self.cells.iter().map(|c| c[3]).collect()
+    }
+
+    /// Largest displacement length in the map, world units.
+    pub fn max_displacement(&self) -> f32 {
+        self.cells.iter().map(|&[x, y, z, _]| Vec3::new(x, y, z).length()).fold(0.0, f32::max)
+    }
+
+    /// Applies the map to `target` with the falloff `attenuation` (paper §3.1): every vertex at
+    /// depth z below the plane moves by `a(z)·D̂(x, y)`; normals near the dent are refreshed.
+    ///
+    /// # Errors
+    /// [`DentError::InvalidParameter`] for a bad falloff or map, [`DentError::NonFiniteResult`]
+    /// if a vertex would leave finite space; `target` is unchanged then.
+    pub fn apply(&self, target: &mut TriMesh, attenuation: &Attenuation) -> Result<DisplaceReport, DentError> {
+        Ok(self.displaced(target, attenuation)?.commit(target))
+    }
+
+    /// Computes the displaced positions of `target` without writing them.
+    pub(crate) fn displaced(
+        &self,
+        target: &TriMesh,
+        attenuation: &Attenuation,
+    ) -> Result<PendingDisplacement, DentError> {
+        self.validate()?;
+        let probe = super::DentParams { attenuation: attenuation.clone(), ..super::DentParams::new(self.dent_distance) };
+        probe.validate()?;
+        let d = self.dent_distance;
+        let (falloff, falloff_scale, table) = cpu::falloff_table(attenuation, d);
+        let params = DisplaceParams {
+            grid: self.grid.uniform(),
+            dent_distance: d,
+            falloff,
+            falloff_scale,
+            vertex_count: target.vertex_count() as u32,
+        };
+        let mut positions = target.positions().to_vec();
+        let mut moved = vec![false; positions.len()];
+        cpu::displace(&params, &self.cells, &table, &mut positions, &mut moved);
+        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(DentError::NonFiniteResult { index });
+        }
+        let max_displacement = positions
+            .iter()
+            .zip(target.positions())
+            .map(|(new, old)| new.distance(*old))
+            .fold(0.0, f32::max);
+        let mut warnings = Vec::new();
+        let steepness = attenuation.max_steepness(d);
+        if steepness > 1.0 + 1e-3 {
+            let message = format!(
+                "falloff is {steepness:.2}× steeper than 1 − z/d: walls thinner than about d can fold inside out (paper Figure 2d)"
+            );
+            log::warn!("{message}");
+            warnings.push(message);
+        }
+        let report = DisplaceReport { moved_vertices: moved.iter().filter(|&&m| m).count(), max_displacement, warnings };
+        Ok(PendingDisplacement { positions, moved, report })
+    }
+
+    fn validate(&self) -> Result<(), DentError> {
+        let g = &self.grid;
+        if !(self.dent_distance.is_finite() && self.dent_distance > 0.0) {
+            return Err(invalid("dent_distance", self.dent_distance, "must be finite and > 0"));
+        }
+        if g.res == 0 || g.res > super::MAX_RESOLUTION || self.cells.len() != g.cell_count() {
+            return Err(invalid("dent map res", g.res, "must be in 1..=2048 with res² cells"));
+        }
+        if !(g.cell_size.is_finite() && g.cell_size > 0.0) {
+            return Err(invalid("dent map cell_size", g.cell_size, "must be finite and > 0"));
+        }
+        let axes_ok = [g.axis_x, g.axis_y, g.axis_z].iter().all(|a| (a.length() - 1.0).abs() < 1e-3);
+        if !g.origin.is_finite() || !axes_ok {
+            return Err(invalid("dent map grid", format!("{g:?}"), "needs a finite origin and unit axes"));
+        }
+        if self.cells.iter().flatten().any(|v| !v.is_finite()) {
+            return Err(invalid("dent map cells", "non-finite", "every displacement must be finite"));
+        }
+        Ok(())
+    }
+}

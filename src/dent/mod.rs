@@ -1,0 +1,17 @@
+//! Denting (paper §3): impact → dent frame → dent map → displaced target mesh.
+
+mod apply;
+mod error;
+mod grid;
+mod impact;
+mod map;
+mod params;
+mod pipeline;
+
+pub use apply::{DentReport, dent, dent_pair};
+pub use error::DentError;
+pub use grid::{DentFrame, Grid};
+pub use impact::Impact;
+pub use map::{DentMap, DisplaceReport};
+pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, Resolution};
+pub use pipeline::{DentStages, dent_map, dent_map_stages};

@@ -1,0 +1,204 @@
+//! One impact to one dent map: frame, grid, then the kernels in order (paper Algorithm 1,
+//! lines 2–7).
+
+use glam::Vec3;
+
+use super::{DentError, DentFrame, DentMap, DentParams, Grid, Impact, MAX_RESOLUTION, Resolution};
+use crate::cpu::{self, EnvelopeParams, GlanceParams, ZbufferParams};
+use crate::mesh::TriMesh;
+
+/// Gaussian tails kept on each side of the footprint, in σ: `e^{−3.5²/2} ≈ 0.2 %` of a cell's
+/// height remains at the border, and the heat steps' zero border takes it the rest of the way.
+const TAIL_SIGMAS: f32 = 3.5;
+
+/// Cells per mean edge of the finer mesh when the resolution is automatic.
+const CELLS_PER_EDGE: f32 = 2.0;
+
+/// Every intermediate stage of one dent map, for inspection, pictures and tests.
+#[derive(Debug, Clone)]
+pub struct DentStages {
+    /// The Z-buffer grid, perpendicular to the relative velocity; `origin` lies on the
+    /// projectile's most advanced point along `axis_z`, on the line through the impact point.
+    pub zbuffer_grid: Grid,
+    /// Profile P (0..=d) on `zbuffer_grid`, row-major.
+    pub zbuffer: Vec<f32>,
+    /// Exact upper envelope of the Gaussians on `zbuffer_grid`.
+    pub envelope: Vec<f32>,
+    /// Envelope after heat smoothing, peak d.
+    pub smoothed: Vec<f32>,
+    /// The final 3-vector map on the collision plane.
+    pub map: DentMap,
+    /// The impact's frame (θ clamped).
+    pub frame: DentFrame,
+    /// Gaussian width used, world units.
+    pub sigma: f32,
+}
+
+/// Builds the dent map that `projectile` leaves at `impact`, keeping every stage.
+///
+/// `target_edge` is the target's mean edge length (world units), used with the projectile's
+/// for the automatic resolution; `None` uses the projectile's alone. The projectile is used
+/// where it is: its profile is measured from its most advanced point along the viewing
+/// direction, on a grid centred on the line through `impact.point`.
+///
+/// # Errors
+/// Invalid parameters, impact or mesh; [`DentError::ProjectileBehindPlane`];
+/// [`DentError::EmptyProfile`] when nothing of the projectile lands on the grid.
+pub fn dent_map_stages(
+    projectile: &TriMesh,
+    impact: &Impact,
+    params: &DentParams,
+    target_edge: Option<f32>,
+) -> Result<DentStages, DentError> {
+    params.validate()?;
+    impact.validate()?;
+    if let Some(edge) = target_edge
+        && !(edge.is_finite() && edge >= 0.0)
+    {
+        return Err(super::error::invalid("target_edge", edge, "must be finite and >= 0"));
+    }
+    let frame = DentFrame::new(impact, params.min_cos);
+    check_in_front(projectile, impact, &frame)?;
+    let d = params.dent_distance;
+    let sigma = params.sigma_or_default();
+
+    let zbuffer_grid = zbuffer_grid(projectile, impact, &frame, params, sigma, target_edge);
+    let res = zbuffer_grid.res;
+    let cells = zbuffer_grid.cell_count();
+    let mut zbuffer = vec![0.0; cells];
+    let zparams = ZbufferParams {
+        grid: zbuffer_grid.uniform(),
+        dent_distance: d,
+        face_count: projectile.face_count() as u32,
+        _pad: [0; 2],
+    };
+    cpu::zbuffer(&zparams, projectile.positions(), projectile.faces(), &mut zbuffer);
+    if zbuffer.iter().all(|&p| p <= 0.0) {
+        return Err(DentError::EmptyProfile);
+    }
+
+    let sigma_cells = sigma / zbuffer_grid.cell_size;
+    let eparams = EnvelopeParams { res, c: 0.5 / (sigma_cells * sigma_cells), _pad: [0; 2] };
+    let mut rows = vec![0.0; cells];
+    let mut envelope = vec![0.0; cells];
+    cpu::envelope_rows(&eparams, &zbuffer, &mut rows);
+    cpu::envelope_cols(&eparams, &rows, &mut envelope);
+
+    let mut smoothed = envelope.clone();
+    cpu::heat(&mut smoothed, res, params.heat_rate, params.heat_iters, params.clamp_iters, d);
+
+    let map = glance(&smoothed, &zbuffer_grid, impact.point, &frame, params)?;
+    Ok(DentStages { zbuffer_grid, zbuffer, envelope, smoothed, map, frame, sigma })
+}
+
+/// Builds only the final dent map; see [`dent_map_stages`].
+///
+/// # Errors
+/// As [`dent_map_stages`].
+pub fn dent_map(
+    projectile: &TriMesh,
+    impact: &Impact,
+    params: &DentParams,
+    target_edge: Option<f32>,
+) -> Result<DentMap, DentError> {
+    dent_map_stages(projectile, impact, params, target_edge).map(|stages| stages.map)
+}
+
+/// Places smoothed heights given on a grid perpendicular to the velocity (`heights_grid`) onto
+/// the collision plane through `point`, stretched by 1/cos θ and sheared (paper §3.3).
+pub(crate) fn glance(
+    heights: &[f32],
+    heights_grid: &Grid,
+    point: Vec3,
+    frame: &DentFrame,
+    params: &DentParams,
+) -> Result<DentMap, DentError> {
+    let res = heights_grid.res;
+    let stretch = 1.0 / frame.cos_theta;
+    let dst_res = ((res as f32 * stretch).ceil() as u32).clamp(res, (2 * res).min(MAX_RESOLUTION.max(res)));
+    let dst_cell_size = heights_grid.extent() * stretch / dst_res as f32;
+    let (axis_x, axis_y, axis_z) = frame.plane_axes();
+    let grid = Grid { origin: point, axis_x, axis_y, axis_z, cell_size: dst_cell_size, res: dst_res };
+    let gparams = GlanceParams {
+        src_res: res,
+        src_cell_size: heights_grid.cell_size,
+        dst_res,
+        dst_cell_size,
+        cos_theta: frame.cos_theta,
+        sin_theta: frame.sin_theta,
+        widen: params.widen,
+        _pad0: 0,
+        normal: frame.normal.to_array(),
+        _pad1: 0,
+        tangent: frame.tangent.to_array(),
+        _pad2: 0,
+    };
+    let mut cells = vec![[0.0; 4]; grid.cell_count()];
+    cpu::glance(&gparams, heights, &mut cells);
+    Ok(DentMap { grid, cells, dent_distance: params.dent_distance })
+}
+
+/// Fails when the whole projectile lies past the collision plane, inside the target.
+fn check_in_front(projectile: &TriMesh, impact: &Impact, frame: &DentFrame) -> Result<(), DentError> {
+    let nearest =
+        projectile.positions().iter().map(|&p| (p - impact.point).dot(frame.normal)).fold(f32::INFINITY, f32::min);
+    if nearest > 0.0 {
+        return Err(DentError::ProjectileBehindPlane { distance: nearest });
+    }
+    Ok(())
+}
+
+/// The Z-buffer grid: centred on the line through the impact point along the viewing direction,
+/// at the depth of the projectile's tip, wide enough for the footprint plus the Gaussian tails.
+fn zbuffer_grid(
+    projectile: &TriMesh,
+    impact: &Impact,
+    frame: &DentFrame,
+    params: &DentParams,
+    sigma: f32,
+    target_edge: Option<f32>,
+) -> Grid {
+    let (axis_x, axis_y, axis_z) = frame.zbuffer_axes();
+    let tip = projectile.positions().iter().map(|p| p.dot(axis_z)).fold(f32::NEG_INFINITY, f32::max);
+    let origin = impact.point + (tip - impact.point.dot(axis_z)) * axis_z;
+    let footprint = footprint_half_width(projectile, origin, (axis_x, axis_y, axis_z), params.dent_distance);
+    let half = footprint + TAIL_SIGMAS * sigma;
+    let res = match params.resolution {
+        Resolution::Fixed(n) => n,
+        Resolution::Auto { min, max } => {
+            let edge = target_edge
+                .filter(|e| *e > 0.0)
+                .map_or(projectile.mean_edge_length(), |t| t.min(projectile.mean_edge_length()));
+            let wanted = (2.0 * half * CELLS_PER_EDGE / edge.max(f32::MIN_POSITIVE)).ceil();
+            (wanted.min(max as f32) as u32).clamp(min, max)
+        }
+    };
+    Grid { origin, axis_x, axis_y, axis_z, cell_size: 2.0 * half / res as f32, res }
+}
+
+/// Largest lateral distance (max of |x| and |y| in the Z-buffer frame, world units) from
+/// `origin` of the projectile's surface within `d` of its tip: each triangle is clipped at depth
+/// `−d` and its clipped corners measured.
+fn footprint_half_width(projectile: &TriMesh, origin: Vec3, axes: (Vec3, Vec3, Vec3), d: f32) -> f32 {
+    let (ax, ay, az) = axes;
+    let local = |p: Vec3| {
+        let r = p - origin;
+        Vec3::new(r.dot(ax), r.dot(ay), r.dot(az) + d)
+    };
+    let lateral = |q: Vec3| q.x.abs().max(q.y.abs());
+    let mut widest: f32 = 0.0;
+    for face in projectile.faces() {
+        let corners = face.map(|v| local(projectile.positions()[v as usize]));
+        for k in 0..3 {
+            let (a, b) = (corners[k], corners[(k + 1) % 3]);
+            if a.z >= 0.0 {
+                widest = widest.max(lateral(a));
+            }
+            if (a.z >= 0.0) != (b.z >= 0.0) {
+                let t = a.z / (a.z - b.z);
+                widest = widest.max(lateral(a.lerp(b, t)));
+            }
+        }
+    }
+    widest
+}

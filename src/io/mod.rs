@@ -1,0 +1,1 @@
+//! Files for people and other tools: NumPy `.npy` arrays, PNG heat maps, grayscale height maps.

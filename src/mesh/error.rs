@@ -1,0 +1,74 @@
+//! Errors raised while building, loading, saving or validating meshes.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong with a [`TriMesh`](super::TriMesh).
+///
+/// A failed operation never leaves a partially modified mesh behind.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The mesh has no vertices or no faces.
+    #[error("mesh is empty: it has {vertices} vertices and {faces} faces (at least one face is needed)")]
+    Empty {
+        /// Number of vertices found.
+        vertices: usize,
+        /// Number of faces found.
+        faces: usize,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex {index} has a non-finite coordinate {position:?}")]
+    NonFinite {
+        /// Index of the offending vertex.
+        index: usize,
+        /// Its coordinates as read.
+        position: [f32; 3],
+    },
+    /// A face refers to a vertex that does not exist.
+    #[error("face {face} refers to vertex {index}, but the mesh has only {vertex_count} vertices")]
+    IndexOutOfRange {
+        /// Index of the offending face.
+        face: usize,
+        /// The out-of-range vertex index.
+        index: u32,
+        /// Number of vertices in the mesh.
+        vertex_count: usize,
+    },
+    /// A replacement position array has the wrong length.
+    #[error("expected {expected} vertex positions, got {actual}")]
+    LengthMismatch {
+        /// Number of vertices in the mesh.
+        expected: usize,
+        /// Number of positions supplied.
+        actual: usize,
+    },
+    /// A generator parameter is out of range (negative size, zero segments, ...).
+    #[error("invalid mesh parameter: {0}")]
+    InvalidParameter(String),
+    /// A file could not be read or written.
+    #[error("cannot access {path}: {source}")]
+    Io {
+        /// The file involved.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file was read but its contents are malformed.
+    #[error("malformed {format} file {path}: {message}")]
+    Parse {
+        /// The file involved.
+        path: PathBuf,
+        /// `"OBJ"` or `"PLY"`.
+        format: &'static str,
+        /// What is wrong, with a line number where known.
+        message: String,
+    },
+    /// The file extension names a format this crate does not read or write.
+    #[error("unsupported mesh format for {path} (expected .obj or .ply, or a built-in name: {builtins})")]
+    UnsupportedFormat {
+        /// The file involved.
+        path: PathBuf,
+        /// The built-in mesh names, comma separated.
+        builtins: String,
+    },
+}

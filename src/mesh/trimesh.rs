@@ -1,0 +1,200 @@
+//! The indexed triangle mesh type shared by every stage of the crate.
+
+use glam::Vec3;
+
+use super::MeshError;
+
+/// An indexed triangle mesh with per-vertex normals.
+///
+/// Positions are in world units (metres by convention); faces index into the position array and
+/// are wound counter-clockwise when seen from outside. Invariants, checked by every constructor:
+/// at least one vertex and one face, every coordinate finite, every index in range. Degenerate
+/// (zero-area) triangles are allowed; they contribute nothing to normals, area or volume.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TriMesh {
+    positions: Vec<Vec3>,
+    faces: Vec<[u32; 3]>,
+    normals: Vec<Vec3>,
+}
+
+impl TriMesh {
+    /// Builds a mesh from positions and faces, validating both and computing vertex normals.
+    ///
+    /// # Errors
+    /// [`MeshError::Empty`], [`MeshError::NonFinite`] or [`MeshError::IndexOutOfRange`].
+    ///
+    /// # Example
+    /// ```
+    /// use dentbend::{glam::Vec3, TriMesh};
+    /// let tri = TriMesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]).unwrap();
+    /// assert_eq!(tri.normals()[0], Vec3::Z);
+    /// ```
+    pub fn new(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> Result<Self, MeshError> {
+        validate(&positions, &faces)?;
+        let mut mesh = Self { normals: vec![Vec3::ZERO; positions.len()], positions, faces };
+        mesh.recompute_normals();
+        Ok(mesh)
+    }
+
+    /// Vertex positions, world units.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// Triangles as vertex-index triples, counter-clockwise seen from outside.
+    pub fn faces(&self) -> &[[u32; 3]] {
+        &self.faces
+    }
+
+    /// Unit vertex normals: area-weighted average of the adjacent face normals (zero for a vertex
+    /// touched only by degenerate faces).
+    pub fn normals(&self) -> &[Vec3] {
+        &self.normals
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of triangles.
+    pub fn face_count(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Replaces every vertex position (same count) and refreshes the normals.
+    ///
+    /// # Errors
+    /// [`MeshError::LengthMismatch`] or [`MeshError::NonFinite`]; the mesh is unchanged then.
+    pub fn set_positions(&mut self, positions: Vec<Vec3>) -> Result<(), MeshError> {
+        if positions.len() != self.positions.len() {
+            return Err(MeshError::LengthMismatch {
+                expected: self.positions.len(),
+                actual: positions.len(),
+            });
+        }
+        check_finite(&positions)?;
+        self.positions = positions;
+        self.recompute_normals();
+        Ok(())
+    }
+
+    /// Mutable positions for the crate's kernels, which keep them finite and refresh normals.
+    pub(crate) fn positions_mut(&mut self) -> &mut [Vec3] {
+        &mut self.positions
+    }
+
+    /// Applies an affine map to every vertex (normals are recomputed).
+    ///
+    /// # Errors
+    /// [`MeshError::NonFinite`] if the map produces a non-finite coordinate; the mesh is unchanged then.
+    pub fn transform(&mut self, matrix: glam::Affine3A) -> Result<(), MeshError> {
+        let moved: Vec<Vec3> = self.positions.iter().map(|&p| matrix.transform_point3(p)).collect();
+        self.set_positions(moved)
+    }
+
+    /// Recomputes every vertex normal from the current positions.
+    pub fn recompute_normals(&mut self) {
+        self.normals.iter_mut().for_each(|n| *n = Vec3::ZERO);
+        for face in &self.faces {
+            let area_normal = face_area_normal(&self.positions, face);
+            for &v in face {
+                self.normals[v as usize] += area_normal;
+            }
+        }
+        self.normals.iter_mut().for_each(|n| *n = n.normalize_or_zero());
+    }
+
+    /// Recomputes the normals of the vertices that share a face with a vertex flagged in `moved`
+    /// (one flag per vertex); cheaper than [`recompute_normals`](Self::recompute_normals) when a
+    /// dent touches a small part of a large mesh.
+    pub fn recompute_normals_near(&mut self, moved: &[bool]) {
+        debug_assert_eq!(moved.len(), self.positions.len());
+        let touches = |f: &[u32; 3], flags: &[bool]| f.iter().any(|&v| flags[v as usize]);
+        let mut affected = vec![false; self.positions.len()];
+        for face in self.faces.iter().filter(|f| touches(f, moved)) {
+            face.iter().for_each(|&v| affected[v as usize] = true);
+        }
+        for (n, _) in self.normals.iter_mut().zip(&affected).filter(|(_, a)| **a) {
+            *n = Vec3::ZERO;
+        }
+        for face in self.faces.iter().filter(|f| touches(f, &affected)) {
+            let area_normal = face_area_normal(&self.positions, face);
+            for &v in face.iter().filter(|&&v| affected[v as usize]) {
+                self.normals[v as usize] += area_normal;
+            }
+        }
+        for (n, _) in self.normals.iter_mut().zip(&affected).filter(|(_, a)| **a) {
+            *n = n.normalize_or_zero();
+        }
+    }
+
+    /// Axis-aligned bounds `(min, max)`, world units.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.positions
+            .iter()
+            .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), &p| {
+                (lo.min(p), hi.max(p))
+            })
+    }
+
+    /// Signed enclosed volume (divergence theorem), cubic world units; positive for a closed mesh
+    /// wound counter-clockwise seen from outside, meaningless for an open one.
+    pub fn volume(&self) -> f32 {
+        let origin = self.bounds().0;
+        let sum: f64 = self
+            .faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.map(|v| (self.positions[v as usize] - origin).as_dvec3());
+                a.dot(b.cross(c))
+            })
+            .sum();
+        (sum / 6.0) as f32
+    }
+
+    /// Total surface area, square world units.
+    pub fn area(&self) -> f32 {
+        self.faces.iter().map(|f| 0.5 * face_area_normal(&self.positions, f).length()).sum()
+    }
+
+    /// Mean length of the triangle edges, world units (shared edges count once per face).
+    pub fn mean_edge_length(&self) -> f32 {
+        let total: f64 = self
+            .faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.map(|v| self.positions[v as usize]);
+                f64::from(a.distance(b) + b.distance(c) + c.distance(a))
+            })
+            .sum();
+        (total / (3 * self.faces.len()) as f64) as f32
+    }
+}
+
+/// Cross product of two edges of `face`: its normal scaled by twice its area.
+pub(crate) fn face_area_normal(positions: &[Vec3], face: &[u32; 3]) -> Vec3 {
+    let [a, b, c] = face.map(|v| positions[v as usize]);
+    (b - a).cross(c - a)
+}
+
+fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
+    match positions.iter().position(|p| !p.is_finite()) {
+        Some(index) => Err(MeshError::NonFinite { index, position: positions[index].to_array() }),
+        None => Ok(()),
+    }
+}
+
+/// Checks the [`TriMesh`] invariants without building one.
+pub fn validate(positions: &[Vec3], faces: &[[u32; 3]]) -> Result<(), MeshError> {
+    if positions.is_empty() || faces.is_empty() {
+        return Err(MeshError::Empty { vertices: positions.len(), faces: faces.len() });
+    }
+    check_finite(positions)?;
+    for (face, f) in faces.iter().enumerate() {
+        if let Some(&index) = f.iter().find(|&&v| v as usize >= positions.len()) {
+            return Err(MeshError::IndexOutOfRange { face, index, vertex_count: positions.len() });
+        }
+    }
+    Ok(())
+}
