@@ -1,1 +1,95 @@
-fn main() {}
+//! Criterion benches, one group per kernel (DESIGN.md §1), on the paper's Table 1 scene.
+//! Run with `cargo bench --bench kernels`; `dentbend-bench` gives the same numbers as JSON.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use dentbend::cpu::{self, GlanceParams};
+
+#[path = "../tools/dentbend-bench/setup.rs"]
+#[allow(dead_code, reason = "shared with dentbend-bench, which uses every item")]
+mod setup;
+
+use setup::Scene;
+
+const SIDES: [u32; 3] = [100, 200, 400];
+
+fn scenes() -> Vec<Scene> {
+    SIDES.iter().map(|&res| Scene::table1(res).expect("Table 1 scene")).collect()
+}
+
+fn kernels(c: &mut Criterion) {
+    let scenes = scenes();
+    let mut group = c.benchmark_group("zbuffer");
+    for s in &scenes {
+        let params = s.zbuffer_params();
+        let mut out = vec![0.0; s.grid().cell_count()];
+        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+            b.iter(|| cpu::zbuffer(&params, s.projectile.positions(), s.projectile.faces(), &mut out))
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("envelope_rows");
+    for s in &scenes {
+        let mut rows = vec![0.0; s.grid().cell_count()];
+        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+            b.iter(|| cpu::envelope_rows(&s.envelope_params(), &s.stages.zbuffer, &mut rows))
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("envelope_cols");
+    for s in &scenes {
+        let mut rows = vec![0.0; s.grid().cell_count()];
+        cpu::envelope_rows(&s.envelope_params(), &s.stages.zbuffer, &mut rows);
+        let mut envelope = vec![0.0; s.grid().cell_count()];
+        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+            b.iter(|| cpu::envelope_cols(&s.envelope_params(), &rows, &mut envelope))
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("heat");
+    for s in &scenes {
+        let p = &s.params;
+        let mut values = s.stages.envelope.clone();
+        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+            b.iter(|| {
+                values.copy_from_slice(&s.stages.envelope);
+                cpu::heat(&mut values, s.grid().res, p.heat_rate, p.heat_iters, p.clamp_iters, p.dent_distance)
+            })
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("glance");
+    for s in &scenes {
+        let m = &s.stages.map.grid;
+        let f = &s.stages.frame;
+        let params = GlanceParams {
+            src_res: s.grid().res,
+            src_cell_size: s.grid().cell_size,
+            dst_res: m.res,
+            dst_cell_size: m.cell_size,
+            cos_theta: f.cos_theta,
+            sin_theta: f.sin_theta,
+            widen: 0.0,
+            _pad0: 0,
+            normal: f.normal.to_array(),
+            _pad1: 0,
+            tangent: f.tangent.to_array(),
+            _pad2: 0,
+        };
+        let mut cells = vec![[0.0; 4]; m.cell_count()];
+        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+            b.iter(|| cpu::glance(&params, &s.stages.smoothed, &mut cells))
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(2));
+    targets = kernels
+}
+criterion_main!(benches);

@@ -19,24 +19,29 @@
 //! ## Getting started
 //!
 //! ```
-//! use dentbend::{dent, glam::Vec3, mesh, DentParams, Impact};
-//! let mut block = mesh::builtin("block").unwrap();
-//! let ball = mesh::builtin("sphere").unwrap();
-//! // The ball rests on the block's top face (y = 0.5), moving down.
-//! let (_, top) = ball.bounds();
-//! let mut ball_placed = ball.clone();
-//! ball_placed.transform(dentbend::glam::Affine3A::from_translation(Vec3::new(0.0, 0.5 - (-1.0), 0.0))).unwrap();
-//! let impact = Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -Vec3::Y };
-//! let report = dent::dent(&mut block, &ball_placed, &impact, &DentParams::new(0.2)).unwrap();
-//! assert!(report.max_displacement > 0.19);
-//! # let _ = top;
+//! use dentbend::{DentParams, Impact, dent, glam::{Affine3A, Vec3}, mesh};
+//!
+//! // A 4 × 1 × 4 block (top face at y = 0.5) and a unit ball resting on it.
+//! let mut block = mesh::builtin("block")?;
+//! let mut ball = mesh::builtin("sphere")?;
+//! ball.transform(Affine3A::from_translation(Vec3::new(0.0, 1.5, 0.0)))?;
+//!
+//! // The ball moves down into the block: the denting normal points into the block.
+//! let impact = Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -3.0 * Vec3::Y };
+//! let report = dent(&mut block, &ball, &impact, &DentParams::new(0.2))?;
+//! assert!((report.max_displacement - 0.2).abs() < 0.01);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 pub mod cpu;
 pub mod dent;
 pub mod io;
 pub mod mesh;
+pub mod render;
 
-pub use dent::{Attenuation, DentError, DentMap, DentParams, Impact, Resolution};
+pub use dent::{
+    Attenuation, DentError, DentMap, DentParams, DentReport, Impact, Resolution, dent, dent_map,
+    dent_map_stages, dent_pair,
+};
 pub use glam;
 pub use mesh::{MeshError, TriMesh};

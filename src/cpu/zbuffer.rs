@@ -1,13 +1,206 @@
 //! Z-buffer profile of the projectile (paper §3.2, DESIGN.md §4). CPU twin of `shaders/zbuffer.wgsl`.
+//!
+//! One invocation per triangle (`for face in faces` here): the triangle is taken into grid-index
+//! space, where cell (row j, col i) is centred at the integer point (i, j), and every sample it
+//! produces is max-merged into the profile (`atomicMax` on the float bits on the GPU; profile
+//! values are ≥ 0, whose bit patterns order like the floats). Two kinds of sample:
+//!
+//! - **Centres.** Every cell centre inside the closed triangle (barycentric test with a small
+//!   tolerance) gets the interpolated height there: a plain, exact Z-buffer over all triangles,
+//!   front- and back-facing alike, so non-convex shapes come out right.
+//! - **Edges.** So that nothing narrower than a cell is lost (needles, edge-on triangles whose
+//!   projection is a segment, silhouettes), each edge is walked along its dominant axis with one
+//!   sample per column (or row) line it crosses, in the cell nearest that point, plus the cell of
+//!   its start vertex; the sample gets the edge's height at that point. A sample lies within ½ cell
+//!   (¹⁄√2 cell for vertices) of the centre of the cell it marks, so this widens features by at
+//!   most one cell and never lowers an exact centre value.
+//!
+//! Heights are `z = d + s`, s = depth along `axis_z` from `origin` (world units); triangles with
+//! no point above `z = 0` are culled.
 
 use glam::Vec3;
 
 use super::ZbufferParams;
 
+/// Barycentric tolerance of the centre test: centres up to this fraction of the triangle's
+/// altitude outside an edge still count as inside, so centres on shared edges are never missed.
+const INSIDE_EPS: f32 = 1e-5;
+
+/// Triangles whose projected doubled area (cells²) is below this fraction of their longest
+/// projected edge squared are treated as segments: the centre test is skipped (its barycentrics
+/// would be noise) and the edge samples alone mark them.
+const DEGENERATE_EPS: f32 = 1e-6;
+
 /// Writes the projectile profile `P = max(0, d + max s)` of every cell, where
 /// `s(p) = (p − grid.origin)·grid.axis_z ≤ 0` over the surface along the cell-centre ray.
 /// `profile` is `res × res`, row-major.
 pub fn zbuffer(params: &ZbufferParams, positions: &[Vec3], faces: &[[u32; 3]], profile: &mut [f32]) {
-    let _ = (params, positions, faces, profile);
-    todo!("zbuffer: being written")
+    profile.fill(0.0);
+    let g = &params.grid;
+    let d = params.dent_distance;
+    if g.res == 0 || !(g.cell_size > 0.0) || !(d > 0.0) {
+        return;
+    }
+    let frame = Frame {
+        origin: Vec3::from(g.origin),
+        axis_x: Vec3::from(g.axis_x) / g.cell_size,
+        axis_y: Vec3::from(g.axis_y) / g.cell_size,
+        axis_z: Vec3::from(g.axis_z),
+        shift: 0.5 * g.res as f32 - 0.5,
+        d,
+    };
+    let mut target = Target { profile, res: g.res as usize, last: g.res - 1, d };
+    let count = (params.face_count as usize).min(faces.len());
+    for face in &faces[..count] {
+        let (Some(&p0), Some(&p1), Some(&p2)) =
+            (positions.get(face[0] as usize), positions.get(face[1] as usize), positions.get(face[2] as usize))
+        else {
+            continue;
+        };
+        let v = [frame.to_grid(p0), frame.to_grid(p1), frame.to_grid(p2)];
+        // Cull: entirely at or below the cut plane z = 0 (NaN-safe), or not representable.
+        if !(v[0].z.max(v[1].z).max(v[2].z) > 0.0) || !v.iter().all(|p| p.is_finite()) {
+            continue;
+        }
+        rasterize_centres(&mut target, v);
+        for k in 0..3 {
+            rasterize_edge(&mut target, v[k], v[(k + 1) % 3]);
+        }
+    }
+}
+
+/// World → grid-index space.
+struct Frame {
+    origin: Vec3,
+    /// `axis_x / h`, 1/world unit.
+    axis_x: Vec3,
+    /// `axis_y / h`, 1/world unit.
+    axis_y: Vec3,
+    axis_z: Vec3,
+    /// `res/2 − ½`: grid index of the grid centre line.
+    shift: f32,
+    d: f32,
+}
+
+impl Frame {
+    /// `(column, row, height)`: cell centres at integer column and row; height `d + s`, world
+    /// units.
+    fn to_grid(&self, p: Vec3) -> Vec3 {
+        let r = p - self.origin;
+        Vec3::new(r.dot(self.axis_x) + self.shift, r.dot(self.axis_y) + self.shift, r.dot(self.axis_z) + self.d)
+    }
+}
+
+/// The profile being written.
+struct Target<'a> {
+    profile: &'a mut [f32],
+    res: usize,
+    /// `res − 1`: the last valid column and row index.
+    last: u32,
+    d: f32,
+}
+
+impl Target<'_> {
+    /// Max-merges height `z` (world units) into cell (`row`, `col`), both in `0..=last`;
+    /// heights not above 0 (or NaN) are ignored and heights are capped at d.
+    fn write(&mut self, row: u32, col: u32, z: f32) {
+        if !(z > 0.0) {
+            return;
+        }
+        let index = row as usize * self.res + col as usize;
+        if let Some(cell) = self.profile.get_mut(index) {
+            *cell = cell.max(z.min(self.d));
+        }
+    }
+
+    /// Index of the cell whose span `[i − ½, i + ½)` holds grid coordinate `x`, if on the grid.
+    fn nearest(&self, x: f32) -> Option<u32> {
+        // x + ½ > 0, so truncation is floor; `min` guards the rounding of x + ½ up to res.
+        (x >= -0.5 && x < self.last as f32 + 0.5).then(|| ((x + 0.5) as u32).min(self.last))
+    }
+
+    /// The grid indices i with `lo ≤ i ≤ hi`, as an inclusive range, if any.
+    fn span(&self, lo: f32, hi: f32) -> Option<(u32, u32)> {
+        let (lo, hi) = (lo.max(0.0), hi.min(self.last as f32));
+        if !(lo <= hi) {
+            return None;
+        }
+        // ceil and floor of non-negative values, by truncation.
+        let first = lo as u32 + u32::from(((lo as u32) as f32) < lo);
+        let end = hi as u32;
+        (first <= end).then_some((first, end))
+    }
+}
+
+/// Centre samples of one triangle (grid-index space): every centre inside the closed triangle
+/// gets the height interpolated there.
+fn rasterize_centres(target: &mut Target, v: [Vec3; 3]) {
+    // Barycentric coordinate of vertex k: w_k = e_k(p) / area2, with the edge function
+    // e_k(p) = (b − a) × (p − a) of the opposite edge a = v[k+1] → b = v[k+2]. It is linear in
+    // p: stepped from the first cell of the clipped bounding box.
+    let area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
+    let longest2 = (0..3).map(|k| (v[(k + 1) % 3] - v[k]).truncate().length_squared()).fold(0.0, f32::max);
+    if !(area2.abs() > DEGENERATE_EPS * longest2) {
+        return;
+    }
+    let (lo, hi) = (v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2]));
+    let (Some((col_first, col_end)), Some((row_first, row_end))) =
+        (target.span(lo.x, hi.x), target.span(lo.y, hi.y))
+    else {
+        return;
+    };
+    let inv_area2 = 1.0 / area2;
+    let (x0, y0) = (col_first as f32, row_first as f32);
+    let mut w0 = [0.0; 3];
+    let (mut dw_dx, mut dw_dy) = ([0.0; 3], [0.0; 3]);
+    for k in 0..3 {
+        let (a, b) = (v[(k + 1) % 3], v[(k + 2) % 3]);
+        w0[k] = ((b.x - a.x) * (y0 - a.y) - (b.y - a.y) * (x0 - a.x)) * inv_area2;
+        dw_dx[k] = -(b.y - a.y) * inv_area2;
+        dw_dy[k] = (b.x - a.x) * inv_area2;
+    }
+    for row in row_first..=row_end {
+        let dy = (row - row_first) as f32;
+        let w_row = [0, 1, 2].map(|k| w0[k] + dy * dw_dy[k]);
+        let mut entered = false;
+        for col in col_first..=col_end {
+            let dx = (col - col_first) as f32;
+            let w = [0, 1, 2].map(|k| w_row[k] + dx * dw_dx[k]);
+            if w[0] >= -INSIDE_EPS && w[1] >= -INSIDE_EPS && w[2] >= -INSIDE_EPS {
+                let z = (w[0] * v[0].z + w[1] * v[1].z + w[2] * v[2].z).clamp(lo.z, hi.z);
+                target.write(row, col, z);
+                entered = true;
+            } else if entered {
+                break; // the covered columns of a row are contiguous
+            }
+        }
+    }
+}
+
+/// Edge samples of segment `a → b` (grid-index space): the cell of `a`, then one sample per
+/// column line (or row line, whichever axis the segment spans more of) it crosses, in the cell
+/// nearest that crossing, with the segment's height there.
+fn rasterize_edge(target: &mut Target, a: Vec3, b: Vec3) {
+    if let (Some(row), Some(col)) = (target.nearest(a.y), target.nearest(a.x)) {
+        target.write(row, col, a.z);
+    }
+    // Walk along the dominant axis u; w is the other grid coordinate.
+    let along_x = (b.x - a.x).abs() >= (b.y - a.y).abs();
+    let (ua, wa, ub, wb) = if along_x { (a.x, a.y, b.x, b.y) } else { (a.y, a.x, b.y, b.x) };
+    let du = ub - ua;
+    if du == 0.0 {
+        return; // a point, or parallel to axis_z: the vertex samples cover it
+    }
+    let Some((first, end)) = target.span(ua.min(ub), ua.max(ub)) else { return };
+    let inv_du = 1.0 / du;
+    let (dw, dz) = ((wb - wa) * inv_du, (b.z - a.z) * inv_du);
+    let (z_lo, z_hi) = (a.z.min(b.z), a.z.max(b.z));
+    for u in first..=end {
+        let k = u as f32 - ua;
+        if let Some(w) = target.nearest(wa + k * dw) {
+            let z = (a.z + k * dz).clamp(z_lo, z_hi);
+            let (row, col) = if along_x { (w, u) } else { (u, w) };
+            target.write(row, col, z);
+        }
+    }
 }

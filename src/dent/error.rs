@@ -33,6 +33,9 @@ pub enum DentError {
         /// Distance of the projectile's rearmost point past the plane, world units.
         distance: f32,
     },
+    /// The projectile has no area: every triangle is degenerate.
+    #[error("the projectile is degenerate: its triangles have zero total area")]
+    DegenerateProjectile,
     /// No part of the projectile within the dent distance of its tip projects onto the grid.
     #[error("the projectile leaves no imprint on the dent grid (it misses the impact point)")]
     EmptyProfile,

@@ -1,6 +1,7 @@
 //! Denting (paper §3): impact → dent frame → dent map → displaced target mesh.
 
 mod apply;
+mod artist;
 mod error;
 mod grid;
 mod impact;
@@ -9,6 +10,7 @@ mod params;
 mod pipeline;
 
 pub use apply::{DentReport, dent, dent_pair};
+pub use artist::gaussian_heights;
 pub use error::DentError;
 pub use grid::{DentFrame, Grid};
 pub use impact::Impact;

@@ -1,14 +1,22 @@
 //! Triangle meshes: the [`TriMesh`] type, file input and output, procedural primitives and the
 //! built-in meshes that work wherever a mesh path is accepted.
 
+mod builtin;
 mod error;
+mod obj;
+mod ply;
+mod ply_header;
+mod ply_source;
+mod primitives;
+mod subdivide;
 mod trimesh;
 
+pub use builtin::{BUILTIN_NAMES, builtin, load};
 pub use error::MeshError;
+pub use obj::{load_obj, parse_obj, save_obj};
+pub use ply::{load_ply, parse_ply};
+pub use primitives::{
+    MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere,
+};
+pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 pub use trimesh::{TriMesh, validate};
-
-/// Loads a built-in mesh by name.
-pub fn builtin(name: &str) -> Result<TriMesh, MeshError> {
-    let _ = name;
-    todo!("builtin meshes: being written")
-}

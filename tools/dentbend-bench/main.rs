@@ -1,1 +1,100 @@
-fn main() {}
+//! `dentbend-bench`: offscreen benchmarks of the dent pipeline, printed as tables and written
+//! as JSON. Every kernel runs on one CPU thread.
+
+mod displace;
+mod setup;
+mod table1;
+mod timing;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "dentbend-bench", version, about = "Benchmarks of the dentbend kernels (median wall times, one thread).")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Reproduce the paper's Table 1: Z-buffer, exact envelope, brute-force envelope and
+    /// smoothing of the bunny's dent map for grids 25² to 400².
+    Table1 {
+        /// Write the rows as JSON: {"rows":[{"res","zbuffer_s","envelope_s","brute_s","smoothing_s"}]}.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Largest grid side for which the O(N²) brute force is timed (it takes ~16× longer per doubling).
+        #[arg(long, default_value_t = 100)]
+        brute_max: u32,
+        /// Grid sides to measure, comma separated.
+        #[arg(long, value_delimiter = ',', default_values_t = [25, 50, 100, 200, 400])]
+        res: Vec<u32>,
+        /// Minimum wall time per measurement, seconds (more repetitions, steadier medians).
+        #[arg(long, default_value_t = 0.5)]
+        min_time: f64,
+    },
+    /// Apply one dent map to a target of about 100,000 vertices.
+    Displace {
+        /// Write the report as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Cells of the target block along x, y, z (184,46,184 gives 101,570 vertices).
+        #[arg(long, value_delimiter = ',', num_args = 3, default_values_t = [184, 46, 184])]
+        cells: Vec<u32>,
+        /// Minimum wall time per measurement, seconds.
+        #[arg(long, default_value_t = 0.5)]
+        min_time: f64,
+    },
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Command::Table1 { json, brute_max, res, min_time } => {
+            if let Some(&bad) = res.iter().find(|&&r| !(1..=dentbend::dent::MAX_RESOLUTION).contains(&r)) {
+                return Err(format!("grid side {bad} is outside 1..={}", dentbend::dent::MAX_RESOLUTION));
+            }
+            let rows = table1::run(&res, brute_max, seconds(min_time)?)?;
+            print!("{}", table1::render(&rows));
+            write_json(json, &serde_json::json!({ "rows": rows }))
+        }
+        Command::Displace { json, cells, min_time } => {
+            let cells: [u32; 3] = cells.try_into().map_err(|_| "--cells takes three numbers".to_string())?;
+            let report = displace::run(cells, seconds(min_time)?)?;
+            println!(
+                "displace: {} vertices ({} moved, map {}²): kernel {:.3} ms, DentMap::apply {:.3} ms",
+                report.vertices,
+                report.moved,
+                report.map_res,
+                report.displace_s * 1e3,
+                report.apply_s * 1e3
+            );
+            write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
+        }
+    }
+}
+
+fn seconds(value: f64) -> Result<Duration, String> {
+    Duration::try_from_secs_f64(value).map_err(|_| format!("--min-time {value} is not a duration in seconds"))
+}
+
+fn write_json(path: Option<PathBuf>, value: &serde_json::Value) -> Result<(), String> {
+    let Some(path) = path else { return Ok(()) };
+    let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
+    std::fs::write(&path, text + "\n").map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    println!("wrote {}", path.display());
+    Ok(())
+}

@@ -1,1 +1,91 @@
-fn main() {}
+//! `dentbend`: dent maps and dented meshes from the command line.
+//!
+//! Exit status: 0 on success, 2 on any error (one `error: …` line on stderr).
+
+mod cmd_dent;
+mod cmd_dentmap;
+mod error;
+mod logging;
+mod options;
+mod vector;
+
+use std::io::Write;
+use std::process::ExitCode;
+
+use clap::error::ErrorKind;
+use clap::{Parser, Subcommand};
+
+/// Command line of `dentbend`.
+#[derive(Debug, Parser)]
+#[command(
+    name = "dentbend",
+    version,
+    about = "Dent rigid-body meshes without finite elements (Efficient Denting and Bending of Rigid Bodies, SCA 2014)",
+    after_help = "Exit status: 0 on success, 2 on any error. Set RUST_LOG=info for more messages."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Computes the dent map a projectile leaves and writes every stage (.npy, .png, .json)
+    Dentmap(cmd_dentmap::DentmapArgs),
+    /// Dents a target mesh where a projectile hits it and saves the result as OBJ
+    Dent(cmd_dent::DentArgs),
+}
+
+/// Exit status for every failure.
+const FAILURE: u8 = 2;
+
+fn main() -> ExitCode {
+    logging::init();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return clap_exit(&e),
+    };
+    let result = match &cli.command {
+        Command::Dentmap(args) => cmd_dentmap::run(args).map(|summary| (summary, Vec::new())),
+        Command::Dent(args) => cmd_dent::run(args),
+    };
+    match result {
+        Ok((summary, warnings)) => {
+            warnings.iter().for_each(|w| logging::warn_once(w));
+            // A closed stdout (`| head`) is not worth a failure.
+            let _ = writeln!(std::io::stdout(), "{summary}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {}", e.one_line());
+            ExitCode::from(FAILURE)
+        }
+    }
+}
+
+/// Help and version go out as clap writes them; usage errors become one `error: …` line.
+fn clap_exit(e: &clap::Error) -> ExitCode {
+    match e.kind() {
+        ErrorKind::DisplayHelp
+        | ErrorKind::DisplayVersion
+        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            if e.exit_code() == 0 {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(FAILURE)
+            }
+        }
+        _ => {
+            // The first paragraph is the message; usage and tips follow after a blank line.
+            let rendered = e.render().to_string();
+            let paragraph = rendered.split("\n\n").next().unwrap_or_default();
+            let message = paragraph.split_whitespace().collect::<Vec<_>>().join(" ");
+            let message = message
+                .strip_prefix("error:")
+                .map_or(message.as_str(), str::trim_start);
+            eprintln!("error: {message} (see --help)");
+            ExitCode::from(FAILURE)
+        }
+    }
+}

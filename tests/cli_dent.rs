@@ -1,0 +1,346 @@
+//! `dentbend dent` end to end: the real binary dents a mesh file and saves an OBJ with the same
+//! topology, and bad input exits with code 2, one `error:` line, and no output file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use dentbend::glam::Vec3;
+
+/// A fresh directory under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> Self {
+        static COUNT: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNT.fetch_add(1, Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!(
+            "dentbend-cli-dent-{name}-{}-{n}",
+            std::process::id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+
+    fn path(&self, file: &str) -> PathBuf {
+        self.0.join(file)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn dentbend(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dentbend"))
+        .args(args)
+        .env_remove("RUST_LOG")
+        .output()
+        .unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Vertex positions and face count of an OBJ file, read line by line.
+fn read_obj(path: &Path) -> (Vec<Vec3>, usize) {
+    let mut vertices = Vec::new();
+    let mut faces = 0;
+    for line in std::fs::read_to_string(path).unwrap().lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let xyz: Vec<f32> = words.take(3).map(|w| w.parse().unwrap()).collect();
+                vertices.push(Vec3::new(xyz[0], xyz[1], xyz[2]));
+            }
+            Some("f") => faces += 1,
+            _ => {}
+        }
+    }
+    (vertices, faces)
+}
+
+/// `--translate` that rests the built-in sphere on the built-in block's top face, and that
+/// face's height.
+fn sphere_on_block() -> (String, f32) {
+    let (_, block_top) = dentbend::mesh::builtin("block").unwrap().bounds();
+    let (sphere_low, _) = dentbend::mesh::builtin("sphere").unwrap().bounds();
+    (format!("0,{},0", block_top.y - sphere_low.y), block_top.y)
+}
+
+#[test]
+fn sphere_dents_block() {
+    let dir = TempDir::new("sphere-block");
+    let out = dir.path("dented.obj");
+    let (translate, top) = sphere_on_block();
+    let point = format!("0,{top},0");
+    let output = dentbend(&[
+        "dent",
+        "--target",
+        "block",
+        "--projectile",
+        "sphere",
+        "--translate",
+        &translate,
+        "--point",
+        &point,
+        "--normal=0,-1,0",
+        "--dent-distance",
+        "0.2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = text(&output.stdout);
+    assert!(
+        output.status.success(),
+        "dent failed: {}",
+        text(&output.stderr)
+    );
+    assert!(stdout.starts_with("dent: moved "), "{stdout}");
+    assert_eq!(stdout.lines().count(), 1, "{stdout}");
+
+    let block = dentbend::mesh::builtin("block").unwrap();
+    let (dented, faces) = read_obj(&out);
+    assert_eq!(dented.len(), block.vertex_count());
+    assert_eq!(faces, block.face_count());
+    let moved: Vec<f32> = dented
+        .iter()
+        .zip(block.positions())
+        .map(|(a, b)| a.distance(*b))
+        .collect();
+    let deepest = moved.iter().copied().fold(0.0, f32::max);
+    assert!(
+        (deepest - 0.2).abs() < 0.02,
+        "deepest vertex moved by {deepest}, expected ≈ 0.2"
+    );
+    // The dent goes down, into the block, at the contact point.
+    let (i, _) = moved
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .unwrap();
+    assert!(dented[i].y < block.positions()[i].y);
+    assert!(
+        moved.iter().filter(|&&m| m > 1e-6).count() < block.vertex_count(),
+        "not every vertex moves"
+    );
+    let no_temp_left = std::fs::read_dir(&dir.0).unwrap().count() == 1;
+    assert!(no_temp_left, "temporary files left beside the output");
+}
+
+#[test]
+fn projectile_from_a_file_with_linear_falloff() {
+    let dir = TempDir::new("file");
+    let (translate, top) = sphere_on_block();
+    let offset: Vec<f32> = translate.split(',').map(|w| w.parse().unwrap()).collect();
+    let mut ball = dentbend::mesh::builtin("sphere").unwrap();
+    ball.transform(dentbend::glam::Affine3A::from_translation(Vec3::new(
+        0.0, offset[1], 0.0,
+    )))
+    .unwrap();
+    let ball_path = dir.path("ball.obj");
+    dentbend::mesh::save_obj(&ball, &ball_path).unwrap();
+    let out = dir.path("linear.obj");
+    let point = format!("0,{top},0");
+    let output = dentbend(&[
+        "dent",
+        "--target",
+        "block",
+        "--projectile",
+        ball_path.to_str().unwrap(),
+        "--point",
+        &point,
+        "--normal=0,-1,0",
+        "--dent-distance",
+        "0.1",
+        "--res",
+        "48",
+        "--falloff",
+        "linear",
+        "--falloff-scale",
+        "0.5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = text(&output.stderr);
+    assert!(output.status.success(), "dent failed: {stderr}");
+    assert!(
+        text(&output.stdout).contains("48×48 cells"),
+        "{}",
+        text(&output.stdout)
+    );
+    // A falloff twice as steep as 1 − z/d can fold thin walls: warned once.
+    assert_eq!(stderr.matches("warning: ").count(), 1, "{stderr}");
+    assert!(stderr.contains("fold"), "{stderr}");
+    assert_eq!(
+        read_obj(&out).0.len(),
+        dentbend::mesh::builtin("block").unwrap().vertex_count()
+    );
+}
+
+#[test]
+fn bad_input_exits_with_code_2_and_writes_nothing() {
+    let dir = TempDir::new("bad");
+    let out = dir.path("out.obj");
+    let out_s = out.to_str().unwrap().to_owned();
+    let garbage = dir.path("garbage.obj");
+    std::fs::write(&garbage, "this is not\nan OBJ file\nf 1 2 3 4 x\n").unwrap();
+    let garbage_s = garbage.to_str().unwrap().to_owned();
+    let missing_s = dir.path("missing.obj").to_str().unwrap().to_owned();
+    let (translate, top) = sphere_on_block();
+    let point = format!("0,{top},0");
+    let args = |overrides: &[(&str, &str)], drop: &[&str]| -> Vec<String> {
+        let mut pairs: Vec<(String, String)> = [
+            ("--target", "block"),
+            ("--projectile", "sphere"),
+            ("--translate", translate.as_str()),
+            ("--point", point.as_str()),
+            ("--normal", "0,-1,0"),
+            ("--dent-distance", "0.2"),
+            ("--out", out_s.as_str()),
+        ]
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+        for (k, v) in overrides {
+            match pairs.iter_mut().find(|(key, _)| key == k) {
+                Some(pair) => pair.1 = v.to_string(),
+                None => pairs.push((k.to_string(), v.to_string())),
+            }
+        }
+        pairs.retain(|(k, _)| !drop.contains(&k.as_str()));
+        std::iter::once("dent".to_owned())
+            .chain(pairs.into_iter().map(|(k, v)| format!("{k}={v}")))
+            .collect()
+    };
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (args(&[("--normal", "0,0,0")], &[]), "zero normal"),
+        (args(&[("--normal", "1,2")], &[]), "two components"),
+        (args(&[("--normal", "nan,0,1")], &[]), "NaN normal"),
+        (args(&[("--point", "a,b,c")], &[]), "not numbers"),
+        (args(&[("--point", "0,inf,0")], &[]), "infinite point"),
+        (args(&[("--dent-distance", "-1")], &[]), "negative d"),
+        (args(&[("--res", "0")], &[]), "res 0"),
+        (args(&[("--res", "100000")], &[]), "res 100000"),
+        (args(&[("--velocity", "0,1,0")], &[]), "separating"),
+        (args(&[("--falloff", "cubic")], &[]), "unknown falloff"),
+        (
+            args(&[("--falloff-scale", "0.5")], &[]),
+            "scale without linear",
+        ),
+        (
+            args(&[("--falloff", "linear"), ("--falloff-scale", "0")], &[]),
+            "zero scale",
+        ),
+        (args(&[("--target", &missing_s)], &[]), "missing target"),
+        (
+            args(&[("--projectile", &missing_s)], &[]),
+            "missing projectile",
+        ),
+        (args(&[("--target", &garbage_s)], &[]), "garbage target"),
+        (
+            args(&[("--projectile", &garbage_s)], &[]),
+            "garbage projectile",
+        ),
+        (
+            args(&[("--translate", "0,-40,0")], &[]),
+            "projectile behind the plane",
+        ),
+        (args(&[], &["--point"]), "no point"),
+        (
+            args(
+                &[("--out", dir.path("no/such/dir/out.obj").to_str().unwrap())],
+                &[],
+            ),
+            "unwritable output",
+        ),
+        (
+            args(&[("--out", dir.0.to_str().unwrap())], &[]),
+            "output is a directory",
+        ),
+    ];
+    for (args, what) in &cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let output = dentbend(&args);
+        let stderr = text(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{what}: {stderr}");
+        assert_eq!(
+            stderr.lines().count(),
+            1,
+            "{what}: one line expected, got {stderr:?}"
+        );
+        assert!(stderr.starts_with("error: "), "{what}: {stderr}");
+        assert!(!out.exists(), "{what}: output written anyway");
+        let left: Vec<_> = std::fs::read_dir(&dir.0)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left.len(), 1, "{what}: files left behind: {left:?}");
+    }
+}
+
+#[test]
+fn a_miss_is_a_warning_not_an_error() {
+    let dir = TempDir::new("miss");
+    let out = dir.path("miss.obj");
+    let (_, top) = sphere_on_block();
+    let point = format!("0,{top},0");
+    let output = dentbend(&[
+        "dent",
+        "--target",
+        "block",
+        "--projectile",
+        "sphere",
+        "--translate",
+        "30,2,0",
+        "--point",
+        &point,
+        "--normal=0,-1,0",
+        "--dent-distance",
+        "0.2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = text(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        text(&output.stdout).starts_with("dent: moved 0 of "),
+        "{}",
+        text(&output.stdout)
+    );
+    assert!(
+        stderr.starts_with("warning: the dent moved no vertex"),
+        "{stderr}"
+    );
+    let block = dentbend::mesh::builtin("block").unwrap();
+    assert_eq!(read_obj(&out).0, block.positions());
+}
+
+#[test]
+fn help_documents_the_interface() {
+    let output = dentbend(&["dent", "--help"]);
+    assert!(output.status.success());
+    let help = text(&output.stdout);
+    for flag in [
+        "--target",
+        "--projectile",
+        "--rotate",
+        "--point",
+        "--normal",
+        "--velocity",
+        "--dent-distance",
+        "--res",
+        "--sigma",
+        "--heat-iters",
+        "--clamp-iters",
+        "--widen",
+        "--falloff",
+        "--out",
+    ] {
+        assert!(help.contains(flag), "help lacks {flag}");
+    }
+}

@@ -1,0 +1,134 @@
+//! Glancing impacts (paper §3.3, Figures 8–9): stretch, shear and widening of the dent map.
+
+mod support;
+
+use dentbend::glam::Vec3;
+use dentbend::{DentParams, Impact, Resolution, dent_map, dent_map_stages};
+use support::sphere_at;
+
+const D: f32 = 0.3;
+
+/// A unit ball approaching the plane y = 0 from above at angle `theta_deg` to the normal (-y),
+/// touching the impact point at the origin with its most advanced point.
+fn glancing(theta_deg: f32) -> (dentbend::TriMesh, Impact) {
+    let theta = theta_deg.to_radians();
+    let velocity = Vec3::new(theta.sin(), -theta.cos(), 0.0) * 4.0;
+    let ball = sphere_at(-velocity.normalize(), 1.0);
+    (ball, Impact { point: Vec3::ZERO, normal: -Vec3::Y, relative_velocity: velocity })
+}
+
+fn params(widen: f32) -> DentParams {
+    DentParams { widen, resolution: Resolution::Fixed(96), ..DentParams::new(D) }
+}
+
+#[test]
+fn plain_shear_moves_every_cell_along_the_velocity_by_its_height() {
+    let (ball, impact) = glancing(30.0);
+    let map = dent_map(&ball, &impact, &params(0.0), None).unwrap();
+    let v = impact.relative_velocity.normalize();
+    let mut peak: f32 = 0.0;
+    let mut deepest: f32 = 0.0;
+    for cell in &map.cells {
+        let delta = Vec3::new(cell[0], cell[1], cell[2]);
+        let height = cell[3];
+        // f32 products of unit vectors: a few ulps of d.
+        assert!(delta.cross(v).length() <= 1e-5 * D, "Δ {delta} is not along the velocity");
+        assert!((delta.length() - height).abs() <= 1e-5 * D, "|Δ| {} ≠ height {height}", delta.length());
+        peak = peak.max(delta.length());
+        deepest = deepest.max(delta.dot(-Vec3::Y));
+    }
+    let cos = 30f32.to_radians().cos();
+    // The peak lands between map cells after the 1/cos θ stretch; the smoothed dome is flat
+    // there to well within 1 % of d.
+    assert!((peak - D).abs() <= 0.01 * D, "length along the velocity {peak}, expected {D}");
+    assert!((deepest - D * cos).abs() <= 0.01 * D, "depth {deepest}, expected d·cos θ = {}", D * cos);
+}
+
+#[test]
+fn oblique_projection_stretches_the_footprint_by_one_over_cos_theta() {
+    let (ball, impact) = glancing(60.0);
+    let stages = dent_map_stages(&ball, &impact, &params(0.0), None).unwrap();
+    let z = &stages.zbuffer_grid;
+    let m = &stages.map.grid;
+    // Half-cell rounding of the stretched grid side.
+    let stretched = z.extent() / 0.5;
+    assert!((m.extent() - stretched).abs() <= 1e-4 * stretched, "map side {} vs {stretched}", m.extent());
+    assert!(m.res >= z.res && m.res <= 2 * z.res);
+    assert!((stages.frame.theta_deg() - 60.0).abs() < 1e-3);
+    // The in-plane footprint (cells with height > 5 % d) is 1/cos θ = 2× longer along t̂ than across.
+    let res = m.res as usize;
+    let extent_along = |along_t: bool| {
+        let mut count = 0;
+        for i in 0..res {
+            let (row, col) = if along_t { (res / 2, i) } else { (i, res / 2) };
+            if m.res > 0 && stages.map.cells[row * res + col][3] > 0.05 * D {
+                count += 1;
+            }
+        }
+        count as f32 * m.cell_size
+    };
+    let ratio = extent_along(true) / extent_along(false);
+    // One cell of quantization on each end of a ~40-cell footprint.
+    assert!((ratio - 2.0).abs() < 0.1, "footprint ratio {ratio}, expected 2");
+}
+
+#[test]
+fn widening_pushes_the_leading_side_further_and_keeps_the_depth() {
+    let (ball, impact) = glancing(45.0);
+    let plain = dent_map(&ball, &impact, &params(0.0), None).unwrap();
+    let widened = dent_map(&ball, &impact, &params(4.0), None).unwrap();
+    assert_eq!(plain.grid, widened.grid);
+    let res = plain.grid.res as usize;
+    let t = Vec3::X;
+    let mut leading_gain = 0.0;
+    for row in 0..res {
+        for col in 0..res {
+            let k = row * res + col;
+            let (p, w) = (plain.cells[k], widened.cells[k]);
+            let depth = |c: [f32; 4]| -c[1];
+            let along = |c: [f32; 4]| Vec3::new(c[0], c[1], c[2]).dot(t);
+            // t changes only the tangential part.
+            assert!((depth(p) - depth(w)).abs() <= 1e-6, "widening changed the depth");
+            let u = (col as f32 + 0.5 - res as f32 / 2.0) * plain.grid.cell_size;
+            if u > 0.0 {
+                assert!(along(w) >= along(p) - 1e-6, "leading side must not shrink");
+                leading_gain += along(w) - along(p);
+            } else {
+                assert!(along(w) <= along(p) + 1e-6, "trailing side must not grow");
+            }
+        }
+    }
+    assert!(leading_gain > 0.0);
+}
+
+#[test]
+fn head_on_glance_is_the_identity() {
+    let (ball, impact) = glancing(0.0);
+    let stages = dent_map_stages(&ball, &impact, &params(2.0), None).unwrap();
+    let (z, m) = (&stages.zbuffer_grid, &stages.map.grid);
+    assert_eq!(z.res, m.res);
+    assert!((z.cell_size - m.cell_size).abs() <= 1e-6 * z.cell_size);
+    for (cell, &h) in stages.map.cells.iter().zip(&stages.smoothed) {
+        // Cell centres coincide, so bilinear weights are 1 up to f32 rounding of the index.
+        assert!((cell[3] - h).abs() <= 1e-5 * D, "height {} vs smoothed {h}", cell[3]);
+        assert!(cell[0].abs() <= 1e-6 && cell[2].abs() <= 1e-6, "head-on moves along the normal only");
+        assert!((-cell[1] - h).abs() <= 1e-5 * D);
+    }
+}
+
+#[test]
+fn grazing_angles_are_clamped_to_min_cos() {
+    let (ball, impact) = glancing(89.0);
+    let stages = dent_map_stages(&ball, &impact, &params(0.0), None).unwrap();
+    let expected = 0.1f32.acos().to_degrees();
+    assert!((stages.frame.theta_deg() - expected).abs() < 1e-3, "θ {}", stages.frame.theta_deg());
+    assert!(stages.map.grid.res <= 2 * stages.zbuffer_grid.res);
+}
+
+#[test]
+fn separating_bodies_are_refused() {
+    let (ball, mut impact) = glancing(30.0);
+    impact.relative_velocity = -impact.relative_velocity;
+    let err = dent_map(&ball, &impact, &params(0.0), None).unwrap_err();
+    assert!(matches!(err, dentbend::DentError::Separating { .. }), "{err}");
+}

@@ -1,0 +1,612 @@
+//! Guards the Z-buffer profile kernel `cpu::zbuffer` (paper §3.2, DESIGN.md §4): spheres against
+//! the analytic cap, the bunny against an f64 ray cast, thin and edge-on features, empty and
+//! degenerate input.
+
+mod common;
+
+use std::collections::HashMap;
+
+use common::SplitMix64;
+use dentbend::cpu::{GridUniform, ZbufferParams, zbuffer};
+use glam::{DVec3, Quat, Vec3};
+
+// ---------------------------------------------------------------------------------------------
+// Set-up helpers.
+
+/// A Z-buffer grid and dent distance, as the pipeline builds them.
+#[derive(Debug, Clone, Copy)]
+struct View {
+    origin: Vec3,
+    x: Vec3,
+    y: Vec3,
+    z: Vec3,
+    h: f32,
+    res: u32,
+    d: f32,
+}
+
+impl View {
+    /// Axes for viewing direction `dir` (`y = z × x`, so `z = x × y`), with `origin` at the depth
+    /// of the most advanced vertex, laterally on the line through `centre`; the grid spans
+    /// `2·half` world units.
+    fn looking(dir: Vec3, positions: &[Vec3], centre: Vec3, half: f32, res: u32, d: f32) -> Self {
+        let z = dir.normalize();
+        let x = z.any_orthonormal_vector();
+        let y = z.cross(x);
+        let tip = positions.iter().map(|p| p.dot(z)).fold(f32::NEG_INFINITY, f32::max);
+        let origin = centre + (tip - centre.dot(z)) * z;
+        Self { origin, x, y, z, h: 2.0 * half / res as f32, res, d }
+    }
+
+    /// World axes, origin at the world origin: grid point (col, row) is world
+    /// `(col − shift, row − shift)` with `shift = res/2 − ½`, and depth s is world z.
+    fn world_aligned(res: u32, d: f32) -> Self {
+        Self { origin: Vec3::ZERO, x: Vec3::X, y: Vec3::Y, z: Vec3::Z, h: 1.0, res, d }
+    }
+
+    /// The same view with everything turned by `q`.
+    fn rotated(self, q: Quat) -> Self {
+        Self { origin: q * self.origin, x: q * self.x, y: q * self.y, z: q * self.z, ..self }
+    }
+
+    fn params(&self, face_count: usize) -> ZbufferParams {
+        ZbufferParams {
+            grid: GridUniform {
+                origin: self.origin.to_array(),
+                cell_size: self.h,
+                axis_x: self.x.to_array(),
+                res: self.res,
+                axis_y: self.y.to_array(),
+                _pad0: 0,
+                axis_z: self.z.to_array(),
+                _pad1: 0,
+            },
+            dent_distance: self.d,
+            face_count: face_count as u32,
+            _pad: [0; 2],
+        }
+    }
+
+    fn profile(&self, positions: &[Vec3], faces: &[[u32; 3]]) -> Vec<f32> {
+        let mut out = vec![f32::NAN; (self.res as usize).pow(2)];
+        zbuffer(&self.params(faces.len()), positions, faces, &mut out);
+        out
+    }
+
+    fn shift(&self) -> f64 {
+        0.5 * self.res as f64 - 0.5
+    }
+
+    /// World point of grid point (col, row) at depth s, f64.
+    fn world(&self, col: f64, row: f64, s: f64) -> DVec3 {
+        let h = self.h as f64;
+        self.origin.as_dvec3()
+            + (col - self.shift()) * h * self.x.as_dvec3()
+            + (row - self.shift()) * h * self.y.as_dvec3()
+            + s * self.z.as_dvec3()
+    }
+
+    /// `(col, row, s)` of a world point, f64.
+    fn grid(&self, p: Vec3) -> DVec3 {
+        let r = p.as_dvec3() - self.origin.as_dvec3();
+        let h = self.h as f64;
+        DVec3::new(
+            r.dot(self.x.as_dvec3()) / h + self.shift(),
+            r.dot(self.y.as_dvec3()) / h + self.shift(),
+            r.dot(self.z.as_dvec3()),
+        )
+    }
+
+    /// World point of grid point (col, row) at depth s, f32 (for building inputs).
+    fn point(&self, col: f32, row: f32, s: f32) -> Vec3 {
+        self.world(col as f64, row as f64, s as f64).as_vec3()
+    }
+}
+
+/// Icosphere of radius `radius` centred at `centre`, each icosahedron face split into
+/// `4^subdivisions` triangles, vertices pushed onto the sphere.
+fn icosphere(centre: Vec3, radius: f32, subdivisions: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let mut positions: Vec<Vec3> = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ]
+    .iter()
+    .map(|&p| Vec3::from(p).normalize())
+    .collect();
+    let mut faces: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions {
+        let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut midpoint = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
+            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                positions.push((positions[a as usize] + positions[b as usize]).normalize());
+                positions.len() as u32 - 1
+            })
+        };
+        let mut next = Vec::with_capacity(faces.len() * 4);
+        for [a, b, c] in faces {
+            let ab = midpoint(a, b, &mut positions);
+            let bc = midpoint(b, c, &mut positions);
+            let ca = midpoint(c, a, &mut positions);
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        faces = next;
+    }
+    (positions.into_iter().map(|p| centre + radius * p).collect(), faces)
+}
+
+/// The Stanford bunny from `assets/meshes/bunny.obj` (polygons fanned into triangles).
+fn bunny() -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/meshes/bunny.obj");
+    let text = std::fs::read_to_string(path).expect("bunny.obj");
+    let (mut positions, mut faces) = (Vec::new(), Vec::new());
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let c: Vec<f32> = words.take(3).map(|w| w.parse().unwrap()).collect();
+                positions.push(Vec3::new(c[0], c[1], c[2]));
+            }
+            Some("f") => {
+                let idx: Vec<u32> =
+                    words.map(|w| w.split('/').next().unwrap().parse::<u32>().unwrap() - 1).collect();
+                for k in 1..idx.len() - 1 {
+                    faces.push([idx[0], idx[k], idx[k + 1]]);
+                }
+            }
+            _ => {}
+        }
+    }
+    (positions, faces)
+}
+
+// ---------------------------------------------------------------------------------------------
+// f64 references.
+
+/// Möller–Trumbore in f64: the largest depth s (along `view.z`, from `view.origin`) at which the
+/// line through the centre of cell (`row`, `col`) along `view.z` meets the closed triangle; rays
+/// parallel to the triangle's plane (grazing) do not count.
+fn ray_cast(view: &View, positions: &[Vec3], faces: &[[u32; 3]], row: usize, col: usize) -> Option<f64> {
+    let o = view.world(col as f64, row as f64, 0.0);
+    let dir = view.z.as_dvec3();
+    let mut best: Option<f64> = None;
+    for f in faces {
+        let [a, b, c] = f.map(|i| positions[i as usize].as_dvec3());
+        let (e1, e2) = (b - a, c - a);
+        let p = dir.cross(e2);
+        let det = e1.dot(p);
+        if det.abs() < 1e-300 {
+            continue;
+        }
+        let inv = 1.0 / det;
+        let tv = o - a;
+        let u = tv.dot(p) * inv;
+        let q = tv.cross(e1);
+        let v = dir.dot(q) * inv;
+        if u < 0.0 || v < 0.0 || u + v > 1.0 {
+            continue;
+        }
+        let t = e2.dot(q) * inv;
+        best = Some(best.map_or(t, |s: f64| s.max(t)));
+    }
+    best
+}
+
+/// Profile of a ray cast: `max(0, d + s)`, 0 on a miss.
+fn ray_cast_profile(view: &View, positions: &[Vec3], faces: &[[u32; 3]]) -> Vec<f64> {
+    let res = view.res as usize;
+    let d = view.d as f64;
+    (0..res * res)
+        .map(|cell| ray_cast(view, positions, faces, cell / res, cell % res).map_or(0.0, |s| (d + s).max(0.0)))
+        .collect()
+}
+
+/// The part of polygon `poly` (grid space: col, row, s) inside the square of half-side `half`
+/// around grid point (`col`, `row`), by Sutherland–Hodgman.
+fn clip_to_cell(poly: &[DVec3], col: f64, row: f64, half: f64) -> Vec<DVec3> {
+    let planes: [(DVec3, f64); 4] = [
+        (DVec3::X, col - half),
+        (-DVec3::X, -(col + half)),
+        (DVec3::Y, row - half),
+        (-DVec3::Y, -(row + half)),
+    ];
+    let mut poly = poly.to_vec();
+    for (n, offset) in planes {
+        let inside = |p: DVec3| p.x * n.x + p.y * n.y - offset;
+        let mut out = Vec::with_capacity(poly.len() + 2);
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let (fa, fb) = (inside(a), inside(b));
+            if fa >= 0.0 {
+                out.push(a);
+            }
+            if (fa >= 0.0) != (fb >= 0.0) {
+                out.push(a + (b - a) * (fa / (fa - fb)));
+            }
+        }
+        poly = out;
+        if poly.is_empty() {
+            break;
+        }
+    }
+    poly
+}
+
+/// Per cell, the range `(min, max)` of depth s over the part of the surface lying over the closed
+/// cell square (grown by a hair for f32 rounding), or `None` where none does. Every sample the
+/// kernel takes for a cell lies over that square.
+fn cell_depth_ranges(view: &View, positions: &[Vec3], faces: &[[u32; 3]]) -> Vec<Option<(f64, f64)>> {
+    let res = view.res as usize;
+    let half = 0.5 + 1e-4;
+    let mut ranges = vec![None; res * res];
+    for f in faces {
+        let tri = f.map(|i| view.grid(positions[i as usize]));
+        let lo = tri[0].min(tri[1]).min(tri[2]);
+        let hi = tri[0].max(tri[1]).max(tri[2]);
+        let c0 = (lo.x - half).ceil().max(0.0) as usize;
+        let c1 = ((hi.x + half).floor().min(res as f64 - 1.0)).max(-1.0);
+        let r0 = (lo.y - half).ceil().max(0.0) as usize;
+        let r1 = ((hi.y + half).floor().min(res as f64 - 1.0)).max(-1.0);
+        if c1 < 0.0 || r1 < 0.0 {
+            continue;
+        }
+        for row in r0..=r1 as usize {
+            for col in c0..=c1 as usize {
+                let clipped = clip_to_cell(&tri, col as f64, row as f64, half);
+                for p in clipped {
+                    let r: &mut Option<(f64, f64)> = &mut ranges[row * res + col];
+                    *r = Some(r.map_or((p.z, p.z), |(a, b)| (a.min(p.z), b.max(p.z))));
+                }
+            }
+        }
+    }
+    ranges
+}
+
+// ---------------------------------------------------------------------------------------------
+// Checks shared by the tests.
+
+/// Every value finite and in [0, d].
+fn assert_in_range(profile: &[f32], d: f32) {
+    for (cell, &p) in profile.iter().enumerate() {
+        assert!(p.is_finite() && (0.0..=d).contains(&p), "cell {cell}: {p} outside [0, {d}]");
+    }
+}
+
+/// 8-neighbours of `cell` on a `res × res` grid.
+fn neighbours(cell: usize, res: usize) -> impl Iterator<Item = usize> {
+    let (row, col) = ((cell / res) as isize, (cell % res) as isize);
+    (-1..=1isize).flat_map(move |dr| {
+        (-1..=1isize).filter_map(move |dc| {
+            let (r, c) = (row + dr, col + dc);
+            ((dr, dc) != (0, 0) && (0..res as isize).contains(&r) && (0..res as isize).contains(&c))
+                .then_some(r as usize * res + c as usize)
+        })
+    })
+}
+
+/// Whether the non-zero cells form one 8-connected set.
+fn is_connected(profile: &[f32], res: usize) -> bool {
+    let lit: Vec<usize> = (0..profile.len()).filter(|&c| profile[c] > 0.0).collect();
+    let Some(&start) = lit.first() else { return true };
+    let mut seen = vec![false; profile.len()];
+    let (mut stack, mut count) = (vec![start], 0);
+    seen[start] = true;
+    while let Some(c) = stack.pop() {
+        count += 1;
+        for n in neighbours(c, res) {
+            if profile[n] > 0.0 && !seen[n] {
+                seen[n] = true;
+                stack.push(n);
+            }
+        }
+    }
+    count == lit.len()
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tests.
+
+/// A finely tessellated sphere seen from several oblique directions matches the analytic cap
+/// `P(r) = max(0, d − (R − √(R² − r²)))`, r = lateral distance of the cell centre from the centre
+/// line, within bounds that follow from the tessellation and the kernel's sampling:
+///
+/// - below by the cap of the inscribed sphere: every face plane is at least R_in = R − sagitta
+///   from the centre (sagitta ≈ R(1 − cos(edge angle/2)), here measured on the mesh: ≈ 1.1e-3·R), so
+///   the mesh covers the ball of radius R_in and a centre ray meets it no deeper than that ball;
+/// - above by the cap of the sphere itself (the mesh is inscribed) evaluated ¹⁄√2 cell closer to the
+///   centre line, the farthest an edge or vertex sample lies from the centre of the cell it marks
+///   (this is the one cell of silhouette dilation, and the slope × ½ cell rise of edge samples).
+///
+/// Heights are measured from the mesh's own tip, as the pipeline places the origin; f32 adds
+/// ~1e-6·R.
+#[test]
+fn sphere_matches_analytic_cap() {
+    let radius = 1.0f32;
+    let centre = Vec3::new(0.3, -0.2, 0.7);
+    let (positions, faces) = icosphere(centre, radius, 4);
+    let r_in = faces
+        .iter()
+        .map(|f| {
+            let [a, b, c] = f.map(|i| (positions[i as usize] - centre).as_dvec3());
+            (b - a).cross(c - a).normalize().dot(a).abs()
+        })
+        .fold(f64::INFINITY, f64::min);
+    let (r, tol) = (radius as f64, 1e-5);
+    assert!(r - r_in < 2e-3, "sagitta {}", r - r_in);
+
+    let mut rng = SplitMix64::new(7);
+    let mut dirs = vec![Vec3::new(1.0, 2.0, 3.0), Vec3::new(-0.2, 0.1, -1.0), Vec3::new(0.6, -0.8, 0.05)];
+    for _ in 0..2 {
+        dirs.push(Vec3::new(rng.range_f32(-1.0, 1.0), rng.range_f32(-1.0, 1.0), rng.range_f32(-1.0, 1.0)));
+    }
+    for dir in dirs {
+        for d in [0.05f32, 0.3, 0.75] {
+            let view = View::looking(dir, &positions, centre, 1.2 * radius, 160, d);
+            let profile = view.profile(&positions, &faces);
+            assert_in_range(&profile, d);
+            let tip = positions.iter().map(|p| (*p - centre).dot(view.z)).fold(f32::NEG_INFINITY, f32::max) as f64;
+            let top = profile.iter().copied().fold(0.0, f32::max);
+            assert!((top - d).abs() < 1e-5, "dir {dir}, d {d}: max {top}");
+
+            let (h, dd, res) = (view.h as f64, d as f64, view.res as usize);
+            let reach = 0.7072 * h;
+            let axis = view.grid(centre);
+            let (mut worst_lo, mut worst_hi) = (0.0f64, 0.0f64);
+            for (cell, &p) in profile.iter().enumerate() {
+                let (row, col) = ((cell / res) as f64, (cell % res) as f64);
+                let lateral = h * (row - axis.y).hypot(col - axis.x);
+                let cap = |rad: f64, at: f64| {
+                    if at < rad { (dd + (rad * rad - at * at).sqrt() - tip).max(0.0) } else { 0.0 }
+                };
+                let lower = cap(r_in, lateral);
+                let upper = cap(r, (lateral - reach).max(0.0));
+                let p = p as f64;
+                assert!(
+                    p >= lower - tol && p <= upper + tol,
+                    "dir {dir}, d {d}, cell ({row}, {col}): {p} outside [{lower}, {upper}]"
+                );
+                let analytic = (dd - (r - (r * r - lateral * lateral).max(0.0).sqrt())).max(0.0);
+                worst_lo = worst_lo.min(p - analytic);
+                worst_hi = worst_hi.max(p - analytic);
+            }
+            eprintln!("sphere dir {dir} d {d}: profile − P(r) in [{worst_lo:.2e}, {worst_hi:.2e}], h = {h:.2e}");
+        }
+    }
+}
+
+/// The bunny from eight directions (axis-aligned and oblique) against an f64 Möller–Trumbore ray
+/// cast through every cell centre, with d = 0.6 of its depth along the view so the ears are in.
+///
+/// - Where the ray cast hits, the kernel is never below it by more than f32 rounding (`tol`: grid
+///   coordinates carry ~1e-5 cell of error, times the depth gradient of steep triangles, plus the
+///   f32 ulp of heights ~10): the exact centre sample is always taken.
+/// - No value exceeds the highest point of the surface over the cell's own square: samples lie
+///   within the cell (this bounds the one-cell dilation and the rise of edge samples on slopes).
+/// - Every cell the kernel marks but the ray cast misses touches a ray-cast hit (one cell of
+///   silhouette dilation); the converse never happens.
+/// - Where both hit, they agree to `tol` unless an edge or vertex sample off the centre landed in
+///   the cell on a slope, where the excess stays under the surface's height range over the cell.
+#[test]
+fn bunny_matches_ray_cast() {
+    let (positions, faces) = bunny();
+    let (lo, hi) = positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+    let centre = 0.5 * (lo + hi);
+    let dirs = [
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::X,
+        -Vec3::Y,
+        Vec3::new(1.0, 1.0, 1.0),
+        Vec3::new(-1.0, -0.5, 2.0),
+        Vec3::new(0.3, -1.0, -0.7),
+        Vec3::new(-2.0, 0.4, -1.0),
+    ];
+    for dir in dirs {
+        let z = dir.normalize();
+        let depth = positions.iter().map(|p| p.dot(z)).fold(f32::NEG_INFINITY, f32::max)
+            - positions.iter().map(|p| p.dot(z)).fold(f32::INFINITY, f32::min);
+        let d = 0.6 * depth;
+        let half = 0.5 * (hi - lo).length() + 0.05;
+        let view = View::looking(dir, &positions, centre, half, 128, d);
+        let res = view.res as usize;
+        let tol = 2e-4;
+
+        let profile = view.profile(&positions, &faces);
+        assert_in_range(&profile, d);
+        let top = profile.iter().copied().fold(0.0, f32::max);
+        assert!((top - d).abs() < 1e-5 * depth, "dir {dir}: max {top} vs d {d}");
+
+        let reference = ray_cast_profile(&view, &positions, &faces);
+        let ranges = cell_depth_ranges(&view, &positions, &faces);
+        let (mut agree, mut both, mut dilated, mut worst_below) = (0, 0, 0, 0.0f64);
+        for cell in 0..res * res {
+            let (p, rc) = (profile[cell] as f64, reference[cell]);
+            let upper = ranges[cell].map_or(0.0, |(_, s)| (d as f64 + s).max(0.0));
+            assert!(p >= rc - tol, "dir {dir}, cell {cell}: {p} below ray cast {rc}");
+            assert!(p <= upper + tol, "dir {dir}, cell {cell}: {p} above the surface over the cell {upper}");
+            worst_below = worst_below.max(rc - p);
+            if p > 0.0 && rc == 0.0 {
+                dilated += 1;
+                assert!(
+                    neighbours(cell, res).any(|n| reference[n] > 0.0),
+                    "dir {dir}, cell {cell}: marked ({p}) but no ray-cast hit next to it"
+                );
+            }
+            if p > 0.0 && rc > 0.0 {
+                both += 1;
+                agree += usize::from((p - rc).abs() <= tol);
+            }
+        }
+        assert!(both > res * res / 10, "dir {dir}: profile covers only {both} cells");
+        eprintln!(
+            "bunny dir {dir}: {both} cells hit by both, {agree} agree to {tol}, {dilated} dilated, \
+             max below ray cast {worst_below:.1e}"
+        );
+    }
+}
+
+/// A needle (0.01 cell wide) and an edge-on triangle (its plane contains `axis_z`, so a ray cast
+/// misses it everywhere) each leave a connected trail along their whole length, every column they
+/// cross marked, with their height there (for the edge-on one, that of its front edge).
+#[test]
+fn thin_features_leave_a_trail() {
+    let d = 10.0f32;
+    let (a, b) = ((5.2f32, 10.3f32), (50.7f32, 40.1f32));
+    let dir = Vec3::new(b.0 - a.0, b.1 - a.1, 0.0).normalize();
+    let across = 0.01 * Vec3::new(-dir.y, dir.x, 0.0);
+    for q in [Quat::IDENTITY, Quat::from_euler(glam::EulerRot::XYZ, 0.7, -1.1, 0.4)] {
+        let view = View::world_aligned(64, d).rotated(q);
+        let res = view.res as usize;
+        // (triangle, its front edge as a degenerate triangle).
+        let needle = [view.point(a.0, a.1, -6.0), view.point(b.0, b.1, -1.0), {
+            let p = Vec3::new(b.0, b.1, -1.0) + across;
+            view.point(p.x, p.y, p.z)
+        }];
+        let edge_on = [view.point(a.0, a.1, 0.0), view.point(b.0, b.1, -8.0), view.point(a.0, a.1, -20.0)];
+        for (name, tri, front) in
+            [("needle", needle, needle), ("edge-on", edge_on, [edge_on[0], edge_on[1], edge_on[1]])]
+        {
+            let faces = [[0, 1, 2]];
+            let profile = view.profile(&tri, &faces);
+            assert_in_range(&profile, d);
+            if name == "edge-on" {
+                assert!(ray_cast_profile(&view, &tri, &faces).iter().all(|&p| p == 0.0));
+                assert!(profile.iter().any(|&p| p > d - 1e-4), "the tip's cell holds d");
+            }
+            assert!(is_connected(&profile, res), "{name}: trail broken");
+            let ranges = cell_depth_ranges(&view, &front, &[[0, 1, 2]]);
+            for (cell, &p) in profile.iter().enumerate() {
+                if p > 0.0 {
+                    let (s_lo, s_hi) = ranges[cell].unwrap_or_else(|| panic!("{name}: cell {cell} off the trail"));
+                    let (lo, hi) = (d as f64 + s_lo, d as f64 + s_hi);
+                    assert!((lo - 1e-4..=hi + 1e-4).contains(&(p as f64)), "{name}, cell {cell}: {p} not in [{lo}, {hi}]");
+                }
+            }
+            for col in 6..=50 {
+                assert!((0..res).any(|row| profile[row * res + col] > 0.0), "{name}: column {col} empty");
+            }
+            for (x, y) in [a, b] {
+                let cell = (y + 0.5).floor() as usize * res + (x + 0.5).floor() as usize;
+                assert!(profile[cell] > 0.0, "{name}: end cell unmarked");
+            }
+        }
+    }
+}
+
+/// Nothing lands on the grid: a sphere beside it, or a triangle wholly deeper than −d.
+#[test]
+fn empty_profiles() {
+    let d = 0.5;
+    let (positions, faces) = icosphere(Vec3::new(0.0, 0.0, 0.0), 1.0, 3);
+    let mut view = View::looking(Vec3::new(0.2, 0.3, 1.0), &positions, Vec3::ZERO, 1.5, 64, d);
+    view.origin += 10.0 * view.x;
+    assert!(view.profile(&positions, &faces).iter().all(|&p| p == 0.0));
+
+    let view = View::world_aligned(32, 2.0);
+    let deep = [Vec3::new(-10.0, -8.0, -2.5), Vec3::new(9.0, -7.0, -6.0), Vec3::new(0.0, 12.0, -2.0)];
+    assert!(view.profile(&deep, &[[0, 1, 2]]).iter().all(|&p| p == 0.0));
+}
+
+/// A flat triangle far larger than the grid covers every cell at its height, at res 2048 too;
+/// enormous, degenerate and out-of-range input neither panics nor leaves [0, d].
+#[test]
+fn huge_degenerate_and_bad_input() {
+    let d = 1.0;
+    for res in [16, 2048] {
+        let view = View::world_aligned(res, d);
+        let big = [Vec3::new(-1e7, -1e7, -0.25), Vec3::new(3e7, -1e7, -0.25), Vec3::new(-1e7, 3e7, -0.25)];
+        let profile = view.profile(&big, &[[0, 1, 2]]);
+        assert!(profile.iter().all(|&p| (p - 0.75).abs() < 1e-6), "res {res}");
+    }
+
+    let view = View::world_aligned(64, d);
+    let positions = [
+        Vec3::new(1e30, 0.0, 0.0),
+        Vec3::new(-1e30, 1e30, -0.5),
+        Vec3::new(0.0, -1e30, 0.0),
+        Vec3::new(f32::MAX, -f32::MAX, 0.0),
+        Vec3::new(-f32::MAX, f32::MAX, -f32::MAX),
+        Vec3::new(2.0, 3.0, -0.5),
+        Vec3::new(2.0, 3.0, -0.5),
+        Vec3::new(-5.0, 3.0, -0.2),
+        Vec3::new(7.0, 3.0, 0.0),
+    ];
+    let faces = [[0, 1, 2], [3, 4, 5], [0, 3, 4], [5, 6, 5], [5, 7, 8], [1, 2, 5], [0, 1, 99]];
+    let mut profile = vec![f32::NAN; 64 * 64];
+    let mut params = view.params(faces.len() + 3);
+    zbuffer(&params, &positions, &faces, &mut profile);
+    assert_in_range(&profile, d);
+    // The point triangle lands in its own cell; the collinear one is a row of cells.
+    let cell = |x: f32, y: f32| (y + 32.0) as usize * 64 + (x + 32.0) as usize;
+    assert!(profile[cell(2.0, 3.0)] >= 0.5);
+    assert!((-5..=7).all(|x| profile[cell(x as f32, 3.0)] > 0.0));
+
+    let mut short = vec![f32::NAN; 100];
+    zbuffer(&params, &positions, &faces, &mut short);
+    assert_in_range(&short, d);
+    params.grid.cell_size = 0.0;
+    zbuffer(&params, &positions, &faces, &mut profile);
+    assert!(profile.iter().all(|&p| p == 0.0));
+}
+
+#[test]
+#[ignore]
+fn tmp_timing() {
+    let (positions, faces) = bunny();
+    let (lo, hi) = positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+    let centre = 0.5 * (lo + hi);
+    for dir in [Vec3::Z, -Vec3::Y, Vec3::new(1.0, 1.0, 1.0)] {
+        let z = dir.normalize();
+        let depth = positions.iter().map(|p| p.dot(z)).fold(f32::NEG_INFINITY, f32::max)
+            - positions.iter().map(|p| p.dot(z)).fold(f32::INFINITY, f32::min);
+        for frac in [0.3f32, 0.6, 1.01] {
+            for res in [100u32, 200, 400] {
+                let half = 0.5 * (hi - lo).length() + 0.05;
+                let view = View::looking(dir, &positions, centre, half, res, frac * depth);
+                let params = view.params(faces.len());
+                let mut out = vec![0.0; (res * res) as usize];
+                let mut times = Vec::new();
+                for _ in 0..300 {
+                    let t = std::time::Instant::now();
+                    zbuffer(&params, &positions, &faces, &mut out);
+                    times.push(t.elapsed().as_secs_f64());
+                    std::hint::black_box(&out);
+                }
+                times.sort_by(f64::total_cmp);
+                eprintln!("dir {dir} d {:.2} ({frac} depth) res {res}: median {:.3} ms, min {:.3} ms", frac * depth, times[150] * 1e3, times[0] * 1e3);
+            }
+        }
+    }
+}

@@ -1,0 +1,50 @@
+//! The inputs every benchmark shares: the paper's Table 1 scene (the bunny projectile, Figure
+//! 5a far right) on a grid of a given side, and a dense target for `displace`.
+
+use dentbend::cpu::{EnvelopeParams, ZbufferParams};
+use dentbend::dent::{DentStages, Grid};
+use dentbend::glam::Vec3;
+use dentbend::{DentParams, Impact, Resolution, TriMesh, dent_map_stages, mesh};
+
+/// Dent distance of the Table 1 scene, world units: about a third of the bunny's 10-unit size,
+/// so the profile holds the head and both ears.
+pub const DENT_DISTANCE: f32 = 3.0;
+/// Gaussian width of the Table 1 scene, world units.
+pub const SIGMA: f32 = 0.5;
+
+/// One grid side's worth of kernel inputs.
+pub struct Scene {
+    pub projectile: TriMesh,
+    pub params: DentParams,
+    pub stages: DentStages,
+}
+
+impl Scene {
+    /// The bunny falling ears first (along +y) onto a target above it, on a `res × res` grid.
+    pub fn table1(res: u32) -> Result<Self, String> {
+        let projectile = mesh::builtin("bunny").map_err(|e| e.to_string())?;
+        let tip = projectile.positions().iter().copied().max_by(|a, b| a.y.total_cmp(&b.y)).ok_or("empty bunny")?;
+        let impact = Impact { point: tip, normal: Vec3::Y, relative_velocity: Vec3::Y };
+        let params = DentParams { sigma: Some(SIGMA), resolution: Resolution::Fixed(res), ..DentParams::new(DENT_DISTANCE) };
+        let stages = dent_map_stages(&projectile, &impact, &params, None).map_err(|e| e.to_string())?;
+        Ok(Self { projectile, params, stages })
+    }
+
+    pub fn grid(&self) -> &Grid {
+        &self.stages.zbuffer_grid
+    }
+
+    pub fn zbuffer_params(&self) -> ZbufferParams {
+        ZbufferParams {
+            grid: self.grid().uniform(),
+            dent_distance: self.params.dent_distance,
+            face_count: self.projectile.face_count() as u32,
+            _pad: [0; 2],
+        }
+    }
+
+    pub fn envelope_params(&self) -> EnvelopeParams {
+        let sigma_cells = self.stages.sigma / self.grid().cell_size;
+        EnvelopeParams { res: self.grid().res, c: 0.5 / (sigma_cells * sigma_cells), _pad: [0; 2] }
+    }
+}

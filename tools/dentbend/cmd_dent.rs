@@ -1,0 +1,157 @@
+//! `dentbend dent`: dents a target mesh where a projectile hits it and saves it as OBJ.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use clap::{Args, ValueEnum};
+use dentbend::glam::Vec3;
+use dentbend::{Attenuation, Impact, MeshError, TriMesh, mesh};
+
+use crate::error::{CliError, flag_error};
+use crate::options::{MapOptions, ProjectileOptions, load_mesh, nonzero, sig3};
+use crate::vector::parse_vec3;
+
+/// How the dent fades with depth z below the collision plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Falloff {
+    /// a(z) = 2 / (1 + e^(z/d)), the paper's: the far side of a thin wall bulges
+    Logistic,
+    /// a(z) = max(0, 1 − z / (scale·d)), scale from --falloff-scale
+    Linear,
+    /// a(z) = 1: the whole target moves with the dent map
+    None,
+}
+
+/// Arguments of `dentbend dent`.
+#[derive(Debug, Args)]
+#[command(after_help = "\
+Both meshes are in the same coordinates, placed as at the moment of impact; --rotate, then \
+--translate, place the projectile first (a built-in one, say). The dent is measured from the \
+projectile's most advanced point along the viewing direction (the velocity, θ clamped by \
+--min-cos), on a grid centred on the line through --point.")]
+pub struct DentArgs {
+    /// Target mesh to dent: an .obj or .ply path, or a built-in name
+    #[arg(long, value_name = "MESH")]
+    pub target: String,
+
+    #[command(flatten)]
+    pub projectile: ProjectileOptions,
+
+    /// Contact point, mesh units
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub point: Vec3,
+
+    /// Denting normal at the contact, pointing into the target
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub normal: Vec3,
+
+    /// Velocity of the projectile relative to the target; its angle to the normal is θ
+    /// [default: the normal, head-on]
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub velocity: Option<Vec3>,
+
+    #[command(flatten)]
+    pub map: MapOptions,
+
+    /// Falloff of the dent with depth into the target
+    #[arg(long, value_enum, default_value_t = Falloff::Logistic)]
+    pub falloff: Falloff,
+
+    /// Depth at which the linear falloff reaches zero, in dent distances (> 0; below 1 it is
+    /// steep enough to fold thin walls) [default: 1]
+    #[arg(long, value_name = "SCALE", allow_negative_numbers = true)]
+    pub falloff_scale: Option<f32>,
+
+    /// Output OBJ file (not written if anything fails)
+    #[arg(long, value_name = "OUT.obj")]
+    pub out: PathBuf,
+}
+
+/// Runs the command; returns the summary line and the warnings raised.
+pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
+    let mut params = args.map.params()?;
+    params.attenuation = match (args.falloff, args.falloff_scale) {
+        (Falloff::Linear, scale) => Attenuation::Linear {
+            scale: scale.unwrap_or(1.0),
+        },
+        (_, Some(_)) => {
+            return Err(CliError::Usage(
+                "--falloff-scale only applies to --falloff linear".into(),
+            ));
+        }
+        (Falloff::Logistic, None) => Attenuation::Logistic,
+        (Falloff::None, None) => Attenuation::None,
+    };
+    params.validate().map_err(flag_error)?;
+    let normal = nonzero(args.normal, "--normal")?;
+    let impact = Impact {
+        point: args.point,
+        normal,
+        relative_velocity: args.velocity.unwrap_or(normal),
+    };
+    impact.validate()?;
+    let mut target = load_mesh("target", &args.target)?;
+    let projectile = args.projectile.load()?;
+    let report = dentbend::dent::dent(&mut target, &projectile, &impact, &params)?;
+    save(&target, &args.out)?;
+    let summary = format!(
+        "dent: moved {} of {} vertices of {} by up to {} (θ = {:.1}°, {res}×{res} cells) → {}",
+        report.moved_vertices,
+        target.vertex_count(),
+        args.target,
+        sig3(report.max_displacement),
+        report.theta_deg,
+        args.out.display(),
+        res = report.resolution,
+    );
+    let mut warnings = report.warnings;
+    if report.moved_vertices == 0 {
+        warnings.push(
+            "the dent moved no vertex of the target: does the projectile touch it near --point?"
+                .into(),
+        );
+    }
+    Ok((summary, warnings))
+}
+
+/// Saves `target` as OBJ at `path` through a temporary file beside it, renamed into place, so a
+/// failure leaves neither a partial file nor a damaged earlier one.
+fn save(target: &TriMesh, path: &Path) -> Result<(), CliError> {
+    if path.is_dir() {
+        return Err(CliError::Usage(format!(
+            "--out {} is a directory, not a file",
+            path.display()
+        )));
+    }
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !parent.is_dir() {
+        return Err(CliError::Usage(format!(
+            "cannot write {}: directory {} does not exist",
+            path.display(),
+            parent.display()
+        )));
+    }
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "out".into(), |s| s.to_string_lossy());
+    let temp = path.with_file_name(format!(".{stem}.dentbend-{}.obj", std::process::id()));
+    let write_error = |source| CliError::Write {
+        path: path.to_owned(),
+        source,
+    };
+    let result = match mesh::save_obj(target, &temp) {
+        Ok(()) => fs::rename(&temp, path).map_err(write_error),
+        Err(MeshError::Io { source, .. }) => Err(write_error(source)),
+        Err(source) => Err(CliError::Save {
+            path: path.to_owned(),
+            source,
+        }),
+    };
+    if result.is_err() {
+        let _ = fs::remove_file(&temp);
+    }
+    result
+}
