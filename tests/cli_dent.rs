@@ -14,10 +14,7 @@ impl TempDir {
     fn new(name: &str) -> Self {
         static COUNT: AtomicUsize = AtomicUsize::new(0);
         let n = COUNT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!(
-            "dentbend-cli-dent-{name}-{}-{n}",
-            std::process::id()
-        ));
+        let dir = std::env::temp_dir().join(format!("dentbend-cli-dent-{name}-{}-{n}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         Self(dir)
@@ -35,11 +32,7 @@ impl Drop for TempDir {
 }
 
 fn dentbend(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dentbend"))
-        .args(args)
-        .env_remove("RUST_LOG")
-        .output()
-        .unwrap()
+    Command::new(env!("CARGO_BIN_EXE_dentbend")).args(args).env_remove("RUST_LOG").output().unwrap()
 }
 
 fn text(bytes: &[u8]) -> String {
@@ -95,11 +88,7 @@ fn sphere_dents_block() {
         out.to_str().unwrap(),
     ]);
     let stdout = text(&output.stdout);
-    assert!(
-        output.status.success(),
-        "dent failed: {}",
-        text(&output.stderr)
-    );
+    assert!(output.status.success(), "dent failed: {}", text(&output.stderr));
     assert!(stdout.starts_with("dent: moved "), "{stdout}");
     assert_eq!(stdout.lines().count(), 1, "{stdout}");
 
@@ -107,27 +96,13 @@ fn sphere_dents_block() {
     let (dented, faces) = read_obj(&out);
     assert_eq!(dented.len(), block.vertex_count());
     assert_eq!(faces, block.face_count());
-    let moved: Vec<f32> = dented
-        .iter()
-        .zip(block.positions())
-        .map(|(a, b)| a.distance(*b))
-        .collect();
+    let moved: Vec<f32> = dented.iter().zip(block.positions()).map(|(a, b)| a.distance(*b)).collect();
     let deepest = moved.iter().copied().fold(0.0, f32::max);
-    assert!(
-        (deepest - 0.2).abs() < 0.02,
-        "deepest vertex moved by {deepest}, expected ≈ 0.2"
-    );
+    assert!((deepest - 0.2).abs() < 0.02, "deepest vertex moved by {deepest}, expected ≈ 0.2");
     // The dent goes down, into the block, at the contact point.
-    let (i, _) = moved
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.total_cmp(b.1))
-        .unwrap();
+    let (i, _) = moved.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap();
     assert!(dented[i].y < block.positions()[i].y);
-    assert!(
-        moved.iter().filter(|&&m| m > 1e-6).count() < block.vertex_count(),
-        "not every vertex moves"
-    );
+    assert!(moved.iter().filter(|&&m| m > 1e-6).count() < block.vertex_count(), "not every vertex moves");
     let no_temp_left = std::fs::read_dir(&dir.0).unwrap().count() == 1;
     assert!(no_temp_left, "temporary files left beside the output");
 }
@@ -138,10 +113,7 @@ fn projectile_from_a_file_with_linear_falloff() {
     let (translate, top) = sphere_on_block();
     let offset: Vec<f32> = translate.split(',').map(|w| w.parse().unwrap()).collect();
     let mut ball = dentbend::mesh::builtin("sphere").unwrap();
-    ball.transform(dentbend::glam::Affine3A::from_translation(Vec3::new(
-        0.0, offset[1], 0.0,
-    )))
-    .unwrap();
+    ball.transform(dentbend::glam::Affine3A::from_translation(Vec3::new(0.0, offset[1], 0.0))).unwrap();
     let ball_path = dir.path("ball.obj");
     dentbend::mesh::save_obj(&ball, &ball_path).unwrap();
     let out = dir.path("linear.obj");
@@ -168,18 +140,11 @@ fn projectile_from_a_file_with_linear_falloff() {
     ]);
     let stderr = text(&output.stderr);
     assert!(output.status.success(), "dent failed: {stderr}");
-    assert!(
-        text(&output.stdout).contains("48×48 cells"),
-        "{}",
-        text(&output.stdout)
-    );
+    assert!(text(&output.stdout).contains("48×48 cells"), "{}", text(&output.stdout));
     // A falloff twice as steep as 1 − z/d can fold thin walls: warned once.
     assert_eq!(stderr.matches("warning: ").count(), 1, "{stderr}");
     assert!(stderr.contains("fold"), "{stderr}");
-    assert_eq!(
-        read_obj(&out).0.len(),
-        dentbend::mesh::builtin("block").unwrap().vertex_count()
-    );
+    assert_eq!(read_obj(&out).0.len(), dentbend::mesh::builtin("block").unwrap().vertex_count());
 }
 
 #[test]
@@ -213,9 +178,7 @@ fn bad_input_exits_with_code_2_and_writes_nothing() {
             }
         }
         pairs.retain(|(k, _)| !drop.contains(&k.as_str()));
-        std::iter::once("dent".to_owned())
-            .chain(pairs.into_iter().map(|(k, v)| format!("{k}={v}")))
-            .collect()
+        std::iter::once("dent".to_owned()).chain(pairs.into_iter().map(|(k, v)| format!("{k}={v}"))).collect()
     };
     let cases: Vec<(Vec<String>, &str)> = vec![
         (args(&[("--normal", "0,0,0")], &[]), "zero normal"),
@@ -228,57 +191,26 @@ fn bad_input_exits_with_code_2_and_writes_nothing() {
         (args(&[("--res", "100000")], &[]), "res 100000"),
         (args(&[("--velocity", "0,1,0")], &[]), "separating"),
         (args(&[("--falloff", "cubic")], &[]), "unknown falloff"),
-        (
-            args(&[("--falloff-scale", "0.5")], &[]),
-            "scale without linear",
-        ),
-        (
-            args(&[("--falloff", "linear"), ("--falloff-scale", "0")], &[]),
-            "zero scale",
-        ),
+        (args(&[("--falloff-scale", "0.5")], &[]), "scale without linear"),
+        (args(&[("--falloff", "linear"), ("--falloff-scale", "0")], &[]), "zero scale"),
         (args(&[("--target", &missing_s)], &[]), "missing target"),
-        (
-            args(&[("--projectile", &missing_s)], &[]),
-            "missing projectile",
-        ),
+        (args(&[("--projectile", &missing_s)], &[]), "missing projectile"),
         (args(&[("--target", &garbage_s)], &[]), "garbage target"),
-        (
-            args(&[("--projectile", &garbage_s)], &[]),
-            "garbage projectile",
-        ),
-        (
-            args(&[("--translate", "0,-40,0")], &[]),
-            "projectile behind the plane",
-        ),
+        (args(&[("--projectile", &garbage_s)], &[]), "garbage projectile"),
+        (args(&[("--translate", "0,-40,0")], &[]), "projectile behind the plane"),
         (args(&[], &["--point"]), "no point"),
-        (
-            args(
-                &[("--out", dir.path("no/such/dir/out.obj").to_str().unwrap())],
-                &[],
-            ),
-            "unwritable output",
-        ),
-        (
-            args(&[("--out", dir.0.to_str().unwrap())], &[]),
-            "output is a directory",
-        ),
+        (args(&[("--out", dir.path("no/such/dir/out.obj").to_str().unwrap())], &[]), "unwritable output"),
+        (args(&[("--out", dir.0.to_str().unwrap())], &[]), "output is a directory"),
     ];
     for (args, what) in &cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let output = dentbend(&args);
         let stderr = text(&output.stderr);
         assert_eq!(output.status.code(), Some(2), "{what}: {stderr}");
-        assert_eq!(
-            stderr.lines().count(),
-            1,
-            "{what}: one line expected, got {stderr:?}"
-        );
+        assert_eq!(stderr.lines().count(), 1, "{what}: one line expected, got {stderr:?}");
         assert!(stderr.starts_with("error: "), "{what}: {stderr}");
         assert!(!out.exists(), "{what}: output written anyway");
-        let left: Vec<_> = std::fs::read_dir(&dir.0)
-            .unwrap()
-            .map(|e| e.unwrap().file_name())
-            .collect();
+        let left: Vec<_> = std::fs::read_dir(&dir.0).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(left.len(), 1, "{what}: files left behind: {left:?}");
     }
 }
@@ -307,15 +239,8 @@ fn a_miss_is_a_warning_not_an_error() {
     ]);
     let stderr = text(&output.stderr);
     assert!(output.status.success(), "{stderr}");
-    assert!(
-        text(&output.stdout).starts_with("dent: moved 0 of "),
-        "{}",
-        text(&output.stdout)
-    );
-    assert!(
-        stderr.starts_with("warning: the dent moved no vertex"),
-        "{stderr}"
-    );
+    assert!(text(&output.stdout).starts_with("dent: moved 0 of "), "{}", text(&output.stdout));
+    assert!(stderr.starts_with("warning: the dent moved no vertex"), "{stderr}");
     let block = dentbend::mesh::builtin("block").unwrap();
     assert_eq!(read_obj(&out).0, block.positions());
 }

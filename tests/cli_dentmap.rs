@@ -16,10 +16,7 @@ impl TempDir {
     fn new(name: &str) -> Self {
         static COUNT: AtomicUsize = AtomicUsize::new(0);
         let n = COUNT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!(
-            "dentbend-cli-dentmap-{name}-{}-{n}",
-            std::process::id()
-        ));
+        let dir = std::env::temp_dir().join(format!("dentbend-cli-dentmap-{name}-{}-{n}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         Self(dir)
@@ -37,11 +34,7 @@ impl Drop for TempDir {
 }
 
 fn dentbend(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dentbend"))
-        .args(args)
-        .env_remove("RUST_LOG")
-        .output()
-        .unwrap()
+    Command::new(env!("CARGO_BIN_EXE_dentbend")).args(args).env_remove("RUST_LOG").output().unwrap()
 }
 
 fn text(bytes: &[u8]) -> String {
@@ -49,12 +42,7 @@ fn text(bytes: &[u8]) -> String {
 }
 
 fn vec3(value: &Value) -> Vec3 {
-    let a: Vec<f32> = value
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_f64().unwrap() as f32)
-        .collect();
+    let a: Vec<f32> = value.as_array().unwrap().iter().map(|v| v.as_f64().unwrap() as f32).collect();
     assert_eq!(a.len(), 3, "{value}");
     Vec3::new(a[0], a[1], a[2])
 }
@@ -66,22 +54,10 @@ fn read_json(path: &Path) -> Value {
 /// Runs `dentmap` into a fresh directory and checks it succeeded.
 fn run_ok(dir: &TempDir, extra: &[&str]) -> (PathBuf, Output) {
     let out = dir.path("out");
-    let mut args = vec![
-        "dentmap",
-        "--projectile",
-        "bunny",
-        "--dent-distance",
-        "0.2",
-        "--out",
-        out.to_str().unwrap(),
-    ];
+    let mut args = vec!["dentmap", "--projectile", "bunny", "--dent-distance", "0.2", "--out", out.to_str().unwrap()];
     args.extend_from_slice(extra);
     let output = dentbend(&args);
-    assert!(
-        output.status.success(),
-        "dentmap failed: {}",
-        text(&output.stderr)
-    );
+    assert!(output.status.success(), "dentmap failed: {}", text(&output.stderr));
     (out, output)
 }
 
@@ -95,23 +71,13 @@ fn bunny_writes_every_stage_with_consistent_shapes() {
 
     for file in ["zbuffer", "envelope", "smoothed", "dentmap"] {
         for ext in ["npy", "png"] {
-            assert!(
-                out.join(format!("{file}.{ext}")).is_file(),
-                "{file}.{ext} missing"
-            );
+            assert!(out.join(format!("{file}.{ext}")).is_file(), "{file}.{ext} missing");
         }
     }
     let json = read_json(&out.join("dentmap.json"));
-    for key in [
-        "dent_distance",
-        "sigma",
-        "heat_iters",
-        "clamp_iters",
-        "widen",
-        "theta_deg",
-        "zbuffer_grid",
-        "dentmap_grid",
-    ] {
+    for key in
+        ["dent_distance", "sigma", "heat_iters", "clamp_iters", "widen", "theta_deg", "zbuffer_grid", "dentmap_grid"]
+    {
         assert!(json.get(key).is_some(), "dentmap.json lacks {key}: {json}");
     }
     for grid in ["zbuffer_grid", "dentmap_grid"] {
@@ -141,31 +107,18 @@ fn bunny_writes_every_stage_with_consistent_shapes() {
     assert!(vectors.iter().all(|v| v.is_finite()));
     for stage in ["zbuffer", "envelope", "smoothed"] {
         let png = image::open(out.join(format!("{stage}.png"))).unwrap();
-        assert_eq!(
-            (png.width() as usize, png.height() as usize),
-            (res, res),
-            "{stage}.png"
-        );
+        assert_eq!((png.width() as usize, png.height() as usize), (res, res), "{stage}.png");
     }
     let png = image::open(out.join("dentmap.png")).unwrap();
-    assert_eq!(
-        (png.width() as usize, png.height() as usize),
-        (res_d, res_d)
-    );
+    assert_eq!((png.width() as usize, png.height() as usize), (res_d, res_d));
 
     // The profile peaks at d.
     let (_, zbuffer) = read_npy_f32(out.join("zbuffer.npy")).unwrap();
     let peak = zbuffer.iter().copied().fold(0.0f32, f32::max);
     assert!((peak - 0.2).abs() <= 1e-5 * 0.2, "zbuffer max {peak}");
     // Head-on along +z, the dent pushes along +z with length d at most.
-    let longest = vectors
-        .chunks_exact(3)
-        .map(|c| Vec3::new(c[0], c[1], c[2]).length())
-        .fold(0.0, f32::max);
-    assert!(
-        longest > 0.19 && longest < 0.2 * (1.0 + 1e-4),
-        "longest displacement {longest}"
-    );
+    let longest = vectors.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2]).length()).fold(0.0, f32::max);
+    assert!(longest > 0.19 && longest < 0.2 * (1.0 + 1e-4), "longest displacement {longest}");
 }
 
 #[test]
@@ -179,14 +132,8 @@ fn zbuffer_origin_is_the_most_advanced_point() {
     for (extra, label) in [
         (vec![], "default"),
         (vec!["--normal", "0,1,0"], "normal +y"),
-        (
-            vec!["--normal", "0,0,1", "--velocity", "1,0,1"],
-            "glancing 45°",
-        ),
-        (
-            vec!["--rotate", "30,-20,10", "--normal=-1,0,0"],
-            "rotated, normal -x",
-        ),
+        (vec!["--normal", "0,0,1", "--velocity", "1,0,1"], "glancing 45°"),
+        (vec!["--rotate", "30,-20,10", "--normal=-1,0,0"], "rotated, normal -x"),
     ] {
         let (out, _) = run_ok(&dir, &extra);
         let json = read_json(&out.join("dentmap.json"));
@@ -194,40 +141,24 @@ fn zbuffer_origin_is_the_most_advanced_point() {
         let origin = vec3(&grid["origin"]);
         let axis_z = vec3(&grid["axis_z"]);
         let mut projectile = bunny.clone();
-        if let Some(deg) = json
-            .get("rotate_deg")
-            .map(vec3)
-            .filter(|r| *r != Vec3::ZERO)
-        {
+        if let Some(deg) = json.get("rotate_deg").map(vec3).filter(|r| *r != Vec3::ZERO) {
             let r = deg * (std::f32::consts::PI / 180.0);
             let m = dentbend::glam::Mat3::from_rotation_z(r.z)
                 * dentbend::glam::Mat3::from_rotation_y(r.y)
                 * dentbend::glam::Mat3::from_rotation_x(r.x);
-            projectile
-                .transform(dentbend::glam::Affine3A::from_mat3(m))
-                .unwrap();
+            projectile.transform(dentbend::glam::Affine3A::from_mat3(m)).unwrap();
         }
-        let tip = projectile
-            .positions()
-            .iter()
-            .copied()
-            .max_by(|a, b| a.dot(axis_z).total_cmp(&b.dot(axis_z)))
-            .unwrap();
+        let tip =
+            projectile.positions().iter().copied().max_by(|a, b| a.dot(axis_z).total_cmp(&b.dot(axis_z))).unwrap();
         assert!(
             (origin.dot(axis_z) - tip.dot(axis_z)).abs() <= 1e-5 * scale,
             "{label}: origin {origin} is not at the tip {tip} along {axis_z}"
         );
-        assert!(
-            origin.distance(tip) <= 1e-4 * scale,
-            "{label}: origin {origin}, tip vertex {tip}"
-        );
+        assert!(origin.distance(tip) <= 1e-4 * scale, "{label}: origin {origin}, tip vertex {tip}");
         if label == "glancing 45°" {
             let theta = json["theta_deg"].as_f64().unwrap();
             assert!((theta - 45.0).abs() < 1e-3, "θ = {theta}");
-            assert!(
-                json["dentmap_grid"]["res"].as_u64() > grid["res"].as_u64(),
-                "glancing map is stretched"
-            );
+            assert!(json["dentmap_grid"]["res"].as_u64() > grid["res"].as_u64(), "glancing map is stretched");
         }
         std::fs::remove_dir_all(&out).unwrap();
     }
@@ -236,21 +167,8 @@ fn zbuffer_origin_is_the_most_advanced_point() {
 #[test]
 fn fixed_resolution_and_options_are_recorded() {
     let dir = TempDir::new("res64");
-    let (out, _) = run_ok(
-        &dir,
-        &[
-            "--res",
-            "64",
-            "--sigma",
-            "0.05",
-            "--heat-iters",
-            "3",
-            "--clamp-iters",
-            "5",
-            "--widen",
-            "2.5",
-        ],
-    );
+    let (out, _) =
+        run_ok(&dir, &["--res", "64", "--sigma", "0.05", "--heat-iters", "3", "--clamp-iters", "5", "--widen", "2.5"]);
     let json = read_json(&out.join("dentmap.json"));
     assert_eq!(json["zbuffer_grid"]["res"], 64);
     assert!((json["sigma"].as_f64().unwrap() - 0.05).abs() < 1e-7);
@@ -268,17 +186,10 @@ fn assert_fails(args: &[&str], out: &Path, what: &str) {
     let output = dentbend(args);
     let stderr = text(&output.stderr);
     assert_eq!(output.status.code(), Some(2), "{what}: {stderr}");
-    assert_eq!(
-        stderr.lines().count(),
-        1,
-        "{what}: one line expected, got {stderr:?}"
-    );
+    assert_eq!(stderr.lines().count(), 1, "{what}: one line expected, got {stderr:?}");
     assert!(stderr.starts_with("error: "), "{what}: {stderr}");
     assert!(!stderr.contains("panicked"), "{what}: {stderr}");
-    assert!(
-        !out.join("dentmap.json").exists(),
-        "{what}: output written anyway"
-    );
+    assert!(!out.join("dentmap.json").exists(), "{what}: output written anyway");
 }
 
 #[test]
@@ -290,17 +201,8 @@ fn bad_input_exits_with_code_2_and_one_line() {
     std::fs::write(&garbage, "this is not\nan OBJ file\nf 1 2 3 4 x\n").unwrap();
     let missing = dir.path("missing.obj");
     let base = |extra: &[&str]| -> Vec<String> {
-        let mut args: Vec<String> = [
-            "dentmap",
-            "--projectile",
-            "bunny",
-            "--dent-distance",
-            "0.2",
-            "--out",
-            &out_s,
-        ]
-        .map(String::from)
-        .to_vec();
+        let mut args: Vec<String> =
+            ["dentmap", "--projectile", "bunny", "--dent-distance", "0.2", "--out", &out_s].map(String::from).to_vec();
         args.extend(extra.iter().map(|s| s.to_string()));
         args
     };
@@ -316,53 +218,22 @@ fn bad_input_exits_with_code_2_and_one_line() {
         (base(&["--sigma", "-1"]), "negative sigma"),
         (base(&["--rotate", "1,2"]), "bad rotation"),
         (
-            [
-                "dentmap",
-                "--projectile",
-                "bunny",
-                "--dent-distance",
-                "-1",
-                "--out",
-                &out_s,
-            ]
-            .map(String::from)
-            .to_vec(),
+            ["dentmap", "--projectile", "bunny", "--dent-distance", "-1", "--out", &out_s].map(String::from).to_vec(),
             "negative d",
         ),
         (
-            [
-                "dentmap",
-                "--projectile",
-                missing.to_str().unwrap(),
-                "--dent-distance",
-                "0.2",
-                "--out",
-                &out_s,
-            ]
-            .map(String::from)
-            .to_vec(),
+            ["dentmap", "--projectile", missing.to_str().unwrap(), "--dent-distance", "0.2", "--out", &out_s]
+                .map(String::from)
+                .to_vec(),
             "missing file",
         ),
         (
-            [
-                "dentmap",
-                "--projectile",
-                garbage.to_str().unwrap(),
-                "--dent-distance",
-                "0.2",
-                "--out",
-                &out_s,
-            ]
-            .map(String::from)
-            .to_vec(),
-            "garbage OBJ",
-        ),
-        (
-            ["dentmap", "--projectile", "bunny", "--out", &out_s]
+            ["dentmap", "--projectile", garbage.to_str().unwrap(), "--dent-distance", "0.2", "--out", &out_s]
                 .map(String::from)
                 .to_vec(),
-            "no dent distance",
+            "garbage OBJ",
         ),
+        (["dentmap", "--projectile", "bunny", "--out", &out_s].map(String::from).to_vec(), "no dent distance"),
     ];
     for (args, what) in &cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -371,21 +242,11 @@ fn bad_input_exits_with_code_2_and_one_line() {
     // An output "directory" that is a file cannot be written.
     let file = dir.path("a-file");
     std::fs::write(&file, "x").unwrap();
-    let output = dentbend(&[
-        "dentmap",
-        "--projectile",
-        "bunny",
-        "--dent-distance",
-        "0.2",
-        "--out",
-        file.to_str().unwrap(),
-    ]);
+    let output =
+        dentbend(&["dentmap", "--projectile", "bunny", "--dent-distance", "0.2", "--out", file.to_str().unwrap()]);
     let stderr = text(&output.stderr);
     assert_eq!(output.status.code(), Some(2), "{stderr}");
-    assert!(
-        stderr.starts_with("error: ") && stderr.lines().count() == 1,
-        "{stderr}"
-    );
+    assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1, "{stderr}");
 }
 
 #[test]

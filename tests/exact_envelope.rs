@@ -65,9 +65,7 @@ fn check(res: u32, sigma: f64, profile: &[f32], what: &str) -> Vec<f32> {
 }
 
 fn random_profile(rng: &mut SplitMix64, res: u32, density: f32, d: f32) -> Vec<f32> {
-    (0..res * res)
-        .map(|_| if rng.next_f32() < density { d * rng.range_f32(0.01, 1.0) } else { 0.0 })
-        .collect()
+    (0..res * res).map(|_| if rng.next_f32() < density { d * rng.range_f32(0.01, 1.0) } else { 0.0 }).collect()
 }
 
 const SIGMAS: [f64; 7] = [0.05, 0.3, 0.7, 1.5, 4.0, 20.0, 1e4];

@@ -189,10 +189,7 @@ fn heat_rescales_the_peak_to_the_dent_distance() {
                 for mut g in inputs {
                     heat(&mut g, res, 0.2, k1, k2, d);
                     let peak = g.iter().fold(0.0f32, |m, &v| m.max(v));
-                    assert!(
-                        (peak - d).abs() <= 1e-6 * d,
-                        "res {res} k₁ {k1} k₂ {k2} d {d}: peak {peak}"
-                    );
+                    assert!((peak - d).abs() <= 1e-6 * d, "res {res} k₁ {k1} k₂ {k2} d {d}: peak {peak}");
                 }
             }
         }

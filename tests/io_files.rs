@@ -5,8 +5,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use dentbend::io::{
-    IoError, heatmap_rgb, read_height_png, read_npy_f32, write_heatmap_png, write_height_png16,
-    write_npy_f32,
+    IoError, heatmap_rgb, read_height_png, read_npy_f32, write_heatmap_png, write_height_png16, write_npy_f32,
 };
 
 /// A fresh directory under the system temp dir, removed on drop.
@@ -16,8 +15,7 @@ impl TempDir {
     fn new(name: &str) -> Self {
         static COUNT: AtomicUsize = AtomicUsize::new(0);
         let n = COUNT.fetch_add(1, Ordering::Relaxed);
-        let dir =
-            std::env::temp_dir().join(format!("dentbend-io-{name}-{}-{n}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("dentbend-io-{name}-{}-{n}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         Self(dir)
@@ -36,9 +34,7 @@ impl Drop for TempDir {
 
 /// Deterministic test values spanning several magnitudes and signs.
 fn values(n: usize) -> Vec<f32> {
-    (0..n)
-        .map(|i| (i as f32 * 0.7368).sin() * 10f32.powi(i as i32 % 7 - 3))
-        .collect()
+    (0..n).map(|i| (i as f32 * 0.7368).sin() * 10f32.powi(i as i32 % 7 - 3)).collect()
 }
 
 #[test]
@@ -59,25 +55,15 @@ fn npy_round_trip_is_bit_exact() {
         assert_eq!(bits(&read), bits(&data), "shape {shape:?}");
     }
     write_npy_f32(dir.path("scalar.npy"), &[], &[2.5]).unwrap();
-    assert_eq!(
-        read_npy_f32(dir.path("scalar.npy")).unwrap(),
-        (vec![], vec![2.5])
-    );
+    assert_eq!(read_npy_f32(dir.path("scalar.npy")).unwrap(), (vec![], vec![2.5]));
     write_npy_f32(dir.path("empty.npy"), &[0, 4], &[]).unwrap();
-    assert_eq!(
-        read_npy_f32(dir.path("empty.npy")).unwrap(),
-        (vec![0, 4], vec![])
-    );
+    assert_eq!(read_npy_f32(dir.path("empty.npy")).unwrap(), (vec![0, 4], vec![]));
 }
 
 #[test]
 fn npy_header_is_aligned_numpy_dict() {
     let dir = TempDir::new("npy-header");
-    for (shape, dims) in [
-        (vec![4usize, 6], "(4, 6)"),
-        (vec![24], "(24,)"),
-        (vec![2, 3, 4], "(2, 3, 4)"),
-    ] {
+    for (shape, dims) in [(vec![4usize, 6], "(4, 6)"), (vec![24], "(24,)"), (vec![2, 3, 4], "(2, 3, 4)")] {
         let path = dir.path("h.npy");
         write_npy_f32(&path, &shape, &values(24)).unwrap();
         let bytes = std::fs::read(&path).unwrap();
@@ -85,11 +71,7 @@ fn npy_header_is_aligned_numpy_dict() {
         assert_eq!(&bytes[6..8], &[1, 0], "format version 1.0");
         let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
         let data_offset = 10 + header_len;
-        assert_eq!(
-            data_offset % 64,
-            0,
-            "data offset {data_offset} is not 64-byte aligned"
-        );
+        assert_eq!(data_offset % 64, 0, "data offset {data_offset} is not 64-byte aligned");
         assert_eq!(bytes.len(), data_offset + 4 * 24);
         let header = std::str::from_utf8(&bytes[10..data_offset]).unwrap();
         assert!(header.ends_with('\n'));
@@ -142,53 +124,17 @@ fn malformed_npy_files_are_errors() {
             b[9] = 0xff;
             b
         }),
-        (
-            "f8",
-            npy_bytes(
-                "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 2), }",
-                &[0; 32],
-            ),
-        ),
-        (
-            "big endian",
-            npy_bytes(
-                "{'descr': '>f4', 'fortran_order': False, 'shape': (2, 2), }",
-                &sixteen,
-            ),
-        ),
-        (
-            "fortran",
-            npy_bytes(
-                "{'descr': '<f4', 'fortran_order': True, 'shape': (2, 2), }",
-                &sixteen,
-            ),
-        ),
+        ("f8", npy_bytes("{'descr': '<f8', 'fortran_order': False, 'shape': (2, 2), }", &[0; 32])),
+        ("big endian", npy_bytes("{'descr': '>f4', 'fortran_order': False, 'shape': (2, 2), }", &sixteen)),
+        ("fortran", npy_bytes("{'descr': '<f4', 'fortran_order': True, 'shape': (2, 2), }", &sixteen)),
         ("too few bytes", npy_bytes(good, &[0; 12])),
         ("too many bytes", npy_bytes(good, &[0; 20])),
-        (
-            "no shape",
-            npy_bytes("{'descr': '<f4', 'fortran_order': False, }", &sixteen),
-        ),
-        (
-            "bad shape",
-            npy_bytes(
-                "{'descr': '<f4', 'fortran_order': False, 'shape': (2, x), }",
-                &sixteen,
-            ),
-        ),
-        (
-            "negative dim",
-            npy_bytes(
-                "{'descr': '<f4', 'fortran_order': False, 'shape': (-2, 2), }",
-                &sixteen,
-            ),
-        ),
+        ("no shape", npy_bytes("{'descr': '<f4', 'fortran_order': False, }", &sixteen)),
+        ("bad shape", npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (2, x), }", &sixteen)),
+        ("negative dim", npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (-2, 2), }", &sixteen)),
         (
             "huge shape",
-            npy_bytes(
-                "{'descr': '<f4', 'fortran_order': False, 'shape': (99999999999, 99999999999), }",
-                &sixteen,
-            ),
+            npy_bytes("{'descr': '<f4', 'fortran_order': False, 'shape': (99999999999, 99999999999), }", &sixteen),
         ),
         ("not a dict", npy_bytes("hello", &sixteen)),
         ("unterminated", npy_bytes("{'descr': '<f4", &sixteen)),
@@ -210,10 +156,7 @@ fn malformed_npy_files_are_errors() {
         }
     }
     std::fs::write(dir.path("ok.npy"), npy_bytes(good, &sixteen)).unwrap();
-    assert_eq!(
-        read_npy_f32(dir.path("ok.npy")).unwrap(),
-        (vec![2, 2], vec![0.0; 4])
-    );
+    assert_eq!(read_npy_f32(dir.path("ok.npy")).unwrap(), (vec![2, 2], vec![0.0; 4]));
     let missing = read_npy_f32(dir.path("missing.npy")).unwrap_err();
     assert!(matches!(missing, IoError::Io { .. }), "{missing}");
     assert!(missing.to_string().contains("missing.npy"), "{missing}");
@@ -238,27 +181,15 @@ fn heatmap_has_the_grid_dimensions_and_orientation() {
     assert!(luma(rgb.get_pixel(3, 1)) > 0);
     assert_eq!(rgb, heatmap_rgb(&data, w, h, 2.0).unwrap());
     // The ramp grows lighter all the way up.
-    let ramp: Vec<u32> = (0..=100)
-        .map(|k| {
-            dentbend::io::heat_colour(k as f32 / 100.0)
-                .iter()
-                .map(|&c| u32::from(c))
-                .sum()
-        })
-        .collect();
+    let ramp: Vec<u32> =
+        (0..=100).map(|k| dentbend::io::heat_colour(k as f32 / 100.0).iter().map(|&c| u32::from(c)).sum()).collect();
     assert!(ramp.windows(2).all(|w| w[1] >= w[0]), "{ramp:?}");
     // A zero maximum gives an all-dark picture.
     let dark = heatmap_rgb(&data, w, h, 0.0).unwrap();
     assert!(dark.pixels().all(|p| p.0 == [0, 0, 0]));
     // Size mismatches are errors.
-    assert!(matches!(
-        heatmap_rgb(&data, w, h + 1, 1.0),
-        Err(IoError::InvalidArgument(_))
-    ));
-    assert!(matches!(
-        write_heatmap_png(dir.path("z.png"), &[], 0, 0, 1.0),
-        Err(IoError::InvalidArgument(_))
-    ));
+    assert!(matches!(heatmap_rgb(&data, w, h + 1, 1.0), Err(IoError::InvalidArgument(_))));
+    assert!(matches!(write_heatmap_png(dir.path("z.png"), &[], 0, 0, 1.0), Err(IoError::InvalidArgument(_))));
 }
 
 #[test]
@@ -266,45 +197,29 @@ fn height_png16_round_trip_within_quantization() {
     let dir = TempDir::new("height16");
     let (w, h) = (13u32, 9u32);
     let max = 0.37f32;
-    let data: Vec<f32> = values((w * h) as usize)
-        .iter()
-        .map(|v| (v.abs() * 0.1).min(max))
-        .collect();
+    let data: Vec<f32> = values((w * h) as usize).iter().map(|v| (v.abs() * 0.1).min(max)).collect();
     let path = dir.path("h16.png");
     write_height_png16(&path, &data, w, h, max).unwrap();
     assert_eq!(image::open(&path).unwrap().color(), image::ColorType::L16);
     let read = read_height_png(&path).unwrap();
-    assert_eq!(
-        (read.width, read.height, read.values.len()),
-        (w, h, data.len())
-    );
+    assert_eq!((read.width, read.height, read.values.len()), (w, h, data.len()));
     for (v, r) in data.iter().zip(&read.values) {
-        assert!(
-            (v / max - r).abs() <= 1.0 / 65535.0,
-            "{v} / {max} read back as {r}"
-        );
+        assert!((v / max - r).abs() <= 1.0 / 65535.0, "{v} / {max} read back as {r}");
         assert!((0.0..=1.0).contains(r));
     }
     // Values beyond the maximum clamp to white, a zero maximum gives black.
     write_height_png16(&path, &[0.0, 1.0, 2.0, -1.0], 2, 2, 1.0).unwrap();
-    assert_eq!(
-        read_height_png(&path).unwrap().values,
-        vec![0.0, 1.0, 1.0, 0.0]
-    );
+    assert_eq!(read_height_png(&path).unwrap().values, vec![0.0, 1.0, 1.0, 0.0]);
     write_height_png16(&path, &[0.0, 1.0, 2.0, -1.0], 2, 2, 0.0).unwrap();
     assert_eq!(read_height_png(&path).unwrap().values, vec![0.0; 4]);
-    assert!(matches!(
-        write_height_png16(&path, &[0.0; 3], 2, 2, 1.0),
-        Err(IoError::InvalidArgument(_))
-    ));
+    assert!(matches!(write_height_png16(&path, &[0.0; 3], 2, 2, 1.0), Err(IoError::InvalidArgument(_))));
 }
 
 #[test]
 fn height_png8_gray_alpha_and_rgb_read_as_luma() {
     let dir = TempDir::new("height8");
     let (w, h) = (17u32, 5u32);
-    let gray =
-        image::GrayImage::from_fn(w, h, |x, y| image::Luma([((x * 37 + y * 11) % 256) as u8]));
+    let gray = image::GrayImage::from_fn(w, h, |x, y| image::Luma([((x * 37 + y * 11) % 256) as u8]));
     let path = dir.path("h8.png");
     gray.save(&path).unwrap();
     let read = read_height_png(&path).unwrap();
@@ -313,18 +228,11 @@ fn height_png8_gray_alpha_and_rgb_read_as_luma() {
         assert!((f32::from(p.0[0]) / 255.0 - r).abs() <= 1.0 / 255.0 * 1e-3);
     }
 
-    let gray_alpha = image::GrayAlphaImage::from_fn(2, 1, |x, _| {
-        image::LumaA([if x == 0 { 51 } else { 255 }, 0])
-    });
+    let gray_alpha = image::GrayAlphaImage::from_fn(2, 1, |x, _| image::LumaA([if x == 0 { 51 } else { 255 }, 0]));
     gray_alpha.save(dir.path("ga.png")).unwrap();
-    assert_eq!(
-        read_height_png(dir.path("ga.png")).unwrap().values,
-        vec![0.2, 1.0]
-    );
+    assert_eq!(read_height_png(dir.path("ga.png")).unwrap().values, vec![0.2, 1.0]);
 
-    let rgb = image::RgbImage::from_fn(3, 1, |x, _| {
-        image::Rgb([[255, 0, 0], [0, 0, 0], [255, 255, 255]][x as usize])
-    });
+    let rgb = image::RgbImage::from_fn(3, 1, |x, _| image::Rgb([[255, 0, 0], [0, 0, 0], [255, 255, 255]][x as usize]));
     rgb.save(dir.path("rgb.png")).unwrap();
     let v = read_height_png(dir.path("rgb.png")).unwrap().values;
     assert!((v[0] - 0.2126).abs() < 2.0 / 255.0, "red luma {}", v[0]);
@@ -339,10 +247,7 @@ fn malformed_png_files_are_errors() {
         std::fs::write(&p, bytes).unwrap();
         p
     };
-    let garbage = write(
-        "garbage.png",
-        b"this is not a picture at all, just some text",
-    );
+    let garbage = write("garbage.png", b"this is not a picture at all, just some text");
     let empty = write("empty.png", b"");
     let good = dir.path("good.png");
     write_height_png16(&good, &values(64 * 64), 64, 64, 1.0).unwrap();
@@ -355,11 +260,7 @@ fn malformed_png_files_are_errors() {
     let corrupt = write("corrupt.png", &corrupt_bytes);
     for path in [&garbage, &empty, &truncated, &corrupt] {
         let err = read_height_png(path).unwrap_err();
-        assert!(
-            err.to_string()
-                .contains(path.file_name().unwrap().to_str().unwrap()),
-            "{err}"
-        );
+        assert!(err.to_string().contains(path.file_name().unwrap().to_str().unwrap()), "{err}");
     }
     let missing = read_height_png(Path::new(&dir.path("nope.png"))).unwrap_err();
     assert!(matches!(missing, IoError::Io { .. }), "{missing}");

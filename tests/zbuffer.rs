@@ -179,8 +179,7 @@ fn bunny() -> (Vec<Vec3>, Vec<[u32; 3]>) {
                 positions.push(Vec3::new(c[0], c[1], c[2]));
             }
             Some("f") => {
-                let idx: Vec<u32> =
-                    words.map(|w| w.split('/').next().unwrap().parse::<u32>().unwrap() - 1).collect();
+                let idx: Vec<u32> = words.map(|w| w.split('/').next().unwrap().parse::<u32>().unwrap() - 1).collect();
                 for k in 1..idx.len() - 1 {
                     faces.push([idx[0], idx[k], idx[k + 1]]);
                 }
@@ -235,12 +234,8 @@ fn ray_cast_profile(view: &View, positions: &[Vec3], faces: &[[u32; 3]]) -> Vec<
 /// The part of polygon `poly` (grid space: col, row, s) inside the square of half-side `half`
 /// around grid point (`col`, `row`), by Sutherland–Hodgman.
 fn clip_to_cell(poly: &[DVec3], col: f64, row: f64, half: f64) -> Vec<DVec3> {
-    let planes: [(DVec3, f64); 4] = [
-        (DVec3::X, col - half),
-        (-DVec3::X, -(col + half)),
-        (DVec3::Y, row - half),
-        (-DVec3::Y, -(row + half)),
-    ];
+    let planes: [(DVec3, f64); 4] =
+        [(DVec3::X, col - half), (-DVec3::X, -(col + half)), (DVec3::Y, row - half), (-DVec3::Y, -(row + half))];
     let mut poly = poly.to_vec();
     for (n, offset) in planes {
         let inside = |p: DVec3| p.x * n.x + p.y * n.y - offset;
@@ -511,7 +506,10 @@ fn thin_features_leave_a_trail() {
                 if p > 0.0 {
                     let (s_lo, s_hi) = ranges[cell].unwrap_or_else(|| panic!("{name}: cell {cell} off the trail"));
                     let (lo, hi) = (d as f64 + s_lo, d as f64 + s_hi);
-                    assert!((lo - 1e-4..=hi + 1e-4).contains(&(p as f64)), "{name}, cell {cell}: {p} not in [{lo}, {hi}]");
+                    assert!(
+                        (lo - 1e-4..=hi + 1e-4).contains(&(p as f64)),
+                        "{name}, cell {cell}: {p} not in [{lo}, {hi}]"
+                    );
                 }
             }
             for col in 6..=50 {
@@ -605,7 +603,12 @@ fn tmp_timing() {
                     std::hint::black_box(&out);
                 }
                 times.sort_by(f64::total_cmp);
-                eprintln!("dir {dir} d {:.2} ({frac} depth) res {res}: median {:.3} ms, min {:.3} ms", frac * depth, times[150] * 1e3, times[0] * 1e3);
+                eprintln!(
+                    "dir {dir} d {:.2} ({frac} depth) res {res}: median {:.3} ms, min {:.3} ms",
+                    frac * depth,
+                    times[150] * 1e3,
+                    times[0] * 1e3
+                );
             }
         }
     }

@@ -49,21 +49,21 @@ impl LineScratch {
 }
 
 /// Overwrites `line[x]` by `min_k (c·(x − k)² + line[k])` over the finite entries k, or `+∞`
-/// where there are none. Entries that are `+∞` (or NaN) are not sources. `line` is at most as
-/// long as `scratch` was made for.
+/// where there are none. Entries that are `+∞` (or otherwise not finite) are not sources.
+/// `line` is at most as long as `scratch` was made for.
 pub(super) fn lower_envelope(line: &mut [f32], scratch: &mut LineScratch) {
     let n = line.len();
     let c = scratch.c;
     let hull = &mut scratch.hull[..n + 2];
     let recip = &scratch.recip[..n];
-    let mut sources = line.iter().enumerate().filter(|(_, f)| **f < f32::INFINITY);
+    let mut sources = line.iter().enumerate().filter(|(_, f)| f.is_finite());
     let Some((first, &f_first)) = sources.next() else {
         line.fill(f32::INFINITY);
         return;
     };
     // Sweep 1: `hull[1..m]` then `top` hold, left to right, the parabolas lowest somewhere on
-    // [0, q]; `top` stays in registers. `hull[0]` is a floor that is never reached: the first
-    // parabola's b = −∞ keeps it from being popped.
+    // [0, q]; `top` stays in registers. `hull[0]` is a floor, read only by tests against the
+    // first parabola, whose b = −∞ makes them fail: that one is never popped.
     let mut top = Piece { v: first as f32, f: f_first, b: f32::NEG_INFINITY, w: 0.0, i: first as u32 };
     let mut m = 1;
     for (q, &fq) in sources {
@@ -117,7 +117,7 @@ pub fn envelope_rows(params: &EnvelopeParams, profile: &[f32], out: &mut [f32]) 
     let (profile, out) = (&profile[..n * n], &mut out[..n * n]);
     let mut scratch = LineScratch::new(n, params.c);
     for (p_row, out_row) in profile.chunks_exact(n).zip(out.chunks_exact_mut(n)) {
-        // One ln per source cell; zero (and NaN) cells are no parabola.
+        // One ln per source cell; zero, NaN and +∞ cells are no parabola.
         for (o, &p) in out_row.iter_mut().zip(p_row) {
             *o = if p > 0.0 { -p.ln() } else { f32::INFINITY };
         }

@@ -38,7 +38,7 @@ pub fn heat_step(params: &HeatParams, src: &[f32], dst: &mut [f32]) {
         // out ← centre + α·((up + down) + (left + right) − 4·centre).
         let update = |s: f32, vertical: f32, horizontal: f32| {
             let next = s + alpha * ((vertical + horizontal) - 4.0 * s);
-            next
+            if clamped { next.max(s) } else { next }
         };
         if n == 1 {
             out[0] = update(row[0], out[0], 0.0);

@@ -12,8 +12,10 @@
 //!   projection is a segment, silhouettes), each edge is walked along its dominant axis with one
 //!   sample per column (or row) line it crosses, in the cell nearest that point, plus the cell of
 //!   its start vertex; the sample gets the edge's height at that point. A sample lies within ½ cell
-//!   (¹⁄√2 cell for vertices) of the centre of the cell it marks, so this widens features by at
-//!   most one cell and never lowers an exact centre value.
+//!   (¹⁄√2 cell for vertices) of the centre of the cell it marks, so a cell holds at least the
+//!   exact Z-buffer value of its centre and at most the highest point of the surface over its own
+//!   square: silhouettes widen by at most one cell, and on slopes an edge or vertex sample may
+//!   raise a cell by up to slope × ¹⁄√2 cell.
 //!
 //! Heights are `z = d + s`, s = depth along `axis_z` from `origin` (world units); triangles with
 //! no point above `z = 0` are culled.
@@ -38,7 +40,8 @@ pub fn zbuffer(params: &ZbufferParams, positions: &[Vec3], faces: &[[u32; 3]], p
     profile.fill(0.0);
     let g = &params.grid;
     let d = params.dent_distance;
-    if g.res == 0 || !(g.cell_size > 0.0) || !(d > 0.0) {
+    let valid = g.res > 0 && g.cell_size > 0.0 && d > 0.0;
+    if !valid {
         return;
     }
     let frame = Frame {
@@ -59,7 +62,8 @@ pub fn zbuffer(params: &ZbufferParams, positions: &[Vec3], faces: &[[u32; 3]], p
         };
         let v = [frame.to_grid(p0), frame.to_grid(p1), frame.to_grid(p2)];
         // Cull: entirely at or below the cut plane z = 0 (NaN-safe), or not representable.
-        if !(v[0].z.max(v[1].z).max(v[2].z) > 0.0) || !v.iter().all(|p| p.is_finite()) {
+        let reaches = v[0].z.max(v[1].z).max(v[2].z) > 0.0;
+        if !reaches || !v.iter().all(|p| p.is_finite()) {
             continue;
         }
         rasterize_centres(&mut target, v);
@@ -71,14 +75,17 @@ pub fn zbuffer(params: &ZbufferParams, positions: &[Vec3], faces: &[[u32; 3]], p
 
 /// World → grid-index space.
 struct Frame {
+    /// Grid centre at tip depth, world units.
     origin: Vec3,
     /// `axis_x / h`, 1/world unit.
     axis_x: Vec3,
     /// `axis_y / h`, 1/world unit.
     axis_y: Vec3,
+    /// Unit depth direction.
     axis_z: Vec3,
     /// `res/2 − ½`: grid index of the grid centre line.
     shift: f32,
+    /// Dent distance, world units.
     d: f32,
 }
 
@@ -93,10 +100,13 @@ impl Frame {
 
 /// The profile being written.
 struct Target<'a> {
+    /// Heights, world units, row-major.
     profile: &'a mut [f32],
+    /// Cells per side.
     res: usize,
     /// `res − 1`: the last valid column and row index.
     last: u32,
+    /// Dent distance, world units: the cap on heights.
     d: f32,
 }
 
@@ -104,11 +114,10 @@ impl Target<'_> {
     /// Max-merges height `z` (world units) into cell (`row`, `col`), both in `0..=last`;
     /// heights not above 0 (or NaN) are ignored and heights are capped at d.
     fn write(&mut self, row: u32, col: u32, z: f32) {
-        if !(z > 0.0) {
-            return;
-        }
         let index = row as usize * self.res + col as usize;
-        if let Some(cell) = self.profile.get_mut(index) {
+        if z > 0.0
+            && let Some(cell) = self.profile.get_mut(index)
+        {
             *cell = cell.max(z.min(self.d));
         }
     }
@@ -121,8 +130,9 @@ impl Target<'_> {
 
     /// The grid indices i with `lo ≤ i ≤ hi`, as an inclusive range, if any.
     fn span(&self, lo: f32, hi: f32) -> Option<(u32, u32)> {
+        // `max` and `min` also turn NaN into the grid's bounds.
         let (lo, hi) = (lo.max(0.0), hi.min(self.last as f32));
-        if !(lo <= hi) {
+        if lo > hi {
             return None;
         }
         // ceil and floor of non-negative values, by truncation.
@@ -140,12 +150,12 @@ fn rasterize_centres(target: &mut Target, v: [Vec3; 3]) {
     // p: stepped from the first cell of the clipped bounding box.
     let area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
     let longest2 = (0..3).map(|k| (v[(k + 1) % 3] - v[k]).truncate().length_squared()).fold(0.0, f32::max);
-    if !(area2.abs() > DEGENERATE_EPS * longest2) {
+    let solid = area2.abs() > DEGENERATE_EPS * longest2;
+    if !solid {
         return;
     }
     let (lo, hi) = (v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2]));
-    let (Some((col_first, col_end)), Some((row_first, row_end))) =
-        (target.span(lo.x, hi.x), target.span(lo.y, hi.y))
+    let (Some((col_first, col_end)), Some((row_first, row_end))) = (target.span(lo.x, hi.x), target.span(lo.y, hi.y))
     else {
         return;
     };
@@ -193,14 +203,11 @@ fn rasterize_edge(target: &mut Target, a: Vec3, b: Vec3) {
     }
     let Some((first, end)) = target.span(ua.min(ub), ua.max(ub)) else { return };
     let inv_du = 1.0 / du;
-    let (dw, dz) = ((wb - wa) * inv_du, (b.z - a.z) * inv_du);
-    let (z_lo, z_hi) = (a.z.min(b.z), a.z.max(b.z));
     for u in first..=end {
-        let k = u as f32 - ua;
-        if let Some(w) = target.nearest(wa + k * dw) {
-            let z = (a.z + k * dz).clamp(z_lo, z_hi);
+        let t = ((u as f32 - ua) * inv_du).clamp(0.0, 1.0);
+        if let Some(w) = target.nearest(wa + t * (wb - wa)) {
             let (row, col) = if along_x { (w, u) } else { (u, w) };
-            target.write(row, col, z);
+            target.write(row, col, a.z + t * (b.z - a.z));
         }
     }
 }

@@ -39,31 +39,19 @@ pub enum IoError {
 impl IoError {
     /// Wraps an [`std::io::Error`] with the file it happened on.
     pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Self::Io {
-            path: path.into(),
-            source,
-        }
+        Self::Io { path: path.into(), source }
     }
 
     /// A malformed-`.npy` error.
     pub(crate) fn npy(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
-        Self::Npy {
-            path: path.into(),
-            message: message.into(),
-        }
+        Self::Npy { path: path.into(), message: message.into() }
     }
 
     /// Wraps an image error; I/O failures inside the image crate become [`IoError::Io`].
     pub(crate) fn image(path: impl Into<PathBuf>, source: image::ImageError) -> Self {
         match source {
-            image::ImageError::IoError(e) => Self::Io {
-                path: path.into(),
-                source: e,
-            },
-            other => Self::Image {
-                path: path.into(),
-                source: other,
-            },
+            image::ImageError::IoError(e) => Self::Io { path: path.into(), source: e },
+            other => Self::Image { path: path.into(), source: other },
         }
     }
 }

@@ -22,11 +22,7 @@ const RAMP: [(f32, [f32; 3]); 6] = [
 /// between the control points.
 pub fn heat_colour(t: f32) -> [u8; 3] {
     let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
-    let upper = RAMP
-        .iter()
-        .position(|&(at, _)| at >= t)
-        .unwrap_or(RAMP.len() - 1)
-        .max(1);
+    let upper = RAMP.iter().position(|&(at, _)| at >= t).unwrap_or(RAMP.len() - 1).max(1);
     let ((t0, c0), (t1, c1)) = (RAMP[upper - 1], RAMP[upper]);
     let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
     std::array::from_fn(|k| (c0[k] + s * (c1[k] - c0[k])).round().clamp(0.0, 255.0) as u8)
@@ -38,18 +34,9 @@ pub fn heat_colour(t: f32) -> [u8; 3] {
 ///
 /// # Errors
 /// [`IoError::InvalidArgument`] when `values.len() != width·height` or a side is zero.
-pub fn heatmap_rgb(
-    values: &[f32],
-    width: u32,
-    height: u32,
-    max_value: f32,
-) -> Result<RgbImage, IoError> {
+pub fn heatmap_rgb(values: &[f32], width: u32, height: u32, max_value: f32) -> Result<RgbImage, IoError> {
     check_size(values.len(), width, height)?;
-    let scale = if max_value.is_finite() && max_value > 0.0 {
-        1.0 / max_value
-    } else {
-        0.0
-    };
+    let scale = if max_value.is_finite() && max_value > 0.0 { 1.0 / max_value } else { 0.0 };
     Ok(RgbImage::from_fn(width, height, |col, row| {
         let v = values[row as usize * width as usize + col as usize];
         Rgb(heat_colour(if scale > 0.0 { v * scale } else { 0.0 }))
@@ -69,9 +56,7 @@ pub fn write_heatmap_png(
 ) -> Result<(), IoError> {
     let path = path.as_ref();
     let picture = heatmap_rgb(values, width, height, max_value)?;
-    picture
-        .save_with_format(path, ImageFormat::Png)
-        .map_err(|e| IoError::image(path, e))
+    picture.save_with_format(path, ImageFormat::Png).map_err(|e| IoError::image(path, e))
 }
 
 /// Checks that a row-major array of `len` values is a non-empty `width × height` grid.

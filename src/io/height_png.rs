@@ -30,50 +30,20 @@ pub struct HeightImage {
 pub fn read_height_png(path: impl AsRef<Path>) -> Result<HeightImage, IoError> {
     let path = path.as_ref();
     let reader = ImageReader::open(path).map_err(|e| IoError::io(path, e))?;
-    let reader = reader
-        .with_guessed_format()
-        .map_err(|e| IoError::io(path, e))?;
+    let reader = reader.with_guessed_format().map_err(|e| IoError::io(path, e))?;
     let picture = reader.decode().map_err(|e| IoError::image(path, e))?;
     let (width, height) = (picture.width(), picture.height());
     let values = match picture {
-        DynamicImage::ImageLuma8(p) => p
-            .into_raw()
-            .into_iter()
-            .map(|v| f32::from(v) / 255.0)
-            .collect(),
-        DynamicImage::ImageLuma16(p) => p
-            .into_raw()
-            .into_iter()
-            .map(|v| f32::from(v) / 65535.0)
-            .collect(),
-        DynamicImage::ImageLumaA8(p) => p
-            .into_raw()
-            .chunks_exact(2)
-            .map(|c| f32::from(c[0]) / 255.0)
-            .collect(),
-        DynamicImage::ImageLumaA16(p) => p
-            .into_raw()
-            .chunks_exact(2)
-            .map(|c| f32::from(c[0]) / 65535.0)
-            .collect(),
-        p @ (DynamicImage::ImageRgb8(_) | DynamicImage::ImageRgba8(_)) => p
-            .to_luma8()
-            .into_raw()
-            .into_iter()
-            .map(|v| f32::from(v) / 255.0)
-            .collect(),
-        other => other
-            .to_luma32f()
-            .into_raw()
-            .into_iter()
-            .map(|v| v.clamp(0.0, 1.0))
-            .collect(),
+        DynamicImage::ImageLuma8(p) => p.into_raw().into_iter().map(|v| f32::from(v) / 255.0).collect(),
+        DynamicImage::ImageLuma16(p) => p.into_raw().into_iter().map(|v| f32::from(v) / 65535.0).collect(),
+        DynamicImage::ImageLumaA8(p) => p.into_raw().chunks_exact(2).map(|c| f32::from(c[0]) / 255.0).collect(),
+        DynamicImage::ImageLumaA16(p) => p.into_raw().chunks_exact(2).map(|c| f32::from(c[0]) / 65535.0).collect(),
+        p @ (DynamicImage::ImageRgb8(_) | DynamicImage::ImageRgba8(_)) => {
+            p.to_luma8().into_raw().into_iter().map(|v| f32::from(v) / 255.0).collect()
+        }
+        other => other.to_luma32f().into_raw().into_iter().map(|v| v.clamp(0.0, 1.0)).collect(),
     };
-    Ok(HeightImage {
-        width,
-        height,
-        values,
-    })
+    Ok(HeightImage { width, height, values })
 }
 
 /// Writes `values` (row-major, row 0 at the top) as a 16-bit grayscale PNG: each pixel is
@@ -92,24 +62,12 @@ pub fn write_height_png16(
 ) -> Result<(), IoError> {
     let path = path.as_ref();
     check_size(values.len(), width, height)?;
-    let scale = if max_value.is_finite() && max_value > 0.0 {
-        65535.0 / f64::from(max_value)
-    } else {
-        0.0
-    };
+    let scale = if max_value.is_finite() && max_value > 0.0 { 65535.0 / f64::from(max_value) } else { 0.0 };
     let pixels: Vec<u16> = values
         .iter()
-        .map(|&v| {
-            if v.is_nan() {
-                0
-            } else {
-                (f64::from(v) * scale).round().clamp(0.0, 65535.0) as u16
-            }
-        })
+        .map(|&v| if v.is_nan() { 0 } else { (f64::from(v) * scale).round().clamp(0.0, 65535.0) as u16 })
         .collect();
     let picture = ImageBuffer::<Luma<u16>, Vec<u16>>::from_raw(width, height, pixels)
         .ok_or_else(|| IoError::InvalidArgument("image buffer size mismatch".into()))?;
-    picture
-        .save_with_format(path, ImageFormat::Png)
-        .map_err(|e| IoError::image(path, e))
+    picture.save_with_format(path, ImageFormat::Png).map_err(|e| IoError::image(path, e))
 }

@@ -70,29 +70,19 @@ pub fn read_npy_f32(path: impl AsRef<Path>) -> Result<(Vec<usize>, Vec<f32>), Io
     }
     let (header_len, header_start): (usize, usize) = match bytes[6] {
         1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
-        2 | 3 if bytes.len() >= 12 => (
-            u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
-            12,
-        ),
+        2 | 3 if bytes.len() >= 12 => (u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize, 12),
         major => {
-            return Err(bad(&format!(
-                "unsupported format version {major}.{}",
-                bytes[7]
-            )));
+            return Err(bad(&format!("unsupported format version {major}.{}", bytes[7])));
         }
     };
     let data_start = header_start
         .checked_add(header_len)
         .filter(|&end| end <= bytes.len())
         .ok_or_else(|| bad("the header runs past the end of the file"))?;
-    let header = std::str::from_utf8(&bytes[header_start..data_start])
-        .map_err(|_| bad("the header is not text"))?;
+    let header = std::str::from_utf8(&bytes[header_start..data_start]).map_err(|_| bad("the header is not text"))?;
     let dict = parse_header(header).map_err(|message| bad(&message))?;
     if dict.descr != "<f4" {
-        return Err(bad(&format!(
-            "dtype '{}' is not supported (only '<f4', little-endian f32)",
-            dict.descr
-        )));
+        return Err(bad(&format!("dtype '{}' is not supported (only '<f4', little-endian f32)", dict.descr)));
     }
     if dict.fortran_order && dict.shape.iter().filter(|&&n| n > 1).count() > 1 {
         return Err(bad("Fortran-order arrays are not supported"));
@@ -104,16 +94,9 @@ pub fn read_npy_f32(path: impl AsRef<Path>) -> Result<(Vec<usize>, Vec<f32>), Io
         .try_fold(1usize, |acc, &n| acc.checked_mul(n))
         .filter(|c| c.checked_mul(4) == Some(payload.len()))
         .ok_or_else(|| {
-            bad(&format!(
-                "shape {:?} does not match the {} data bytes present",
-                dict.shape,
-                payload.len()
-            ))
+            bad(&format!("shape {:?} does not match the {} data bytes present", dict.shape, payload.len()))
         })?;
-    let data: Vec<f32> = payload
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect();
+    let data: Vec<f32> = payload.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
     debug_assert_eq!(data.len(), count);
     Ok((dict.shape, data))
 }
@@ -122,25 +105,14 @@ pub fn read_npy_f32(path: impl AsRef<Path>) -> Result<(Vec<usize>, Vec<f32>), Io
 fn header_bytes(shape: &[usize]) -> Result<Vec<u8>, IoError> {
     let dims = match shape {
         [n] => format!("({n},)"),
-        _ => format!(
-            "({})",
-            shape
-                .iter()
-                .map(usize::to_string)
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
+        _ => format!("({})", shape.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")),
     };
     let mut dict = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': {dims}, }}");
     let unpadded = MAGIC.len() + 4 + dict.len() + 1;
-    dict.extend(std::iter::repeat_n(
-        ' ',
-        unpadded.next_multiple_of(ALIGN) - unpadded,
-    ));
+    dict.extend(std::iter::repeat_n(' ', unpadded.next_multiple_of(ALIGN) - unpadded));
     dict.push('\n');
-    let header_len = u16::try_from(dict.len()).map_err(|_| {
-        IoError::InvalidArgument(format!("npy shape {shape:?} has too many dimensions"))
-    })?;
+    let header_len = u16::try_from(dict.len())
+        .map_err(|_| IoError::InvalidArgument(format!("npy shape {shape:?} has too many dimensions")))?;
     let mut bytes = Vec::with_capacity(MAGIC.len() + 4 + dict.len());
     bytes.extend_from_slice(MAGIC);
     bytes.extend_from_slice(&[1, 0]);
@@ -158,9 +130,7 @@ struct Header {
 
 /// Parses the Python dict literal of a `.npy` header (keys `descr`, `fortran_order`, `shape`).
 fn parse_header(text: &str) -> Result<Header, String> {
-    let mut p = Parser {
-        rest: text.trim_end_matches(['\n', ' ', '\0']),
-    };
+    let mut p = Parser { rest: text.trim_end_matches(['\n', ' ', '\0']) };
     p.expect('{')?;
     let (mut descr, mut fortran_order, mut shape) = (None, None, None);
     while !p.eat('}') {
@@ -206,26 +176,15 @@ impl Parser<'_> {
     }
 
     fn expect(&mut self, c: char) -> Result<(), String> {
-        if self.eat(c) {
-            Ok(())
-        } else {
-            Err(format!("expected '{c}' in the header"))
-        }
+        if self.eat(c) { Ok(()) } else { Err(format!("expected '{c}' in the header")) }
     }
 
     /// A single- or double-quoted string without escapes.
     fn string(&mut self) -> Result<String, String> {
         self.rest = self.rest.trim_start();
-        let quote = self
-            .rest
-            .chars()
-            .next()
-            .filter(|c| *c == '\'' || *c == '"')
-            .ok_or("expected a quoted string")?;
+        let quote = self.rest.chars().next().filter(|c| *c == '\'' || *c == '"').ok_or("expected a quoted string")?;
         let body = &self.rest[1..];
-        let end = body
-            .find(quote)
-            .ok_or("unterminated string in the header")?;
+        let end = body.find(quote).ok_or("unterminated string in the header")?;
         self.rest = &body[end + 1..];
         Ok(body[..end].to_owned())
     }
@@ -247,13 +206,8 @@ impl Parser<'_> {
         let mut dims = Vec::new();
         while !self.eat(')') {
             self.rest = self.rest.trim_start();
-            let digits = self
-                .rest
-                .find(|c: char| !c.is_ascii_digit())
-                .unwrap_or(self.rest.len());
-            let dim = self.rest[..digits]
-                .parse::<usize>()
-                .map_err(|_| "expected an integer in 'shape'")?;
+            let digits = self.rest.find(|c: char| !c.is_ascii_digit()).unwrap_or(self.rest.len());
+            let dim = self.rest[..digits].parse::<usize>().map_err(|_| "expected an integer in 'shape'")?;
             self.rest = &self.rest[digits..];
             dims.push(dim);
             if !self.eat(',') {

@@ -67,8 +67,10 @@ pub fn self_intersections(mesh: &TriMesh, focus: &[bool]) -> Vec<(usize, usize)>
     hits
 }
 
-/// True when an edge of either triangle passes through the interior of the other (coplanar
-/// contact is not counted: it has measure zero after a dent).
+/// True when an edge of either triangle passes through or touches the other (its interior or
+/// its border: faces that share no vertex never touch in a valid closed mesh, and a dent that
+/// moves vertices straight down keeps grid-aligned edges exactly above each other). Coplanar
+/// contact is not counted: it has measure zero after a dent.
 pub fn triangles_cross(a: [Vec3; 3], b: [Vec3; 3]) -> bool {
     let edges_hit = |t: [Vec3; 3], s: [Vec3; 3]| {
         (0..3).any(|k| segment_hits_triangle(t[k], t[(k + 1) % 3], s))
@@ -91,5 +93,5 @@ fn segment_hits_triangle(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
     let v = dir.dot(qv) / det;
     let t = e2.dot(qv) / det;
     let eps = 1e-9;
-    u > eps && v > eps && u + v < 1.0 - eps && t > eps && t < 1.0 - eps
+    u >= -eps && v >= -eps && u + v <= 1.0 + eps && t >= -eps && t <= 1.0 + eps
 }

@@ -71,24 +71,16 @@ pub struct DentArgs {
 pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
     let mut params = args.map.params()?;
     params.attenuation = match (args.falloff, args.falloff_scale) {
-        (Falloff::Linear, scale) => Attenuation::Linear {
-            scale: scale.unwrap_or(1.0),
-        },
+        (Falloff::Linear, scale) => Attenuation::Linear { scale: scale.unwrap_or(1.0) },
         (_, Some(_)) => {
-            return Err(CliError::Usage(
-                "--falloff-scale only applies to --falloff linear".into(),
-            ));
+            return Err(CliError::Usage("--falloff-scale only applies to --falloff linear".into()));
         }
         (Falloff::Logistic, None) => Attenuation::Logistic,
         (Falloff::None, None) => Attenuation::None,
     };
     params.validate().map_err(flag_error)?;
     let normal = nonzero(args.normal, "--normal")?;
-    let impact = Impact {
-        point: args.point,
-        normal,
-        relative_velocity: args.velocity.unwrap_or(normal),
-    };
+    let impact = Impact { point: args.point, normal, relative_velocity: args.velocity.unwrap_or(normal) };
     impact.validate()?;
     let mut target = load_mesh("target", &args.target)?;
     let projectile = args.projectile.load()?;
@@ -106,10 +98,7 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
     );
     let mut warnings = report.warnings;
     if report.moved_vertices == 0 {
-        warnings.push(
-            "the dent moved no vertex of the target: does the projectile touch it near --point?"
-                .into(),
-        );
+        warnings.push("the dent moved no vertex of the target: does the projectile touch it near --point?".into());
     }
     Ok((summary, warnings))
 }
@@ -118,15 +107,9 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
 /// failure leaves neither a partial file nor a damaged earlier one.
 fn save(target: &TriMesh, path: &Path) -> Result<(), CliError> {
     if path.is_dir() {
-        return Err(CliError::Usage(format!(
-            "--out {} is a directory, not a file",
-            path.display()
-        )));
+        return Err(CliError::Usage(format!("--out {} is a directory, not a file", path.display())));
     }
-    let parent = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
+    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if !parent.is_dir() {
         return Err(CliError::Usage(format!(
             "cannot write {}: directory {} does not exist",
@@ -134,21 +117,13 @@ fn save(target: &TriMesh, path: &Path) -> Result<(), CliError> {
             parent.display()
         )));
     }
-    let stem = path
-        .file_stem()
-        .map_or_else(|| "out".into(), |s| s.to_string_lossy());
+    let stem = path.file_stem().map_or_else(|| "out".into(), |s| s.to_string_lossy());
     let temp = path.with_file_name(format!(".{stem}.dentbend-{}.obj", std::process::id()));
-    let write_error = |source| CliError::Write {
-        path: path.to_owned(),
-        source,
-    };
+    let write_error = |source| CliError::Write { path: path.to_owned(), source };
     let result = match mesh::save_obj(target, &temp) {
         Ok(()) => fs::rename(&temp, path).map_err(write_error),
         Err(MeshError::Io { source, .. }) => Err(write_error(source)),
-        Err(source) => Err(CliError::Save {
-            path: path.to_owned(),
-            source,
-        }),
+        Err(source) => Err(CliError::Save { path: path.to_owned(), source }),
     };
     if result.is_err() {
         let _ = fs::remove_file(&temp);

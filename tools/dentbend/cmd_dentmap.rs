@@ -50,20 +50,12 @@ pub struct DentmapArgs {
 pub fn run(args: &DentmapArgs) -> Result<String, CliError> {
     let params = args.map.params()?;
     let normal = nonzero(args.normal, "--normal")?;
-    let probe = Impact {
-        point: Vec3::ZERO,
-        normal,
-        relative_velocity: args.velocity.unwrap_or(normal),
-    };
+    let probe = Impact { point: Vec3::ZERO, normal, relative_velocity: args.velocity.unwrap_or(normal) };
     probe.validate()?;
     let projectile = args.projectile.load()?;
     let impact = at_tip(&projectile, probe, &params);
     let stages = dent_map_stages(&projectile, &impact, &params, None)?;
-    write_outputs(
-        &args.out,
-        &stages,
-        &Metadata::new(args, &params, &impact, &stages),
-    )?;
+    write_outputs(&args.out, &stages, &Metadata::new(args, &params, &impact, &stages))?;
     let res = stages.zbuffer_grid.res;
     Ok(format!(
         "dentmap: {}, {res}×{res} cells of {}, θ = {:.1}°, σ = {} → {} (4 .npy, 4 .png, dentmap.json)",
@@ -78,12 +70,8 @@ pub fn run(args: &DentmapArgs) -> Result<String, CliError> {
 /// `probe` moved to the projectile's most advanced vertex along the (clamped) viewing direction.
 fn at_tip(projectile: &TriMesh, probe: Impact, params: &DentParams) -> Impact {
     let view = DentFrame::new(&probe, params.min_cos).view();
-    let point = projectile
-        .positions()
-        .iter()
-        .copied()
-        .max_by(|a, b| a.dot(view).total_cmp(&b.dot(view)))
-        .unwrap_or(Vec3::ZERO);
+    let point =
+        projectile.positions().iter().copied().max_by(|a, b| a.dot(view).total_cmp(&b.dot(view))).unwrap_or(Vec3::ZERO);
     Impact { point, ..probe }
 }
 
@@ -113,12 +101,7 @@ struct Metadata<'a> {
 }
 
 impl<'a> Metadata<'a> {
-    fn new(
-        args: &'a DentmapArgs,
-        params: &DentParams,
-        impact: &Impact,
-        stages: &DentStages,
-    ) -> Self {
+    fn new(args: &'a DentmapArgs, params: &DentParams, impact: &Impact, stages: &DentStages) -> Self {
         Self {
             projectile: &args.projectile.projectile,
             rotate_deg: args.projectile.rotate_deg(),
@@ -147,48 +130,24 @@ impl<'a> Metadata<'a> {
 
 /// Writes the four arrays, their heat maps and the JSON into `dir`.
 fn write_outputs(dir: &Path, stages: &DentStages, metadata: &Metadata) -> Result<(), CliError> {
-    fs::create_dir_all(dir).map_err(|source| CliError::CreateDir {
-        path: dir.to_owned(),
-        source,
-    })?;
+    fs::create_dir_all(dir).map_err(|source| CliError::CreateDir { path: dir.to_owned(), source })?;
     let d = stages.map.dent_distance;
     let res = stages.zbuffer_grid.res;
     let side = res as usize;
-    for (name, values) in [
-        ("zbuffer", &stages.zbuffer),
-        ("envelope", &stages.envelope),
-        ("smoothed", &stages.smoothed),
-    ] {
+    for (name, values) in [("zbuffer", &stages.zbuffer), ("envelope", &stages.envelope), ("smoothed", &stages.smoothed)]
+    {
         write_npy_f32(dir.join(format!("{name}.npy")), &[side, side], values)?;
         write_heatmap_png(dir.join(format!("{name}.png")), values, res, res, d)?;
     }
     let map = &stages.map;
     let map_res = map.grid.res;
     let vectors: Vec<f32> = map.cells.iter().flat_map(|c| [c[0], c[1], c[2]]).collect();
-    let lengths: Vec<f32> = map
-        .cells
-        .iter()
-        .map(|&[x, y, z, _]| Vec3::new(x, y, z).length())
-        .collect();
-    write_npy_f32(
-        dir.join("dentmap.npy"),
-        &[map_res as usize, map_res as usize, 3],
-        &vectors,
-    )?;
-    write_heatmap_png(
-        dir.join("dentmap.png"),
-        &lengths,
-        map_res,
-        map_res,
-        d.max(map.max_displacement()),
-    )?;
+    let lengths: Vec<f32> = map.cells.iter().map(|&[x, y, z, _]| Vec3::new(x, y, z).length()).collect();
+    write_npy_f32(dir.join("dentmap.npy"), &[map_res as usize, map_res as usize, 3], &vectors)?;
+    write_heatmap_png(dir.join("dentmap.png"), &lengths, map_res, map_res, d.max(map.max_displacement()))?;
     let json_path = dir.join("dentmap.json");
-    let write_error = |source| CliError::Write {
-        path: dir.join("dentmap.json"),
-        source,
-    };
-    let mut text = serde_json::to_string_pretty(metadata)
-        .map_err(|e| write_error(std::io::Error::other(e)))?;
+    let write_error = |source| CliError::Write { path: dir.join("dentmap.json"), source };
+    let mut text = serde_json::to_string_pretty(metadata).map_err(|e| write_error(std::io::Error::other(e)))?;
     text.push('\n');
     fs::write(&json_path, text).map_err(write_error)
 }
@@ -196,9 +155,5 @@ fn write_outputs(dir: &Path, stages: &DentStages, metadata: &Metadata) -> Result
 /// `dir/` for the summary line.
 fn display_dir(dir: &Path) -> String {
     let text = dir.display().to_string();
-    if text.ends_with(std::path::MAIN_SEPARATOR) {
-        text
-    } else {
-        format!("{text}{}", std::path::MAIN_SEPARATOR)
-    }
+    if text.ends_with(std::path::MAIN_SEPARATOR) { text } else { format!("{text}{}", std::path::MAIN_SEPARATOR) }
 }

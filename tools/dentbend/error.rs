@@ -63,21 +63,13 @@ pub enum CliError {
 impl CliError {
     /// The message on one line (embedded line breaks become spaces).
     pub fn one_line(&self) -> String {
-        self.to_string()
-            .split_whitespace()
-            .collect::<Vec<_>>()
-            .join(" ")
+        self.to_string().split_whitespace().collect::<Vec<_>>().join(" ")
     }
 }
 
 /// Rewords a [`DentError::InvalidParameter`] in terms of the command-line flag that set it.
 pub fn flag_error(error: DentError) -> CliError {
-    let DentError::InvalidParameter {
-        name,
-        value,
-        reason,
-    } = &error
-    else {
+    let DentError::InvalidParameter { name, value, reason } = &error else {
         return CliError::Dent(error);
     };
     let flag = match *name {

@@ -34,10 +34,7 @@ pub fn init() {
 
 /// Prints `warning: {message}` on stderr unless the logger already printed it.
 pub fn warn_once(message: &str) {
-    let seen = PRINTED
-        .lock()
-        .map(|printed| printed.iter().any(|m| m == message))
-        .unwrap_or(false);
+    let seen = PRINTED.lock().map(|printed| printed.iter().any(|m| m == message)).unwrap_or(false);
     if !seen {
         eprintln!("warning: {message}");
     }

@@ -66,24 +66,16 @@ fn main() -> ExitCode {
 /// Help and version go out as clap writes them; usage errors become one `error: …` line.
 fn clap_exit(e: &clap::Error) -> ExitCode {
     match e.kind() {
-        ErrorKind::DisplayHelp
-        | ErrorKind::DisplayVersion
-        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
             let _ = e.print();
-            if e.exit_code() == 0 {
-                ExitCode::SUCCESS
-            } else {
-                ExitCode::from(FAILURE)
-            }
+            if e.exit_code() == 0 { ExitCode::SUCCESS } else { ExitCode::from(FAILURE) }
         }
         _ => {
             // The first paragraph is the message; usage and tips follow after a blank line.
             let rendered = e.render().to_string();
             let paragraph = rendered.split("\n\n").next().unwrap_or_default();
             let message = paragraph.split_whitespace().collect::<Vec<_>>().join(" ");
-            let message = message
-                .strip_prefix("error:")
-                .map_or(message.as_str(), str::trim_start);
+            let message = message.strip_prefix("error:").map_or(message.as_str(), str::trim_start);
             eprintln!("error: {message} (see --help)");
             ExitCode::from(FAILURE)
         }

@@ -7,16 +7,11 @@ use dentbend::glam::Vec3;
 pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() != 3 {
-        return Err(format!(
-            "expected three comma-separated numbers X,Y,Z, got {}",
-            count(parts.len())
-        ));
+        return Err(format!("expected three comma-separated numbers X,Y,Z, got {}", count(parts.len())));
     }
     let mut xyz = [0.0f32; 3];
     for (slot, part) in xyz.iter_mut().zip(&parts) {
-        let value: f32 = part
-            .parse()
-            .map_err(|_| format!("'{part}' is not a number"))?;
+        let value: f32 = part.parse().map_err(|_| format!("'{part}' is not a number"))?;
         if !value.is_finite() {
             return Err(format!("'{part}' is not a finite number"));
         }
