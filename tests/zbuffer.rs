@@ -4,10 +4,9 @@
 
 mod common;
 
-use std::collections::HashMap;
-
 use common::SplitMix64;
 use dentbend::cpu::{GridUniform, ZbufferParams, zbuffer};
+use dentbend::mesh;
 use glam::{DVec3, Quat, Vec3};
 
 // ---------------------------------------------------------------------------------------------
@@ -103,91 +102,10 @@ impl View {
     }
 }
 
-/// Icosphere of radius `radius` centred at `centre`, each icosahedron face split into
-/// `4^subdivisions` triangles, vertices pushed onto the sphere.
-fn icosphere(centre: Vec3, radius: f32, subdivisions: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let mut positions: Vec<Vec3> = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ]
-    .iter()
-    .map(|&p| Vec3::from(p).normalize())
-    .collect();
-    let mut faces: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..subdivisions {
-        let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut midpoint = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
-            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                positions.push((positions[a as usize] + positions[b as usize]).normalize());
-                positions.len() as u32 - 1
-            })
-        };
-        let mut next = Vec::with_capacity(faces.len() * 4);
-        for [a, b, c] in faces {
-            let ab = midpoint(a, b, &mut positions);
-            let bc = midpoint(b, c, &mut positions);
-            let ca = midpoint(c, a, &mut positions);
-            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        faces = next;
-    }
-    (positions.into_iter().map(|p| centre + radius * p).collect(), faces)
-}
-
-/// The Stanford bunny from `assets/meshes/bunny.obj` (polygons fanned into triangles).
-fn bunny() -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/meshes/bunny.obj");
-    let text = std::fs::read_to_string(path).expect("bunny.obj");
-    let (mut positions, mut faces) = (Vec::new(), Vec::new());
-    for line in text.lines() {
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => {
-                let c: Vec<f32> = words.take(3).map(|w| w.parse().unwrap()).collect();
-                positions.push(Vec3::new(c[0], c[1], c[2]));
-            }
-            Some("f") => {
-                let idx: Vec<u32> = words.map(|w| w.split('/').next().unwrap().parse::<u32>().unwrap() - 1).collect();
-                for k in 1..idx.len() - 1 {
-                    faces.push([idx[0], idx[k], idx[k + 1]]);
-                }
-            }
-            _ => {}
-        }
-    }
-    (positions, faces)
+/// A built-in mesh's positions and faces.
+fn builtin(name: &str) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let mesh = mesh::builtin(name).expect("built-in mesh");
+    (mesh.positions().to_vec(), mesh.faces().to_vec())
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -350,7 +268,9 @@ fn is_connected(profile: &[f32], res: usize) -> bool {
 fn sphere_matches_analytic_cap() {
     let radius = 1.0f32;
     let centre = Vec3::new(0.3, -0.2, 0.7);
-    let (positions, faces) = icosphere(centre, radius, 4);
+    // Icosphere of radius 1, 4 subdivisions (5120 triangles), moved off the origin.
+    let (positions, faces) = builtin("sphere");
+    let positions: Vec<Vec3> = positions.into_iter().map(|p| centre + radius * p).collect();
     let r_in = faces
         .iter()
         .map(|f| {
@@ -415,7 +335,7 @@ fn sphere_matches_analytic_cap() {
 ///   the cell on a slope, where the excess stays under the surface's height range over the cell.
 #[test]
 fn bunny_matches_ray_cast() {
-    let (positions, faces) = bunny();
+    let (positions, faces) = builtin("bunny");
     let (lo, hi) = positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
     let centre = 0.5 * (lo + hi);
     let dirs = [
@@ -527,7 +447,7 @@ fn thin_features_leave_a_trail() {
 #[test]
 fn empty_profiles() {
     let d = 0.5;
-    let (positions, faces) = icosphere(Vec3::new(0.0, 0.0, 0.0), 1.0, 3);
+    let (positions, faces) = builtin("sphere");
     let mut view = View::looking(Vec3::new(0.2, 0.3, 1.0), &positions, Vec3::ZERO, 1.5, 64, d);
     view.origin += 10.0 * view.x;
     assert!(view.profile(&positions, &faces).iter().all(|&p| p == 0.0));
@@ -582,7 +502,7 @@ fn huge_degenerate_and_bad_input() {
 #[test]
 #[ignore]
 fn tmp_timing() {
-    let (positions, faces) = bunny();
+    let (positions, faces) = builtin("bunny");
     let (lo, hi) = positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
     let centre = 0.5 * (lo + hi);
     for dir in [Vec3::Z, -Vec3::Y, Vec3::new(1.0, 1.0, 1.0)] {

@@ -24,10 +24,8 @@ pub fn envelope_brute(res: u32, c: f64, profile: &[f32]) -> Vec<f64> {
             (-c * t * t).exp()
         })
         .collect();
-    for (k, &p) in profile[..n * n].iter().enumerate() {
-        if !(p > 0.0) {
-            continue;
-        }
+    // Sources: cells with P > 0 (NaN is none).
+    for (k, &p) in profile[..n * n].iter().enumerate().filter(|(_, p)| **p > 0.0) {
         let (yk, xk) = (k / n, k % n);
         // Along a row, cell i sees the source at column distance i − xk.
         let gx = &g[n - 1 - xk..2 * n - 1 - xk];
