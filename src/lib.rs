@@ -14,7 +14,7 @@
 //! ```
 //!
 //! Every kernel lives in [`cpu`] as a plain function over flat slices, the reference for the
-//! WGSL twins; [`dent`] strings them together for one impact or a pair of dentable bodies.
+//! WGSL twins; [`mod@dent`] strings them together for one impact or a pair of dentable bodies.
 //!
 //! ## Getting started
 //!
@@ -40,8 +40,8 @@ pub mod mesh;
 pub mod render;
 
 pub use dent::{
-    Attenuation, DentError, DentMap, DentParams, DentReport, Impact, Resolution, dent, dent_map,
-    dent_map_stages, dent_pair,
+    Attenuation, DentError, DentMap, DentParams, DentReport, Impact, Resolution, dent, dent_map, dent_map_stages,
+    dent_pair,
 };
 pub use glam;
 pub use mesh::{MeshError, TriMesh};

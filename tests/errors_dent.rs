@@ -4,9 +4,7 @@
 mod support;
 
 use dentbend::glam::Vec3;
-use dentbend::{
-    Attenuation, DentError, DentParams, Impact, Resolution, TriMesh, dent, dent_map, dent_pair, mesh,
-};
+use dentbend::{Attenuation, DentError, DentParams, Impact, Resolution, TriMesh, dent, dent_map, dent_pair, mesh};
 use support::sphere_at;
 
 fn setup() -> (TriMesh, TriMesh, Impact) {
@@ -65,9 +63,15 @@ fn bad_parameters_are_named() {
         (DentParams { min_cos: 0.0, ..base.clone() }, "min_cos"),
         (DentParams { min_cos: f32::NAN, ..base.clone() }, "min_cos"),
         (DentParams { attenuation: Attenuation::Linear { scale: 0.0 }, ..base.clone() }, "attenuation.scale"),
-        (DentParams { attenuation: Attenuation::Custom(std::sync::Arc::new(|_, _| 0.5)), ..base.clone() }, "attenuation"),
         (
-            DentParams { attenuation: Attenuation::Custom(std::sync::Arc::new(|z, _| if z > 0.1 { f32::NAN } else { 1.0 })), ..base.clone() },
+            DentParams { attenuation: Attenuation::Custom(std::sync::Arc::new(|_, _| 0.5)), ..base.clone() },
+            "attenuation",
+        ),
+        (
+            DentParams {
+                attenuation: Attenuation::Custom(std::sync::Arc::new(|z, _| if z > 0.1 { f32::NAN } else { 1.0 })),
+                ..base.clone()
+            },
             "attenuation",
         ),
     ];
@@ -90,7 +94,8 @@ fn bad_impacts() {
 #[test]
 fn zero_velocity_means_head_on() {
     let (mut block, ball, impact) = setup();
-    let report = dent(&mut block, &ball, &Impact { relative_velocity: Vec3::ZERO, ..impact }, &DentParams::new(0.2)).unwrap();
+    let report =
+        dent(&mut block, &ball, &Impact { relative_velocity: Vec3::ZERO, ..impact }, &DentParams::new(0.2)).unwrap();
     assert!(report.theta_deg.abs() < 1e-3 && report.moved_vertices > 0);
 }
 
@@ -108,9 +113,11 @@ fn projectile_behind_the_plane() {
 fn degenerate_projectiles() {
     let (block, _, impact) = setup();
     let point = TriMesh::new(vec![Vec3::new(0.0, 0.6, 0.0); 3], vec![[0, 1, 2]]).unwrap();
-    let segment =
-        TriMesh::new(vec![Vec3::new(0.0, 0.6, 0.0), Vec3::new(1.0, 0.6, 0.0), Vec3::new(2.0, 0.6, 0.0)], vec![[0, 1, 2]])
-            .unwrap();
+    let segment = TriMesh::new(
+        vec![Vec3::new(0.0, 0.6, 0.0), Vec3::new(1.0, 0.6, 0.0), Vec3::new(2.0, 0.6, 0.0)],
+        vec![[0, 1, 2]],
+    )
+    .unwrap();
     for projectile in [point, segment] {
         let mut target = block.clone();
         let err = dent(&mut target, &projectile, &impact, &DentParams::new(0.2)).unwrap_err();

@@ -7,9 +7,7 @@ use dentbend::mesh::{self, BUILTIN_NAMES};
 /// The message of a `Parse` error, failing on any other outcome.
 fn parse_message(result: Result<dentbend::TriMesh, MeshError>, format: &str) -> String {
     match result {
-        Err(MeshError::Parse {
-            format: f, message, ..
-        }) => {
+        Err(MeshError::Parse { format: f, message, .. }) => {
             assert_eq!(f, format);
             message
         }
@@ -38,42 +36,17 @@ fn obj_non_finite_coordinates() {
 #[test]
 fn obj_index_out_of_range() {
     match mesh::parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n") {
-        Err(MeshError::IndexOutOfRange {
-            face: 1,
-            index: 3,
-            vertex_count: 3,
-        }) => {}
+        Err(MeshError::IndexOutOfRange { face: 1, index: 3, vertex_count: 3 }) => {}
         other => panic!("expected IndexOutOfRange, got {other:?}"),
     }
 }
 
 #[test]
 fn obj_empty_and_faceless() {
-    assert!(matches!(
-        mesh::parse_obj(""),
-        Err(MeshError::Empty {
-            vertices: 0,
-            faces: 0
-        })
-    ));
-    assert!(matches!(
-        mesh::parse_obj("# nothing\n\n"),
-        Err(MeshError::Empty {
-            vertices: 0,
-            faces: 0
-        })
-    ));
+    assert!(matches!(mesh::parse_obj(""), Err(MeshError::Empty { vertices: 0, faces: 0 })));
+    assert!(matches!(mesh::parse_obj("# nothing\n\n"), Err(MeshError::Empty { vertices: 0, faces: 0 })));
     let points = mesh::parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
-    assert!(
-        matches!(
-            points,
-            Err(MeshError::Empty {
-                vertices: 3,
-                faces: 0
-            })
-        ),
-        "{points:?}"
-    );
+    assert!(matches!(points, Err(MeshError::Empty { vertices: 3, faces: 0 })), "{points:?}");
 }
 
 #[test]
@@ -90,10 +63,7 @@ fn obj_malformed_statements_name_their_line() {
         ("f 1 2 /3\n", "line 4"),
     ] {
         let message = parse_message(mesh::parse_obj(&format!("{head}{body}")), "OBJ");
-        assert!(
-            message.contains(needle),
-            "{body:?}: message {message:?} lacks {needle:?}"
-        );
+        assert!(message.contains(needle), "{body:?}: message {message:?} lacks {needle:?}");
         assert!(message.starts_with("line 4:"), "{message}");
     }
 }
@@ -109,65 +79,37 @@ fn triangle_binary() -> Vec<u8> {
         v.iter().for_each(|c| out.extend(c.to_le_bytes()));
     }
     out.push(3);
-    [0i32, 1, 2]
-        .iter()
-        .for_each(|i| out.extend(i.to_le_bytes()));
+    [0i32, 1, 2].iter().for_each(|i| out.extend(i.to_le_bytes()));
     out
 }
 
 #[test]
 fn ply_reference_files_parse() {
     // The fixtures below are broken copies of these; make sure the originals are fine.
-    assert_eq!(
-        mesh::parse_ply(TRIANGLE_ASCII.as_bytes())
-            .unwrap()
-            .face_count(),
-        1
-    );
-    assert_eq!(
-        mesh::parse_ply(&triangle_binary()).unwrap(),
-        mesh::parse_ply(TRIANGLE_ASCII.as_bytes()).unwrap()
-    );
+    assert_eq!(mesh::parse_ply(TRIANGLE_ASCII.as_bytes()).unwrap().face_count(), 1);
+    assert_eq!(mesh::parse_ply(&triangle_binary()).unwrap(), mesh::parse_ply(TRIANGLE_ASCII.as_bytes()).unwrap());
 }
 
 #[test]
 fn ply_non_finite_coordinates() {
     let ascii = TRIANGLE_ASCII.replace("1 0 0\n0 1 0", "1 0 0\n0 nan 0");
-    assert!(matches!(
-        mesh::parse_ply(ascii.as_bytes()),
-        Err(MeshError::NonFinite { index: 2, .. })
-    ));
+    assert!(matches!(mesh::parse_ply(ascii.as_bytes()), Err(MeshError::NonFinite { index: 2, .. })));
     let ascii = TRIANGLE_ASCII.replace("\n1 0 0\n", "\n-inf 0 0\n");
-    assert!(matches!(
-        mesh::parse_ply(ascii.as_bytes()),
-        Err(MeshError::NonFinite { index: 1, .. })
-    ));
+    assert!(matches!(mesh::parse_ply(ascii.as_bytes()), Err(MeshError::NonFinite { index: 1, .. })));
     let mut binary = triangle_binary();
     let at = binary.len() - 13 - 4; // z of the third vertex
     binary[at..at + 4].copy_from_slice(&f32::INFINITY.to_le_bytes());
-    assert!(matches!(
-        mesh::parse_ply(&binary),
-        Err(MeshError::NonFinite { index: 2, .. })
-    ));
+    assert!(matches!(mesh::parse_ply(&binary), Err(MeshError::NonFinite { index: 2, .. })));
     // A double beyond f32 range is infinite once stored.
-    let big = TRIANGLE_ASCII
-        .replace("property float x", "property double x")
-        .replace("\n1 0 0\n", "\n1e300 0 0\n");
-    assert!(matches!(
-        mesh::parse_ply(big.as_bytes()),
-        Err(MeshError::NonFinite { index: 1, .. })
-    ));
+    let big = TRIANGLE_ASCII.replace("property float x", "property double x").replace("\n1 0 0\n", "\n1e300 0 0\n");
+    assert!(matches!(mesh::parse_ply(big.as_bytes()), Err(MeshError::NonFinite { index: 1, .. })));
 }
 
 #[test]
 fn ply_bad_indices() {
     let out_of_range = TRIANGLE_ASCII.replace("3 0 1 2", "3 0 1 3");
     match mesh::parse_ply(out_of_range.as_bytes()) {
-        Err(MeshError::IndexOutOfRange {
-            index: 3,
-            vertex_count: 3,
-            ..
-        }) => {}
+        Err(MeshError::IndexOutOfRange { index: 3, vertex_count: 3, .. }) => {}
         other => panic!("expected IndexOutOfRange, got {other:?}"),
     }
     let negative = TRIANGLE_ASCII.replace("3 0 1 2", "3 0 -1 2");
@@ -178,25 +120,11 @@ fn ply_bad_indices() {
 
 #[test]
 fn ply_empty_meshes() {
-    let none = TRIANGLE_ASCII
-        .replace("vertex 3", "vertex 0")
-        .replace("face 1", "face 0");
+    let none = TRIANGLE_ASCII.replace("vertex 3", "vertex 0").replace("face 1", "face 0");
     let none = &none[..none.find("end_header\n").unwrap() + 11];
-    assert!(matches!(
-        mesh::parse_ply(none.as_bytes()),
-        Err(MeshError::Empty {
-            vertices: 0,
-            faces: 0
-        })
-    ));
+    assert!(matches!(mesh::parse_ply(none.as_bytes()), Err(MeshError::Empty { vertices: 0, faces: 0 })));
     let points = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n";
-    assert!(matches!(
-        mesh::parse_ply(points.as_bytes()),
-        Err(MeshError::Empty {
-            vertices: 1,
-            faces: 0
-        })
-    ));
+    assert!(matches!(mesh::parse_ply(points.as_bytes()), Err(MeshError::Empty { vertices: 1, faces: 0 })));
 }
 
 #[test]
@@ -259,16 +187,10 @@ fn ply_truncated_binary_at_every_length() {
     let header_len = full.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
     for len in 0..full.len() {
         let result = mesh::parse_ply(&full[..len]);
-        assert!(
-            matches!(result, Err(MeshError::Parse { .. })),
-            "prefix of {len} bytes: {result:?}"
-        );
+        assert!(matches!(result, Err(MeshError::Parse { .. })), "prefix of {len} bytes: {result:?}");
         if len >= header_len {
             let message = parse_message(result, "PLY");
-            assert!(
-                message.contains("truncated"),
-                "prefix of {len} bytes: {message}"
-            );
+            assert!(message.contains("truncated"), "prefix of {len} bytes: {message}");
         }
     }
     assert!(mesh::parse_ply(&full).is_ok());
@@ -276,11 +198,7 @@ fn ply_truncated_binary_at_every_length() {
 
 /// `binary` with `from` replaced by `to` in its header (the data bytes are left alone).
 fn edit_header(binary: &[u8], from: &str, to: &str) -> Vec<u8> {
-    let header_end = binary
-        .windows(11)
-        .position(|w| w == b"end_header\n")
-        .unwrap()
-        + 11;
+    let header_end = binary.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
     let header = std::str::from_utf8(&binary[..header_end]).unwrap();
     assert!(header.contains(from));
     let mut bytes = header.replace(from, to).into_bytes();
@@ -294,15 +212,9 @@ fn ply_huge_declared_counts_fail_fast() {
     for count in ["4000000000", "4294967295", "18446744073709551615"] {
         let bytes = edit_header(&triangle_binary(), "vertex 3", &format!("vertex {count}"));
         let message = parse_message(mesh::parse_ply(&bytes), "PLY");
-        assert!(
-            message.contains("truncated") || message.contains("more than"),
-            "{count}: {message}"
-        );
+        assert!(message.contains("truncated") || message.contains("more than"), "{count}: {message}");
         let bytes = edit_header(&triangle_binary(), "face 1", &format!("face {count}"));
-        assert!(
-            parse_message(mesh::parse_ply(&bytes), "PLY").contains("truncated"),
-            "{count}"
-        );
+        assert!(parse_message(mesh::parse_ply(&bytes), "PLY").contains("truncated"), "{count}");
         let ascii = TRIANGLE_ASCII.replace("face 1", &format!("face {count}"));
         let message = parse_message(mesh::parse_ply(ascii.as_bytes()), "PLY");
         assert!(message.contains("truncated"), "{count}: {message}");
@@ -320,9 +232,7 @@ fn ply_huge_declared_counts_fail_fast() {
     let message = parse_message(mesh::parse_ply(&bytes), "PLY");
     assert!(message.contains("4000000000 items"), "{message}");
     // And in ASCII.
-    let ascii = TRIANGLE_ASCII
-        .replace("list uchar int", "list uint int")
-        .replace("3 0 1 2", "4000000000 0 1 2");
+    let ascii = TRIANGLE_ASCII.replace("list uchar int", "list uint int").replace("3 0 1 2", "4000000000 0 1 2");
     assert!(parse_message(mesh::parse_ply(ascii.as_bytes()), "PLY").contains("list of 4000000000"));
 }
 
@@ -359,14 +269,8 @@ fn missing_files_are_io_errors() {
     let ply = dir.join("missing.ply");
     assert!(matches!(mesh::load_obj(&obj), Err(MeshError::Io { .. })));
     assert!(matches!(mesh::load_ply(&ply), Err(MeshError::Io { .. })));
-    assert!(matches!(
-        mesh::load(obj.to_str().unwrap()),
-        Err(MeshError::Io { .. })
-    ));
-    assert!(matches!(
-        mesh::load(ply.to_str().unwrap()),
-        Err(MeshError::Io { .. })
-    ));
+    assert!(matches!(mesh::load(obj.to_str().unwrap()), Err(MeshError::Io { .. })));
+    assert!(matches!(mesh::load(ply.to_str().unwrap()), Err(MeshError::Io { .. })));
     let ball = mesh::builtin("sphere").unwrap();
     match mesh::save_obj(&ball, &obj) {
         Err(MeshError::Io { path, .. }) => assert_eq!(path, obj),
@@ -376,35 +280,16 @@ fn missing_files_are_io_errors() {
 
 #[test]
 fn unknown_names_and_extensions_list_the_builtins() {
-    for spec in [
-        "teapot",
-        "mesh.stl",
-        "mesh.gltf",
-        "objfile",
-        "bunny.obj.bak",
-        "",
-    ] {
+    for spec in ["teapot", "mesh.stl", "mesh.gltf", "objfile", "bunny.obj.bak", ""] {
         let error = mesh::load(spec).unwrap_err();
-        assert!(
-            matches!(error, MeshError::UnsupportedFormat { .. }),
-            "{spec}: {error:?}"
-        );
+        assert!(matches!(error, MeshError::UnsupportedFormat { .. }), "{spec}: {error:?}");
         let message = error.to_string();
         for name in BUILTIN_NAMES {
-            assert!(
-                message.contains(name),
-                "{spec}: message {message:?} lacks {name}"
-            );
+            assert!(message.contains(name), "{spec}: message {message:?} lacks {name}");
         }
     }
-    assert!(matches!(
-        mesh::builtin("bunny.obj"),
-        Err(MeshError::UnsupportedFormat { .. })
-    ));
-    assert!(matches!(
-        mesh::builtin("Sphere"),
-        Err(MeshError::UnsupportedFormat { .. })
-    ));
+    assert!(matches!(mesh::builtin("bunny.obj"), Err(MeshError::UnsupportedFormat { .. })));
+    assert!(matches!(mesh::builtin("Sphere"), Err(MeshError::UnsupportedFormat { .. })));
 }
 
 // ---- generator parameters ----------------------------------------------------------------------
@@ -412,18 +297,12 @@ fn unknown_names_and_extensions_list_the_builtins() {
 #[test]
 fn primitive_parameters_are_validated() {
     let invalid = |r: Result<dentbend::TriMesh, MeshError>, what: &str| {
-        assert!(
-            matches!(r, Err(MeshError::InvalidParameter(_))),
-            "{what}: {r:?}"
-        );
+        assert!(matches!(r, Err(MeshError::InvalidParameter(_))), "{what}: {r:?}");
     };
     for bad in [0.0, -1.0, f32::NAN, f32::INFINITY] {
         invalid(mesh::icosphere(bad, 2), "icosphere radius");
         invalid(mesh::uv_sphere(bad, 8, 4), "uv_sphere radius");
-        invalid(
-            mesh::subdivided_box(Vec3::new(1.0, bad, 1.0), [1, 1, 1]),
-            "box size",
-        );
+        invalid(mesh::subdivided_box(Vec3::new(1.0, bad, 1.0), [1, 1, 1]), "box size");
         invalid(mesh::plank(bad, 1.0, 1.0, 4), "plank length");
         invalid(mesh::plank(1.0, bad, 1.0, 4), "plank width");
         invalid(mesh::plank(1.0, 1.0, bad, 4), "plank thickness");
@@ -440,8 +319,5 @@ fn primitive_parameters_are_validated() {
     invalid(mesh::plank(1e30, 1e30, 1e-30, u32::MAX), "plank size");
     invalid(mesh::cylinder(1.0, 1.0, 2, 1), "cylinder segments");
     invalid(mesh::cylinder(1.0, 1.0, 8, 0), "cylinder stacks");
-    invalid(
-        mesh::cylinder(1.0, 1.0, u32::MAX, u32::MAX),
-        "cylinder size",
-    );
+    invalid(mesh::cylinder(1.0, 1.0, u32::MAX, u32::MAX), "cylinder size");
 }

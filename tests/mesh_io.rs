@@ -17,26 +17,15 @@ fn assert_same_mesh(a: &TriMesh, b: &TriMesh, rel: f32) {
     assert_eq!(a.vertex_count(), b.vertex_count());
     for (i, (p, q)) in a.positions().iter().zip(b.positions()).enumerate() {
         let scale = p.abs().max(q.abs()).max_element().max(f32::MIN_POSITIVE);
-        assert!(
-            (*p - *q).abs().max_element() <= rel * scale,
-            "vertex {i}: {p} vs {q}"
-        );
+        assert!((*p - *q).abs().max_element() <= rel * scale, "vertex {i}: {p} vs {q}");
     }
 }
 
 #[test]
 fn obj_round_trip_preserves_positions_and_faces() {
     let mut ball = mesh::icosphere(0.7, 2).unwrap();
-    ball.transform(Affine3A::from_translation(Vec3::new(
-        12.345_678,
-        -0.001_234_5,
-        1e4,
-    )))
-    .unwrap();
-    for (name, original) in [
-        ("ball.obj", ball),
-        ("bunny.OBJ", mesh::builtin("bunny").unwrap()),
-    ] {
+    ball.transform(Affine3A::from_translation(Vec3::new(12.345_678, -0.001_234_5, 1e4))).unwrap();
+    for (name, original) in [("ball.obj", ball), ("bunny.OBJ", mesh::builtin("bunny").unwrap())] {
         let path = temp_path(name);
         mesh::save_obj(&original, &path).unwrap();
         let via_load = mesh::load(path.to_str().unwrap());
@@ -76,21 +65,10 @@ f 4 5 1
     let m = mesh::parse_obj(text).unwrap();
     assert_eq!(m.vertex_count(), 5);
     // The quad base is fan-triangulated from its first corner.
-    assert_eq!(
-        m.faces(),
-        &[
-            [0, 1, 2],
-            [0, 2, 3],
-            [0, 4, 1],
-            [1, 4, 2],
-            [3, 4, 2],
-            [3, 4, 0]
-        ]
-    );
+    assert_eq!(m.faces(), &[[0, 1, 2], [0, 2, 3], [0, 4, 1], [1, 4, 2], [3, 4, 2], [3, 4, 0]]);
     assert_eq!(m.positions()[2], Vec3::new(1.0, 0.0, 1.0));
     // A pentagon gives three triangles.
-    let pentagon =
-        mesh::parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 2 0\nv 0 1 0\nf 1 2 3 4 5\n").unwrap();
+    let pentagon = mesh::parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 2 0\nv 0 1 0\nf 1 2 3 4 5\n").unwrap();
     assert_eq!(pentagon.faces(), &[[0, 1, 2], [0, 2, 3], [0, 3, 4]]);
     // CRLF line endings read the same.
     let crlf = mesh::parse_obj(&text.replace('\n', "\r\n")).unwrap();
@@ -131,31 +109,19 @@ impl V {
             V::F32(v) => v.to_le_bytes().to_vec(),
             V::F64(v) => v.to_le_bytes().to_vec(),
         };
-        if big {
-            le.into_iter().rev().collect()
-        } else {
-            le
-        }
+        if big { le.into_iter().rev().collect() } else { le }
     }
 }
 
 /// A PLY file: `header_body` is the header between the format line and `end_header`; each entry
 /// of `rows` is one element entry (one text line in ASCII).
 fn ply(format: &str, header_body: &str, rows: &[Vec<V>]) -> Vec<u8> {
-    let mut out = format!(
-        "ply\nformat {format} 1.0\ncomment written by mesh_io.rs\n{header_body}end_header\n"
-    )
-    .into_bytes();
+    let mut out =
+        format!("ply\nformat {format} 1.0\ncomment written by mesh_io.rs\n{header_body}end_header\n").into_bytes();
     for row in rows {
         match format {
             "ascii" => {
-                out.extend(
-                    row.iter()
-                        .map(|v| v.text())
-                        .collect::<Vec<_>>()
-                        .join(" ")
-                        .bytes(),
-                );
+                out.extend(row.iter().map(|v| v.text()).collect::<Vec<_>>().join(" ").bytes());
                 out.push(b'\n');
             }
             "binary_little_endian" => row.iter().for_each(|v| out.extend(v.bytes(false))),
@@ -172,14 +138,7 @@ fn cube_corner(i: usize) -> [f32; 3] {
 }
 
 /// Unit cube quads, counter-clockwise seen from outside.
-const CUBE_QUADS: [[u32; 4]; 6] = [
-    [0, 4, 6, 2],
-    [1, 3, 7, 5],
-    [0, 1, 5, 4],
-    [2, 6, 7, 3],
-    [0, 2, 3, 1],
-    [4, 5, 7, 6],
-];
+const CUBE_QUADS: [[u32; 4]; 6] = [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
 
 /// The unit cube with properties in an odd order, list properties to skip in every element, an
 /// extra element in between, uchar/uint/int list types, double and float coordinates.
@@ -216,14 +175,7 @@ property list int float texcoord
         ]);
     }
     rows.push(vec![V::I32(0), V::U32(0), V::I32(1)]);
-    rows.push(vec![
-        V::I32(2),
-        V::U32(3),
-        V::I16(-1),
-        V::I16(0),
-        V::I16(1),
-        V::I32(3),
-    ]);
+    rows.push(vec![V::I32(2), V::U32(3), V::I16(-1), V::I16(0), V::I16(1), V::I32(3)]);
     for quad in CUBE_QUADS {
         let mut row = vec![V::U8(7), V::U8(4)];
         row.extend(quad.map(V::U32));
@@ -235,10 +187,7 @@ property list int float texcoord
 
 fn expected_cube() -> TriMesh {
     let positions = (0..8).map(|i| Vec3::from_array(cube_corner(i))).collect();
-    let faces = CUBE_QUADS
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-        .collect();
+    let faces = CUBE_QUADS.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
     TriMesh::new(positions, faces).unwrap()
 }
 
@@ -279,11 +228,9 @@ fn ply_vertex_index_name_int_coordinates_and_face_first() {
 #[test]
 fn load_dispatches_on_case_insensitive_extension() {
     let expected = expected_cube();
-    for (name, format) in [
-        ("cube.ply", "ascii"),
-        ("cube.PLY", "binary_big_endian"),
-        ("cube.Ply", "binary_little_endian"),
-    ] {
+    for (name, format) in
+        [("cube.ply", "ascii"), ("cube.PLY", "binary_big_endian"), ("cube.Ply", "binary_little_endian")]
+    {
         let path = temp_path(name);
         std::fs::write(&path, cube_ply(format)).unwrap();
         let loaded = mesh::load(path.to_str().unwrap());

@@ -13,46 +13,30 @@ use dentbend::mesh::{self, BUILTIN_NAMES};
 fn assert_closed(mesh: &TriMesh, what: &str) {
     let mut directed: HashMap<(u32, u32), u32> = HashMap::new();
     for (i, &[a, b, c]) in mesh.faces().iter().enumerate() {
-        assert!(
-            a != b && b != c && c != a,
-            "{what}: face {i} repeats a vertex"
-        );
+        assert!(a != b && b != c && c != a, "{what}: face {i} repeats a vertex");
         for edge in [(a, b), (b, c), (c, a)] {
             *directed.entry(edge).or_default() += 1;
         }
     }
     for (&(a, b), &n) in &directed {
         assert_eq!(n, 1, "{what}: directed edge {a}->{b} used {n} times");
-        assert_eq!(
-            directed.get(&(b, a)),
-            Some(&1),
-            "{what}: edge {a}-{b} is not shared by exactly two faces"
-        );
+        assert_eq!(directed.get(&(b, a)), Some(&1), "{what}: edge {a}-{b} is not shared by exactly two faces");
     }
     // Every vertex is used (no stray vertices from a faulty weld).
     let mut used = vec![false; mesh.vertex_count()];
-    mesh.faces()
-        .iter()
-        .flatten()
-        .for_each(|&v| used[v as usize] = true);
+    mesh.faces().iter().flatten().for_each(|&v| used[v as usize] = true);
     assert!(used.iter().all(|&u| u), "{what}: unreferenced vertices");
 }
 
 fn assert_rel(actual: f32, expected: f32, tolerance: f32, what: &str) {
     let error = (actual - expected).abs() / expected.abs();
-    assert!(
-        error <= tolerance,
-        "{what}: {actual} vs {expected} (relative error {error:e} > {tolerance:e})"
-    );
+    assert!(error <= tolerance, "{what}: {actual} vs {expected} (relative error {error:e} > {tolerance:e})");
 }
 
 /// Asserts normal·(p − centre) > 0 for every vertex (outward normals on a star-shaped solid).
 fn assert_outward(mesh: &TriMesh, centre: Vec3, what: &str) {
     for (i, (p, n)) in mesh.positions().iter().zip(mesh.normals()).enumerate() {
-        assert!(
-            n.dot(*p - centre) > 0.0,
-            "{what}: vertex {i} at {p} has inward normal {n}"
-        );
+        assert!(n.dot(*p - centre) > 0.0, "{what}: vertex {i} at {p} has inward normal {n}");
     }
 }
 
@@ -61,10 +45,7 @@ fn assert_mirror_symmetric(mesh: &TriMesh, flip: Vec3, what: &str) {
     for p in mesh.positions() {
         let m = *p * flip;
         // 1e-6: the generator is mirror-exact, this only absorbs printing-level differences.
-        assert!(
-            mesh.positions().iter().any(|q| q.distance(m) <= 1e-6),
-            "{what}: mirror of {p} missing"
-        );
+        assert!(mesh.positions().iter().any(|q| q.distance(m) <= 1e-6), "{what}: mirror of {p} missing");
     }
 }
 
@@ -72,16 +53,8 @@ fn assert_mirror_symmetric(mesh: &TriMesh, flip: Vec3, what: &str) {
 fn icosphere_counts_closed_and_round() {
     for s in 0..=4u32 {
         let ball = mesh::icosphere(2.0, s).unwrap();
-        assert_eq!(
-            ball.face_count(),
-            20 * 4usize.pow(s),
-            "faces at {s} subdivisions"
-        );
-        assert_eq!(
-            ball.vertex_count(),
-            10 * 4usize.pow(s) + 2,
-            "vertices at {s} subdivisions"
-        );
+        assert_eq!(ball.face_count(), 20 * 4usize.pow(s), "faces at {s} subdivisions");
+        assert_eq!(ball.vertex_count(), 10 * 4usize.pow(s) + 2, "vertices at {s} subdivisions");
         assert_closed(&ball, "icosphere");
         for p in ball.positions() {
             // f32 normalisation and scaling: a few ulps of the radius.
@@ -93,18 +66,8 @@ fn icosphere_counts_closed_and_round() {
     // An inscribed polyhedron is smaller than the sphere; at 5120 faces the deficit is
     // about 0.2%, so 1% fails only for a wrong construction.
     assert!(ball.volume() < exact);
-    assert_rel(
-        ball.volume(),
-        exact,
-        0.01,
-        "icosphere volume at 4 subdivisions",
-    );
-    assert_rel(
-        ball.area(),
-        4.0 * PI,
-        0.01,
-        "icosphere area at 4 subdivisions",
-    );
+    assert_rel(ball.volume(), exact, 0.01, "icosphere volume at 4 subdivisions");
+    assert_rel(ball.area(), 4.0 * PI, 0.01, "icosphere area at 4 subdivisions");
     assert_outward(&ball, Vec3::ZERO, "icosphere");
 }
 
@@ -117,10 +80,7 @@ fn icosphere_is_mirror_symmetric() {
     // The standard icosahedron has a vertex at (0, 1, φ) normalised.
     let phi = (1.0 + 5f32.sqrt()) / 2.0;
     let corner = Vec3::new(0.0, 1.0, phi).normalize() * 1.5;
-    assert!(
-        ball.positions().iter().any(|p| p.distance(corner) < 1e-6),
-        "not the standard icosahedron"
-    );
+    assert!(ball.positions().iter().any(|p| p.distance(corner) < 1e-6), "not the standard icosahedron");
 }
 
 #[test]
@@ -131,12 +91,7 @@ fn uv_sphere_closed_and_round() {
     assert_closed(&ball, "uv_sphere");
     // Inscribed, 64 × 32: the volume deficit is about 0.4%.
     assert!(ball.volume() < 4.0 / 3.0 * PI * 0.125);
-    assert_rel(
-        ball.volume(),
-        4.0 / 3.0 * PI * 0.125,
-        0.01,
-        "uv_sphere volume",
-    );
+    assert_rel(ball.volume(), 4.0 / 3.0 * PI * 0.125, 0.01, "uv_sphere volume");
     assert_outward(&ball, Vec3::ZERO, "uv_sphere");
     let coarse = mesh::uv_sphere(1.0, 3, 2).unwrap();
     assert_closed(&coarse, "coarsest uv_sphere");
@@ -151,10 +106,7 @@ fn subdivided_box_closed_welded_exact() {
     let [x, y, z] = cells.map(|c| c as usize);
     assert_eq!(b.face_count(), 4 * (x * y + y * z + z * x));
     // Welded: exactly the lattice points on the surface.
-    assert_eq!(
-        b.vertex_count(),
-        (x + 1) * (y + 1) * (z + 1) - (x - 1) * (y - 1) * (z - 1)
-    );
+    assert_eq!(b.vertex_count(), (x + 1) * (y + 1) * (z + 1) - (x - 1) * (y - 1) * (z - 1));
     assert_closed(&b, "subdivided_box");
     // Flat faces: the volume is exact up to f32 summation (1e-5 relative).
     assert_rel(b.volume(), 6.0, 1e-5, "box volume");
@@ -176,10 +128,7 @@ fn subdivided_box_closed_welded_exact() {
 fn plank_is_a_long_box() {
     let p = mesh::plank(8.0, 0.5, 0.25, 32).unwrap();
     assert_closed(&p, "plank");
-    assert_eq!(
-        p.bounds(),
-        (Vec3::new(-4.0, -0.125, -0.25), Vec3::new(4.0, 0.125, 0.25))
-    );
+    assert_eq!(p.bounds(), (Vec3::new(-4.0, -0.125, -0.25), Vec3::new(4.0, 0.125, 0.25)));
     assert_rel(p.volume(), 1.0, 1e-5, "plank volume");
     // 32 cells of 0.25 along x; 0.25 / 0.25 = 1 across y, 0.5 / 0.25 = 2 across z.
     assert_eq!(p.face_count(), 4 * (32 + 2 + 2 * 32));
@@ -216,18 +165,10 @@ fn midpoint_subdivision_refines_without_moving() {
     let fine = mesh::subdivide_midpoint(&ball);
     assert_eq!(fine.face_count(), 4 * ball.face_count());
     // Closed mesh: E = 3F/2 new vertices.
-    assert_eq!(
-        fine.vertex_count(),
-        ball.vertex_count() + 3 * ball.face_count() / 2
-    );
+    assert_eq!(fine.vertex_count(), ball.vertex_count() + 3 * ball.face_count() / 2);
     assert_closed(&fine, "subdivided icosphere");
     // Same surface, only refined: volume unchanged up to f32 summation.
-    assert_rel(
-        fine.volume(),
-        ball.volume(),
-        1e-5,
-        "volume after midpoint split",
-    );
+    assert_rel(fine.volume(), ball.volume(), 1e-5, "volume after midpoint split");
     assert_eq!(&fine.positions()[..ball.vertex_count()], ball.positions());
 
     let bunny = mesh::builtin("bunny").unwrap();
@@ -247,11 +188,7 @@ fn loop_subdivision_smooths_closed_meshes() {
     }
     assert_eq!(smooth.face_count(), 12 * 64);
     // Loop shrinks a convex control mesh: smaller than the cube, but not collapsed.
-    assert!(
-        smooth.volume() < cube.volume() && smooth.volume() > 0.3 * cube.volume(),
-        "{}",
-        smooth.volume()
-    );
+    assert!(smooth.volume() < cube.volume() && smooth.volume() > 0.3 * cube.volume(), "{}", smooth.volume());
     // Rounder: the ratio of the farthest to the nearest vertex from the centre drops well below
     // that of the unsmoothed surface at the same resolution (√3: corner vs face centre).
     let spread = |m: &TriMesh| {
@@ -259,28 +196,15 @@ fn loop_subdivision_smooths_closed_meshes() {
         d.iter().copied().fold(0.0, f32::max) / d.iter().copied().fold(f32::INFINITY, f32::min)
     };
     let faceted = mesh::subdivide_midpoint_n(&cube, 3);
-    assert!(
-        spread(&smooth) < 0.8 * spread(&faceted),
-        "{} vs {}",
-        spread(&smooth),
-        spread(&faceted)
-    );
+    assert!(spread(&smooth) < 0.8 * spread(&faceted), "{} vs {}", spread(&smooth), spread(&faceted));
     assert_outward(&smooth, Vec3::ZERO, "loop-subdivided cube");
 
     // An open boundary stays where the boundary rule puts it: on the boundary's plane.
-    let open = TriMesh::new(
-        vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0)],
-        vec![[0, 1, 3], [0, 3, 2]],
-    )
-    .unwrap();
+    let open =
+        TriMesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0)], vec![[0, 1, 3], [0, 3, 2]]).unwrap();
     let refined = mesh::subdivide_loop(&open);
     assert_eq!(refined.face_count(), 8);
-    assert!(
-        refined
-            .positions()
-            .iter()
-            .all(|p| p.z == 0.0 && p.is_finite())
-    );
+    assert!(refined.positions().iter().all(|p| p.z == 0.0 && p.is_finite()));
 }
 
 #[test]
@@ -295,10 +219,7 @@ fn builtins_are_closed_solids() {
         }
         let (lo, hi) = m.bounds();
         // Centred at the origin (f32 rounding of the generators).
-        assert!(
-            (lo + hi).abs().max_element() < 1e-5,
-            "{name} is not centred: {lo} {hi}"
-        );
+        assert!((lo + hi).abs().max_element() < 1e-5, "{name} is not centred: {lo} {hi}");
         // Sane sizes for interactive use.
         assert!(m.face_count() <= 60_000, "{name}: {} faces", m.face_count());
     }
@@ -307,21 +228,12 @@ fn builtins_are_closed_solids() {
 #[test]
 fn builtin_sizes_match_their_documentation() {
     let block = mesh::builtin("block").unwrap();
-    assert_eq!(
-        block.bounds(),
-        (Vec3::new(-2.0, -0.5, -2.0), Vec3::new(2.0, 0.5, 2.0))
-    );
+    assert_eq!(block.bounds(), (Vec3::new(-2.0, -0.5, -2.0), Vec3::new(2.0, 0.5, 2.0)));
     assert_eq!(block.face_count(), 24_576);
     let b = mesh::builtin("box").unwrap();
-    assert_eq!(
-        (b.bounds(), b.face_count()),
-        ((Vec3::splat(-1.0), Vec3::splat(1.0)), 3072)
-    );
+    assert_eq!((b.bounds(), b.face_count()), ((Vec3::splat(-1.0), Vec3::splat(1.0)), 3072));
     let plank = mesh::builtin("plank").unwrap();
-    assert_eq!(
-        plank.bounds(),
-        (Vec3::new(-4.0, -0.125, -0.25), Vec3::new(4.0, 0.125, 0.25))
-    );
+    assert_eq!(plank.bounds(), (Vec3::new(-4.0, -0.125, -0.25), Vec3::new(4.0, 0.125, 0.25)));
     assert_eq!(plank.face_count(), 6272);
     let sphere = mesh::builtin("sphere").unwrap();
     assert_eq!((sphere.face_count(), sphere.vertex_count()), (5120, 2562));
@@ -330,8 +242,5 @@ fn builtin_sizes_match_their_documentation() {
     let cyl = mesh::builtin("cylinder").unwrap();
     assert_eq!(cyl.face_count(), 2976);
     let (lo, hi) = cyl.bounds();
-    assert!(
-        (hi - lo - Vec3::new(1.0, 2.0, 1.0)).abs().max_element() < 1e-6,
-        "{lo} {hi}"
-    );
+    assert!((hi - lo - Vec3::new(1.0, 2.0, 1.0)).abs().max_element() < 1e-6, "{lo} {hi}");
 }

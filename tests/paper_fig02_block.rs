@@ -94,4 +94,3 @@ fn steep_falloff_folds_a_thin_wall_and_warns() {
     let moved: Vec<bool> = steep.positions().iter().zip(plank.positions()).map(|(a, b)| a != b).collect();
     assert!(!self_intersections(&steep, &moved).is_empty(), "the steep falloff folds the thin plank (Figure 2d)");
 }
-

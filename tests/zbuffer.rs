@@ -321,18 +321,23 @@ fn sphere_matches_analytic_cap() {
     }
 }
 
-/// The bunny from eight directions (axis-aligned and oblique) against an f64 Möller–Trumbore ray
+/// The bunny from nine directions (axis-aligned and oblique) against an f64 Möller–Trumbore ray
 /// cast through every cell centre, with d = 0.6 of its depth along the view so the ears are in.
 ///
-/// - Where the ray cast hits, the kernel is never below it by more than f32 rounding (`tol`: grid
+/// - Where the ray cast hits, the kernel is never below it by more than f32 rounding: the exact
+///   centre sample is always taken. `tol` = 1e-4 (world units, heights up to ~6): f32 grid
 ///   coordinates carry ~1e-5 cell of error, times the depth gradient of steep triangles, plus the
-///   f32 ulp of heights ~10): the exact centre sample is always taken.
-/// - No value exceeds the highest point of the surface over the cell's own square: samples lie
-///   within the cell (this bounds the one-cell dilation and the rise of edge samples on slopes).
+///   ulp of heights; the largest shortfall seen is ~4e-6.
+/// - No value exceeds the highest point of the surface over the cell's own square, since every
+///   sample lies in the cell. This bounds both the one-cell dilation at silhouettes and the rise
+///   of edge and vertex samples taken off the centre on a slope (up to slope × ¹⁄√2 cell), which
+///   is why cells hit by both agree to `tol` only where no such sample landed (about half of them
+///   at this resolution; the counts are printed).
 /// - Every cell the kernel marks but the ray cast misses touches a ray-cast hit (one cell of
-///   silhouette dilation); the converse never happens.
-/// - Where both hit, they agree to `tol` unless an edge or vertex sample off the centre landed in
-///   the cell on a slope, where the excess stays under the surface's height range over the cell.
+///   silhouette dilation); the converse is excluded by the first point.
+/// - In depth, too, the kernel is the ray cast dilated by one cell: no value exceeds the largest
+///   ray-cast value over the cell and its 8 neighbours by more than `ridge` = ½ cell (world units),
+///   room for peaks and ridges between centres (the largest excess seen is 0.28 cell).
 #[test]
 fn bunny_matches_ray_cast() {
     let (positions, faces) = builtin("bunny");
@@ -342,6 +347,7 @@ fn bunny_matches_ray_cast() {
         Vec3::Z,
         -Vec3::Z,
         Vec3::X,
+        Vec3::Y,
         -Vec3::Y,
         Vec3::new(1.0, 1.0, 1.0),
         Vec3::new(-1.0, -0.5, 2.0),
@@ -356,7 +362,8 @@ fn bunny_matches_ray_cast() {
         let half = 0.5 * (hi - lo).length() + 0.05;
         let view = View::looking(dir, &positions, centre, half, 128, d);
         let res = view.res as usize;
-        let tol = 2e-4;
+        let tol = 1e-4;
+        let ridge = 0.5 * view.h as f64;
 
         let profile = view.profile(&positions, &faces);
         assert_in_range(&profile, d);
@@ -366,6 +373,7 @@ fn bunny_matches_ray_cast() {
         let reference = ray_cast_profile(&view, &positions, &faces);
         let ranges = cell_depth_ranges(&view, &positions, &faces);
         let (mut agree, mut both, mut dilated, mut worst_below) = (0, 0, 0, 0.0f64);
+        let (mut rise_sum, mut rise_max, mut beyond) = (0.0f64, 0.0f64, 0.0f64);
         for cell in 0..res * res {
             let (p, rc) = (profile[cell] as f64, reference[cell]);
             let upper = ranges[cell].map_or(0.0, |(_, s)| (d as f64 + s).max(0.0));
@@ -379,15 +387,22 @@ fn bunny_matches_ray_cast() {
                     "dir {dir}, cell {cell}: marked ({p}) but no ray-cast hit next to it"
                 );
             }
+            let near = neighbours(cell, res).map(|n| reference[n]).fold(rc, f64::max);
+            assert!(p <= near + ridge, "dir {dir}, cell {cell}: {p} above the ray cast around it {near}");
+            beyond = beyond.max(p - near);
             if p > 0.0 && rc > 0.0 {
                 both += 1;
                 agree += usize::from((p - rc).abs() <= tol);
+                rise_sum += p - rc;
+                rise_max = rise_max.max(p - rc);
             }
         }
         assert!(both > res * res / 10, "dir {dir}: profile covers only {both} cells");
         eprintln!(
-            "bunny dir {dir}: {both} cells hit by both, {agree} agree to {tol}, {dilated} dilated, \
-             max below ray cast {worst_below:.1e}"
+            "bunny dir {dir}, d {d:.2}, h {:.3}: {both} cells hit by both, {agree} agree to {tol}, mean rise \
+             {:.1e}, max rise {rise_max:.1e}; {dilated} dilated; max below ray cast {worst_below:.1e}, max above 3×3 ray cast {beyond:.1e}",
+            view.h,
+            rise_sum / both as f64,
         );
     }
 }
@@ -497,39 +512,4 @@ fn huge_degenerate_and_bad_input() {
     params.grid.cell_size = 0.0;
     zbuffer(&params, &positions, &faces, &mut profile);
     assert!(profile.iter().all(|&p| p == 0.0));
-}
-
-#[test]
-#[ignore]
-fn tmp_timing() {
-    let (positions, faces) = builtin("bunny");
-    let (lo, hi) = positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
-    let centre = 0.5 * (lo + hi);
-    for dir in [Vec3::Z, -Vec3::Y, Vec3::new(1.0, 1.0, 1.0)] {
-        let z = dir.normalize();
-        let depth = positions.iter().map(|p| p.dot(z)).fold(f32::NEG_INFINITY, f32::max)
-            - positions.iter().map(|p| p.dot(z)).fold(f32::INFINITY, f32::min);
-        for frac in [0.3f32, 0.6, 1.01] {
-            for res in [100u32, 200, 400] {
-                let half = 0.5 * (hi - lo).length() + 0.05;
-                let view = View::looking(dir, &positions, centre, half, res, frac * depth);
-                let params = view.params(faces.len());
-                let mut out = vec![0.0; (res * res) as usize];
-                let mut times = Vec::new();
-                for _ in 0..300 {
-                    let t = std::time::Instant::now();
-                    zbuffer(&params, &positions, &faces, &mut out);
-                    times.push(t.elapsed().as_secs_f64());
-                    std::hint::black_box(&out);
-                }
-                times.sort_by(f64::total_cmp);
-                eprintln!(
-                    "dir {dir} d {:.2} ({frac} depth) res {res}: median {:.3} ms, min {:.3} ms",
-                    frac * depth,
-                    times[150] * 1e3,
-                    times[0] * 1e3
-                );
-            }
-        }
-    }
 }

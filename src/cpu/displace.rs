@@ -3,9 +3,9 @@
 
 use glam::{Vec3, Vec4};
 
+use super::DisplaceParams;
 use super::layout::falloff;
 use super::sample::{bilinear, near_grid};
-use super::DisplaceParams;
 use crate::dent::Attenuation;
 
 /// For every vertex at grid coordinates `(x, y)` and depth `z` below the collision plane, adds

@@ -12,8 +12,8 @@ const BLOCK: usize = 16;
 /// `rows` is the output of [`envelope_rows`](super::envelope_rows), `envelope` the exact upper
 /// envelope `max_k P_k·exp(−c·|x − x_k|²)` in the profile's units; both `res × res`, row-major.
 /// The shader runs one invocation per column; here columns are copied out in blocks of 16 so
-/// that every row is read a cache line at a time, and each column is then swept like the shader
-/// does (same arithmetic, same result).
+/// that every row is read a cache line at a time, and each column is then swept by the same
+/// line routine as the rows, cell for cell the result of a per-column sweep.
 ///
 /// # Panics
 ///

@@ -9,7 +9,8 @@
 //! `b = (f_q − f_v)/(c·(q − v))`. Only `b` is stored: every comparison against a breakpoint
 //! moves the integer part to the other side, where it is exact, so no rounding of `s` itself
 //! can pick the wrong parabola at a cell. The error left is a few ulps of `f`, which is what
-//! evaluating the parabolas costs anyway.
+//! evaluating the parabolas costs anyway. Here `b` multiplies by a per-call table of `1/(c·Δ)`
+//! where a shader may divide; the two agree to an ulp or two of `b`.
 
 use super::EnvelopeParams;
 

@@ -8,8 +8,8 @@ mod envelope_rows;
 mod glance;
 mod heat;
 mod layout;
-mod sample;
 pub mod reference;
+mod sample;
 mod zbuffer;
 
 pub use displace::{displace, falloff_table};
@@ -17,7 +17,5 @@ pub use envelope_cols::envelope_cols;
 pub use envelope_rows::envelope_rows;
 pub use glance::glance;
 pub use heat::{heat, heat_step};
-pub use layout::{
-    DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff,
-};
+pub use layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff};
 pub use zbuffer::zbuffer;

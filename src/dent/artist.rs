@@ -31,7 +31,11 @@ impl DentMap {
         params.validate()?;
         impact.validate()?;
         if !(1..=MAX_RESOLUTION).contains(&res) || heights.len() != (res as usize).pow(2) {
-            return Err(invalid("heights", format!("{} values for res {res}", heights.len()), "need res² values, res in 1..=2048"));
+            return Err(invalid(
+                "heights",
+                format!("{} values for res {res}", heights.len()),
+                "need res² values, res in 1..=2048",
+            ));
         }
         if !(extent.is_finite() && extent > 0.0) {
             return Err(invalid("extent", extent, "must be finite and > 0"));
@@ -52,7 +56,12 @@ impl DentMap {
     /// # Errors
     /// [`DentError::Image`] for unreadable, non-square or all-black pictures; otherwise as
     /// [`from_heights`](Self::from_heights).
-    pub fn from_png(path: impl AsRef<Path>, extent: f32, impact: &Impact, params: &DentParams) -> Result<Self, DentError> {
+    pub fn from_png(
+        path: impl AsRef<Path>,
+        extent: f32,
+        impact: &Impact,
+        params: &DentParams,
+    ) -> Result<Self, DentError> {
         let path = path.as_ref();
         let image_error = |message: String| DentError::Image { path: path.to_path_buf(), message };
         let image = crate::io::read_height_png(path).map_err(|e| image_error(e.to_string()))?;

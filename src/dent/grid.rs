@@ -92,11 +92,7 @@ impl DentFrame {
         let normal = impact.unit_normal();
         let view = impact.view_direction();
         let in_plane = view - view.dot(normal) * normal;
-        let tangent = if in_plane.length() > 1e-5 {
-            in_plane.normalize()
-        } else {
-            perpendicular(normal)
-        };
+        let tangent = if in_plane.length() > 1e-5 { in_plane.normalize() } else { perpendicular(normal) };
         let cos_theta = view.dot(normal).clamp(min_cos, 1.0);
         let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
         Self { normal, tangent, bitangent: normal.cross(tangent), cos_theta, sin_theta }

@@ -37,8 +37,7 @@ impl Impact {
     /// [`DentError::InvalidImpact`] naming the bad field, or [`DentError::Separating`] when the
     /// relative velocity points out of A.
     pub fn validate(&self) -> Result<(), DentError> {
-        for (name, v) in
-            [("point", self.point), ("normal", self.normal), ("relative_velocity", self.relative_velocity)]
+        for (name, v) in [("point", self.point), ("normal", self.normal), ("relative_velocity", self.relative_velocity)]
         {
             if !v.is_finite() {
                 return Err(DentError::InvalidImpact(format!("{name} {v} is not finite")));

@@ -83,7 +83,8 @@ impl DentMap {
         attenuation: &Attenuation,
     ) -> Result<PendingDisplacement, DentError> {
         self.validate()?;
-        let probe = super::DentParams { attenuation: attenuation.clone(), ..super::DentParams::new(self.dent_distance) };
+        let probe =
+            super::DentParams { attenuation: attenuation.clone(), ..super::DentParams::new(self.dent_distance) };
         probe.validate()?;
         let d = self.dent_distance;
         let (falloff, falloff_scale, table) = cpu::falloff_table(attenuation, d);
@@ -100,11 +101,8 @@ impl DentMap {
         if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
             return Err(DentError::NonFiniteResult { index });
         }
-        let max_displacement = positions
-            .iter()
-            .zip(target.positions())
-            .map(|(new, old)| new.distance(*old))
-            .fold(0.0, f32::max);
+        let max_displacement =
+            positions.iter().zip(target.positions()).map(|(new, old)| new.distance(*old)).fold(0.0, f32::max);
         let mut warnings = Vec::new();
         let steepness = attenuation.max_steepness(d);
         if steepness > 1.0 + 1e-3 {
@@ -114,7 +112,8 @@ impl DentMap {
             log::warn!("{message}");
             warnings.push(message);
         }
-        let report = DisplaceReport { moved_vertices: moved.iter().filter(|&&m| m).count(), max_displacement, warnings };
+        let report =
+            DisplaceReport { moved_vertices: moved.iter().filter(|&&m| m).count(), max_displacement, warnings };
         Ok(PendingDisplacement { positions, moved, report })
     }
 

@@ -3,8 +3,8 @@
 use std::fmt;
 use std::sync::Arc;
 
-use super::error::invalid;
 use super::DentError;
+use super::error::invalid;
 
 /// Largest grid side accepted, cells: 2048² cells is 16 MiB per f32 stage, far past the paper's 400².
 pub const MAX_RESOLUTION: u32 = 2048;

@@ -58,7 +58,8 @@ pub fn dent_map_stages(
         return Err(super::error::invalid("target_edge", edge, "must be finite and >= 0"));
     }
     let (lo, hi) = projectile.bounds();
-    if !(projectile.area() > 1e-10 * lo.distance_squared(hi)) {
+    let area = projectile.area();
+    if area.is_nan() || area <= 1e-10 * lo.distance_squared(hi) {
         return Err(DentError::DegenerateProjectile);
     }
     let frame = DentFrame::new(impact, params.min_cos);

@@ -15,16 +15,8 @@ use super::{MeshError, TriMesh};
 const BUNNY_OBJ: &str = include_str!("../../assets/meshes/bunny.obj");
 
 /// Names accepted by [`builtin`] and [`load`]; see [`builtin`] for each one's size.
-pub const BUILTIN_NAMES: &[&str] = &[
-    "bunny",
-    "bunny-dense",
-    "sphere",
-    "uvsphere",
-    "box",
-    "block",
-    "plank",
-    "cylinder",
-];
+pub const BUILTIN_NAMES: &[&str] =
+    &["bunny", "bunny-dense", "sphere", "uvsphere", "box", "block", "block-fine", "plank", "cylinder"];
 
 /// Builds a built-in mesh by name (world units; all but the bunny are closed and centred at the
 /// origin):
@@ -37,6 +29,7 @@ pub const BUILTIN_NAMES: &[&str] = &[
 /// | `uvsphere`    | latitude-longitude sphere of radius 1, 64 segments × 32 rings          | 3,968     |
 /// | `box`         | 2 × 2 × 2 cube, 16 × 16 cells per face                                 | 3,072     |
 /// | `block`       | slab 4 (x) × 1 (y) × 4 (z), top face y = +0.5, 64 × 16 × 64 cells      | 24,576    |
+/// | `block-fine`  | `block` with 112 × 8 × 112 cells (0.036 apart), for detailed dents     | 57,344    |
 /// | `plank`       | 8 (x) × 0.25 (y) × 0.5 (z), 128 cells along x (square cells)           | 6,272     |
 /// | `cylinder`    | radius 0.5, height 2 along y, 48 segments, 16 stacks, 8-ring caps      | 2,976     |
 ///
@@ -56,6 +49,7 @@ pub fn builtin(name: &str) -> Result<TriMesh, MeshError> {
         "uvsphere" => uv_sphere(1.0, 64, 32),
         "box" => subdivided_box(Vec3::splat(2.0), [16; 3]),
         "block" => subdivided_box(Vec3::new(4.0, 1.0, 4.0), [64, 16, 64]),
+        "block-fine" => subdivided_box(Vec3::new(4.0, 1.0, 4.0), [112, 8, 112]),
         "plank" => plank(8.0, 0.5, 0.25, 128),
         "cylinder" => cylinder(0.5, 2.0, 48, 16),
         _ => Err(unsupported(name)),
@@ -79,10 +73,7 @@ pub fn load(spec: &str) -> Result<TriMesh, MeshError> {
         return builtin(spec);
     }
     let path = Path::new(spec);
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
+    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match extension.as_deref() {
         Some("obj") => load_obj(path),
         Some("ply") => load_ply(path),
@@ -91,8 +82,5 @@ pub fn load(spec: &str) -> Result<TriMesh, MeshError> {
 }
 
 fn unsupported(spec: &str) -> MeshError {
-    MeshError::UnsupportedFormat {
-        path: spec.into(),
-        builtins: BUILTIN_NAMES.join(", "),
-    }
+    MeshError::UnsupportedFormat { path: spec.into(), builtins: BUILTIN_NAMES.join(", ") }
 }

@@ -8,9 +8,7 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
     /// The mesh has no vertices or no faces.
-    #[error(
-        "mesh is empty: it has {vertices} vertices and {faces} faces (at least one face is needed)"
-    )]
+    #[error("mesh is empty: it has {vertices} vertices and {faces} faces (at least one face is needed)")]
     Empty {
         /// Number of vertices found.
         vertices: usize,
@@ -66,9 +64,7 @@ pub enum MeshError {
         message: String,
     },
     /// The file extension names a format this crate does not read or write.
-    #[error(
-        "unsupported mesh format for {path} (expected .obj or .ply, or a built-in name: {builtins})"
-    )]
+    #[error("unsupported mesh format for {path} (expected .obj or .ply, or a built-in name: {builtins})")]
     UnsupportedFormat {
         /// The file involved.
         path: PathBuf,

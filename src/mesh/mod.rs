@@ -15,8 +15,6 @@ pub use builtin::{BUILTIN_NAMES, builtin, load};
 pub use error::MeshError;
 pub use obj::{load_obj, parse_obj, save_obj};
 pub use ply::{load_ply, parse_ply};
-pub use primitives::{
-    MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere,
-};
+pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere};
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 pub use trimesh::{TriMesh, validate};

@@ -18,10 +18,7 @@ pub(crate) const MEMORY: &str = "<memory>";
 /// [`MeshError::Io`] if the file cannot be read, otherwise as [`parse_obj`].
 pub fn load_obj(path: impl AsRef<Path>) -> Result<TriMesh, MeshError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = std::fs::read(path).map_err(|source| MeshError::Io { path: path.to_path_buf(), source })?;
     parse_obj_named(&String::from_utf8_lossy(&bytes), path)
 }
 
@@ -62,15 +59,12 @@ pub(crate) fn parse_obj_named(text: &str, path: &Path) -> Result<TriMesh, MeshEr
             Some("v") => {
                 let mut xyz = [0.0f32; 3];
                 for (axis, value) in xyz.iter_mut().enumerate() {
-                    let token = tokens.next().ok_or_else(|| {
-                        fail(
-                            line,
-                            format!("vertex has {axis} coordinates, expected at least 3"),
-                        )
-                    })?;
-                    *value = token.parse().map_err(|_| {
-                        fail(line, format!("vertex coordinate '{token}' is not a number"))
-                    })?;
+                    let token = tokens
+                        .next()
+                        .ok_or_else(|| fail(line, format!("vertex has {axis} coordinates, expected at least 3")))?;
+                    *value = token
+                        .parse()
+                        .map_err(|_| fail(line, format!("vertex coordinate '{token}' is not a number")))?;
                 }
                 positions.push(Vec3::from_array(xyz));
             }
@@ -80,14 +74,9 @@ pub(crate) fn parse_obj_named(text: &str, path: &Path) -> Result<TriMesh, MeshEr
                     polygon.push(corner_index(corner, positions.len()).map_err(|m| fail(line, m))?);
                 }
                 if polygon.len() < 3 {
-                    return Err(fail(
-                        line,
-                        format!("face has {} corners, at least 3 are needed", polygon.len()),
-                    ));
+                    return Err(fail(line, format!("face has {} corners, at least 3 are needed", polygon.len())));
                 }
-                faces.extend(
-                    (1..polygon.len() - 1).map(|i| [polygon[0], polygon[i], polygon[i + 1]]),
-                );
+                faces.extend((1..polygon.len() - 1).map(|i| [polygon[0], polygon[i], polygon[i + 1]]));
             }
             _ => {}
         }
@@ -98,9 +87,7 @@ pub(crate) fn parse_obj_named(text: &str, path: &Path) -> Result<TriMesh, MeshEr
 /// Zero-based vertex index of one face corner `v[/vt][/vn]`, given the vertices read so far.
 fn corner_index(corner: &str, vertices_so_far: usize) -> Result<u32, String> {
     let token = corner.split('/').next().unwrap_or_default();
-    let index: i64 = token
-        .parse()
-        .map_err(|_| format!("face corner '{corner}' is not a vertex index"))?;
+    let index: i64 = token.parse().map_err(|_| format!("face corner '{corner}' is not a vertex index"))?;
     let zero_based = match index {
         0 => return Err("vertex index 0 is invalid (OBJ indices start at 1)".to_owned()),
         i if i > 0 => i - 1,
@@ -124,23 +111,13 @@ fn corner_index(corner: &str, vertices_so_far: usize) -> Result<u32, String> {
 /// [`MeshError::Io`] if the file cannot be created or written.
 pub fn save_obj(mesh: &TriMesh, path: impl AsRef<Path>) -> Result<(), MeshError> {
     let path = path.as_ref();
-    let io = |source| MeshError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
+    let io = |source| MeshError::Io { path: path.to_path_buf(), source };
     let mut out = BufWriter::new(File::create(path).map_err(io)?);
-    write_obj(mesh, &mut out)
-        .and_then(|()| out.flush())
-        .map_err(io)
+    write_obj(mesh, &mut out).and_then(|()| out.flush()).map_err(io)
 }
 
 fn write_obj(mesh: &TriMesh, out: &mut impl Write) -> std::io::Result<()> {
-    writeln!(
-        out,
-        "# dentbend mesh: {} vertices, {} triangles",
-        mesh.vertex_count(),
-        mesh.face_count()
-    )?;
+    writeln!(out, "# dentbend mesh: {} vertices, {} triangles", mesh.vertex_count(), mesh.face_count())?;
     for p in mesh.positions() {
         writeln!(out, "v {} {} {}", p.x, p.y, p.z)?;
     }

@@ -21,10 +21,7 @@ use super::{MeshError, TriMesh};
 /// [`MeshError::Io`] if the file cannot be read, otherwise as [`parse_ply`].
 pub fn load_ply(path: impl AsRef<Path>) -> Result<TriMesh, MeshError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = std::fs::read(path).map_err(|source| MeshError::Io { path: path.to_path_buf(), source })?;
     parse_ply_named(&bytes, path)
 }
 
@@ -42,19 +39,12 @@ pub fn parse_ply(bytes: &[u8]) -> Result<TriMesh, MeshError> {
 
 /// [`parse_ply`] with the path to name in errors.
 pub(crate) fn parse_ply_named(bytes: &[u8], path: &Path) -> Result<TriMesh, MeshError> {
-    let fail = |message: String| MeshError::Parse {
-        path: path.to_path_buf(),
-        format: "PLY",
-        message,
-    };
+    let fail = |message: String| MeshError::Parse { path: path.to_path_buf(), format: "PLY", message };
     let header = Header::parse(bytes).map_err(fail)?;
     let body = &bytes[header.data_offset..];
     let (positions, faces) = match header.format {
         Format::Ascii => read_body(&header, AsciiSource::new(body, header.lines)),
-        Format::Binary { big_endian } => read_body(
-            &header,
-            BinarySource::new(body, header.data_offset, big_endian),
-        ),
+        Format::Binary { big_endian } => read_body(&header, BinarySource::new(body, header.data_offset, big_endian)),
     }
     .map_err(fail)?;
     TriMesh::new(positions, faces)
@@ -95,16 +85,13 @@ fn read_body(header: &Header, mut src: impl Source) -> Result<(Vec<Vec3>, Vec<[u
                         for _ in 0..len {
                             let value = src.value(item).map_err(context)?;
                             if indices {
-                                let index = u32::try_from(value as i64).map_err(|_| {
-                                    context(format!("invalid vertex index {value}"))
-                                })?;
+                                let index = u32::try_from(value as i64)
+                                    .map_err(|_| context(format!("invalid vertex index {value}")))?;
                                 polygon.push(index);
                             }
                         }
                         if indices && polygon.len() < 3 {
-                            return Err(context(format!(
-                                "a face needs at least 3 vertices, this one has {len}"
-                            )));
+                            return Err(context(format!("a face needs at least 3 vertices, this one has {len}")));
                         }
                     }
                 }
@@ -112,9 +99,7 @@ fn read_body(header: &Header, mut src: impl Source) -> Result<(Vec<Vec3>, Vec<[u
             src.end().map_err(context)?;
             match element.role {
                 Role::Vertex(_) => positions.push(Vec3::from_array(xyz)),
-                Role::Face(_) => faces.extend(
-                    (1..polygon.len() - 1).map(|i| [polygon[0], polygon[i], polygon[i + 1]]),
-                ),
+                Role::Face(_) => faces.extend((1..polygon.len() - 1).map(|i| [polygon[0], polygon[i], polygon[i + 1]])),
                 Role::Skip => {}
             }
         }

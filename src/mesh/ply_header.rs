@@ -142,8 +142,7 @@ impl Header {
                 }
                 continue;
             }
-            let text = std::str::from_utf8(raw)
-                .map_err(|_| format!("line {line}: the header is not ASCII text"))?;
+            let text = std::str::from_utf8(raw).map_err(|_| format!("line {line}: the header is not ASCII text"))?;
             let bad = |what: &str| format!("line {line}: {what} in '{}'", text.trim());
             let tokens: Vec<&str> = text.split_ascii_whitespace().collect();
             match tokens.as_slice() {
@@ -160,47 +159,28 @@ impl Header {
                     });
                 }
                 ["element", name, count] => {
-                    let count = count
-                        .parse()
-                        .map_err(|_| bad("element count is not a non-negative integer"))?;
+                    let count = count.parse().map_err(|_| bad("element count is not a non-negative integer"))?;
                     if elements.iter().any(|e| e.name == *name) {
                         return Err(bad("duplicate element"));
                     }
                     let name = (*name).to_owned();
-                    elements.push(Element {
-                        name,
-                        count,
-                        properties: Vec::new(),
-                        role: Role::Skip,
-                    });
+                    elements.push(Element { name, count, properties: Vec::new(), role: Role::Skip });
                 }
                 ["property", rest @ ..] => {
-                    let element = elements
-                        .last_mut()
-                        .ok_or_else(|| bad("property before any element"))?;
-                    let scalar =
-                        |t: &str| Scalar::parse(t).ok_or_else(|| bad("unknown property type"));
+                    let element = elements.last_mut().ok_or_else(|| bad("property before any element"))?;
+                    let scalar = |t: &str| Scalar::parse(t).ok_or_else(|| bad("unknown property type"));
                     let (kind, name) = match rest {
                         ["list", count, item, name] => {
                             let count = scalar(count)?;
                             if !count.is_integer() {
                                 return Err(bad("list count type must be an integer type"));
                             }
-                            (
-                                Kind::List {
-                                    count,
-                                    item: scalar(item)?,
-                                },
-                                *name,
-                            )
+                            (Kind::List { count, item: scalar(item)? }, *name)
                         }
                         [ty, name] => (Kind::Scalar(scalar(ty)?), *name),
                         _ => return Err(bad("malformed property")),
                     };
-                    element.properties.push(Property {
-                        name: name.to_owned(),
-                        kind,
-                    });
+                    element.properties.push(Property { name: name.to_owned(), kind });
                 }
                 ["end_header"] => break,
                 _ => return Err(bad("unknown or malformed header line")),
@@ -213,51 +193,33 @@ impl Header {
         if !elements.iter().any(|e| matches!(e.role, Role::Vertex(_))) {
             return Err("the header declares no 'vertex' element".to_owned());
         }
-        Ok(Self {
-            format,
-            elements,
-            data_offset: pos,
-            lines: line,
-        })
+        Ok(Self { format, elements, data_offset: pos, lines: line })
     }
 }
 
 impl Element {
     fn assign_role(&mut self) -> Result<(), String> {
         if self.count > 0 && self.properties.is_empty() {
-            return Err(format!(
-                "element '{}' has {} entries but no properties",
-                self.name, self.count
-            ));
+            return Err(format!("element '{}' has {} entries but no properties", self.name, self.count));
         }
-        let find = |names: &[&str]| {
-            self.properties
-                .iter()
-                .position(|p| names.contains(&p.name.as_str()))
-        };
+        let find = |names: &[&str]| self.properties.iter().position(|p| names.contains(&p.name.as_str()));
         match self.name.as_str() {
             "vertex" => {
                 if self.count > u64::from(u32::MAX) {
-                    return Err(format!(
-                        "{} vertices are more than this reader indexes",
-                        self.count
-                    ));
+                    return Err(format!("{} vertices are more than this reader indexes", self.count));
                 }
                 let mut xyz = [0; 3];
                 for (slot, axis) in xyz.iter_mut().zip(["x", "y", "z"]) {
-                    *slot = find(&[axis])
-                        .ok_or_else(|| format!("the vertex element has no '{axis}' property"))?;
+                    *slot = find(&[axis]).ok_or_else(|| format!("the vertex element has no '{axis}' property"))?;
                     if !matches!(self.properties[*slot].kind, Kind::Scalar(_)) {
-                        return Err(format!(
-                            "vertex property '{axis}' is a list, expected a number"
-                        ));
+                        return Err(format!("vertex property '{axis}' is a list, expected a number"));
                     }
                 }
                 self.role = Role::Vertex(xyz);
             }
             "face" => {
-                let list = find(&["vertex_indices", "vertex_index"])
-                    .ok_or("the face element has no 'vertex_indices' list")?;
+                let list =
+                    find(&["vertex_indices", "vertex_index"]).ok_or("the face element has no 'vertex_indices' list")?;
                 match self.properties[list].kind {
                     Kind::List { item, .. } if item.is_integer() => self.role = Role::Face(list),
                     _ => return Err("face 'vertex_indices' must be a list of integers".to_owned()),

@@ -20,9 +20,7 @@ pub(super) trait Source {
 }
 
 fn too_much_declared(entries: u128, available: String) -> String {
-    format!(
-        "the header declares {entries} entries in all but only {available} (truncated file or wrong counts)"
-    )
+    format!("the header declares {entries} entries in all but only {available} (truncated file or wrong counts)")
 }
 
 /// ASCII data: one text line per element entry, values separated by whitespace.
@@ -37,13 +35,7 @@ pub(super) struct AsciiSource<'a> {
 
 impl<'a> AsciiSource<'a> {
     pub(super) fn new(data: &'a [u8], header_lines: usize) -> Self {
-        Self {
-            data,
-            pos: 0,
-            line: header_lines,
-            tokens: Vec::new(),
-            next: 0,
-        }
+        Self { data, pos: 0, line: header_lines, tokens: Vec::new(), next: 0 }
     }
 
     /// The next line, or `None` at the end of the data.
@@ -55,8 +47,7 @@ impl<'a> AsciiSource<'a> {
         let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
         self.pos += len + 1;
         self.line += 1;
-        let text = std::str::from_utf8(&rest[..len])
-            .map_err(|_| format!("line {}: not ASCII text", self.line))?;
+        let text = std::str::from_utf8(&rest[..len]).map_err(|_| format!("line {}: not ASCII text", self.line))?;
         Ok(Some(text))
     }
 }
@@ -64,16 +55,9 @@ impl<'a> AsciiSource<'a> {
 impl Source for AsciiSource<'_> {
     fn check_counts(&self, header: &Header) -> Result<(), String> {
         let entries: u128 = header.elements.iter().map(|e| u128::from(e.count)).sum();
-        let lines = self
-            .data
-            .split(|&b| b == b'\n')
-            .filter(|l| l.iter().any(|b| !b.is_ascii_whitespace()))
-            .count();
+        let lines = self.data.split(|&b| b == b'\n').filter(|l| l.iter().any(|b| !b.is_ascii_whitespace())).count();
         if entries > lines as u128 {
-            return Err(too_much_declared(
-                entries,
-                format!("{lines} non-blank data lines follow"),
-            ));
+            return Err(too_much_declared(entries, format!("{lines} non-blank data lines follow")));
         }
         Ok(())
     }
@@ -94,10 +78,7 @@ impl Source for AsciiSource<'_> {
 
     fn value(&mut self, ty: Scalar) -> Result<f64, String> {
         let line = self.line;
-        let token = *self
-            .tokens
-            .get(self.next)
-            .ok_or_else(|| format!("line {line}: too few values"))?;
+        let token = *self.tokens.get(self.next).ok_or_else(|| format!("line {line}: too few values"))?;
         self.next += 1;
         let bad = || format!("line {line}: '{token}' is not a valid {} value", ty.name());
         if ty.is_integer() {
@@ -116,10 +97,7 @@ impl Source for AsciiSource<'_> {
         let len = self.value(count)?;
         let left = self.tokens.len() - self.next;
         if len < 0.0 || len > left as f64 {
-            return Err(format!(
-                "line {}: list of {len} items but {left} values are left on the line",
-                self.line
-            ));
+            return Err(format!("line {}: list of {len} items but {left} values are left on the line", self.line));
         }
         Ok(len as u64)
     }
@@ -127,20 +105,14 @@ impl Source for AsciiSource<'_> {
     fn end(&mut self) -> Result<(), String> {
         match self.tokens.len() - self.next {
             0 => Ok(()),
-            extra => Err(format!(
-                "line {}: {extra} more values than the header declares",
-                self.line
-            )),
+            extra => Err(format!("line {}: {extra} more values than the header declares", self.line)),
         }
     }
 
     fn finish(&mut self) -> Result<(), String> {
         while let Some(text) = self.next_line()? {
             if !text.trim().is_empty() {
-                return Err(format!(
-                    "line {}: data after the last declared element (counts too small?)",
-                    self.line
-                ));
+                return Err(format!("line {}: data after the last declared element (counts too small?)", self.line));
             }
         }
         Ok(())
@@ -159,28 +131,16 @@ pub(super) struct BinarySource<'a> {
 impl<'a> BinarySource<'a> {
     /// Reads `data`, which starts at byte `base` of the file.
     pub(super) fn new(data: &'a [u8], base: usize, big_endian: bool) -> Self {
-        Self {
-            data,
-            pos: 0,
-            base,
-            big_endian,
-        }
+        Self { data, pos: 0, base, big_endian }
     }
 }
 
 impl Source for BinarySource<'_> {
     fn check_counts(&self, header: &Header) -> Result<(), String> {
         let entries: u128 = header.elements.iter().map(|e| u128::from(e.count)).sum();
-        let needed: u128 = header
-            .elements
-            .iter()
-            .map(|e| u128::from(e.count) * u128::from(e.min_binary_size()))
-            .sum();
+        let needed: u128 = header.elements.iter().map(|e| u128::from(e.count) * u128::from(e.min_binary_size())).sum();
         if needed > self.data.len() as u128 {
-            let available = format!(
-                "{} data bytes follow where at least {needed} are needed",
-                self.data.len()
-            );
+            let available = format!("{} data bytes follow where at least {needed} are needed", self.data.len());
             return Err(too_much_declared(entries, available));
         }
         Ok(())
@@ -193,10 +153,7 @@ impl Source for BinarySource<'_> {
     fn value(&mut self, ty: Scalar) -> Result<f64, String> {
         let size = ty.size();
         let Some(chunk) = self.data.get(self.pos..self.pos + size) else {
-            return Err(format!(
-                "the data ends at byte {} (truncated file?)",
-                self.base + self.data.len()
-            ));
+            return Err(format!("the data ends at byte {} (truncated file?)", self.base + self.data.len()));
         };
         self.pos += size;
         let mut b = [0u8; 8];
@@ -235,9 +192,7 @@ impl Source for BinarySource<'_> {
     fn finish(&mut self) -> Result<(), String> {
         match self.data.len() - self.pos {
             0 => Ok(()),
-            extra => Err(format!(
-                "{extra} bytes of data after the last declared element (counts too small?)"
-            )),
+            extra => Err(format!("{extra} bytes of data after the last declared element (counts too small?)")),
         }
     }
 }

@@ -20,20 +20,12 @@ fn positive(name: &str, value: f32) -> Result<(), MeshError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(invalid(format!(
-            "{name} must be finite and positive, got {value}"
-        )))
+        Err(invalid(format!("{name} must be finite and positive, got {value}")))
     }
 }
 
 fn at_least(name: &str, value: u32, min: u32) -> Result<(), MeshError> {
-    if value >= min {
-        Ok(())
-    } else {
-        Err(invalid(format!(
-            "{name} must be at least {min}, got {value}"
-        )))
-    }
+    if value >= min { Ok(()) } else { Err(invalid(format!("{name} must be at least {min}, got {value}"))) }
 }
 
 fn budget(what: &str, triangles: u128) -> Result<(), MeshError> {
@@ -93,9 +85,7 @@ fn icosahedron() -> (Vec<Vec3>, Vec<[u32; 3]>) {
 pub fn icosphere(radius: f32, subdivisions: u32) -> Result<TriMesh, MeshError> {
     positive("icosphere radius", radius)?;
     if subdivisions > 8 {
-        return Err(invalid(format!(
-            "icosphere subdivisions must be at most 8, got {subdivisions}"
-        )));
+        return Err(invalid(format!("icosphere subdivisions must be at most 8, got {subdivisions}")));
     }
     let (mut positions, mut faces) = icosahedron();
     for _ in 0..subdivisions {
@@ -120,10 +110,7 @@ pub fn uv_sphere(radius: f32, segments: u32, rings: u32) -> Result<TriMesh, Mesh
     positive("uv_sphere radius", radius)?;
     at_least("uv_sphere segments", segments, 3)?;
     at_least("uv_sphere rings", rings, 2)?;
-    budget(
-        "uv_sphere",
-        2 * u128::from(segments) * u128::from(rings - 1),
-    )?;
+    budget("uv_sphere", 2 * u128::from(segments) * u128::from(rings - 1))?;
     let (n, r) = (segments as usize, rings as usize);
     let mut positions = Vec::with_capacity(n * (r - 1) + 2);
     positions.push(Vec3::new(0.0, radius, 0.0));
@@ -174,16 +161,13 @@ pub fn subdivided_box(size: Vec3, cells: [u32; 3]) -> Result<TriMesh, MeshError>
     budget("subdivided_box", 4 * (cx * cy + cy * cz + cz * cx))?;
 
     // Lattice coordinate i of n along an axis of length l: exact at both ends and mirror-exact.
-    let coord =
-        |i: u32, n: u32, l: f32| (2 * i64::from(i) - i64::from(n)) as f32 / (2 * n) as f32 * l;
+    let coord = |i: u32, n: u32, l: f32| (2 * i64::from(i) - i64::from(n)) as f32 / (2 * n) as f32 * l;
     let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
     let mut positions = Vec::new();
     let mut faces = Vec::new();
     let mut vertex = |lattice: [u32; 3]| -> u32 {
         *ids.entry(lattice).or_insert_with(|| {
-            positions.push(Vec3::from_array(std::array::from_fn(|a| {
-                coord(lattice[a], cells[a], size[a])
-            })));
+            positions.push(Vec3::from_array(std::array::from_fn(|a| coord(lattice[a], cells[a], size[a]))));
             (positions.len() - 1) as u32
         })
     };
@@ -227,10 +211,7 @@ pub fn plank(length: f32, width: f32, thickness: f32, segments: u32) -> Result<T
     let cell = length / segments as f32;
     // Float-to-int `as` saturates, so absurd ratios end in the triangle budget check.
     let across = |extent: f32| ((extent / cell).round() as u32).max(1);
-    subdivided_box(
-        Vec3::new(length, thickness, width),
-        [segments, across(thickness), across(width)],
-    )
+    subdivided_box(Vec3::new(length, thickness, width), [segments, across(thickness), across(width)])
 }
 
 /// A capped cylinder of `radius` and `height` (world units) about the y axis, centred at the
@@ -240,21 +221,13 @@ pub fn plank(length: f32, width: f32, thickness: f32, segments: u32) -> Result<T
 /// # Errors
 /// [`MeshError::InvalidParameter`] for a non-positive or non-finite size, too few segments or
 /// stacks, or more than [`MAX_PRIMITIVE_TRIANGLES`] triangles.
-pub fn cylinder(
-    radius: f32,
-    height: f32,
-    segments: u32,
-    stacks: u32,
-) -> Result<TriMesh, MeshError> {
+pub fn cylinder(radius: f32, height: f32, segments: u32, stacks: u32) -> Result<TriMesh, MeshError> {
     positive("cylinder radius", radius)?;
     positive("cylinder height", height)?;
     at_least("cylinder segments", segments, 3)?;
     at_least("cylinder stacks", stacks, 1)?;
     let caps = ((segments as f32 / TAU).round() as u32).max(1);
-    budget(
-        "cylinder",
-        2 * u128::from(segments) * (u128::from(stacks) + 2 * u128::from(caps)),
-    )?;
+    budget("cylinder", 2 * u128::from(segments) * (u128::from(stacks) + 2 * u128::from(caps)))?;
     let (n, m, c) = (segments as usize, stacks as usize, caps as usize);
     let around = |s: usize| {
         let phi = TAU * (s % n) as f32 / n as f32;
@@ -270,12 +243,7 @@ pub fn cylinder(
     let mut faces = Vec::new();
     for k in 0..m {
         for s in 0..n {
-            let (a, b, cc, d) = (
-                side(k, s),
-                side(k, s + 1),
-                side(k + 1, s + 1),
-                side(k + 1, s),
-            );
+            let (a, b, cc, d) = (side(k, s), side(k, s + 1), side(k + 1, s + 1), side(k + 1, s));
             faces.extend([[a, b, cc], [a, cc, d]]);
         }
     }
@@ -297,12 +265,7 @@ pub fn cylinder(
         for s in 0..n {
             push([centre, ring(1, s), ring(1, s + 1)]);
             for j in 1..c {
-                let (a, b, cc, d) = (
-                    ring(j, s),
-                    ring(j + 1, s),
-                    ring(j + 1, s + 1),
-                    ring(j, s + 1),
-                );
+                let (a, b, cc, d) = (ring(j, s), ring(j + 1, s), ring(j + 1, s + 1), ring(j, s + 1));
                 push([a, b, cc]);
                 push([a, cc, d]);
             }

@@ -28,12 +28,10 @@ pub(crate) fn split_faces(vertex_count: usize, faces: &[[u32; 3]]) -> Split {
     for &[a, b, c] in faces {
         let mut mid = |u: u32, v: u32| -> u32 {
             let (lo, hi) = (u.min(v), u.max(v));
-            *ids.entry((u64::from(lo) << 32) | u64::from(hi))
-                .or_insert_with(|| {
-                    edges.push([lo, hi]);
-                    u32::try_from(vertex_count + edges.len() - 1)
-                        .expect("subdivision needs more than u32::MAX vertices")
-                })
+            *ids.entry((u64::from(lo) << 32) | u64::from(hi)).or_insert_with(|| {
+                edges.push([lo, hi]);
+                u32::try_from(vertex_count + edges.len() - 1).expect("subdivision needs more than u32::MAX vertices")
+            })
         };
         let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
         out.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
@@ -61,12 +59,7 @@ pub fn subdivide_midpoint(mesh: &TriMesh) -> TriMesh {
     let mut out = Vec::with_capacity(positions.len() + split.edges.len());
     out.extend_from_slice(positions);
     // Halving first cannot overflow, so finite inputs give finite midpoints.
-    out.extend(
-        split
-            .edges
-            .iter()
-            .map(|&[a, b]| positions[a as usize] * 0.5 + positions[b as usize] * 0.5),
-    );
+    out.extend(split.edges.iter().map(|&[a, b]| positions[a as usize] * 0.5 + positions[b as usize] * 0.5));
     TriMesh::from_valid(out, split.faces)
 }
 
@@ -87,8 +80,7 @@ pub fn subdivide_loop(mesh: &TriMesh) -> TriMesh {
     let p = |v: u32| positions[v as usize].as_dvec3();
 
     // Opposite vertices of every undirected edge: (number of faces, first two opposites).
-    let mut opposite: HashMap<u64, (u32, [u32; 2])> =
-        HashMap::with_capacity(faces.len() * 3 / 2 + 3);
+    let mut opposite: HashMap<u64, (u32, [u32; 2])> = HashMap::with_capacity(faces.len() * 3 / 2 + 3);
     for &[a, b, c] in faces {
         for (u, v, w) in [(a, b, c), (b, c, a), (c, a, b)] {
             let key = (u64::from(u.min(v)) << 32) | u64::from(u.max(v));
@@ -121,11 +113,7 @@ pub fn subdivide_loop(mesh: &TriMesh) -> TriMesh {
                 }
             }
         }
-        odd.push(if interior {
-            (p(a) + p(b)) * 0.375 + (p(w1) + p(w2)) * 0.125
-        } else {
-            (p(a) + p(b)) * 0.5
-        });
+        odd.push(if interior { (p(a) + p(b)) * 0.375 + (p(w1) + p(w2)) * 0.125 } else { (p(a) + p(b)) * 0.5 });
     }
 
     let mut out = Vec::with_capacity(positions.len() + odd.len());
@@ -135,11 +123,7 @@ pub fn subdivide_loop(mesh: &TriMesh) -> TriMesh {
             (0, 0) => old,
             (0, n) => {
                 let n = f64::from(n);
-                let beta = if n == 3.0 {
-                    3.0 / 16.0
-                } else {
-                    3.0 / (8.0 * n)
-                };
+                let beta = if n == 3.0 { 3.0 / 16.0 } else { 3.0 / (8.0 * n) };
                 old * (1.0 - n * beta) + sum * beta
             }
             (2, _) => old * 0.75 + crease_sum * 0.125,
@@ -159,9 +143,5 @@ pub fn subdivide_midpoint_n(mesh: &TriMesh, levels: u32) -> TriMesh {
 /// Positions of the new edge vertices of `split` projected onto the unit sphere (icosphere
 /// refinement); mirror-symmetric inputs give exactly mirror-symmetric outputs.
 pub(crate) fn unit_midpoints(positions: &[Vec3], split: &Split) -> Vec<Vec3> {
-    split
-        .edges
-        .iter()
-        .map(|&[a, b]| (positions[a as usize] + positions[b as usize]).normalize())
-        .collect()
+    split.edges.iter().map(|&[a, b]| (positions[a as usize] + positions[b as usize]).normalize()).collect()
 }

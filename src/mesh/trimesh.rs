@@ -31,11 +31,7 @@ impl TriMesh {
     /// ```
     pub fn new(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> Result<Self, MeshError> {
         validate(&positions, &faces)?;
-        let mut mesh = Self {
-            normals: vec![Vec3::ZERO; positions.len()],
-            positions,
-            faces,
-        };
+        let mut mesh = Self { normals: vec![Vec3::ZERO; positions.len()], positions, faces };
         mesh.recompute_normals();
         Ok(mesh)
     }
@@ -44,11 +40,7 @@ impl TriMesh {
     /// subdivision), computing vertex normals; the invariants are checked in debug builds only.
     pub(crate) fn from_valid(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> Self {
         debug_assert!(validate(&positions, &faces).is_ok());
-        let mut mesh = Self {
-            normals: vec![Vec3::ZERO; positions.len()],
-            positions,
-            faces,
-        };
+        let mut mesh = Self { normals: vec![Vec3::ZERO; positions.len()], positions, faces };
         mesh.recompute_normals();
         mesh
     }
@@ -85,10 +77,7 @@ impl TriMesh {
     /// [`MeshError::LengthMismatch`] or [`MeshError::NonFinite`]; the mesh is unchanged then.
     pub fn set_positions(&mut self, positions: Vec<Vec3>) -> Result<(), MeshError> {
         if positions.len() != self.positions.len() {
-            return Err(MeshError::LengthMismatch {
-                expected: self.positions.len(),
-                actual: positions.len(),
-            });
+            return Err(MeshError::LengthMismatch { expected: self.positions.len(), actual: positions.len() });
         }
         check_finite(&positions)?;
         self.positions = positions;
@@ -106,11 +95,7 @@ impl TriMesh {
     /// # Errors
     /// [`MeshError::NonFinite`] if the map produces a non-finite coordinate; the mesh is unchanged then.
     pub fn transform(&mut self, matrix: glam::Affine3A) -> Result<(), MeshError> {
-        let moved: Vec<Vec3> = self
-            .positions
-            .iter()
-            .map(|&p| matrix.transform_point3(p))
-            .collect();
+        let moved: Vec<Vec3> = self.positions.iter().map(|&p| matrix.transform_point3(p)).collect();
         self.set_positions(moved)
     }
 
@@ -123,9 +108,7 @@ impl TriMesh {
                 self.normals[v as usize] += area_normal;
             }
         }
-        self.normals
-            .iter_mut()
-            .for_each(|n| *n = n.normalize_or_zero());
+        self.normals.iter_mut().for_each(|n| *n = n.normalize_or_zero());
     }
 
     /// Recomputes the normals of the vertices that share a face with a vertex flagged in `moved`
@@ -154,10 +137,9 @@ impl TriMesh {
 
     /// Axis-aligned bounds `(min, max)`, world units.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        self.positions.iter().fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        )
+        self.positions
+            .iter()
+            .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), &p| (lo.min(p), hi.max(p)))
     }
 
     /// Signed enclosed volume (divergence theorem), cubic world units; positive for a closed mesh
@@ -177,10 +159,7 @@ impl TriMesh {
 
     /// Total surface area, square world units.
     pub fn area(&self) -> f32 {
-        self.faces
-            .iter()
-            .map(|f| 0.5 * face_area_normal(&self.positions, f).length())
-            .sum()
+        self.faces.iter().map(|f| 0.5 * face_area_normal(&self.positions, f).length()).sum()
     }
 
     /// Mean length of the triangle edges, world units (shared edges count once per face).
@@ -205,10 +184,7 @@ pub(crate) fn face_area_normal(positions: &[Vec3], face: &[u32; 3]) -> Vec3 {
 
 fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
     match positions.iter().position(|p| !p.is_finite()) {
-        Some(index) => Err(MeshError::NonFinite {
-            index,
-            position: positions[index].to_array(),
-        }),
+        Some(index) => Err(MeshError::NonFinite { index, position: positions[index].to_array() }),
         None => Ok(()),
     }
 }
@@ -216,19 +192,12 @@ fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
 /// Checks the [`TriMesh`] invariants without building one.
 pub fn validate(positions: &[Vec3], faces: &[[u32; 3]]) -> Result<(), MeshError> {
     if positions.is_empty() || faces.is_empty() {
-        return Err(MeshError::Empty {
-            vertices: positions.len(),
-            faces: faces.len(),
-        });
+        return Err(MeshError::Empty { vertices: positions.len(), faces: faces.len() });
     }
     check_finite(positions)?;
     for (face, f) in faces.iter().enumerate() {
         if let Some(&index) = f.iter().find(|&&v| v as usize >= positions.len()) {
-            return Err(MeshError::IndexOutOfRange {
-                face,
-                index,
-                vertex_count: positions.len(),
-            });
+            return Err(MeshError::IndexOutOfRange { face, index, vertex_count: positions.len() });
         }
     }
     Ok(())

@@ -46,11 +46,20 @@ pub fn render(meshes: &[Shaded<'_>], camera: &Camera, width: u32, height: u32) -
                 let c = clip * p.extend(1.0);
                 let ndc = c.xyz() / c.w;
                 let behind = c.w <= 0.0;
-                Vec3::new((ndc.x + 1.0) * 0.5 * w as f32, (1.0 - ndc.y) * 0.5 * h as f32, if behind { f32::NAN } else { ndc.z })
+                Vec3::new(
+                    (ndc.x + 1.0) * 0.5 * w as f32,
+                    (1.0 - ndc.y) * 0.5 * h as f32,
+                    if behind { f32::NAN } else { ndc.z },
+                )
             })
             .collect();
         for face in item.mesh.faces() {
-            frame.triangle(face.map(|v| screen[v as usize]), face.map(|v| item.mesh.normals()[v as usize]), item.colour, view_dir);
+            frame.triangle(
+                face.map(|v| screen[v as usize]),
+                face.map(|v| item.mesh.normals()[v as usize]),
+                item.colour,
+                view_dir,
+            );
         }
     }
     Ok(frame.downsample(width, height))

@@ -7,12 +7,7 @@ use dentbend::{TriMesh, mesh};
 /// The built-in unit icosphere scaled to `radius` and moved to `centre`.
 pub fn sphere_at(centre: Vec3, radius: f32) -> TriMesh {
     let mut s = mesh::builtin("sphere").expect("built-in sphere");
-    s.transform(Affine3A::from_scale_rotation_translation(
-        Vec3::splat(radius),
-        Default::default(),
-        centre,
-    ))
-    .unwrap();
+    s.transform(Affine3A::from_scale_rotation_translation(Vec3::splat(radius), Default::default(), centre)).unwrap();
     s
 }
 
@@ -72,9 +67,7 @@ pub fn self_intersections(mesh: &TriMesh, focus: &[bool]) -> Vec<(usize, usize)>
 /// moves vertices straight down keeps grid-aligned edges exactly above each other). Coplanar
 /// contact is not counted: it has measure zero after a dent.
 pub fn triangles_cross(a: [Vec3; 3], b: [Vec3; 3]) -> bool {
-    let edges_hit = |t: [Vec3; 3], s: [Vec3; 3]| {
-        (0..3).any(|k| segment_hits_triangle(t[k], t[(k + 1) % 3], s))
-    };
+    let edges_hit = |t: [Vec3; 3], s: [Vec3; 3]| (0..3).any(|k| segment_hits_triangle(t[k], t[(k + 1) % 3], s));
     edges_hit(a, b) || edges_hit(b, a)
 }
 

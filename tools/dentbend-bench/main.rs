@@ -13,7 +13,11 @@ use std::time::Duration;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "dentbend-bench", version, about = "Benchmarks of the dentbend kernels (median wall times, one thread).")]
+#[command(
+    name = "dentbend-bench",
+    version,
+    about = "Benchmarks of the dentbend kernels (median wall times, one thread)."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

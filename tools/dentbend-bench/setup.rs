@@ -25,7 +25,8 @@ impl Scene {
         let projectile = mesh::builtin("bunny").map_err(|e| e.to_string())?;
         let tip = projectile.positions().iter().copied().max_by(|a, b| a.y.total_cmp(&b.y)).ok_or("empty bunny")?;
         let impact = Impact { point: tip, normal: Vec3::Y, relative_velocity: Vec3::Y };
-        let params = DentParams { sigma: Some(SIGMA), resolution: Resolution::Fixed(res), ..DentParams::new(DENT_DISTANCE) };
+        let params =
+            DentParams { sigma: Some(SIGMA), resolution: Resolution::Fixed(res), ..DentParams::new(DENT_DISTANCE) };
         let stages = dent_map_stages(&projectile, &impact, &params, None).map_err(|e| e.to_string())?;
         Ok(Self { projectile, params, stages })
     }

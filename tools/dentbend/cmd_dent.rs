@@ -25,8 +25,9 @@ pub enum Falloff {
 /// Arguments of `dentbend dent`.
 #[derive(Debug, Args)]
 #[command(after_help = "\
-Both meshes are in the same coordinates, placed as at the moment of impact; --rotate, then \
---translate, place the projectile first (a built-in one, say). The dent is measured from the \
+Both meshes are in the same coordinates, placed as at the moment of impact; --scale, --rotate, \
+then --translate place the projectile first (a built-in one, say). With --projectile-out both \
+bodies dent each other: both maps come from the undented meshes (Jacobi, paper Figure 1). The dent is measured from the \
 projectile's most advanced point along the viewing direction (the velocity, θ clamped by \
 --min-cos), on a grid centred on the line through --point.")]
 pub struct DentArgs {
@@ -65,6 +66,10 @@ pub struct DentArgs {
     /// Output OBJ file (not written if anything fails)
     #[arg(long, value_name = "OUT.obj")]
     pub out: PathBuf,
+
+    /// Also dent the projectile by the target (same parameters) and save it here as OBJ
+    #[arg(long, value_name = "OUT.obj")]
+    pub projectile_out: Option<PathBuf>,
 }
 
 /// Runs the command; returns the summary line and the warnings raised.
@@ -83,8 +88,18 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
     let impact = Impact { point: args.point, normal, relative_velocity: args.velocity.unwrap_or(normal) };
     impact.validate()?;
     let mut target = load_mesh("target", &args.target)?;
-    let projectile = args.projectile.load()?;
-    let report = dentbend::dent::dent(&mut target, &projectile, &impact, &params)?;
+    let mut projectile = args.projectile.load()?;
+    let report = match &args.projectile_out {
+        None => dentbend::dent::dent(&mut target, &projectile, &impact, &params)?,
+        Some(path) => {
+            if path == &args.out {
+                return Err(CliError::Usage("--projectile-out must differ from --out".into()));
+            }
+            let (report, _) = dentbend::dent::dent_pair(&mut target, &mut projectile, &impact, &params, &params)?;
+            save(&projectile, path)?;
+            report
+        }
+    };
     save(&target, &args.out)?;
     let summary = format!(
         "dent: moved {} of {} vertices of {} by up to {} (θ = {:.1}°, {res}×{res} cells) → {}",

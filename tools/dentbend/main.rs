@@ -2,8 +2,10 @@
 //!
 //! Exit status: 0 on success, 2 on any error (one `error: …` line on stderr).
 
+mod cmd_demo;
 mod cmd_dent;
 mod cmd_dentmap;
+mod cmd_render;
 mod error;
 mod logging;
 mod options;
@@ -28,12 +30,29 @@ struct Cli {
     command: Command,
 }
 
+/// The error type of every subcommand.
+type CommandResult = Result<(String, Vec<String>), error::CliError>;
+
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Computes the dent map a projectile leaves and writes every stage (.npy, .png, .json)
     Dentmap(cmd_dentmap::DentmapArgs),
     /// Dents a target mesh where a projectile hits it and saves the result as OBJ
     Dent(cmd_dent::DentArgs),
+    /// Draws meshes to a PNG picture
+    Render(cmd_render::RenderArgs),
+    /// Makes the README's pictures and meshes (bunny dent map stages, dented blocks, a pair)
+    Demo(cmd_demo::DemoArgs),
+}
+
+/// Runs one subcommand; returns its summary line and warnings.
+fn execute(command: &Command) -> CommandResult {
+    match command {
+        Command::Dentmap(args) => cmd_dentmap::run(args).map(|summary| (summary, Vec::new())),
+        Command::Dent(args) => cmd_dent::run(args),
+        Command::Render(args) => cmd_render::run(args).map(|summary| (summary, Vec::new())),
+        Command::Demo(args) => cmd_demo::run(args),
+    }
 }
 
 /// Exit status for every failure.
@@ -45,11 +64,7 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => return clap_exit(&e),
     };
-    let result = match &cli.command {
-        Command::Dentmap(args) => cmd_dentmap::run(args).map(|summary| (summary, Vec::new())),
-        Command::Dent(args) => cmd_dent::run(args),
-    };
-    match result {
+    match execute(&cli.command) {
         Ok((summary, warnings)) => {
             warnings.iter().for_each(|w| logging::warn_once(w));
             // A closed stdout (`| head`) is not worth a failure.

@@ -12,9 +12,14 @@ use crate::vector::parse_vec3;
 #[derive(Debug, Args)]
 pub struct ProjectileOptions {
     /// Projectile mesh: an .obj or .ply path, or a built-in name (bunny, bunny-dense, sphere,
-    /// uvsphere, box, block, plank, cylinder)
+    /// uvsphere, box, block, block-fine, plank, cylinder)
     #[arg(long, value_name = "MESH")]
     pub projectile: String,
+
+    /// Scales the projectile uniformly about the origin of its file's coordinates, before
+    /// --rotate (> 0)
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub scale: Option<f32>,
 
     /// Rotates the projectile by X, then Y, then Z degrees about the fixed x, y and z axes
     /// through the origin of its file's coordinates: p' = Rz·Ry·Rx·p, right-handed (a positive
@@ -28,11 +33,16 @@ pub struct ProjectileOptions {
 }
 
 impl ProjectileOptions {
-    /// Loads the projectile and applies `--rotate`, then `--translate`.
+    /// Loads the projectile and applies `--scale`, then `--rotate`, then `--translate`.
     pub fn load(&self) -> Result<TriMesh, CliError> {
+        let scale = self.scale.unwrap_or(1.0);
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(CliError::Usage(format!("--scale {scale} is out of range: it must be finite and > 0")));
+        }
         let mut projectile = load_mesh("projectile", &self.projectile)?;
-        if self.rotate.is_some() || self.translate.is_some() {
-            let placement = Affine3A::from_mat3_translation(rotation(self.rotate_deg()), self.translation());
+        if self.scale.is_some() || self.rotate.is_some() || self.translate.is_some() {
+            let linear = rotation(self.rotate_deg()) * Mat3::from_diagonal(Vec3::splat(scale));
+            let placement = Affine3A::from_mat3_translation(linear, self.translation());
             projectile.transform(placement).map_err(CliError::Place)?;
         }
         Ok(projectile)
