@@ -8,7 +8,7 @@ use dentbend::cpu::{self, GlanceParams};
 #[allow(dead_code, reason = "shared with dentbend-bench, which uses every item")]
 mod setup;
 
-use setup::Scene;
+use setup::{DISPLACE_CELLS, DisplaceScene, Scene};
 
 const SIDES: [u32; 3] = [100, 200, 400];
 
@@ -87,9 +87,21 @@ fn kernels(c: &mut Criterion) {
     group.finish();
 }
 
+fn displace(c: &mut Criterion) {
+    let scene = DisplaceScene::new(DISPLACE_CELLS).expect("displace scene");
+    let mut positions = scene.target.positions().to_vec();
+    let mut moved = vec![false; positions.len()];
+    c.bench_function("displace/101570", |b| {
+        b.iter(|| {
+            positions.copy_from_slice(scene.target.positions());
+            cpu::displace(&scene.kernel_params, &scene.map.cells, &scene.table, &mut positions, &mut moved)
+        })
+    });
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(2));
-    targets = kernels
+    targets = kernels, displace
 }
 criterion_main!(benches);

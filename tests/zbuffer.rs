@@ -399,8 +399,9 @@ fn bunny_matches_ray_cast() {
         }
         assert!(both > res * res / 10, "dir {dir}: profile covers only {both} cells");
         eprintln!(
-            "bunny dir {dir}, d {d:.2}, h {:.3}: {both} cells hit by both, {agree} agree to {tol}, mean rise \
-             {:.1e}, max rise {rise_max:.1e}; {dilated} dilated; max below ray cast {worst_below:.1e}, max above 3×3 ray cast {beyond:.1e}",
+            "bunny dir {dir}, d {d:.2}, h {:.3}: {both} cells hit by both, {agree} agree to {tol}, \
+             mean rise {:.1e}, max rise {rise_max:.1e}; {dilated} dilated; max below ray cast \
+             {worst_below:.1e}, max above 3×3 ray cast {beyond:.1e}",
             view.h,
             rise_sum / both as f64,
         );
@@ -419,12 +420,13 @@ fn thin_features_leave_a_trail() {
     for q in [Quat::IDENTITY, Quat::from_euler(glam::EulerRot::XYZ, 0.7, -1.1, 0.4)] {
         let view = View::world_aligned(64, d).rotated(q);
         let res = view.res as usize;
-        // (triangle, its front edge as a degenerate triangle).
         let needle = [view.point(a.0, a.1, -6.0), view.point(b.0, b.1, -1.0), {
             let p = Vec3::new(b.0, b.1, -1.0) + across;
             view.point(p.x, p.y, p.z)
         }];
         let edge_on = [view.point(a.0, a.1, 0.0), view.point(b.0, b.1, -8.0), view.point(a.0, a.1, -20.0)];
+        // (name, triangle, the part whose height the trail carries: for the edge-on triangle its
+        // front edge, as a degenerate triangle).
         for (name, tri, front) in
             [("needle", needle, needle), ("edge-on", edge_on, [edge_on[0], edge_on[1], edge_on[1]])]
         {

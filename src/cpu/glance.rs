@@ -19,16 +19,21 @@ pub fn glance(params: &GlanceParams, heights: &[f32], dent_map: &mut [[f32; 4]])
     let tangent = glam::Vec3::from_array(p.tangent);
     let dst_shift = 0.5 * p.dst_res as f32 - 0.5;
     let src_shift = 0.5 * p.src_res as f32 - 0.5;
-    for row in 0..p.dst_res {
-        let v = (row as f32 - dst_shift) * p.dst_cell_size;
-        for col in 0..p.dst_res {
+    // Everything that depends on the column alone: the source column and the shear factor
+    // 2·sin θ/(1 + e^{−t·u}). The shader computes both per cell; hoisting them is exact.
+    let columns: Vec<(f32, f32)> = (0..p.dst_res)
+        .map(|col| {
             let u = (col as f32 - dst_shift) * p.dst_cell_size;
-            let x = u * p.cos_theta / p.src_cell_size + src_shift;
-            let y = v / p.src_cell_size + src_shift;
+            (u * p.cos_theta / p.src_cell_size + src_shift, 2.0 * p.sin_theta / (1.0 + (-p.widen * u).exp()))
+        })
+        .collect();
+    for (row, cells) in dent_map.chunks_exact_mut(p.dst_res as usize).enumerate() {
+        let v = (row as f32 - dst_shift) * p.dst_cell_size;
+        let y = v / p.src_cell_size + src_shift;
+        for (cell, &(x, shear)) in cells.iter_mut().zip(&columns) {
             let height = bilinear(heights, p.src_res, x, y);
-            let along = 2.0 * p.sin_theta * height / (1.0 + (-p.widen * u).exp());
-            let delta = height * p.cos_theta * normal + along * tangent;
-            dent_map[(row * p.dst_res + col) as usize] = Vec4::from((delta, height)).to_array();
+            let delta = height * p.cos_theta * normal + (shear * height) * tangent;
+            *cell = Vec4::from((delta, height)).to_array();
         }
     }
 }

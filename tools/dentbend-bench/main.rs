@@ -47,7 +47,7 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
         /// Cells of the target block along x, y, z (184,46,184 gives 101,570 vertices).
-        #[arg(long, value_delimiter = ',', num_args = 3, default_values_t = [184, 46, 184])]
+        #[arg(long, value_delimiter = ',', num_args = 3, default_values_t = setup::DISPLACE_CELLS)]
         cells: Vec<u32>,
         /// Minimum wall time per measurement, seconds.
         #[arg(long, default_value_t = 0.5)]

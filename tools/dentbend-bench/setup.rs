@@ -1,10 +1,10 @@
 //! The inputs every benchmark shares: the paper's Table 1 scene (the bunny projectile, Figure
 //! 5a far right) on a grid of a given side, and a dense target for `displace`.
 
-use dentbend::cpu::{EnvelopeParams, ZbufferParams};
+use dentbend::cpu::{self, DisplaceParams, EnvelopeParams, ZbufferParams};
 use dentbend::dent::{DentStages, Grid};
-use dentbend::glam::Vec3;
-use dentbend::{DentParams, Impact, Resolution, TriMesh, dent_map_stages, mesh};
+use dentbend::glam::{Affine3A, Vec3};
+use dentbend::{DentMap, DentParams, Impact, Resolution, TriMesh, dent_map, dent_map_stages, mesh};
 
 /// Dent distance of the Table 1 scene, world units: about a third of the bunny's 10-unit size,
 /// so the profile holds the head and both ears.
@@ -47,5 +47,39 @@ impl Scene {
     pub fn envelope_params(&self) -> EnvelopeParams {
         let sigma_cells = self.stages.sigma / self.grid().cell_size;
         EnvelopeParams { res: self.grid().res, c: 0.5 / (sigma_cells * sigma_cells), _pad: [0; 2] }
+    }
+}
+
+/// Cells per axis of the `displace` target: 101,570 vertices.
+pub const DISPLACE_CELLS: [u32; 3] = [184, 46, 184];
+
+/// A 4 × 1 × 4 block dented on its top face by a unit ball: the `displace` inputs.
+pub struct DisplaceScene {
+    pub target: TriMesh,
+    pub map: DentMap,
+    pub params: DentParams,
+    /// Falloff samples for [`cpu::displace`] (empty for the built-in falloffs).
+    pub table: Vec<f32>,
+    pub kernel_params: DisplaceParams,
+}
+
+impl DisplaceScene {
+    /// The block gridded to `cells` per axis and the ball's dent map for it.
+    pub fn new(cells: [u32; 3]) -> Result<Self, String> {
+        let target = mesh::subdivided_box(Vec3::new(4.0, 1.0, 4.0), cells).map_err(|e| e.to_string())?;
+        let mut ball = mesh::builtin("sphere").map_err(|e| e.to_string())?;
+        ball.transform(Affine3A::from_translation(Vec3::new(0.0, 1.5, 0.0))).map_err(|e| e.to_string())?;
+        let impact = Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -Vec3::Y };
+        let params = DentParams::new(0.2);
+        let map = dent_map(&ball, &impact, &params, Some(target.mean_edge_length())).map_err(|e| e.to_string())?;
+        let (falloff, falloff_scale, table) = cpu::falloff_table(&params.attenuation, params.dent_distance);
+        let kernel_params = DisplaceParams {
+            grid: map.grid.uniform(),
+            dent_distance: params.dent_distance,
+            falloff,
+            falloff_scale,
+            vertex_count: target.vertex_count() as u32,
+        };
+        Ok(Self { target, map, params, table, kernel_params })
     }
 }
