@@ -324,20 +324,19 @@ fn sphere_matches_analytic_cap() {
 /// The bunny from nine directions (axis-aligned and oblique) against an f64 Möller–Trumbore ray
 /// cast through every cell centre, with d = 0.6 of its depth along the view so the ears are in.
 ///
-/// - Where the ray cast hits, the kernel is never below it by more than f32 rounding: the exact
-///   centre sample is always taken. `tol` = 1e-4 (world units, heights up to ~6): f32 grid
-///   coordinates carry ~1e-5 cell of error, times the depth gradient of steep triangles, plus the
-///   ulp of heights; the largest shortfall seen is ~4e-6.
+/// - Where the ray cast hits, the kernel equals it up to `2e-5 + 1e-3·spread` (world units), where
+///   `spread` is the depth range of the surface over the cell's square: the sample may sit up to
+///   1e-3 cell off the true centre (f32 grid coordinates carry ~1.5e-5 cell of error, and near a
+///   fold of the surface, where two layers meet at an edge through the centre, the barycentric
+///   test can pick the other layer: seen up to ~2e-4 cell), which moves it along the surface's
+///   slope (≤ spread per cell); plus ~40 ulp of heights up to ~6. Sampling anywhere else in the
+///   cell, as a conservative rasterizer does, errs by ~0.2–0.5·spread and fails this. The one
+///   exception is the tip's own cell, which holds d exactly (the tip vertex need not sit on a cell
+///   centre).
+/// - Every cell the kernel marks but the ray cast misses touches a ray-cast hit: one cell of
+///   silhouette dilation, from the edge samples that keep thin features.
 /// - No value exceeds the highest point of the surface over the cell's own square, since every
-///   sample lies in the cell. This bounds both the one-cell dilation at silhouettes and the rise
-///   of edge and vertex samples taken off the centre on a slope (up to slope × ¹⁄√2 cell), which
-///   is why cells hit by both agree to `tol` only where no such sample landed (about half of them
-///   at this resolution; the counts are printed).
-/// - Every cell the kernel marks but the ray cast misses touches a ray-cast hit (one cell of
-///   silhouette dilation); the converse is excluded by the first point.
-/// - In depth, too, the kernel is the ray cast dilated by one cell: no value exceeds the largest
-///   ray-cast value over the cell and its 8 neighbours by more than `ridge` = ½ cell (world units),
-///   room for peaks and ridges between centres (the largest excess seen is 0.28 cell).
+///   sample lies in its cell.
 #[test]
 fn bunny_matches_ray_cast() {
     let (positions, faces) = builtin("bunny");
@@ -362,8 +361,13 @@ fn bunny_matches_ray_cast() {
         let half = 0.5 * (hi - lo).length() + 0.05;
         let view = View::looking(dir, &positions, centre, half, 128, d);
         let res = view.res as usize;
-        let tol = 1e-4;
-        let ridge = 0.5 * view.h as f64;
+        let tol = 1e-4; // f32 rounding of heights up to ~6 world units, for the upper bound
+        let tip_cells: Vec<usize> = positions
+            .iter()
+            .map(|&p| view.grid(p))
+            .filter(|g| g.z >= -1e-6 * depth as f64)
+            .map(|g| (g.y.round() as usize).min(res - 1) * res + (g.x.round() as usize).min(res - 1))
+            .collect();
 
         let profile = view.profile(&positions, &faces);
         assert_in_range(&profile, d);
@@ -372,14 +376,21 @@ fn bunny_matches_ray_cast() {
 
         let reference = ray_cast_profile(&view, &positions, &faces);
         let ranges = cell_depth_ranges(&view, &positions, &faces);
-        let (mut agree, mut both, mut dilated, mut worst_below) = (0, 0, 0, 0.0f64);
-        let (mut rise_sum, mut rise_max, mut beyond) = (0.0f64, 0.0f64, 0.0f64);
+        let (mut both, mut dilated, mut worst) = (0, 0, 0.0f64);
         for cell in 0..res * res {
             let (p, rc) = (profile[cell] as f64, reference[cell]);
             let upper = ranges[cell].map_or(0.0, |(_, s)| (d as f64 + s).max(0.0));
-            assert!(p >= rc - tol, "dir {dir}, cell {cell}: {p} below ray cast {rc}");
             assert!(p <= upper + tol, "dir {dir}, cell {cell}: {p} above the surface over the cell {upper}");
-            worst_below = worst_below.max(rc - p);
+            if rc > 0.0 && !tip_cells.contains(&cell) {
+                both += 1;
+                let spread = ranges[cell].map_or(0.0, |(lo, hi)| hi - lo);
+                let close = 2e-5 + 1e-3 * spread;
+                assert!(
+                    (p - rc).abs() <= close,
+                    "dir {dir}, cell {cell}: {p} but the ray cast gives {rc} (surface spread {spread})"
+                );
+                worst = worst.max((p - rc).abs());
+            }
             if p > 0.0 && rc == 0.0 {
                 dilated += 1;
                 assert!(
@@ -387,23 +398,12 @@ fn bunny_matches_ray_cast() {
                     "dir {dir}, cell {cell}: marked ({p}) but no ray-cast hit next to it"
                 );
             }
-            let near = neighbours(cell, res).map(|n| reference[n]).fold(rc, f64::max);
-            assert!(p <= near + ridge, "dir {dir}, cell {cell}: {p} above the ray cast around it {near}");
-            beyond = beyond.max(p - near);
-            if p > 0.0 && rc > 0.0 {
-                both += 1;
-                agree += usize::from((p - rc).abs() <= tol);
-                rise_sum += p - rc;
-                rise_max = rise_max.max(p - rc);
-            }
         }
         assert!(both > res * res / 10, "dir {dir}: profile covers only {both} cells");
         eprintln!(
-            "bunny dir {dir}, d {d:.2}, h {:.3}: {both} cells hit by both, {agree} agree to {tol}, \
-             mean rise {:.1e}, max rise {rise_max:.1e}; {dilated} dilated; max below ray cast \
-             {worst_below:.1e}, max above 3×3 ray cast {beyond:.1e}",
-            view.h,
-            rise_sum / both as f64,
+            "bunny dir {dir}, d {d:.2}, h {:.3}: {both} cells hit, max |kernel − ray cast| {worst:.1e}; \
+             {dilated} cells dilated at the silhouette",
+            view.h
         );
     }
 }

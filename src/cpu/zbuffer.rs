@@ -1,21 +1,22 @@
 //! Z-buffer profile of the projectile (paper §3.2, DESIGN.md §4). CPU twin of `shaders/zbuffer.wgsl`.
 //!
-//! One invocation per triangle (`for face in faces` here): the triangle is taken into grid-index
-//! space, where cell (row j, col i) is centred at the integer point (i, j), and every sample it
-//! produces is max-merged into the profile (`atomicMax` on the float bits on the GPU; profile
-//! values are ≥ 0, whose bit patterns order like the floats). Two kinds of sample:
+//! Three passes, each one invocation per triangle (`for face in faces` here) in grid-index space,
+//! where cell (row j, col i) is centred at the integer point (i, j); samples are max-merged
+//! (`atomicMax` on the float bits on the GPU; heights are ≥ 0, whose bit patterns order like the
+//! floats):
 //!
-//! - **Centres.** Every cell centre inside the closed triangle (barycentric test with a small
-//!   tolerance) gets the interpolated height there: a plain, exact Z-buffer over all triangles,
-//!   front- and back-facing alike, so non-convex shapes come out right.
-//! - **Edges.** So that nothing narrower than a cell is lost (needles, edge-on triangles whose
-//!   projection is a segment, silhouettes), each edge is walked along its dominant axis with one
-//!   sample per column (or row) line it crosses, in the cell nearest that point, plus the cell of
-//!   its start vertex; the sample gets the edge's height at that point. A sample lies within ½ cell
-//!   (¹⁄√2 cell for vertices) of the centre of the cell it marks, so a cell holds at least the
-//!   exact Z-buffer value of its centre and at most the highest point of the surface over its own
-//!   square: silhouettes widen by at most one cell, and on slopes an edge or vertex sample may
-//!   raise a cell by up to slope × ¹⁄√2 cell.
+//! 1. **Centres.** Every cell centre inside the closed triangle (barycentric test with a small
+//!    tolerance, so centres on shared edges are never dropped) gets the interpolated height: an
+//!    exact Z-buffer over all triangles, front- and back-facing alike, so non-convex shapes come
+//!    out right. Where a centre ray meets the projectile, this is the profile.
+//! 2. **Edges.** So that nothing narrower than a cell is lost (needles, fins, edge-on triangles
+//!    whose projection is a segment), each edge is walked along its dominant axis with one sample
+//!    per column (or row) line it crosses, in the cell nearest that point, plus the cell of its
+//!    start vertex, into a second buffer. These samples only fill cells whose centre ray missed
+//!    (combine pass): silhouettes widen by at most one cell and covered cells keep their exact
+//!    centre value.
+//! 3. **Tip.** The highest vertex (height d when `origin` sits at the tip's depth) always marks
+//!    its cell, so the profile's peak is the tip's height wherever it falls between centres.
 //!
 //! Heights are `z = d + s`, s = depth along `axis_z` from `origin` (world units); triangles with
 //! no point above `z = 0` are culled.
@@ -52,23 +53,42 @@ pub fn zbuffer(params: &ZbufferParams, positions: &[Vec3], faces: &[[u32; 3]], p
         shift: 0.5 * g.res as f32 - 0.5,
         d,
     };
-    let mut target = Target { profile, res: g.res as usize, last: g.res - 1, d };
+    let (res, last) = (g.res as usize, g.res - 1);
     let count = (params.face_count as usize).min(faces.len());
-    for face in &faces[..count] {
-        let (Some(&p0), Some(&p1), Some(&p2)) =
-            (positions.get(face[0] as usize), positions.get(face[1] as usize), positions.get(face[2] as usize))
-        else {
-            continue;
-        };
-        let v = [frame.to_grid(p0), frame.to_grid(p1), frame.to_grid(p2)];
-        // Cull: entirely at or below the cut plane z = 0 (NaN-safe), or not representable.
-        let reaches = v[0].z.max(v[1].z).max(v[2].z) > 0.0;
-        if !reaches || !v.iter().all(|p| p.is_finite()) {
-            continue;
-        }
-        rasterize_centres(&mut target, v);
+    let triangles = || {
+        faces[..count].iter().filter_map(|face| {
+            let corners = face.map(|v| positions.get(v as usize).copied());
+            let [Some(p0), Some(p1), Some(p2)] = corners else { return None };
+            let v = [frame.to_grid(p0), frame.to_grid(p1), frame.to_grid(p2)];
+            // Cull: entirely at or below the cut plane z = 0 (NaN-safe), or not representable.
+            let reaches = v[0].z.max(v[1].z).max(v[2].z) > 0.0;
+            (reaches && v.iter().all(|p| p.is_finite())).then_some(v)
+        })
+    };
+
+    let mut centres = Target { profile, res, last, d };
+    triangles().for_each(|v| rasterize_centres(&mut centres, v));
+
+    let mut edge_cells = vec![0.0; res * res];
+    let mut edges = Target { profile: &mut edge_cells, res, last, d };
+    for v in triangles() {
         for k in 0..3 {
-            rasterize_edge(&mut target, v[k], v[(k + 1) % 3]);
+            rasterize_edge(&mut edges, v[k], v[(k + 1) % 3]);
+        }
+    }
+    for (cell, &edge) in centres.profile.iter_mut().zip(&edge_cells) {
+        if *cell == 0.0 {
+            *cell = edge;
+        }
+    }
+
+    // The tip: the highest vertex height, compared exactly as computed (no tolerance needed).
+    let tip = triangles().flat_map(|v| v.map(|c| c.z.min(d))).fold(0.0, f32::max);
+    for v in triangles() {
+        for corner in v.iter().filter(|c| c.z.min(d) >= tip) {
+            if let (Some(row), Some(col)) = (centres.nearest(corner.y), centres.nearest(corner.x)) {
+                centres.write(row, col, corner.z);
+            }
         }
     }
 }
