@@ -55,11 +55,13 @@ pub fn zbuffer(params: &ZbufferParams, positions: &[Vec3], faces: &[[u32; 3]], p
     };
     let (res, last) = (g.res as usize, g.res - 1);
     let count = (params.face_count as usize).min(faces.len());
+    // Vertices in grid-index space, once (the shader transforms each triangle's corners itself).
+    let grid_points: Vec<Vec3> = positions.iter().map(|&p| frame.to_grid(p)).collect();
     let triangles = || {
         faces[..count].iter().filter_map(|face| {
-            let corners = face.map(|v| positions.get(v as usize).copied());
+            let corners = face.map(|v| grid_points.get(v as usize).copied());
             let [Some(p0), Some(p1), Some(p2)] = corners else { return None };
-            let v = [frame.to_grid(p0), frame.to_grid(p1), frame.to_grid(p2)];
+            let v = [p0, p1, p2];
             // Cull: entirely at or below the cut plane z = 0 (NaN-safe), or not representable.
             let reaches = v[0].z.max(v[1].z).max(v[2].z) > 0.0;
             (reaches && v.iter().all(|p| p.is_finite())).then_some(v)
