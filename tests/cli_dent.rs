@@ -1,43 +1,12 @@
 //! `dentbend dent` end to end: the real binary dents a mesh file and saves an OBJ with the same
 //! topology, and bad input exits with code 2, one `error:` line, and no output file.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
+mod common;
 
+use std::path::Path;
+
+use common::{TempDir, dentbend, text};
 use dentbend::glam::Vec3;
-
-/// A fresh directory under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> Self {
-        static COUNT: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("dentbend-cli-dent-{name}-{}-{n}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-
-    fn path(&self, file: &str) -> PathBuf {
-        self.0.join(file)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn dentbend(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dentbend")).args(args).env_remove("RUST_LOG").output().unwrap()
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 /// Vertex positions and face count of an OBJ file, read line by line.
 fn read_obj(path: &Path) -> (Vec<Vec3>, usize) {
@@ -103,7 +72,7 @@ fn sphere_dents_block() {
     let (i, _) = moved.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap();
     assert!(dented[i].y < block.positions()[i].y);
     assert!(moved.iter().filter(|&&m| m > 1e-6).count() < block.vertex_count(), "not every vertex moves");
-    let no_temp_left = std::fs::read_dir(&dir.0).unwrap().count() == 1;
+    let no_temp_left = std::fs::read_dir(dir.root()).unwrap().count() == 1;
     assert!(no_temp_left, "temporary files left beside the output");
 }
 
@@ -200,7 +169,7 @@ fn bad_input_exits_with_code_2_and_writes_nothing() {
         (args(&[("--translate", "0,-40,0")], &[]), "projectile behind the plane"),
         (args(&[], &["--point"]), "no point"),
         (args(&[("--out", dir.path("no/such/dir/out.obj").to_str().unwrap())], &[]), "unwritable output"),
-        (args(&[("--out", dir.0.to_str().unwrap())], &[]), "output is a directory"),
+        (args(&[("--out", dir.root().to_str().unwrap())], &[]), "output is a directory"),
     ];
     for (args, what) in &cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -210,7 +179,7 @@ fn bad_input_exits_with_code_2_and_writes_nothing() {
         assert_eq!(stderr.lines().count(), 1, "{what}: one line expected, got {stderr:?}");
         assert!(stderr.starts_with("error: "), "{what}: {stderr}");
         assert!(!out.exists(), "{what}: output written anyway");
-        let left: Vec<_> = std::fs::read_dir(&dir.0).unwrap().map(|e| e.unwrap().file_name()).collect();
+        let left: Vec<_> = std::fs::read_dir(dir.root()).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(left.len(), 1, "{what}: files left behind: {left:?}");
     }
 }

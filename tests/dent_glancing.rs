@@ -1,10 +1,10 @@
 //! Glancing impacts (paper §3.3, Figures 8–9): stretch, shear and widening of the dent map.
 
-mod support;
+mod common;
 
+use common::sphere_at;
 use dentbend::glam::Vec3;
 use dentbend::{DentParams, Impact, Resolution, dent_map, dent_map_stages};
-use support::sphere_at;
 
 const D: f32 = 0.3;
 

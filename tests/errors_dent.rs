@@ -1,11 +1,11 @@
 //! Every dent entry point fed bad input returns a typed error, never panics, and leaves the
 //! caller's meshes unchanged.
 
-mod support;
+mod common;
 
+use common::sphere_at;
 use dentbend::glam::Vec3;
 use dentbend::{Attenuation, DentError, DentParams, Impact, Resolution, TriMesh, dent, dent_map, dent_pair, mesh};
-use support::sphere_at;
 
 fn setup() -> (TriMesh, TriMesh, Impact) {
     let block = mesh::subdivided_box(Vec3::new(4.0, 1.0, 4.0), [16, 4, 16]).unwrap();

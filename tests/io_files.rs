@@ -1,36 +1,14 @@
 //! File formats of `dentbend::io`: `.npy` round trips and header layout, heat-map PNGs, 16- and
 //! 8-bit height PNGs, and malformed files rejected with an error instead of a panic.
 
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+mod common;
 
+use std::path::Path;
+
+use common::TempDir;
 use dentbend::io::{
     IoError, heatmap_rgb, read_height_png, read_npy_f32, write_heatmap_png, write_height_png16, write_npy_f32,
 };
-
-/// A fresh directory under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> Self {
-        static COUNT: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("dentbend-io-{name}-{}-{n}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-
-    fn path(&self, file: &str) -> PathBuf {
-        self.0.join(file)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// Deterministic test values spanning several magnitudes and signs.
 fn values(n: usize) -> Vec<f32> {

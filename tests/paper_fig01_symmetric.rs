@@ -2,11 +2,11 @@
 //! maps come from the undented meshes (Jacobi); denting one after the other (Gauss–Seidel) does
 //! not.
 
-mod support;
+mod common;
 
+use common::sphere_at;
 use dentbend::glam::Vec3;
 use dentbend::{DentParams, Impact, TriMesh, dent, dent_map};
-use support::sphere_at;
 
 const D: f32 = 0.25;
 

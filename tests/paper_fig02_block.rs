@@ -1,11 +1,11 @@
 //! Paper Figure 2: a ball hits a block head-on. Guards the dent depth, the logistic back-face
 //! bulge, and that a gentle falloff never folds the block while a steep one does (Figure 2d).
 
-mod support;
+mod common;
 
+use common::{self_intersections, sphere_at};
 use dentbend::glam::Vec3;
 use dentbend::{Attenuation, DentParams, Impact, dent, mesh};
-use support::{self_intersections, sphere_at};
 
 const D: f32 = 0.3;
 const THICKNESS: f32 = 1.0;

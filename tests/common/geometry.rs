@@ -1,5 +1,4 @@
 //! Geometry helpers shared by the dent tests: placing meshes and finding self-intersections.
-#![allow(dead_code, reason = "each test binary uses a different subset")]
 
 use dentbend::glam::{Affine3A, Vec3};
 use dentbend::{TriMesh, mesh};
