@@ -120,16 +120,16 @@ fn edge(a: Vec3, b: Vec3, c: Vec3) -> f32 {
     (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)
 }
 
-/// Key light from the upper left, a dim fill from the right, Blinn–Phong specular; two-sided.
+/// A low key light from the upper left (world space, so dents cast readable shading), a dim fill
+/// from the opposite side, a little ambient and Blinn–Phong specular; two-sided.
 fn shade(normal: Vec3, base: Vec3, view_dir: Vec3) -> Vec3 {
     let normal = if normal.dot(view_dir) > 0.0 { -normal } else { normal };
-    let to_eye = -view_dir;
-    let key = (to_eye + Vec3::new(-0.6, 0.9, 0.3)).normalize();
-    let fill = (to_eye + Vec3::new(0.8, 0.1, -0.2)).normalize();
-    let diffuse = 0.75 * normal.dot(key).max(0.0) + 0.25 * normal.dot(fill).max(0.0);
-    let half = (key + to_eye).normalize();
-    let specular = 0.25 * normal.dot(half).max(0.0).powf(40.0);
-    base * (0.12 + diffuse) + Vec3::splat(specular)
+    let key = Vec3::new(-0.75, 0.55, 0.35).normalize();
+    let fill = Vec3::new(0.6, 0.5, -0.6).normalize();
+    let diffuse = 0.85 * normal.dot(key).max(0.0) + 0.2 * normal.dot(fill).max(0.0);
+    let half = (key - view_dir).normalize();
+    let specular = 0.2 * normal.dot(half).max(0.0).powf(50.0);
+    base * (0.1 + diffuse) + Vec3::splat(specular)
 }
 
 fn background() -> Vec3 {

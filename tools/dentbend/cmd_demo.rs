@@ -18,15 +18,15 @@ pub struct DemoArgs {
 /// The demo's steps as command lines; `{out}` is replaced by the output directory.
 const STEPS: &[&str] = &[
     // Paper Figure 7: the bunny's Z-buffer profile, Gaussian envelope and smoothed dent map.
-    "dentmap --projectile bunny --normal 0,1,0 --dent-distance 3 --sigma 0.5 --res 200 --out {out}/fig07_bunny",
+    "dentmap --projectile bunny --normal 0,1,0 --dent-distance 3 --sigma 0.3 --res 200 --out {out}/fig07_bunny",
     // Paper Figure 2c: a ball dents a block head-on; the far face bulges a little.
     "dent --target block-fine --projectile sphere --translate 0,1.5,0 --point 0,0.5,0 --normal 0,-1,0 \
      --dent-distance 0.3 --out {out}/block_sphere.obj",
     "render --mesh {out}/block_sphere.obj --zoom 1.5 --out {out}/block_sphere.png",
-    // Paper Figure 5a: a bunny-shaped dent, the bunny lying on its side.
-    "dent --target block-fine --projectile bunny --scale 0.28 --rotate 90,0,0 --translate 0,1.55,0 \
-     --point 0,0.5,0 --normal 0,-1,0 --dent-distance 0.45 --sigma 0.06 --out {out}/block_bunny.obj",
-    "render --mesh {out}/block_bunny.obj --zoom 1.5 --out {out}/block_bunny.png",
+    // Paper Figure 5: a bunny-shaped dent, the bunny dropped ears first.
+    "dent --target block-fine --projectile bunny --scale 0.25 --rotate 180,0,0 --translate 0.35,2.95,0.1 \
+     --point 0,0.5,0 --normal 0,-1,0 --dent-distance 0.6 --sigma 0.08 --out {out}/block_bunny.obj",
+    "render --mesh {out}/block_bunny.obj --view -0.3,-1,-0.6 --zoom 1.8 --out {out}/block_bunny.png",
     // Paper Figures 8–9: a glancing hit at 50°, sheared along the velocity and widened.
     "dent --target block-fine --projectile sphere --scale 0.6 --translate -0.46,1.09,0 --point 0,0.5,0 \
      --normal 0,-1,0 --velocity 0.766,-0.643,0 --dent-distance 0.3 --widen 3 --out {out}/block_glancing.obj",
@@ -34,7 +34,7 @@ const STEPS: &[&str] = &[
     // Paper Figure 1: two dentable balls dent each other symmetrically (Jacobi).
     "dent --target sphere --projectile sphere --translate 0,2.05,0 --point 0,1,0 --normal 0,-1,0 \
      --dent-distance 0.3 --out {out}/pair_lower.obj --projectile-out {out}/pair_upper.obj",
-    "render --mesh {out}/pair_lower.obj --mesh {out}/pair_upper.obj --view 0,0,-1 --size 640,800 \
+    "render --mesh {out}/pair_lower.obj --mesh {out}/pair_upper.obj --view 0,-0.35,-1 --size 640,800 \
      --out {out}/pair.png",
 ];
 
