@@ -14,6 +14,10 @@ use crate::dent::Attenuation;
 ///
 /// `table` holds the falloff samples when `params.falloff` is [`falloff::TABLE`] (see
 /// [`falloff_table`]), and is ignored otherwise.
+///
+/// # Panics
+/// If `dent_map` does not hold `res²` cells, `moved` is shorter than `positions`, or the falloff
+/// is [`falloff::TABLE`] with fewer than two table entries.
 pub fn displace(
     params: &DisplaceParams,
     dent_map: &[[f32; 4]],
@@ -22,6 +26,9 @@ pub fn displace(
     moved: &mut [bool],
 ) {
     let grid = &params.grid;
+    assert_eq!(dent_map.len(), (grid.res as usize).pow(2), "displace: dent_map must hold res² cells");
+    assert!(moved.len() >= positions.len(), "displace: one moved flag per vertex");
+    assert!(params.falloff != falloff::TABLE || table.len() >= 2, "displace: a falloff table needs two entries");
     let origin = Vec3::from_array(grid.origin);
     let inv_h = 1.0 / grid.cell_size;
     let axis_x = Vec3::from_array(grid.axis_x) * inv_h;

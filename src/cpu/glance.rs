@@ -13,8 +13,13 @@ use super::sample::bilinear;
 ///
 /// Head-on (`sin θ = 0`, `cos θ = 1`, equal grids) this is `Δ = D₂·n̂`; with `t = 0` the
 /// displacement has length `D₂` along the velocity and depth `D₂·cos θ`.
+///
+/// # Panics
+/// If `heights` does not hold `src_res²` values or `dent_map` `dst_res²` cells.
 pub fn glance(params: &GlanceParams, heights: &[f32], dent_map: &mut [[f32; 4]]) {
     let p = params;
+    assert_eq!(heights.len(), (p.src_res as usize).pow(2), "glance: heights must hold src_res² values");
+    assert_eq!(dent_map.len(), (p.dst_res as usize).pow(2), "glance: dent_map must hold dst_res² cells");
     let normal = glam::Vec3::from_array(p.normal);
     let tangent = glam::Vec3::from_array(p.tangent);
     let dst_shift = 0.5 * p.dst_res as f32 - 0.5;

@@ -164,7 +164,7 @@ fn zbuffer_grid(
     target_edge: Option<f32>,
 ) -> Grid {
     let (axis_x, axis_y, axis_z) = frame.zbuffer_axes();
-    let tip = projectile.positions().iter().map(|p| p.dot(axis_z)).fold(f32::NEG_INFINITY, f32::max);
+    let tip = projectile.support_point(axis_z).dot(axis_z);
     let origin = impact.point + (tip - impact.point.dot(axis_z)) * axis_z;
     let footprint = footprint_half_width(projectile, origin, (axis_x, axis_y, axis_z), params.dent_distance);
     let half = footprint + TAIL_SIGMAS * sigma;

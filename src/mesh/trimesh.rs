@@ -142,6 +142,14 @@ impl TriMesh {
             .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), &p| (lo.min(p), hi.max(p)))
     }
 
+    /// The vertex farthest along `direction` (the support point; the first one on ties):
+    /// a projectile's most advanced point along its velocity.
+    pub fn support_point(&self, direction: Vec3) -> Vec3 {
+        self.positions.iter().copied().fold(self.positions[0], |best, p| {
+            if p.dot(direction) > best.dot(direction) { p } else { best }
+        })
+    }
+
     /// Signed enclosed volume (divergence theorem), cubic world units; positive for a closed mesh
     /// wound counter-clockwise seen from outside, meaningless for an open one.
     pub fn volume(&self) -> f32 {

@@ -23,7 +23,7 @@ impl Scene {
     /// The bunny falling ears first (along +y) onto a target above it, on a `res × res` grid.
     pub fn table1(res: u32) -> Result<Self, String> {
         let projectile = mesh::builtin("bunny").map_err(|e| e.to_string())?;
-        let tip = projectile.positions().iter().copied().max_by(|a, b| a.y.total_cmp(&b.y)).ok_or("empty bunny")?;
+        let tip = projectile.support_point(Vec3::Y);
         let impact = Impact { point: tip, normal: Vec3::Y, relative_velocity: Vec3::Y };
         let params =
             DentParams { sigma: Some(SIGMA), resolution: Resolution::Fixed(res), ..DentParams::new(DENT_DISTANCE) };

@@ -70,9 +70,7 @@ pub fn run(args: &DentmapArgs) -> Result<String, CliError> {
 /// `probe` moved to the projectile's most advanced vertex along the (clamped) viewing direction.
 fn at_tip(projectile: &TriMesh, probe: Impact, params: &DentParams) -> Impact {
     let view = DentFrame::new(&probe, params.min_cos).view();
-    let point =
-        projectile.positions().iter().copied().max_by(|a, b| a.dot(view).total_cmp(&b.dot(view))).unwrap_or(Vec3::ZERO);
-    Impact { point, ..probe }
+    Impact { point: projectile.support_point(view), ..probe }
 }
 
 /// Everything `dentmap.json` records; lengths in the projectile's units, f32 values written
