@@ -6,6 +6,7 @@ mod error;
 mod grid;
 mod impact;
 mod map;
+mod material;
 mod params;
 mod pipeline;
 
@@ -15,5 +16,6 @@ pub use error::DentError;
 pub use grid::{DentFrame, Grid};
 pub use impact::Impact;
 pub use map::{DentMap, DisplaceReport};
+pub use material::DentMaterial;
 pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, Resolution};
 pub use pipeline::{DentStages, dent_map, dent_map_stages};

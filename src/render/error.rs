@@ -1,0 +1,17 @@
+//! Errors of the renderer.
+
+/// Why a picture could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// A side is zero or larger than [`MAX_IMAGE_SIDE`](super::MAX_IMAGE_SIDE).
+    #[error("image size {width}×{height} is outside 1..=8192 pixels per side")]
+    ImageSize {
+        /// Requested width, pixels.
+        width: u32,
+        /// Requested height, pixels.
+        height: u32,
+    },
+    /// The camera is unusable.
+    #[error("unusable camera (non-finite, eye on target, or field of view outside 1..179°): {0}")]
+    Camera(String),
+}
