@@ -48,6 +48,20 @@ pub fn dent(
 /// the undented meshes, then both are applied (Jacobi), so identical bodies get mirror-image
 /// dents. `impact.normal` points into `a`; `params_a` shapes the dent in `a`.
 ///
+/// # Example
+/// ```
+/// use dentbend::{DentParams, Impact, dent_pair, glam::{Affine3A, Vec3}, mesh};
+/// let mut lower = mesh::builtin("sphere")?;
+/// let mut upper = mesh::builtin("sphere")?;
+/// upper.transform(Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)))?;
+/// // The upper ball falls on the lower one: the normal points into the lower ball.
+/// let impact = Impact { point: Vec3::Y, normal: -Vec3::Y, relative_velocity: -Vec3::Y };
+/// let params = DentParams::new(0.1);
+/// let (a, b) = dent_pair(&mut lower, &mut upper, &impact, &params, &params)?;
+/// assert!((a.max_displacement - b.max_displacement).abs() < 1e-5);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
 /// # Errors
 /// Any [`DentError`]; neither mesh changes then.
 pub fn dent_pair(

@@ -41,6 +41,19 @@ pub struct DentStages {
 /// where it is: its profile is measured from its most advanced point along the viewing
 /// direction, on a grid centred on the line through `impact.point`.
 ///
+/// # Example
+/// ```
+/// use dentbend::{DentParams, Impact, Resolution, dent_map_stages, glam::Vec3, mesh};
+/// let bunny = mesh::builtin("bunny")?;
+/// // Ears first along +y: the impact point is the bunny's highest vertex.
+/// let impact = Impact::head_on(bunny.support_point(Vec3::Y), Vec3::Y);
+/// let params = DentParams { resolution: Resolution::Fixed(100), ..DentParams::new(3.0) };
+/// let stages = dent_map_stages(&bunny, &impact, &params, None)?;
+/// let peak = stages.smoothed.iter().copied().fold(0.0, f32::max);
+/// assert!((peak - 3.0).abs() < 1e-5 && stages.zbuffer.len() == 100 * 100);
+/// # Ok::<(), dentbend::DentError>(())
+/// ```
+///
 /// # Errors
 /// Invalid parameters, impact or mesh; [`DentError::ProjectileBehindPlane`];
 /// [`DentError::EmptyProfile`] when nothing of the projectile lands on the grid.

@@ -145,9 +145,10 @@ impl TriMesh {
     /// The vertex farthest along `direction` (the support point; the first one on ties):
     /// a projectile's most advanced point along its velocity.
     pub fn support_point(&self, direction: Vec3) -> Vec3 {
-        self.positions.iter().copied().fold(self.positions[0], |best, p| {
-            if p.dot(direction) > best.dot(direction) { p } else { best }
-        })
+        self.positions
+            .iter()
+            .copied()
+            .fold(self.positions[0], |best, p| if p.dot(direction) > best.dot(direction) { p } else { best })
     }
 
     /// Signed enclosed volume (divergence theorem), cubic world units; positive for a closed mesh
