@@ -184,12 +184,13 @@ fn bad_input_exits_with_code_2_and_writes_nothing() {
     }
 }
 
+/// The dent lands on the impact point; one 30 units beside the block touches nothing.
 #[test]
 fn a_miss_is_a_warning_not_an_error() {
     let dir = TempDir::new("miss");
     let out = dir.path("miss.obj");
     let (_, top) = sphere_on_block();
-    let point = format!("0,{top},0");
+    let point = format!("30,{top},0");
     let output = dentbend(&[
         "dent",
         "--target",

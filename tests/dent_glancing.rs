@@ -53,7 +53,10 @@ fn oblique_projection_stretches_the_footprint_by_one_over_cos_theta() {
     // Half-cell rounding of the stretched grid side.
     let stretched = z.extent() / 0.5;
     assert!((m.extent() - stretched).abs() <= 1e-4 * stretched, "map side {} vs {stretched}", m.extent());
-    assert!(m.res >= z.res && m.res <= 2 * z.res);
+    // The map keeps the profile's cell size (up to the rounding of its side to whole cells), so
+    // nothing is lost across the velocity.
+    assert!((m.res as f32 - 2.0 * z.res as f32).abs() <= 1.0, "map side {} cells", m.res);
+    assert!((m.cell_size / z.cell_size - 1.0).abs() <= 1.0 / z.res as f32);
     assert!((stages.frame.theta_deg() - 60.0).abs() < 1e-3);
     // The in-plane footprint (cells with height > 5 % d) is 1/cos θ = 2× longer along t̂ than across.
     let res = m.res as usize;
@@ -122,7 +125,47 @@ fn grazing_angles_are_clamped_to_min_cos() {
     let stages = dent_map_stages(&ball, &impact, &params(0.0), None).unwrap();
     let expected = 0.1f32.acos().to_degrees();
     assert!((stages.frame.theta_deg() - expected).abs() < 1e-3, "θ {}", stages.frame.theta_deg());
-    assert!(stages.map.grid.res <= 2 * stages.zbuffer_grid.res);
+    // A 10× stretch: 960 cells of the profile's size, under the 2048 cap.
+    assert!((stages.map.grid.res as i64 - 10 * stages.zbuffer_grid.res as i64).abs() <= 1);
+    assert!(stages.map.grid.res <= dentbend::dent::MAX_RESOLUTION);
+}
+
+/// A ball resting on the plane, touching it at the contact point the solver reports, dents the
+/// plane there whatever the angle: the profile's tip (the ball's most advanced point along the
+/// velocity) is placed on the contact point, not the line through it (which would put the
+/// dent R·tan θ ahead, off the contact).
+#[test]
+fn glancing_dents_are_anchored_at_the_contact_point() {
+    for theta_deg in [30.0f32, 60.0, 80.0] {
+        let theta = theta_deg.to_radians();
+        let ball = sphere_at(Vec3::Y, 1.0); // touches y = 0 at the origin
+        let velocity = Vec3::new(theta.sin(), -theta.cos(), 0.0);
+        let impact = Impact { point: Vec3::ZERO, normal: -Vec3::Y, relative_velocity: velocity };
+        let map = dent_map(&ball, &impact, &params(0.0), None).unwrap();
+        let res = map.grid.res;
+        // Even side: the contact point is the corner shared by the four central cells.
+        let centre: Vec<f32> =
+            [(res / 2 - 1, res / 2 - 1), (res / 2 - 1, res / 2), (res / 2, res / 2 - 1), (res / 2, res / 2)]
+                .iter()
+                .map(|&(row, col)| map.cells[(row * res + col) as usize][3])
+                .collect();
+        // The smoothed dome is flat at its top to within 2 % of d over a cell.
+        assert!(centre.iter().all(|&h| h >= 0.98 * D), "θ {theta_deg}°: heights {centre:?} at the contact");
+        // Height-weighted centre of the dent: on the contact point, up to one map cell plus the
+        // offset of the tessellated ball's tip vertex from its symmetry axis (at most one edge,
+        // stretched by 1/cos θ on the plane).
+        let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
+        for row in 0..res {
+            for col in 0..res {
+                let h = map.cells[(row * res + col) as usize][3];
+                sum += h * map.grid.cell_centre(row, col);
+                weight += h;
+            }
+        }
+        let centroid = sum / weight;
+        let tolerance = map.grid.cell_size + ball.mean_edge_length() / theta.cos();
+        assert!(centroid.length() <= tolerance, "θ {theta_deg}°: dent centred at {centroid}, allowed {tolerance}");
+    }
 }
 
 #[test]

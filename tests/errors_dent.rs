@@ -170,3 +170,48 @@ fn corrupt_dent_maps_are_not_applied() {
     assert!(good.apply(&mut target, &Attenuation::Linear { scale: f32::NAN }).is_err());
     assert_eq!(target, block);
 }
+
+/// σ or d beyond f32 range is refused by name instead of producing an infinite grid.
+#[test]
+fn sizes_beyond_f32_are_errors() {
+    let (_, _, impact) = setup();
+    assert_rejected(impact, DentParams { sigma: Some(1e38), ..DentParams::new(0.2) }, bad_param("sigma"));
+    assert_rejected(impact, DentParams::new(2e38), bad_param("dent_distance"));
+    assert_rejected(impact, DentParams { min_cos: 1e-30, ..DentParams::new(0.2) }, bad_param("min_cos"));
+}
+
+/// σ far below a cell keeps the profile itself (every Gaussian is narrower than a cell).
+#[test]
+fn a_tiny_sigma_still_dents() {
+    let (mut block, ball, impact) = setup();
+    let params = DentParams { sigma: Some(1e-25), ..DentParams::new(0.2) };
+    let report = dent(&mut block, &ball, &impact, &params).unwrap();
+    assert!(report.moved_vertices > 0 && (report.max_displacement - 0.2).abs() < 0.01, "{report:?}");
+}
+
+/// Vectors whose squared length overflows f32 still have a direction.
+#[test]
+fn huge_vectors_keep_their_direction() {
+    let (block, ball, impact) = setup();
+    let mut target = block.clone();
+    let huge_normal = Impact { normal: Vec3::new(0.0, -1e20, 0.0), ..impact };
+    assert!(dent(&mut target, &ball, &huge_normal, &DentParams::new(0.2)).unwrap().moved_vertices > 0);
+    let fast = Impact { relative_velocity: Vec3::new(3e38, -1e38, 0.0), ..impact };
+    let map = dentbend::dent_map_stages(&ball, &fast, &DentParams::new(0.2), None).unwrap();
+    let expected = 3f32.atan().to_degrees(); // 71.6°
+    assert!((map.frame.theta_deg() - expected).abs() < 1e-3, "θ {}", map.frame.theta_deg());
+}
+
+/// A stray vertex that no face uses is not part of the projectile's surface.
+#[test]
+fn unreferenced_vertices_do_not_move_the_tip() {
+    let (block, ball, impact) = setup();
+    let mut positions = ball.positions().to_vec();
+    positions.push(Vec3::new(0.0, -5.0, 0.0)); // far ahead of the ball, inside the block
+    let stray = TriMesh::new(positions, ball.faces().to_vec()).unwrap();
+    let (mut a, mut b) = (block.clone(), block.clone());
+    let clean = dent(&mut a, &ball, &impact, &DentParams::new(0.2)).unwrap();
+    let with_stray = dent(&mut b, &stray, &impact, &DentParams::new(0.2)).unwrap();
+    assert_eq!(clean, with_stray);
+    assert_eq!(a, b);
+}

@@ -10,7 +10,8 @@ use crate::dent::Attenuation;
 
 /// For every vertex at grid coordinates `(x, y)` and depth `z` below the collision plane, adds
 /// `a(z)·Δ(x, y)` where `Δ` is the dent map (`[Δx, Δy, Δz, height]` per cell, world units)
-/// sampled bilinearly and zero off the grid. Sets `moved[k]` for each vertex that moved.
+/// sampled bilinearly and zero off the grid. Sets `moved[k]` for each vertex whose position
+/// changed (leaves the others as they were).
 ///
 /// `table` holds the falloff samples when `params.falloff` is [`falloff::TABLE`] (see
 /// [`falloff_table`]), and is ignored otherwise.
@@ -47,8 +48,11 @@ pub fn displace(
             continue;
         }
         let a = attenuation(params, table, r.dot(axis_z), d);
-        *p += a * delta;
-        *moved = true;
+        let new = *p + a * delta;
+        if new != *p {
+            *p = new;
+            *moved = true;
+        }
     }
 }
 

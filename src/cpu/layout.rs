@@ -55,6 +55,14 @@ pub struct EnvelopeParams {
     pub _pad: [u32; 2],
 }
 
+impl EnvelopeParams {
+    /// Parameters for Gaussians of width `sigma_cells` (σ in cells) on a `res × res` grid; `c` is
+    /// clamped to 10⁴, past which `e^{−c}` is already 0 in f32, so σ ≪ 1 cell stays finite.
+    pub fn new(res: u32, sigma_cells: f32) -> Self {
+        Self { res, c: (0.5 / (sigma_cells * sigma_cells)).min(1e4), _pad: [0; 2] }
+    }
+}
+
 /// Inputs of one [`heat_step`](super::heat_step). 16 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]

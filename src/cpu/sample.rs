@@ -8,6 +8,9 @@ pub(crate) fn bilinear<T>(cells: &[T], res: u32, x: f32, y: f32) -> T
 where
     T: Copy + Default + std::ops::Mul<f32, Output = T> + std::ops::Add<Output = T>,
 {
+    if !near_grid(res, x, y) {
+        return T::default(); // also NaN; keeps the index arithmetic below in range
+    }
     let n = res as i64;
     let (x0, y0) = (x.floor(), y.floor());
     let (fx, fy) = (x - x0, y - y0);

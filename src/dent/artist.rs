@@ -6,11 +6,9 @@ use std::path::Path;
 use super::error::invalid;
 use super::{DentError, DentFrame, DentMap, DentParams, Grid, Impact, MAX_RESOLUTION, Resolution, pipeline};
 
-/// Side of an analytic Gaussian map when the resolution is automatic, cells.
-const GAUSSIAN_AUTO_RES: u32 = 64;
-
-/// Gaussian tails kept on each side of an analytic Gaussian map, in σ.
-const GAUSSIAN_HALF_WIDTH_SIGMAS: f32 = 3.5;
+/// Side of an analytic Gaussian map when the resolution is automatic, cells: odd, so a cell
+/// centre sits on the impact point and the map's peak is exactly d.
+const GAUSSIAN_AUTO_RES: u32 = 65;
 
 impl DentMap {
     /// Places a height field at an impact. `heights` (`res × res`, row-major, world units, ≥ 0)
@@ -46,7 +44,7 @@ impl DentMap {
         let frame = DentFrame::new(impact, params.min_cos);
         let (axis_x, axis_y, axis_z) = frame.zbuffer_axes();
         let grid = Grid { origin: impact.point, axis_x, axis_y, axis_z, cell_size: extent / res as f32, res };
-        pipeline::glance(heights, &grid, impact.point, &frame, params)
+        Ok(pipeline::glance(heights, &grid, impact.point, &frame, params))
     }
 
     /// Reads a square 8- or 16-bit grayscale PNG (see [`crate::io::read_height_png`]) as a dent
@@ -78,7 +76,7 @@ impl DentMap {
     }
 
     /// An analytic Gaussian dent `d·exp(−r²/(2w²))` of width `width` (world units) at the
-    /// impact, on a grid of side `7·width` (64 cells unless the resolution is fixed).
+    /// impact, on a grid of side `7·width` (65 cells unless the resolution is fixed).
     ///
     /// # Errors
     /// Invalid parameters, impact or width.
@@ -86,12 +84,12 @@ impl DentMap {
         if !(width.is_finite() && width > 0.0) {
             return Err(invalid("width", width, "must be finite and > 0"));
         }
-        params.validate()?;
+        params.validate()?; // before sizing the grid from `params.resolution`
         let res = match params.resolution {
             Resolution::Fixed(n) => n,
             Resolution::Auto { min, max } => GAUSSIAN_AUTO_RES.clamp(min, max),
         };
-        let extent = 2.0 * GAUSSIAN_HALF_WIDTH_SIGMAS * width;
+        let extent = 2.0 * pipeline::TAIL_SIGMAS * width;
         let heights = gaussian_heights(res, extent, width, params.dent_distance);
         Self::from_heights(&heights, res, extent, impact, params)
     }

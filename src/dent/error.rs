@@ -36,8 +36,10 @@ pub enum DentError {
     /// The projectile has no area: every triangle is degenerate.
     #[error("the projectile is degenerate: its triangles have zero total area")]
     DegenerateProjectile,
-    /// No part of the projectile within the dent distance of its tip projects onto the grid.
-    #[error("the projectile leaves no imprint on the dent grid (it misses the impact point)")]
+    /// Nothing is left of the profile: σ or d is far outside the projectile's scale.
+    #[error(
+        "the projectile leaves no imprint: its profile vanished on the dent grid (check sigma and dent_distance against its size)"
+    )]
     EmptyProfile,
     /// A mesh is invalid.
     #[error(transparent)]

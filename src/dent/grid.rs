@@ -76,7 +76,9 @@ impl Grid {
 pub struct DentFrame {
     /// n̂: the denting normal, into the target.
     pub normal: Vec3,
-    /// t̂: in-plane direction of the relative velocity (any in-plane unit vector when head-on).
+    /// t̂: in-plane direction of the relative velocity. Head-on it is `n̂ × e`, with `e` the
+    /// world axis least aligned with n̂ (x, then y, then z on ties), so n̂ and −n̂ get opposite
+    /// tangents and the same bitangent.
     pub tangent: Vec3,
     /// n̂ × t̂: the in-plane direction across the velocity.
     pub bitangent: Vec3,

@@ -43,29 +43,42 @@ impl Impact {
                 return Err(DentError::InvalidImpact(format!("{name} {v} is not finite")));
             }
         }
-        if self.normal.length_squared() < f32::MIN_POSITIVE {
+        let Some(normal) = unit(self.normal) else {
             return Err(DentError::InvalidImpact("normal is the zero vector".into()));
+        };
+        if self.relative_velocity != Vec3::ZERO && unit(self.relative_velocity).is_none() {
+            return Err(DentError::InvalidImpact(format!(
+                "relative_velocity {} has no direction in f32",
+                self.relative_velocity
+            )));
         }
-        let normal_speed = self.relative_velocity.dot(self.normal.normalize());
+        let normal_speed = self.relative_velocity.dot(normal);
         if normal_speed < -1e-6 * self.relative_velocity.length() {
             return Err(DentError::Separating { normal_speed });
         }
         Ok(())
     }
 
-    /// Unit denting normal (assumes [`validate`](Self::validate) passed).
+    /// Unit denting normal (zero if [`validate`](Self::validate) would fail).
     pub fn unit_normal(&self) -> Vec3 {
-        self.normal.normalize()
+        unit(self.normal).unwrap_or(Vec3::ZERO)
     }
 
     /// Unit viewing direction of the Z-buffer: the relative velocity's direction, or the normal
     /// when the velocity is zero.
     pub fn view_direction(&self) -> Vec3 {
-        self.relative_velocity.try_normalize().unwrap_or_else(|| self.unit_normal())
+        unit(self.relative_velocity).unwrap_or_else(|| self.unit_normal())
     }
 
     /// The same contact seen from B: normal and velocity reversed.
     pub fn reversed(&self) -> Self {
         Self { point: self.point, normal: -self.normal, relative_velocity: -self.relative_velocity }
     }
+}
+
+/// `v` scaled to unit length, computed without overflow for huge components; `None` for the zero
+/// vector and non-finite input.
+fn unit(v: Vec3) -> Option<Vec3> {
+    let largest = v.abs().max_element();
+    (largest > 0.0 && largest.is_finite()).then(|| (v / largest).try_normalize()).flatten()
 }

@@ -51,8 +51,13 @@ impl PendingDisplacement {
 
 impl DentMap {
     /// Displacement stored at cell (`row`, `col`), world units.
+    ///
+    /// # Panics
+    /// If `row` or `col` is not below `grid.res`.
     pub fn displacement(&self, row: u32, col: u32) -> Vec3 {
-        let [x, y, z, _] = self.cells[(row * self.grid.res + col) as usize];
+        let res = self.grid.res as usize;
+        assert!(row < self.grid.res && col < self.grid.res, "cell ({row}, {col}) outside the {res}² map");
+        let [x, y, z, _] = self.cells[row as usize * res + col as usize];
         Vec3::new(x, y, z)
     }
 
@@ -83,18 +88,9 @@ impl DentMap {
         attenuation: &Attenuation,
     ) -> Result<PendingDisplacement, DentError> {
         self.validate()?;
-        let probe =
-            super::DentParams { attenuation: attenuation.clone(), ..super::DentParams::new(self.dent_distance) };
-        probe.validate()?;
         let d = self.dent_distance;
-        let (falloff, falloff_scale, table) = cpu::falloff_table(attenuation, d);
-        let params = DisplaceParams {
-            grid: self.grid.uniform(),
-            dent_distance: d,
-            falloff,
-            falloff_scale,
-            vertex_count: target.vertex_count() as u32,
-        };
+        attenuation.validate(d)?;
+        let (params, table) = self.displace_params(attenuation, target.vertex_count());
         let mut positions = target.positions().to_vec();
         let mut moved = vec![false; positions.len()];
         cpu::displace(&params, &self.cells, &table, &mut positions, &mut moved);
@@ -115,6 +111,20 @@ impl DentMap {
         let report =
             DisplaceReport { moved_vertices: moved.iter().filter(|&&m| m).count(), max_displacement, warnings };
         Ok(PendingDisplacement { positions, moved, report })
+    }
+
+    /// The [`cpu::displace`] inputs that apply this map with `attenuation` to `vertex_count`
+    /// vertices: its parameter block and falloff table.
+    pub fn displace_params(&self, attenuation: &Attenuation, vertex_count: usize) -> (DisplaceParams, Vec<f32>) {
+        let (falloff, falloff_scale, table) = cpu::falloff_table(attenuation, self.dent_distance);
+        let params = DisplaceParams {
+            grid: self.grid.uniform(),
+            dent_distance: self.dent_distance,
+            falloff,
+            falloff_scale,
+            vertex_count: vertex_count as u32,
+        };
+        (params, table)
     }
 
     fn validate(&self) -> Result<(), DentError> {

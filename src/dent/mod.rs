@@ -17,5 +17,5 @@ pub use grid::{DentFrame, Grid};
 pub use impact::Impact;
 pub use map::{DentMap, DisplaceReport};
 pub use material::DentMaterial;
-pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, Resolution};
+pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, MIN_COS_FLOOR, Resolution};
 pub use pipeline::{DentStages, dent_map, dent_map_stages};

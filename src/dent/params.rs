@@ -6,6 +6,9 @@ use std::sync::Arc;
 use super::DentError;
 use super::error::invalid;
 
+/// Smallest accepted `min_cos`: θ ≤ 89.4°, a 100× stretch of the map along the velocity.
+pub const MIN_COS_FLOOR: f32 = 0.01;
+
 /// Largest grid side accepted, cells: 2048² cells is 16 MiB per f32 stage, far past the paper's 400².
 pub const MAX_RESOLUTION: u32 = 2048;
 
@@ -93,7 +96,9 @@ impl Attenuation {
             .fold(0.0, f32::max)
     }
 
-    fn validate(&self, d: f32) -> Result<(), DentError> {
+    /// Checks the falloff for dent distance `d`; a custom one must give a(0) = 1 and stay finite
+    /// at the depths [`cpu::displace`](crate::cpu::displace) samples it.
+    pub(crate) fn validate(&self, d: f32) -> Result<(), DentError> {
         match self {
             Self::Linear { scale } if !(scale.is_finite() && *scale > 0.0) => {
                 Err(invalid("attenuation.scale", scale, "must be finite and > 0"))
@@ -103,7 +108,8 @@ impl Attenuation {
                 if !at_zero.is_finite() || (at_zero - 1.0).abs() > 1e-3 {
                     return Err(invalid("attenuation", at_zero, "a custom falloff must give a(0) = 1"));
                 }
-                match (1..=64).map(|k| f(k as f32 * d / 8.0, d)).find(|a| !a.is_finite()) {
+                let (_, _, table) = crate::cpu::falloff_table(self, d);
+                match table.into_iter().find(|a| !a.is_finite()) {
                     Some(bad) => Err(invalid("attenuation", bad, "a custom falloff must stay finite")),
                     None => Ok(()),
                 }
@@ -129,7 +135,8 @@ pub struct DentParams {
     pub sigma: Option<f32>,
     /// Grid side, cells. Default: automatic in 25..=400.
     pub resolution: Resolution,
-    /// k₁: plain heat steps after broadening (default 8).
+    /// k₁: plain heat steps after broadening (default 8). Smoothing costs (k₁ + k₂)·res² cell
+    /// updates; both counts are capped at 100,000.
     pub heat_iters: u32,
     /// k₂: clamped, increase-only heat steps after rescaling (default 16).
     pub clamp_iters: u32,
@@ -139,7 +146,7 @@ pub struct DentParams {
     pub attenuation: Attenuation,
     /// Widening `t` of glancing dents, 1/world unit, ≥ 0 (default 0: the plain shear).
     pub widen: f32,
-    /// Lower clamp of cos θ for glancing impacts, in (0, 1] (default 0.1, θ ≤ 84.3°).
+    /// Lower clamp of cos θ for glancing impacts, in [0.01, 1] (default 0.1, θ ≤ 84.3°).
     pub min_cos: f32,
 }
 
@@ -200,8 +207,8 @@ impl DentParams {
         if !(self.widen.is_finite() && self.widen >= 0.0) {
             return Err(invalid("widen", self.widen, "must be finite and >= 0"));
         }
-        if !(self.min_cos > 0.0 && self.min_cos <= 1.0) {
-            return Err(invalid("min_cos", self.min_cos, "must be in (0, 1]"));
+        if !(self.min_cos >= MIN_COS_FLOOR && self.min_cos <= 1.0) {
+            return Err(invalid("min_cos", self.min_cos, "must be in [0.01, 1]"));
         }
         self.attenuation.validate(d)
     }

@@ -7,9 +7,9 @@ use super::{DentError, DentFrame, DentMap, DentParams, Grid, Impact, MAX_RESOLUT
 use crate::cpu::{self, EnvelopeParams, GlanceParams, ZbufferParams};
 use crate::mesh::TriMesh;
 
-/// Gaussian tails kept on each side of the footprint, in σ: `e^{−3.5²/2} ≈ 0.2 %` of a cell's
+/// Gaussian tails kept on each side of a footprint, in σ: `e^{−3.5²/2} ≈ 0.2 %` of a cell's
 /// height remains at the border, and the heat steps' zero border takes it the rest of the way.
-const TAIL_SIGMAS: f32 = 3.5;
+pub(crate) const TAIL_SIGMAS: f32 = 3.5;
 
 /// Cells per mean edge of the finer mesh when the resolution is automatic.
 const CELLS_PER_EDGE: f32 = 2.0;
@@ -17,8 +17,8 @@ const CELLS_PER_EDGE: f32 = 2.0;
 /// Every intermediate stage of one dent map, for inspection, pictures and tests.
 #[derive(Debug, Clone)]
 pub struct DentStages {
-    /// The Z-buffer grid, perpendicular to the relative velocity; `origin` lies on the
-    /// projectile's most advanced point along `axis_z`, on the line through the impact point.
+    /// The Z-buffer grid, perpendicular to the relative velocity; `origin` is the projectile's
+    /// most advanced point along `axis_z`, which the dent map places on the impact point.
     pub zbuffer_grid: Grid,
     /// Profile P (0..=d) on `zbuffer_grid`, row-major.
     pub zbuffer: Vec<f32>,
@@ -37,9 +37,9 @@ pub struct DentStages {
 /// Builds the dent map that `projectile` leaves at `impact`, keeping every stage.
 ///
 /// `target_edge` is the target's mean edge length (world units), used with the projectile's
-/// for the automatic resolution; `None` uses the projectile's alone. The projectile is used
-/// where it is: its profile is measured from its most advanced point along the viewing
-/// direction, on a grid centred on the line through `impact.point`.
+/// for the automatic resolution; `None` uses the projectile's alone. The profile is measured
+/// from the projectile's most advanced point along the viewing direction, wherever the
+/// projectile is, and that point is placed on `impact.point`: the map is centred there.
 ///
 /// # Example
 /// ```
@@ -56,7 +56,8 @@ pub struct DentStages {
 ///
 /// # Errors
 /// Invalid parameters, impact or mesh; [`DentError::ProjectileBehindPlane`];
-/// [`DentError::EmptyProfile`] when nothing of the projectile lands on the grid.
+/// [`DentError::EmptyProfile`] when nothing is left of the profile (a σ or d far outside the
+/// projectile's scale).
 pub fn dent_map_stages(
     projectile: &TriMesh,
     impact: &Impact,
@@ -80,7 +81,7 @@ pub fn dent_map_stages(
     let d = params.dent_distance;
     let sigma = params.sigma_or_default();
 
-    let zbuffer_grid = zbuffer_grid(projectile, impact, &frame, params, sigma, target_edge);
+    let zbuffer_grid = zbuffer_grid(projectile, &frame, params, sigma, target_edge)?;
     let res = zbuffer_grid.res;
     let cells = zbuffer_grid.cell_count();
     let mut zbuffer = vec![0.0; cells];
@@ -95,8 +96,7 @@ pub fn dent_map_stages(
         return Err(DentError::EmptyProfile);
     }
 
-    let sigma_cells = sigma / zbuffer_grid.cell_size;
-    let eparams = EnvelopeParams { res, c: 0.5 / (sigma_cells * sigma_cells), _pad: [0; 2] };
+    let eparams = EnvelopeParams::new(res, sigma / zbuffer_grid.cell_size);
     let mut rows = vec![0.0; cells];
     let mut envelope = vec![0.0; cells];
     cpu::envelope_rows(&eparams, &zbuffer, &mut rows);
@@ -104,8 +104,14 @@ pub fn dent_map_stages(
 
     let mut smoothed = envelope.clone();
     cpu::heat(&mut smoothed, res, params.heat_rate, params.heat_iters, params.clamp_iters, d);
+    if !smoothed.iter().any(|&h| h > 0.0) {
+        return Err(DentError::EmptyProfile);
+    }
 
-    let map = glance(&smoothed, &zbuffer_grid, impact.point, &frame, params)?;
+    let map = glance(&smoothed, &zbuffer_grid, impact.point, &frame, params);
+    if map.cells.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(super::error::invalid("dent_distance", d, "is too large for f32 arithmetic"));
+    }
     Ok(DentStages { zbuffer_grid, zbuffer, envelope, smoothed, map, frame, sigma })
 }
 
@@ -123,17 +129,19 @@ pub fn dent_map(
 }
 
 /// Places smoothed heights given on a grid perpendicular to the velocity (`heights_grid`) onto
-/// the collision plane through `point`, stretched by 1/cos θ and sheared (paper §3.3).
+/// the collision plane through `point`, stretched by 1/cos θ and sheared (paper §3.3). The map
+/// keeps the heights' cell size (side `res/cos θ` cells) up to [`MAX_RESOLUTION`] cells, past
+/// which its cells grow.
 pub(crate) fn glance(
     heights: &[f32],
     heights_grid: &Grid,
     point: Vec3,
     frame: &DentFrame,
     params: &DentParams,
-) -> Result<DentMap, DentError> {
+) -> DentMap {
     let res = heights_grid.res;
     let stretch = 1.0 / frame.cos_theta;
-    let dst_res = ((res as f32 * stretch).ceil() as u32).clamp(res, (2 * res).min(MAX_RESOLUTION.max(res)));
+    let dst_res = ((res as f32 * stretch).ceil() as u32).clamp(res, MAX_RESOLUTION.max(res));
     let dst_cell_size = heights_grid.extent() * stretch / dst_res as f32;
     let (axis_x, axis_y, axis_z) = frame.plane_axes();
     let grid = Grid { origin: point, axis_x, axis_y, axis_z, cell_size: dst_cell_size, res: dst_res };
@@ -153,32 +161,30 @@ pub(crate) fn glance(
     };
     let mut cells = vec![[0.0; 4]; grid.cell_count()];
     cpu::glance(&gparams, heights, &mut cells);
-    Ok(DentMap { grid, cells, dent_distance: params.dent_distance })
+    DentMap { grid, cells, dent_distance: params.dent_distance }
 }
 
 /// Fails when the whole projectile lies past the collision plane, inside the target.
 fn check_in_front(projectile: &TriMesh, impact: &Impact, frame: &DentFrame) -> Result<(), DentError> {
-    let nearest =
-        projectile.positions().iter().map(|&p| (p - impact.point).dot(frame.normal)).fold(f32::INFINITY, f32::min);
+    let nearest = (projectile.support_point(-frame.normal) - impact.point).dot(frame.normal);
     if nearest > 0.0 {
         return Err(DentError::ProjectileBehindPlane { distance: nearest });
     }
     Ok(())
 }
 
-/// The Z-buffer grid: centred on the line through the impact point along the viewing direction,
-/// at the depth of the projectile's tip, wide enough for the footprint plus the Gaussian tails.
+/// The Z-buffer grid: centred on the projectile's most advanced point along the viewing
+/// direction, wide enough for the footprint plus the Gaussian tails, with cells no larger than
+/// half the finer mesh's mean edge or σ when the resolution is automatic.
 fn zbuffer_grid(
     projectile: &TriMesh,
-    impact: &Impact,
     frame: &DentFrame,
     params: &DentParams,
     sigma: f32,
     target_edge: Option<f32>,
-) -> Grid {
+) -> Result<Grid, DentError> {
     let (axis_x, axis_y, axis_z) = frame.zbuffer_axes();
-    let tip = projectile.support_point(axis_z).dot(axis_z);
-    let origin = impact.point + (tip - impact.point.dot(axis_z)) * axis_z;
+    let origin = projectile.support_point(axis_z);
     let footprint = footprint_half_width(projectile, origin, (axis_x, axis_y, axis_z), params.dent_distance);
     let half = footprint + TAIL_SIGMAS * sigma;
     let res = match params.resolution {
@@ -187,11 +193,21 @@ fn zbuffer_grid(
             let edge = target_edge
                 .filter(|e| *e > 0.0)
                 .map_or(projectile.mean_edge_length(), |t| t.min(projectile.mean_edge_length()));
-            let wanted = (2.0 * half * CELLS_PER_EDGE / edge.max(f32::MIN_POSITIVE)).ceil();
+            let cell = (edge / CELLS_PER_EDGE).min(sigma);
+            let wanted = (2.0 * half / cell.max(f32::MIN_POSITIVE)).ceil();
             (wanted.min(max as f32) as u32).clamp(min, max)
         }
     };
-    Grid { origin, axis_x, axis_y, axis_z, cell_size: 2.0 * half / res as f32, res }
+    let cell_size = 2.0 * half / res as f32;
+    if !(cell_size.is_finite() && cell_size > 0.0) {
+        // A σ the user set can overflow on its own; otherwise d (and σ = d/2 with it) did.
+        let (name, value) = match params.sigma {
+            Some(s) if (4.0 * TAIL_SIGMAS * s).is_infinite() => ("sigma", s),
+            _ => ("dent_distance", params.dent_distance),
+        };
+        return Err(super::error::invalid(name, value, "makes the dent grid too large for f32 arithmetic"));
+    }
+    Ok(Grid { origin, axis_x, axis_y, axis_z, cell_size, res })
 }
 
 /// Largest lateral distance (max of |x| and |y| in the Z-buffer frame, world units) from

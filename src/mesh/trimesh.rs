@@ -112,10 +112,13 @@ impl TriMesh {
     }
 
     /// Recomputes the normals of the vertices that share a face with a vertex flagged in `moved`
-    /// (one flag per vertex); cheaper than [`recompute_normals`](Self::recompute_normals) when a
-    /// dent touches a small part of a large mesh.
+    /// (one flag per vertex; missing flags count as false); cheaper than
+    /// [`recompute_normals`](Self::recompute_normals) when a dent touches a small part of a
+    /// large mesh.
     pub fn recompute_normals_near(&mut self, moved: &[bool]) {
-        debug_assert_eq!(moved.len(), self.positions.len());
+        let mut flags = vec![false; self.positions.len()];
+        flags.iter_mut().zip(moved).for_each(|(f, &m)| *f = m);
+        let moved = &flags[..];
         let touches = |f: &[u32; 3], flags: &[bool]| f.iter().any(|&v| flags[v as usize]);
         let mut affected = vec![false; self.positions.len()];
         for face in self.faces.iter().filter(|f| touches(f, moved)) {
@@ -142,13 +145,16 @@ impl TriMesh {
             .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), &p| (lo.min(p), hi.max(p)))
     }
 
-    /// The vertex farthest along `direction` (the support point; the first one on ties):
-    /// a projectile's most advanced point along its velocity.
+    /// The vertex of the surface farthest along `direction` (the support point; the first one
+    /// on ties): a projectile's most advanced point along its velocity. Vertices no face uses
+    /// are not part of the surface and are ignored.
     pub fn support_point(&self, direction: Vec3) -> Vec3 {
-        self.positions
+        let first = self.positions[self.faces[0][0] as usize];
+        self.faces
             .iter()
-            .copied()
-            .fold(self.positions[0], |best, p| if p.dot(direction) > best.dot(direction) { p } else { best })
+            .flatten()
+            .map(|&v| self.positions[v as usize])
+            .fold(first, |best, p| if p.dot(direction) > best.dot(direction) { p } else { best })
     }
 
     /// Signed enclosed volume (divergence theorem), cubic world units; positive for a closed mesh
@@ -168,7 +174,15 @@ impl TriMesh {
 
     /// Total surface area, square world units.
     pub fn area(&self) -> f32 {
-        self.faces.iter().map(|f| 0.5 * face_area_normal(&self.positions, f).length()).sum()
+        let total: f64 = self
+            .faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.map(|v| self.positions[v as usize].as_dvec3());
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        total as f32
     }
 
     /// Mean length of the triangle edges, world units (shared edges count once per face).

@@ -1,7 +1,7 @@
 //! The inputs every benchmark shares: the paper's Table 1 scene (the bunny projectile, Figure
 //! 5a far right) on a grid of a given side, and a dense target for `displace`.
 
-use dentbend::cpu::{self, DisplaceParams, EnvelopeParams, ZbufferParams};
+use dentbend::cpu::{DisplaceParams, EnvelopeParams, ZbufferParams};
 use dentbend::dent::{DentStages, Grid};
 use dentbend::glam::{Affine3A, Vec3};
 use dentbend::{DentMap, DentParams, Impact, Resolution, TriMesh, dent_map, dent_map_stages, mesh};
@@ -45,8 +45,7 @@ impl Scene {
     }
 
     pub fn envelope_params(&self) -> EnvelopeParams {
-        let sigma_cells = self.stages.sigma / self.grid().cell_size;
-        EnvelopeParams { res: self.grid().res, c: 0.5 / (sigma_cells * sigma_cells), _pad: [0; 2] }
+        EnvelopeParams::new(self.grid().res, self.stages.sigma / self.grid().cell_size)
     }
 }
 
@@ -72,14 +71,7 @@ impl DisplaceScene {
         let impact = Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -Vec3::Y };
         let params = DentParams::new(0.2);
         let map = dent_map(&ball, &impact, &params, Some(target.mean_edge_length())).map_err(|e| e.to_string())?;
-        let (falloff, falloff_scale, table) = cpu::falloff_table(&params.attenuation, params.dent_distance);
-        let kernel_params = DisplaceParams {
-            grid: map.grid.uniform(),
-            dent_distance: params.dent_distance,
-            falloff,
-            falloff_scale,
-            vertex_count: target.vertex_count() as u32,
-        };
+        let (kernel_params, table) = map.displace_params(&params.attenuation, target.vertex_count());
         Ok(Self { target, map, params, table, kernel_params })
     }
 }

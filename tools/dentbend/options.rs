@@ -102,7 +102,7 @@ pub struct MapOptions {
     #[arg(long, value_name = "T", default_value_t = DentParams::new(1.0).widen, allow_negative_numbers = true)]
     pub widen: f32,
 
-    /// Lower clamp of cos θ for glancing impacts, in (0, 1] (0.1 allows θ up to 84.3°)
+    /// Lower clamp of cos θ for glancing impacts, in [0.01, 1] (0.1 allows θ up to 84.3°)
     #[arg(long, value_name = "C", default_value_t = DentParams::new(1.0).min_cos)]
     pub min_cos: f32,
 }
