@@ -89,18 +89,25 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
     impact.validate()?;
     let mut target = load_mesh("target", &args.target)?;
     let mut projectile = args.projectile.load()?;
+    if let Some(path) = &args.projectile_out
+        && same_file(path, &args.out)
+    {
+        return Err(CliError::Usage("--projectile-out must differ from --out".into()));
+    }
     let report = match &args.projectile_out {
-        None => dentbend::dent::dent(&mut target, &projectile, &impact, &params)?,
+        None => {
+            let report = dentbend::dent::dent(&mut target, &projectile, &impact, &params)?;
+            stage(&target, &args.out)?.commit()?;
+            report
+        }
         Some(path) => {
-            if path == &args.out {
-                return Err(CliError::Usage("--projectile-out must differ from --out".into()));
-            }
             let (report, _) = dentbend::dent::dent_pair(&mut target, &mut projectile, &impact, &params, &params)?;
-            save(&projectile, path)?;
+            // Both files are written aside first, and only put in place once both are.
+            let staged = [stage(&target, &args.out)?, stage(&projectile, path)?];
+            staged.into_iter().try_for_each(Staged::commit)?;
             report
         }
     };
-    save(&target, &args.out)?;
     let summary = format!(
         "dent: moved {} of {} vertices of {} by up to {} (θ = {:.1}°, {res}×{res} cells) → {}",
         report.moved_vertices,
@@ -118,11 +125,42 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
     Ok((summary, warnings))
 }
 
-/// Saves `target` as OBJ at `path` through a temporary file beside it, renamed into place, so a
-/// failure leaves neither a partial file nor a damaged earlier one.
-fn save(target: &TriMesh, path: &Path) -> Result<(), CliError> {
+/// True when `a` and `b` name the same file (compared through their canonical directories).
+fn same_file(a: &Path, b: &Path) -> bool {
+    let canonical = |p: &Path| {
+        let parent = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        parent.canonicalize().ok().map(|dir| dir.join(p.file_name().unwrap_or_default()))
+    };
+    a == b || matches!((canonical(a), canonical(b)), (Some(x), Some(y)) if x == y)
+}
+
+/// An OBJ written beside its destination, not yet renamed into place; removed if dropped.
+struct Staged {
+    temp: PathBuf,
+    path: PathBuf,
+}
+
+impl Staged {
+    /// Renames the file into place.
+    fn commit(self) -> Result<(), CliError> {
+        let result =
+            fs::rename(&self.temp, &self.path).map_err(|source| CliError::Write { path: self.path.clone(), source });
+        drop(self); // removes the temporary file if the rename failed
+        result
+    }
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        let _ = fs::remove_file(&self.temp);
+    }
+}
+
+/// Writes `mesh` as OBJ to a temporary file beside `path`, so that a failure leaves neither a
+/// partial file nor a damaged earlier one.
+fn stage(mesh: &TriMesh, path: &Path) -> Result<Staged, CliError> {
     if path.is_dir() {
-        return Err(CliError::Usage(format!("--out {} is a directory, not a file", path.display())));
+        return Err(CliError::Usage(format!("{} is a directory, not a file", path.display())));
     }
     let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if !parent.is_dir() {
@@ -134,14 +172,10 @@ fn save(target: &TriMesh, path: &Path) -> Result<(), CliError> {
     }
     let stem = path.file_stem().map_or_else(|| "out".into(), |s| s.to_string_lossy());
     let temp = path.with_file_name(format!(".{stem}.dentbend-{}.obj", std::process::id()));
-    let write_error = |source| CliError::Write { path: path.to_owned(), source };
-    let result = match mesh::save_obj(target, &temp) {
-        Ok(()) => fs::rename(&temp, path).map_err(write_error),
-        Err(MeshError::Io { source, .. }) => Err(write_error(source)),
+    let staged = Staged { temp, path: path.to_owned() };
+    match mesh::save_obj(mesh, &staged.temp) {
+        Ok(()) => Ok(staged),
+        Err(MeshError::Io { source, .. }) => Err(CliError::Write { path: path.to_owned(), source }),
         Err(source) => Err(CliError::Save { path: path.to_owned(), source }),
-    };
-    if result.is_err() {
-        let _ = fs::remove_file(&temp);
     }
-    result
 }
