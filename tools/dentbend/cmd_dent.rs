@@ -27,9 +27,10 @@ pub enum Falloff {
 #[command(after_help = "\
 Both meshes are in the same coordinates, placed as at the moment of impact; --scale, --rotate, \
 then --translate place the projectile first (a built-in one, say). With --projectile-out both \
-bodies dent each other: both maps come from the undented meshes (Jacobi, paper Figure 1). The dent is measured from the \
-projectile's most advanced point along the viewing direction (the velocity, θ clamped by \
---min-cos), on a grid centred on the line through --point.")]
+bodies dent each other: both maps come from the undented meshes (Jacobi, paper Figure 1). \
+The dent is measured from the projectile's most advanced point along the viewing direction (the \
+velocity, θ clamped by --min-cos), wherever the projectile is, and that point is placed on \
+--point: the dent map is centred there.")]
 pub struct DentArgs {
     /// Target mesh to dent: an .obj or .ply path, or a built-in name
     #[arg(long, value_name = "MESH")]
