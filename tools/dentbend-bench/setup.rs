@@ -57,7 +57,7 @@ pub struct DisplaceScene {
     pub target: TriMesh,
     pub map: DentMap,
     pub params: DentParams,
-    /// Falloff samples for [`cpu::displace`] (empty for the built-in falloffs).
+    /// Falloff samples for [`dentbend::cpu::displace`] (empty for the built-in falloffs).
     pub table: Vec<f32>,
     pub kernel_params: DisplaceParams,
 }
