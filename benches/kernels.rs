@@ -73,11 +73,11 @@ fn kernels(c: &mut Criterion) {
             cos_theta: f.cos_theta,
             sin_theta: f.sin_theta,
             widen: 0.0,
-            _pad0: 0,
+            src_offset: 0,
             normal: f.normal.to_array(),
-            _pad1: 0,
+            dst_offset: 0,
             tangent: f.tangent.to_array(),
-            _pad2: 0,
+            _pad: 0,
         };
         let mut cells = vec![[0.0; 4]; m.cell_count()];
         group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {

@@ -35,6 +35,7 @@
 
 pub mod cpu;
 pub mod dent;
+pub mod gpu;
 pub mod io;
 pub mod mesh;
 pub mod render;

@@ -21,7 +21,7 @@ fn c_of(sigma: f64) -> f64 {
 
 /// Both passes of the kernel.
 fn envelope(res: u32, c: f32, profile: &[f32]) -> Vec<f32> {
-    let params = EnvelopeParams { res, c, _pad: [0; 2] };
+    let params = EnvelopeParams { res, c, cell_offset: 0, _pad: 0 };
     let n = (res * res) as usize;
     let mut rows = vec![f32::NAN; n];
     let mut env = vec![f32::NAN; n];

@@ -8,7 +8,7 @@ use common::SplitMix64;
 use dentbend::cpu::{HeatParams, heat, heat_step};
 
 fn params(res: u32, rate: f32, clamped: u32) -> HeatParams {
-    HeatParams { res, rate, clamped, _pad: 0 }
+    HeatParams { res, rate, clamped, cell_offset: 0 }
 }
 
 fn step(res: u32, rate: f32, clamped: u32, src: &[f32]) -> Vec<f32> {

@@ -62,7 +62,8 @@ impl View {
             },
             dent_distance: self.d,
             face_count: face_count as u32,
-            _pad: [0; 2],
+            face_offset: 0,
+            cell_offset: 0,
         }
     }
 

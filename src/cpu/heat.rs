@@ -67,7 +67,7 @@ pub fn heat(values: &mut [f32], res: u32, rate: f32, heat_iters: u32, clamp_iter
     let mut scratch = vec![0.0f32; n * n];
     // The current grid lives in `scratch` rather than `values`.
     let mut in_scratch = false;
-    let plain = HeatParams { res, rate, clamped: 0, _pad: 0 };
+    let plain = HeatParams { res, rate, clamped: 0, cell_offset: 0 };
     steps(&plain, heat_iters, values, &mut scratch, &mut in_scratch);
     // Rescale the current grid; the other one is overwritten next anyway.
     let current: &mut [f32] = if in_scratch { &mut scratch } else { values };

@@ -2,6 +2,9 @@
 //!
 //! Keep in sync with `shaders/shared/layout.wgsl`: every `vec3<f32>` is followed by a 4-byte
 //! scalar so that each struct packs with no implicit padding on either side.
+//!
+//! The `*_offset` fields place one dent's data inside the flat buffers of a GPU batch (in
+//! elements of that buffer); the CPU twins take slices already cut to one dent and ignore them.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -38,8 +41,10 @@ pub struct ZbufferParams {
     pub dent_distance: f32,
     /// Number of triangles.
     pub face_count: u32,
-    /// Padding, zero.
-    pub _pad: [u32; 2],
+    /// First triangle of this dent's projectile in a batched face buffer.
+    pub face_offset: u32,
+    /// First cell of this dent's profile in a batched grid buffer.
+    pub cell_offset: u32,
 }
 
 /// Inputs of [`envelope_rows`](super::envelope_rows) and [`envelope_cols`](super::envelope_cols).
@@ -51,15 +56,17 @@ pub struct EnvelopeParams {
     pub res: u32,
     /// Gaussian coefficient `c = 1/(2σ²)` with σ in cells (1/cell²).
     pub c: f32,
+    /// First cell of this dent's grid in a batched grid buffer.
+    pub cell_offset: u32,
     /// Padding, zero.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 impl EnvelopeParams {
     /// Parameters for Gaussians of width `sigma_cells` (σ in cells) on a `res × res` grid; `c` is
     /// clamped to 10⁴, past which `e^{−c}` is already 0 in f32, so σ ≪ 1 cell stays finite.
     pub fn new(res: u32, sigma_cells: f32) -> Self {
-        Self { res, c: (0.5 / (sigma_cells * sigma_cells)).min(1e4), _pad: [0; 2] }
+        Self { res, c: (0.5 / (sigma_cells * sigma_cells)).min(1e4), cell_offset: 0, _pad: 0 }
     }
 }
 
@@ -73,8 +80,8 @@ pub struct HeatParams {
     pub rate: f32,
     /// 1 for the increase-only step `E ← max(E, E + α·ΔE)`, 0 for the plain one.
     pub clamped: u32,
-    /// Padding, zero.
-    pub _pad: u32,
+    /// First cell of this dent's grid in a batched grid buffer.
+    pub cell_offset: u32,
 }
 
 /// Inputs of [`glance`](super::glance). 64 bytes.
@@ -95,16 +102,16 @@ pub struct GlanceParams {
     pub sin_theta: f32,
     /// Widening t, 1/world unit.
     pub widen: f32,
-    /// Padding, zero.
-    pub _pad0: u32,
+    /// First cell of this dent's heights in a batched grid buffer.
+    pub src_offset: u32,
     /// Unit denting normal n̂, world.
     pub normal: [f32; 3],
-    /// Padding, zero.
-    pub _pad1: u32,
+    /// First cell of this dent's map in a batched map buffer.
+    pub dst_offset: u32,
     /// Unit in-plane velocity direction t̂, world.
     pub tangent: [f32; 3],
     /// Padding, zero.
-    pub _pad2: u32,
+    pub _pad: u32,
 }
 
 /// Falloff codes of [`DisplaceParams::falloff`].
@@ -123,7 +130,7 @@ pub mod falloff {
     pub const TABLE_LEN: usize = 257;
 }
 
-/// Inputs of [`displace`](super::displace). 80 bytes.
+/// Inputs of [`displace`](super::displace). 96 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct DisplaceParams {
@@ -137,4 +144,12 @@ pub struct DisplaceParams {
     pub falloff_scale: f32,
     /// Number of vertices.
     pub vertex_count: u32,
+    /// First vertex of this dent's target in a batched vertex buffer.
+    pub vertex_offset: u32,
+    /// First cell of this dent's map in a batched map buffer.
+    pub cell_offset: u32,
+    /// First entry of this dent's falloff table in a batched table buffer.
+    pub table_offset: u32,
+    /// Entries in the falloff table (0 unless `falloff` is [`falloff::TABLE`]).
+    pub table_len: u32,
 }

@@ -123,6 +123,10 @@ impl DentMap {
             falloff,
             falloff_scale,
             vertex_count: vertex_count as u32,
+            vertex_offset: 0,
+            cell_offset: 0,
+            table_offset: 0,
+            table_len: table.len() as u32,
         };
         (params, table)
     }

@@ -89,7 +89,8 @@ pub fn dent_map_stages(
         grid: zbuffer_grid.uniform(),
         dent_distance: d,
         face_count: projectile.face_count() as u32,
-        _pad: [0; 2],
+        face_offset: 0,
+        cell_offset: 0,
     };
     cpu::zbuffer(&zparams, projectile.positions(), projectile.faces(), &mut zbuffer);
     if zbuffer.iter().all(|&p| p <= 0.0) {
@@ -153,11 +154,11 @@ pub(crate) fn glance(
         cos_theta: frame.cos_theta,
         sin_theta: frame.sin_theta,
         widen: params.widen,
-        _pad0: 0,
+        src_offset: 0,
         normal: frame.normal.to_array(),
-        _pad1: 0,
+        dst_offset: 0,
         tangent: frame.tangent.to_array(),
-        _pad2: 0,
+        _pad: 0,
     };
     let mut cells = vec![[0.0; 4]; grid.cell_count()];
     cpu::glance(&gparams, heights, &mut cells);

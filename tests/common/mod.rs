@@ -3,10 +3,12 @@
 
 pub mod cli;
 pub mod geometry;
+pub mod gpu;
 pub mod rng;
 pub mod temp;
 
 pub use cli::{dentbend, text};
 pub use geometry::{self_intersections, sphere_at, triangles_cross};
+pub use gpu::context;
 pub use rng::SplitMix64;
 pub use temp::TempDir;

@@ -40,7 +40,8 @@ impl Scene {
             grid: self.grid().uniform(),
             dent_distance: self.params.dent_distance,
             face_count: self.projectile.face_count() as u32,
-            _pad: [0; 2],
+            face_offset: 0,
+            cell_offset: 0,
         }
     }
 

@@ -1,0 +1,88 @@
+//! Uploading slices to GPU buffers and reading them back.
+
+use bytemuck::Pod;
+use wgpu::util::DeviceExt;
+
+use super::{GpuContext, GpuError};
+
+/// Smallest buffer created, bytes: wgpu refuses empty bindings.
+const MIN_BYTES: u64 = 16;
+
+/// A storage buffer holding `data` (readable and writable by kernels, copyable both ways).
+pub fn storage<T: Pod>(context: &GpuContext, label: &str, data: &[T]) -> wgpu::Buffer {
+    let bytes: &[u8] = bytemuck::cast_slice(data);
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+    if (bytes.len() as u64) < MIN_BYTES {
+        let mut padded = bytes.to_vec();
+        padded.resize(MIN_BYTES as usize, 0);
+        return context.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: &padded,
+            usage,
+        });
+    }
+    context.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytes, usage })
+}
+
+/// A zero-filled storage buffer of `bytes` bytes (at least 16).
+pub fn storage_zeroed(context: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
+    context.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(MIN_BYTES).next_multiple_of(4),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// A uniform buffer holding `value`.
+pub fn uniform<T: Pod>(context: &GpuContext, label: &str, value: &T) -> wgpu::Buffer {
+    context.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::bytes_of(value),
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+    })
+}
+
+/// Checks that `bytes` fits in one storage binding of this device.
+///
+/// # Errors
+/// [`GpuError::OverLimit`].
+pub fn check_binding_size(context: &GpuContext, what: &str, bytes: u64) -> Result<(), GpuError> {
+    let limit = u64::from(context.limits.max_storage_buffer_binding_size);
+    if bytes > limit {
+        return Err(GpuError::OverLimit { what: what.into(), needed: bytes, limit });
+    }
+    Ok(())
+}
+
+/// Copies the first `count` elements of `buffer` back to the CPU, waiting for the GPU.
+///
+/// # Errors
+/// [`GpuError::Wait`] if mapping fails, [`GpuError::DeviceLost`].
+pub fn read_back<T: Pod>(context: &GpuContext, buffer: &wgpu::Buffer, count: usize) -> Result<Vec<T>, GpuError> {
+    let bytes = (count * size_of::<T>()) as u64;
+    if bytes == 0 {
+        return Ok(Vec::new());
+    }
+    let staging = context.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("read back"),
+        size: bytes.next_multiple_of(4),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, bytes.next_multiple_of(4));
+    context.queue.submit([encoder.finish()]);
+    let slice = staging.slice(..);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |result| {
+        let _ = sender.send(result);
+    });
+    context.wait()?;
+    receiver.recv().map_err(|e| GpuError::Wait(e.to_string()))?.map_err(|e| GpuError::Wait(e.to_string()))?;
+    let data = slice.get_mapped_range().map_err(|e| GpuError::Wait(e.to_string()))?;
+    let values = bytemuck::cast_slice::<u8, T>(&data[..bytes as usize]).to_vec();
+    drop(data);
+    staging.unmap();
+    Ok(values)
+}

@@ -1,0 +1,15 @@
+//! The GPU path: a wgpu device, one compute pipeline per WGSL kernel in `shaders/`, and the
+//! buffers they share. Every kernel has a CPU twin in [`crate::cpu`] with the same stem.
+
+mod backend;
+pub mod buffers;
+mod context;
+mod error;
+mod kernel;
+mod shaders;
+
+pub use backend::{Backend, shared_context};
+pub use context::GpuContext;
+pub use error::GpuError;
+pub use kernel::{Binding, Kernel, SHARED_WGSL};
+pub use shaders::{SHADERS, shader_source};
