@@ -48,7 +48,7 @@ pub fn uniform<T: Pod>(context: &GpuContext, label: &str, value: &T) -> wgpu::Bu
 /// # Errors
 /// [`GpuError::OverLimit`].
 pub fn check_binding_size(context: &GpuContext, what: &str, bytes: u64) -> Result<(), GpuError> {
-    let limit = u64::from(context.limits.max_storage_buffer_binding_size);
+    let limit = context.limits.max_storage_buffer_binding_size;
     if bytes > limit {
         return Err(GpuError::OverLimit { what: what.into(), needed: bytes, limit });
     }
