@@ -4,9 +4,16 @@
 mod backend;
 pub mod buffers;
 mod context;
+pub mod displace;
+pub mod envelope_cols;
+pub mod envelope_rows;
 mod error;
+pub mod glance;
+pub mod heat;
 mod kernel;
+pub mod normals;
 mod shaders;
+pub mod zbuffer;
 
 pub use backend::{Backend, shared_context};
 pub use context::GpuContext;

@@ -1,9 +1,23 @@
 //! The WGSL sources, embedded at compile time.
 
-/// Every kernel's stem and WGSL source (without the shared declarations).
-pub const SHADERS: &[(&str, &str)] = &[];
+/// Every kernel's stem and WGSL source (without the shared declarations of
+/// `shaders/shared/layout.wgsl`, which [`shader_source`] and the kernel builder prepend).
+pub const SHADERS: &[(&str, &str)] = &[
+    ("zbuffer", include_str!("../../shaders/zbuffer.wgsl")),
+    ("envelope_rows", include_str!("../../shaders/envelope_rows.wgsl")),
+    ("envelope_cols", include_str!("../../shaders/envelope_cols.wgsl")),
+    ("heat", include_str!("../../shaders/heat.wgsl")),
+    ("glance", include_str!("../../shaders/glance.wgsl")),
+    ("displace", include_str!("../../shaders/displace.wgsl")),
+    ("normals", include_str!("../../shaders/normals.wgsl")),
+];
 
 /// The WGSL source of kernel `stem` with the shared declarations prepended, as compiled.
 pub fn shader_source(stem: &str) -> Option<String> {
     SHADERS.iter().find(|(s, _)| *s == stem).map(|(_, body)| format!("{}\n{body}", super::SHARED_WGSL))
+}
+
+/// The WGSL body of kernel `stem` (without the shared declarations).
+pub(crate) fn body(stem: &str) -> &'static str {
+    SHADERS.iter().find(|(s, _)| *s == stem).map_or("", |(_, body)| body)
 }

@@ -1,0 +1,1 @@
+//! GPU twin of `cpu::displace` (being written).

@@ -1,0 +1,1 @@
+//! GPU twin of `cpu::envelope_cols` (being written).

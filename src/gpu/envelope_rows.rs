@@ -1,0 +1,1 @@
+//! GPU twin of `cpu::envelope_rows` (being written).

@@ -1,0 +1,1 @@
+//! GPU twin of `cpu::zbuffer` (being written).
