@@ -2,7 +2,7 @@
 //! Run with `cargo bench --bench kernels`; `dentbend-bench` gives the same numbers as JSON.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use dentbend::cpu::{self, GlanceParams};
+use dentbend::cpu;
 
 #[path = "../tools/dentbend-bench/setup.rs"]
 #[allow(dead_code, reason = "shared with dentbend-bench, which uses every item")]
@@ -20,7 +20,7 @@ fn kernels(c: &mut Criterion) {
     let scenes = scenes();
     let mut group = c.benchmark_group("zbuffer");
     for s in &scenes {
-        let params = s.zbuffer_params();
+        let params = s.plan.zbuffer;
         let mut out = vec![0.0; s.grid().cell_count()];
         group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
             b.iter(|| cpu::zbuffer(&params, s.projectile.positions(), s.projectile.faces(), &mut out))
@@ -32,7 +32,7 @@ fn kernels(c: &mut Criterion) {
     for s in &scenes {
         let mut rows = vec![0.0; s.grid().cell_count()];
         group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
-            b.iter(|| cpu::envelope_rows(&s.envelope_params(), &s.stages.zbuffer, &mut rows))
+            b.iter(|| cpu::envelope_rows(&s.plan.envelope, &s.stages.zbuffer, &mut rows))
         });
     }
     group.finish();
@@ -40,10 +40,10 @@ fn kernels(c: &mut Criterion) {
     let mut group = c.benchmark_group("envelope_cols");
     for s in &scenes {
         let mut rows = vec![0.0; s.grid().cell_count()];
-        cpu::envelope_rows(&s.envelope_params(), &s.stages.zbuffer, &mut rows);
+        cpu::envelope_rows(&s.plan.envelope, &s.stages.zbuffer, &mut rows);
         let mut envelope = vec![0.0; s.grid().cell_count()];
         group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
-            b.iter(|| cpu::envelope_cols(&s.envelope_params(), &rows, &mut envelope))
+            b.iter(|| cpu::envelope_cols(&s.plan.envelope, &rows, &mut envelope))
         });
     }
     group.finish();
@@ -63,22 +63,8 @@ fn kernels(c: &mut Criterion) {
 
     let mut group = c.benchmark_group("glance");
     for s in &scenes {
-        let m = &s.stages.map.grid;
-        let f = &s.stages.frame;
-        let params = GlanceParams {
-            src_res: s.grid().res,
-            src_cell_size: s.grid().cell_size,
-            dst_res: m.res,
-            dst_cell_size: m.cell_size,
-            cos_theta: f.cos_theta,
-            sin_theta: f.sin_theta,
-            widen: 0.0,
-            src_offset: 0,
-            normal: f.normal.to_array(),
-            dst_offset: 0,
-            tangent: f.tangent.to_array(),
-            _pad: 0,
-        };
+        let m = &s.plan.map_grid;
+        let params = s.plan.glance;
         let mut cells = vec![[0.0; 4]; m.cell_count()];
         group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
             b.iter(|| cpu::glance(&params, &s.stages.smoothed, &mut cells))

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::error::invalid;
-use super::{DentError, DentFrame, DentMap, DentParams, Grid, Impact, MAX_RESOLUTION, Resolution, pipeline};
+use super::{DentError, DentFrame, DentMap, DentParams, Grid, Impact, MAX_RESOLUTION, Resolution, plan};
 
 /// Side of an analytic Gaussian map when the resolution is automatic, cells: odd, so a cell
 /// centre sits on the impact point and the map's peak is exactly d.
@@ -44,7 +44,10 @@ impl DentMap {
         let frame = DentFrame::new(impact, params.min_cos);
         let (axis_x, axis_y, axis_z) = frame.zbuffer_axes();
         let grid = Grid { origin: impact.point, axis_x, axis_y, axis_z, cell_size: extent / res as f32, res };
-        Ok(pipeline::glance(heights, &grid, impact.point, &frame, params))
+        let map_grid = plan::map_grid(&grid, impact.point, &frame);
+        let mut cells = vec![[0.0; 4]; map_grid.cell_count()];
+        crate::cpu::glance(&plan::glance_params(&grid, &map_grid, &frame, params.widen), heights, &mut cells);
+        Ok(Self { grid: map_grid, cells, dent_distance: params.dent_distance })
     }
 
     /// Reads a square 8- or 16-bit grayscale PNG (see [`crate::io::read_height_png`]) as a dent
@@ -89,7 +92,7 @@ impl DentMap {
             Resolution::Fixed(n) => n,
             Resolution::Auto { min, max } => GAUSSIAN_AUTO_RES.clamp(min, max),
         };
-        let extent = 2.0 * pipeline::TAIL_SIGMAS * width;
+        let extent = 2.0 * plan::TAIL_SIGMAS * width;
         let heights = gaussian_heights(res, extent, width, params.dent_distance);
         Self::from_heights(&heights, res, extent, impact, params)
     }

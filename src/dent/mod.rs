@@ -9,6 +9,7 @@ mod map;
 mod material;
 mod params;
 mod pipeline;
+mod plan;
 
 pub use apply::{DentReport, dent, dent_pair};
 pub use artist::gaussian_heights;
@@ -19,3 +20,4 @@ pub use map::{DentMap, DisplaceReport};
 pub use material::DentMaterial;
 pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, MIN_COS_FLOOR, Resolution};
 pub use pipeline::{DentStages, dent_map, dent_map_stages};
+pub use plan::{DentPlan, plan_dent};

@@ -1,8 +1,8 @@
 //! The inputs every benchmark shares: the paper's Table 1 scene (the bunny projectile, Figure
 //! 5a far right) on a grid of a given side, and a dense target for `displace`.
 
-use dentbend::cpu::{DisplaceParams, EnvelopeParams, ZbufferParams};
-use dentbend::dent::{DentStages, Grid};
+use dentbend::cpu::DisplaceParams;
+use dentbend::dent::{DentPlan, DentStages, Grid, plan_dent};
 use dentbend::glam::{Affine3A, Vec3};
 use dentbend::{DentMap, DentParams, Impact, Resolution, TriMesh, dent_map, dent_map_stages, mesh};
 
@@ -15,7 +15,11 @@ pub const SIGMA: f32 = 0.5;
 /// One grid side's worth of kernel inputs.
 pub struct Scene {
     pub projectile: TriMesh,
+    pub impact: Impact,
     pub params: DentParams,
+    /// Frame, grids and each kernel's parameter block.
+    pub plan: DentPlan,
+    /// Every stage's output, the inputs of the next kernel.
     pub stages: DentStages,
 }
 
@@ -27,26 +31,14 @@ impl Scene {
         let impact = Impact { point: tip, normal: Vec3::Y, relative_velocity: Vec3::Y };
         let params =
             DentParams { sigma: Some(SIGMA), resolution: Resolution::Fixed(res), ..DentParams::new(DENT_DISTANCE) };
+        let plan = plan_dent(&projectile, &impact, &params, None).map_err(|e| e.to_string())?;
         let stages = dent_map_stages(&projectile, &impact, &params, None).map_err(|e| e.to_string())?;
-        Ok(Self { projectile, params, stages })
+        Ok(Self { projectile, impact, params, plan, stages })
     }
 
+    /// The Z-buffer grid.
     pub fn grid(&self) -> &Grid {
-        &self.stages.zbuffer_grid
-    }
-
-    pub fn zbuffer_params(&self) -> ZbufferParams {
-        ZbufferParams {
-            grid: self.grid().uniform(),
-            dent_distance: self.params.dent_distance,
-            face_count: self.projectile.face_count() as u32,
-            face_offset: 0,
-            cell_offset: 0,
-        }
-    }
-
-    pub fn envelope_params(&self) -> EnvelopeParams {
-        EnvelopeParams::new(self.grid().res, self.stages.sigma / self.grid().cell_size)
+        &self.plan.zbuffer_grid
     }
 }
 

@@ -36,7 +36,7 @@ pub fn run(resolutions: &[u32], brute_max: u32, min_time: Duration) -> Result<Ve
 fn row(res: u32, brute_max: u32, min_time: Duration) -> Result<Row, String> {
     let scene = Scene::table1(res)?;
     let cells = (res as usize).pow(2);
-    let (zparams, eparams) = (scene.zbuffer_params(), scene.envelope_params());
+    let (zparams, eparams) = (scene.plan.zbuffer, scene.plan.envelope);
     let profile = scene.stages.zbuffer.clone();
 
     let mut out = vec![0.0f32; cells];
