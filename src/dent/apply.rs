@@ -80,7 +80,7 @@ pub fn dent_pair(
     Ok((report_a, report_b))
 }
 
-fn report(stages: &super::DentStages, displaced: super::DisplaceReport) -> DentReport {
+pub(crate) fn report(stages: &super::DentStages, displaced: super::DisplaceReport) -> DentReport {
     DentReport {
         moved_vertices: displaced.moved_vertices,
         max_displacement: displaced.max_displacement,

@@ -34,8 +34,8 @@ pub struct DisplaceReport {
 
 /// New positions computed for a mesh, not yet written into it.
 pub(crate) struct PendingDisplacement {
-    positions: Vec<Vec3>,
-    moved: Vec<bool>,
+    pub(crate) positions: Vec<Vec3>,
+    pub(crate) moved: Vec<bool>,
     pub(crate) report: DisplaceReport,
 }
 
@@ -87,18 +87,26 @@ impl DentMap {
         target: &TriMesh,
         attenuation: &Attenuation,
     ) -> Result<PendingDisplacement, DentError> {
+        self.displaced_positions(target.positions(), attenuation)
+    }
+
+    /// Computes the displaced copy of `before` (a target's vertex positions) without writing it.
+    pub(crate) fn displaced_positions(
+        &self,
+        before: &[Vec3],
+        attenuation: &Attenuation,
+    ) -> Result<PendingDisplacement, DentError> {
         self.validate()?;
         let d = self.dent_distance;
         attenuation.validate(d)?;
-        let (params, table) = self.displace_params(attenuation, target.vertex_count());
-        let mut positions = target.positions().to_vec();
+        let (params, table) = self.displace_params(attenuation, before.len());
+        let mut positions = before.to_vec();
         let mut moved = vec![false; positions.len()];
         cpu::displace(&params, &self.cells, &table, &mut positions, &mut moved);
         if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
             return Err(DentError::NonFiniteResult { index });
         }
-        let max_displacement =
-            positions.iter().zip(target.positions()).map(|(new, old)| new.distance(*old)).fold(0.0, f32::max);
+        let max_displacement = positions.iter().zip(before).map(|(new, old)| new.distance(*old)).fold(0.0, f32::max);
         let mut warnings = Vec::new();
         let steepness = attenuation.max_steepness(d);
         if steepness > 1.0 + 1e-3 {

@@ -2,6 +2,7 @@
 
 mod apply;
 mod artist;
+mod batch;
 mod error;
 mod grid;
 mod impact;
@@ -13,6 +14,7 @@ mod plan;
 
 pub use apply::{DentReport, dent, dent_pair};
 pub use artist::gaussian_heights;
+pub use batch::{BatchError, DentJob, dent_batch};
 pub use error::DentError;
 pub use grid::{DentFrame, Grid};
 pub use impact::Impact;
