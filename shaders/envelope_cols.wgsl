@@ -109,17 +109,21 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 
     // Sweep 2: advance to the parabola whose interval holds x, i.e. while the next breakpoint
     // (v_k + v_{k+1} + b_{k+1})/2 lies left of x.
+    // `cur` is entry k, `next` entry k + 1 while k < m (the CPU's sentinel: never passed).
     var k = 1u;
     var cur = hull[hull_slot(p, line, 1u)];
+    var next = cur;
+    if m > 1u {
+        next = hull[hull_slot(p, line, 2u)];
+    }
     for (var x = 0u; x < n; x++) {
         let xf = f32(x);
-        while k < m {
-            let next = hull[hull_slot(p, line, k + 1u)];
-            if !(next.b < 2.0 * xf - (cur.v + next.v)) {
-                break;
-            }
+        while k < m && next.b < 2.0 * xf - (cur.v + next.v) {
             k += 1u;
             cur = next;
+            if k < m {
+                next = hull[hull_slot(p, line, k + 1u)];
+            }
         }
         let d = xf - cur.v;
         // One exp per output cell.

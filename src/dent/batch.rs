@@ -31,6 +31,9 @@ pub struct BatchError {
     pub error: DentError,
 }
 
+/// One target's new positions and the report of each of its jobs (job index, report).
+type AppliedTarget = (usize, PendingDisplacement, Vec<(usize, super::DisplaceReport)>);
+
 /// Dents `targets` by every job: dent maps are built in parallel from the undented meshes, then
 /// each target's dents are applied in submission order (a later dent moves the vertices an
 /// earlier one moved). Reports come back in job order.
@@ -52,7 +55,7 @@ pub fn dent_batch(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Result<Vec<D
         .collect::<Result<_, _>>()?;
 
     // Each target's jobs in submission order, targets in parallel.
-    let applied: Vec<(usize, PendingDisplacement, Vec<(usize, super::DisplaceReport)>)> = (0..targets.len())
+    let applied: Vec<AppliedTarget> = (0..targets.len())
         .into_par_iter()
         .filter_map(|t| {
             let mine: Vec<usize> = (0..jobs.len()).filter(|&j| jobs[j].target == t).collect();

@@ -16,6 +16,7 @@ pub use apply::{DentReport, dent, dent_pair};
 pub use artist::gaussian_heights;
 pub use batch::{BatchError, DentJob, dent_batch};
 pub use error::DentError;
+pub(crate) use error::invalid;
 pub use grid::{DentFrame, Grid};
 pub use impact::Impact;
 pub use map::{DentMap, DisplaceReport};

@@ -4,6 +4,7 @@
 mod backend;
 pub mod buffers;
 mod context;
+mod denter;
 pub mod displace;
 pub mod envelope_cols;
 pub mod envelope_rows;
@@ -17,6 +18,7 @@ pub mod zbuffer;
 
 pub use backend::{Backend, shared_context};
 pub use context::GpuContext;
+pub use denter::{GpuBatchError, GpuDentInfo, GpuDenter, GpuStages};
 pub use error::GpuError;
 pub use kernel::{Binding, Kernel, SHARED_WGSL};
 pub use shaders::{SHADERS, shader_source};

@@ -1,0 +1,494 @@
+//! Many dents per frame on the GPU: `GpuDenter` keeps target meshes resident and runs each
+//! kernel once per batch (paper Algorithm 1 for every impact of a time step at once).
+
+use std::collections::HashMap;
+use std::ops::Range;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::displace::Displace;
+use super::envelope_cols::EnvelopeCols;
+use super::envelope_rows::{EnvelopeBuffers, EnvelopeRows, scratch_bytes};
+use super::glance::{GlanceBuffers, GlanceKernel};
+use super::heat::{HeatBatch, HeatBuffers, HeatDent, HeatKernel};
+use super::normals::{Normals, NormalsParams, adjacency};
+use super::zbuffer::{Zbuffer, ZbufferBuffers, work_words};
+use super::{GpuContext, GpuError, buffers};
+use crate::cpu::{DisplaceParams, EnvelopeParams, GlanceParams, HeatParams, ZbufferParams, falloff_table};
+use crate::dent::{BatchError, DentJob, DentPlan, plan_dent};
+use crate::mesh::TriMesh;
+
+/// Bytes per grid cell across the map-building buffers of a chunk (profile 4, rows 4, envelope
+/// 4, hull scratch 12, heat scratch 4): a chunk's largest binding is the 12-byte scratch.
+const SCRATCH_BYTES_PER_CELL: u64 = 12;
+/// Bytes per dent-map cell (`vec4<f32>`).
+const MAP_BYTES_PER_CELL: u64 = 16;
+
+/// Why a GPU batch failed; no target changed.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuBatchError {
+    /// One dent's input was invalid (reported by job index, as [`crate::dent::dent_batch`] does).
+    #[error(transparent)]
+    Job(#[from] BatchError),
+    /// The GPU failed.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
+
+/// What one dent of a GPU batch was planned as (vertex counts need a read-back, so they are
+/// not reported).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GpuDentInfo {
+    /// θ after clamping, degrees.
+    pub theta_deg: f32,
+    /// Z-buffer grid side, cells.
+    pub resolution: u32,
+    /// Dent-map grid side, cells.
+    pub map_resolution: u32,
+    /// Z-buffer cell side, world units.
+    pub cell_size: f32,
+}
+
+/// Every stage of one dent map as the GPU computed it (what `dent_map_stages` returns on the
+/// CPU), read back for inspection and tests.
+#[derive(Debug, Clone)]
+pub struct GpuStages {
+    /// The host-side plan (frame, grids, parameter blocks).
+    pub plan: DentPlan,
+    /// Profile P, `res²`, row-major.
+    pub zbuffer: Vec<f32>,
+    /// Exact Gaussian envelope.
+    pub envelope: Vec<f32>,
+    /// After heat smoothing.
+    pub smoothed: Vec<f32>,
+    /// Dent-map cells `[Δx, Δy, Δz, height]`.
+    pub map: Vec<[f32; 4]>,
+}
+
+/// Where a target lives in the resident buffers.
+#[derive(Debug, Clone)]
+struct Resident {
+    vertices: Range<u32>,
+    face_offset: u32,
+    adjacency_offset: u32,
+    mean_edge: f32,
+    faces: Vec<[u32; 3]>,
+}
+
+/// The compiled kernels.
+struct Kernels {
+    zbuffer: Zbuffer,
+    rows: EnvelopeRows,
+    cols: EnvelopeCols,
+    heat: HeatKernel,
+    glance: GlanceKernel,
+    displace: Displace,
+    normals: Normals,
+}
+
+/// Dents target meshes that stay on the GPU.
+///
+/// Targets are uploaded once ([`new`](Self::new)); [`dent_batch`](Self::dent_batch) runs each
+/// kernel once per batch (per memory-sized chunk of it) over every dent, and several dents on
+/// the same target apply in submission order. The deformed vertices stay in
+/// [`vertex_buffer`](Self::vertex_buffer) (`vec4<f32>` per vertex, `w` = moved in the last
+/// batch) for a renderer to bind; [`read_positions`](Self::read_positions) copies them back.
+pub struct GpuDenter<'c> {
+    context: &'c GpuContext,
+    kernels: Kernels,
+    targets: Vec<Resident>,
+    positions: wgpu::Buffer,
+    normals: wgpu::Buffer,
+    faces: wgpu::Buffer,
+    adjacency: wgpu::Buffer,
+}
+
+impl<'c> GpuDenter<'c> {
+    /// Compiles the kernels and uploads `targets` (positions, triangles, vertex→face adjacency).
+    ///
+    /// # Errors
+    /// Kernel compilation errors, or [`GpuError::OverLimit`] when the targets do not fit one
+    /// storage binding.
+    pub fn new(context: &'c GpuContext, targets: &[TriMesh]) -> Result<Self, GpuError> {
+        let kernels = Kernels {
+            zbuffer: Zbuffer::new(context)?,
+            rows: EnvelopeRows::new(context)?,
+            cols: EnvelopeCols::new(context)?,
+            heat: HeatKernel::new(context)?,
+            glance: GlanceKernel::new(context)?,
+            displace: Displace::new(context)?,
+            normals: Normals::new(context)?,
+        };
+        let (mut positions, mut normals, mut faces, mut adjacent) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut resident = Vec::with_capacity(targets.len());
+        for mesh in targets {
+            let first = positions.len() as u32;
+            positions.extend(mesh.positions().iter().map(|p| p.extend(0.0).to_array()));
+            normals.extend(mesh.normals().iter().map(|n| n.extend(0.0).to_array()));
+            resident.push(Resident {
+                vertices: first..positions.len() as u32,
+                face_offset: faces.len() as u32,
+                adjacency_offset: adjacent.len() as u32,
+                mean_edge: mesh.mean_edge_length(),
+                faces: mesh.faces().to_vec(),
+            });
+            faces.extend_from_slice(mesh.faces());
+            adjacent.extend(adjacency(mesh.vertex_count(), mesh.faces()));
+        }
+        buffers::check_binding_size(context, "resident vertices", (positions.len() * 16) as u64)?;
+        buffers::check_binding_size(context, "resident adjacency", (adjacent.len() * 4) as u64)?;
+        Ok(Self {
+            positions: buffers::storage(context, "resident positions", &positions),
+            normals: buffers::storage(context, "resident normals", &normals),
+            faces: buffers::storage(context, "resident faces", &faces),
+            adjacency: buffers::storage(context, "resident adjacency", &adjacent),
+            context,
+            kernels,
+            targets: resident,
+        })
+    }
+
+    /// The deformed vertices of every target, `vec4<f32>` each (xyz world units, w = 1 when the
+    /// vertex moved in the last batch); target `t` occupies [`vertex_range`](Self::vertex_range).
+    pub fn vertex_buffer(&self) -> &wgpu::Buffer {
+        &self.positions
+    }
+
+    /// Unit vertex normals, laid out like [`vertex_buffer`](Self::vertex_buffer).
+    pub fn normal_buffer(&self) -> &wgpu::Buffer {
+        &self.normals
+    }
+
+    /// Byte range of target `target`'s vertices in the vertex and normal buffers.
+    ///
+    /// # Panics
+    /// If `target` is not a target index.
+    pub fn vertex_range(&self, target: usize) -> Range<u64> {
+        let v = &self.targets[target].vertices;
+        u64::from(v.start) * 16..u64::from(v.end) * 16
+    }
+
+    /// Number of resident targets.
+    pub fn target_count(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// Reads target `target`'s current vertex positions back (world units).
+    ///
+    /// # Errors
+    /// [`GpuError::OverLimit`] for an unknown target; GPU errors.
+    pub fn read_positions(&self, target: usize) -> Result<Vec<Vec3>, GpuError> {
+        let Some(resident) = self.targets.get(target) else {
+            return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
+        };
+        let all: Vec<[f32; 4]> = buffers::read_back(self.context, &self.positions, resident.vertices.end as usize)?;
+        Ok(all[resident.vertices.start as usize..].iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
+    }
+
+    /// Target `target` as it is now, as a mesh (normals recomputed on the CPU).
+    ///
+    /// # Errors
+    /// As [`read_positions`](Self::read_positions).
+    pub fn read_mesh(&self, target: usize) -> Result<TriMesh, GpuError> {
+        let positions = self.read_positions(target)?;
+        TriMesh::new(positions, self.targets[target].faces.clone())
+            .map_err(|e| GpuError::Validation { label: "read back mesh".into(), message: e.to_string() })
+    }
+
+    /// Dents the resident targets by every job (`job.target` indexes the targets given to
+    /// [`new`](Self::new)): plans on the CPU (all cores), then every kernel once per chunk of the
+    /// batch, chunks sized to the device's binding limit. Dents on the same target apply in
+    /// submission order.
+    ///
+    /// # Errors
+    /// [`GpuBatchError::Job`] naming the first invalid dent (nothing is submitted then);
+    /// [`GpuBatchError::Gpu`] for device errors.
+    pub fn dent_batch(&mut self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
+        let plans = self.plan(jobs)?;
+        let mut encoder = self.context.device.create_command_encoder(&Default::default());
+        self.kernels.displace.encode_clear_moved(self.context, &mut encoder, &self.positions)?;
+        self.context.queue.submit([encoder.finish()]);
+        for chunk in chunks(&plans) {
+            let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
+            let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
+            let mut encoder = self.context.device.create_command_encoder(&Default::default());
+            let maps = self.encode_maps(&mut encoder, &chunk_jobs, &chunk_plans)?;
+            self.encode_displace(&mut encoder, &chunk_jobs, &chunk_plans, &maps)?;
+            self.context.queue.submit([encoder.finish()]);
+        }
+        let touched: Vec<NormalsParams> = (0..self.targets.len())
+            .filter(|t| jobs.iter().any(|j| j.target == *t))
+            .map(|t| self.normals_params(t))
+            .collect();
+        let mut encoder = self.context.device.create_command_encoder(&Default::default());
+        self.kernels.normals.encode(
+            self.context,
+            &mut encoder,
+            &touched,
+            &self.positions,
+            &self.faces,
+            &self.adjacency,
+            &self.normals,
+        )?;
+        self.context.queue.submit([encoder.finish()]);
+        self.context.check_alive()?;
+        Ok(plans
+            .iter()
+            .map(|p| GpuDentInfo {
+                theta_deg: p.frame.theta_deg(),
+                resolution: p.zbuffer_grid.res,
+                map_resolution: p.map_grid.res,
+                cell_size: p.zbuffer_grid.cell_size,
+            })
+            .collect())
+    }
+
+    /// Builds every job's dent map on the GPU and reads all stages back, without touching the
+    /// targets (the GPU twin of `dent_map_stages`, batched).
+    ///
+    /// # Errors
+    /// As [`dent_batch`](Self::dent_batch).
+    pub fn dent_map_stages(&self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuStages>, GpuBatchError> {
+        let plans = self.plan(jobs)?;
+        let mut out = Vec::with_capacity(jobs.len());
+        for chunk in chunks(&plans) {
+            let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
+            let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
+            let mut encoder = self.context.device.create_command_encoder(&Default::default());
+            let maps = self.encode_maps(&mut encoder, &chunk_jobs, &chunk_plans)?;
+            self.context.queue.submit([encoder.finish()]);
+            let cells = maps.cell_offsets.last().copied().unwrap_or(0) as usize;
+            let profile: Vec<f32> = buffers::read_back(self.context, &maps.work, cells)?;
+            let envelope: Vec<f32> = buffers::read_back(self.context, &maps.envelope, cells)?;
+            let smoothed: Vec<f32> = buffers::read_back(self.context, &maps.smoothed, cells)?;
+            let map_cells = maps.map_offsets.last().copied().unwrap_or(0) as usize;
+            let map: Vec<[f32; 4]> = buffers::read_back(self.context, &maps.map, map_cells)?;
+            for (k, plan) in chunk_plans.iter().enumerate() {
+                let cells = maps.cell_offsets[k] as usize..maps.cell_offsets[k + 1] as usize;
+                let map_range = maps.map_offsets[k] as usize..maps.map_offsets[k + 1] as usize;
+                out.push(GpuStages {
+                    plan: (*plan).clone(),
+                    zbuffer: profile[cells.clone()].to_vec(),
+                    envelope: envelope[cells.clone()].to_vec(),
+                    smoothed: smoothed[cells].to_vec(),
+                    map: map[map_range].to_vec(),
+                });
+            }
+        }
+        Ok(out)
+    }
+
+    /// Validates and plans every job on the CPU (in parallel).
+    fn plan(&self, jobs: &[DentJob<'_>]) -> Result<Vec<DentPlan>, BatchError> {
+        if let Some((job, bad)) = jobs.iter().enumerate().find(|(_, j)| j.target >= self.targets.len()) {
+            let error = crate::dent::invalid("target", bad.target, "must index the denter's targets");
+            return Err(BatchError { job, error });
+        }
+        jobs.par_iter()
+            .enumerate()
+            .map(|(job, j)| {
+                let edge = self.targets[j.target].mean_edge;
+                plan_dent(j.projectile, &j.impact, &j.params, Some(edge)).map_err(|error| BatchError { job, error })
+            })
+            .collect()
+    }
+
+    /// Records zbuffer → envelope → heat → glance for one chunk; returns its buffers.
+    fn encode_maps(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        jobs: &[&DentJob<'_>],
+        plans: &[&DentPlan],
+    ) -> Result<MapBuffers, GpuError> {
+        let context = self.context;
+        let batch = plans.len() as u32;
+        // Projectiles, each uploaded once however many dents share it.
+        let (mut positions, mut faces) = (Vec::<Vec3>::new(), Vec::<[u32; 3]>::new());
+        let mut placed: HashMap<*const TriMesh, u32> = HashMap::new();
+        let face_offsets: Vec<u32> = jobs
+            .iter()
+            .map(|job| {
+                *placed.entry(std::ptr::from_ref(job.projectile)).or_insert_with(|| {
+                    let (base, first) = (positions.len() as u32, faces.len() as u32);
+                    positions.extend_from_slice(job.projectile.positions());
+                    faces.extend(job.projectile.faces().iter().map(|f| f.map(|v| v + base)));
+                    first
+                })
+            })
+            .collect();
+        let mut cell_offsets = vec![0u32];
+        let mut map_offsets = vec![0u32];
+        for plan in plans {
+            cell_offsets.push(cell_offsets.last().unwrap() + plan.zbuffer_grid.res.pow(2));
+            map_offsets.push(map_offsets.last().unwrap() + plan.map_grid.res.pow(2));
+        }
+        let cells = u64::from(*cell_offsets.last().unwrap());
+        let max_res = plans.iter().map(|p| p.zbuffer_grid.res).max().unwrap_or(0);
+        let max_faces = jobs.iter().map(|j| j.projectile.face_count() as u32).max().unwrap_or(0);
+
+        let zparams: Vec<ZbufferParams> = plans
+            .iter()
+            .enumerate()
+            .map(|(k, p)| ZbufferParams { face_offset: face_offsets[k], cell_offset: cell_offsets[k], ..p.zbuffer })
+            .collect();
+        let eparams: Vec<EnvelopeParams> = plans
+            .iter()
+            .enumerate()
+            .map(|(k, p)| EnvelopeParams { cell_offset: cell_offsets[k], ..p.envelope })
+            .collect();
+        let hparams: Vec<HeatParams> = plans
+            .iter()
+            .enumerate()
+            .map(|(k, p)| HeatParams {
+                res: p.zbuffer_grid.res,
+                rate: p.heat_rate,
+                clamped: 0,
+                cell_offset: cell_offsets[k],
+            })
+            .collect();
+        let hdents: Vec<HeatDent> = plans
+            .iter()
+            .map(|p| HeatDent {
+                dent_distance: p.dent_distance,
+                heat_iters: p.heat_iters,
+                clamp_iters: p.clamp_iters,
+                peak_bits: 0,
+            })
+            .collect();
+        let gparams: Vec<GlanceParams> = plans
+            .iter()
+            .enumerate()
+            .map(|(k, p)| GlanceParams { src_offset: cell_offsets[k], dst_offset: map_offsets[k], ..p.glance })
+            .collect();
+
+        let work = buffers::storage_zeroed(context, "zbuffer work", work_words(cells, batch) * 4);
+        let rows = buffers::storage_zeroed(context, "envelope rows", cells * 4);
+        let envelope = buffers::storage_zeroed(context, "envelope", cells * 4);
+        let scratch = buffers::storage_zeroed(context, "envelope scratch", scratch_bytes(cells));
+        let heat_scratch = buffers::storage_zeroed(context, "heat scratch", cells * 4);
+        let map = buffers::storage_zeroed(context, "dent maps", u64::from(*map_offsets.last().unwrap()) * 16);
+
+        self.kernels.zbuffer.encode(
+            context,
+            encoder,
+            &ZbufferBuffers {
+                params: &buffers::storage(context, "zbuffer params", &zparams),
+                positions: &buffers::storage(context, "projectile positions", &positions),
+                faces: &buffers::storage(context, "projectile faces", &faces),
+                work: &work,
+            },
+            batch,
+            max_faces,
+            max_res,
+        )?;
+        let eparams = buffers::storage(context, "envelope params", &eparams);
+        let rows_buffers = EnvelopeBuffers { params: &eparams, input: &work, output: &rows, scratch: &scratch };
+        self.kernels.rows.encode(context, encoder, &rows_buffers, batch, max_res)?;
+        let cols_buffers = EnvelopeBuffers { params: &eparams, input: &rows, output: &envelope, scratch: &scratch };
+        self.kernels.cols.encode(context, encoder, &cols_buffers, batch, max_res)?;
+        // Heat smooths in place: keep the envelope for read-back by smoothing a copy.
+        let smoothed = buffers::storage_zeroed(context, "smoothed", cells * 4);
+        encoder.copy_buffer_to_buffer(&envelope, 0, &smoothed, 0, cells * 4);
+        let heat_batch = HeatBatch {
+            dents: batch,
+            max_cells: max_res * max_res,
+            heat_iters: plans.iter().map(|p| p.heat_iters).max().unwrap_or(0),
+            clamp_iters: plans.iter().map(|p| p.clamp_iters).max().unwrap_or(0),
+        };
+        let heat_buffers = HeatBuffers {
+            params: &buffers::storage(context, "heat params", &hparams),
+            dents: &buffers::storage(context, "heat dents", &hdents),
+            grid: &smoothed,
+            scratch: &heat_scratch,
+        };
+        self.kernels.heat.encode(context, encoder, &heat_buffers, heat_batch)?;
+        let max_map_cells = plans.iter().map(|p| p.map_grid.res.pow(2)).max().unwrap_or(0);
+        let glance_buffers = GlanceBuffers {
+            params: &buffers::storage(context, "glance params", &gparams),
+            heights: &smoothed,
+            dent_map: &map,
+        };
+        self.kernels.glance.encode(context, encoder, &glance_buffers, batch, max_map_cells)?;
+        Ok(MapBuffers { work, envelope, smoothed, map, cell_offsets, map_offsets })
+    }
+
+    /// Records the displacement of every job's target by its map, in submission order.
+    fn encode_displace(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        jobs: &[&DentJob<'_>],
+        plans: &[&DentPlan],
+        maps: &MapBuffers,
+    ) -> Result<(), GpuError> {
+        let mut tables = Vec::<f32>::new();
+        let params: Vec<DisplaceParams> = jobs
+            .iter()
+            .zip(plans)
+            .enumerate()
+            .map(|(k, (job, plan))| {
+                let (falloff, falloff_scale, table) = falloff_table(&job.params.attenuation, plan.dent_distance);
+                let table_offset = tables.len() as u32;
+                tables.extend_from_slice(&table);
+                let vertices = &self.targets[job.target].vertices;
+                DisplaceParams {
+                    grid: plan.map_grid.uniform(),
+                    dent_distance: plan.dent_distance,
+                    falloff,
+                    falloff_scale,
+                    vertex_count: vertices.end - vertices.start,
+                    vertex_offset: vertices.start,
+                    cell_offset: maps.map_offsets[k],
+                    table_offset,
+                    table_len: table.len() as u32,
+                }
+            })
+            .collect();
+        let tables = buffers::storage(self.context, "falloff tables", &tables);
+        self.kernels.displace.encode(self.context, encoder, &params, &maps.map, &tables, &self.positions)
+    }
+
+    fn normals_params(&self, target: usize) -> NormalsParams {
+        let t = &self.targets[target];
+        NormalsParams {
+            vertex_count: t.vertices.end - t.vertices.start,
+            vertex_offset: t.vertices.start,
+            face_offset: t.face_offset,
+            adjacency_offset: t.adjacency_offset,
+            moved_only: 1,
+            _pad: [0; 3],
+        }
+    }
+}
+
+/// The buffers of one chunk's maps and where each dent sits in them (prefix sums, one entry
+/// more than dents).
+struct MapBuffers {
+    work: wgpu::Buffer,
+    envelope: wgpu::Buffer,
+    smoothed: wgpu::Buffer,
+    map: wgpu::Buffer,
+    cell_offsets: Vec<u32>,
+    map_offsets: Vec<u32>,
+}
+
+/// Consecutive job ranges whose buffers fit one 128 MiB storage binding (the downlevel limit).
+fn chunks(plans: &[DentPlan]) -> Vec<Range<usize>> {
+    const LIMIT: u64 = 128 << 20;
+    let mut out = Vec::new();
+    let (mut start, mut cells, mut map_cells) = (0, 0u64, 0u64);
+    for (k, plan) in plans.iter().enumerate() {
+        let (c, m) = (u64::from(plan.zbuffer_grid.res.pow(2)), u64::from(plan.map_grid.res.pow(2)));
+        let over = (cells + c) * SCRATCH_BYTES_PER_CELL > LIMIT || (map_cells + m) * MAP_BYTES_PER_CELL > LIMIT;
+        if over && k > start {
+            out.push(start..k);
+            (start, cells, map_cells) = (k, 0, 0);
+        }
+        cells += c;
+        map_cells += m;
+    }
+    if start < plans.len() {
+        out.push(start..plans.len());
+    }
+    out
+}
