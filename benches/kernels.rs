@@ -21,8 +21,8 @@ fn kernels(c: &mut Criterion) {
     let mut group = c.benchmark_group("zbuffer");
     for s in &scenes {
         let params = s.plan.zbuffer;
-        let mut out = vec![0.0; s.grid().cell_count()];
-        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+        let mut out = vec![0.0; s.plan.zbuffer_grid.cell_count()];
+        group.bench_with_input(BenchmarkId::from_parameter(s.plan.zbuffer_grid.res), s, |b, s| {
             b.iter(|| cpu::zbuffer(&params, s.projectile.positions(), s.projectile.faces(), &mut out))
         });
     }
@@ -30,8 +30,8 @@ fn kernels(c: &mut Criterion) {
 
     let mut group = c.benchmark_group("envelope_rows");
     for s in &scenes {
-        let mut rows = vec![0.0; s.grid().cell_count()];
-        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+        let mut rows = vec![0.0; s.plan.zbuffer_grid.cell_count()];
+        group.bench_with_input(BenchmarkId::from_parameter(s.plan.zbuffer_grid.res), s, |b, s| {
             b.iter(|| cpu::envelope_rows(&s.plan.envelope, &s.stages.zbuffer, &mut rows))
         });
     }
@@ -39,10 +39,10 @@ fn kernels(c: &mut Criterion) {
 
     let mut group = c.benchmark_group("envelope_cols");
     for s in &scenes {
-        let mut rows = vec![0.0; s.grid().cell_count()];
+        let mut rows = vec![0.0; s.plan.zbuffer_grid.cell_count()];
         cpu::envelope_rows(&s.plan.envelope, &s.stages.zbuffer, &mut rows);
-        let mut envelope = vec![0.0; s.grid().cell_count()];
-        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+        let mut envelope = vec![0.0; s.plan.zbuffer_grid.cell_count()];
+        group.bench_with_input(BenchmarkId::from_parameter(s.plan.zbuffer_grid.res), s, |b, s| {
             b.iter(|| cpu::envelope_cols(&s.plan.envelope, &rows, &mut envelope))
         });
     }
@@ -52,10 +52,17 @@ fn kernels(c: &mut Criterion) {
     for s in &scenes {
         let p = &s.params;
         let mut values = s.stages.envelope.clone();
-        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+        group.bench_with_input(BenchmarkId::from_parameter(s.plan.zbuffer_grid.res), s, |b, s| {
             b.iter(|| {
                 values.copy_from_slice(&s.stages.envelope);
-                cpu::heat(&mut values, s.grid().res, p.heat_rate, p.heat_iters, p.clamp_iters, p.dent_distance)
+                cpu::heat(
+                    &mut values,
+                    s.plan.zbuffer_grid.res,
+                    p.heat_rate,
+                    p.heat_iters,
+                    p.clamp_iters,
+                    p.dent_distance,
+                )
             })
         });
     }
@@ -66,7 +73,7 @@ fn kernels(c: &mut Criterion) {
         let m = &s.plan.map_grid;
         let params = s.plan.glance;
         let mut cells = vec![[0.0; 4]; m.cell_count()];
-        group.bench_with_input(BenchmarkId::from_parameter(s.grid().res), s, |b, s| {
+        group.bench_with_input(BenchmarkId::from_parameter(s.plan.zbuffer_grid.res), s, |b, s| {
             b.iter(|| cpu::glance(&params, &s.stages.smoothed, &mut cells))
         });
     }

@@ -13,15 +13,17 @@
 //   4 pass_info: HeatPass           uniform     what this dispatch does; the host copies one
 //                                               entry of its pass table here before each dispatch
 //
-// Dispatch geometry: `step`, `reduce_peak`, `rescale`: one invocation per grid cell,
-// x = cell index within the dent (row-major, row · res + col), y = dent index of the batch;
-// workgroups [ceil(max res² / WORKGROUP), batch, 1]. `clear_peak`: one invocation per dent,
-// workgroups [1, batch, 1].
+// Dispatch geometry: `step`: one invocation per grid cell, x = column, y = row, z = dent index
+// of the batch; workgroups [ceil(max res / STEP_WORKGROUP), max res, batch] (no division per
+// cell). `reduce_peak`, `rescale`: one invocation per grid cell, x = cell index within the dent
+// (row-major, row · res + col), y = dent index; workgroups [ceil(max res² / WORKGROUP), batch,
+// 1]. `clear_peak`: one invocation per dent, workgroups [1, batch, 1].
 //
-// Host constants it must match (src/gpu/heat.rs): WORKGROUP = 256, the PHASE_* codes, and the
+// Host constants it must match (src/gpu/heat.rs): WORKGROUP = 256, STEP_WORKGROUP = 64, the PHASE_* codes, and the
 // layouts of HeatDent and HeatPass (16 bytes each, four 4-byte fields in this order).
 
 const WORKGROUP: u32 = 256u;
+const STEP_WORKGROUP: u32 = 64u;
 
 // HeatPass.phase: which steps a `step` dispatch takes.
 // Step `index` of the k₁ plain ones: dents with index < heat_iters step, the others copy.
@@ -116,23 +118,24 @@ fn step_cell(k: u32, row: u32, col: u32, n: u32, alpha: f32, clamped: bool) -> f
     return next;
 }
 
-// One step (or copy) of every cell, current grids → other buffer.
-@compute @workgroup_size(WORKGROUP, 1, 1)
+// One step (or copy) of every cell, current grids → other buffer. Indexed by (col, row, dent)
+// so no invocation divides: x = column, y = row, z = dent.
+@compute @workgroup_size(STEP_WORKGROUP, 1, 1)
 fn step(@builtin(global_invocation_id) id: vec3<u32>) {
-    let p = params[id.y];
+    let p = params[id.z];
     let n = p.res;
-    if id.x >= n * n {
+    if id.x >= n || id.y >= n {
         return;
     }
-    let k = p.cell_offset + id.x;
+    let k = p.cell_offset + id.y * n + id.x;
     var stepping = false;
     var clamped = false;
     switch pass_info.phase {
         case PHASE_PLAIN: {
-            stepping = pass_info.index < dents[id.y].heat_iters;
+            stepping = pass_info.index < dents[id.z].heat_iters;
         }
         case PHASE_CLAMPED: {
-            stepping = pass_info.index < dents[id.y].clamp_iters;
+            stepping = pass_info.index < dents[id.z].clamp_iters;
             clamped = true;
         }
         case PHASE_SINGLE: {
@@ -142,7 +145,7 @@ fn step(@builtin(global_invocation_id) id: vec3<u32>) {
         default: {}
     }
     if stepping {
-        store_next(k, step_cell(k, id.x / n, id.x % n, n, p.rate, clamped));
+        store_next(k, step_cell(k, id.y, id.x, n, p.rate, clamped));
     } else {
         store_next(k, load(k));
     }

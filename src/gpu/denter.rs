@@ -16,7 +16,7 @@ use super::normals::{Normals, NormalsParams, adjacency};
 use super::zbuffer::{Zbuffer, ZbufferBuffers, work_words};
 use super::{GpuContext, GpuError, buffers};
 use crate::cpu::{DisplaceParams, EnvelopeParams, GlanceParams, HeatParams, ZbufferParams, falloff_table};
-use crate::dent::{BatchError, DentJob, DentPlan, plan_dent};
+use crate::dent::{BatchError, DentJob, DentMap, DentPlan, DentStages, plan_dent};
 use crate::mesh::TriMesh;
 
 /// Bytes per grid cell across the map-building buffers of a chunk (profile 4, rows 4, envelope
@@ -34,6 +34,22 @@ pub enum GpuBatchError {
     /// The GPU failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
+}
+
+impl GpuStages {
+    /// The same stages in the CPU pipeline's form.
+    pub fn into_stages(self) -> DentStages {
+        let map = DentMap { grid: self.plan.map_grid, cells: self.map, dent_distance: self.plan.dent_distance };
+        DentStages {
+            zbuffer_grid: self.plan.zbuffer_grid,
+            zbuffer: self.zbuffer,
+            envelope: self.envelope,
+            smoothed: self.smoothed,
+            map,
+            frame: self.plan.frame,
+            sigma: self.plan.sigma,
+        }
+    }
 }
 
 /// What one dent of a GPU batch was planned as (vertex counts need a read-back, so they are
@@ -205,33 +221,53 @@ impl<'c> GpuDenter<'c> {
     /// [`GpuBatchError::Job`] naming the first invalid dent (nothing is submitted then);
     /// [`GpuBatchError::Gpu`] for device errors.
     pub fn dent_batch(&mut self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
+        self.run_batch(jobs, None)
+    }
+
+    /// [`dent_batch`](Self::dent_batch), submitting and waiting after every kernel stage to time
+    /// it (slower than `dent_batch`, which records a chunk's stages into one submission).
+    ///
+    /// # Errors
+    /// As [`dent_batch`](Self::dent_batch).
+    pub fn dent_batch_timed(&mut self, jobs: &[DentJob<'_>]) -> Result<KernelTimes, GpuBatchError> {
+        let mut times = KernelTimes::new();
+        self.run_batch(jobs, Some(&mut times))?;
+        Ok(times)
+    }
+
+    fn run_batch(
+        &mut self,
+        jobs: &[DentJob<'_>],
+        mut timings: Option<&mut KernelTimes>,
+    ) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
         let plans = self.plan(jobs)?;
-        let mut encoder = self.context.device.create_command_encoder(&Default::default());
-        self.kernels.displace.encode_clear_moved(self.context, &mut encoder, &self.positions)?;
-        self.context.queue.submit([encoder.finish()]);
+        let mut clear = Recorder::new(self.context, None);
+        self.kernels.displace.encode_clear_moved(self.context, &mut clear.encoder, &self.positions)?;
+        clear.submit();
         for chunk in chunks(&plans) {
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
-            let mut encoder = self.context.device.create_command_encoder(&Default::default());
-            let maps = self.encode_maps(&mut encoder, &chunk_jobs, &chunk_plans)?;
-            self.encode_displace(&mut encoder, &chunk_jobs, &chunk_plans, &maps)?;
-            self.context.queue.submit([encoder.finish()]);
+            let mut rec = Recorder::new(self.context, timings.as_deref_mut());
+            let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans)?;
+            self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
+            rec.submit();
         }
         let touched: Vec<NormalsParams> = (0..self.targets.len())
             .filter(|t| jobs.iter().any(|j| j.target == *t))
             .map(|t| self.normals_params(t))
             .collect();
-        let mut encoder = self.context.device.create_command_encoder(&Default::default());
+        let mut rec = Recorder::new(self.context, timings);
         self.kernels.normals.encode(
             self.context,
-            &mut encoder,
+            &mut rec.encoder,
             &touched,
             &self.positions,
             &self.faces,
             &self.adjacency,
             &self.normals,
         )?;
-        self.context.queue.submit([encoder.finish()]);
+        rec.stage("normals")?;
+        rec.submit();
         self.context.check_alive()?;
         Ok(plans
             .iter()
@@ -251,13 +287,26 @@ impl<'c> GpuDenter<'c> {
     /// As [`dent_batch`](Self::dent_batch).
     pub fn dent_map_stages(&self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuStages>, GpuBatchError> {
         let plans = self.plan(jobs)?;
+        Ok(self.stages_from_plans(jobs, &plans)?)
+    }
+
+    /// Builds the dent maps of already planned jobs (see [`plan_dent`]) and reads every stage
+    /// back; `jobs[k].target` is not used, so this also serves maps with no resident target.
+    ///
+    /// # Errors
+    /// GPU errors.
+    ///
+    /// # Panics
+    /// If `jobs` and `plans` differ in length.
+    pub fn stages_from_plans(&self, jobs: &[DentJob<'_>], plans: &[DentPlan]) -> Result<Vec<GpuStages>, GpuError> {
+        assert_eq!(jobs.len(), plans.len(), "one plan per job");
         let mut out = Vec::with_capacity(jobs.len());
-        for chunk in chunks(&plans) {
+        for chunk in chunks(plans) {
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
-            let mut encoder = self.context.device.create_command_encoder(&Default::default());
-            let maps = self.encode_maps(&mut encoder, &chunk_jobs, &chunk_plans)?;
-            self.context.queue.submit([encoder.finish()]);
+            let mut rec = Recorder::new(self.context, None);
+            let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans)?;
+            rec.submit();
             let cells = maps.cell_offsets.last().copied().unwrap_or(0) as usize;
             let profile: Vec<f32> = buffers::read_back(self.context, &maps.work, cells)?;
             let envelope: Vec<f32> = buffers::read_back(self.context, &maps.envelope, cells)?;
@@ -297,7 +346,7 @@ impl<'c> GpuDenter<'c> {
     /// Records zbuffer → envelope → heat → glance for one chunk; returns its buffers.
     fn encode_maps(
         &self,
-        encoder: &mut wgpu::CommandEncoder,
+        rec: &mut Recorder<'_>,
         jobs: &[&DentJob<'_>],
         plans: &[&DentPlan],
     ) -> Result<MapBuffers, GpuError> {
@@ -371,7 +420,7 @@ impl<'c> GpuDenter<'c> {
 
         self.kernels.zbuffer.encode(
             context,
-            encoder,
+            &mut rec.encoder,
             &ZbufferBuffers {
                 params: &buffers::storage(context, "zbuffer params", &zparams),
                 positions: &buffers::storage(context, "projectile positions", &positions),
@@ -382,14 +431,17 @@ impl<'c> GpuDenter<'c> {
             max_faces,
             max_res,
         )?;
+        rec.stage("zbuffer")?;
         let eparams = buffers::storage(context, "envelope params", &eparams);
         let rows_buffers = EnvelopeBuffers { params: &eparams, input: &work, output: &rows, scratch: &scratch };
-        self.kernels.rows.encode(context, encoder, &rows_buffers, batch, max_res)?;
+        self.kernels.rows.encode(context, &mut rec.encoder, &rows_buffers, batch, max_res)?;
+        rec.stage("envelope_rows")?;
         let cols_buffers = EnvelopeBuffers { params: &eparams, input: &rows, output: &envelope, scratch: &scratch };
-        self.kernels.cols.encode(context, encoder, &cols_buffers, batch, max_res)?;
+        self.kernels.cols.encode(context, &mut rec.encoder, &cols_buffers, batch, max_res)?;
+        rec.stage("envelope_cols")?;
         // Heat smooths in place: keep the envelope for read-back by smoothing a copy.
         let smoothed = buffers::storage_zeroed(context, "smoothed", cells * 4);
-        encoder.copy_buffer_to_buffer(&envelope, 0, &smoothed, 0, cells * 4);
+        rec.encoder.copy_buffer_to_buffer(&envelope, 0, &smoothed, 0, cells * 4);
         let heat_batch = HeatBatch {
             dents: batch,
             max_cells: max_res * max_res,
@@ -402,21 +454,23 @@ impl<'c> GpuDenter<'c> {
             grid: &smoothed,
             scratch: &heat_scratch,
         };
-        self.kernels.heat.encode(context, encoder, &heat_buffers, heat_batch)?;
+        self.kernels.heat.encode(context, &mut rec.encoder, &heat_buffers, heat_batch)?;
+        rec.stage("heat")?;
         let max_map_cells = plans.iter().map(|p| p.map_grid.res.pow(2)).max().unwrap_or(0);
         let glance_buffers = GlanceBuffers {
             params: &buffers::storage(context, "glance params", &gparams),
             heights: &smoothed,
             dent_map: &map,
         };
-        self.kernels.glance.encode(context, encoder, &glance_buffers, batch, max_map_cells)?;
+        self.kernels.glance.encode(context, &mut rec.encoder, &glance_buffers, batch, max_map_cells)?;
+        rec.stage("glance")?;
         Ok(MapBuffers { work, envelope, smoothed, map, cell_offsets, map_offsets })
     }
 
     /// Records the displacement of every job's target by its map, in submission order.
     fn encode_displace(
         &self,
-        encoder: &mut wgpu::CommandEncoder,
+        rec: &mut Recorder<'_>,
         jobs: &[&DentJob<'_>],
         plans: &[&DentPlan],
         maps: &MapBuffers,
@@ -445,7 +499,8 @@ impl<'c> GpuDenter<'c> {
             })
             .collect();
         let tables = buffers::storage(self.context, "falloff tables", &tables);
-        self.kernels.displace.encode(self.context, encoder, &params, &maps.map, &tables, &self.positions)
+        self.kernels.displace.encode(self.context, &mut rec.encoder, &params, &maps.map, &tables, &self.positions)?;
+        rec.stage("displace")
     }
 
     fn normals_params(&self, target: usize) -> NormalsParams {
@@ -460,6 +515,43 @@ impl<'c> GpuDenter<'c> {
         }
     }
 }
+
+/// A command encoder that, when timing, submits and waits at the end of every stage and records
+/// how long the stage took (submit-and-wait timing, for adapters without timestamp queries).
+struct Recorder<'a> {
+    context: &'a GpuContext,
+    encoder: wgpu::CommandEncoder,
+    timings: Option<&'a mut KernelTimes>,
+    started: std::time::Instant,
+}
+
+impl<'a> Recorder<'a> {
+    fn new(context: &'a GpuContext, timings: Option<&'a mut KernelTimes>) -> Self {
+        let encoder = context.device.create_command_encoder(&Default::default());
+        Self { context, encoder, timings, started: std::time::Instant::now() }
+    }
+
+    /// Ends stage `name`: when timing, submits what was recorded, waits, and adds the time.
+    fn stage(&mut self, name: &'static str) -> Result<(), GpuError> {
+        let Some(timings) = self.timings.as_deref_mut() else { return Ok(()) };
+        let encoder =
+            std::mem::replace(&mut self.encoder, self.context.device.create_command_encoder(&Default::default()));
+        self.context.queue.submit([encoder.finish()]);
+        self.context.wait()?;
+        *timings.entry(name).or_default() += self.started.elapsed().as_secs_f64();
+        self.started = std::time::Instant::now();
+        Ok(())
+    }
+
+    /// Submits whatever is left.
+    fn submit(self) {
+        self.context.queue.submit([self.encoder.finish()]);
+    }
+}
+
+/// Seconds spent in each kernel stage (`zbuffer`, `envelope_rows`, `envelope_cols`, `heat`,
+/// `glance`, `displace`, `normals`), summed over a batch's chunks.
+pub type KernelTimes = std::collections::BTreeMap<&'static str, f64>;
 
 /// The buffers of one chunk's maps and where each dent sits in them (prefix sums, one entry
 /// more than dents).

@@ -18,6 +18,9 @@ use crate::cpu::HeatParams;
 
 /// Invocations per workgroup along x (cells); `WORKGROUP` in `shaders/heat.wgsl`.
 pub const WORKGROUP: u32 = 256;
+/// Invocations per workgroup of the `step` entry point (one grid row segment each); keep in
+/// sync with `STEP_WORKGROUP` in `shaders/heat.wgsl`.
+pub const STEP_WORKGROUP: u32 = 64;
 
 /// `HeatPass.phase` codes of `shaders/heat.wgsl`: plain steps of the k₁ phase.
 const PHASE_PLAIN: u32 = 0;
@@ -318,6 +321,8 @@ impl HeatKernel {
             return Ok(());
         }
         let groups = max_cells.div_ceil(WORKGROUP);
+        // Side of the largest grid: `max_cells` is a square's area.
+        let max_res = (max_cells as f64).sqrt().ceil() as u32;
         let limit = context.limits.max_compute_workgroups_per_dimension;
         for (what, needed) in [("heat workgroups per dent", groups), ("heat batch (dents)", dents)] {
             if needed > limit {
@@ -344,7 +349,11 @@ impl HeatKernel {
             let bind_groups = Entry::ALL.map(|entry| self.kernel(entry).bind(context, &bound));
             for (k, &(entry, _)) in passes.iter().enumerate() {
                 encoder.copy_buffer_to_buffer(&table, k as u64 * pass_size, &pass_info, 0, pass_size);
-                let workgroups = if entry == Entry::ClearPeak { [1, dents, 1] } else { [groups, dents, 1] };
+                let workgroups = match entry {
+                    Entry::ClearPeak => [1, dents, 1],
+                    Entry::Step => [max_res.div_ceil(STEP_WORKGROUP), max_res, dents],
+                    _ => [groups, dents, 1],
+                };
                 self.kernel(entry).dispatch(encoder, &bind_groups[entry as usize], workgroups);
             }
         })

@@ -18,7 +18,7 @@ pub mod zbuffer;
 
 pub use backend::{Backend, shared_context};
 pub use context::GpuContext;
-pub use denter::{GpuBatchError, GpuDentInfo, GpuDenter, GpuStages};
+pub use denter::{GpuBatchError, GpuDentInfo, GpuDenter, GpuStages, KernelTimes};
 pub use error::GpuError;
 pub use kernel::{Binding, Kernel, SHARED_WGSL};
 pub use shaders::{SHADERS, shader_source};

@@ -2,6 +2,7 @@
 //! as JSON. Every kernel runs on one CPU thread.
 
 mod displace;
+mod gpu;
 mod setup;
 mod table1;
 mod timing;
@@ -41,6 +42,22 @@ enum Command {
         #[arg(long, default_value_t = 0.5)]
         min_time: f64,
     },
+    /// Batched dents per second on the GPU next to the CPU twins on all cores, and per-kernel GPU
+    /// times, for grid sides × batch sizes (16 block targets, a small ball, d = 0.1).
+    Gpu {
+        /// Write {"adapter", "rows":[{"res","batch","gpu_dents_per_s","cpu_dents_per_s","kernels_s":{..}}]}.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Grid sides, comma separated.
+        #[arg(long, value_delimiter = ',', default_values_t = [64, 100, 200])]
+        res: Vec<u32>,
+        /// Batch sizes (dents per batch), comma separated.
+        #[arg(long, value_delimiter = ',', default_values_t = [1, 16, 256, 1024])]
+        batch: Vec<usize>,
+        /// Minimum wall time per measurement, seconds.
+        #[arg(long, default_value_t = 0.5)]
+        min_time: f64,
+    },
     /// Apply one dent map to a target of about 100,000 vertices.
     Displace {
         /// Write the report as JSON.
@@ -74,6 +91,20 @@ fn run(cli: Cli) -> Result<(), String> {
             let rows = table1::run(&res, brute_max, seconds(min_time)?)?;
             print!("{}", table1::render(&rows));
             write_json(json, &serde_json::json!({ "rows": rows }))
+        }
+        Command::Gpu { json, res, batch, min_time } => {
+            if let Some(&bad) = res.iter().find(|&&r| !(1..=dentbend::dent::MAX_RESOLUTION).contains(&r)) {
+                return Err(format!("grid side {bad} is outside 1..={}", dentbend::dent::MAX_RESOLUTION));
+            }
+            if batch.contains(&0) {
+                return Err("batch sizes must be at least 1".into());
+            }
+            let context = dentbend::gpu::shared_context().map_err(|e| e.to_string())?;
+            let adapter = context.adapter_name();
+            eprintln!("adapter: {adapter}");
+            let rows = gpu::run(context, &res, &batch, seconds(min_time)?)?;
+            print!("{}", gpu::render(&adapter, &rows));
+            write_json(json, &serde_json::json!({ "adapter": adapter, "rows": rows }))
         }
         Command::Displace { json, cells, min_time } => {
             let cells: [u32; 3] = cells.try_into().map_err(|_| "--cells takes three numbers".to_string())?;

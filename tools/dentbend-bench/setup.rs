@@ -2,7 +2,7 @@
 //! 5a far right) on a grid of a given side, and a dense target for `displace`.
 
 use dentbend::cpu::DisplaceParams;
-use dentbend::dent::{DentPlan, DentStages, Grid, plan_dent};
+use dentbend::dent::{DentPlan, DentStages, plan_dent};
 use dentbend::glam::{Affine3A, Vec3};
 use dentbend::{DentMap, DentParams, Impact, Resolution, TriMesh, dent_map, dent_map_stages, mesh};
 
@@ -15,7 +15,6 @@ pub const SIGMA: f32 = 0.5;
 /// One grid side's worth of kernel inputs.
 pub struct Scene {
     pub projectile: TriMesh,
-    pub impact: Impact,
     pub params: DentParams,
     /// Frame, grids and each kernel's parameter block.
     pub plan: DentPlan,
@@ -33,12 +32,7 @@ impl Scene {
             DentParams { sigma: Some(SIGMA), resolution: Resolution::Fixed(res), ..DentParams::new(DENT_DISTANCE) };
         let plan = plan_dent(&projectile, &impact, &params, None).map_err(|e| e.to_string())?;
         let stages = dent_map_stages(&projectile, &impact, &params, None).map_err(|e| e.to_string())?;
-        Ok(Self { projectile, impact, params, plan, stages })
-    }
-
-    /// The Z-buffer grid.
-    pub fn grid(&self) -> &Grid {
-        &self.plan.zbuffer_grid
+        Ok(Self { projectile, params, plan, stages })
     }
 }
 

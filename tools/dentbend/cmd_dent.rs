@@ -7,6 +7,7 @@ use clap::{Args, ValueEnum};
 use dentbend::glam::Vec3;
 use dentbend::{Attenuation, Impact, MeshError, TriMesh, mesh};
 
+use crate::backend::{BackendOption, gpu_dent};
 use crate::error::{CliError, flag_error};
 use crate::options::{MapOptions, ProjectileOptions, load_mesh, nonzero, sig3};
 use crate::vector::parse_vec3;
@@ -55,6 +56,9 @@ pub struct DentArgs {
     #[command(flatten)]
     pub map: MapOptions,
 
+    #[command(flatten)]
+    pub backend: BackendOption,
+
     /// Falloff of the dent with depth into the target
     #[arg(long, value_enum, default_value_t = Falloff::Logistic)]
     pub falloff: Falloff,
@@ -95,14 +99,21 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
     {
         return Err(CliError::Usage("--projectile-out must differ from --out".into()));
     }
+    let gpu = args.backend.context()?;
     let report = match &args.projectile_out {
         None => {
-            let report = dentbend::dent::dent(&mut target, &projectile, &impact, &params)?;
+            let report = match gpu {
+                Some(context) => gpu_dent(context, &mut target, &mut projectile, &impact, &params, false)?,
+                None => dentbend::dent::dent(&mut target, &projectile, &impact, &params)?,
+            };
             stage(&target, &args.out)?.commit()?;
             report
         }
         Some(path) => {
-            let (report, _) = dentbend::dent::dent_pair(&mut target, &mut projectile, &impact, &params, &params)?;
+            let report = match gpu {
+                Some(context) => gpu_dent(context, &mut target, &mut projectile, &impact, &params, true)?,
+                None => dentbend::dent::dent_pair(&mut target, &mut projectile, &impact, &params, &params)?.0,
+            };
             // Both files are written aside first, and only put in place once both are.
             let staged = [stage(&target, &args.out)?, stage(&projectile, path)?];
             staged.into_iter().try_for_each(Staged::commit)?;

@@ -10,6 +10,7 @@ use dentbend::io::{write_heatmap_png, write_npy_f32};
 use dentbend::{DentParams, Impact, Resolution, TriMesh};
 use serde::Serialize;
 
+use crate::backend::{BackendOption, gpu_stages};
 use crate::error::CliError;
 use crate::options::{MapOptions, ProjectileOptions, nonzero, sig3};
 use crate::vector::parse_vec3;
@@ -41,6 +42,9 @@ pub struct DentmapArgs {
     #[command(flatten)]
     pub map: MapOptions,
 
+    #[command(flatten)]
+    pub backend: BackendOption,
+
     /// Output directory (created if missing)
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
@@ -54,7 +58,10 @@ pub fn run(args: &DentmapArgs) -> Result<String, CliError> {
     probe.validate()?;
     let projectile = args.projectile.load()?;
     let impact = at_tip(&projectile, probe, &params);
-    let stages = dent_map_stages(&projectile, &impact, &params, None)?;
+    let stages = match args.backend.context()? {
+        Some(context) => gpu_stages(context, &projectile, &impact, &params)?,
+        None => dent_map_stages(&projectile, &impact, &params, None)?,
+    };
     write_outputs(&args.out, &stages, &Metadata::new(args, &params, &impact, &stages))?;
     let res = stages.zbuffer_grid.res;
     Ok(format!(

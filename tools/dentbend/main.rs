@@ -2,6 +2,7 @@
 //!
 //! Exit status: 0 on success, 2 on any error (one `error: …` line on stderr).
 
+mod backend;
 mod cmd_demo;
 mod cmd_dent;
 mod cmd_dentmap;

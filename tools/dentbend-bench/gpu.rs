@@ -1,0 +1,131 @@
+//! `dentbend-bench gpu`: batched dents per second on the GPU against the CPU twins on all
+//! cores (rayon), and the time of each GPU kernel stage, for several grid sides and batch sizes.
+
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+use dentbend::dent::{DentJob, dent_batch};
+use dentbend::glam::{Affine3A, Vec3};
+use dentbend::gpu::{GpuContext, GpuDenter};
+use dentbend::{DentParams, Impact, Resolution, TriMesh, mesh};
+use serde::Serialize;
+
+/// Targets the batch's dents are spread over (round robin): built-in `block`s side by side.
+pub const TARGETS: usize = 16;
+
+/// One row; keys are the JSON interface.
+#[derive(Debug, Serialize)]
+pub struct Row {
+    pub res: u32,
+    pub batch: usize,
+    pub gpu_dents_per_s: f64,
+    pub cpu_dents_per_s: f64,
+    /// Seconds per batch of each kernel stage, submit-and-wait each.
+    pub kernels_s: BTreeMap<&'static str, f64>,
+}
+
+/// The scene: `TARGETS` blocks, a 0.3-radius ball dropped on each top face at a spread of
+/// points, d = 0.1, the given fixed grid side.
+struct Scene {
+    targets: Vec<TriMesh>,
+    ball: TriMesh,
+}
+
+impl Scene {
+    fn new() -> Result<Self, String> {
+        let block = mesh::builtin("block").map_err(|e| e.to_string())?;
+        let mut ball = mesh::icosphere(0.3, 3).map_err(|e| e.to_string())?;
+        ball.transform(Affine3A::from_translation(Vec3::new(0.0, 1.0, 0.0))).map_err(|e| e.to_string())?;
+        Ok(Self { targets: vec![block; TARGETS], ball })
+    }
+
+    fn jobs(&self, res: u32, batch: usize) -> Vec<DentJob<'_>> {
+        (0..batch)
+            .map(|k| {
+                let spread = |n: usize| ((n * 7919 % 97) as f32 / 97.0 - 0.5) * 3.0;
+                let point = Vec3::new(spread(k), 0.5, spread(k + 31));
+                DentJob {
+                    target: k % TARGETS,
+                    projectile: &self.ball,
+                    impact: Impact { point, normal: -Vec3::Y, relative_velocity: Vec3::new(0.3, -1.0, 0.0) },
+                    params: DentParams { resolution: Resolution::Fixed(res), ..DentParams::new(0.1) },
+                }
+            })
+            .collect()
+    }
+}
+
+/// Median seconds of `f` over at least 3 runs and `min_time`.
+fn median(min_time: Duration, mut f: impl FnMut() -> Result<(), String>) -> Result<f64, String> {
+    f()?;
+    let mut samples = Vec::new();
+    let start = Instant::now();
+    while samples.len() < 3 || start.elapsed() < min_time {
+        let t = Instant::now();
+        f()?;
+        samples.push(t.elapsed().as_secs_f64());
+    }
+    samples.sort_by(f64::total_cmp);
+    Ok(samples[samples.len() / 2])
+}
+
+/// Measures every (res, batch) pair.
+pub fn run(context: &GpuContext, sides: &[u32], batches: &[usize], min_time: Duration) -> Result<Vec<Row>, String> {
+    let scene = Scene::new()?;
+    let mut denter = GpuDenter::new(context, &scene.targets).map_err(|e| e.to_string())?;
+    let mut rows = Vec::new();
+    for &res in sides {
+        for &batch in batches {
+            let jobs = scene.jobs(res, batch);
+            let gpu_s = median(min_time, || {
+                denter.dent_batch(&jobs).map_err(|e| e.to_string())?;
+                context.wait().map_err(|e| e.to_string())
+            })?;
+            let mut targets = scene.targets.clone();
+            let cpu_s = median(min_time, || {
+                targets.clone_from(&scene.targets);
+                dent_batch(&mut targets, &jobs).map(|_| ()).map_err(|e| e.to_string())
+            })?;
+            let kernels_s = denter.dent_batch_timed(&jobs).map_err(|e| e.to_string())?;
+            let row = Row {
+                res,
+                batch,
+                gpu_dents_per_s: batch as f64 / gpu_s,
+                cpu_dents_per_s: batch as f64 / cpu_s,
+                kernels_s,
+            };
+            eprintln!(
+                "  {res:>4}² × {batch:>5}: GPU {:>9.0} dents/s, CPU ({} threads) {:>9.0} dents/s",
+                row.gpu_dents_per_s,
+                rayon::current_num_threads(),
+                row.cpu_dents_per_s
+            );
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+/// The table as text.
+pub fn render(adapter: &str, rows: &[Row]) -> String {
+    let mut text = format!("adapter: {adapter}; CPU: {} threads\n", rayon::current_num_threads());
+    text += "  res │ batch │ GPU dents/s │ CPU dents/s │ zbuffer  env_rows env_cols heat     glance   displace normals (ms per batch)\n";
+    for r in rows {
+        let k = |name| r.kernels_s.get(name).copied().unwrap_or(0.0) * 1e3;
+        text += &format!(
+            "{:>5} │ {:>5} │ {:>11.0} │ {:>11.0} │ {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2}\n",
+            format!("{}²", r.res),
+            r.batch,
+            r.gpu_dents_per_s,
+            r.cpu_dents_per_s,
+            k("zbuffer"),
+            k("envelope_rows"),
+            k("envelope_cols"),
+            k("heat"),
+            k("glance"),
+            k("displace"),
+            k("normals"),
+        );
+    }
+    text
+}

@@ -1,0 +1,112 @@
+//! `--backend cpu|gpu|auto`: the same dent maps and dented meshes from the GPU kernels.
+
+use clap::{Args, ValueEnum};
+use dentbend::dent::{DentJob, DentStages, plan_dent};
+use dentbend::gpu::{Backend, GpuContext, GpuDenter};
+use dentbend::{DentParams, DentReport, Impact, TriMesh};
+
+use crate::error::CliError;
+
+/// Where the kernels run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BackendChoice {
+    /// The CPU kernels.
+    Cpu,
+    /// The WGSL kernels (an error without a GPU adapter).
+    Gpu,
+    /// The GPU when an adapter exists, else the CPU (one notice).
+    Auto,
+}
+
+/// The `--backend` flag.
+#[derive(Debug, Args)]
+pub struct BackendOption {
+    /// Where the dent kernels run [default: $DENTBEND_BACKEND, else cpu]
+    #[arg(long, value_enum)]
+    pub backend: Option<BackendChoice>,
+}
+
+impl BackendOption {
+    /// The GPU context to use, or `None` for the CPU kernels.
+    pub fn context(&self) -> Result<Option<&'static GpuContext>, CliError> {
+        let backend = match self.backend {
+            Some(BackendChoice::Cpu) => Backend::Cpu,
+            Some(BackendChoice::Gpu) => Backend::Gpu,
+            Some(BackendChoice::Auto) => Backend::Auto,
+            // The command line opts in to the GPU: an adapter's driver may print to stderr.
+            None if std::env::var_os("DENTBEND_BACKEND").is_none() => Backend::Cpu,
+            None => Backend::from_env().map_err(|e| CliError::Usage(e.to_string()))?,
+        };
+        backend.context().map_err(|e| CliError::Usage(e.to_string()))
+    }
+}
+
+/// Every stage of one dent map, computed on the GPU (`target_edge` as for `dent_map_stages`).
+pub fn gpu_stages(
+    context: &GpuContext,
+    projectile: &TriMesh,
+    impact: &Impact,
+    params: &DentParams,
+) -> Result<DentStages, CliError> {
+    let plan = plan_dent(projectile, impact, params, None)?;
+    let denter = GpuDenter::new(context, &[]).map_err(gpu_error)?;
+    let job = DentJob { target: 0, projectile, impact: *impact, params: params.clone() };
+    let stages = denter.stages_from_plans(&[job], &[plan]).map_err(gpu_error)?;
+    Ok(stages.into_iter().next().expect("one job, one result").into_stages())
+}
+
+/// Dents `target` (and, with `mutual`, `projectile` by the undented target: Jacobi) on the GPU.
+pub fn gpu_dent(
+    context: &GpuContext,
+    target: &mut TriMesh,
+    projectile: &mut TriMesh,
+    impact: &Impact,
+    params: &DentParams,
+    mutual: bool,
+) -> Result<DentReport, CliError> {
+    let (original_target, original_projectile) = (target.clone(), projectile.clone());
+    let mut meshes = vec![original_target.clone()];
+    let mut jobs =
+        vec![DentJob { target: 0, projectile: &original_projectile, impact: *impact, params: params.clone() }];
+    if mutual {
+        meshes.push(original_projectile.clone());
+        jobs.push(DentJob {
+            target: 1,
+            projectile: &original_target,
+            impact: impact.reversed(),
+            params: params.clone(),
+        });
+    }
+    let mut denter = GpuDenter::new(context, &meshes).map_err(gpu_error)?;
+    let info = denter.dent_batch(&jobs).map_err(|e| match e {
+        dentbend::gpu::GpuBatchError::Job(job) => CliError::Dent(job.error),
+        dentbend::gpu::GpuBatchError::Gpu(gpu) => gpu_error(gpu),
+    })?;
+    *target = denter.read_mesh(0).map_err(gpu_error)?;
+    if mutual {
+        *projectile = denter.read_mesh(1).map_err(gpu_error)?;
+    }
+    let moves: Vec<f32> =
+        target.positions().iter().zip(original_target.positions()).map(|(a, b)| a.distance(*b)).collect();
+    let mut warnings = Vec::new();
+    let steepness = params.attenuation.max_steepness(params.dent_distance);
+    if steepness > 1.0 + 1e-3 {
+        warnings.push(format!(
+            "falloff is {steepness:.2}× steeper than 1 − z/d: walls thinner than about d can fold inside out (paper Figure 2d)"
+        ));
+    }
+    Ok(DentReport {
+        moved_vertices: moves.iter().filter(|&&m| m > 0.0).count(),
+        max_displacement: moves.iter().copied().fold(0.0, f32::max),
+        theta_deg: info[0].theta_deg,
+        resolution: info[0].resolution,
+        map_resolution: info[0].map_resolution,
+        cell_size: info[0].cell_size,
+        sigma: params.sigma_or_default(),
+        warnings,
+    })
+}
+
+fn gpu_error(error: dentbend::gpu::GpuError) -> CliError {
+    CliError::Usage(format!("GPU: {error}"))
+}
