@@ -39,13 +39,6 @@ const WORKGROUP: u32 = 64u;
 @group(0) @binding(2) var<storage, read> table: array<f32>;
 @group(0) @binding(3) var<storage, read_write> positions: array<vec4<f32>>;
 
-// sample.rs `near_grid`: true when (x, y) is close enough to the grid for `bilinear` to read a
-// non-zero cell (false for NaN too).
-fn near_grid(res: u32, x: f32, y: f32) -> bool {
-    let hi = f32(res);
-    return x > -1.0 && y > -1.0 && x < hi && y < hi;
-}
-
 // One cell of dent `k`'s map, zero outside the grid (sample.rs `bilinear`, closure `at`).
 fn at(k: u32, i: i32, j: i32) -> vec4<f32> {
     let n = i32(params[k].grid.res);
@@ -58,15 +51,10 @@ fn at(k: u32, i: i32, j: i32) -> vec4<f32> {
 // sample.rs `bilinear`: the map at continuous index coordinates (x = column, y = row; integers
 // are cell centres); the caller has checked `near_grid`, so the indices below are in i32 range.
 fn bilinear(k: u32, x: f32, y: f32) -> vec4<f32> {
-    let x0 = floor(x);
-    let y0 = floor(y);
-    let fx = x - x0;
-    let fy = y - y0;
-    let i0 = i32(x0);
-    let j0 = i32(y0);
-    let top = at(k, i0, j0) * (1.0 - fx) + at(k, i0 + 1, j0) * fx;
-    let bottom = at(k, i0, j0 + 1) * (1.0 - fx) + at(k, i0 + 1, j0 + 1) * fx;
-    return top * (1.0 - fy) + bottom * fy;
+    let b = bilinear_at(x, y);
+    let top = at(k, b.i0, b.j0) * (1.0 - b.fx) + at(k, b.i0 + 1, b.j0) * b.fx;
+    let bottom = at(k, b.i0, b.j0 + 1) * (1.0 - b.fx) + at(k, b.i0 + 1, b.j0 + 1) * b.fx;
+    return top * (1.0 - b.fy) + bottom * b.fy;
 }
 
 // displace.rs `attenuation`: a(z) for depth z below the plane and dent distance d.

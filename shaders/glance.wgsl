@@ -25,12 +25,6 @@ const WORKGROUP: u32 = 256u;
 @group(0) @binding(1) var<storage, read> heights: array<f32>;
 @group(0) @binding(2) var<storage, read_write> dent_map: array<vec4<f32>>;
 
-// True when (x, y) is close enough to the grid for `bilinear` to read a non-zero cell.
-fn near_grid(res: u32, x: f32, y: f32) -> bool {
-    let hi = f32(res);
-    return x > -1.0 && y > -1.0 && x < hi && y < hi;
-}
-
 // Cell (column i, row j) of the dent's heights; zero outside the grid.
 fn height_at(p: GlanceParams, i: i32, j: i32) -> f32 {
     let n = i32(p.src_res);
@@ -46,15 +40,10 @@ fn bilinear(p: GlanceParams, x: f32, y: f32) -> f32 {
     if !near_grid(p.src_res, x, y) {
         return 0.0;
     }
-    let x0 = floor(x);
-    let y0 = floor(y);
-    let fx = x - x0;
-    let fy = y - y0;
-    let i0 = i32(x0);
-    let j0 = i32(y0);
-    let top = height_at(p, i0, j0) * (1.0 - fx) + height_at(p, i0 + 1, j0) * fx;
-    let bottom = height_at(p, i0, j0 + 1) * (1.0 - fx) + height_at(p, i0 + 1, j0 + 1) * fx;
-    return top * (1.0 - fy) + bottom * fy;
+    let b = bilinear_at(x, y);
+    let top = height_at(p, b.i0, b.j0) * (1.0 - b.fx) + height_at(p, b.i0 + 1, b.j0) * b.fx;
+    let bottom = height_at(p, b.i0, b.j0 + 1) * (1.0 - b.fx) + height_at(p, b.i0 + 1, b.j0 + 1) * b.fx;
+    return top * (1.0 - b.fy) + bottom * b.fy;
 }
 
 @compute @workgroup_size(WORKGROUP, 1, 1)

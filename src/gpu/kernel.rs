@@ -3,9 +3,11 @@
 
 use super::{GpuContext, GpuError};
 
-/// WGSL declarations shared by every kernel (the parameter structs of `src/cpu/layout.rs`),
-/// prepended to each shader.
-pub const SHARED_WGSL: &str = include_str!("../../shaders/shared/layout.wgsl");
+/// WGSL declarations shared by every kernel, prepended to each shader: the parameter structs of
+/// `src/cpu/layout.rs` (`shaders/shared/layout.wgsl`) and the sampling helpers of
+/// `src/cpu/sample.rs` (`shaders/shared/sample.wgsl`).
+pub const SHARED_WGSL: &str =
+    concat!(include_str!("../../shaders/shared/layout.wgsl"), "\n", include_str!("../../shaders/shared/sample.wgsl"));
 
 /// How a kernel binds one buffer, in `@binding` order of group 0.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
