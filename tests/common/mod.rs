@@ -6,6 +6,7 @@ pub mod geometry;
 pub mod gpu;
 pub mod rng;
 pub mod temp;
+pub mod view;
 
 pub use cli::{dentbend, text};
 pub use geometry::{self_intersections, sphere_at, triangles_cross};
