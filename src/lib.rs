@@ -13,8 +13,13 @@
 //!                                                                                                plane      refreshed
 //! ```
 //!
-//! Every kernel lives in [`cpu`] as a plain function over flat slices, the reference for the
-//! WGSL twins; [`mod@dent`] strings them together for one impact or a pair of dentable bodies.
+//! The host plans each dent first ([`dent::plan_dent`]: frame, grids, kernel parameter blocks).
+//! Every kernel lives in [`cpu`] as a plain function over flat slices and in `shaders/` as a
+//! WGSL compute shader that serves a whole batch of dents per dispatch ([`gpu`]); the CPU twins
+//! are the reference in tests and the fallback without an adapter (`DENTBEND_BACKEND=cpu|gpu|auto`).
+//! [`mod@dent`] strings the CPU kernels together for one impact ([`dent()`]), a pair of dentable
+//! bodies ([`dent_pair`]) or a batch on all cores ([`dent::dent_batch`]); [`gpu::GpuDenter`]
+//! does batches on the GPU with the targets resident there.
 //!
 //! ## Getting started
 //!
