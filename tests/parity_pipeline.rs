@@ -126,6 +126,13 @@ fn a_gpu_batch_dents_targets_like_the_cpu_batch() {
         let tol = 3.0 * (2e-5 * 0.5 + 8.0 * f32::EPSILON * scale);
         let err = gpu.iter().zip(target.positions()).map(|(a, b)| a.distance(*b)).fold(0.0, f32::max);
         assert!(err <= tol, "target {t}: GPU and CPU vertices differ by {err} (allowed {tol})");
+        // Normals refreshed on the GPU around the moved vertices, as `recompute_normals_near`
+        // does on the CPU: unit vectors from sums of a few face normals whose corners agree to
+        // `tol`, so 1e-3 per component covers the positions' difference on the smallest faces.
+        let normals = denter.read_normals(t).unwrap();
+        let worst =
+            normals.iter().zip(target.normals()).map(|(a, b)| (*a - *b).abs().max_element()).fold(0.0, f32::max);
+        assert!(worst <= 1e-3, "target {t}: normals differ by {worst}");
     }
     // The resident buffer holds every target's vertices as vec4.
     let vertices: usize = cpu.iter().map(TriMesh::vertex_count).sum();

@@ -202,6 +202,19 @@ impl<'c> GpuDenter<'c> {
         Ok(all[resident.vertices.start as usize..].iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
     }
 
+    /// Reads target `target`'s current unit vertex normals back (refreshed on the GPU after each
+    /// batch around the vertices it moved).
+    ///
+    /// # Errors
+    /// As [`read_positions`](Self::read_positions).
+    pub fn read_normals(&self, target: usize) -> Result<Vec<Vec3>, GpuError> {
+        let Some(resident) = self.targets.get(target) else {
+            return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
+        };
+        let all: Vec<[f32; 4]> = buffers::read_back(self.context, &self.normals, resident.vertices.end as usize)?;
+        Ok(all[resident.vertices.start as usize..].iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
+    }
+
     /// Target `target` as it is now, as a mesh (normals recomputed on the CPU).
     ///
     /// # Errors
