@@ -597,3 +597,33 @@ fn chunks(plans: &[DentPlan]) -> Vec<Range<usize>> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{DentParams, Impact, Resolution};
+
+    fn plan(res: u32) -> DentPlan {
+        let ball = crate::mesh::icosphere(1.0, 1).unwrap();
+        let impact = Impact::head_on(ball.support_point(glam::Vec3::Y), glam::Vec3::Y);
+        let params = DentParams { resolution: Resolution::Fixed(res), ..DentParams::new(0.2) };
+        plan_dent(&ball, &impact, &params, None).unwrap()
+    }
+
+    /// Batches are cut where the next dent would push a chunk's largest buffer (12 bytes per
+    /// grid cell, 16 per map cell) past the 128 MiB binding limit, keeping submission order.
+    #[test]
+    fn batches_split_at_the_binding_limit() {
+        // Head-on, the map is as large as the grid and its 16 bytes per cell bind first: 52 dents.
+        let per_chunk = (128u64 << 20) / (SCRATCH_BYTES_PER_CELL.max(MAP_BYTES_PER_CELL) * 400 * 400);
+        let plans: Vec<DentPlan> = (0..150).map(|_| plan(400)).collect();
+        let cut = chunks(&plans);
+        assert_eq!(cut.iter().map(|r| r.len() as u64).max().unwrap(), per_chunk);
+        assert_eq!(cut.first().unwrap().start, 0);
+        assert_eq!(cut.last().unwrap().end, 150);
+        assert!(cut.windows(2).all(|w| w[0].end == w[1].start), "chunks are consecutive: {cut:?}");
+        // One dent larger than the limit still gets its own chunk (and the kernels refuse it).
+        assert_eq!(chunks(&[plan(2048)]), vec![0..1]);
+        assert!(chunks(&[]).is_empty());
+    }
+}
