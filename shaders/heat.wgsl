@@ -8,8 +8,10 @@
 // Bindings (group 0), the same for every entry point:
 //   0 params:    array<HeatParams>  read        per dent: res, rate α, clamped, cell_offset
 //   1 dents:     array<HeatDent>    read_write  per dent: d, k₁, k₂, peak slot (atomic f32 bits)
-//   2 grid_a:    array<f32>         read_write  the dents' grids, row-major, each at cell_offset
-//   3 grid_b:    array<f32>         read_write  scratch with the same layout (ping-pong partner)
+//   2 current:   array<f32>         read_write  the grids a pass reads (row-major, at cell_offset)
+//   3 next:      array<f32>         read_write  the grids a step writes, same layout
+//   The host binds the caller's grid and scratch buffers as (current, next) or (next, current)
+//   per pass, following HeatPass.source, so the shader never branches on which buffer is which.
 //   4 pass_info: HeatPass           uniform     what this dispatch does; the host copies one
 //                                               entry of its pass table here before each dispatch
 //
@@ -55,36 +57,25 @@ struct HeatPass {
 
 @group(0) @binding(0) var<storage, read> params: array<HeatParams>;
 @group(0) @binding(1) var<storage, read_write> dents: array<HeatDent>;
-@group(0) @binding(2) var<storage, read_write> grid_a: array<f32>;
-@group(0) @binding(3) var<storage, read_write> grid_b: array<f32>;
+@group(0) @binding(2) var<storage, read_write> current: array<f32>;
+@group(0) @binding(3) var<storage, read_write> next: array<f32>;
 @group(0) @binding(4) var<uniform> pass_info: HeatPass;
 
 var<workgroup> partial_max: array<u32, WORKGROUP>;
 
 // Cell `k` of the current grids.
 fn load(k: u32) -> f32 {
-    if pass_info.source == 0u {
-        return grid_a[k];
-    }
-    return grid_b[k];
+    return current[k];
 }
 
 // Writes cell `k` of the other buffer (the next current grids).
 fn store_next(k: u32, value: f32) {
-    if pass_info.source == 0u {
-        grid_b[k] = value;
-    } else {
-        grid_a[k] = value;
-    }
+    next[k] = value;
 }
 
 // Writes cell `k` of the current grids in place.
 fn store_current(k: u32, value: f32) {
-    if pass_info.source == 0u {
-        grid_a[k] = value;
-    } else {
-        grid_b[k] = value;
-    }
+    current[k] = value;
 }
 
 // One step of `heat_step` for the cell (row, col) at flat index k of a res × res grid.

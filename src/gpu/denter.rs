@@ -228,7 +228,9 @@ impl<'c> GpuDenter<'c> {
     /// Dents the resident targets by every job (`job.target` indexes the targets given to
     /// [`new`](Self::new)): plans on the CPU (all cores), then every kernel once per chunk of the
     /// batch, chunks sized to the device's binding limit. Dents on the same target apply in
-    /// submission order.
+    /// submission order. A dent whose profile vanishes on its grid (σ or d far outside the
+    /// projectile's scale) leaves its target unchanged, where the CPU pipeline reports
+    /// [`DentError::EmptyProfile`](crate::DentError::EmptyProfile): telling would need a read-back.
     ///
     /// # Errors
     /// [`GpuBatchError::Job`] naming the first invalid dent (nothing is submitted then);

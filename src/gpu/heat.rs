@@ -344,17 +344,20 @@ impl HeatKernel {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let bound = [buffers.params, buffers.dents, buffers.grid, buffers.scratch, &pass_info];
-            // One bind group per entry point (each has its own layout), indexed by `Entry`.
-            let bind_groups = Entry::ALL.map(|entry| self.kernel(entry).bind(context, &bound));
-            for (k, &(entry, _)) in passes.iter().enumerate() {
+            // Per entry point (each has its own layout, indexed by `Entry`), one bind group with
+            // the grid as `current` and one with the scratch as `current`, picked by `source`.
+            let a = [buffers.params, buffers.dents, buffers.grid, buffers.scratch, &pass_info];
+            let b = [buffers.params, buffers.dents, buffers.scratch, buffers.grid, &pass_info];
+            let bind_groups = Entry::ALL.map(|entry| [a, b].map(|bound| self.kernel(entry).bind(context, &bound)));
+            for (k, &(entry, pass)) in passes.iter().enumerate() {
                 encoder.copy_buffer_to_buffer(&table, k as u64 * pass_size, &pass_info, 0, pass_size);
                 let workgroups = match entry {
                     Entry::ClearPeak => [1, dents, 1],
                     Entry::Step => [max_res.div_ceil(STEP_WORKGROUP), max_res, dents],
                     _ => [groups, dents, 1],
                 };
-                self.kernel(entry).dispatch(encoder, &bind_groups[entry as usize], workgroups);
+                let bind_group = &bind_groups[entry as usize][(pass.source & 1) as usize];
+                self.kernel(entry).dispatch(encoder, bind_group, workgroups);
             }
         })
     }
