@@ -60,6 +60,21 @@ pub fn check_binding_size(context: &GpuContext, what: &str, bytes: u64) -> Resul
 /// # Errors
 /// [`GpuError::Wait`] if mapping fails, [`GpuError::DeviceLost`].
 pub fn read_back<T: Pod>(context: &GpuContext, buffer: &wgpu::Buffer, count: usize) -> Result<Vec<T>, GpuError> {
+    read_back_range(context, buffer, 0, count)
+}
+
+/// Copies `count` elements of `buffer` starting at element `first` back to the CPU, waiting for
+/// the GPU.
+///
+/// # Errors
+/// As [`read_back`].
+pub fn read_back_range<T: Pod>(
+    context: &GpuContext,
+    buffer: &wgpu::Buffer,
+    first: usize,
+    count: usize,
+) -> Result<Vec<T>, GpuError> {
+    let offset = (first * size_of::<T>()) as u64;
     let bytes = (count * size_of::<T>()) as u64;
     if bytes == 0 {
         return Ok(Vec::new());
@@ -71,7 +86,7 @@ pub fn read_back<T: Pod>(context: &GpuContext, buffer: &wgpu::Buffer, count: usi
         mapped_at_creation: false,
     });
     let mut encoder = context.device.create_command_encoder(&Default::default());
-    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, bytes.next_multiple_of(4));
+    encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, bytes.next_multiple_of(4));
     context.queue.submit([encoder.finish()]);
     let slice = staging.slice(..);
     let (sender, receiver) = std::sync::mpsc::channel();

@@ -5,6 +5,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::GpuError;
 
+/// Longest wait for submitted work before [`GpuContext::wait`] gives up with an error instead of
+/// hanging (a stuck driver or a runaway shader).
+pub const WAIT_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(120);
+
 /// A GPU device ready for compute work.
 ///
 /// Created once (it is cheap to share by reference); the adapter comes from
@@ -83,12 +87,14 @@ impl GpuContext {
         Ok(())
     }
 
-    /// Blocks until all submitted work is done.
+    /// Blocks until all submitted work is done, at most [`WAIT_TIMEOUT`].
     ///
     /// # Errors
-    /// [`GpuError::Wait`] or [`GpuError::DeviceLost`].
+    /// [`GpuError::Wait`] (including a timeout) or [`GpuError::DeviceLost`].
     pub fn wait(&self) -> Result<(), GpuError> {
-        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Wait(e.to_string()))?;
+        self.check_alive()?;
+        let wait = wgpu::PollType::Wait { submission_index: None, timeout: Some(WAIT_TIMEOUT) };
+        self.device.poll(wait).map_err(|e| GpuError::Wait(e.to_string()))?;
         self.check_alive()
     }
 

@@ -153,6 +153,15 @@ impl<'c> GpuDenter<'c> {
             adjacent.extend(adjacency(mesh.vertex_count(), mesh.faces()));
         }
         buffers::check_binding_size(context, "resident vertices", (positions.len() * 16) as u64)?;
+        // The moved-flag clear runs one invocation per resident vertex in a 1-D dispatch.
+        let max_vertices = u64::from(context.limits.max_compute_workgroups_per_dimension) * 64;
+        if positions.len() as u64 > max_vertices {
+            return Err(GpuError::OverLimit {
+                what: "resident vertices of all targets".into(),
+                needed: positions.len() as u64,
+                limit: max_vertices,
+            });
+        }
         buffers::check_binding_size(context, "resident adjacency", (adjacent.len() * 4) as u64)?;
         Ok(Self {
             positions: buffers::storage(context, "resident positions", &positions),
@@ -198,8 +207,9 @@ impl<'c> GpuDenter<'c> {
         let Some(resident) = self.targets.get(target) else {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
-        let all: Vec<[f32; 4]> = buffers::read_back(self.context, &self.positions, resident.vertices.end as usize)?;
-        Ok(all[resident.vertices.start as usize..].iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
+        let (first, count) = (resident.vertices.start as usize, resident.vertices.len());
+        let values: Vec<[f32; 4]> = buffers::read_back_range(self.context, &self.positions, first, count)?;
+        Ok(values.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
     }
 
     /// Reads target `target`'s current unit vertex normals back (refreshed on the GPU after each
@@ -211,8 +221,9 @@ impl<'c> GpuDenter<'c> {
         let Some(resident) = self.targets.get(target) else {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
-        let all: Vec<[f32; 4]> = buffers::read_back(self.context, &self.normals, resident.vertices.end as usize)?;
-        Ok(all[resident.vertices.start as usize..].iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
+        let (first, count) = (resident.vertices.start as usize, resident.vertices.len());
+        let values: Vec<[f32; 4]> = buffers::read_back_range(self.context, &self.normals, first, count)?;
+        Ok(values.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
     }
 
     /// Target `target` as it is now, as a mesh (normals recomputed on the CPU).
@@ -256,34 +267,51 @@ impl<'c> GpuDenter<'c> {
         mut timings: Option<&mut KernelTimes>,
     ) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
         let plans = self.plan(jobs)?;
-        let mut clear = Recorder::new(self.context, None);
-        self.kernels.displace.encode_clear_moved(self.context, &mut clear.encoder, &self.positions)?;
-        clear.submit();
-        for chunk in chunks(&plans) {
-            let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
-            let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
-            let mut rec = Recorder::new(self.context, timings.as_deref_mut());
-            let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans)?;
-            self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
-            rec.submit();
-        }
-        let touched: Vec<NormalsParams> = (0..self.targets.len())
-            .filter(|t| jobs.iter().any(|j| j.target == *t))
-            .map(|t| self.normals_params(t))
-            .collect();
-        let mut rec = Recorder::new(self.context, timings);
-        self.kernels.normals.encode(
-            self.context,
-            &mut rec.encoder,
-            &touched,
-            &self.positions,
-            &self.faces,
-            &self.adjacency,
-            &self.normals,
-        )?;
-        rec.stage("normals")?;
-        rec.submit();
-        self.context.check_alive()?;
+        let context = self.context;
+        let timed = timings.is_some();
+        // Every chunk is encoded (and so checked against the device's limits) before anything is
+        // submitted, so a batch refused for its size leaves every target as it was. Timing
+        // submits stage by stage instead.
+        let encoded = context.scoped("dent batch", || -> Result<(), GpuError> {
+            let mut pending = Vec::new();
+            let mut clear = Recorder::new(context, None);
+            self.kernels.displace.encode_clear_moved(context, &mut clear.encoder, &self.positions)?;
+            pending.push(clear.finish());
+            for chunk in chunks(&plans, jobs, context) {
+                if timed {
+                    context.queue.submit(pending.drain(..));
+                }
+                let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
+                let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
+                let mut rec = Recorder::new(context, timings.as_deref_mut());
+                let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans)?;
+                self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
+                pending.push(rec.finish());
+            }
+            let mut touched = vec![false; self.targets.len()];
+            jobs.iter().for_each(|j| touched[j.target] = true);
+            let normals: Vec<NormalsParams> =
+                (0..self.targets.len()).filter(|&t| touched[t]).map(|t| self.normals_params(t)).collect();
+            if timed {
+                context.queue.submit(pending.drain(..));
+            }
+            let mut rec = Recorder::new(context, timings);
+            self.kernels.normals.encode(
+                context,
+                &mut rec.encoder,
+                &normals,
+                &self.positions,
+                &self.faces,
+                &self.adjacency,
+                &self.normals,
+            )?;
+            rec.stage("normals")?;
+            pending.push(rec.finish());
+            context.queue.submit(pending);
+            Ok(())
+        });
+        encoded??;
+        context.check_alive()?;
         Ok(plans
             .iter()
             .map(|p| GpuDentInfo {
@@ -315,8 +343,14 @@ impl<'c> GpuDenter<'c> {
     /// If `jobs` and `plans` differ in length.
     pub fn stages_from_plans(&self, jobs: &[DentJob<'_>], plans: &[DentPlan]) -> Result<Vec<GpuStages>, GpuError> {
         assert_eq!(jobs.len(), plans.len(), "one plan per job");
+        if let Some(plan) = plans.iter().find(|p| p.zbuffer_grid.res.max(p.map_grid.res) > crate::dent::MAX_RESOLUTION)
+        {
+            let res = plan.zbuffer_grid.res.max(plan.map_grid.res);
+            let limit = crate::dent::MAX_RESOLUTION.into();
+            return Err(GpuError::OverLimit { what: "dent grid side".into(), needed: res.into(), limit });
+        }
         let mut out = Vec::with_capacity(jobs.len());
-        for chunk in chunks(plans) {
+        for chunk in chunks(plans, jobs, self.context) {
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
             let mut rec = Recorder::new(self.context, None);
@@ -394,7 +428,12 @@ impl<'c> GpuDenter<'c> {
         let zparams: Vec<ZbufferParams> = plans
             .iter()
             .enumerate()
-            .map(|(k, p)| ZbufferParams { face_offset: face_offsets[k], cell_offset: cell_offsets[k], ..p.zbuffer })
+            .map(|(k, p)| ZbufferParams {
+                face_count: p.zbuffer.face_count.min(jobs[k].projectile.face_count() as u32),
+                face_offset: face_offsets[k],
+                cell_offset: cell_offsets[k],
+                ..p.zbuffer
+            })
             .collect();
         let eparams: Vec<EnvelopeParams> = plans
             .iter()
@@ -562,6 +601,11 @@ impl<'a> Recorder<'a> {
     fn submit(self) {
         self.context.queue.submit([self.encoder.finish()]);
     }
+
+    /// Finishes what is left into a command buffer, for the caller to submit.
+    fn finish(self) -> wgpu::CommandBuffer {
+        self.encoder.finish()
+    }
 }
 
 /// Seconds spent in each kernel stage (`zbuffer`, `envelope_rows`, `envelope_cols`, `heat`,
@@ -579,20 +623,36 @@ struct MapBuffers {
     map_offsets: Vec<u32>,
 }
 
-/// Consecutive job ranges whose buffers fit one 128 MiB storage binding (the downlevel limit).
-fn chunks(plans: &[DentPlan]) -> Vec<Range<usize>> {
-    const LIMIT: u64 = 128 << 20;
+/// Consecutive job ranges that one set of dispatches can serve: every buffer within the device's
+/// storage binding limit (grid scratch 12 bytes per cell, map 16 bytes per cell, projectile
+/// geometry 24 bytes per vertex and triangle), and at most as many dents as workgroups per
+/// dispatch dimension. A single dent too large on its own still gets a chunk, which its
+/// kernels then refuse with [`GpuError::OverLimit`].
+fn chunks(plans: &[DentPlan], jobs: &[DentJob<'_>], context: &GpuContext) -> Vec<Range<usize>> {
+    let limit = context.limits.max_storage_buffer_binding_size;
+    let max_dents = context.limits.max_compute_workgroups_per_dimension as usize;
     let mut out = Vec::new();
-    let (mut start, mut cells, mut map_cells) = (0, 0u64, 0u64);
+    let (mut start, mut cells, mut map_cells, mut geometry) = (0, 0u64, 0u64, 0u64);
+    let mut seen: std::collections::HashSet<*const TriMesh> = Default::default();
     for (k, plan) in plans.iter().enumerate() {
         let (c, m) = (u64::from(plan.zbuffer_grid.res.pow(2)), u64::from(plan.map_grid.res.pow(2)));
-        let over = (cells + c) * SCRATCH_BYTES_PER_CELL > LIMIT || (map_cells + m) * MAP_BYTES_PER_CELL > LIMIT;
+        let projectile = jobs[k].projectile;
+        let size = 12 * (projectile.vertex_count() + projectile.face_count()) as u64;
+        let g = if seen.contains(&std::ptr::from_ref(projectile)) { 0 } else { size };
+        let over = (cells + c) * SCRATCH_BYTES_PER_CELL > limit
+            || (map_cells + m) * MAP_BYTES_PER_CELL > limit
+            || geometry + g > limit
+            || k - start >= max_dents;
         if over && k > start {
             out.push(start..k);
-            (start, cells, map_cells) = (k, 0, 0);
+            (start, cells, map_cells, geometry) = (k, 0, 0, 0);
+            seen.clear();
         }
         cells += c;
         map_cells += m;
+        if seen.insert(std::ptr::from_ref(projectile)) {
+            geometry += size;
+        }
     }
     if start < plans.len() {
         out.push(start..plans.len());
@@ -616,16 +676,28 @@ mod tests {
     /// grid cell, 16 per map cell) past the 128 MiB binding limit, keeping submission order.
     #[test]
     fn batches_split_at_the_binding_limit() {
+        let Ok(context) = crate::gpu::shared_context() else {
+            eprintln!("skipping: no GPU adapter");
+            return;
+        };
+        let ball = crate::mesh::icosphere(1.0, 1).unwrap();
+        let job = DentJob {
+            target: 0,
+            projectile: &ball,
+            impact: Impact::head_on(glam::Vec3::ZERO, glam::Vec3::Y),
+            params: DentParams::new(0.2),
+        };
+        let jobs = vec![job; 150];
         // Head-on, the map is as large as the grid and its 16 bytes per cell bind first: 52 dents.
         let per_chunk = (128u64 << 20) / (SCRATCH_BYTES_PER_CELL.max(MAP_BYTES_PER_CELL) * 400 * 400);
         let plans: Vec<DentPlan> = (0..150).map(|_| plan(400)).collect();
-        let cut = chunks(&plans);
+        let cut = chunks(&plans, &jobs, context);
         assert_eq!(cut.iter().map(|r| r.len() as u64).max().unwrap(), per_chunk);
         assert_eq!(cut.first().unwrap().start, 0);
         assert_eq!(cut.last().unwrap().end, 150);
         assert!(cut.windows(2).all(|w| w[0].end == w[1].start), "chunks are consecutive: {cut:?}");
         // One dent larger than the limit still gets its own chunk (and the kernels refuse it).
-        assert_eq!(chunks(&[plan(2048)]), vec![0..1]);
-        assert!(chunks(&[]).is_empty());
+        assert_eq!(chunks(&[plan(2048)], &jobs[..1], context), vec![0..1]);
+        assert!(chunks(&[], &[], context).is_empty());
     }
 }

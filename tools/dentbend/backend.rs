@@ -52,7 +52,15 @@ pub fn gpu_stages(
     let denter = GpuDenter::new(context, &[]).map_err(gpu_error)?;
     let job = DentJob { target: 0, projectile, impact: *impact, params: params.clone() };
     let stages = denter.stages_from_plans(&[job], &[plan]).map_err(gpu_error)?;
-    Ok(stages.into_iter().next().expect("one job, one result").into_stages())
+    let stages = stages.into_iter().next().expect("one job, one result").into_stages();
+    // The checks `dent_map_stages` makes on the CPU.
+    if !stages.zbuffer.iter().any(|&p| p > 0.0) || !stages.smoothed.iter().any(|&h| h > 0.0) {
+        return Err(CliError::Dent(dentbend::DentError::EmptyProfile));
+    }
+    if stages.map.cells.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(CliError::Usage("--dent-distance is too large for f32 arithmetic".into()));
+    }
+    Ok(stages)
 }
 
 /// Dents `target` (and, with `mutual`, `projectile` by the undented target: Jacobi) on the GPU.
