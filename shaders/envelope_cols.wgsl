@@ -7,8 +7,8 @@
 // max_k P_k·exp(−c·|x − x_k|²) in the profile's units. CPU twin: src/cpu/envelope_cols.rs, which
 // runs the line routine `lower_envelope` of src/cpu/envelope_rows.rs down each column (gathered
 // in blocks of 16 for the cache; every column is independent, so here one invocation sweeps one
-// column). The line routine is that of envelope_rows.wgsl, repeated (WGSL has no includes): keep
-// the two in step; its differences from the CPU routine are listed there and change no result.
+// column). The line routine is shaders/shared/envelope_line.wgsl, prepended to this file; its
+// differences from the CPU routine are listed there and change no result.
 //
 // Bindings (group 0):
 //   0 params:   array<EnvelopeParams>, read  one per dent: res (cells per side), c = 1/(2σ²)
@@ -24,109 +24,30 @@
 // Host constants it must match (src/gpu/envelope_rows.rs): WORKGROUP = 64 (@workgroup_size),
 // PIECE_BYTES = 12 (size of Piece), and the +∞ of envelope_rows (f32::INFINITY, INF_BITS).
 
-// One parabola of a line's lower envelope, as kept on the hull (CPU: `Piece`).
-struct Piece {
-    // Source cell index along the line, as a float (exact).
-    v: f32,
-    // Its offset f_v (log domain, dimensionless).
-    f: f32,
-    // (f_v − f_u)/(c·(v − u)) against the previous hull entry u, which puts their breakpoint at
-    // (u + v + b)/2, in cells; unused (0) for the first entry.
-    b: f32,
-}
-
-// Bits of f32 +∞; an f32 whose exponent bits are all set is +∞, −∞ or NaN.
-const INF_BITS: u32 = 0x7f800000u;
-
 @group(0) @binding(0) var<storage, read> params: array<EnvelopeParams>;
 @group(0) @binding(1) var<storage, read> rows: array<f32>;
 @group(0) @binding(2) var<storage, read_write> envelope: array<f32>;
 @group(0) @binding(3) var<storage, read_write> hull: array<Piece>;
 
-// Whether x is finite, on its bits (immune to fast-math assumptions about ∞ and NaN).
-fn is_finite(x: f32) -> bool {
-    return (bitcast<u32>(x) & INF_BITS) != INF_BITS;
+// Cell q of column `line`: the rows pass's value; +∞ (or otherwise not finite) is no source.
+fn line_offset(p: EnvelopeParams, line: u32, q: u32) -> f32 {
+    return rows[p.cell_offset + line + q * p.res];
 }
 
-// Scratch index of hull entry k (1-based) of line `line`: entries of neighbouring lines are
-// adjacent, so invocations side by side touch neighbouring words.
-fn hull_slot(p: EnvelopeParams, line: u32, k: u32) -> u32 {
-    return p.cell_offset + (k - 1u) * p.res + line;
+// One exp per output cell.
+fn line_emit(p: EnvelopeParams, line: u32, x: u32, value: f32) {
+    envelope[p.cell_offset + line + x * p.res] = exp(-value);
+}
+
+// No source in this column: exp(−∞) = 0.
+fn line_empty(p: EnvelopeParams, line: u32, x: u32) {
+    envelope[p.cell_offset + line + x * p.res] = 0.0;
 }
 
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = params[id.y];
-    let n = p.res;
-    let line = id.x;
-    if line >= n {
-        return;
-    }
-    let c = p.c;
-    // Cell j of this column is at base + j·n.
-    let base = p.cell_offset + line;
-
-    // Sweep 1: hull entries 1..m−1 then `top` hold, left to right, the parabolas lowest
-    // somewhere on [0, q]; `top` stays in registers. m = 0 until the first source is met.
-    var m = 0u;
-    var top = Piece(0.0, 0.0, 0.0);
-    for (var q = 0u; q < n; q++) {
-        // Entries that are +∞ (or otherwise not finite) are not sources.
-        let fq = rows[base + q * n];
-        if !is_finite(fq) {
-            continue;
-        }
-        let qf = f32(q);
-        if m == 0u {
-            top = Piece(qf, fq, 0.0);
-            m = 1u;
-            continue;
-        }
-        loop {
-            let b = (fq - top.f) * (1.0 / (c * f32(q - u32(top.v))));
-            // Pop `top` when the new parabola undercuts it before it undercuts its left
-            // neighbour u: (top.v + q + b)/2 <= (u + top.v + top.b)/2, integers on the right.
-            // The first parabola (m = 1) is never popped.
-            if m > 1u && b - top.b <= hull[hull_slot(p, line, m - 1u)].v - qf {
-                m -= 1u;
-                top = hull[hull_slot(p, line, m)];
-                continue;
-            }
-            hull[hull_slot(p, line, m)] = top;
-            m += 1u;
-            top = Piece(qf, fq, b);
-            break;
-        }
-    }
-    if m == 0u {
-        // No source in this column: exp(−∞) = 0.
-        for (var x = 0u; x < n; x++) {
-            envelope[base + x * n] = 0.0;
-        }
-        return;
-    }
-    hull[hull_slot(p, line, m)] = top;
-
-    // Sweep 2: advance to the parabola whose interval holds x, i.e. while the next breakpoint
-    // (v_k + v_{k+1} + b_{k+1})/2 lies left of x.
-    // `cur` is entry k, `next` entry k + 1 while k < m (the CPU's sentinel: never passed).
-    var k = 1u;
-    var cur = hull[hull_slot(p, line, 1u)];
-    var next = cur;
-    if m > 1u {
-        next = hull[hull_slot(p, line, 2u)];
-    }
-    for (var x = 0u; x < n; x++) {
-        let xf = f32(x);
-        while k < m && next.b < 2.0 * xf - (cur.v + next.v) {
-            k += 1u;
-            cur = next;
-            if k < m {
-                next = hull[hull_slot(p, line, k + 1u)];
-            }
-        }
-        let d = xf - cur.v;
-        // One exp per output cell.
-        envelope[base + x * n] = exp(-(c * d * d + cur.f));
+    if id.x < p.res {
+        lower_envelope(p, id.x);
     }
 }

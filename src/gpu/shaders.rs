@@ -1,11 +1,27 @@
 //! The WGSL sources, embedded at compile time.
 
-/// Every kernel's stem and WGSL source (without the shared declarations of
-/// `shaders/shared/layout.wgsl`, which [`shader_source`] and the kernel builder prepend).
+/// Every kernel's stem and WGSL source, without the declarations every kernel shares
+/// (`shaders/shared/layout.wgsl` and `sample.wgsl`, which [`shader_source`] and the kernel
+/// builder prepend); the two envelope passes carry their shared line routine
+/// (`shaders/shared/envelope_line.wgsl`).
 pub const SHADERS: &[(&str, &str)] = &[
     ("zbuffer", include_str!("../../shaders/zbuffer.wgsl")),
-    ("envelope_rows", include_str!("../../shaders/envelope_rows.wgsl")),
-    ("envelope_cols", include_str!("../../shaders/envelope_cols.wgsl")),
+    (
+        "envelope_rows",
+        concat!(
+            include_str!("../../shaders/envelope_rows.wgsl"),
+            "\n",
+            include_str!("../../shaders/shared/envelope_line.wgsl")
+        ),
+    ),
+    (
+        "envelope_cols",
+        concat!(
+            include_str!("../../shaders/envelope_cols.wgsl"),
+            "\n",
+            include_str!("../../shaders/shared/envelope_line.wgsl")
+        ),
+    ),
     ("heat", include_str!("../../shaders/heat.wgsl")),
     ("glance", include_str!("../../shaders/glance.wgsl")),
     ("displace", include_str!("../../shaders/displace.wgsl")),
