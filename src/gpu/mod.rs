@@ -17,7 +17,7 @@ mod shaders;
 pub mod zbuffer;
 
 pub use backend::{Backend, shared_context};
-pub use context::GpuContext;
+pub use context::{GpuContext, WAIT_TIMEOUT};
 pub use denter::{GpuBatchError, GpuDentInfo, GpuDenter, GpuStages, KernelTimes};
 pub use error::GpuError;
 pub use kernel::{Binding, Kernel, SHARED_WGSL};
