@@ -134,6 +134,11 @@ fn a_gpu_batch_dents_targets_like_the_cpu_batch() {
             normals.iter().zip(target.normals()).map(|(a, b)| (*a - *b).abs().max_element()).fold(0.0, f32::max);
         assert!(worst <= 1e-3, "target {t}: normals differ by {worst}");
     }
+    // Timing the same batch names every stage with a non-negative time.
+    let times = denter.dent_batch_timed(&jobs).unwrap();
+    let stages = ["displace", "envelope_cols", "envelope_rows", "glance", "heat", "normals", "zbuffer"];
+    assert_eq!(times.keys().copied().collect::<Vec<_>>(), stages);
+    assert!(times.values().all(|t| t.is_finite() && *t >= 0.0), "{times:?}");
     // The resident buffer holds every target's vertices as vec4.
     let vertices: usize = cpu.iter().map(TriMesh::vertex_count).sum();
     assert!(denter.vertex_buffer().size() >= (vertices * 16) as u64);

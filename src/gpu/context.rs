@@ -21,6 +21,9 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Name, backend and driver of the adapter in use.
     pub info: wgpu::AdapterInfo,
+    /// Whether timestamp queries (also between passes) are enabled: requested whenever the
+    /// adapter has them, for per-kernel GPU times.
+    pub timestamps: bool,
     /// The limits the device was created with (downlevel defaults: 4 storage buffers per stage,
     /// 128 MiB per binding, 65,535 workgroups per dimension).
     pub limits: wgpu::Limits,
@@ -49,10 +52,12 @@ impl GpuContext {
             .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
         let limits = wgpu::Limits::downlevel_defaults();
+        let timing = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+        let features = adapter.features() & timing;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("dentbend"),
-                required_features: wgpu::Features::empty(),
+                required_features: features,
                 required_limits: limits.clone(),
                 experimental_features: wgpu::ExperimentalFeatures::disabled(),
                 memory_hints: wgpu::MemoryHints::Performance,
@@ -68,7 +73,7 @@ impl GpuContext {
         });
         device.on_uncaptured_error(Arc::new(|error| log::error!("uncaptured GPU error: {error}")));
         log::info!("dentbend GPU adapter: {} ({:?}, {})", info.name, info.backend, info.driver);
-        Ok(Self { device, queue, info, limits, lost })
+        Ok(Self { device, queue, info, timestamps: features == timing, limits, lost })
     }
 
     /// A short description of the adapter, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan)`.

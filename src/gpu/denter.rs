@@ -251,7 +251,8 @@ impl<'c> GpuDenter<'c> {
     }
 
     /// [`dent_batch`](Self::dent_batch), submitting and waiting after every kernel stage to time
-    /// it (slower than `dent_batch`, which records a chunk's stages into one submission).
+    /// it (slower than `dent_batch`, which records a chunk's stages into one submission): GPU
+    /// time from timestamp queries when [`GpuContext::timestamps`] is set, else wall time.
     ///
     /// # Errors
     /// As [`dent_batch`](Self::dent_batch).
@@ -571,28 +572,58 @@ impl<'c> GpuDenter<'c> {
 }
 
 /// A command encoder that, when timing, submits and waits at the end of every stage and records
-/// how long the stage took (submit-and-wait timing, for adapters without timestamp queries).
+/// how long the stage took: its GPU time from timestamp queries where the device has them,
+/// else the wall time of submit-and-wait.
 struct Recorder<'a> {
     context: &'a GpuContext,
     encoder: wgpu::CommandEncoder,
     timings: Option<&'a mut KernelTimes>,
     started: std::time::Instant,
+    stamps: Option<(wgpu::QuerySet, wgpu::Buffer)>,
 }
 
 impl<'a> Recorder<'a> {
     fn new(context: &'a GpuContext, timings: Option<&'a mut KernelTimes>) -> Self {
-        let encoder = context.device.create_command_encoder(&Default::default());
-        Self { context, encoder, timings, started: std::time::Instant::now() }
+        let mut encoder = context.device.create_command_encoder(&Default::default());
+        let stamps = (timings.is_some() && context.timestamps).then(|| {
+            let set = context.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("stage timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            });
+            let resolved = context.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("stage timestamps"),
+                size: 16,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            encoder.write_timestamp(&set, 0);
+            (set, resolved)
+        });
+        Self { context, encoder, timings, started: std::time::Instant::now(), stamps }
     }
 
     /// Ends stage `name`: when timing, submits what was recorded, waits, and adds the time.
     fn stage(&mut self, name: &'static str) -> Result<(), GpuError> {
         let Some(timings) = self.timings.as_deref_mut() else { return Ok(()) };
+        if let Some((set, resolved)) = &self.stamps {
+            self.encoder.write_timestamp(set, 1);
+            self.encoder.resolve_query_set(set, 0..2, resolved, 0);
+        }
         let encoder =
             std::mem::replace(&mut self.encoder, self.context.device.create_command_encoder(&Default::default()));
         self.context.queue.submit([encoder.finish()]);
         self.context.wait()?;
-        *timings.entry(name).or_default() += self.started.elapsed().as_secs_f64();
+        let seconds = match &self.stamps {
+            Some((set, resolved)) => {
+                let ticks: Vec<u64> = super::buffers::read_back(self.context, resolved, 2)?;
+                self.encoder.write_timestamp(set, 0);
+                let period_ns = f64::from(self.context.queue.get_timestamp_period());
+                ticks[1].saturating_sub(ticks[0]) as f64 * period_ns * 1e-9
+            }
+            None => self.started.elapsed().as_secs_f64(),
+        };
+        *timings.entry(name).or_default() += seconds;
         self.started = std::time::Instant::now();
         Ok(())
     }

@@ -20,7 +20,8 @@ pub struct Row {
     pub batch: usize,
     pub gpu_dents_per_s: f64,
     pub cpu_dents_per_s: f64,
-    /// Seconds per batch of each kernel stage, submit-and-wait each.
+    /// Seconds per batch of each kernel stage (GPU timestamps where the device has them, else
+    /// submit-and-wait wall time).
     pub kernels_s: BTreeMap<&'static str, f64>,
 }
 
@@ -107,8 +108,9 @@ pub fn run(context: &GpuContext, sides: &[u32], batches: &[usize], min_time: Dur
 }
 
 /// The table as text.
-pub fn render(adapter: &str, rows: &[Row]) -> String {
-    let mut text = format!("adapter: {adapter}; CPU: {} threads\n", rayon::current_num_threads());
+pub fn render(adapter: &str, timing: &str, rows: &[Row]) -> String {
+    let mut text =
+        format!("adapter: {adapter}; CPU: {} threads; kernel times: {timing}\n", rayon::current_num_threads());
     text += "  res │ batch │ GPU dents/s │ CPU dents/s │ zbuffer  env_rows env_cols heat     glance   displace normals (ms per batch)\n";
     for r in rows {
         let k = |name| r.kernels_s.get(name).copied().unwrap_or(0.0) * 1e3;

@@ -45,7 +45,7 @@ enum Command {
     /// Batched dents per second on the GPU next to the CPU twins on all cores, and per-kernel GPU
     /// times, for grid sides × batch sizes (16 block targets, a small ball, d = 0.1).
     Gpu {
-        /// Write {"adapter", "rows":[{"res","batch","gpu_dents_per_s","cpu_dents_per_s","kernels_s":{..}}]}.
+        /// Write {"adapter", "kernel_timing", "rows":[{"res","batch","gpu_dents_per_s","cpu_dents_per_s","kernels_s":{..}}]}.
         #[arg(long)]
         json: Option<PathBuf>,
         /// Grid sides, comma separated.
@@ -103,8 +103,9 @@ fn run(cli: Cli) -> Result<(), String> {
             let adapter = context.adapter_name();
             eprintln!("adapter: {adapter}");
             let rows = gpu::run(context, &res, &batch, seconds(min_time)?)?;
-            print!("{}", gpu::render(&adapter, &rows));
-            write_json(json, &serde_json::json!({ "adapter": adapter, "rows": rows }))
+            let timing = if context.timestamps { "timestamp queries" } else { "submit-and-wait" };
+            print!("{}", gpu::render(&adapter, timing, &rows));
+            write_json(json, &serde_json::json!({ "adapter": adapter, "kernel_timing": timing, "rows": rows }))
         }
         Command::Displace { json, cells, min_time } => {
             let cells: [u32; 3] = cells.try_into().map_err(|_| "--cells takes three numbers".to_string())?;
