@@ -285,7 +285,7 @@ impl<'c> GpuDenter<'c> {
                 let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
                 let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
                 let mut rec = Recorder::new(context, timings.as_deref_mut());
-                let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans)?;
+                let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, false)?;
                 self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
                 pending.push(rec.finish());
             }
@@ -355,7 +355,7 @@ impl<'c> GpuDenter<'c> {
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
             let mut rec = Recorder::new(self.context, None);
-            let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans)?;
+            let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, true)?;
             rec.submit();
             let cells = maps.cell_offsets.last().copied().unwrap_or(0) as usize;
             let profile: Vec<f32> = buffers::read_back(self.context, &maps.work, cells)?;
@@ -393,12 +393,15 @@ impl<'c> GpuDenter<'c> {
             .collect()
     }
 
-    /// Records zbuffer → envelope → heat → glance for one chunk; returns its buffers.
+    /// Records zbuffer → envelope → heat → glance for one chunk; returns its buffers. With
+    /// `keep_envelope` the heat steps smooth a copy, so the envelope can be read back; without,
+    /// they smooth it in place (`MapBuffers::envelope` then holds the smoothed heights).
     fn encode_maps(
         &self,
         rec: &mut Recorder<'_>,
         jobs: &[&DentJob<'_>],
         plans: &[&DentPlan],
+        keep_envelope: bool,
     ) -> Result<MapBuffers, GpuError> {
         let context = self.context;
         let batch = plans.len() as u32;
@@ -470,7 +473,6 @@ impl<'c> GpuDenter<'c> {
         let rows = buffers::storage_zeroed(context, "envelope rows", cells * 4);
         let envelope = buffers::storage_zeroed(context, "envelope", cells * 4);
         let scratch = buffers::storage_zeroed(context, "envelope scratch", scratch_bytes(cells));
-        let heat_scratch = buffers::storage_zeroed(context, "heat scratch", cells * 4);
         let map = buffers::storage_zeroed(context, "dent maps", u64::from(*map_offsets.last().unwrap()) * 16);
 
         self.kernels.zbuffer.encode(
@@ -494,9 +496,14 @@ impl<'c> GpuDenter<'c> {
         let cols_buffers = EnvelopeBuffers { params: &eparams, input: &rows, output: &envelope, scratch: &scratch };
         self.kernels.cols.encode(context, &mut rec.encoder, &cols_buffers, batch, max_res)?;
         rec.stage("envelope_cols")?;
-        // Heat smooths in place: keep the envelope for read-back by smoothing a copy.
-        let smoothed = buffers::storage_zeroed(context, "smoothed", cells * 4);
-        rec.encoder.copy_buffer_to_buffer(&envelope, 0, &smoothed, 0, cells * 4);
+        // Heat smooths in place; the rows pass's output is free by now and serves as its scratch.
+        let smoothed = if keep_envelope {
+            let copy = buffers::storage_zeroed(context, "smoothed", cells * 4);
+            rec.encoder.copy_buffer_to_buffer(&envelope, 0, &copy, 0, cells * 4);
+            copy
+        } else {
+            envelope.clone()
+        };
         let heat_batch = HeatBatch {
             dents: batch,
             max_cells: max_res * max_res,
@@ -507,7 +514,7 @@ impl<'c> GpuDenter<'c> {
             params: &buffers::storage(context, "heat params", &hparams),
             dents: &buffers::storage(context, "heat dents", &hdents),
             grid: &smoothed,
-            scratch: &heat_scratch,
+            scratch: &rows,
         };
         self.kernels.heat.encode(context, &mut rec.encoder, &heat_buffers, heat_batch)?;
         rec.stage("heat")?;
