@@ -20,6 +20,7 @@
 mod common;
 
 use common::SplitMix64;
+use common::envelope::{cpu_rows, random_profile};
 use dentbend::cpu::{self, EnvelopeParams, reference::envelope_brute};
 use dentbend::gpu::envelope_cols::EnvelopeCols;
 use dentbend::gpu::envelope_rows::{EnvelopeBuffers, EnvelopeRows, scratch_bytes};
@@ -43,13 +44,6 @@ fn kernels(context: &GpuContext) -> Kernels {
         rows: EnvelopeRows::new(context).expect("envelope_rows compiles"),
         cols: EnvelopeCols::new(context).expect("envelope_cols compiles"),
     }
-}
-
-/// The CPU rows pass on one dent.
-fn cpu_rows(params: &EnvelopeParams, profile: &[f32]) -> Vec<f32> {
-    let mut out = vec![f32::NAN; profile.len()];
-    cpu::envelope_rows(params, profile, &mut out);
-    out
 }
 
 /// The CPU columns pass on one dent.
@@ -149,12 +143,6 @@ fn check_both(
         }
     }
     worst
-}
-
-/// A `res × res` profile where each cell is a source with probability `density`, of height in
-/// [0.01, 1)·`d`.
-fn random_profile(rng: &mut SplitMix64, res: u32, density: f32, d: f32) -> Vec<f32> {
-    (0..res * res).map(|_| if rng.next_f32() < density { d * rng.range_f32(0.01, 1.0) } else { 0.0 }).collect()
 }
 
 /// Whether the O(sources·cells) brute force is quick enough for this profile.

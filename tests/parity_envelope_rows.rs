@@ -19,7 +19,8 @@
 mod common;
 
 use common::SplitMix64;
-use dentbend::cpu::{self, EnvelopeParams};
+use common::envelope::{cpu_rows, random_profile};
+use dentbend::cpu::EnvelopeParams;
 use dentbend::gpu::GpuContext;
 use dentbend::gpu::envelope_rows::EnvelopeRows;
 use dentbend::{DentParams, Impact, Resolution, dent_map_stages, glam::Vec3, mesh};
@@ -32,13 +33,6 @@ const RESOLUTIONS: [u32; 6] = [1, 2, 17, 64, 200, 400];
 
 fn kernel(context: &GpuContext) -> EnvelopeRows {
     EnvelopeRows::new(context).expect("envelope_rows compiles")
-}
-
-/// The CPU twin on one dent.
-fn cpu_rows(params: &EnvelopeParams, profile: &[f32]) -> Vec<f32> {
-    let mut out = vec![f32::NAN; profile.len()];
-    cpu::envelope_rows(params, profile, &mut out);
-    out
 }
 
 /// Runs `dents` as one GPU batch and checks every dent against the CPU twin. Returns the largest
@@ -65,12 +59,6 @@ fn check_batch(kernel: &EnvelopeRows, context: &GpuContext, dents: &[(EnvelopePa
         }
     }
     worst
-}
-
-/// A `res × res` profile where each cell is a source with probability `density`, of height in
-/// [0.01, 1)·`d`.
-fn random_profile(rng: &mut SplitMix64, res: u32, density: f32, d: f32) -> Vec<f32> {
-    (0..res * res).map(|_| if rng.next_f32() < density { d * rng.range_f32(0.01, 1.0) } else { 0.0 }).collect()
 }
 
 #[test]

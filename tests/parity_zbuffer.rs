@@ -18,12 +18,11 @@
 mod common;
 
 use common::SplitMix64;
-use common::view::View;
+use common::view::{View, builtin, clip_to_cell};
 use dentbend::cpu::{ZbufferParams, zbuffer};
 use dentbend::gpu::GpuContext;
 use dentbend::gpu::zbuffer::{Zbuffer, ZbufferDent};
-use dentbend::mesh;
-use glam::{DVec2, DVec3, Quat, Vec3};
+use glam::{DVec2, Quat, Vec3};
 
 // ---------------------------------------------------------------------------------------------
 // Set-up helpers (as in tests/zbuffer.rs).
@@ -57,12 +56,6 @@ impl Case {
     fn dent(&self) -> ZbufferDent<'_> {
         ZbufferDent { params: self.params(), positions: &self.positions, faces: &self.faces }
     }
-}
-
-/// A built-in mesh's positions and faces.
-fn builtin(name: &str) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let mesh = mesh::builtin(name).expect("built-in mesh");
-    (mesh.positions().to_vec(), mesh.faces().to_vec())
 }
 
 /// The compiled kernel and its context, or `None` when the test should skip.
@@ -188,33 +181,6 @@ fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     let ab = b - a;
     let t = if ab.length_squared() > 0.0 { ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
     (a + t * ab - p).length()
-}
-
-/// The part of polygon `poly` (grid space: col, row, s) inside the square of half-side `half`
-/// around grid point (`col`, `row`), by Sutherland–Hodgman.
-fn clip_to_cell(poly: &[DVec3], col: f64, row: f64, half: f64) -> Vec<DVec3> {
-    let planes: [(DVec3, f64); 4] =
-        [(DVec3::X, col - half), (-DVec3::X, -(col + half)), (DVec3::Y, row - half), (-DVec3::Y, -(row + half))];
-    let mut poly = poly.to_vec();
-    for (n, offset) in planes {
-        let inside = |p: DVec3| p.x * n.x + p.y * n.y - offset;
-        let mut out = Vec::with_capacity(poly.len() + 2);
-        for k in 0..poly.len() {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            let (fa, fb) = (inside(a), inside(b));
-            if fa >= 0.0 {
-                out.push(a);
-            }
-            if (fa >= 0.0) != (fb >= 0.0) {
-                out.push(a + (b - a) * (fa / (fa - fb)));
-            }
-        }
-        poly = out;
-        if poly.is_empty() {
-            break;
-        }
-    }
-    poly
 }
 
 /// What [`compare`] saw.

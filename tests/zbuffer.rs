@@ -5,19 +5,12 @@
 mod common;
 
 use common::SplitMix64;
-use common::view::View;
+use common::view::{View, builtin, clip_to_cell};
 use dentbend::cpu::zbuffer;
-use dentbend::mesh;
-use glam::{DVec3, Quat, Vec3};
+use glam::{Quat, Vec3};
 
 // ---------------------------------------------------------------------------------------------
 // Set-up helpers.
-
-/// A built-in mesh's positions and faces.
-fn builtin(name: &str) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let mesh = mesh::builtin(name).expect("built-in mesh");
-    (mesh.positions().to_vec(), mesh.faces().to_vec())
-}
 
 // ---------------------------------------------------------------------------------------------
 // f64 references.
@@ -58,33 +51,6 @@ fn ray_cast_profile(view: &View, positions: &[Vec3], faces: &[[u32; 3]]) -> Vec<
     (0..res * res)
         .map(|cell| ray_cast(view, positions, faces, cell / res, cell % res).map_or(0.0, |s| (d + s).max(0.0)))
         .collect()
-}
-
-/// The part of polygon `poly` (grid space: col, row, s) inside the square of half-side `half`
-/// around grid point (`col`, `row`), by Sutherland–Hodgman.
-fn clip_to_cell(poly: &[DVec3], col: f64, row: f64, half: f64) -> Vec<DVec3> {
-    let planes: [(DVec3, f64); 4] =
-        [(DVec3::X, col - half), (-DVec3::X, -(col + half)), (DVec3::Y, row - half), (-DVec3::Y, -(row + half))];
-    let mut poly = poly.to_vec();
-    for (n, offset) in planes {
-        let inside = |p: DVec3| p.x * n.x + p.y * n.y - offset;
-        let mut out = Vec::with_capacity(poly.len() + 2);
-        for k in 0..poly.len() {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            let (fa, fb) = (inside(a), inside(b));
-            if fa >= 0.0 {
-                out.push(a);
-            }
-            if (fa >= 0.0) != (fb >= 0.0) {
-                out.push(a + (b - a) * (fa / (fa - fb)));
-            }
-        }
-        poly = out;
-        if poly.is_empty() {
-            break;
-        }
-    }
-    poly
 }
 
 /// Per cell, the range `(min, max)` of depth s over the part of the surface lying over the closed

@@ -2,6 +2,7 @@
 //! seen along a direction, its kernel parameters and its f64 geometry.
 
 use dentbend::cpu::{GridUniform, ZbufferParams, zbuffer};
+use dentbend::mesh;
 use glam::{DVec3, Quat, Vec3};
 
 /// A Z-buffer grid and dent distance, as the pipeline builds them.
@@ -93,4 +94,37 @@ impl View {
     pub fn point(&self, col: f32, row: f32, s: f32) -> Vec3 {
         self.world(col as f64, row as f64, s as f64).as_vec3()
     }
+}
+
+/// A built-in mesh's positions and faces.
+pub fn builtin(name: &str) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let mesh = mesh::builtin(name).expect("built-in mesh");
+    (mesh.positions().to_vec(), mesh.faces().to_vec())
+}
+
+/// The part of polygon `poly` (grid space: col, row, s) inside the square of half-side `half`
+/// around grid point (`col`, `row`), by Sutherland–Hodgman.
+pub fn clip_to_cell(poly: &[DVec3], col: f64, row: f64, half: f64) -> Vec<DVec3> {
+    let planes: [(DVec3, f64); 4] =
+        [(DVec3::X, col - half), (-DVec3::X, -(col + half)), (DVec3::Y, row - half), (-DVec3::Y, -(row + half))];
+    let mut poly = poly.to_vec();
+    for (n, offset) in planes {
+        let inside = |p: DVec3| p.x * n.x + p.y * n.y - offset;
+        let mut out = Vec::with_capacity(poly.len() + 2);
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let (fa, fb) = (inside(a), inside(b));
+            if fa >= 0.0 {
+                out.push(a);
+            }
+            if (fa >= 0.0) != (fb >= 0.0) {
+                out.push(a + (b - a) * (fa / (fa - fb)));
+            }
+        }
+        poly = out;
+        if poly.is_empty() {
+            break;
+        }
+    }
+    poly
 }
