@@ -160,6 +160,17 @@ fn load_triangle(f: Frame, face: u32) -> Triangle {
     return t;
 }
 
+/// Triangle `face` (index within its dent) of the dent with parameters `p`, not `ok` when it is
+/// past the dent's triangles, the dent's grid is unusable, or `load_triangle` culls it.
+fn dent_triangle(p: ZbufferParams, face: u32) -> Triangle {
+    if face >= p.face_count || !is_valid(p) {
+        var none: Triangle;
+        none.ok = false;
+        return none;
+    }
+    return load_triangle(frame_of(p), p.face_offset + face);
+}
+
 /// Max-merges height z (world units) into cell (row, col), both in 0..=last, with `flag` (0 or
 /// CENTRE_FLAG) on its bits; heights not above 0 (or NaN) are ignored, heights are capped at d.
 fn write(t: Target, row: u32, col: u32, z: f32, flag: u32) {
@@ -297,14 +308,11 @@ fn tip_slot(dent: u32, batch: u32) -> u32 {
 @compute @workgroup_size(FACE_WORKGROUP, 1, 1)
 fn centres(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = params[id.y];
-    if id.x >= p.face_count || !is_valid(p) {
-        return;
-    }
     let tiles = (p.grid.res + TILE - 1u) / TILE;
     if id.z >= tiles * tiles {
         return;
     }
-    let tri = load_triangle(frame_of(p), p.face_offset + id.x);
+    let tri = dent_triangle(p, id.x);
     if !tri.ok {
         return;
     }
@@ -314,10 +322,7 @@ fn centres(@builtin(global_invocation_id) id: vec3<u32>) {
 @compute @workgroup_size(FACE_WORKGROUP, 1, 1)
 fn edges(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let p = params[id.y];
-    if id.x >= p.face_count || !is_valid(p) {
-        return;
-    }
-    let tri = load_triangle(frame_of(p), p.face_offset + id.x);
+    let tri = dent_triangle(p, id.x);
     if !tri.ok {
         return;
     }
@@ -347,10 +352,7 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
 @compute @workgroup_size(FACE_WORKGROUP, 1, 1)
 fn tip_mark(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let p = params[id.y];
-    if id.x >= p.face_count || !is_valid(p) {
-        return;
-    }
-    let tri = load_triangle(frame_of(p), p.face_offset + id.x);
+    let tri = dent_triangle(p, id.x);
     if !tri.ok {
         return;
     }
