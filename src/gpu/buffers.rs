@@ -1,7 +1,6 @@
 //! Uploading slices to GPU buffers and reading them back.
 
 use bytemuck::Pod;
-use wgpu::util::DeviceExt;
 
 use super::{GpuContext, GpuError};
 
@@ -10,18 +9,29 @@ const MIN_BYTES: u64 = 16;
 
 /// A storage buffer holding `data` (readable and writable by kernels, copyable both ways).
 pub fn storage<T: Pod>(context: &GpuContext, label: &str, data: &[T]) -> wgpu::Buffer {
-    let bytes: &[u8] = bytemuck::cast_slice(data);
     let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-    if (bytes.len() as u64) < MIN_BYTES {
+    with_contents(context, label, bytemuck::cast_slice(data), usage)
+}
+
+/// A buffer of `usage` (plus `COPY_DST`) holding `bytes`, zero-padded to at least 16 bytes and a
+/// multiple of 4. The contents go through the queue rather than `mapped_at_creation`, so a lost
+/// device makes this an error reported at the next wait or error scope, not a panic.
+pub fn with_contents(context: &GpuContext, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    let size = (bytes.len() as u64).max(MIN_BYTES).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+    let buffer = context.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: usage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    if bytes.len() as u64 == size {
+        context.queue.write_buffer(&buffer, 0, bytes);
+    } else {
         let mut padded = bytes.to_vec();
-        padded.resize(MIN_BYTES as usize, 0);
-        return context.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: &padded,
-            usage,
-        });
+        padded.resize(size as usize, 0);
+        context.queue.write_buffer(&buffer, 0, &padded);
     }
-    context.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: bytes, usage })
+    buffer
 }
 
 /// A zero-filled storage buffer of `bytes` bytes (at least 16).
@@ -36,11 +46,7 @@ pub fn storage_zeroed(context: &GpuContext, label: &str, bytes: u64) -> wgpu::Bu
 
 /// A uniform buffer holding `value`.
 pub fn uniform<T: Pod>(context: &GpuContext, label: &str, value: &T) -> wgpu::Buffer {
-    context.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: bytemuck::bytes_of(value),
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-    })
+    with_contents(context, label, bytemuck::bytes_of(value), wgpu::BufferUsages::UNIFORM)
 }
 
 /// Checks that `bytes` fits in one storage binding of this device.
@@ -79,6 +85,7 @@ pub fn read_back_range<T: Pod>(
     if bytes == 0 {
         return Ok(Vec::new());
     }
+    context.check_alive()?;
     let staging = context.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("read back"),
         size: bytes.next_multiple_of(4),
@@ -94,7 +101,12 @@ pub fn read_back_range<T: Pod>(
         let _ = sender.send(result);
     });
     context.wait()?;
-    receiver.recv().map_err(|e| GpuError::Wait(e.to_string()))?.map_err(|e| GpuError::Wait(e.to_string()))?;
+    // The wait has run every callback of finished work; a mapping that never completes (a device
+    // going away) times out rather than blocking the caller forever.
+    receiver
+        .recv_timeout(super::WAIT_TIMEOUT)
+        .map_err(|e| GpuError::Wait(e.to_string()))?
+        .map_err(|e| GpuError::Wait(e.to_string()))?;
     let data = slice.get_mapped_range().map_err(|e| GpuError::Wait(e.to_string()))?;
     let values = bytemuck::cast_slice::<u8, T>(&data[..bytes as usize]).to_vec();
     drop(data);

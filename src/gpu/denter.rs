@@ -269,6 +269,7 @@ impl<'c> GpuDenter<'c> {
     ) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
         let plans = self.plan(jobs)?;
         let context = self.context;
+        context.check_alive()?;
         let timed = timings.is_some();
         // Every chunk is encoded (and so checked against the device's limits) before anything is
         // submitted, so a batch refused for its size leaves every target as it was. Timing

@@ -11,7 +11,6 @@
 //! [`cpu::heat_step`]: crate::cpu::heat_step
 
 use bytemuck::{Pod, Zeroable};
-use wgpu::util::DeviceExt;
 
 use super::{Binding, GpuContext, GpuError, Kernel, buffers, shaders};
 use crate::cpu::HeatParams;
@@ -333,11 +332,12 @@ impl HeatKernel {
         let pass_size = size_of::<HeatPass>() as u64;
         context.scoped("heat encode", || {
             let device = &context.device;
-            let table = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("heat pass table"),
-                contents: bytemuck::cast_slice(&table),
-                usage: wgpu::BufferUsages::COPY_SRC,
-            });
+            let table = buffers::with_contents(
+                context,
+                "heat pass table",
+                bytemuck::cast_slice(&table),
+                wgpu::BufferUsages::COPY_SRC,
+            );
             let pass_info = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("heat pass"),
                 size: pass_size,

@@ -1,0 +1,44 @@
+//! A lost device is an error, not a hang: after `Device::destroy` (what a driver reset or an
+//! unplugged GPU looks like to wgpu), batches, read-backs and waits return errors promptly.
+
+mod common;
+
+use std::time::{Duration, Instant};
+
+use dentbend::dent::{DentJob, DentParams, Impact};
+use dentbend::gpu::{GpuContext, GpuDenter};
+use dentbend::mesh;
+use glam::Vec3;
+
+#[test]
+fn a_destroyed_device_gives_errors_and_leaves_the_meshes_alone() {
+    // Only to learn whether an adapter exists (and to fail in CI when none does); the device
+    // destroyed below is a private one, so other tests keep the shared context.
+    if common::context().is_none() {
+        return;
+    }
+    let context = GpuContext::new().expect("a second device on the same adapter");
+    let targets = vec![mesh::builtin("block").unwrap()];
+    let ball = mesh::builtin("sphere").unwrap();
+    let mut denter = GpuDenter::new(&context, &targets).unwrap();
+    let job = DentJob {
+        target: 0,
+        projectile: &ball,
+        impact: Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -Vec3::Y },
+        params: DentParams::new(0.2),
+    };
+    let before = targets[0].positions().to_vec();
+    context.device.destroy();
+    let started = Instant::now();
+    let batch = denter.dent_batch(&[job]);
+    let read = denter.read_positions(0);
+    let wait = context.wait();
+    // The waits are bounded by WAIT_TIMEOUT (120 s); a lost device must not come near it.
+    assert!(started.elapsed() < Duration::from_secs(30), "took {:?}", started.elapsed());
+    assert!(batch.is_err(), "a batch on a destroyed device succeeded");
+    assert!(read.is_err(), "a read-back from a destroyed device succeeded");
+    assert!(wait.is_err(), "waiting on a destroyed device succeeded");
+    assert!(context.check_alive().is_err(), "the device-lost flag was not raised");
+    // The caller's meshes are never touched by the GPU path.
+    assert_eq!(targets[0].positions(), &before[..]);
+}
