@@ -44,6 +44,7 @@ pub mod gpu;
 pub mod io;
 pub mod mesh;
 pub mod render;
+pub mod sim;
 
 pub use dent::{
     Attenuation, DentError, DentMap, DentParams, DentReport, Impact, Resolution, dent, dent_map, dent_map_stages,

@@ -43,7 +43,7 @@ impl DentMaterial {
         Ok((d > 0.0).then_some(d))
     }
 
-    fn validate(&self) -> Result<(), DentError> {
+    pub(crate) fn validate(&self) -> Result<(), DentError> {
         if !(self.threshold.is_finite() && self.threshold >= 0.0) {
             return Err(invalid("threshold", self.threshold, "must be finite and >= 0"));
         }

@@ -30,9 +30,9 @@ impl Camera {
 
     /// World → clip matrix for an image of aspect `width / height`.
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
-        let view = Mat4::look_at_rh(self.eye, self.target, self.up);
+        let view = glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up);
         let distance = self.eye.distance(self.target).max(1e-6);
-        let projection = Mat4::perspective_rh(self.fov_y_deg.to_radians(), aspect, distance * 0.01, distance * 100.0);
+        let projection = glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, distance * 0.01, distance * 100.0);
         projection * view
     }
 }

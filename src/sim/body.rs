@@ -1,0 +1,334 @@
+//! Rigid bodies: what a user describes ([`BodyDesc`]) and what the world simulates
+//! ([`RigidBody`]: pose of the centre of mass, velocities, mass properties, collider, mesh).
+
+use glam::{Affine3A, Mat3, Quat, Vec3};
+use parry3d::shape::SharedShape;
+
+use super::error::invalid;
+use super::{ColliderKind, DentSettings, SimError, mass_properties};
+use crate::mesh::TriMesh;
+
+/// How a body moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BodyKind {
+    /// Never moves; infinite mass.
+    Static,
+    /// Moved by gravity, collisions and contacts.
+    #[default]
+    Dynamic,
+    /// Moves with its given velocities, pushes dynamic bodies, is not pushed back.
+    Kinematic,
+}
+
+/// Surface response of a body in collisions and contacts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceMaterial {
+    /// Coefficient of restitution in [0, 1]; a pair uses the larger of its two.
+    pub restitution: f32,
+    /// Coulomb friction coefficient ≥ 0; a pair uses the geometric mean of its two.
+    pub friction: f32,
+}
+
+impl Default for SurfaceMaterial {
+    fn default() -> Self {
+        Self { restitution: 0.3, friction: 0.5 }
+    }
+}
+
+/// Everything needed to add a body to a [`World`](super::World).
+///
+/// `mesh` is in the body's model coordinates; `position` and `orientation` place the model
+/// frame in the world (world point = position + orientation · model point).
+#[derive(Debug, Clone)]
+pub struct BodyDesc {
+    /// Unique name, used in events, output files and summaries.
+    pub name: String,
+    /// The surface, closed for dynamic bodies (its volume gives the mass).
+    pub mesh: TriMesh,
+    /// Static, dynamic or kinematic.
+    pub kind: BodyKind,
+    /// Where the model frame's origin is, m.
+    pub position: Vec3,
+    /// Orientation of the model frame.
+    pub orientation: Quat,
+    /// Velocity of the centre of mass, m/s.
+    pub linear_velocity: Vec3,
+    /// Angular velocity, rad/s (world axes).
+    pub angular_velocity: Vec3,
+    /// Density, kg/m³ (dynamic bodies).
+    pub density: f32,
+    /// Collision shape.
+    pub collider: ColliderKind,
+    /// Restitution and friction.
+    pub surface: SurfaceMaterial,
+    /// How the body dents, or `None` for a body that keeps its shape.
+    pub dent: Option<DentSettings>,
+    /// Linear RGB colour for pictures.
+    pub color: [f32; 3],
+}
+
+impl BodyDesc {
+    /// A dynamic body of density 1000 kg/m³ at rest at the origin, collider chosen from its kind.
+    pub fn new(name: impl Into<String>, mesh: TriMesh) -> Self {
+        Self {
+            name: name.into(),
+            mesh,
+            kind: BodyKind::Dynamic,
+            position: Vec3::ZERO,
+            orientation: Quat::IDENTITY,
+            linear_velocity: Vec3::ZERO,
+            angular_velocity: Vec3::ZERO,
+            density: 1000.0,
+            collider: ColliderKind::Auto,
+            surface: SurfaceMaterial::default(),
+            dent: None,
+            color: [0.7, 0.7, 0.72],
+        }
+    }
+
+    /// Builder: the kind.
+    pub fn kind(mut self, kind: BodyKind) -> Self {
+        self.kind = kind;
+        self
+    }
+
+    /// Builder: position of the model origin, m.
+    pub fn at(mut self, position: Vec3) -> Self {
+        self.position = position;
+        self
+    }
+
+    /// Builder: linear velocity, m/s.
+    pub fn velocity(mut self, velocity: Vec3) -> Self {
+        self.linear_velocity = velocity;
+        self
+    }
+
+    /// Builder: collider kind.
+    pub fn collider(mut self, collider: ColliderKind) -> Self {
+        self.collider = collider;
+        self
+    }
+
+    /// Builder: dentable with `settings`.
+    pub fn dentable(mut self, settings: DentSettings) -> Self {
+        self.dent = Some(settings);
+        self
+    }
+
+    /// Checks every number; the mesh was validated when it was built.
+    fn validate(&self) -> Result<(), SimError> {
+        let field = |what: &str| format!("body \"{}\": {what}", self.name);
+        if self.name.is_empty() {
+            return Err(invalid("body name", &self.name, "must not be empty"));
+        }
+        for (what, v) in [
+            ("position", self.position),
+            ("linear_velocity", self.linear_velocity),
+            ("angular_velocity", self.angular_velocity),
+        ] {
+            if !v.is_finite() {
+                return Err(invalid(field(what), v, "must be finite"));
+            }
+        }
+        if !self.orientation.is_finite() || self.orientation.length_squared() < 1e-12 {
+            return Err(invalid(field("orientation"), self.orientation, "must be a finite non-zero quaternion"));
+        }
+        if self.kind == BodyKind::Dynamic && !(self.density.is_finite() && self.density > 0.0) {
+            return Err(invalid(field("density"), self.density, "must be finite and > 0"));
+        }
+        let SurfaceMaterial { restitution, friction } = self.surface;
+        if !(0.0..=1.0).contains(&restitution) {
+            return Err(invalid(field("restitution"), restitution, "must be in [0, 1]"));
+        }
+        if !(friction.is_finite() && friction >= 0.0) {
+            return Err(invalid(field("friction"), friction, "must be finite and >= 0"));
+        }
+        if let Some(dent) = &self.dent {
+            dent.validate().map_err(|error| SimError::Dent { body: self.name.clone(), error })?;
+        }
+        if !self.color.iter().all(|c| c.is_finite()) {
+            return Err(invalid(field("color"), self.color, "must be finite"));
+        }
+        Ok(())
+    }
+}
+
+/// A body in the world. Its mesh is stored in body coordinates: the centre of mass at the origin,
+/// axes those of the model frame, so world point = `position` + `orientation` · body point.
+#[derive(Debug, Clone)]
+pub struct RigidBody {
+    /// Unique name.
+    pub name: String,
+    /// Static, dynamic or kinematic.
+    pub kind: BodyKind,
+    /// World position of the centre of mass (the model origin for static and kinematic bodies), m.
+    pub position: Vec3,
+    /// Orientation (unit).
+    pub orientation: Quat,
+    /// Velocity of the centre of mass, m/s.
+    pub linear_velocity: Vec3,
+    /// Angular velocity, rad/s, world axes.
+    pub angular_velocity: Vec3,
+    /// Restitution and friction.
+    pub surface: SurfaceMaterial,
+    /// Denting behaviour, `None` when the body does not dent.
+    pub dent: Option<DentSettings>,
+    /// Linear RGB colour for pictures.
+    pub color: [f32; 3],
+    /// Mass, kg (∞ for static and kinematic bodies).
+    pub mass: f32,
+    /// Inertia tensor about the centre of mass in body axes, kg·m².
+    pub inertia: Mat3,
+    pub(crate) inverse_mass: f32,
+    pub(crate) inverse_inertia: Mat3,
+    /// The model origin in body coordinates (minus the centre of mass in model coordinates), m.
+    pub(crate) model_offset: Vec3,
+    pub(crate) mesh: TriMesh,
+    pub(crate) collider_kind: ColliderKind,
+    pub(crate) shape: SharedShape,
+    /// Seconds the body has been nearly still (for sleeping).
+    pub(crate) still_for: f32,
+    /// Whether the body is asleep (not integrated until something wakes it).
+    pub(crate) asleep: bool,
+}
+
+impl RigidBody {
+    /// Builds a body from its description: mass properties from the mesh and density (dynamic
+    /// bodies), mesh moved to body coordinates, collider built.
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] for a bad number, [`SimError::BadShape`] for a dynamic body whose
+    /// mesh encloses no volume or a collider that cannot be built.
+    pub fn new(desc: BodyDesc) -> Result<Self, SimError> {
+        desc.validate()?;
+        let orientation = desc.orientation.normalize();
+        let (mass, inertia, center) = if desc.kind == BodyKind::Dynamic {
+            let props = mass_properties(&desc.mesh, desc.density).ok_or_else(|| SimError::BadShape {
+                body: desc.name.clone(),
+                reason: "a dynamic body's mesh must be closed and enclose a volume".into(),
+            })?;
+            (props.mass, props.inertia, props.center)
+        } else {
+            (f32::INFINITY, Mat3::ZERO, Vec3::ZERO)
+        };
+        let mut mesh = desc.mesh;
+        if center != Vec3::ZERO {
+            mesh.transform(Affine3A::from_translation(-center))?;
+        }
+        let shape = desc
+            .collider
+            .build_for(desc.kind, &mesh)
+            .map_err(|reason| SimError::BadShape { body: desc.name.clone(), reason })?;
+        let (inverse_mass, inverse_inertia) = if desc.kind == BodyKind::Dynamic {
+            let inverse = inertia.inverse();
+            if !inverse.is_finite() {
+                return Err(SimError::BadShape { body: desc.name, reason: "inertia tensor is singular".into() });
+            }
+            (1.0 / mass, inverse)
+        } else {
+            (0.0, Mat3::ZERO)
+        };
+        Ok(Self {
+            name: desc.name,
+            kind: desc.kind,
+            position: desc.position + orientation * center,
+            orientation,
+            linear_velocity: if desc.kind == BodyKind::Static { Vec3::ZERO } else { desc.linear_velocity },
+            angular_velocity: if desc.kind == BodyKind::Static { Vec3::ZERO } else { desc.angular_velocity },
+            surface: desc.surface,
+            dent: desc.dent,
+            color: desc.color,
+            mass,
+            inertia,
+            inverse_mass,
+            inverse_inertia,
+            model_offset: -center,
+            mesh,
+            collider_kind: desc.collider,
+            shape,
+            still_for: 0.0,
+            asleep: false,
+        })
+    }
+
+    /// The surface in body coordinates (centre of mass at the origin).
+    pub fn mesh(&self) -> &TriMesh {
+        &self.mesh
+    }
+
+    /// Body → world transform.
+    pub fn transform(&self) -> Affine3A {
+        Affine3A::from_rotation_translation(self.orientation, self.position)
+    }
+
+    /// Model → world transform: where the body's model frame (the coordinates its mesh was
+    /// given in) is now.
+    pub fn model_transform(&self) -> Affine3A {
+        self.transform() * Affine3A::from_translation(self.model_offset)
+    }
+
+    /// The surface in world coordinates.
+    pub fn world_mesh(&self) -> TriMesh {
+        let mut mesh = self.mesh.clone();
+        // A rigid motion of a valid mesh stays finite; the transform cannot fail.
+        let _ = mesh.transform(self.transform());
+        mesh
+    }
+
+    /// World velocity of the body point now at world position `point`, m/s.
+    pub fn velocity_at(&self, point: Vec3) -> Vec3 {
+        self.linear_velocity + self.angular_velocity.cross(point - self.position)
+    }
+
+    /// Inverse inertia tensor in world axes, 1/(kg·m²) (zero for static and kinematic bodies).
+    pub fn inverse_inertia_world(&self) -> Mat3 {
+        let rotation = Mat3::from_quat(self.orientation);
+        rotation * self.inverse_inertia * rotation.transpose()
+    }
+
+    /// Kinetic energy, J (0 for static and kinematic bodies).
+    pub fn kinetic_energy(&self) -> f32 {
+        if self.kind != BodyKind::Dynamic {
+            return 0.0;
+        }
+        let rotation = Mat3::from_quat(self.orientation);
+        let inertia_world = rotation * self.inertia * rotation.transpose();
+        0.5 * self.mass * self.linear_velocity.length_squared()
+            + 0.5 * self.angular_velocity.dot(inertia_world * self.angular_velocity)
+    }
+
+    /// Linear momentum, kg·m/s (0 for static and kinematic bodies).
+    pub fn momentum(&self) -> Vec3 {
+        if self.kind == BodyKind::Dynamic { self.mass * self.linear_velocity } else { Vec3::ZERO }
+    }
+
+    /// Whether the body is asleep (still for a while; woken by contacts with moving bodies).
+    pub fn is_asleep(&self) -> bool {
+        self.asleep
+    }
+
+    /// The collider, for queries.
+    pub fn shape(&self) -> &SharedShape {
+        &self.shape
+    }
+
+    /// Replaces the surface (body coordinates) after a dent and rebuilds mesh colliders.
+    pub(crate) fn set_mesh(&mut self, mesh: TriMesh) -> Result<(), SimError> {
+        if self.collider_kind.follows_mesh(self.kind) {
+            self.shape = self
+                .collider_kind
+                .build_for(self.kind, &mesh)
+                .map_err(|reason| SimError::BadShape { body: self.name.clone(), reason })?;
+        }
+        self.mesh = mesh;
+        Ok(())
+    }
+
+    /// Wakes the body.
+    pub(crate) fn wake(&mut self) {
+        self.asleep = false;
+        self.still_for = 0.0;
+    }
+}

@@ -1,0 +1,38 @@
+//! What a step reports about each colliding pair: the input of denting (paper Algorithm 1,
+//! lines 10–12) and of anything else a user hangs on collisions.
+
+use glam::Vec3;
+use serde::Serialize;
+
+/// A pair of bodies that collided during a step.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CollisionEvent {
+    /// Index of body a in the world.
+    pub a: usize,
+    /// Index of body b (> a).
+    pub b: usize,
+    /// Contact point, world, m (the impulse-weighted centre of the pair's closing contact points).
+    pub point: Vec3,
+    /// Unit contact normal, from a towards b.
+    pub normal: Vec3,
+    /// Velocity of b's material point relative to a's at the contact before the step, including
+    /// rotation (v + ω × r on both bodies), m/s.
+    pub relative_velocity: Vec3,
+    /// Closing speed along the normal before the step, m/s (≥ 0).
+    pub normal_speed: f32,
+    /// Total impulse the step applied to b (a received the opposite), N·s.
+    pub impulse: Vec3,
+}
+
+/// What one [`World::step`](super::World::step) did.
+#[derive(Debug, Clone, Default)]
+pub struct StepReport {
+    /// Colliding pairs (closing contacts), in pair order.
+    pub events: Vec<CollisionEvent>,
+    /// Body pairs whose boxes overlapped.
+    pub broad_pairs: usize,
+    /// Contact points solved.
+    pub contact_points: usize,
+    /// Wall time of the step, s.
+    pub seconds: f64,
+}

@@ -1,0 +1,28 @@
+//! A thin rigid-body core on parry3d: bodies, collisions, contacts and collision events, stepped
+//! in the Guendelman–Bridson–Fedkiw order (DESIGN.md §2), with denting in the loop (paper
+//! Algorithm 1).
+
+mod body;
+mod broad_phase;
+mod collider;
+mod contacts;
+mod dent_settings;
+mod denting;
+mod energy;
+mod error;
+mod events;
+mod mass;
+mod solver;
+mod world;
+
+pub use body::{BodyDesc, BodyKind, RigidBody, SurfaceMaterial};
+pub use broad_phase::{Aabb, overlapping_pairs};
+pub use collider::ColliderKind;
+pub use contacts::{ContactPoint, PairContacts, find_contacts};
+pub use dent_settings::DentSettings;
+pub use denting::{DentRecord, Denter};
+pub use energy::energy_dent_distance;
+pub use error::SimError;
+pub use events::{CollisionEvent, StepReport};
+pub use mass::{MassProperties, mass_properties};
+pub use world::{World, WorldSettings};

@@ -1,0 +1,234 @@
+//! Impulses at contact points, in the Guendelman–Bridson–Fedkiw order (DESIGN.md §2): an elastic
+//! collision phase (restitution) on contacts the step would close, then — after gravity — an
+//! inelastic contact phase that stops penetration, its last sweep with shock propagation. Both
+//! phases apply Coulomb friction. Sequential impulses with accumulated, clamped magnitudes.
+
+use glam::{Mat3, Vec3};
+
+use super::{ContactPoint, PairContacts};
+
+/// Velocities and inverse mass of one body during a step.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SolverBody {
+    pub linear: Vec3,
+    pub angular: Vec3,
+    pub position: Vec3,
+    pub inverse_mass: f32,
+    pub inverse_inertia: Mat3,
+    /// Height along −gravity, for shock propagation, m.
+    pub height: f32,
+}
+
+/// Solver tuning, from the world settings.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SolverSettings {
+    pub dt: f32,
+    pub collision_iterations: u32,
+    pub contact_iterations: u32,
+    pub restitution_threshold: f32,
+    pub slop: f32,
+    pub baumgarte: f32,
+    pub shock_propagation: bool,
+}
+
+/// One contact point's constraint.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Constraint {
+    /// Index of the pair in the step's pair list.
+    pub pair: usize,
+    pub a: usize,
+    pub b: usize,
+    /// Contact point relative to each centre of mass, m.
+    pub ra: Vec3,
+    pub rb: Vec3,
+    pub point: Vec3,
+    pub normal: Vec3,
+    pub tangents: [Vec3; 2],
+    pub distance: f32,
+    pub restitution: f32,
+    pub friction: f32,
+    /// Normal relative velocity before the step, m/s (negative: closing).
+    pub approach: f32,
+    /// Relative velocity of b with respect to a at the point before the step, m/s.
+    pub relative_velocity: Vec3,
+    /// Whether the collision phase handles it (it closes within the step).
+    pub colliding: bool,
+    normal_impulse: f32,
+    tangent_impulse: [f32; 2],
+    /// Total impulse applied to b over the step (a gets the opposite), N·s.
+    pub total: Vec3,
+}
+
+/// Builds the constraints of `contacts`; `surface(a, b)` gives the pair's (restitution, friction).
+pub(crate) fn constraints(
+    contacts: &[PairContacts],
+    bodies: &[SolverBody],
+    dt: f32,
+    surface: impl Fn(usize, usize) -> (f32, f32),
+) -> Vec<Constraint> {
+    let mut out = Vec::new();
+    for (pair, contact) in contacts.iter().enumerate() {
+        let (restitution, friction) = surface(contact.a, contact.b);
+        for point in &contact.points {
+            out.push(constraint(pair, contact.a, contact.b, point, bodies, dt, restitution, friction));
+        }
+    }
+    out
+}
+
+#[allow(clippy::too_many_arguments)] // one call site; a struct would only rename the arguments
+fn constraint(
+    pair: usize,
+    a: usize,
+    b: usize,
+    contact: &ContactPoint,
+    bodies: &[SolverBody],
+    dt: f32,
+    restitution: f32,
+    friction: f32,
+) -> Constraint {
+    let point = contact.point();
+    let (ra, rb) = (point - bodies[a].position, point - bodies[b].position);
+    let normal = contact.normal;
+    let relative_velocity = velocity_at(&bodies[b], rb) - velocity_at(&bodies[a], ra);
+    let approach = relative_velocity.dot(normal);
+    let (t1, t2) = normal.any_orthonormal_pair();
+    Constraint {
+        pair,
+        a,
+        b,
+        ra,
+        rb,
+        point,
+        normal,
+        tangents: [t1, t2],
+        distance: contact.distance,
+        restitution,
+        friction,
+        approach,
+        relative_velocity,
+        colliding: approach < 0.0 && contact.distance + approach * dt <= 0.0,
+        normal_impulse: 0.0,
+        tangent_impulse: [0.0; 2],
+        total: Vec3::ZERO,
+    }
+}
+
+fn velocity_at(body: &SolverBody, r: Vec3) -> Vec3 {
+    body.linear + body.angular.cross(r)
+}
+
+/// 1 / (effective inverse mass along `direction` at the contact), 0 when both bodies are fixed.
+fn effective_mass(a: &SolverBody, b: &SolverBody, ra: Vec3, rb: Vec3, direction: Vec3) -> f32 {
+    let angular = |body: &SolverBody, r: Vec3| {
+        let rn = r.cross(direction);
+        (body.inverse_inertia * rn).dot(rn)
+    };
+    let k = a.inverse_mass + b.inverse_mass + angular(a, ra) + angular(b, rb);
+    if k > 0.0 { 1.0 / k } else { 0.0 }
+}
+
+fn apply(bodies: &mut [SolverBody], c: &mut Constraint, impulse: Vec3) {
+    let (a, b) = (c.a, c.b);
+    bodies[a].linear -= impulse * bodies[a].inverse_mass;
+    bodies[a].angular -= bodies[a].inverse_inertia * c.ra.cross(impulse);
+    bodies[b].linear += impulse * bodies[b].inverse_mass;
+    bodies[b].angular += bodies[b].inverse_inertia * c.rb.cross(impulse);
+    c.total += impulse;
+}
+
+/// One sequential-impulse visit of a constraint: the normal impulse keeps the normal velocity at
+/// least `target`, then friction within the Coulomb cone of the accumulated normal impulse.
+fn solve(bodies: &mut [SolverBody], c: &mut Constraint, target: f32, frozen: Option<usize>) {
+    // Shock propagation: the lower body of the pair acts as if it were fixed for this visit.
+    let saved = frozen.map(|k| {
+        let mass = (bodies[k].inverse_mass, bodies[k].inverse_inertia);
+        bodies[k].inverse_mass = 0.0;
+        bodies[k].inverse_inertia = Mat3::ZERO;
+        (k, mass)
+    });
+    solve_normal_and_friction(bodies, c, target);
+    if let Some((k, (inverse_mass, inverse_inertia))) = saved {
+        bodies[k].inverse_mass = inverse_mass;
+        bodies[k].inverse_inertia = inverse_inertia;
+    }
+}
+
+fn solve_normal_and_friction(bodies: &mut [SolverBody], c: &mut Constraint, target: f32) {
+    let relative = velocity_at(&bodies[c.b], c.rb) - velocity_at(&bodies[c.a], c.ra);
+    let mass = effective_mass(&bodies[c.a], &bodies[c.b], c.ra, c.rb, c.normal);
+    if mass == 0.0 {
+        return;
+    }
+    let accumulated = (c.normal_impulse + (target - relative.dot(c.normal)) * mass).max(0.0);
+    let delta = accumulated - c.normal_impulse;
+    c.normal_impulse = accumulated;
+    apply(bodies, c, delta * c.normal);
+    if c.friction <= 0.0 {
+        return;
+    }
+    let relative = velocity_at(&bodies[c.b], c.rb) - velocity_at(&bodies[c.a], c.ra);
+    let limit = c.friction * c.normal_impulse;
+    let mut wanted = [0.0; 2];
+    for (k, tangent) in c.tangents.iter().enumerate() {
+        let mass = effective_mass(&bodies[c.a], &bodies[c.b], c.ra, c.rb, *tangent);
+        wanted[k] = c.tangent_impulse[k] - relative.dot(*tangent) * mass;
+    }
+    let length = (wanted[0] * wanted[0] + wanted[1] * wanted[1]).sqrt();
+    if length > limit {
+        let scale = limit / length;
+        wanted = [wanted[0] * scale, wanted[1] * scale];
+    }
+    let impulse =
+        c.tangents[0] * (wanted[0] - c.tangent_impulse[0]) + c.tangents[1] * (wanted[1] - c.tangent_impulse[1]);
+    c.tangent_impulse = wanted;
+    apply(bodies, c, impulse);
+}
+
+/// The collision phase: restitution impulses on the contacts the step closes.
+pub(crate) fn collide(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &SolverSettings) {
+    for _ in 0..settings.collision_iterations {
+        for c in constraints.iter_mut().filter(|c| c.colliding) {
+            let bounce = if -c.approach > settings.restitution_threshold { -c.restitution * c.approach } else { 0.0 };
+            solve(bodies, c, bounce, None);
+        }
+    }
+}
+
+/// The contact phase: fresh impulses that keep every contact from closing further than its gap
+/// (and push overlapping ones apart, Baumgarte-style beyond the slop).
+pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &SolverSettings) {
+    let dt = settings.dt;
+    for c in constraints.iter_mut() {
+        c.normal_impulse = 0.0;
+        c.tangent_impulse = [0.0; 2];
+    }
+    let target = |c: &Constraint| {
+        if c.distance > 0.0 {
+            -c.distance / dt
+        } else {
+            settings.baumgarte * (-c.distance - settings.slop).max(0.0) / dt
+        }
+    };
+    let iterations = settings.contact_iterations;
+    for iteration in 0..iterations {
+        let last = iteration + 1 == iterations;
+        if last && settings.shock_propagation {
+            // Bottom-up, each pair's lower body fixed: a stack's top cannot push its base down.
+            let mut order: Vec<usize> = (0..constraints.len()).collect();
+            let low = |c: &Constraint| bodies[c.a].height.min(bodies[c.b].height);
+            order.sort_by(|&i, &j| low(&constraints[i]).total_cmp(&low(&constraints[j])).then(i.cmp(&j)));
+            for k in order {
+                let c = &mut constraints[k];
+                let lower = if bodies[c.a].height <= bodies[c.b].height { c.a } else { c.b };
+                let goal = target(c);
+                solve(bodies, c, goal, Some(lower));
+            }
+        } else {
+            for c in constraints.iter_mut() {
+                let goal = target(c);
+                solve(bodies, c, goal, None);
+            }
+        }
+    }
+}

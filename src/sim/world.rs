@@ -1,0 +1,334 @@
+//! The world: bodies, settings, and the time step (DESIGN.md §2): broad phase → narrow phase →
+//! collision (restitution) → gravity → contact (inelastic, shock propagation) → positions.
+
+use std::time::Instant;
+
+use glam::{Quat, Vec3};
+
+use super::solver::{self, SolverBody, SolverSettings};
+use super::{Aabb, BodyDesc, BodyKind, CollisionEvent, PairContacts, RigidBody, SimError, StepReport};
+use super::{broad_phase, contacts, error::invalid};
+
+/// Global settings of a world.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WorldSettings {
+    /// Gravity, m/s².
+    pub gravity: Vec3,
+    /// Time step, s.
+    pub dt: f32,
+    /// Sweeps of the collision (restitution) phase.
+    pub collision_iterations: u32,
+    /// Sweeps of the contact phase (the last one with shock propagation).
+    pub contact_iterations: u32,
+    /// Closing speeds below this bounce with no restitution (resting contact), m/s.
+    pub restitution_threshold: f32,
+    /// Overlap left alone by the position correction, m.
+    pub slop: f32,
+    /// Fraction of the overlap beyond the slop removed per step.
+    pub baumgarte: f32,
+    /// Contacts are sought this far beyond touching, plus how far the bodies move in a step, m.
+    pub margin: f32,
+    /// GBF shock propagation in the last contact sweep (stable stacks).
+    pub shock_propagation: bool,
+    /// Bodies slower than this (centre and rim), m/s, for `sleep_time` fall asleep.
+    pub sleep_speed: f32,
+    /// Seconds of stillness before a body sleeps; ≤ 0 disables sleeping.
+    pub sleep_time: f32,
+    /// Fraction of angular velocity lost per second (rolling resistance stand-in), 1/s.
+    pub angular_damping: f32,
+}
+
+impl Default for WorldSettings {
+    fn default() -> Self {
+        Self {
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            dt: 1.0 / 60.0,
+            collision_iterations: 5,
+            contact_iterations: 12,
+            restitution_threshold: 0.5,
+            slop: 0.002,
+            baumgarte: 0.2,
+            margin: 0.01,
+            shock_propagation: true,
+            sleep_speed: 0.05,
+            sleep_time: 0.5,
+            angular_damping: 0.05,
+        }
+    }
+}
+
+impl WorldSettings {
+    /// Checks every number.
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), SimError> {
+        if !self.gravity.is_finite() {
+            return Err(invalid("gravity", self.gravity, "must be finite"));
+        }
+        if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
+            return Err(invalid("dt", self.dt, "must be in (0, 1] s"));
+        }
+        for (what, value) in [
+            ("restitution_threshold", self.restitution_threshold),
+            ("slop", self.slop),
+            ("margin", self.margin),
+            ("sleep_speed", self.sleep_speed),
+            ("angular_damping", self.angular_damping),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(invalid(what, value, "must be finite and >= 0"));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.baumgarte) {
+            return Err(invalid("baumgarte", self.baumgarte, "must be in [0, 1]"));
+        }
+        if !self.sleep_time.is_finite() {
+            return Err(invalid("sleep_time", self.sleep_time, "must be finite"));
+        }
+        if self.contact_iterations == 0 || self.contact_iterations > 1000 || self.collision_iterations > 1000 {
+            return Err(invalid("contact_iterations", self.contact_iterations, "must be in 1..=1000"));
+        }
+        Ok(())
+    }
+}
+
+/// Rigid bodies and the settings that step them.
+#[derive(Debug, Clone)]
+pub struct World {
+    bodies: Vec<RigidBody>,
+    settings: WorldSettings,
+    time: f64,
+    steps: u64,
+}
+
+impl World {
+    /// An empty world.
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] for bad settings.
+    pub fn new(settings: WorldSettings) -> Result<Self, SimError> {
+        settings.validate()?;
+        Ok(Self { bodies: Vec::new(), settings, time: 0.0, steps: 0 })
+    }
+
+    /// Adds a body and returns its index.
+    ///
+    /// # Errors
+    /// As [`RigidBody::new`], or a name already taken.
+    pub fn add(&mut self, desc: BodyDesc) -> Result<usize, SimError> {
+        if self.bodies.iter().any(|b| b.name == desc.name) {
+            return Err(invalid("body name", &desc.name, "is already taken"));
+        }
+        self.bodies.push(RigidBody::new(desc)?);
+        Ok(self.bodies.len() - 1)
+    }
+
+    /// The bodies, in the order they were added.
+    pub fn bodies(&self) -> &[RigidBody] {
+        &self.bodies
+    }
+
+    /// Mutable access to the bodies (set velocities, poses…).
+    pub fn bodies_mut(&mut self) -> &mut [RigidBody] {
+        &mut self.bodies
+    }
+
+    /// The index of the body called `name`.
+    pub fn find(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &WorldSettings {
+        &self.settings
+    }
+
+    /// Simulated time, s.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Total kinetic energy of the dynamic bodies, J.
+    pub fn kinetic_energy(&self) -> f64 {
+        self.bodies.iter().map(|b| f64::from(b.kinetic_energy())).sum()
+    }
+
+    /// Advances the world by one time step and reports the collisions.
+    pub fn step(&mut self) -> StepReport {
+        let started = Instant::now();
+        let s = self.settings;
+        let boxes: Vec<Aabb> = self.bodies.iter().map(|b| self.swept_box(b)).collect();
+        let pairs = broad_phase::overlapping_pairs(&boxes, |i, j| self.skip_pair(i, j));
+        let reach = |k: usize| self.reach(&self.bodies[k]);
+        let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach(i) + reach(j));
+        self.wake_touched(&found);
+
+        let up = -s.gravity.normalize_or(Vec3::NEG_Y);
+        let mut solver_bodies: Vec<SolverBody> = self.bodies.iter().map(|b| solver_body(b, up)).collect();
+        let surface = |i: usize, j: usize| {
+            let (a, b) = (&self.bodies[i].surface, &self.bodies[j].surface);
+            (a.restitution.max(b.restitution), (a.friction * b.friction).sqrt())
+        };
+        let mut constraints = solver::constraints(&found, &solver_bodies, s.dt, surface);
+        let solver_settings = SolverSettings {
+            dt: s.dt,
+            collision_iterations: s.collision_iterations,
+            contact_iterations: s.contact_iterations,
+            restitution_threshold: s.restitution_threshold,
+            slop: s.slop,
+            baumgarte: s.baumgarte,
+            shock_propagation: s.shock_propagation,
+        };
+        solver::collide(&mut solver_bodies, &mut constraints, &solver_settings);
+        for (body, sb) in self.bodies.iter().zip(solver_bodies.iter_mut()) {
+            if moves_freely(body) {
+                sb.linear += s.gravity * s.dt;
+            }
+        }
+        solver::contact(&mut solver_bodies, &mut constraints, &solver_settings);
+        let events = events(&found, &constraints);
+        self.integrate(&solver_bodies);
+        self.time += f64::from(s.dt);
+        self.steps += 1;
+        StepReport {
+            events,
+            broad_pairs: pairs.len(),
+            contact_points: constraints.len(),
+            seconds: started.elapsed().as_secs_f64(),
+        }
+    }
+
+    /// How far a body's surface can move in one step, m.
+    fn reach(&self, body: &RigidBody) -> f32 {
+        if body.kind == BodyKind::Static || body.asleep {
+            return 0.0;
+        }
+        let radius = body.shape.compute_local_bounding_sphere().radius;
+        let speed = body.linear_velocity.length() + body.angular_velocity.length() * radius;
+        let fall = if body.kind == BodyKind::Dynamic { self.settings.gravity.length() * self.settings.dt } else { 0.0 };
+        (speed + fall) * self.settings.dt
+    }
+
+    /// The body's box grown by the margin and by how far it can move in one step.
+    fn swept_box(&self, body: &RigidBody) -> Aabb {
+        let aabb = body.shape.compute_aabb(&contacts::pose(body));
+        let grow = Vec3::splat(self.settings.margin + self.reach(body));
+        Aabb { min: aabb.mins - grow, max: aabb.maxs + grow }
+    }
+
+    /// Pairs that cannot interact: neither body free to move.
+    fn skip_pair(&self, i: usize, j: usize) -> bool {
+        let still = |b: &RigidBody| b.kind == BodyKind::Static || (b.kind == BodyKind::Dynamic && b.asleep);
+        still(&self.bodies[i]) && still(&self.bodies[j]) || !moves(&self.bodies[i]) && !moves(&self.bodies[j])
+    }
+
+    /// Wakes sleeping bodies touched by awake moving ones.
+    fn wake_touched(&mut self, found: &[PairContacts]) {
+        for pair in found {
+            let (a, b) = (&self.bodies[pair.a], &self.bodies[pair.b]);
+            let active = |x: &RigidBody| moves(x) && !x.asleep && x.still_for == 0.0;
+            if a.asleep && active(b) {
+                self.bodies[pair.a].wake();
+            } else if b.asleep && active(a) {
+                self.bodies[pair.b].wake();
+            }
+        }
+    }
+
+    /// New velocities in, positions advanced, sleep bookkeeping.
+    fn integrate(&mut self, solved: &[SolverBody]) {
+        let s = self.settings;
+        for (body, sb) in self.bodies.iter_mut().zip(solved) {
+            match body.kind {
+                BodyKind::Static => continue,
+                BodyKind::Dynamic if body.asleep => continue,
+                BodyKind::Dynamic => {
+                    body.linear_velocity = sb.linear;
+                    body.angular_velocity = sb.angular * (1.0 - s.angular_damping * s.dt).max(0.0);
+                }
+                BodyKind::Kinematic => {}
+            }
+            body.position += body.linear_velocity * s.dt;
+            let w = body.angular_velocity;
+            let spin = Quat::from_xyzw(w.x, w.y, w.z, 0.0) * body.orientation;
+            body.orientation = (body.orientation + spin * (0.5 * s.dt)).normalize();
+            if body.kind == BodyKind::Dynamic && s.sleep_time > 0.0 {
+                let radius = body.shape.compute_local_bounding_sphere().radius;
+                let speed = body.linear_velocity.length() + body.angular_velocity.length() * radius;
+                body.still_for = if speed < s.sleep_speed { body.still_for + s.dt } else { 0.0 };
+                if body.still_for >= s.sleep_time {
+                    body.asleep = true;
+                    body.linear_velocity = Vec3::ZERO;
+                    body.angular_velocity = Vec3::ZERO;
+                }
+            }
+        }
+    }
+}
+
+/// Whether gravity and impulses move the body this step.
+fn moves_freely(body: &RigidBody) -> bool {
+    body.kind == BodyKind::Dynamic && !body.asleep
+}
+
+/// Whether the body can move at all (dynamic, or kinematic with a velocity).
+fn moves(body: &RigidBody) -> bool {
+    match body.kind {
+        BodyKind::Static => false,
+        BodyKind::Dynamic => true,
+        BodyKind::Kinematic => body.linear_velocity != Vec3::ZERO || body.angular_velocity != Vec3::ZERO,
+    }
+}
+
+fn solver_body(body: &RigidBody, up: Vec3) -> SolverBody {
+    let free = moves_freely(body);
+    SolverBody {
+        linear: body.linear_velocity,
+        angular: body.angular_velocity,
+        position: body.position,
+        inverse_mass: if free { body.inverse_mass } else { 0.0 },
+        inverse_inertia: if free { body.inverse_inertia_world() } else { glam::Mat3::ZERO },
+        height: body.position.dot(up),
+    }
+}
+
+/// One event per pair with a closing contact: impulse-weighted point, the pair's normal, the
+/// relative velocity there before the step.
+fn events(found: &[PairContacts], constraints: &[solver::Constraint]) -> Vec<CollisionEvent> {
+    let mut out = Vec::new();
+    let mut k = 0;
+    for (pair, contact) in found.iter().enumerate() {
+        let start = k;
+        while k < constraints.len() && constraints[k].pair == pair {
+            k += 1;
+        }
+        let mine = &constraints[start..k];
+        let Some(closest) = mine.iter().filter(|c| c.colliding).min_by(|x, y| x.approach.total_cmp(&y.approach)) else {
+            continue;
+        };
+        let impulse: Vec3 = mine.iter().map(|c| c.total).sum();
+        let weight: f32 = mine.iter().map(|c| c.total.dot(c.normal).max(0.0)).sum();
+        let point = if weight > 0.0 {
+            mine.iter().map(|c| c.point * c.total.dot(c.normal).max(0.0)).sum::<Vec3>() / weight
+        } else {
+            closest.point
+        };
+        out.push(CollisionEvent {
+            a: contact.a,
+            b: contact.b,
+            point,
+            normal: closest.normal,
+            relative_velocity: closest.relative_velocity,
+            normal_speed: -closest.approach,
+            impulse,
+        });
+    }
+    out
+}
