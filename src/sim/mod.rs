@@ -12,6 +12,7 @@ mod energy;
 mod error;
 mod events;
 mod mass;
+mod simulation;
 mod solver;
 mod world;
 
@@ -25,4 +26,5 @@ pub use energy::energy_dent_distance;
 pub use error::SimError;
 pub use events::{CollisionEvent, StepReport};
 pub use mass::{MassProperties, mass_properties};
+pub use simulation::{Simulation, StepTiming};
 pub use world::{World, WorldSettings};
