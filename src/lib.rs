@@ -44,6 +44,7 @@ pub mod gpu;
 pub mod io;
 pub mod mesh;
 pub mod render;
+pub mod scene;
 pub mod sim;
 
 pub use dent::{

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::gltf_read::load_gltf;
 use super::obj::{load_obj, parse_obj_named};
 use super::ply::load_ply;
 use super::primitives::{cylinder, icosphere, plank, subdivided_box, uv_sphere};
@@ -57,11 +58,11 @@ pub fn builtin(name: &str) -> Result<TriMesh, MeshError> {
 }
 
 /// Loads a mesh from a spec: a built-in name (see [`builtin`]; a name wins over a file of the same
-/// name) or the path of a `.obj` or `.ply` file (extension case-insensitive).
+/// name) or the path of a `.obj`, `.ply`, `.gltf` or `.glb` file (extension case-insensitive).
 ///
 /// # Errors
 /// [`MeshError::UnsupportedFormat`] (listing the built-in names) for anything else; otherwise
-/// as [`load_obj`] or [`load_ply`](super::load_ply).
+/// as [`load_obj`], [`load_ply`](super::load_ply) or [`load_gltf`](super::load_gltf).
 ///
 /// # Example
 /// ```
@@ -77,6 +78,7 @@ pub fn load(spec: &str) -> Result<TriMesh, MeshError> {
     match extension.as_deref() {
         Some("obj") => load_obj(path),
         Some("ply") => load_ply(path),
+        Some("gltf" | "glb") => load_gltf(path),
         _ => Err(unsupported(spec)),
     }
 }

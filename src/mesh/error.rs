@@ -58,17 +58,23 @@ pub enum MeshError {
     Parse {
         /// The file involved.
         path: PathBuf,
-        /// `"OBJ"` or `"PLY"`.
+        /// `"OBJ"`, `"PLY"` or `"glTF"`.
         format: &'static str,
-        /// What is wrong, with a line number where known.
+        /// What is wrong, with a line number, byte offset or glTF object index where known.
         message: String,
     },
     /// The file extension names a format this crate does not read or write.
-    #[error("unsupported mesh format for {path} (expected .obj or .ply, or a built-in name: {builtins})")]
+    #[error("unsupported mesh format for {path} (expected .obj, .ply, .gltf or .glb, or a built-in name: {builtins})")]
     UnsupportedFormat {
         /// The file involved.
         path: PathBuf,
         /// The built-in mesh names, comma separated.
         builtins: String,
+    },
+    /// The file extension names no format this crate writes.
+    #[error("cannot save {path}: unsupported extension (expected .obj or .glb)")]
+    UnsupportedSaveFormat {
+        /// The file that was to be written.
+        path: PathBuf,
     },
 }

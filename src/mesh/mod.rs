@@ -1,20 +1,28 @@
-//! Triangle meshes: the [`TriMesh`] type, file input and output, procedural primitives and the
-//! built-in meshes that work wherever a mesh path is accepted.
+//! Triangle meshes: the [`TriMesh`] type, file input and output (OBJ, PLY, glTF), procedural
+//! primitives and the built-in meshes that work wherever a mesh path is accepted.
 
 mod builtin;
 mod error;
+mod glb;
+mod gltf;
+mod gltf_access;
+mod gltf_read;
 mod obj;
 mod ply;
 mod ply_header;
 mod ply_source;
 mod primitives;
+mod save;
 mod subdivide;
 mod trimesh;
 
+pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb, save_glb_scene};
 pub use builtin::{BUILTIN_NAMES, builtin, load};
 pub use error::MeshError;
+pub use gltf_read::load_gltf;
 pub use obj::{load_obj, parse_obj, save_obj};
 pub use ply::{load_ply, parse_ply};
 pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere};
+pub use save::save;
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 pub use trimesh::{TriMesh, validate};

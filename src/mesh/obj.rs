@@ -1,12 +1,12 @@
 //! Wavefront OBJ input and output: positions and faces only (texture coordinates, normals,
 //! groups and materials are read past), polygons fan-triangulated, all objects merged.
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
 use glam::Vec3;
 
+use super::save::write_atomically;
 use super::{MeshError, TriMesh};
 
 /// Path reported in errors from the in-memory parsers.
@@ -105,15 +105,14 @@ fn corner_index(corner: &str, vertices_so_far: usize) -> Result<u32, String> {
 }
 
 /// Writes `mesh` as OBJ: a `v` line per position (shortest text that reads back to the same
-/// f32), a `vn` line per normal, and an `f a//a b//b c//c` line per triangle (1-based).
+/// f32), a `vn` line per normal, and an `f a//a b//b c//c` line per triangle (1-based). The
+/// file is written to a temporary sibling and renamed into place, so a failed save leaves no
+/// partial file.
 ///
 /// # Errors
-/// [`MeshError::Io`] if the file cannot be created or written.
+/// [`MeshError::Io`] naming `path` if the file cannot be created or written.
 pub fn save_obj(mesh: &TriMesh, path: impl AsRef<Path>) -> Result<(), MeshError> {
-    let path = path.as_ref();
-    let io = |source| MeshError::Io { path: path.to_path_buf(), source };
-    let mut out = BufWriter::new(File::create(path).map_err(io)?);
-    write_obj(mesh, &mut out).and_then(|()| out.flush()).map_err(io)
+    write_atomically(path.as_ref(), |out| write_obj(mesh, out))
 }
 
 fn write_obj(mesh: &TriMesh, out: &mut impl Write) -> std::io::Result<()> {

@@ -5,7 +5,7 @@
 use glam::{Vec3, Vec4Swizzles};
 use image::RgbImage;
 
-use super::{Camera, RenderError};
+use super::{Camera, RenderError, check};
 use crate::mesh::TriMesh;
 
 /// Largest image side accepted, pixels.
@@ -24,15 +24,11 @@ pub struct Shaded<'a> {
 ///
 /// # Errors
 /// [`RenderError::ImageSize`] for a zero or oversized side, [`RenderError::Camera`] for a
-/// non-finite camera or one whose eye sits on its target.
+/// non-finite camera, one whose eye sits on its target or whose up direction is parallel to the
+/// view.
 pub fn render(meshes: &[Shaded<'_>], camera: &Camera, width: u32, height: u32) -> Result<RgbImage, RenderError> {
-    if !(1..=MAX_IMAGE_SIDE).contains(&width) || !(1..=MAX_IMAGE_SIDE).contains(&height) {
-        return Err(RenderError::ImageSize { width, height });
-    }
-    let finite = camera.eye.is_finite() && camera.target.is_finite() && camera.up.is_finite();
-    if !finite || camera.eye.distance(camera.target) <= 0.0 || !(1.0..179.0).contains(&camera.fov_y_deg) {
-        return Err(RenderError::Camera(format!("{camera:?}")));
-    }
+    check::image_size(width, height)?;
+    check::camera(camera)?;
     let (w, h) = (2 * width as usize, 2 * height as usize);
     let mut frame = Frame { w, h, depth: vec![f32::INFINITY; w * h], colour: vec![background(); w * h] };
     let clip = camera.view_projection(width as f32 / height as f32);

@@ -3,6 +3,7 @@
 
 mod displace;
 mod gpu;
+mod scene;
 mod setup;
 mod table1;
 mod timing;
@@ -58,6 +59,24 @@ enum Command {
         #[arg(long, default_value_t = 0.5)]
         min_time: f64,
     },
+    /// Step a built-in scene (or a scene file) with denting in the loop: ms per step split into
+    /// dynamics and denting, dents per step, over the whole run and its busy part.
+    Scene {
+        /// Built-in scene name (rain, pair, ball-block, bunny-block, glancing, resolution) or a .toml file.
+        name: String,
+        /// Write the report as JSON: {"scene","bodies","dents_on","threads","all":{..},"busy":{..},"steps":[..]}.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Frames (steps) to run [default: the scene's].
+        #[arg(long)]
+        frames: Option<u32>,
+        /// Run the scene's small demo size instead of the paper's.
+        #[arg(long)]
+        demo: bool,
+        /// Where dents run: cpu, gpu or auto.
+        #[arg(long, default_value = "cpu")]
+        backend: String,
+    },
     /// Apply one dent map to a target of about 100,000 vertices.
     Displace {
         /// Write the report as JSON.
@@ -106,6 +125,14 @@ fn run(cli: Cli) -> Result<(), String> {
             let timing = if context.timestamps { "timestamp queries" } else { "submit-and-wait" };
             print!("{}", gpu::render(&adapter, timing, &rows));
             write_json(json, &serde_json::json!({ "adapter": adapter, "kernel_timing": timing, "rows": rows }))
+        }
+        Command::Scene { name, json, frames, demo, backend } => {
+            let backend = dentbend::gpu::Backend::parse(&backend).map_err(|e| e.to_string())?;
+            let gpu = backend.context().map_err(|e| e.to_string())?;
+            let size = if demo { dentbend::scene::SceneSize::Demo } else { dentbend::scene::SceneSize::Full };
+            let report = scene::run(&name, size, frames, gpu)?;
+            print!("{}", scene::render(&report));
+            write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
         }
         Command::Displace { json, cells, min_time } => {
             let cells: [u32; 3] = cells.try_into().map_err(|_| "--cells takes three numbers".to_string())?;

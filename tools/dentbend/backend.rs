@@ -1,8 +1,10 @@
-//! `--backend cpu|gpu|auto`: the same dent maps and dented meshes from the GPU kernels.
+//! `--backend cpu|gpu|auto`: the same dent maps and dented meshes from the GPU kernels, and
+//! pictures from the GPU renderer.
 
 use clap::{Args, ValueEnum};
 use dentbend::dent::{DentJob, DentStages, plan_dent};
 use dentbend::gpu::{Backend, GpuContext, GpuDenter};
+use dentbend::render::Renderer;
 use dentbend::{DentParams, DentReport, Impact, TriMesh};
 
 use crate::error::CliError;
@@ -21,23 +23,39 @@ pub enum BackendChoice {
 /// The `--backend` flag.
 #[derive(Debug, Args)]
 pub struct BackendOption {
-    /// Where the dent kernels run [default: $DENTBEND_BACKEND, else cpu]
+    /// Where the dent kernels and pictures run [default: $DENTBEND_BACKEND, else cpu]
     #[arg(long, value_enum)]
     pub backend: Option<BackendChoice>,
 }
 
 impl BackendOption {
-    /// The GPU context to use, or `None` for the CPU kernels.
-    pub fn context(&self) -> Result<Option<&'static GpuContext>, CliError> {
-        let backend = match self.backend {
+    /// The backend the flag, else `DENTBEND_BACKEND`, else `cpu` selects.
+    pub fn backend(&self) -> Result<Backend, CliError> {
+        Ok(match self.backend {
             Some(BackendChoice::Cpu) => Backend::Cpu,
             Some(BackendChoice::Gpu) => Backend::Gpu,
             Some(BackendChoice::Auto) => Backend::Auto,
             // The command line opts in to the GPU: an adapter's driver may print to stderr.
             None if std::env::var_os("DENTBEND_BACKEND").is_none() => Backend::Cpu,
             None => Backend::from_env().map_err(|e| CliError::Usage(e.to_string()))?,
-        };
-        backend.context().map_err(|e| CliError::Usage(e.to_string()))
+        })
+    }
+
+    /// The GPU context to use, or `None` for the CPU kernels.
+    pub fn context(&self) -> Result<Option<&'static GpuContext>, CliError> {
+        self.backend()?.context().map_err(|e| CliError::Usage(e.to_string()))
+    }
+
+    /// The renderer of pictures: the GPU one for `gpu` (an error without an adapter) and for
+    /// `auto` when an adapter exists, else the CPU rasterizer.
+    pub fn renderer(&self) -> Result<Renderer<'static>, CliError> {
+        Renderer::from_backend(self.backend()?).map_err(|e| CliError::Usage(e.to_string()))
+    }
+
+    /// The flag as given, to pass on to another command line (`None` when absent).
+    pub fn flag(&self) -> Option<String> {
+        let choice = self.backend?.to_possible_value()?;
+        Some(format!("--backend {}", choice.get_name()))
     }
 }
 

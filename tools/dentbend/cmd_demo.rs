@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser};
 
+use crate::backend::BackendOption;
 use crate::error::CliError;
 
 /// Arguments of `dentbend demo`.
@@ -13,6 +14,10 @@ pub struct DemoArgs {
     /// Output directory (created if missing)
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
+
+    // Passed on to every step as given; each step otherwise follows $DENTBEND_BACKEND, else cpu.
+    #[command(flatten)]
+    pub backend: BackendOption,
 }
 
 /// The demo's steps as command lines; `{out}` is replaced by the output directory.
@@ -43,7 +48,10 @@ pub fn run(args: &DemoArgs) -> Result<(String, Vec<String>), CliError> {
     std::fs::create_dir_all(&args.out).map_err(|source| CliError::CreateDir { path: args.out.clone(), source })?;
     let mut warnings = Vec::new();
     for step in STEPS {
-        let line = step.replace("{out}", &display(&args.out));
+        let mut line = step.replace("{out}", &display(&args.out));
+        if let Some(flag) = args.backend.flag() {
+            line = format!("{line} {flag}");
+        }
         println!("$ dentbend {line}");
         let argv = std::iter::once("dentbend").chain(line.split_whitespace());
         let cli = crate::Cli::try_parse_from(argv).map_err(|e| CliError::Usage(format!("demo step `{line}`: {e}")))?;

@@ -1,11 +1,13 @@
-//! `dentbend render`: a shaded picture of one or more meshes (CPU rasterizer).
+//! `dentbend render`: a shaded picture of one or more meshes (CPU rasterizer, or the GPU
+//! renderer with `--backend gpu|auto`).
 
 use std::path::PathBuf;
 
 use clap::Args;
 use dentbend::glam::Vec3;
-use dentbend::render::{Camera, Shaded, render};
+use dentbend::render::{Camera, Shaded};
 
+use crate::backend::BackendOption;
 use crate::error::CliError;
 use crate::options::{load_mesh, nonzero};
 use crate::vector::parse_vec3;
@@ -39,6 +41,9 @@ pub struct RenderArgs {
     /// Output PNG file
     #[arg(long, value_name = "PIC.png")]
     pub out: PathBuf,
+
+    #[command(flatten)]
+    pub backend: BackendOption,
 }
 
 /// Runs the command; returns the summary line.
@@ -61,7 +66,8 @@ pub fn run(args: &RenderArgs) -> Result<String, CliError> {
     camera.eye = camera.target + (camera.eye - camera.target) / args.zoom;
     let shaded: Vec<Shaded> =
         meshes.iter().zip(PALETTE.iter().cycle()).map(|(mesh, &colour)| Shaded { mesh, colour }).collect();
-    let picture = render(&shaded, &camera, width, height).map_err(|e| CliError::Usage(e.to_string()))?;
+    let renderer = args.backend.renderer()?;
+    let picture = renderer.render(&shaded, &camera, width, height).map_err(|e| CliError::Usage(e.to_string()))?;
     picture
         .save(&args.out)
         .map_err(|e| CliError::Write { path: args.out.clone(), source: std::io::Error::other(e) })?;
@@ -69,7 +75,7 @@ pub fn run(args: &RenderArgs) -> Result<String, CliError> {
 }
 
 /// Parses `W,H` (two positive integers).
-fn parse_size(text: &str) -> Result<(u32, u32), String> {
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     match parts.as_slice() {
         [w, h] => match (w.parse(), h.parse()) {

@@ -7,6 +7,7 @@ mod cmd_demo;
 mod cmd_dent;
 mod cmd_dentmap;
 mod cmd_render;
+mod cmd_run;
 mod error;
 mod logging;
 mod options;
@@ -42,6 +43,8 @@ enum Command {
     Dent(cmd_dent::DentArgs),
     /// Draws meshes to a PNG picture
     Render(cmd_render::RenderArgs),
+    /// Runs a scene (built-in name or .toml file) with denting in the loop: meshes, PNG frames, summary.json
+    Run(cmd_run::RunArgs),
     /// Makes the README's pictures and meshes (bunny dent map stages, dented blocks, a pair)
     Demo(cmd_demo::DemoArgs),
 }
@@ -52,6 +55,7 @@ fn execute(command: &Command) -> CommandResult {
         Command::Dentmap(args) => cmd_dentmap::run(args).map(|summary| (summary, Vec::new())),
         Command::Dent(args) => cmd_dent::run(args),
         Command::Render(args) => cmd_render::run(args).map(|summary| (summary, Vec::new())),
+        Command::Run(args) => cmd_run::run(args).map(|summary| (summary, Vec::new())),
         Command::Demo(args) => cmd_demo::run(args),
     }
 }

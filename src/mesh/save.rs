@@ -1,0 +1,78 @@
+//! Saving a mesh in the format its file extension names, and the write-then-rename helper every
+//! mesh writer goes through, so that a failed save never leaves a partial file behind.
+
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, BufWriter};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::{MeshError, TriMesh, save_glb, save_obj};
+
+/// Writes `mesh` in the format named by the extension of `path` (case-insensitive): `.obj`
+/// ([`save_obj`]) or `.glb` ([`save_glb`]).
+///
+/// # Errors
+/// [`MeshError::UnsupportedSaveFormat`] for any other extension (nothing is written); otherwise
+/// as the format's writer.
+///
+/// # Example
+/// ```no_run
+/// let bunny = dentbend::mesh::builtin("bunny").unwrap();
+/// dentbend::mesh::save("bunny.glb", &bunny).unwrap();
+/// ```
+pub fn save(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<(), MeshError> {
+    let path = path.as_ref();
+    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("obj") => save_obj(mesh, path),
+        Some("glb") => save_glb(path, mesh),
+        _ => Err(MeshError::UnsupportedSaveFormat { path: path.to_path_buf() }),
+    }
+}
+
+/// Writes a file through `write`, atomically as far as the file system allows: the bytes go to a
+/// hidden temporary file in the same directory, which is renamed over `path` only once
+/// everything was written. On any error the temporary file is removed and `path` is left as it
+/// was (absent, or with its old contents). The data is not `fsync`ed.
+///
+/// # Errors
+/// [`MeshError::Io`] naming `path` if the temporary file cannot be created (for example because
+/// the directory does not exist), written or renamed.
+pub(crate) fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
+) -> Result<(), MeshError> {
+    let io_error = |source| MeshError::Io { path: path.to_path_buf(), source };
+    let temp = temp_sibling(path).map_err(io_error)?;
+    let file = OpenOptions::new().write(true).create_new(true).open(&temp).map_err(io_error)?;
+    fill_and_rename(file, &temp, path, write).map_err(|source| {
+        // Best effort: the rename did not happen, so the temporary file is ours to remove.
+        let _ = fs::remove_file(&temp);
+        io_error(source)
+    })
+}
+
+/// Writes and flushes `file` (open at `temp`), closes it, then renames `temp` to `path`.
+fn fill_and_rename(
+    file: File,
+    temp: &Path,
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
+) -> io::Result<()> {
+    let mut out = BufWriter::new(file);
+    write(&mut out)?;
+    let file = out.into_inner().map_err(io::IntoInnerError::into_error)?;
+    // Closed before the rename, which some platforms refuse on an open file.
+    drop(file);
+    fs::rename(temp, path)
+}
+
+/// A fresh hidden file name next to `path`: `.<name>.<process id>-<counter>.tmp`.
+fn temp_sibling(path: &Path) -> io::Result<PathBuf> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let name =
+        path.file_name().ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file"))?;
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let temp_name = format!(".{}.{}-{n}.tmp", name.to_string_lossy(), std::process::id());
+    Ok(path.with_file_name(temp_name))
+}

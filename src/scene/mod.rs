@@ -1,0 +1,133 @@
+//! Scenes: a [`World`](crate::sim::World) with its bodies, a camera and a frame count, read from
+//! a TOML scene file ([`load_scene`], [`parse_scene`]) or built in ([`builtin_scene`], one per
+//! paper figure: [`BUILTIN_SCENES`]). [`load`] takes either.
+//!
+//! # Scene files
+//!
+//! Units are metres, seconds and kilograms, y is up. Every table refuses unknown fields, and
+//! every error names the file, the line and column, the body and the field:
+//!
+//! ```text
+//! scenes/drop.toml:14:12: body "ball": velocity: [NaN, 0.0, 0.0] must be finite (no nan or inf)
+//! ```
+//!
+//! Top level: `name` (default: the file's stem), `description`, `frames` (default number of
+//! frames to run, one world step each; default 120).
+//!
+//! `[world]`: any field of [`WorldSettings`](crate::sim::WorldSettings) (`gravity` as
+//! `[x, y, z]` m/s², `dt` s, `collision_iterations`, `contact_iterations`,
+//! `restitution_threshold` m/s, `slop` m, `baumgarte`, `margin` m, `shock_propagation`,
+//! `sleep_speed` m/s, `sleep_time` s, `angular_damping` 1/s); the others keep their defaults.
+//!
+//! `[camera]` (optional; without it the camera frames every body from the front, a little
+//! above): `eye` and `target` `[x, y, z]` m, `up` (default `[0, 1, 0]`), `fov_deg` (vertical,
+//! degrees, default 30).
+//!
+//! `[[body]]`, one per body:
+//!
+//! | field              | meaning                                                                | default     |
+//! |--------------------|------------------------------------------------------------------------|-------------|
+//! | `name`             | unique name                                                            | required    |
+//! | `mesh`             | built-in mesh name ([`mesh::BUILTIN_NAMES`](crate::mesh::BUILTIN_NAMES)) or `.obj`/`.ply` path relative to the scene file | required |
+//! | `scale`            | number or `[x, y, z]`, > 0, applied to the mesh first                  | 1           |
+//! | `kind`             | `"static"`, `"dynamic"` or `"kinematic"`                               | `"dynamic"` |
+//! | `position`         | where the mesh's origin goes, `[x, y, z]` m                            | origin      |
+//! | `rotation`         | axis-angle `[x, y, z]`: the axis, with length = the angle in degrees   | none        |
+//! | `velocity`         | `[x, y, z]` m/s                                                        | rest        |
+//! | `angular_velocity` | `[x, y, z]` rad/s, world axes                                          | rest        |
+//! | `density`          | kg/m³ (dynamic bodies)                                                 | 1000        |
+//! | `mass`             | kg, instead of `density`: density = mass / the scaled mesh's volume    |             |
+//! | `collider`         | `"auto"`, `"ball"`, `"cuboid"`, `"convex-hull"` or `"tri-mesh"`        | `"auto"`    |
+//! | `restitution`      | in [0, 1]                                                              | 0.3         |
+//! | `friction`         | ≥ 0                                                                    | 0.5         |
+//! | `color`            | linear RGB `[r, g, b]`                                                 | grey        |
+//!
+//! `[body.dent]` (optional; present = the body dents), the material (d = `gain`·(v_n −
+//! `threshold`), at most `cap`) and the dent's shape
+//! ([`DentParams`](crate::dent::DentParams)):
+//!
+//! | field               | meaning                                                               | default      |
+//! |---------------------|-----------------------------------------------------------------------|--------------|
+//! | `threshold`         | normal impact speed below which nothing dents, m/s                    | 1            |
+//! | `gain`              | dent distance per m/s above the threshold, m/(m/s)                    | 0.04         |
+//! | `cap`               | largest dent distance, m                                              | 0.3          |
+//! | `hardness`          | energy model instead of gain: plastic work per swept volume, Pa       | none         |
+//! | `move_projectile`   | move the projectile into its dent                                     | false        |
+//! | `progressive`       | repeated hits of one contact deepen one dent                          | false        |
+//! | `sigma`             | Gaussian width, m                                                     | d / 2        |
+//! | `resolution`        | dent grid cells per side, or `"auto"` (25..=400 from edge lengths)    | `"auto"`     |
+//! | `heat_iters`        | plain smoothing steps k₁                                              | 8            |
+//! | `clamp_iters`       | clamped smoothing steps k₂                                            | 16           |
+//! | `heat_rate`         | α of a smoothing step, in (0, ¼]                                      | 0.2          |
+//! | `attenuation`       | falloff with depth: `"logistic"`, `"linear"` or `"none"`              | `"logistic"` |
+//! | `attenuation_scale` | with `"linear"`: depth where the dent has faded, in dent distances    | 1            |
+//! | `min_cos`           | lower clamp of cos θ for glancing hits, in [0.01, 1]                  | 0.1          |
+//! | `widen`             | widening t of glancing dents, 1/m                                     | 0            |
+//!
+//! A full example (also `scenes/example.toml`):
+//!
+//! ```toml
+//! name = "example"
+//! description = "A ball and a bunny dent a block; the bunny is dropped ears first."
+//! frames = 120
+//!
+//! [world]
+//! gravity = [0.0, -9.81, 0.0]
+//! dt = 0.016666668
+//!
+//! [camera]
+//! eye = [0.0, 4.5, 9.0]
+//! target = [0.0, 0.5, 0.0]
+//! fov_deg = 30.0
+//!
+//! [[body]]
+//! name = "block"
+//! mesh = "block"
+//! kind = "static"
+//! collider = "tri-mesh"
+//! color = [0.62, 0.64, 0.68]
+//!
+//! [body.dent]
+//! threshold = 1.0
+//! gain = 0.04
+//! cap = 0.3
+//! sigma = 0.08
+//! resolution = "auto"
+//! attenuation = "logistic"
+//! move_projectile = true
+//!
+//! [[body]]
+//! name = "ball"
+//! mesh = "sphere"
+//! scale = 0.6
+//! position = [-1.0, 2.5, 0.0]
+//! velocity = [0.0, -4.0, 0.0]
+//! mass = 500.0
+//! collider = "ball"
+//! restitution = 0.2
+//!
+//! [[body]]
+//! name = "bunny"
+//! mesh = "bunny"
+//! scale = 0.15
+//! position = [1.0, 3.2, 0.0]
+//! rotation = [180.0, 0.0, 0.0]
+//! angular_velocity = [0.0, 1.0, 0.0]
+//! density = 800.0
+//! ```
+//!
+//! Loading a scene reads the scene file and the mesh files it names and writes nothing.
+
+mod builtin;
+mod error;
+mod figures;
+mod file;
+mod parse;
+mod rain;
+mod source;
+mod types;
+
+pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized};
+pub use error::SceneError;
+pub use parse::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, parse_scene};
+pub use types::{DEFAULT_FRAMES, Scene, SceneSize, framing_camera};

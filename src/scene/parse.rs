@@ -1,0 +1,359 @@
+//! Scene files: TOML text → checked [`Scene`]. Every refusal names the file, the line and column,
+//! the body and the field (see the format in the [module docs](super)).
+
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use glam::{Affine3A, Quat, Vec3};
+use toml::Spanned;
+
+use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, ResolutionSpec, SceneFile};
+use super::source::Source;
+use super::{DEFAULT_FRAMES, Scene, SceneError, framing_camera};
+use crate::dent::{Attenuation, DentError, Resolution};
+use crate::mesh::{self, TriMesh};
+use crate::render::Camera;
+use crate::sim::{BodyDesc, DentSettings, SimError, SurfaceMaterial, World};
+
+/// Dent threshold when `[body.dent]` gives none, m/s.
+pub const DEFAULT_DENT_THRESHOLD: f32 = 1.0;
+/// Dent gain when `[body.dent]` gives none, m per m/s above the threshold.
+pub const DEFAULT_DENT_GAIN: f32 = 0.04;
+/// Dent cap when `[body.dent]` gives none, m.
+pub const DEFAULT_DENT_CAP: f32 = 0.3;
+
+/// Direction the default camera looks along: from the front (+z), a little above.
+const DEFAULT_VIEW: Vec3 = Vec3::new(0.0, -0.45, -1.0);
+
+/// Reads and builds the scene file at `path` (TOML, format in the [module docs](super)). Reads
+/// the file and the mesh files it names; writes nothing.
+///
+/// # Errors
+/// [`SceneError::Read`] when the file cannot be read, otherwise as [`parse_scene`].
+pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.into(), source })?;
+    parse_scene(&text, path)
+}
+
+/// Builds a scene from the TOML `text` of a scene file. `origin` is the file's path: it is
+/// printed in error messages and mesh paths are relative to its folder.
+///
+/// # Errors
+/// [`SceneError::Invalid`], `file:line:col: body "name": field: message`, for bad syntax, an
+/// unknown field, a value of the wrong type, a NaN or infinite number, a non-positive mass,
+/// density or scale, a missing or unreadable mesh file, bad dent parameters, a duplicate body
+/// name, or a body the simulation refuses (e.g. an open mesh for a dynamic body).
+///
+/// # Example
+/// ```
+/// use std::path::Path;
+/// let text = r#"
+/// frames = 90
+/// [[body]]
+/// name = "ball"
+/// mesh = "sphere"
+/// position = [0, 2, 0]
+/// velocity = [0, -5, 0]
+/// [[body]]
+/// name = "ground"
+/// mesh = "block"
+/// kind = "static"
+/// [body.dent]
+/// cap = 0.2
+/// "#;
+/// let scene = dentbend::scene::parse_scene(text, Path::new("drop.toml"))?;
+/// assert_eq!((scene.name.as_str(), scene.frames, scene.world.bodies().len()), ("drop", 90, 2));
+///
+/// let error = dentbend::scene::parse_scene("[[body]]\nname = \"b\"\nmesh = \"sphere\"\nmass = -1\n", Path::new("bad.toml"))
+///     .unwrap_err();
+/// assert!(error.to_string().starts_with("bad.toml:4:8: body \"b\": mass:"));
+/// # Ok::<(), dentbend::scene::SceneError>(())
+/// ```
+pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
+    let src = Source::new(text, origin);
+    let file: SceneFile = toml::from_str(text).map_err(|e| src.toml_error(&e))?;
+    let settings = file.world.unwrap_or_default();
+    let mut world = World::new(settings).map_err(|e| world_error(&src, e))?;
+
+    let mut meshes = MeshCache { folder: origin.parent().map(Path::to_path_buf).unwrap_or_default(), loaded: HashMap::new() };
+    let mut names: HashMap<&str, usize> = HashMap::new();
+    for body in &file.bodies {
+        let name = body.name.get_ref().as_str();
+        if name.trim().is_empty() {
+            return Err(src.error_at(body.name.span(), None, "name", "must not be empty"));
+        }
+        if let Some(&first) = names.get(name) {
+            let (line, _) = src.line_col(first);
+            let message = format!("duplicate body name \"{name}\" (first used on line {line})");
+            return Err(src.error_at(body.name.span(), Some(name), "name", message));
+        }
+        names.insert(name, body.name.span().start);
+        let desc = body_desc(&src, body, &mut meshes)?;
+        world.add(desc).map_err(|e| sim_error(&src, body, e))?;
+    }
+
+    let camera = match &file.camera {
+        Some(camera) => camera_from(&src, camera)?,
+        None => framing_camera(&world, DEFAULT_VIEW),
+    };
+    let frames = match &file.frames {
+        Some(f) if *f.get_ref() == 0 => return Err(src.error_at(f.span(), None, "frames", "must be at least 1")),
+        Some(f) => *f.get_ref(),
+        None => DEFAULT_FRAMES,
+    };
+    let stem = origin.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
+    Ok(Scene { name: file.name.unwrap_or(stem), world, camera, frames, description: file.description })
+}
+
+/// Meshes by spec, loaded once each.
+struct MeshCache {
+    /// The scene file's folder: relative mesh paths start here.
+    folder: PathBuf,
+    loaded: HashMap<String, TriMesh>,
+}
+
+impl MeshCache {
+    /// The mesh for a built-in name or a path relative to the scene file.
+    fn get(&mut self, src: &Source<'_>, body: &str, spec: &Spanned<String>) -> Result<TriMesh, SceneError> {
+        let name = spec.get_ref();
+        if let Some(mesh) = self.loaded.get(name) {
+            return Ok(mesh.clone());
+        }
+        let fail = |message: String| src.error_at(spec.span(), Some(body), "mesh", message);
+        let mesh = if mesh::BUILTIN_NAMES.contains(&name.as_str()) {
+            mesh::builtin(name).map_err(|e| fail(e.to_string()))?
+        } else {
+            let path = self.folder.join(name);
+            if !path.is_file() {
+                let builtins = mesh::BUILTIN_NAMES.join(", ");
+                return Err(fail(format!(
+                    "mesh file {} not found (a mesh is a built-in name: {builtins}; or an .obj or .ply path \
+                     relative to the scene file)",
+                    path.display()
+                )));
+            }
+            let path_text = path.to_str().ok_or_else(|| fail(format!("mesh path {} is not UTF-8", path.display())))?;
+            mesh::load(path_text).map_err(|e| fail(e.to_string()))?
+        };
+        self.loaded.insert(name.clone(), mesh.clone());
+        Ok(mesh)
+    }
+}
+
+/// A checked vector field: finite, or an error at its span.
+fn vector(src: &Source<'_>, body: &str, field: &str, value: &Option<Spanned<[f32; 3]>>) -> Result<Option<Vec3>, SceneError> {
+    match value {
+        Some(v) if !v.get_ref().iter().all(|x| x.is_finite()) => {
+            Err(src.error_at(v.span(), Some(body), field, format!("{:?} must be finite (no nan or inf)", v.get_ref())))
+        }
+        Some(v) => Ok(Some(Vec3::from_array(*v.get_ref()))),
+        None => Ok(None),
+    }
+}
+
+/// A checked number field: `ok(value)` must hold, or an error at its span saying `rule`.
+fn number(
+    src: &Source<'_>,
+    body: Option<&str>,
+    field: &str,
+    value: &Option<Spanned<f32>>,
+    ok: impl Fn(f32) -> bool,
+    rule: &str,
+) -> Result<Option<f32>, SceneError> {
+    match value {
+        Some(v) if !ok(*v.get_ref()) => Err(src.error_at(v.span(), body, field, format!("{} {rule}", v.get_ref()))),
+        Some(v) => Ok(Some(*v.get_ref())),
+        None => Ok(None),
+    }
+}
+
+fn positive(x: f32) -> bool {
+    x.is_finite() && x > 0.0
+}
+
+/// One `[[body]]` → a body description, every value checked where it is written.
+fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCache) -> Result<BodyDesc, SceneError> {
+    let name = body.name.get_ref().as_str();
+    let mut mesh = meshes.get(src, name, &body.mesh)?;
+    if let Some(scale) = &body.scale {
+        let s = scale.get_ref().0;
+        if !s.iter().all(|&x| positive(x)) {
+            let message = format!("{s:?} must be finite and > 0 along every axis");
+            return Err(src.error_at(scale.span(), Some(name), "scale", message));
+        }
+        mesh.transform(Affine3A::from_scale(Vec3::from_array(s)))
+            .map_err(|e| src.error_at(scale.span(), Some(name), "scale", e.to_string()))?;
+    }
+    let mut desc = BodyDesc::new(name, mesh);
+    desc.kind = body.kind.unwrap_or_default();
+    desc.collider = body.collider.unwrap_or_default();
+    desc.position = vector(src, name, "position", &body.position)?.unwrap_or(Vec3::ZERO);
+    if let Some(rotation) = vector(src, name, "rotation", &body.rotation)? {
+        desc.orientation = Quat::from_scaled_axis(rotation * (std::f32::consts::PI / 180.0));
+    }
+    desc.linear_velocity = vector(src, name, "velocity", &body.velocity)?.unwrap_or(Vec3::ZERO);
+    desc.angular_velocity = vector(src, name, "angular_velocity", &body.angular_velocity)?.unwrap_or(Vec3::ZERO);
+    if let Some(color) = vector(src, name, "color", &body.color)? {
+        desc.color = color.to_array();
+    }
+
+    let density = number(src, Some(name), "density", &body.density, positive, "kg/m³ must be finite and > 0")?;
+    let mass = number(src, Some(name), "mass", &body.mass, positive, "kg must be finite and > 0")?;
+    desc.density = match (density, mass, &body.mass) {
+        (Some(_), Some(_), Some(m)) => {
+            return Err(src.error_at(m.span(), Some(name), "mass", "give density or mass, not both"));
+        }
+        (_, Some(mass), Some(m)) => {
+            let volume = desc.mesh.volume().abs();
+            if !positive(volume) {
+                let message = "cannot turn a mass into a density: the mesh encloses no volume";
+                return Err(src.error_at(m.span(), Some(name), "mass", message));
+            }
+            mass / volume
+        }
+        (density, ..) => density.unwrap_or(desc.density),
+    };
+
+    let defaults = SurfaceMaterial::default();
+    let restitution = number(src, Some(name), "restitution", &body.restitution, |r| (0.0..=1.0).contains(&r), "must be in [0, 1]")?;
+    let friction = number(src, Some(name), "friction", &body.friction, |f| f.is_finite() && f >= 0.0, "must be finite and >= 0")?;
+    desc.surface = SurfaceMaterial {
+        restitution: restitution.unwrap_or(defaults.restitution),
+        friction: friction.unwrap_or(defaults.friction),
+    };
+    if let Some(dent) = &body.dent {
+        desc.dent = Some(dent_settings(src, name, dent)?);
+    }
+    Ok(desc)
+}
+
+/// `[body.dent]` → dent settings, checked by [`DentSettings::validate`] with the error placed on
+/// the field it names.
+fn dent_settings(src: &Source<'_>, body: &str, dent: &Spanned<DentFile>) -> Result<DentSettings, SceneError> {
+    let file = dent.get_ref();
+    let value = |field: &Option<Spanned<f32>>, default: f32| field.as_ref().map_or(default, |v| *v.get_ref());
+    let cap = value(&file.cap, DEFAULT_DENT_CAP);
+    let mut settings = DentSettings::new(value(&file.threshold, DEFAULT_DENT_THRESHOLD), value(&file.gain, DEFAULT_DENT_GAIN), cap);
+    settings.hardness = file.hardness.as_ref().map(|h| *h.get_ref());
+    settings.move_projectile = file.move_projectile.unwrap_or(false);
+    settings.progressive = file.progressive.unwrap_or(false);
+    let params = &mut settings.params;
+    params.sigma = file.sigma.as_ref().map(|s| *s.get_ref());
+    if let Some(resolution) = &file.resolution {
+        params.resolution = match resolution.get_ref() {
+            ResolutionSpec::Auto => Resolution::default(),
+            ResolutionSpec::Fixed(n) => Resolution::Fixed(*n),
+        };
+    }
+    params.heat_iters = file.heat_iters.as_ref().map_or(params.heat_iters, |v| *v.get_ref());
+    params.clamp_iters = file.clamp_iters.as_ref().map_or(params.clamp_iters, |v| *v.get_ref());
+    params.heat_rate = value(&file.heat_rate, params.heat_rate);
+    params.min_cos = value(&file.min_cos, params.min_cos);
+    params.widen = value(&file.widen, params.widen);
+    let attenuation = file.attenuation.as_ref().map(|a| *a.get_ref());
+    if let Some(scale) = &file.attenuation_scale
+        && attenuation != Some(AttenuationSpec::Linear)
+    {
+        let message = "only applies with attenuation = \"linear\"";
+        return Err(src.error_at(scale.span(), Some(body), "dent.attenuation_scale", message));
+    }
+    params.attenuation = match attenuation {
+        None | Some(AttenuationSpec::Logistic) => Attenuation::Logistic,
+        Some(AttenuationSpec::Linear) => Attenuation::Linear { scale: value(&file.attenuation_scale, 1.0) },
+        Some(AttenuationSpec::None) => Attenuation::None,
+    };
+    settings.validate().map_err(|error| dent_error(src, body, dent, error))?;
+    Ok(settings)
+}
+
+/// A dent-parameter error placed on the field it names (or on the `dent` table).
+fn dent_error(src: &Source<'_>, body: &str, dent: &Spanned<DentFile>, error: DentError) -> SceneError {
+    let file = dent.get_ref();
+    let span = |v: &Option<Spanned<f32>>| v.as_ref().map(Spanned::span);
+    let (field, at): (&str, Option<Range<usize>>) = match &error {
+        DentError::InvalidParameter { name, .. } => match *name {
+            "threshold" => ("threshold", span(&file.threshold)),
+            "gain" => ("gain", span(&file.gain)),
+            "cap" | "dent_distance" => ("cap", span(&file.cap)),
+            "hardness" => ("hardness", span(&file.hardness)),
+            "sigma" => ("sigma", span(&file.sigma)),
+            "resolution" => ("resolution", file.resolution.as_ref().map(Spanned::span)),
+            "heat_iters" => ("heat_iters", file.heat_iters.as_ref().map(Spanned::span)),
+            "clamp_iters" => ("clamp_iters", file.clamp_iters.as_ref().map(Spanned::span)),
+            "heat_rate" => ("heat_rate", span(&file.heat_rate)),
+            "min_cos" => ("min_cos", span(&file.min_cos)),
+            "widen" => ("widen", span(&file.widen)),
+            "attenuation.scale" => ("attenuation_scale", span(&file.attenuation_scale)),
+            other => (other, None),
+        },
+        _ => ("", None),
+    };
+    let message = match &error {
+        DentError::InvalidParameter { value, reason, .. } => format!("{value} {reason}"),
+        other => other.to_string(),
+    };
+    src.error_at(at.unwrap_or_else(|| dent.span()), Some(body), &format!("dent.{field}").trim_end_matches('.'), message)
+}
+
+/// `[camera]` → a camera, every value checked.
+fn camera_from(src: &Source<'_>, camera: &CameraFile) -> Result<Camera, SceneError> {
+    let point = |field: &str, v: &Spanned<[f32; 3]>| -> Result<Vec3, SceneError> {
+        let p = Vec3::from_array(*v.get_ref());
+        if p.is_finite() { Ok(p) } else { Err(src.error_at(v.span(), None, field, format!("{p} must be finite"))) }
+    };
+    let eye = point("camera.eye", &camera.eye)?;
+    let target = point("camera.target", &camera.target)?;
+    if eye.distance(target) < 1e-6 {
+        return Err(src.error_at(camera.target.span(), None, "camera.target", "must differ from camera.eye"));
+    }
+    let up = match &camera.up {
+        Some(up) => point("camera.up", up)?,
+        None => Vec3::Y,
+    };
+    if up.cross(target - eye).length_squared() < 1e-12 {
+        let span = camera.up.as_ref().map_or(camera.eye.span(), Spanned::span);
+        return Err(src.error_at(span, None, "camera.up", "must not be zero or parallel to the view direction"));
+    }
+    let fov = number(src, None, "camera.fov_deg", &camera.fov_deg, |f| f > 0.0 && f < 180.0, "degrees must be in (0, 180)")?;
+    Ok(Camera { eye, target, up, fov_y_deg: fov.unwrap_or(30.0) })
+}
+
+/// A bad `[world]` setting, placed on its key.
+fn world_error(src: &Source<'_>, error: SimError) -> SceneError {
+    let (key, message) = match &error {
+        SimError::Invalid { what, value, reason } => (what.clone(), format!("{value} {reason}")),
+        other => (String::new(), other.to_string()),
+    };
+    let at = src.find_key("world", &key).or_else(|| src.find_header("world")).unwrap_or(0);
+    let field = if key.is_empty() { "world".to_owned() } else { format!("world.{key}") };
+    src.error_at(at..at, None, &field, message)
+}
+
+/// A body the world refused, placed on the field the refusal names (or on the body's name).
+fn sim_error(src: &Source<'_>, body: &BodyFile, error: SimError) -> SceneError {
+    let name = body.name.get_ref().as_str();
+    let (field, message) = match &error {
+        SimError::Invalid { what, value, reason } => {
+            let field = what.rsplit(": ").next().unwrap_or(what);
+            (if field == "linear_velocity" { "velocity" } else { field }.to_owned(), format!("{value} {reason}"))
+        }
+        SimError::BadShape { reason, .. } => ("mesh".to_owned(), reason.clone()),
+        SimError::Dent { error, .. } => ("dent".to_owned(), error.to_string()),
+        other => (String::new(), other.to_string()),
+    };
+    let span = match field.as_str() {
+        "mesh" => Some(body.mesh.span()),
+        "velocity" => body.velocity.as_ref().map(Spanned::span),
+        "angular_velocity" => body.angular_velocity.as_ref().map(Spanned::span),
+        "position" => body.position.as_ref().map(Spanned::span),
+        "rotation" | "orientation" => body.rotation.as_ref().map(Spanned::span),
+        "density" => body.density.as_ref().or(body.mass.as_ref()).map(Spanned::span),
+        "restitution" => body.restitution.as_ref().map(Spanned::span),
+        "friction" => body.friction.as_ref().map(Spanned::span),
+        "color" => body.color.as_ref().map(Spanned::span),
+        "dent" => body.dent.as_ref().map(Spanned::span),
+        _ => None,
+    };
+    src.error_at(span.unwrap_or_else(|| body.name.span()), Some(name), &field, message)
+}

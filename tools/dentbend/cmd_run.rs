@@ -1,0 +1,238 @@
+//! `dentbend run SCENE`: steps a built-in scene or a scene file with denting in the loop and
+//! writes meshes (OBJ and glTF), PNG frames and `summary.json`.
+
+use std::path::{Path, PathBuf};
+
+use clap::{Args, ValueEnum};
+use dentbend::render::{Renderer, Shaded};
+use dentbend::scene::{Scene, SceneSize, load_sized};
+use dentbend::sim::{DentRecord, Simulation, StepTiming};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+
+use crate::backend::BackendOption;
+use crate::error::CliError;
+
+/// Which bodies' meshes are written at each output frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MeshChoice {
+    /// Every body.
+    All,
+    /// Only dentable bodies (the ones whose shape changes).
+    Dentable,
+    /// No meshes.
+    None,
+}
+
+/// Arguments of `dentbend run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// A built-in scene (pair, ball-block, bunny-block, glancing, resolution, rain) or a scene
+    /// file (.toml)
+    pub scene: String,
+
+    /// Frames to run (one world step each) [default: the scene's]
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u32>,
+
+    /// Output directory (created if missing): meshes/, frames/, summary.json
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+
+    /// Write meshes and pictures every K frames (and at the first and last)
+    #[arg(long, value_name = "K", default_value_t = 10)]
+    pub every: u32,
+
+    /// Size of a built-in scene: the paper's (full) or a quick one (demo)
+    #[arg(long, value_enum, default_value = "full")]
+    pub size: SizeChoice,
+
+    /// Which bodies' meshes to write
+    #[arg(long, value_enum, default_value = "all")]
+    pub meshes: MeshChoice,
+
+    /// Picture size in pixels, WIDTH,HEIGHT (0,0 writes no pictures)
+    #[arg(long, value_name = "W,H", value_parser = crate::cmd_render::parse_size, default_value = "960,640")]
+    pub picture: (u32, u32),
+
+    #[command(flatten)]
+    pub backend: BackendOption,
+}
+
+/// `--size`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SizeChoice {
+    /// The paper's sizes.
+    Full,
+    /// Small and quick.
+    Demo,
+}
+
+/// `summary.json`.
+#[derive(Debug, Serialize)]
+struct Summary<'a> {
+    scene: &'a str,
+    description: &'a str,
+    frames: u32,
+    dt: f32,
+    bodies: Vec<&'a str>,
+    dents_on: &'static str,
+    pictures_on: &'static str,
+    ms_per_step: Split,
+    steps: &'a [StepTiming],
+    dents: Vec<DentEntry<'a>>,
+}
+
+/// Mean and median step times, ms, split into dynamics and denting.
+#[derive(Debug, Serialize)]
+struct Split {
+    dynamics_mean: f64,
+    denting_mean: f64,
+    total_mean: f64,
+    dynamics_median: f64,
+    denting_median: f64,
+    total_median: f64,
+    dents_per_step_mean: f64,
+}
+
+/// One dent of `summary.json`.
+#[derive(Debug, Serialize)]
+struct DentEntry<'a> {
+    /// Frame after which the dent was made (1 = after the first step).
+    frame: u64,
+    #[serde(flatten)]
+    record: &'a DentRecord,
+}
+
+/// Runs the command; returns the summary line.
+pub fn run(args: &RunArgs) -> Result<String, CliError> {
+    if args.every == 0 {
+        return Err(CliError::Usage("--every must be at least 1".into()));
+    }
+    let size = match args.size {
+        SizeChoice::Full => SceneSize::Full,
+        SizeChoice::Demo => SceneSize::Demo,
+    };
+    let scene = load_sized(&args.scene, size).map_err(|e| CliError::Usage(e.to_string()))?;
+    let frames = args.frames.unwrap_or(scene.frames);
+    let context = args.backend.context()?;
+    let pictures = args.picture.0 > 0 && args.picture.1 > 0;
+    let renderer = if pictures { Some(args.backend.renderer()?) } else { None };
+    let meshes_dir = args.out.join("meshes");
+    let frames_dir = args.out.join("frames");
+    for dir in [&args.out, &meshes_dir, &frames_dir] {
+        std::fs::create_dir_all(dir).map_err(|source| CliError::CreateDir { path: dir.clone(), source })?;
+    }
+    let Scene { name, world, camera, description, .. } = scene;
+    let mut sim = Simulation::new(world, context).map_err(|e| CliError::Usage(e.to_string()))?;
+    let progress = ProgressBar::new(u64::from(frames));
+    progress.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} frames, {msg} ({elapsed} / ~{duration})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    progress.set_prefix(name.clone());
+    let mut timings = Vec::with_capacity(frames as usize);
+    let mut written = 0usize;
+    for frame in 0..=frames {
+        if frame % args.every == 0 || frame == frames {
+            written += write_meshes(&sim, frame, args.meshes, &meshes_dir)?;
+            if let Some(renderer) = &renderer {
+                draw(&sim, renderer, &camera, args.picture, &frames_dir.join(format!("{frame:04}.png")))?;
+            }
+        }
+        if frame == frames {
+            break;
+        }
+        let (timing, _) = sim.step().map_err(|e| CliError::Usage(format!("frame {}: {e}", frame + 1)))?;
+        timings.push(timing);
+        progress.set_message(format!("{} dents", sim.dents().len()));
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    let summary = Summary {
+        scene: &name,
+        description: &description,
+        frames,
+        dt: sim.world().settings().dt,
+        bodies: sim.world().bodies().iter().map(|b| b.name.as_str()).collect(),
+        dents_on: if sim.dents_on_gpu() { "gpu" } else { "cpu" },
+        pictures_on: match &renderer {
+            Some(r) if r.is_gpu() => "gpu",
+            Some(_) => "cpu",
+            None => "none",
+        },
+        ms_per_step: split(&timings),
+        steps: &timings,
+        dents: sim.dents().iter().map(|record| DentEntry { frame: record.step, record }).collect(),
+    };
+    let path = args.out.join("summary.json");
+    let json = serde_json::to_string_pretty(&summary).map_err(|e| CliError::Usage(e.to_string()))?;
+    std::fs::write(&path, json).map_err(|source| CliError::Write { path: path.clone(), source })?;
+    let ms = &summary.ms_per_step;
+    Ok(format!(
+        "run {name}: {frames} frames, {} dents, {:.2} ms/step ({:.2} dynamics + {:.2} denting), {written} mesh files → {}",
+        sim.dents().len(),
+        ms.total_mean,
+        ms.dynamics_mean,
+        ms.denting_mean,
+        args.out.display()
+    ))
+}
+
+/// Writes `meshes/<body>_<frame>.obj` and `.glb` (world coordinates); returns the file count.
+fn write_meshes(sim: &Simulation, frame: u32, choice: MeshChoice, dir: &Path) -> Result<usize, CliError> {
+    let mut count = 0;
+    for body in sim.world().bodies() {
+        let wanted = match choice {
+            MeshChoice::All => true,
+            MeshChoice::Dentable => body.dent.is_some(),
+            MeshChoice::None => false,
+        };
+        if !wanted {
+            continue;
+        }
+        let mesh = body.world_mesh();
+        for extension in ["obj", "glb"] {
+            let path = dir.join(format!("{}_{frame:04}.{extension}", body.name));
+            dentbend::mesh::save(&path, &mesh).map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
+            count += 1;
+        }
+    }
+    Ok(count)
+}
+
+/// Draws the scene from its camera into `path`.
+fn draw(
+    sim: &Simulation,
+    renderer: &Renderer<'_>,
+    camera: &dentbend::render::Camera,
+    (width, height): (u32, u32),
+    path: &Path,
+) -> Result<(), CliError> {
+    let meshes: Vec<_> = sim.world().bodies().iter().map(|b| (b.world_mesh(), b.color)).collect();
+    let shaded: Vec<Shaded> = meshes.iter().map(|(mesh, colour)| Shaded { mesh, colour: *colour }).collect();
+    let picture = renderer.render(&shaded, camera, width, height).map_err(|e| CliError::Usage(e.to_string()))?;
+    picture.save(path).map_err(|e| CliError::Write { path: path.to_path_buf(), source: std::io::Error::other(e) })
+}
+
+/// Means and medians of the step timings.
+fn split(timings: &[StepTiming]) -> Split {
+    let mean = |f: fn(&StepTiming) -> f64| {
+        if timings.is_empty() { 0.0 } else { timings.iter().map(f).sum::<f64>() / timings.len() as f64 }
+    };
+    let median = |f: fn(&StepTiming) -> f64| {
+        let mut values: Vec<f64> = timings.iter().map(f).collect();
+        values.sort_by(f64::total_cmp);
+        values.get(values.len() / 2).copied().unwrap_or(0.0)
+    };
+    Split {
+        dynamics_mean: mean(|t| t.dynamics_ms),
+        denting_mean: mean(|t| t.denting_ms),
+        total_mean: mean(|t| t.dynamics_ms + t.denting_ms),
+        dynamics_median: median(|t| t.dynamics_ms),
+        denting_median: median(|t| t.denting_ms),
+        total_median: median(|t| t.dynamics_ms + t.denting_ms),
+        dents_per_step_mean: mean(|t| t.dents as f64),
+    }
+}
