@@ -316,7 +316,9 @@ impl RigidBody {
 
     /// Replaces the surface (body coordinates) after a dent and rebuilds mesh colliders.
     pub(crate) fn set_mesh(&mut self, mesh: TriMesh) -> Result<(), SimError> {
-        if self.collider_kind.follows_mesh(self.kind) {
+        let kind = self.collider_kind.resolve(self.kind);
+        let refitted = kind == ColliderKind::TriMesh && ColliderKind::refit(&mut self.shape, &mesh);
+        if self.collider_kind.follows_mesh(self.kind) && !refitted {
             self.shape = self
                 .collider_kind
                 .build_for(self.kind, &mesh)

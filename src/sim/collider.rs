@@ -39,6 +39,19 @@ impl ColliderKind {
         matches!(self.resolve(kind), Self::ConvexHull | Self::TriMesh)
     }
 
+    /// Moves a mesh collider's vertices to `mesh`'s (same vertex count and faces, as after a
+    /// dent) by refitting its tree in place. Returns `false` when the shape is not a triangle
+    /// mesh with matching vertices, so the caller rebuilds it.
+    pub(crate) fn refit(shape: &mut SharedShape, mesh: &TriMesh) -> bool {
+        match shape.make_mut().as_trimesh_mut() {
+            Some(trimesh) if trimesh.vertices().len() == mesh.vertex_count() => {
+                trimesh.set_vertices(mesh.positions());
+                true
+            }
+            _ => false,
+        }
+    }
+
     /// Builds the shape of a body of `kind` with surface `mesh` (body coordinates).
     ///
     /// # Errors
@@ -66,7 +79,9 @@ impl ColliderKind {
             Self::ConvexHull => SharedShape::convex_hull(positions)
                 .ok_or_else(|| "the convex hull of the mesh is degenerate (flat or too few points)".into()),
             Self::TriMesh | Self::Auto => {
-                let flags = TriMeshFlags::FIX_INTERNAL_EDGES | TriMeshFlags::DELETE_DEGENERATE_TRIANGLES;
+                // Deformable so a dent refits the tree instead of rebuilding it (vertices are
+                // kept one-to-one with the mesh's, so no merging).
+                let flags = TriMeshFlags::DEFORMABLE | TriMeshFlags::DELETE_DEGENERATE_TRIANGLES;
                 SharedShape::trimesh_with_flags(positions.to_vec(), mesh.faces().to_vec(), flags)
                     .map_err(|e| format!("parry3d refused the triangle mesh: {e:?}"))
             }

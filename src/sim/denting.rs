@@ -132,7 +132,13 @@ impl Denter {
         let mut targets: Vec<usize> = pending.iter().map(|p| p.target).collect();
         targets.sort_unstable();
         targets.dedup();
-        let projectiles: Vec<TriMesh> = pending.iter().map(|p| projectile_in_target(world, p)).collect();
+        let cropped: Vec<Option<TriMesh>> = pending.iter().map(|p| projectile_in_target(world, p)).collect();
+        let pending: Vec<Pending> = pending.iter().zip(&cropped).filter(|(_, m)| m.is_some()).map(|(p, _)| *p).collect();
+        let projectiles: Vec<TriMesh> = cropped.into_iter().flatten().collect();
+        let pending = pending.as_slice();
+        if pending.is_empty() {
+            return Ok(Vec::new());
+        }
         let jobs: Vec<DentJob<'_>> = pending
             .iter()
             .zip(&projectiles)
@@ -193,7 +199,7 @@ impl Denter {
                 }
             };
             let distance = (state.accumulated + p.dent_distance).min(cap);
-            let projectile = projectile_in_target(world, p);
+            let Some(projectile) = projectile_in_target(world, p) else { continue };
             let deeper = Pending { dent_distance: distance, ..*p };
             let mut meshes = vec![state.pre_dent.clone()];
             dent_batch(&mut meshes, &[job(world, &deeper, &projectile, 0)])
@@ -260,14 +266,54 @@ fn normal_energy_lost(world: &World, event: &CollisionEvent, target: usize, proj
     0.5 / k * event.normal_speed.powi(2) * (1.0 - e * e)
 }
 
-/// The projectile's surface in the target's body coordinates.
-fn projectile_in_target(world: &World, p: &Pending) -> TriMesh {
+/// The part of the projectile's surface that can shape the dent, in the target's body
+/// coordinates: triangles with a corner within [`reach`] of the impact point. Far parts of a
+/// large projectile (a bunny landing on a small ball) cannot touch the target, and leaving them
+/// out keeps the dent's depth origin at the part that hit instead of the projectile's farthest
+/// point. `None` when nothing is that close.
+fn projectile_in_target(world: &World, p: &Pending) -> Option<TriMesh> {
     let (target, projectile) = (&world.bodies()[p.target], &world.bodies()[p.projectile]);
-    let relative = target.transform().inverse() * projectile.transform();
-    let mut mesh = projectile.mesh.clone();
+    let centre = projectile.transform().inverse().transform_point3(p.impact.point);
+    let mut mesh = crop_to_ball(&projectile.mesh, centre, reach(world, p))?;
     // A rigid motion of a valid mesh stays finite.
-    let _ = mesh.transform(relative);
-    mesh
+    let _ = mesh.transform(target.transform().inverse() * projectile.transform());
+    Some(mesh)
+}
+
+/// How far from the impact point the projectile can matter, m: the target's size (its dent
+/// cannot be wider), plus the deepest dent and the Gaussian tails.
+fn reach(world: &World, p: &Pending) -> f32 {
+    let target = &world.bodies()[p.target];
+    let radius = target.shape().compute_local_bounding_sphere().radius;
+    let settings = target.dent.as_ref();
+    let cap = settings.map_or(p.dent_distance, |d| d.material.cap.max(p.dent_distance));
+    let sigma = settings.and_then(|d| d.params.sigma).unwrap_or(0.5 * cap);
+    2.0 * radius + cap + 4.0 * sigma
+}
+
+/// The triangles of `mesh` with a corner within `radius` of `centre`, vertices renumbered;
+/// the whole mesh (cloned) when all of it is that close.
+fn crop_to_ball(mesh: &TriMesh, centre: glam::Vec3, radius: f32) -> Option<TriMesh> {
+    let near: Vec<bool> = mesh.positions().iter().map(|p| p.distance_squared(centre) <= radius * radius).collect();
+    if near.iter().all(|&n| n) {
+        return Some(mesh.clone());
+    }
+    let mut index = vec![u32::MAX; mesh.vertex_count()];
+    let mut positions = Vec::new();
+    let mut faces = Vec::new();
+    for face in mesh.faces() {
+        if !face.iter().any(|&v| near[v as usize]) {
+            continue;
+        }
+        faces.push(face.map(|v| {
+            if index[v as usize] == u32::MAX {
+                index[v as usize] = positions.len() as u32;
+                positions.push(mesh.positions()[v as usize]);
+            }
+            index[v as usize]
+        }));
+    }
+    TriMesh::new(positions, faces).ok()
 }
 
 /// The dent job of `p` in the target's body coordinates, against batch target `slot`.
