@@ -280,7 +280,7 @@ fn missing_files_are_io_errors() {
 
 #[test]
 fn unknown_names_and_extensions_list_the_builtins() {
-    for spec in ["teapot", "mesh.stl", "mesh.gltf", "objfile", "bunny.obj.bak", ""] {
+    for spec in ["teapot", "mesh.stl", "mesh.fbx", "objfile", "bunny.obj.bak", ""] {
         let error = mesh::load(spec).unwrap_err();
         assert!(matches!(error, MeshError::UnsupportedFormat { .. }), "{spec}: {error:?}");
         let message = error.to_string();

@@ -101,7 +101,8 @@ fn dented_block() -> (TriMesh, TriMesh, Camera) {
     let ball = common::sphere_at(Vec3::new(0.0, 0.5 + 0.5, 0.0), 0.5);
     let impact = Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -2.0 * Vec3::Y };
     dent(&mut dented, &ball, &impact, &DentParams::new(0.15)).unwrap();
-    let camera = Camera { eye: Vec3::new(0.0, 3.2, 3.4), target: Vec3::new(0.0, 0.3, 0.0), up: Vec3::Y, fov_y_deg: 45.0 };
+    let camera =
+        Camera { eye: Vec3::new(0.0, 3.2, 3.4), target: Vec3::new(0.0, 0.3, 0.0), up: Vec3::Y, fov_y_deg: 45.0 };
     (block, dented, camera)
 }
 
@@ -146,7 +147,8 @@ fn tiled_pictures_match_single_pass_ones() {
     let meshes = [Shaded { mesh: &sphere, colour: COPPER }];
     let whole = gpu.render(&meshes, &camera, 150, 100).unwrap();
     let tiled = gpu.with_tile_side(37).render(&meshes, &camera, 150, 100).unwrap();
-    let differ = whole.pixels().zip(tiled.pixels()).filter(|(a, b)| a.0.iter().zip(b.0).any(|(&x, y)| x.abs_diff(y) > 2));
+    let differ =
+        whole.pixels().zip(tiled.pixels()).filter(|(a, b)| a.0.iter().zip(b.0).any(|(&x, y)| x.abs_diff(y) > 2));
     let count = differ.count();
     assert!(count <= 15, "{count} of 15,000 pixels differ");
 }

@@ -137,12 +137,8 @@ fn rain_full_has_the_papers_counts() {
     assert!(bunny.mesh().face_count() >= 30_000, "{} triangles", bunny.mesh().face_count());
     assert!(body(&scene, "ground").kind == BodyKind::Static);
     // No two spheres start overlapping.
-    let mut balls: Vec<(Vec3, f32)> = scene
-        .world
-        .bodies()
-        .iter()
-        .filter_map(|b| b.shape().as_ball().map(|ball| (b.position, ball.radius)))
-        .collect();
+    let mut balls: Vec<(Vec3, f32)> =
+        scene.world.bodies().iter().filter_map(|b| b.shape().as_ball().map(|ball| (b.position, ball.radius))).collect();
     balls.sort_by(|a, b| a.0.x.total_cmp(&b.0.x));
     for (i, &(p, r)) in balls.iter().enumerate() {
         for &(q, s) in balls[i + 1..].iter().take_while(|(q, s)| q.x - p.x < r + s + 1.5) {
@@ -205,7 +201,22 @@ fn unknown_field_is_refused() {
     assert_names(&error(text, "dent.toml"), "dent.toml", 6, "dent.sigmaa");
     let text = "[[body]]\nname = \"b\"\nmesh = \"sphere\"\ndent = { cap = 0.2, depth = 1 }\n";
     assert_names(&error(text, "inline.toml"), "inline.toml", 4, "dent.depth");
-    assert_names(&error("frames = 10\n[world]\ngravity = [0, -9.81, 0]\ntimestep = 0.01\n", "w.toml"), "w.toml", 4, "timestep");
+    assert_names(
+        &error("frames = 10\n[world]\ngravity = [0, -9.81, 0]\ntimestep = 0.01\n", "w.toml"),
+        "w.toml",
+        4,
+        "timestep",
+    );
+}
+
+#[test]
+fn missing_required_field_names_the_body() {
+    let text = "[[body]]\nname = \"a\"\nmesh = \"sphere\"\n\n[[body]]\nname = \"b\"\nmass = 2\n";
+    let message = error(text, "no-mesh.toml");
+    assert_names(&message, "no-mesh.toml", 5, "mesh");
+    assert!(message.contains("body \"b\""), "{message}");
+    // Rotation is axis-angle, three numbers: a quaternion is refused, not misread.
+    assert_names(&error(&with_line("rotation = [0, 0, 0, 1]"), "quat.toml"), "quat.toml", 5, "rotation");
 }
 
 #[test]
@@ -233,7 +244,8 @@ fn negative_mass_and_bad_numbers_are_refused() {
 
 #[test]
 fn bad_dent_parameters_are_refused() {
-    let dent = |line: &str| format!("[[body]]\nname = \"b\"\nmesh = \"block\"\nkind = \"static\"\n[body.dent]\n{line}\n");
+    let dent =
+        |line: &str| format!("[[body]]\nname = \"b\"\nmesh = \"block\"\nkind = \"static\"\n[body.dent]\n{line}\n");
     assert_names(&error(&dent("sigma = -0.1"), "sigma.toml"), "sigma.toml", 6, "dent.sigma");
     assert_names(&error(&dent("heat_rate = 0.5"), "rate.toml"), "rate.toml", 6, "dent.heat_rate");
     assert_names(&error(&dent("cap = 0"), "cap.toml"), "cap.toml", 6, "dent.cap");
@@ -251,8 +263,13 @@ fn duplicate_names_are_refused() {
 
 #[test]
 fn bad_syntax_is_refused() {
-    let message = error(&with_line("velocity = [1, 2"), "syntax.toml");
-    assert_names(&message, "syntax.toml", 5, "velocity");
+    let message = error(&with_line("mass = 1.0.0"), "syntax.toml");
+    assert_names(&message, "syntax.toml", 5, "mass");
+    // An unclosed array runs on into the next line, where the parser stops; the message says
+    // where the value began.
+    let message = error(&with_line("velocity = [1, 2"), "unclosed.toml");
+    assert_names(&message, "unclosed.toml", 6, "velocity");
+    assert!(message.contains("starts on line 5"), "{message}");
     let message = error("frames = 10\n[[body]\nname = \"x\"\n", "header.toml");
     assert_names(&message, "header.toml", 2, "");
     let message = error(&with_line("friction = 0.5 0.6"), "two.toml");

@@ -26,7 +26,8 @@ fn every_shader_validates() {
 
 #[test]
 fn the_render_shader_validates_with_its_entry_points() {
-    let module = naga::front::wgsl::parse_str(RENDER_WGSL).unwrap_or_else(|e| panic!("{}", e.emit_to_string(RENDER_WGSL)));
+    let module =
+        naga::front::wgsl::parse_str(RENDER_WGSL).unwrap_or_else(|e| panic!("{}", e.emit_to_string(RENDER_WGSL)));
     validate("render.wgsl", RENDER_WGSL);
     for (name, stage) in [
         ("vs_background", naga::ShaderStage::Vertex),

@@ -147,7 +147,7 @@ impl Reader<'_> {
     /// Appends the triangle primitives of node `index`'s mesh, if it has one, placed by `world`.
     fn add_node(&mut self, index: usize, world: Mat4) -> Result<(), NodeError> {
         let root = self.root;
-        let Some(mesh_index) = root.nodes[index].mesh.map(|m| m.value()) else { return Ok(()) };
+        let Some(mesh_index) = root.nodes.get(index).and_then(|n| n.mesh).map(|m| m.value()) else { return Ok(()) };
         let count = root.meshes.len();
         let mesh = root.meshes.get(mesh_index).ok_or_else(|| {
             format!("node {index} refers to mesh {mesh_index}, which does not exist ({count} meshes)")
@@ -210,7 +210,7 @@ fn triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
             .collect(),
         Mode::TriangleFan => (2..n).map(|i| [indices[i - 1], indices[i], indices[0]]).collect(),
         _ => {
-            if n % 3 != 0 {
+            if !n.is_multiple_of(3) {
                 log::warn!("glTF triangle list has {n} indices, not a multiple of 3; the last {} ignored", n % 3);
             }
             indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()

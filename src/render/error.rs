@@ -12,7 +12,7 @@ pub enum RenderError {
         height: u32,
     },
     /// The camera is unusable.
-    #[error("unusable camera (non-finite, eye on target, up parallel to the view, or field of view outside 1..179°): {0}")]
+    #[error("unusable camera (non-finite, eye on target, up along the view, or field of view outside 1..179°): {0}")]
     Camera(String),
     /// The GPU renderer failed: no adapter (when the GPU was asked for), a validation or
     /// out-of-memory error, a lost device or a failed read-back.

@@ -34,7 +34,8 @@ pub(super) struct GpuVertex {
 }
 
 /// The vertex buffer layout matching [`GpuVertex`].
-pub(super) const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+pub(super) const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 2] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
 
 /// `Frame` of `shaders/render.wgsl` (keep in sync): 224 bytes.
 #[repr(C)]

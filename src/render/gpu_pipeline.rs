@@ -60,7 +60,7 @@ impl Pipelines {
         let ((background, meshes), samples) = match build(MSAA) {
             Ok(pipelines) => (pipelines, MSAA),
             Err(GpuError::Validation { message, .. }) => {
-                log::info!("{MSAA}× MSAA is not available for {COLOUR_FORMAT:?}/{DEPTH_FORMAT:?} ({message}); rendering with 1 sample per pixel");
+                log::info!("{MSAA}× MSAA unavailable ({message}); rendering with 1 sample per pixel");
                 (build(1)?, 1)
             }
             Err(error) => return Err(error),

@@ -38,7 +38,11 @@ impl Scene {
     /// # Errors
     /// [`GpuError::OverLimit`] when a buffer would exceed the device's `max_buffer_size` or the
     /// vertices overflow `u32` indices.
-    pub fn upload(context: &GpuContext, layout: &wgpu::BindGroupLayout, meshes: &[Shaded<'_>]) -> Result<Self, GpuError> {
+    pub fn upload(
+        context: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        meshes: &[Shaded<'_>],
+    ) -> Result<Self, GpuError> {
         let stride = material_stride(context);
         let vertex_count: usize = meshes.iter().map(|m| m.mesh.vertex_count()).sum();
         let index_count: usize = meshes.iter().map(|m| 3 * m.mesh.face_count()).sum();
@@ -57,10 +61,12 @@ impl Scene {
             let base = vertices.len() as u32;
             let first = indices.len() as u32;
             let mesh = item.mesh;
-            vertices.extend(mesh.positions().iter().zip(mesh.normals()).map(|(p, n)| GpuVertex {
-                position: p.to_array(),
-                normal: n.to_array(),
-            }));
+            vertices.extend(
+                mesh.positions()
+                    .iter()
+                    .zip(mesh.normals())
+                    .map(|(p, n)| GpuVertex { position: p.to_array(), normal: n.to_array() }),
+            );
             indices.extend(mesh.faces().iter().flatten().map(|&v| base + v));
             let offset = k * stride as usize;
             let slot = material(item.colour);

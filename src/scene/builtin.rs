@@ -5,10 +5,9 @@ use std::path::Path;
 
 use glam::{Affine3A, Vec3};
 
-use super::types::framing_bounds;
+use super::types::{fit_camera, framing_bounds};
 use super::{Scene, SceneError, SceneSize, figures, load_scene, rain};
 use crate::mesh::{self, TriMesh};
-use crate::render::Camera;
 use crate::sim::{DentSettings, SimError, World, WorldSettings};
 
 /// Names accepted by [`builtin_scene`], one per paper figure they reproduce:
@@ -126,6 +125,6 @@ pub(super) fn finish(
     frames: u32,
     description: &str,
 ) -> Scene {
-    let camera = Camera::framing(framing_bounds(&world, |b| framed(&b.name)), view, Vec3::Y);
+    let camera = fit_camera(framing_bounds(&world, |b| framed(&b.name)), view);
     Scene { name: name.into(), world, camera, frames, description: description.into() }
 }

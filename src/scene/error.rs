@@ -55,7 +55,14 @@ pub enum SceneError {
 }
 
 /// `file:line:col: body "name": field: message`, leaving out the parts that are unknown.
-fn located(file: &std::path::Path, line: usize, column: usize, body: Option<&str>, field: &str, message: &str) -> String {
+fn located(
+    file: &std::path::Path,
+    line: usize,
+    column: usize,
+    body: Option<&str>,
+    field: &str,
+    message: &str,
+) -> String {
     let mut out = file.display().to_string();
     if line > 0 {
         out += &format!(":{line}:{column}");

@@ -8,7 +8,7 @@ use glam::{Quat, Vec3};
 use super::builtin::{BLUE, GREEN, ORANGE, SAND, STEEL, ball, dentable, finish, launch, scaled, world};
 use super::{Scene, SceneSize};
 use crate::dent::{Attenuation, Resolution};
-use crate::sim::{BodyDesc, BodyKind, ColliderKind, SimError};
+use crate::sim::{BodyDesc, BodyKind, ColliderKind, SimError, SurfaceMaterial};
 
 /// Figure 1: two equal dentable balls (radius 1 m) fly at each other head-on at 4 m/s each, no
 /// gravity; dented from the undented shapes at once (Jacobi), the dents are mirror images.
@@ -44,7 +44,8 @@ pub(super) fn ball_block(size: SceneSize) -> Result<Scene, SimError> {
     let block = scaled(fine_block(size), Vec3::new(1.0, 0.5, 1.0))?;
     let projectile = ball(0.6, ball_subdivisions(size))?;
     let mut world = world(super::builtin::GRAVITY)?;
-    let variants = [("block-attenuated", "ball-1", Attenuation::Logistic), ("block-unattenuated", "ball-2", Attenuation::None)];
+    let variants =
+        [("block-attenuated", "ball-1", Attenuation::Logistic), ("block-unattenuated", "ball-2", Attenuation::None)];
     for (k, (block_name, ball_name, attenuation)) in variants.into_iter().enumerate() {
         let x = if k == 0 { -2.5 } else { 2.5 };
         // 7.46 m/s at the top face: d = 0.035·(7.46 − 1) = 0.23 m.
@@ -56,12 +57,12 @@ pub(super) fn ball_block(size: SceneSize) -> Result<Scene, SimError> {
             .at(Vec3::new(x, 0.25 + 0.6 + 1.0, 0.0))
             .velocity(Vec3::new(0.0, -6.0, 0.0))
             .collider(ColliderKind::Ball);
-        world.add(BodyDesc { color: ORANGE, ..desc })?;
+        world.add(BodyDesc { color: ORANGE, surface: dented_surface(), ..desc })?;
     }
     let frames = frames(size, 120, 60);
     let description = "Figure 2: balls dent two blocks; with attenuation (left) the back face barely moves, \
                        without (right) it bulges out as far as the dent goes in.";
-    Ok(finish("ball-block", world, Vec3::new(0.0, -0.15, -1.0), |_| true, frames, description))
+    Ok(finish("ball-block", world, Vec3::new(0.0, 0.06, -1.0), |_| true, frames, description))
 }
 
 /// Figure 5: bunnies (about 1.5 m long, not dentable) fall on four static 2.4 × 0.6 × 2.4 m
@@ -84,6 +85,7 @@ pub(super) fn bunny_block(size: SceneSize) -> Result<Scene, SimError> {
             .velocity(Vec3::new(0.0, -4.0, 0.0));
         desc.orientation = Quat::from_rotation_y(0.5);
         desc.color = [0.75, 0.72, 0.68];
+        desc.surface = dented_surface();
         world.add(desc)?;
     }
     let frames = frames(size, 120, 60);
@@ -103,7 +105,8 @@ pub(super) fn glancing(size: SceneSize) -> Result<Scene, SimError> {
     for (k, degrees) in [0.0f32, 30.0, 60.0].into_iter().enumerate() {
         let x = -5.0 + 5.0 * k as f32;
         // Normal speeds 7, 6.1 and 3.5 m/s: d = 0.24, 0.20 and 0.10 m.
-        let dent = dentable(1.0, 0.04, 0.3, None);
+        let mut dent = dentable(1.0, 0.04, 0.3, None);
+        dent.move_projectile = true;
         let suffix = format!("{}deg", degrees as u32);
         world.add(target(&format!("block-{suffix}"), block.clone(), Vec3::new(x, 0.0, 0.0), STEEL).dentable(dent))?;
         let theta = degrees.to_radians();
@@ -113,7 +116,7 @@ pub(super) fn glancing(size: SceneSize) -> Result<Scene, SimError> {
             .at(start)
             .velocity(velocity)
             .collider(ColliderKind::Ball);
-        world.add(BodyDesc { color: GREEN, ..desc })?;
+        world.add(BodyDesc { color: GREEN, surface: dented_surface(), ..desc })?;
     }
     let frames = frames(size, 120, 60);
     let description = "Figure 8: balls hit blocks at 0°, 30° and 60° from the normal; glancing dents are sheared \
@@ -138,17 +141,26 @@ pub(super) fn resolution(size: SceneSize) -> Result<Scene, SimError> {
             .at(Vec3::new(x, 0.5 + 0.6 + 1.0, 0.0))
             .velocity(Vec3::new(0.0, -6.0, 0.0))
             .collider(ColliderKind::Ball);
-        world.add(BodyDesc { color: ORANGE, ..desc })?;
+        world.add(BodyDesc { color: ORANGE, surface: dented_surface(), ..desc })?;
     }
     let frames = frames(size, 120, 60);
     let description = "Figure 11: one ball impact, dent grids of 20, 50, 100 and 200 cells per side (left to right).";
     Ok(finish("resolution", world, Vec3::new(0.0, -0.8, -1.0), |_| true, frames, description))
 }
 
-/// A static target with a triangle-mesh collider at `position` (m).
-pub(super) fn target(name: &str, mesh: crate::mesh::TriMesh, position: glam::Vec3, color: [f32; 3]) -> BodyDesc {
+/// A static target with a triangle-mesh collider at `position` (m), restitution
+/// [`DENTED_RESTITUTION`].
+pub(super) fn target(name: &str, mesh: crate::mesh::TriMesh, position: Vec3, color: [f32; 3]) -> BodyDesc {
     let desc = BodyDesc::new(name, mesh).kind(BodyKind::Static).at(position).collider(ColliderKind::TriMesh);
-    BodyDesc { color, ..desc }
+    BodyDesc { color, surface: dented_surface(), ..desc }
+}
+
+/// Restitution of the figures' targets and projectiles: denting takes most of the energy, and the
+/// rebound (about 0.7 m/s) stays below the dent thresholds, so each impact makes one dent.
+const DENTED_RESTITUTION: f32 = 0.1;
+
+fn dented_surface() -> SurfaceMaterial {
+    SurfaceMaterial { restitution: DENTED_RESTITUTION, ..SurfaceMaterial::default() }
 }
 
 /// `full` frames at full size, `demo` in the demo.

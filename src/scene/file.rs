@@ -34,11 +34,11 @@ pub(super) struct SceneFile {
 #[serde(deny_unknown_fields)]
 pub(super) struct CameraFile {
     /// Eye position, m.
-    pub eye: Spanned<[f32; 3]>,
+    pub eye: Spanned<Triple>,
     /// Point looked at, m.
-    pub target: Spanned<[f32; 3]>,
+    pub target: Spanned<Triple>,
     /// Up direction (default +y).
-    pub up: Option<Spanned<[f32; 3]>>,
+    pub up: Option<Spanned<Triple>>,
     /// Vertical field of view, degrees (default 30).
     pub fov_deg: Option<Spanned<f32>>,
 }
@@ -53,13 +53,13 @@ pub(super) struct BodyFile {
     pub scale: Option<Spanned<Scale>>,
     pub kind: Option<BodyKind>,
     /// m.
-    pub position: Option<Spanned<[f32; 3]>>,
+    pub position: Option<Spanned<Triple>>,
     /// Axis-angle: direction = axis, length = angle in degrees.
-    pub rotation: Option<Spanned<[f32; 3]>>,
+    pub rotation: Option<Spanned<Triple>>,
     /// m/s.
-    pub velocity: Option<Spanned<[f32; 3]>>,
+    pub velocity: Option<Spanned<Triple>>,
     /// rad/s.
-    pub angular_velocity: Option<Spanned<[f32; 3]>>,
+    pub angular_velocity: Option<Spanned<Triple>>,
     /// kg/m³.
     pub density: Option<Spanned<f32>>,
     /// kg.
@@ -68,7 +68,7 @@ pub(super) struct BodyFile {
     pub restitution: Option<Spanned<f32>>,
     pub friction: Option<Spanned<f32>>,
     /// Linear RGB in [0, 1].
-    pub color: Option<Spanned<[f32; 3]>>,
+    pub color: Option<Spanned<Triple>>,
     pub dent: Option<Spanned<DentFile>>,
 }
 
@@ -109,6 +109,10 @@ pub(super) enum AttenuationSpec {
     None,
 }
 
+/// An `[x, y, z]` array of exactly three numbers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Triple(pub [f32; 3]);
+
 /// `scale = 2` or `scale = [1, 0.5, 1]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Scale(pub [f32; 3]);
@@ -120,13 +124,45 @@ pub(super) enum ResolutionSpec {
     Fixed(u32),
 }
 
+/// Reads exactly three numbers from `seq` (serde's arrays ignore extra elements in TOML).
+fn three<'de, A: SeqAccess<'de>>(mut seq: A, expected: &dyn de::Expected) -> Result<[f32; 3], A::Error> {
+    let mut out = [0.0f32; 3];
+    for (i, slot) in out.iter_mut().enumerate() {
+        *slot = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(i, expected))?;
+    }
+    let mut count = 3;
+    while seq.next_element::<IgnoredAny>()?.is_some() {
+        count += 1;
+    }
+    if count > 3 {
+        return Err(de::Error::invalid_length(count, expected));
+    }
+    Ok(out)
+}
+
+impl<'de> Deserialize<'de> for Triple {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct TripleVisitor;
+        impl<'de> Visitor<'de> for TripleVisitor {
+            type Value = Triple;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("an [x, y, z] array of three numbers")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Triple, A::Error> {
+                three(seq, &self).map(Triple)
+            }
+        }
+        deserializer.deserialize_seq(TripleVisitor)
+    }
+}
+
 impl<'de> Deserialize<'de> for Scale {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         struct ScaleVisitor;
         impl<'de> Visitor<'de> for ScaleVisitor {
             type Value = Scale;
             fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("a number or an [x, y, z] array of numbers")
+                f.write_str("a number or an [x, y, z] array of three numbers")
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<Scale, E> {
                 Ok(Scale([v as f32; 3]))
@@ -137,15 +173,8 @@ impl<'de> Deserialize<'de> for Scale {
             fn visit_u64<E: de::Error>(self, v: u64) -> Result<Scale, E> {
                 Ok(Scale([v as f32; 3]))
             }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Scale, A::Error> {
-                let mut out = [0.0f32; 3];
-                for (i, slot) in out.iter_mut().enumerate() {
-                    *slot = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(i, &self))?;
-                }
-                if seq.next_element::<IgnoredAny>()?.is_some() {
-                    return Err(de::Error::invalid_length(4, &self));
-                }
-                Ok(Scale(out))
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Scale, A::Error> {
+                three(seq, &self).map(Scale)
             }
         }
         deserializer.deserialize_any(ScaleVisitor)

@@ -130,4 +130,4 @@ mod types;
 pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized};
 pub use error::SceneError;
 pub use parse::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, parse_scene};
-pub use types::{DEFAULT_FRAMES, Scene, SceneSize, framing_camera};
+pub use types::{DEFAULT_FRAMES, FRAMING_ASPECT, Scene, SceneSize, fit_camera, framing_camera};

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use glam::{Affine3A, Quat, Vec3};
 use toml::Spanned;
 
-use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, ResolutionSpec, SceneFile};
+use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, ResolutionSpec, SceneFile, Triple};
 use super::source::Source;
 use super::{DEFAULT_FRAMES, Scene, SceneError, framing_camera};
 use crate::dent::{Attenuation, DentError, Resolution};
@@ -76,7 +76,8 @@ pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
     let settings = file.world.unwrap_or_default();
     let mut world = World::new(settings).map_err(|e| world_error(&src, e))?;
 
-    let mut meshes = MeshCache { folder: origin.parent().map(Path::to_path_buf).unwrap_or_default(), loaded: HashMap::new() };
+    let mut meshes =
+        MeshCache { folder: origin.parent().map(Path::to_path_buf).unwrap_or_default(), loaded: HashMap::new() };
     let mut names: HashMap<&str, usize> = HashMap::new();
     for body in &file.bodies {
         let name = body.name.get_ref().as_str();
@@ -142,12 +143,20 @@ impl MeshCache {
 }
 
 /// A checked vector field: finite, or an error at its span.
-fn vector(src: &Source<'_>, body: &str, field: &str, value: &Option<Spanned<[f32; 3]>>) -> Result<Option<Vec3>, SceneError> {
+fn vector(
+    src: &Source<'_>,
+    body: &str,
+    field: &str,
+    value: &Option<Spanned<Triple>>,
+) -> Result<Option<Vec3>, SceneError> {
     match value {
-        Some(v) if !v.get_ref().iter().all(|x| x.is_finite()) => {
-            Err(src.error_at(v.span(), Some(body), field, format!("{:?} must be finite (no nan or inf)", v.get_ref())))
-        }
-        Some(v) => Ok(Some(Vec3::from_array(*v.get_ref()))),
+        Some(v) if !v.get_ref().0.iter().all(|x| x.is_finite()) => Err(src.error_at(
+            v.span(),
+            Some(body),
+            field,
+            format!("{:?} must be finite (no nan or inf)", v.get_ref().0),
+        )),
+        Some(v) => Ok(Some(Vec3::from_array(v.get_ref().0))),
         None => Ok(None),
     }
 }
@@ -216,8 +225,10 @@ fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCache) -> Resul
     };
 
     let defaults = SurfaceMaterial::default();
-    let restitution = number(src, Some(name), "restitution", &body.restitution, |r| (0.0..=1.0).contains(&r), "must be in [0, 1]")?;
-    let friction = number(src, Some(name), "friction", &body.friction, |f| f.is_finite() && f >= 0.0, "must be finite and >= 0")?;
+    let restitution =
+        number(src, Some(name), "restitution", &body.restitution, |r| (0.0..=1.0).contains(&r), "must be in [0, 1]")?;
+    let friction =
+        number(src, Some(name), "friction", &body.friction, |f| f.is_finite() && f >= 0.0, "must be finite and >= 0")?;
     desc.surface = SurfaceMaterial {
         restitution: restitution.unwrap_or(defaults.restitution),
         friction: friction.unwrap_or(defaults.friction),
@@ -234,7 +245,8 @@ fn dent_settings(src: &Source<'_>, body: &str, dent: &Spanned<DentFile>) -> Resu
     let file = dent.get_ref();
     let value = |field: &Option<Spanned<f32>>, default: f32| field.as_ref().map_or(default, |v| *v.get_ref());
     let cap = value(&file.cap, DEFAULT_DENT_CAP);
-    let mut settings = DentSettings::new(value(&file.threshold, DEFAULT_DENT_THRESHOLD), value(&file.gain, DEFAULT_DENT_GAIN), cap);
+    let mut settings =
+        DentSettings::new(value(&file.threshold, DEFAULT_DENT_THRESHOLD), value(&file.gain, DEFAULT_DENT_GAIN), cap);
     settings.hardness = file.hardness.as_ref().map(|h| *h.get_ref());
     settings.move_projectile = file.move_projectile.unwrap_or(false);
     settings.progressive = file.progressive.unwrap_or(false);
@@ -298,8 +310,8 @@ fn dent_error(src: &Source<'_>, body: &str, dent: &Spanned<DentFile>, error: Den
 
 /// `[camera]` → a camera, every value checked.
 fn camera_from(src: &Source<'_>, camera: &CameraFile) -> Result<Camera, SceneError> {
-    let point = |field: &str, v: &Spanned<[f32; 3]>| -> Result<Vec3, SceneError> {
-        let p = Vec3::from_array(*v.get_ref());
+    let point = |field: &str, v: &Spanned<Triple>| -> Result<Vec3, SceneError> {
+        let p = Vec3::from_array(v.get_ref().0);
         if p.is_finite() { Ok(p) } else { Err(src.error_at(v.span(), None, field, format!("{p} must be finite"))) }
     };
     let eye = point("camera.eye", &camera.eye)?;
@@ -315,7 +327,8 @@ fn camera_from(src: &Source<'_>, camera: &CameraFile) -> Result<Camera, SceneErr
         let span = camera.up.as_ref().map_or(camera.eye.span(), Spanned::span);
         return Err(src.error_at(span, None, "camera.up", "must not be zero or parallel to the view direction"));
     }
-    let fov = number(src, None, "camera.fov_deg", &camera.fov_deg, |f| f > 0.0 && f < 180.0, "degrees must be in (0, 180)")?;
+    let fov =
+        number(src, None, "camera.fov_deg", &camera.fov_deg, |f| f > 0.0 && f < 180.0, "degrees must be in (0, 180)")?;
     Ok(Camera { eye, target, up, fov_y_deg: fov.unwrap_or(30.0) })
 }
 

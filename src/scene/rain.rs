@@ -57,7 +57,7 @@ pub(super) fn rain(size: SceneSize) -> Result<Scene, SimError> {
             let cloud = Cloud { cells: [10, 3, 5], spacing: 0.65, centre: Vec3::new(1.5, 6.0, 0.0) };
             let medium = vec![Vec3::new(-0.9, 4.5, 0.9), Vec3::new(0.9, 4.5, -0.9)];
             let large = vec![Vec3::new(3.5, 4.5, 0.0)];
-            (Vec3::new(14.0, 1.0, 10.0), cloud, medium, large)
+            (Vec3::new(18.0, 1.0, 12.0), cloud, medium, large)
         }
     };
     let ground = mesh::subdivided_box(ground_size, [1, 1, 1])?;

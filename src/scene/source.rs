@@ -24,6 +24,8 @@ struct Context {
     body_header: Option<usize>,
     /// Keys from the statement's key to the value at the offset (inline tables nest).
     keys: Vec<String>,
+    /// Byte offset of the statement's key (the first of `keys`).
+    statement: Option<usize>,
 }
 
 impl<'a> Source<'a> {
@@ -40,7 +42,13 @@ impl<'a> Source<'a> {
     }
 
     /// An [`SceneError::Invalid`] at byte range `span`.
-    pub fn error_at(&self, span: Range<usize>, body: Option<&str>, field: &str, message: impl Into<String>) -> SceneError {
+    pub fn error_at(
+        &self,
+        span: Range<usize>,
+        body: Option<&str>,
+        field: &str,
+        message: impl Into<String>,
+    ) -> SceneError {
         let (line, column) = self.line_col(span.start);
         SceneError::Invalid {
             file: self.file.to_path_buf(),
@@ -54,7 +62,7 @@ impl<'a> Source<'a> {
 
     /// A TOML parse or deserialization error, with the field and body found around its span.
     pub fn toml_error(&self, error: &toml::de::Error) -> SceneError {
-        let message = error.message().trim().to_owned();
+        let mut message = error.message().trim().to_owned();
         let Some(span) = error.span() else {
             return SceneError::Invalid {
                 file: self.file.to_path_buf(),
@@ -65,7 +73,18 @@ impl<'a> Source<'a> {
                 message,
             };
         };
-        let context = self.context(span.start);
+        // Errors about a whole table (a missing field) point at its header: read past it.
+        let start = floor_char_boundary(self.text, span.start);
+        let (before, after) = self.text.split_at(start);
+        let at_header = after.starts_with('[') && before.rsplit('\n').next().is_some_and(|l| l.trim().is_empty());
+        let header_end = at_header.then(|| after.find('\n').map_or(self.text.len(), |n| start + n));
+        let context = self.context(header_end.unwrap_or(span.start));
+        if let (Some(start), Some(key)) = (context.statement, context.keys.first()) {
+            let (key_line, _) = self.line_col(start);
+            if key_line < self.line_col(span.start).0 {
+                message += &format!(" (in the value of `{key}` that starts on line {key_line})");
+            }
+        }
         let mut keys = context.keys;
         // Unknown fields are reported on the key itself.
         if let Some(key) = self.key_at(span.clone()) {
@@ -147,7 +166,7 @@ impl<'a> Source<'a> {
     fn context(&self, offset: usize) -> Context {
         let bytes = self.text.as_bytes();
         let end = offset.min(bytes.len());
-        let mut context = Context { section: String::new(), body_header: None, keys: Vec::new() };
+        let mut context = Context { section: String::new(), body_header: None, keys: Vec::new(), statement: None };
         let mut stack: Vec<String> = Vec::new();
         let mut pending: Option<String> = None;
         let mut arrays = 0usize;
@@ -164,6 +183,7 @@ impl<'a> Source<'a> {
                     if arrays == 0 && stack.is_empty() {
                         statement_start = true;
                         pending = None;
+                        context.statement = None;
                     }
                 }
                 b'[' if statement_start => {
@@ -175,7 +195,7 @@ impl<'a> Source<'a> {
                     } else if !context.section.starts_with("body.") {
                         context.body_header = None;
                     }
-                    (stack.clear(), pending = None);
+                    (stack.clear(), pending = None, context.statement = None);
                     i = line_end - 1;
                 }
                 b'[' => arrays += 1,
@@ -183,7 +203,13 @@ impl<'a> Source<'a> {
                 b'{' => stack.extend(pending.take()),
                 b'}' => pending = stack.pop(),
                 b',' if arrays == 0 && !stack.is_empty() => pending = None,
-                b'=' => pending = key_before(&self.text[..i]),
+                b'=' => {
+                    pending = key_before(&self.text[..i]);
+                    if stack.is_empty() && arrays == 0 {
+                        let key_len = pending.as_ref().map_or(0, String::len);
+                        context.statement = Some(self.text[..i].trim_end_matches([' ', '\t']).len() - key_len);
+                    }
+                }
                 _ => {}
             }
             if bytes[i] != b'\n' && !bytes[i].is_ascii_whitespace() {
@@ -219,9 +245,8 @@ fn skip_string(bytes: &[u8], start: usize) -> Option<usize> {
 /// The bare (possibly dotted) key that ends just before an `=` at the end of `text`.
 fn key_before(text: &str) -> Option<String> {
     let trimmed = text.trim_end_matches([' ', '\t']);
-    let start = trimmed
-        .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.'))
-        .map_or(0, |i| i + 1);
+    let start =
+        trimmed.rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')).map_or(0, |i| i + 1);
     let key = &trimmed[start..];
     (!key.is_empty()).then(|| key.to_owned())
 }

@@ -133,7 +133,8 @@ impl Denter {
         targets.sort_unstable();
         targets.dedup();
         let cropped: Vec<Option<TriMesh>> = pending.iter().map(|p| projectile_in_target(world, p)).collect();
-        let pending: Vec<Pending> = pending.iter().zip(&cropped).filter(|(_, m)| m.is_some()).map(|(p, _)| *p).collect();
+        let pending: Vec<Pending> =
+            pending.iter().zip(&cropped).filter(|(_, m)| m.is_some()).map(|(p, _)| *p).collect();
         let projectiles: Vec<TriMesh> = cropped.into_iter().flatten().collect();
         let pending = pending.as_slice();
         if pending.is_empty() {

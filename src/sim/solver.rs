@@ -195,21 +195,16 @@ pub(crate) fn collide(bodies: &mut [SolverBody], constraints: &mut [Constraint],
     }
 }
 
-/// The contact phase: fresh impulses that keep every contact from closing further than its gap
-/// (and push overlapping ones apart, Baumgarte-style beyond the slop).
+/// The contact phase: fresh impulses that keep every contact from closing further than its gap.
 pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &SolverSettings) {
     let dt = settings.dt;
     for c in constraints.iter_mut() {
         c.normal_impulse = 0.0;
         c.tangent_impulse = [0.0; 2];
     }
-    let target = |c: &Constraint| {
-        if c.distance > 0.0 {
-            -c.distance / dt
-        } else {
-            settings.baumgarte * (-c.distance - settings.slop).max(0.0) / dt
-        }
-    };
+    // Speculative: a gap may close within the step but no further; overlap is removed by the
+    // split position correction, never by velocity (which would pump energy into a pile).
+    let target = |c: &Constraint| (-c.distance / dt).min(0.0);
     let iterations = settings.contact_iterations;
     for iteration in 0..iterations {
         let last = iteration + 1 == iterations;
@@ -231,4 +226,43 @@ pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint],
             }
         }
     }
+}
+
+/// Split position correction: pseudo-velocities (kept out of the bodies' real velocities) that
+/// push overlapping contacts apart by `baumgarte` × the overlap beyond the slop over the step.
+/// Returns each body's (linear, angular) pseudo-velocity, to be integrated with the real ones.
+pub(crate) fn position_correction(
+    bodies: &[SolverBody],
+    constraints: &mut [Constraint],
+    settings: &SolverSettings,
+) -> Vec<(Vec3, Vec3)> {
+    let mut pseudo: Vec<SolverBody> =
+        bodies.iter().map(|b| SolverBody { linear: Vec3::ZERO, angular: Vec3::ZERO, ..*b }).collect();
+    let overlapping: Vec<usize> =
+        (0..constraints.len()).filter(|&k| constraints[k].distance < -settings.slop).collect();
+    if !overlapping.is_empty() {
+        let saved: Vec<(Vec3, [f32; 2], f32)> = overlapping
+            .iter()
+            .map(|&k| (constraints[k].total, constraints[k].tangent_impulse, constraints[k].normal_impulse))
+            .collect();
+        for &k in &overlapping {
+            constraints[k].normal_impulse = 0.0;
+        }
+        for _ in 0..settings.contact_iterations {
+            for &k in &overlapping {
+                let c = &mut constraints[k];
+                let push = settings.baumgarte * (-c.distance - settings.slop) / settings.dt;
+                let friction = std::mem::replace(&mut c.friction, 0.0);
+                solve_normal_and_friction(&mut pseudo, c, push);
+                c.friction = friction;
+            }
+        }
+        // The pseudo impulses are not physical: the constraints keep the step's real ones.
+        for (&k, (total, tangent, normal)) in overlapping.iter().zip(saved) {
+            constraints[k].total = total;
+            constraints[k].tangent_impulse = tangent;
+            constraints[k].normal_impulse = normal;
+        }
+    }
+    pseudo.iter().map(|b| (b.linear, b.angular)).collect()
 }

@@ -25,7 +25,8 @@ pub struct WorldSettings {
     pub restitution_threshold: f32,
     /// Overlap left alone by the position correction, m.
     pub slop: f32,
-    /// Fraction of the overlap beyond the slop removed per step.
+    /// Fraction of the overlap beyond the slop removed per step (by a split position
+    /// correction that adds no velocity).
     pub baumgarte: f32,
     /// Contacts are sought this far beyond touching, plus how far the bodies move in a step, m.
     pub margin: f32,
@@ -193,8 +194,9 @@ impl World {
             }
         }
         solver::contact(&mut solver_bodies, &mut constraints, &solver_settings);
+        let pseudo = solver::position_correction(&solver_bodies, &mut constraints, &solver_settings);
         let events = events(&found, &constraints);
-        self.integrate(&solver_bodies);
+        self.integrate(&solver_bodies, &pseudo);
         self.time += f64::from(s.dt);
         self.steps += 1;
         StepReport {
@@ -243,9 +245,9 @@ impl World {
     }
 
     /// New velocities in, positions advanced, sleep bookkeeping.
-    fn integrate(&mut self, solved: &[SolverBody]) {
+    fn integrate(&mut self, solved: &[SolverBody], pseudo: &[(Vec3, Vec3)]) {
         let s = self.settings;
-        for (body, sb) in self.bodies.iter_mut().zip(solved) {
+        for ((body, sb), &(push, twist)) in self.bodies.iter_mut().zip(solved).zip(pseudo) {
             match body.kind {
                 BodyKind::Static => continue,
                 BodyKind::Dynamic if body.asleep => continue,
@@ -255,8 +257,8 @@ impl World {
                 }
                 BodyKind::Kinematic => {}
             }
-            body.position += body.linear_velocity * s.dt;
-            let w = body.angular_velocity;
+            body.position += (body.linear_velocity + push) * s.dt;
+            let w = body.angular_velocity + twist;
             let spin = Quat::from_xyzw(w.x, w.y, w.z, 0.0) * body.orientation;
             body.orientation = (body.orientation + spin * (0.5 * s.dt)).normalize();
             if body.kind == BodyKind::Dynamic && s.sleep_time > 0.0 {
