@@ -47,7 +47,8 @@ fn a_run_writes_meshes_frames_and_a_summary() {
 fn a_bad_scene_is_one_error_line_and_writes_nothing() {
     let dir = TempDir::new("run-bad");
     let scene = dir.path("bad.toml");
-    std::fs::write(&scene, "frames = 10\n[[body]]\nname = \"ball\"\nmesh = \"sphere\"\nvelocity = [nan, 0, 0]\n").unwrap();
+    std::fs::write(&scene, "frames = 10\n[[body]]\nname = \"ball\"\nmesh = \"sphere\"\nvelocity = [nan, 0, 0]\n")
+        .unwrap();
     let out = dir.path("out");
     for spec in [scene.to_str().unwrap(), "no-such-scene"] {
         let output = dentbend(&["run", spec, "--out", out.to_str().unwrap()]);

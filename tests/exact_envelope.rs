@@ -169,7 +169,7 @@ fn ties_and_equal_distances() {
         p[3 * n + 7] = 0.25;
         check(res, sigma, &p, "breakpoints on cells");
         // Checkerboard of two heights.
-        let p: Vec<f32> = (0..n * n).map(|k| if (k / n + k % n) % 2 == 0 { 1.0 } else { 0.5 }).collect();
+        let p: Vec<f32> = (0..n * n).map(|k| if (k / n + k % n).is_multiple_of(2) { 1.0 } else { 0.5 }).collect();
         check(res, sigma, &p, "checkerboard");
     }
 }

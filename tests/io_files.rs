@@ -71,7 +71,7 @@ fn npy_rejects_shape_that_does_not_fit_data() {
 /// A version-1.0 `.npy` file with the given header text (padded) and payload bytes.
 fn npy_bytes(header: &str, payload: &[u8]) -> Vec<u8> {
     let mut text = header.to_owned();
-    while (10 + text.len() + 1) % 64 != 0 {
+    while !(10 + text.len() + 1).is_multiple_of(64) {
         text.push(' ');
     }
     text.push('\n');

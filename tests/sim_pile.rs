@@ -35,7 +35,7 @@ fn a_pile_of_1500_spheres_comes_to_rest() {
     }
     assert_eq!(n, 1500);
     let start = world.kinetic_energy();
-    for step in 0..600 {
+    for _ in 0..600 {
         world.step();
     }
     let balls = || world.bodies().iter().filter(|b| b.kind == BodyKind::Dynamic);

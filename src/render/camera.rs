@@ -32,7 +32,12 @@ impl Camera {
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         let view = glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up);
         let distance = self.eye.distance(self.target).max(1e-6);
-        let projection = glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, distance * 0.01, distance * 100.0);
+        let projection = glam::camera::rh::proj::directx::perspective(
+            self.fov_y_deg.to_radians(),
+            aspect,
+            distance * 0.01,
+            distance * 100.0,
+        );
         projection * view
     }
 }

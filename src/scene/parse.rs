@@ -129,7 +129,7 @@ impl MeshCache {
             if !path.is_file() {
                 let builtins = mesh::BUILTIN_NAMES.join(", ");
                 return Err(fail(format!(
-                    "mesh file {} not found (a mesh is a built-in name: {builtins}; or an .obj or .ply path \
+                    "mesh file {} not found (a mesh is a built-in name: {builtins}; or a mesh file path \
                      relative to the scene file)",
                     path.display()
                 )));
@@ -305,7 +305,7 @@ fn dent_error(src: &Source<'_>, body: &str, dent: &Spanned<DentFile>, error: Den
         DentError::InvalidParameter { value, reason, .. } => format!("{value} {reason}"),
         other => other.to_string(),
     };
-    src.error_at(at.unwrap_or_else(|| dent.span()), Some(body), &format!("dent.{field}").trim_end_matches('.'), message)
+    src.error_at(at.unwrap_or_else(|| dent.span()), Some(body), format!("dent.{field}").trim_end_matches('.'), message)
 }
 
 /// `[camera]` → a camera, every value checked.

@@ -179,12 +179,10 @@ impl<'a> Source<'a> {
                     Some(next) => i = next - 1,
                     None => break,
                 },
-                b'\n' => {
-                    if arrays == 0 && stack.is_empty() {
-                        statement_start = true;
-                        pending = None;
-                        context.statement = None;
-                    }
+                b'\n' if arrays == 0 && stack.is_empty() => {
+                    statement_start = true;
+                    pending = None;
+                    context.statement = None;
                 }
                 b'[' if statement_start => {
                     let line_end = self.text[i..].find('\n').map_or(bytes.len(), |n| i + n);
@@ -195,7 +193,9 @@ impl<'a> Source<'a> {
                     } else if !context.section.starts_with("body.") {
                         context.body_header = None;
                     }
-                    (stack.clear(), pending = None, context.statement = None);
+                    stack.clear();
+                    pending = None;
+                    context.statement = None;
                     i = line_end - 1;
                 }
                 b'[' => arrays += 1,

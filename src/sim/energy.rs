@@ -22,7 +22,7 @@ pub fn energy_dent_distance(
     energy: f32,
 ) -> Result<f32, DentError> {
     let cap = params.dent_distance;
-    if !(energy > 0.0) {
+    if energy.is_nan() || energy <= 0.0 {
         return Ok(0.0);
     }
     let stages = dent_map_stages(projectile, impact, params, None)?;

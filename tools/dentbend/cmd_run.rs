@@ -195,7 +195,8 @@ fn write_meshes(sim: &Simulation, frame: u32, choice: MeshChoice, dir: &Path) ->
         let mesh = body.world_mesh();
         for extension in ["obj", "glb"] {
             let path = dir.join(format!("{}_{frame:04}.{extension}", body.name));
-            dentbend::mesh::save(&path, &mesh).map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
+            dentbend::mesh::save(&path, &mesh)
+                .map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
             count += 1;
         }
     }
