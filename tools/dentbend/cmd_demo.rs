@@ -41,6 +41,13 @@ const STEPS: &[&str] = &[
      --dent-distance 0.3 --out {out}/pair_lower.obj --projectile-out {out}/pair_upper.obj",
     "render --mesh {out}/pair_lower.obj --mesh {out}/pair_upper.obj --view 0,-0.35,-1 --size 640,800 \
      --out {out}/pair.png",
+    // The built-in scenes, small: bodies fly, collide and keep their dents (Figures 1, 2, 5, 8, 11, 10).
+    "run pair --size demo --out {out}/scenes/pair --every 30 --meshes dentable",
+    "run ball-block --size demo --out {out}/scenes/ball-block --every 30 --meshes dentable",
+    "run bunny-block --size demo --out {out}/scenes/bunny-block --every 30 --meshes dentable",
+    "run glancing --size demo --out {out}/scenes/glancing --every 30 --meshes dentable",
+    "run resolution --size demo --out {out}/scenes/resolution --every 30 --meshes dentable",
+    "run rain --size demo --out {out}/scenes/rain --every 40 --meshes dentable",
 ];
 
 /// Runs every step; returns the summary line and the warnings raised along the way.
@@ -59,7 +66,40 @@ pub fn run(args: &DemoArgs) -> Result<(String, Vec<String>), CliError> {
         println!("  {summary}");
         warnings.extend(step_warnings);
     }
-    Ok((format!("demo: {} steps → {}", STEPS.len(), display(&args.out)), warnings))
+    let gallery = write_gallery(&args.out)?;
+    Ok((format!("demo: {} steps → {} (gallery: {})", STEPS.len(), display(&args.out), display(&gallery)), warnings))
+}
+
+/// Writes `DIR/gallery.html`: every PNG under `DIR`, grouped by folder.
+fn write_gallery(out: &Path) -> Result<PathBuf, CliError> {
+    let mut pictures = Vec::new();
+    collect_pngs(out, out, &mut pictures);
+    pictures.sort();
+    let mut html = String::from(
+        "<!doctype html><meta charset=utf-8><title>dentbend demo</title>\n<style>body{font-family:sans-serif}\
+         figure{display:inline-block;margin:6px}img{width:320px}</style>\n<h1>dentbend demo</h1>\n",
+    );
+    for picture in &pictures {
+        html.push_str(&format!("<figure><img src=\"{picture}\"><figcaption>{picture}</figcaption></figure>\n"));
+    }
+    let path = out.join("gallery.html");
+    std::fs::write(&path, html).map_err(|source| CliError::Write { path: path.clone(), source })?;
+    Ok(path)
+}
+
+/// Paths (relative to `root`, `/`-separated) of the PNG files under `dir`.
+fn collect_pngs(root: &Path, dir: &Path, found: &mut Vec<String>) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            collect_pngs(root, &path, found);
+        } else if path.extension().is_some_and(|e| e == "png")
+            && let Ok(relative) = path.strip_prefix(root)
+        {
+            found.push(relative.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/"));
+        }
+    }
 }
 
 fn display(path: &Path) -> String {
