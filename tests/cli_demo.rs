@@ -27,6 +27,16 @@ fn demo_writes_every_picture_and_mesh() {
         "pair_lower.obj",
         "pair_upper.obj",
         "pair.png",
+        "gallery.html",
+        "scenes/pair/summary.json",
+        "scenes/pair/frames/0060.png",
+        "scenes/pair/meshes/left_0060.glb",
+        "scenes/ball-block/summary.json",
+        "scenes/bunny-block/summary.json",
+        "scenes/glancing/summary.json",
+        "scenes/resolution/summary.json",
+        "scenes/rain/summary.json",
+        "scenes/rain/frames/0120.png",
     ];
     for file in expected {
         let path = out.join(file);
@@ -37,7 +47,15 @@ fn demo_writes_every_picture_and_mesh() {
     assert_eq!(picture.dimensions(), (960, 640));
     // Every step is echoed as the command that reproduces it.
     let stdout = text(&output.stdout);
-    assert_eq!(stdout.lines().filter(|l| l.starts_with("$ dentbend ")).count(), 9, "{stdout}");
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("$ dentbend ")).count(), 15, "{stdout}");
+    // Every scene dented something, and the gallery shows the scene frames.
+    for scene in ["pair", "ball-block", "bunny-block", "glancing", "resolution", "rain"] {
+        let summary = std::fs::read_to_string(out.join("scenes").join(scene).join("summary.json")).unwrap();
+        let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+        assert!(!summary["dents"].as_array().unwrap().is_empty(), "{scene} made no dent");
+    }
+    let gallery = std::fs::read_to_string(out.join("gallery.html")).unwrap();
+    assert!(gallery.contains("scenes/rain/frames/0120.png") && gallery.contains("fig07_bunny/smoothed.png"));
 }
 
 #[test]

@@ -5,7 +5,7 @@
 
 use glam::{Mat3, Vec3};
 
-use super::{ContactPoint, PairContacts};
+use super::{ContactPoint, PairContacts, WorldSettings};
 
 /// Velocities and inverse mass of one body during a step.
 #[derive(Debug, Clone, Copy)]
@@ -17,18 +17,6 @@ pub(crate) struct SolverBody {
     pub inverse_inertia: Mat3,
     /// Height along −gravity, for shock propagation, m.
     pub height: f32,
-}
-
-/// Solver tuning, from the world settings.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct SolverSettings {
-    pub dt: f32,
-    pub collision_iterations: u32,
-    pub contact_iterations: u32,
-    pub restitution_threshold: f32,
-    pub slop: f32,
-    pub baumgarte: f32,
-    pub shock_propagation: bool,
 }
 
 /// One contact point's constraint.
@@ -186,7 +174,7 @@ fn solve_normal_and_friction(bodies: &mut [SolverBody], c: &mut Constraint, targ
 }
 
 /// The collision phase: restitution impulses on the contacts the step closes.
-pub(crate) fn collide(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &SolverSettings) {
+pub(crate) fn collide(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &WorldSettings) {
     for _ in 0..settings.collision_iterations {
         for c in constraints.iter_mut().filter(|c| c.colliding) {
             let bounce = if -c.approach > settings.restitution_threshold { -c.restitution * c.approach } else { 0.0 };
@@ -196,7 +184,7 @@ pub(crate) fn collide(bodies: &mut [SolverBody], constraints: &mut [Constraint],
 }
 
 /// The contact phase: fresh impulses that keep every contact from closing further than its gap.
-pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &SolverSettings) {
+pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &WorldSettings) {
     let dt = settings.dt;
     for c in constraints.iter_mut() {
         c.normal_impulse = 0.0;
@@ -234,7 +222,7 @@ pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint],
 pub(crate) fn position_correction(
     bodies: &[SolverBody],
     constraints: &mut [Constraint],
-    settings: &SolverSettings,
+    settings: &WorldSettings,
 ) -> Vec<(Vec3, Vec3)> {
     let mut pseudo: Vec<SolverBody> =
         bodies.iter().map(|b| SolverBody { linear: Vec3::ZERO, angular: Vec3::ZERO, ..*b }).collect();

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use glam::{Quat, Vec3};
 
-use super::solver::{self, SolverBody, SolverSettings};
+use super::solver::{self, SolverBody};
 use super::{Aabb, BodyDesc, BodyKind, CollisionEvent, PairContacts, RigidBody, SimError, StepReport};
 use super::{broad_phase, contacts, error::invalid};
 
@@ -178,23 +178,14 @@ impl World {
             (a.restitution.max(b.restitution), (a.friction * b.friction).sqrt())
         };
         let mut constraints = solver::constraints(&found, &solver_bodies, s.dt, surface);
-        let solver_settings = SolverSettings {
-            dt: s.dt,
-            collision_iterations: s.collision_iterations,
-            contact_iterations: s.contact_iterations,
-            restitution_threshold: s.restitution_threshold,
-            slop: s.slop,
-            baumgarte: s.baumgarte,
-            shock_propagation: s.shock_propagation,
-        };
-        solver::collide(&mut solver_bodies, &mut constraints, &solver_settings);
+        solver::collide(&mut solver_bodies, &mut constraints, &s);
         for (body, sb) in self.bodies.iter().zip(solver_bodies.iter_mut()) {
             if moves_freely(body) {
                 sb.linear += s.gravity * s.dt;
             }
         }
-        solver::contact(&mut solver_bodies, &mut constraints, &solver_settings);
-        let pseudo = solver::position_correction(&solver_bodies, &mut constraints, &solver_settings);
+        solver::contact(&mut solver_bodies, &mut constraints, &s);
+        let pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
         let events = events(&found, &constraints);
         self.integrate(&solver_bodies, &pseudo);
         self.time += f64::from(s.dt);
