@@ -129,17 +129,17 @@ impl Denter {
         if pending.is_empty() {
             return Ok(Vec::new());
         }
-        let mut targets: Vec<usize> = pending.iter().map(|p| p.target).collect();
-        targets.sort_unstable();
-        targets.dedup();
-        let cropped: Vec<Option<TriMesh>> = pending.iter().map(|p| projectile_in_target(world, p)).collect();
-        let pending: Vec<Pending> =
-            pending.iter().zip(&cropped).filter(|(_, m)| m.is_some()).map(|(p, _)| *p).collect();
-        let projectiles: Vec<TriMesh> = cropped.into_iter().flatten().collect();
+        // Dents whose projectile has nothing near the impact are dropped before the targets are
+        // listed, so no target is copied or read back for nothing.
+        let (pending, projectiles): (Vec<Pending>, Vec<TriMesh>) =
+            pending.iter().filter_map(|p| Some((*p, projectile_in_target(world, p)?))).unzip();
         let pending = pending.as_slice();
         if pending.is_empty() {
             return Ok(Vec::new());
         }
+        let mut targets: Vec<usize> = pending.iter().map(|p| p.target).collect();
+        targets.sort_unstable();
+        targets.dedup();
         let jobs: Vec<DentJob<'_>> = pending
             .iter()
             .zip(&projectiles)
@@ -228,9 +228,6 @@ fn decide(
     // Into the target, and the projectile's velocity relative to it.
     let impact =
         Impact { point: event.point, normal: -sign * event.normal, relative_velocity: sign * event.relative_velocity };
-    if event.normal_speed <= settings.material.threshold {
-        return Ok(None);
-    }
     let dent_error = |error| SimError::Dent { body: body.name.clone(), error };
     let Some(mut distance) = settings.material.dent_distance(&impact).map_err(dent_error)? else {
         return Ok(None);

@@ -26,5 +26,5 @@ pub use energy::energy_dent_distance;
 pub use error::SimError;
 pub use events::{CollisionEvent, StepReport};
 pub use mass::{MassProperties, mass_properties};
-pub use simulation::{Simulation, StepTiming};
+pub use simulation::{Simulation, StepStats, StepTiming};
 pub use world::{World, WorldSettings};

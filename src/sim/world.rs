@@ -165,10 +165,10 @@ impl World {
     pub fn step(&mut self) -> StepReport {
         let started = Instant::now();
         let s = self.settings;
-        let boxes: Vec<Aabb> = self.bodies.iter().map(|b| self.swept_box(b)).collect();
+        let reach: Vec<f32> = self.bodies.iter().map(|b| self.reach(b)).collect();
+        let boxes: Vec<Aabb> = self.bodies.iter().zip(&reach).map(|(b, &r)| self.swept_box(b, r)).collect();
         let pairs = broad_phase::overlapping_pairs(&boxes, |i, j| self.skip_pair(i, j));
-        let reach = |k: usize| self.reach(&self.bodies[k]);
-        let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach(i) + reach(j));
+        let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach[i] + reach[j]);
         self.wake_touched(&found);
 
         let up = -s.gravity.normalize_or(Vec3::NEG_Y);
@@ -209,10 +209,10 @@ impl World {
         (speed + fall) * self.settings.dt
     }
 
-    /// The body's box grown by the margin and by how far it can move in one step.
-    fn swept_box(&self, body: &RigidBody) -> Aabb {
+    /// The body's box grown by the margin and by `reach`, how far it can move in one step.
+    fn swept_box(&self, body: &RigidBody, reach: f32) -> Aabb {
         let aabb = body.shape.compute_aabb(&contacts::pose(body));
-        let grow = Vec3::splat(self.settings.margin + self.reach(body));
+        let grow = Vec3::splat(self.settings.margin + reach);
         Aabb { min: aabb.mins - grow, max: aabb.maxs + grow }
     }
 

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use dentbend::render::{Renderer, Shaded};
 use dentbend::scene::{Scene, SceneSize, load_sized};
-use dentbend::sim::{DentRecord, Simulation, StepTiming};
+use dentbend::sim::{DentRecord, Simulation, StepStats, StepTiming};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
@@ -78,21 +78,9 @@ struct Summary<'a> {
     bodies: Vec<&'a str>,
     dents_on: &'static str,
     pictures_on: &'static str,
-    ms_per_step: Split,
+    ms_per_step: StepStats,
     steps: &'a [StepTiming],
     dents: Vec<DentEntry<'a>>,
-}
-
-/// Mean and median step times, ms, split into dynamics and denting.
-#[derive(Debug, Serialize)]
-struct Split {
-    dynamics_mean: f64,
-    denting_mean: f64,
-    total_mean: f64,
-    dynamics_median: f64,
-    denting_median: f64,
-    total_median: f64,
-    dents_per_step_mean: f64,
 }
 
 /// One dent of `summary.json`.
@@ -162,7 +150,7 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
             Some(_) => "cpu",
             None => "none",
         },
-        ms_per_step: split(&timings),
+        ms_per_step: StepStats::of(&timings),
         steps: &timings,
         dents: sim.dents().iter().map(|record| DentEntry { frame: record.step, record }).collect(),
     };
@@ -215,25 +203,4 @@ fn draw(
     let shaded: Vec<Shaded> = meshes.iter().map(|(mesh, colour)| Shaded { mesh, colour: *colour }).collect();
     let picture = renderer.render(&shaded, camera, width, height).map_err(|e| CliError::Usage(e.to_string()))?;
     picture.save(path).map_err(|e| CliError::Write { path: path.to_path_buf(), source: std::io::Error::other(e) })
-}
-
-/// Means and medians of the step timings.
-fn split(timings: &[StepTiming]) -> Split {
-    let mean = |f: fn(&StepTiming) -> f64| {
-        if timings.is_empty() { 0.0 } else { timings.iter().map(f).sum::<f64>() / timings.len() as f64 }
-    };
-    let median = |f: fn(&StepTiming) -> f64| {
-        let mut values: Vec<f64> = timings.iter().map(f).collect();
-        values.sort_by(f64::total_cmp);
-        values.get(values.len() / 2).copied().unwrap_or(0.0)
-    };
-    Split {
-        dynamics_mean: mean(|t| t.dynamics_ms),
-        denting_mean: mean(|t| t.denting_ms),
-        total_mean: mean(|t| t.dynamics_ms + t.denting_ms),
-        dynamics_median: median(|t| t.dynamics_ms),
-        denting_median: median(|t| t.denting_ms),
-        total_median: median(|t| t.dynamics_ms + t.denting_ms),
-        dents_per_step_mean: mean(|t| t.dents as f64),
-    }
 }
