@@ -92,9 +92,70 @@ fn displace(c: &mut Criterion) {
     });
 }
 
+/// The dense bunny (58,784 triangles) on four bones stacked up its height, each bent about its
+/// own centre: smooth weights from the distance to the bone centres, as a skeleton would give.
+fn skin_scene() -> (dentbend::TriMesh, Vec<cpu::SkinInfluence>, Vec<cpu::SkinBone>) {
+    use dentbend::glam::{Affine3A, Quat, Vec3};
+    let mesh = dentbend::mesh::builtin("bunny-dense").expect("dense bunny");
+    let (lo, hi) = mesh.bounds();
+    let centres: [Vec3; 4] = std::array::from_fn(|k| lo.lerp(hi, (k as f32 + 0.5) / 4.0));
+    let influences = mesh
+        .positions()
+        .iter()
+        .map(|p| {
+            let closeness = centres.map(|c| 1.0 / (1.0 + p.distance_squared(c)));
+            let sum: f32 = closeness.iter().sum();
+            cpu::SkinInfluence { bones: [0, 1, 2, 3], weights: closeness.map(|w| w / sum) }
+        })
+        .collect();
+    let rest: Vec<Affine3A> = centres.iter().map(|&c| Affine3A::from_translation(c)).collect();
+    let current: Vec<Affine3A> = centres
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| Affine3A::from_rotation_translation(Quat::from_rotation_z(0.1 * k as f32), c))
+        .collect();
+    let bones = cpu::skin_bones(&rest, &current).expect("skin bones");
+    (mesh, influences, bones)
+}
+
+fn skin(c: &mut Criterion) {
+    use dentbend::glam::Vec3;
+    let (mesh, influences, bones) = skin_scene();
+    let n = mesh.vertex_count();
+    let params = cpu::SkinParams::new(n as u32, bones.len() as u32);
+    let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
+    let mut group = c.benchmark_group("skin");
+    group.bench_function(BenchmarkId::new("cpu", n), |b| {
+        b.iter(|| {
+            cpu::skin(&params, &bones, mesh.positions(), mesh.normals(), &influences, &mut positions, &mut normals)
+        })
+    });
+    match dentbend::gpu::shared_context() {
+        Ok(context) => {
+            let kernel = dentbend::gpu::skin::Skin::new(context).expect("skin kernel");
+            let resident = kernel.upload(context, mesh.positions(), mesh.normals(), &influences, 4).expect("upload");
+            // Bones up, dispatch, wait: the output stays on the GPU for a renderer.
+            group.bench_function(BenchmarkId::new("gpu_resident", n), |b| {
+                b.iter(|| {
+                    let mut encoder = context.device.create_command_encoder(&Default::default());
+                    kernel.encode(context, &mut encoder, &resident, &bones).expect("encode");
+                    context.queue.submit([encoder.finish()]);
+                    context.wait().expect("wait")
+                })
+            });
+            // The same plus reading positions and normals back.
+            group.bench_function(BenchmarkId::new("gpu_read_back", n), |b| {
+                b.iter(|| kernel.run(context, &resident, &bones).expect("skin"))
+            });
+        }
+        Err(error) => eprintln!("skin: GPU benches skipped: {error}"),
+    }
+    group.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(2));
-    targets = kernels, displace
+    targets = kernels, displace, skin
 }
 criterion_main!(benches);

@@ -10,6 +10,8 @@ mod heat;
 mod layout;
 pub mod reference;
 mod sample;
+mod skin;
+mod skin_layout;
 mod zbuffer;
 
 pub use displace::{displace, falloff_table};
@@ -18,4 +20,7 @@ pub use envelope_rows::envelope_rows;
 pub use glance::glance;
 pub use heat::{heat, heat_step};
 pub use layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff};
+pub use skin::{SkinError, WEIGHT_SUM_TOLERANCE, skin, validate_influences};
+pub(crate) use skin::{check_length, validate_bones, validate_vertices};
+pub use skin_layout::{BONES_PER_VERTEX, SkinBone, SkinInfluence, SkinParams, skin_bones};
 pub use zbuffer::zbuffer;

@@ -14,6 +14,7 @@ pub mod heat;
 mod kernel;
 pub mod normals;
 mod shaders;
+pub mod skin;
 pub mod zbuffer;
 
 pub use backend::{Backend, shared_context};

@@ -26,6 +26,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("glance", include_str!("../../shaders/glance.wgsl")),
     ("displace", include_str!("../../shaders/displace.wgsl")),
     ("normals", include_str!("../../shaders/normals.wgsl")),
+    ("skin", include_str!("../../shaders/skin.wgsl")),
 ];
 
 /// The WGSL source of kernel `stem` with the shared declarations prepended, as compiled.

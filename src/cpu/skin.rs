@@ -1,0 +1,287 @@
+//! Linear blend skinning of a parent mesh (paper §4: the `skin` step that updates the mesh of an
+//! articulated body every frame). CPU twin of `shaders/skin.wgsl`.
+//!
+//! Every vertex blends the skinning matrices of its four bones, `M = Σ wᵢ·Sᵢ + (1 − Σ wᵢ)·I`
+//! (weight missing from one, within the validation tolerance, stays on the rest pose, and
+//! identity bones give the rest mesh back bit for bit), then moves its rest position by `M` and
+//! its rest normal by the cofactor matrix of `M`'s linear part `A`,
+//! `cof(A) = det(A)·A⁻ᵀ`: the inverse-transpose up to a factor that the final normalization
+//! removes (or that flips the normal with a mirroring `A`, exactly as the skinned triangles'
+//! winding flips), and defined even where `A` is singular.
+
+use glam::{UVec4, Vec3, Vec3A, Vec4};
+use rayon::prelude::*;
+
+use super::skin_layout::{SkinBone, SkinInfluence, SkinParams};
+use crate::gpu::GpuError;
+
+/// How far a vertex's weights may sum from one.
+pub const WEIGHT_SUM_TOLERANCE: f32 = 1e-4;
+
+/// Vertices per parallel task: enough work to outweigh rayon's scheduling.
+const CHUNK: usize = 4096;
+
+/// What is wrong with the inputs of a skinning call.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum SkinError {
+    /// A slice has the wrong number of entries.
+    #[error("{what} has {len} entries, expected {expected}")]
+    Length {
+        /// Which input.
+        what: &'static str,
+        /// Its length.
+        len: usize,
+        /// The length it must have.
+        expected: usize,
+    },
+    /// A weight is NaN or infinite.
+    #[error("vertex {vertex}: weight {slot} is not finite")]
+    NonFiniteWeight {
+        /// The vertex.
+        vertex: usize,
+        /// Which of its four influences.
+        slot: usize,
+    },
+    /// A weight is negative.
+    #[error("vertex {vertex}: weight {slot} is {weight}, below zero")]
+    NegativeWeight {
+        /// The vertex.
+        vertex: usize,
+        /// Which of its four influences.
+        slot: usize,
+        /// The weight.
+        weight: f32,
+    },
+    /// A vertex's weights do not sum to one within [`WEIGHT_SUM_TOLERANCE`].
+    #[error("vertex {vertex}: weights sum to {sum}, not 1 (± {WEIGHT_SUM_TOLERANCE})")]
+    WeightSum {
+        /// The vertex.
+        vertex: usize,
+        /// The sum of its weights.
+        sum: f32,
+    },
+    /// A vertex names a bone that does not exist.
+    #[error("vertex {vertex} names bone {bone}, but there are only {bone_count} bones")]
+    BoneIndex {
+        /// The vertex.
+        vertex: usize,
+        /// The bone index it names.
+        bone: u32,
+        /// The number of bones.
+        bone_count: u32,
+    },
+    /// A bone matrix or pose holds NaN or ∞.
+    #[error("bone {bone}: its transform is not finite")]
+    NonFiniteBone {
+        /// The bone.
+        bone: usize,
+    },
+    /// A bone's rest pose cannot be inverted.
+    #[error("bone {bone}: its rest pose is not invertible")]
+    SingularRestPose {
+        /// The bone.
+        bone: usize,
+    },
+    /// A rest position or normal holds NaN or ∞.
+    #[error("vertex {vertex}: its rest position or normal is not finite")]
+    NonFiniteRest {
+        /// The vertex.
+        vertex: usize,
+    },
+    /// The GPU path failed (device error or a size over the device's limits).
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
+
+/// Checks every vertex's influences: finite, non-negative weights summing to one within
+/// [`WEIGHT_SUM_TOLERANCE`], and bone indices below `bone_count` (unused slots too: pad them
+/// with bone 0 and weight 0). Reports the first bad vertex.
+///
+/// # Errors
+/// [`SkinError::NonFiniteWeight`], [`SkinError::NegativeWeight`], [`SkinError::WeightSum`] or
+/// [`SkinError::BoneIndex`].
+pub fn validate_influences(influences: &[SkinInfluence], bone_count: u32) -> Result<(), SkinError> {
+    let bad = first_bad(influences, |_, i| !influence_ok(i, bone_count));
+    bad.map_or(Ok(()), |vertex| Err(influence_error(vertex, &influences[vertex], bone_count)))
+}
+
+/// Whether an influence passes [`validate_influences`]; the fast test, without the reason.
+#[inline]
+fn influence_ok(influence: &SkinInfluence, bone_count: u32) -> bool {
+    // Finite and non-negative: NaN fails both comparisons, ±∞ one of them.
+    let weights = Vec4::from_array(influence.weights);
+    let finite = (weights.cmpge(Vec4::ZERO) & weights.cmple(Vec4::splat(f32::MAX))).all();
+    let bones = UVec4::from_array(influence.bones).cmplt(UVec4::splat(bone_count)).all();
+    finite & bones & ((weight_sum(&influence.weights) - 1.0).abs() <= WEIGHT_SUM_TOLERANCE)
+}
+
+/// The sum of four weights, in one fixed order.
+#[inline]
+fn weight_sum(weights: &[f32; 4]) -> f32 {
+    weights[0] + weights[1] + weights[2] + weights[3]
+}
+
+/// Why `influence` fails [`influence_ok`] (which it must).
+#[cold]
+fn influence_error(vertex: usize, influence: &SkinInfluence, bone_count: u32) -> SkinError {
+    for (slot, &weight) in influence.weights.iter().enumerate() {
+        if !weight.is_finite() {
+            return SkinError::NonFiniteWeight { vertex, slot };
+        }
+        if weight < 0.0 {
+            return SkinError::NegativeWeight { vertex, slot, weight };
+        }
+    }
+    if let Some(&bone) = influence.bones.iter().find(|&&b| b >= bone_count) {
+        return SkinError::BoneIndex { vertex, bone, bone_count };
+    }
+    SkinError::WeightSum { vertex, sum: weight_sum(&influence.weights) }
+}
+
+/// Checks every vertex's rest position and normal (finite) and influences (as
+/// [`validate_influences`]) in one pass; reports the first bad vertex.
+///
+/// # Errors
+/// [`SkinError::Length`] if the slices differ in length; [`SkinError::NonFiniteRest`]; as
+/// [`validate_influences`].
+pub(crate) fn validate_vertices(
+    rest_positions: &[Vec3],
+    rest_normals: &[Vec3],
+    influences: &[SkinInfluence],
+    bone_count: u32,
+) -> Result<(), SkinError> {
+    check_length("rest normals", rest_normals.len(), rest_positions.len())?;
+    check_length("influences", influences.len(), rest_positions.len())?;
+    let rest_ok = |v: usize| rest_positions[v].is_finite() & rest_normals[v].is_finite();
+    let bad = first_bad(influences, |v, i| !(rest_ok(v) & influence_ok(i, bone_count)));
+    match bad {
+        Some(vertex) if !rest_ok(vertex) => Err(SkinError::NonFiniteRest { vertex }),
+        Some(vertex) => Err(influence_error(vertex, &influences[vertex], bone_count)),
+        None => Ok(()),
+    }
+}
+
+/// The index of the first item for which `bad(index, item)` holds, searched in parallel chunks.
+fn first_bad<T: Sync>(items: &[T], bad: impl Fn(usize, &T) -> bool + Sync) -> Option<usize> {
+    let chunks = items.par_chunks(CHUNK).enumerate();
+    chunks
+        .filter_map(|(c, chunk)| (c * CHUNK..).zip(chunk).position(|(v, item)| bad(v, item)).map(|k| c * CHUNK + k))
+        .min()
+}
+
+/// Checks a bone count against `params` and every bone matrix for NaN and ∞.
+///
+/// # Errors
+/// [`SkinError::Length`] or [`SkinError::NonFiniteBone`].
+pub(crate) fn validate_bones(bones: &[SkinBone], bone_count: u32) -> Result<(), SkinError> {
+    check_length("bone matrices", bones.len(), bone_count as usize)?;
+    match bones.iter().position(|b| !b.is_finite()) {
+        Some(bone) => Err(SkinError::NonFiniteBone { bone }),
+        None => Ok(()),
+    }
+}
+
+/// [`SkinError::Length`] unless `len == expected`.
+pub(crate) fn check_length(what: &'static str, len: usize, expected: usize) -> Result<(), SkinError> {
+    if len != expected {
+        return Err(SkinError::Length { what, len, expected });
+    }
+    Ok(())
+}
+
+/// Skins a mesh: writes every vertex's skinned position (world units) and unit normal (zero
+/// where the transformed normal vanishes) from its rest position and normal, its four
+/// [`SkinInfluence`]s and the bones' skinning matrices (see the module docs for the blend).
+///
+/// The inputs follow the shader's bindings in order: `params`, `bones` (bone count entries,
+/// see [`skin_bones`](super::skin_bones)), the rest vertices (`rest_positions` and
+/// `rest_normals`, which the shader reads interleaved from one buffer), `influences`, then the
+/// outputs `positions` and `normals`. Every slice but `bones` holds `params.vertex_count`
+/// entries. All inputs are checked before anything is written, so on error the outputs are
+/// untouched; runs on all cores.
+///
+/// # Errors
+/// [`SkinError::Length`] for a slice of the wrong length; [`SkinError::NonFiniteBone`],
+/// [`SkinError::NonFiniteRest`]; as [`validate_influences`].
+///
+/// # Example
+/// ```
+/// use dentbend::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
+/// use dentbend::glam::{Affine3A, Vec3};
+///
+/// let bones = [SkinBone::IDENTITY, SkinBone::from_affine(Affine3A::from_translation(Vec3::Y))];
+/// let rest = [Vec3::ZERO, Vec3::X];
+/// let normals_in = [Vec3::Z; 2];
+/// // The second vertex follows both bones half and half.
+/// let influences = [
+///     SkinInfluence::rigid(0),
+///     SkinInfluence { bones: [0, 1, 0, 0], weights: [0.5, 0.5, 0.0, 0.0] },
+/// ];
+/// let (mut positions, mut normals) = ([Vec3::ZERO; 2], [Vec3::ZERO; 2]);
+/// skin(&SkinParams::new(2, 2), &bones, &rest, &normals_in, &influences, &mut positions, &mut normals)?;
+/// assert_eq!(positions, [Vec3::ZERO, Vec3::new(1.0, 0.5, 0.0)]);
+/// assert_eq!(normals, [Vec3::Z; 2]);
+/// # Ok::<(), dentbend::cpu::SkinError>(())
+/// ```
+pub fn skin(
+    params: &SkinParams,
+    bones: &[SkinBone],
+    rest_positions: &[Vec3],
+    rest_normals: &[Vec3],
+    influences: &[SkinInfluence],
+    positions: &mut [Vec3],
+    normals: &mut [Vec3],
+) -> Result<(), SkinError> {
+    let n = params.vertex_count as usize;
+    check_length("rest positions", rest_positions.len(), n)?;
+    check_length("rest normals", rest_normals.len(), n)?;
+    check_length("influences", influences.len(), n)?;
+    check_length("skinned positions", positions.len(), n)?;
+    check_length("skinned normals", normals.len(), n)?;
+    validate_bones(bones, params.bone_count)?;
+    validate_vertices(rest_positions, rest_normals, influences, params.bone_count)?;
+
+    positions.par_chunks_mut(CHUNK).zip(normals.par_chunks_mut(CHUNK)).enumerate().for_each(
+        |(chunk, (positions, normals))| {
+            let range = chunk * CHUNK..chunk * CHUNK + positions.len();
+            let rest = rest_positions[range.clone()].iter().zip(&rest_normals[range.clone()]);
+            for (((position, normal), (p, n)), influence) in
+                positions.iter_mut().zip(normals.iter_mut()).zip(rest).zip(&influences[range])
+            {
+                (*position, *normal) = skin_vertex(bones, *p, *n, influence);
+            }
+        },
+    );
+    Ok(())
+}
+
+/// One invocation of the shader's `main`: the skinned position and unit normal of a vertex.
+#[inline]
+fn skin_vertex(bones: &[SkinBone], p: Vec3, n: Vec3, influence: &SkinInfluence) -> (Vec3, Vec3) {
+    // Blend the rows of the bones' matrices, skipping bones past the bone count.
+    let mut rows = [Vec4::ZERO; 3];
+    let mut total = 0.0;
+    for (&bone, &weight) in influence.bones.iter().zip(&influence.weights) {
+        let Some(bone) = bones.get(bone as usize) else {
+            continue;
+        };
+        for (row, bone_row) in rows.iter_mut().zip(&bone.rows) {
+            *row += weight * Vec4::from_array(*bone_row);
+        }
+        total += weight;
+    }
+    // The weight missing from one stays on the rest pose: M += (1 − Σ w)·I. Identity bones sum
+    // the diagonal exactly as `total`, so it comes out exactly 1.
+    let missing = 1.0 - total;
+    rows[0].x += missing;
+    rows[1].y += missing;
+    rows[2].z += missing;
+
+    let p1 = p.extend(1.0);
+    let position = Vec3::new(rows[0].dot(p1), rows[1].dot(p1), rows[2].dot(p1));
+    // Rows of cof(A) = det(A)·A⁻ᵀ: the cross products of A's rows.
+    let [a0, a1, a2] = rows.map(Vec3A::from_vec4);
+    let n = Vec3A::from(n);
+    let normal = Vec3A::new(a1.cross(a2).dot(n), a2.cross(a0).dot(n), a0.cross(a1).dot(n));
+    (position, normal.normalize_or_zero().into())
+}
