@@ -4,6 +4,8 @@
 use glam::Vec3;
 use serde::Serialize;
 
+use super::BendEvent;
+
 /// A pair of bodies that collided during a step.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CollisionEvent {
@@ -29,6 +31,8 @@ pub struct CollisionEvent {
 pub struct StepReport {
     /// Colliding pairs (closing contacts), in pair order.
     pub events: Vec<CollisionEvent>,
+    /// Plastic joints that bent, in joint order.
+    pub bends: Vec<BendEvent>,
     /// Body pairs whose boxes overlapped.
     pub broad_pairs: usize,
     /// Contact points solved.

@@ -1,11 +1,15 @@
 //! The world: bodies, settings, and the time step (DESIGN.md §2): broad phase → narrow phase →
-//! collision (restitution) → gravity → contact (inelastic, shock propagation) → positions.
+//! collision (restitution) → gravity → elastic joint springs → contact (inelastic, shock
+//! propagation) → joint pre-stabilization → positions → joint post-stabilization.
 
+use std::collections::HashSet;
 use std::time::Instant;
 
 use glam::{Quat, Vec3};
 
+use super::joints::{self, Joint, JointKind};
 use super::solver::{self, SolverBody};
+use super::warm_start::ContactCache;
 use super::{Aabb, BodyDesc, BodyKind, CollisionEvent, PairContacts, RigidBody, SimError, StepReport};
 use super::{broad_phase, contacts, error::invalid};
 
@@ -102,6 +106,12 @@ pub struct World {
     settings: WorldSettings,
     time: f64,
     steps: u64,
+    /// Joints between bodies, in the order they were added.
+    joints: Vec<Joint>,
+    /// Body pairs (smaller index first) joined by a joint: they do not collide.
+    joined: HashSet<(usize, usize)>,
+    /// Last step's contact impulses, to warm-start this step's.
+    cache: ContactCache,
 }
 
 impl World {
@@ -111,7 +121,15 @@ impl World {
     /// [`SimError::Invalid`] for bad settings.
     pub fn new(settings: WorldSettings) -> Result<Self, SimError> {
         settings.validate()?;
-        Ok(Self { bodies: Vec::new(), settings, time: 0.0, steps: 0 })
+        Ok(Self {
+            bodies: Vec::new(),
+            settings,
+            time: 0.0,
+            steps: 0,
+            joints: Vec::new(),
+            joined: HashSet::new(),
+            cache: ContactCache::default(),
+        })
     }
 
     /// Adds a body and returns its index.
@@ -134,6 +152,31 @@ impl World {
     /// Mutable access to the bodies (set velocities, poses…).
     pub fn bodies_mut(&mut self) -> &mut [RigidBody] {
         &mut self.bodies
+    }
+
+    /// Joins bodies `a` and `b` (indices) at world point `anchor` (m) with a joint of `kind` that
+    /// holds their current relative orientation as its target; returns the joint's index. The
+    /// two bodies no longer collide with each other.
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] for an index that is not a body, the same body twice, two bodies
+    /// neither of which is dynamic, a non-finite anchor, or a bad number in `kind` (see
+    /// [`JointKind::validate`]).
+    pub fn add_joint(&mut self, a: usize, b: usize, anchor: Vec3, kind: JointKind) -> Result<usize, SimError> {
+        let joint = Joint::new(&self.bodies, a, b, anchor, kind)?;
+        self.joined.insert(joints::pair(a, b));
+        self.joints.push(joint);
+        Ok(self.joints.len() - 1)
+    }
+
+    /// The joints, in the order they were added.
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+
+    /// Mutable access to the joints.
+    pub fn joints_mut(&mut self) -> &mut [Joint] {
+        &mut self.joints
     }
 
     /// The index of the body called `name`.
@@ -170,6 +213,7 @@ impl World {
         let pairs = broad_phase::overlapping_pairs(&boxes, |i, j| self.skip_pair(i, j));
         let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach[i] + reach[j]);
         self.wake_touched(&found);
+        joints::sync_sleep(&self.joints, &mut self.bodies);
 
         let up = -s.gravity.normalize_or(Vec3::NEG_Y);
         let mut solver_bodies: Vec<SolverBody> = self.bodies.iter().map(|b| solver_body(b, up)).collect();
@@ -178,20 +222,26 @@ impl World {
             (a.restitution.max(b.restitution), (a.friction * b.friction).sqrt())
         };
         let mut constraints = solver::constraints(&found, &solver_bodies, s.dt, surface);
+        self.cache.seed(&mut constraints, |i| self.bodies[i].orientation);
         solver::collide(&mut solver_bodies, &mut constraints, &s);
         for (body, sb) in self.bodies.iter().zip(solver_bodies.iter_mut()) {
             if moves_freely(body) {
                 sb.linear += s.gravity * s.dt;
             }
         }
+        joints::apply_springs(&mut self.joints, &self.bodies, &mut solver_bodies, &s);
         solver::contact(&mut solver_bodies, &mut constraints, &s);
-        let pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
+        self.cache.store(&constraints, |i| self.bodies[i].orientation);
+        let mut pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
+        joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s);
         let events = events(&found, &constraints);
         self.integrate(&solver_bodies, &pseudo);
+        let bends = joints::poststabilize(&mut self.joints, &mut self.bodies, &s);
         self.time += f64::from(s.dt);
         self.steps += 1;
         StepReport {
             events,
+            bends,
             broad_pairs: pairs.len(),
             contact_points: constraints.len(),
             seconds: started.elapsed().as_secs_f64(),
@@ -216,10 +266,12 @@ impl World {
         Aabb { min: aabb.mins - grow, max: aabb.maxs + grow }
     }
 
-    /// Pairs that cannot interact: neither body free to move.
+    /// Pairs that cannot interact: neither body free to move, or joined by a joint.
     fn skip_pair(&self, i: usize, j: usize) -> bool {
         let still = |b: &RigidBody| b.kind == BodyKind::Static || (b.kind == BodyKind::Dynamic && b.asleep);
-        still(&self.bodies[i]) && still(&self.bodies[j]) || !moves(&self.bodies[i]) && !moves(&self.bodies[j])
+        still(&self.bodies[i]) && still(&self.bodies[j])
+            || !moves(&self.bodies[i]) && !moves(&self.bodies[j])
+            || self.joined.contains(&joints::pair(i, j))
     }
 
     /// Wakes sleeping bodies touched by awake moving ones.

@@ -1,0 +1,63 @@
+//! Jointed groups: dynamic bodies connected through joints (static and kinematic bodies do not
+//! connect groups). A group sleeps and wakes as one, so a joint never holds an awake body to an
+//! asleep (immovable) partner: every member must have been still at the same time for the
+//! world's `sleep_time` before the group sleeps, and touching one member wakes them all.
+
+use super::Joint;
+use crate::sim::{BodyKind, RigidBody};
+
+/// The key of an unordered body pair (smaller index first).
+pub(crate) fn pair(a: usize, b: usize) -> (usize, usize) {
+    (a.min(b), a.max(b))
+}
+
+/// Group representative of every body (itself when it has no dynamic joint partner).
+fn groups(joints: &[Joint], bodies: &[RigidBody]) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..bodies.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let dynamic = |i: usize| bodies.get(i).is_some_and(|b| b.kind == BodyKind::Dynamic);
+    for joint in joints {
+        if dynamic(joint.a) && dynamic(joint.b) {
+            let (ra, rb) = (root(&mut parent, joint.a), root(&mut parent, joint.b));
+            parent[ra.max(rb)] = ra.min(rb);
+        }
+    }
+    (0..bodies.len()).map(|i| root(&mut parent, i)).collect()
+}
+
+/// Brings every jointed group to one sleep state: a group with an awake member stays awake
+/// (asleep members are woken); if a member moved this step (`still_for` = 0) every member's
+/// stillness restarts, so the group only sleeps once all were still together for `sleep_time`.
+pub(crate) fn sync_sleep(joints: &[Joint], bodies: &mut [RigidBody]) {
+    if joints.is_empty() {
+        return;
+    }
+    let group = groups(joints, bodies);
+    let count = bodies.len();
+    let mut awake = vec![false; count];
+    let mut active = vec![false; count];
+    let mut size = vec![0usize; count];
+    for (i, body) in bodies.iter().enumerate() {
+        size[group[i]] += 1;
+        if body.kind == BodyKind::Dynamic && !body.asleep {
+            awake[group[i]] = true;
+            active[group[i]] |= body.still_for == 0.0;
+        }
+    }
+    for (i, body) in bodies.iter_mut().enumerate() {
+        let g = group[i];
+        if size[g] < 2 || body.kind != BodyKind::Dynamic || !awake[g] {
+            continue;
+        }
+        body.asleep = false;
+        if active[g] {
+            body.still_for = 0.0;
+        }
+    }
+}

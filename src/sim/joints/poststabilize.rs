@@ -1,0 +1,76 @@
+//! Joint post-stabilization (Weinstein–Teran–Fedkiw 2006), run after the position update:
+//! impulses that remove the relative velocity of the anchors and, for joints that lock rotation,
+//! the relative angular velocity — except a bending plastic joint, which keeps its damped rate
+//! (paper §4.1), and elastic angular joints, whose rotation is the spring's. The rows are linear
+//! in the velocities, so one exact solve per group of connected joints (see `solve`) does it.
+
+use glam::Vec3;
+
+use super::solve::{self, Rows};
+use super::system::{self, Mobility, Motion};
+use super::{BendEvent, Joint, groups, plastic};
+use crate::sim::{BodyKind, RigidBody, WorldSettings};
+
+/// Velocity error below which a joint holds, m/s and rad/s.
+const TOLERANCE: f64 = 1e-5;
+
+/// Everything joints do after the position update: jointed groups fall asleep together, plastic
+/// joints take their bends (reported), then post-stabilization on the bodies' velocities.
+pub(crate) fn poststabilize(
+    joints: &mut [Joint],
+    bodies: &mut [RigidBody],
+    settings: &WorldSettings,
+) -> Vec<BendEvent> {
+    if joints.is_empty() {
+        return Vec::new();
+    }
+    groups::sync_sleep(joints, bodies);
+    let bends = plastic::after_step(joints, bodies, settings.dt);
+    let mob = system::mobilities(bodies, settings);
+    let mut v: Vec<Motion> =
+        bodies.iter().map(|b| Motion { linear: b.linear_velocity, angular: b.angular_velocity }).collect();
+    hold_velocities(joints, bodies, &mob, &mut v, true);
+    for (body, m) in bodies.iter_mut().zip(&v) {
+        if body.kind == BodyKind::Dynamic && !body.asleep {
+            body.linear_velocity = m.linear;
+            body.angular_velocity = m.angular;
+        }
+    }
+    bends
+}
+
+/// Makes the velocities `v` respect the joints to first order: zero relative anchor velocity
+/// across the held directions and, where rotation is locked, zero relative angular velocity (or,
+/// with `bending`, a bending plastic joint's damped rate). Also used on the contact
+/// pseudo-velocities. The rows are linear in the velocities, so one solve is exact.
+pub(crate) fn hold_velocities(
+    joints: &mut [Joint],
+    bodies: &[RigidBody],
+    mob: &[Mobility],
+    v: &mut [Motion],
+    bending: bool,
+) {
+    let rows: Vec<Option<Rows>> = joints.iter().map(|joint| velocity_rows(joint, bodies, mob, v, bending)).collect();
+    solve::solve_rows(joints, &rows, mob, v, false, 0.0);
+}
+
+/// A joint's velocity rows: relative anchor velocity, relative angular velocity minus the wanted.
+fn velocity_rows(joint: &Joint, bodies: &[RigidBody], mob: &[Mobility], v: &[Motion], bending: bool) -> Option<Rows> {
+    let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
+    if !system::takes_impulses(ma) && !system::takes_impulses(mb) {
+        return None;
+    }
+    let frame = system::frame(joint, bodies, mob, v, None, 0.0);
+    let basis = system::linear_basis(joint, frame.qa);
+    let (va, vb) = (v[joint.a], v[joint.b]);
+    let relative = vb.linear + vb.angular.cross(frame.rb) - va.linear - va.angular.cross(frame.ra);
+    let turning = vb.angular - va.angular;
+    let wanted = if bending { frame.qa * joint.bend_rate } else { Vec3::ZERO };
+    Some(Rows {
+        frame,
+        basis,
+        error: system::rows(relative, turning - wanted, &basis),
+        tolerance: [TOLERANCE; 6],
+        matrix: system::response(ma, mb, &frame, &basis),
+    })
+}

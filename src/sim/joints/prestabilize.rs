@@ -1,0 +1,190 @@
+//! Joint pre-stabilization (Weinstein–Teran–Fedkiw 2006), run after the contact phase and before
+//! the position update: impulses on the step's new velocities such that, once positions are
+//! integrated with them, every joint holds — the anchors coincide and the relative orientation is
+//! the target (a plastic joint's angular impulse clamped at its strength, paper §4.1).
+//!
+//! The joints' predicted errors are a nonlinear function of the velocities (the position update
+//! turns the levers), solved by damped Newton (Levenberg–Marquardt) iterations:
+//! 1. predict every jointed body's pose after the position update exactly as `World::step`
+//!    integrates it (velocity plus contact pseudo-velocity, damped spin, first-order quaternion
+//!    step) and linearize each joint's errors there, with the exact derivative of that
+//!    quaternion step (so large spins do not throw the Newton step off);
+//! 2. solve that linear system for the joint impulses, acting at the predicted anchors (which
+//!    keeps the system symmetric and solvable), exactly for each group of connected joints (see
+//!    `solve`; plastic joints clamp their accumulated angular impulse there) — a linear solve per
+//!    Newton step converges where Gauss–Seidel over nonlinear joint solves can run away;
+//! 3. predict again; if the summed squared errors grew, go back and take a more damped step.
+//!
+//! Errors left when the budget is spent are taken up by the next step.
+
+use glam::Vec3;
+
+use super::solve::{self, Rows};
+use super::system::{self, Frame, Mobility, Motion};
+use super::{Joint, poststabilize, rotation_vector};
+use crate::sim::solver::SolverBody;
+use crate::sim::{RigidBody, WorldSettings};
+
+/// Most Newton iterations per step.
+const NEWTON: usize = 8;
+/// Most tries of one Newton iteration, each more damped than the last.
+const RETRIES: usize = 8;
+/// A joint whose predicted anchors are this close holds, m (plus 1e-6 of the anchor's distance
+/// from the origin, f32's resolution there).
+const LINEAR_TOLERANCE: f64 = 1e-6;
+/// A joint whose predicted relative orientation is this close to its target holds, rad.
+const ANGULAR_TOLERANCE: f64 = 1e-6;
+
+/// Pre-stabilizes `joints` on the step's velocities `solver` and contact pseudo-velocities
+/// `pseudo` (linear, angular), both changed in place. The pseudo-velocities are first made to
+/// respect the joints at velocity level, so the contact position correction moves jointed bodies
+/// together; the real impulses then remove the joints' predicted errors.
+pub(crate) fn prestabilize(
+    joints: &mut [Joint],
+    bodies: &[RigidBody],
+    solver: &mut [SolverBody],
+    pseudo: &mut [(Vec3, Vec3)],
+    settings: &WorldSettings,
+) {
+    if joints.is_empty() {
+        return;
+    }
+    let mob = system::mobilities(bodies, settings);
+    let mut extra: Vec<Motion> = pseudo.iter().map(|&(linear, angular)| Motion { linear, angular }).collect();
+    if extra.iter().any(|m| m.linear != Vec3::ZERO || m.angular != Vec3::ZERO) {
+        poststabilize::hold_velocities(joints, bodies, &mob, &mut extra, false);
+        for (p, e) in pseudo.iter_mut().zip(&extra) {
+            *p = (e.linear, e.angular);
+        }
+    }
+    let mut v: Vec<Motion> = solver.iter().map(|b| Motion { linear: b.linear, angular: b.angular }).collect();
+    for joint in joints.iter_mut() {
+        joint.accumulated = Vec3::ZERO;
+        joint.clamped = false;
+    }
+    let dt = settings.dt;
+    let mut now = measure(joints, bodies, &mob, &v, &extra, dt);
+    let mut damping = 0.0;
+    for _ in 0..NEWTON {
+        if now.worst < 1.0 {
+            break;
+        }
+        let rows: Vec<Option<Rows>> =
+            joints.iter().map(|joint| linearize(joint, bodies, &mob, &v, &extra, dt)).collect();
+        let start = v.clone();
+        let start_impulse: Vec<(Vec3, bool)> = joints.iter().map(|j| (j.accumulated, j.clamped)).collect();
+        let mut accepted = false;
+        for _ in 0..RETRIES {
+            solve::solve_rows(joints, &rows, &mob, &mut v, true, damping);
+            let after = measure(joints, bodies, &mob, &v, &extra, dt);
+            if after.merit < now.merit {
+                now = after;
+                damping = if damping > 1e-6 { damping * 0.1 } else { 0.0 };
+                accepted = true;
+                break;
+            }
+            // The step made the errors grow: back to the start, shorter (more damped) step.
+            v.copy_from_slice(&start);
+            for (joint, &(accumulated, clamped)) in joints.iter_mut().zip(&start_impulse) {
+                joint.accumulated = accumulated;
+                joint.clamped = clamped;
+            }
+            damping = if damping == 0.0 { 1e-3 } else { damping * 10.0 };
+        }
+        if !accepted {
+            break;
+        }
+    }
+    for (b, m) in solver.iter_mut().zip(&v) {
+        b.linear = m.linear;
+        b.angular = m.angular;
+    }
+}
+
+/// A joint's rows linearized at velocities `v`: predicted errors per unit `dt` (the velocity
+/// change that removes them); `None` when neither body takes impulses.
+fn linearize(
+    joint: &Joint,
+    bodies: &[RigidBody],
+    mob: &[Mobility],
+    v: &[Motion],
+    extra: &[Motion],
+    dt: f32,
+) -> Option<Rows> {
+    let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
+    if !system::takes_impulses(ma) && !system::takes_impulses(mb) {
+        return None;
+    }
+    let frame = system::frame(joint, bodies, mob, v, Some(extra), dt);
+    let basis = system::linear_basis(joint, frame.qa);
+    let (error, tolerance) = errors(joint, &frame, &basis, dt);
+    let per_step = 1.0 / f64::from(dt);
+    Some(Rows {
+        frame,
+        basis,
+        error: error.map(|e| e * per_step),
+        tolerance: tolerance.map(|t| t * per_step),
+        matrix: system::response(ma, mb, &frame, &basis),
+    })
+}
+
+/// The rows' predicted errors (m, rad) and tolerances in `frame`.
+fn errors(joint: &Joint, f: &Frame, basis: &[Vec3; 3], dt: f32) -> ([f64; 6], [f64; 6]) {
+    let linear = f.anchor_b - f.anchor_a;
+    let angular = if joint.kind.locks_rotation() {
+        // A plastic joint still bending after a hit keeps turning at its damped rate.
+        let keep_turning = (f.qa * joint.bend_rate) * dt;
+        rotation_vector((f.qb * (f.qa * joint.target).inverse()).normalize()) - keep_turning
+    } else {
+        Vec3::ZERO
+    };
+    let far = f64::from(f.anchor_a.abs().max_element().max(f.anchor_b.abs().max_element()));
+    let lin_tol = LINEAR_TOLERANCE * (1.0 + far);
+    let tolerance = [lin_tol, lin_tol, lin_tol, ANGULAR_TOLERANCE, ANGULAR_TOLERANCE, ANGULAR_TOLERANCE];
+    (system::rows(linear, angular, basis), tolerance)
+}
+
+/// The rows a joint is held to now: a plastic joint that clamped gives up its angular rows.
+fn held(joint: &Joint) -> [bool; 6] {
+    let mut held = system::held_rows(joint);
+    if joint.clamped {
+        held[3..].fill(false);
+    }
+    held
+}
+
+/// How far the joints are from holding after the position update.
+#[derive(Debug, Clone, Copy)]
+struct Errors {
+    /// Largest row error over all joints' held rows, in tolerances (< 1: all hold).
+    worst: f64,
+    /// Sum of the squared row errors in tolerances (what a Newton step must reduce).
+    merit: f64,
+}
+
+fn measure(
+    joints: &[Joint],
+    bodies: &[RigidBody],
+    mob: &[Mobility],
+    v: &[Motion],
+    extra: &[Motion],
+    dt: f32,
+) -> Errors {
+    let mut out = Errors { worst: 0.0, merit: 0.0 };
+    for joint in joints {
+        let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
+        if !system::takes_impulses(ma) && !system::takes_impulses(mb) {
+            continue;
+        }
+        let frame = system::frame(joint, bodies, mob, v, Some(extra), dt);
+        let basis = system::linear_basis(joint, frame.qa);
+        let (error, tolerance) = errors(joint, &frame, &basis, dt);
+        let held = held(joint);
+        for r in (0..6).filter(|&r| held[r]) {
+            let e = error[r].abs() / tolerance[r];
+            out.worst = out.worst.max(e);
+            out.merit += e * e;
+        }
+    }
+    out
+}

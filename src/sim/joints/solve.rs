@@ -1,0 +1,355 @@
+//! Solving the joints' linearized rows for impulses, all joints of a group together.
+//!
+//! Joints that share a body that takes impulses form a group. Each group is solved exactly: its
+//! rows' response to every joint impulse is assembled into one sparse matrix, its joints ordered
+//! (reverse Cuthill–McKee) so that the matrix is banded — a chain becomes block-tridiagonal — and
+//! solved by banded Gaussian elimination (see `band`), linear in the length of a chain, where
+//! Gauss–Seidel over a chain needs hundreds of sweeps. Plastic joints clamp by active set: a
+//! joint whose accumulated angular impulse would pass its strength gets that impulse fixed on the
+//! strength sphere and the rest of the group is solved again. A group whose matrix is singular
+//! or too wide falls back to Gauss–Seidel over its joints, one exact 6×6 block solve per visit.
+
+use std::collections::{HashMap, HashSet, VecDeque};
+
+use glam::Vec3;
+
+use super::system::{self, Frame, Matrix, Mobility, Motion};
+use super::{Joint, JointKind, band, plastic};
+
+/// Most Gauss–Seidel sweeps over a group that cannot be solved directly.
+const SWEEPS: usize = 48;
+/// Levenberg–Marquardt damping of a group whose plain system is singular.
+const REDUNDANT_DAMPING: f64 = 1e-9;
+
+/// A joint's rows linearized at the current velocities.
+pub(crate) struct Rows {
+    pub frame: Frame,
+    pub basis: [Vec3; 3],
+    /// Row values now, in velocity units (m/s, rad/s): the solve drives them to zero.
+    pub error: [f64; 6],
+    /// Row tolerances in the same units.
+    pub tolerance: [f64; 6],
+    /// The joint's own 6×6 response.
+    pub matrix: Matrix,
+}
+
+/// Changes `v` by joint impulses that zero every joint's linearized held rows. With `clamp`,
+/// plastic joints cap their accumulated angular impulse at their strength (and record whether
+/// they did); without it they are rigid. `damping` > 0 makes the direct solves
+/// Levenberg–Marquardt steps (least squares with the normal equations' diagonal raised by that
+/// fraction), shorter and safe where the rows are nearly dependent. Joints whose `rows` are
+/// `None` are left alone.
+pub(crate) fn solve_rows(
+    joints: &mut [Joint],
+    rows: &[Option<Rows>],
+    mob: &[Mobility],
+    v: &mut [Motion],
+    clamp: bool,
+    damping: f64,
+) {
+    for group in groups(joints, rows, mob) {
+        // Redundant joints (closed loops of rigid joints) make the plain system singular; the
+        // slightly damped least-squares step still solves it.
+        let solved = direct(joints, &group, rows, mob, v, clamp, damping)
+            || damping == 0.0 && direct(joints, &group, rows, mob, v, clamp, REDUNDANT_DAMPING);
+        if !solved {
+            gauss_seidel(joints, &group, rows, mob, v, clamp);
+        }
+    }
+}
+
+/// The rows a joint's impulses solve for (plastic joints all six; the clamp is separate).
+fn held(joint: &Joint) -> [bool; 6] {
+    system::held_rows(joint)
+}
+
+/// Joints with rows, grouped by shared bodies that take impulses.
+fn groups(joints: &[Joint], rows: &[Option<Rows>], mob: &[Mobility]) -> Vec<Vec<usize>> {
+    let mut parent: Vec<usize> = (0..joints.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut owner: HashMap<usize, usize> = HashMap::new();
+    for (k, joint) in joints.iter().enumerate() {
+        if rows[k].is_none() {
+            continue;
+        }
+        for body in [joint.a, joint.b] {
+            if !system::takes_impulses(&mob[body]) {
+                continue;
+            }
+            if let Some(&other) = owner.get(&body) {
+                let (x, y) = (root(&mut parent, k), root(&mut parent, other));
+                parent[x.max(y)] = x.min(y);
+            } else {
+                owner.insert(body, k);
+            }
+        }
+    }
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    let mut slot: HashMap<usize, usize> = HashMap::new();
+    for k in (0..joints.len()).filter(|&k| rows[k].is_some()) {
+        let r = root(&mut parent, k);
+        let index = *slot.entry(r).or_insert_with(|| {
+            out.push(Vec::new());
+            out.len() - 1
+        });
+        out[index].push(k);
+    }
+    out
+}
+
+/// Solves one group exactly. Returns `false` (nothing applied) when its matrix is singular or
+/// too wide.
+fn direct(
+    joints: &mut [Joint],
+    group: &[usize],
+    rows: &[Option<Rows>],
+    mob: &[Mobility],
+    v: &mut [Motion],
+    clamp: bool,
+    damping: f64,
+) -> bool {
+    let order = order(joints, group, mob);
+    // Unknowns and equations: the held rows of each joint, in band order.
+    let mut index: Vec<(usize, usize)> = Vec::new();
+    let mut slots: HashMap<usize, [usize; 6]> = HashMap::new();
+    for &k in &order {
+        let h = held(&joints[k]);
+        let mut slot = [usize::MAX; 6];
+        for r in (0..6).filter(|&r| h[r]) {
+            slot[r] = index.len();
+            index.push((k, r));
+        }
+        slots.insert(k, slot);
+    }
+    let position = |k: usize, r: usize| slots[&k][r];
+    let touching = bodies_to_joints(joints, group, mob);
+    let n = index.len();
+    let mut matrix: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+    let axes = [Vec3::X, Vec3::Y, Vec3::Z];
+    for (col, &(q, c)) in index.iter().enumerate() {
+        let Some(rq) = &rows[q] else { continue };
+        let (j, l) = if c < 3 { (rq.basis[c], Vec3::ZERO) } else { (Vec3::ZERO, axes[c - 3]) };
+        let jq = &joints[q];
+        let kick = system::kick(&mob[jq.a], &mob[jq.b], &rq.frame, j, l);
+        let moved = |body: usize| {
+            let mut m = Motion::default();
+            for (who, delta) in [(jq.a, kick.0), (jq.b, kick.1)] {
+                if who == body {
+                    m.linear += delta.linear;
+                    m.angular += delta.angular;
+                }
+            }
+            m
+        };
+        let mut neighbours: Vec<usize> =
+            [jq.a, jq.b].iter().filter_map(|body| touching.get(body)).flatten().copied().collect();
+        neighbours.sort_unstable();
+        neighbours.dedup();
+        for p in neighbours {
+            let Some(rp) = &rows[p] else { continue };
+            let jp = &joints[p];
+            let (lin, ang) = system::drift(&rp.frame, moved(jp.a), moved(jp.b));
+            let values = system::rows(lin, ang, &rp.basis);
+            let h = held(jp);
+            for r in (0..6).filter(|&r| h[r] && values[r] != 0.0) {
+                matrix[position(p, r)].push((col, values[r]));
+            }
+        }
+    }
+    let rhs: Vec<f64> = index.iter().map(|&(k, r)| rows[k].as_ref().map_or(0.0, |x| -x.error[r])).collect();
+    // Active set over the plastic joints' angular impulses.
+    let mut fixed: Vec<Option<Vec3>> = vec![None; joints.len()];
+    let mut x;
+    loop {
+        let is_fixed = |i: usize| index[i].1 >= 3 && fixed[index[i].0].is_some();
+        let mut renumber = vec![usize::MAX; n];
+        let mut free = Vec::new();
+        for i in (0..n).filter(|&i| !is_fixed(i)) {
+            renumber[i] = free.len();
+            free.push(i);
+        }
+        let mut sub: Vec<Vec<(usize, f64)>> = Vec::with_capacity(free.len());
+        let mut b = Vec::with_capacity(free.len());
+        for &row in &free {
+            let mut value = rhs[row];
+            let mut kept = Vec::with_capacity(matrix[row].len());
+            for &(col, a) in &matrix[row] {
+                if is_fixed(col) {
+                    let (k, c) = index[col];
+                    value -= a * fixed[k].map_or(0.0, |l| f64::from(l[c - 3]));
+                } else {
+                    kept.push((renumber[col], a));
+                }
+            }
+            sub.push(kept);
+            b.push(value);
+        }
+        let Some(solution) = band::solve(&sub, &b, damping) else {
+            return false;
+        };
+        x = vec![0.0f64; n];
+        for (i, &col) in free.iter().enumerate() {
+            x[col] = solution[i];
+        }
+        if !clamp || !clamp_plastic(joints, group, &mut fixed, |k, c| x[position(k, c)]) {
+            break;
+        }
+    }
+    for &k in group {
+        let Some(r) = &rows[k] else { continue };
+        let h = held(&joints[k]);
+        let mut solution = [0.0f64; 6];
+        for c in (0..6).filter(|&c| h[c]) {
+            solution[c] = x[position(k, c)];
+        }
+        let (j, mut l) = system::impulses(&solution, &r.basis);
+        if let Some(fixed) = fixed[k] {
+            l = fixed;
+        }
+        if clamp && matches!(joints[k].kind, JointKind::Plastic { .. }) {
+            joints[k].clamped = fixed[k].is_some();
+            joints[k].accumulated += l;
+        }
+        system::apply(v, mob, &joints[k], &r.frame, j, l);
+    }
+    true
+}
+
+/// Fixes on its strength sphere the angular impulse of every plastic joint of `group` not fixed
+/// yet whose accumulated angular impulse plus the solution's (`x(joint, row)`, rows 3–5) would
+/// pass its strength. Returns whether any was fixed (the group must be solved again).
+fn clamp_plastic(
+    joints: &[Joint],
+    group: &[usize],
+    fixed: &mut [Option<Vec3>],
+    x: impl Fn(usize, usize) -> f64,
+) -> bool {
+    let mut changed = false;
+    for &k in group {
+        let JointKind::Plastic { strength, .. } = joints[k].kind else { continue };
+        if fixed[k].is_some() {
+            continue;
+        }
+        let l = Vec3::new(x(k, 3) as f32, x(k, 4) as f32, x(k, 5) as f32);
+        let wanted = joints[k].accumulated + l;
+        if wanted.length() > strength {
+            fixed[k] = Some(wanted * (strength / wanted.length()) - joints[k].accumulated);
+            changed = true;
+        }
+    }
+    changed
+}
+
+/// For each body that takes impulses, the group's joints on it.
+fn bodies_to_joints(joints: &[Joint], group: &[usize], mob: &[Mobility]) -> HashMap<usize, Vec<usize>> {
+    let mut map: HashMap<usize, Vec<usize>> = HashMap::new();
+    for &k in group {
+        for body in [joints[k].a, joints[k].b] {
+            if system::takes_impulses(&mob[body]) {
+                map.entry(body).or_default().push(k);
+            }
+        }
+    }
+    map
+}
+
+/// The group's joints in reverse Cuthill–McKee order (breadth first from a joint of least
+/// coupling, neighbours by increasing coupling, reversed), which keeps coupled joints close and
+/// the system's band narrow: a chain becomes block-tridiagonal.
+fn order(joints: &[Joint], group: &[usize], mob: &[Mobility]) -> Vec<usize> {
+    let touching = bodies_to_joints(joints, group, mob);
+    let neighbours = |k: usize| -> Vec<usize> {
+        let mut out: Vec<usize> = [joints[k].a, joints[k].b]
+            .iter()
+            .filter_map(|body| touching.get(body))
+            .flatten()
+            .copied()
+            .filter(|&p| p != k)
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    };
+    let degree: HashMap<usize, usize> = group.iter().map(|&k| (k, neighbours(k).len())).collect();
+    let mut seen: HashSet<usize> = HashSet::new();
+    let mut out = Vec::with_capacity(group.len());
+    let mut starts: Vec<usize> = group.to_vec();
+    starts.sort_by_key(|k| (degree[k], *k));
+    for &start in &starts {
+        if !seen.insert(start) {
+            continue;
+        }
+        let mut queue = VecDeque::from([start]);
+        while let Some(k) = queue.pop_front() {
+            out.push(k);
+            let mut next: Vec<usize> = neighbours(k).into_iter().filter(|p| !seen.contains(p)).collect();
+            next.sort_by_key(|p| (degree[p], *p));
+            for p in next {
+                seen.insert(p);
+                queue.push_back(p);
+            }
+        }
+    }
+    out.reverse();
+    out
+}
+
+/// Gauss–Seidel over one group: each visit removes a joint's current linearized error (its
+/// error at linearization plus the drift of the velocity changes since) by an exact block solve.
+fn gauss_seidel(
+    joints: &mut [Joint],
+    group: &[usize],
+    rows: &[Option<Rows>],
+    mob: &[Mobility],
+    v: &mut [Motion],
+    clamp: bool,
+) {
+    let start = v.to_vec();
+    for sweep in 0..SWEEPS {
+        let mut worst = 0.0f64;
+        for i in 0..group.len() {
+            let k = group[if sweep % 2 == 0 { i } else { group.len() - 1 - i }];
+            let Some(r) = &rows[k] else { continue };
+            worst = worst.max(visit(&mut joints[k], r, mob, v, &start, clamp));
+        }
+        if worst < 1.0 {
+            break;
+        }
+    }
+}
+
+/// One Gauss–Seidel visit; returns the joint's largest row error before it, in tolerances.
+fn visit(joint: &mut Joint, r: &Rows, mob: &[Mobility], v: &mut [Motion], start: &[Motion], clamp: bool) -> f64 {
+    let change = |i: usize| Motion { linear: v[i].linear - start[i].linear, angular: v[i].angular - start[i].angular };
+    let (linear, angular) = system::drift(&r.frame, change(joint.a), change(joint.b));
+    let moved = system::rows(linear, angular, &r.basis);
+    let error: [f64; 6] = std::array::from_fn(|i| r.error[i] + moved[i]);
+    let rhs: [f64; 6] = error.map(|e| -e);
+    let mut rows = held(joint);
+    let solution = match (clamp, joint.kind) {
+        (true, JointKind::Plastic { strength, .. }) => {
+            plastic::clamped_solve(&r.matrix, &rhs, rows, joint.accumulated, strength).map(|(x, clamped)| {
+                joint.clamped = clamped;
+                if clamped {
+                    rows[3..].fill(false);
+                }
+                let (_, l) = system::impulses(&x, &r.basis);
+                joint.accumulated += l;
+                x
+            })
+        }
+        _ => system::solve(&r.matrix, &rhs, rows),
+    };
+    let Some(x) = solution else {
+        return 0.0;
+    };
+    let (j, l) = system::impulses(&x, &r.basis);
+    system::apply(v, mob, joint, &r.frame, j, l);
+    (0..6).filter(|&i| rows[i]).map(|i| error[i].abs() / r.tolerance[i]).fold(0.0, f64::max)
+}
