@@ -5,7 +5,7 @@ use glam::{Affine3A, Mat3, Quat, Vec3};
 use parry3d::shape::SharedShape;
 
 use super::error::invalid;
-use super::{ColliderKind, DentSettings, SimError, mass_properties};
+use super::{ColliderKind, DentSettings, MassProperties, SimError, mass_properties};
 use crate::mesh::TriMesh;
 
 /// How a body moves.
@@ -66,6 +66,10 @@ pub struct BodyDesc {
     pub dent: Option<DentSettings>,
     /// Linear RGB colour for pictures.
     pub color: [f32; 3],
+    /// Mass properties to use instead of the mesh's (dynamic bodies): a sub-body of a bending
+    /// body has an open surface and gets its mass from its voxels. `center` is in model
+    /// coordinates.
+    pub mass_properties: Option<MassProperties>,
 }
 
 impl BodyDesc {
@@ -84,7 +88,14 @@ impl BodyDesc {
             surface: SurfaceMaterial::default(),
             dent: None,
             color: [0.7, 0.7, 0.72],
+            mass_properties: None,
         }
+    }
+
+    /// Builder: mass properties given instead of computed from the (possibly open) mesh.
+    pub fn with_mass_properties(mut self, properties: MassProperties) -> Self {
+        self.mass_properties = Some(properties);
+        self
     }
 
     /// Builder: the kind.
@@ -151,6 +162,14 @@ impl BodyDesc {
         if !self.color.iter().all(|c| c.is_finite()) {
             return Err(invalid(field("color"), self.color, "must be finite"));
         }
+        if let Some(p) = &self.mass_properties {
+            if !(p.mass.is_finite() && p.mass > 0.0) {
+                return Err(invalid(field("mass"), p.mass, "must be finite and > 0"));
+            }
+            if !p.center.is_finite() || !p.inertia.is_finite() {
+                return Err(invalid(field("mass properties"), p.center, "must be finite"));
+            }
+        }
         Ok(())
     }
 }
@@ -205,10 +224,13 @@ impl RigidBody {
         desc.validate()?;
         let orientation = desc.orientation.normalize();
         let (mass, inertia, center) = if desc.kind == BodyKind::Dynamic {
-            let props = mass_properties(&desc.mesh, desc.density).ok_or_else(|| SimError::BadShape {
-                body: desc.name.clone(),
-                reason: "a dynamic body's mesh must be closed and enclose a volume".into(),
-            })?;
+            let props = match desc.mass_properties {
+                Some(given) => given,
+                None => mass_properties(&desc.mesh, desc.density).ok_or_else(|| SimError::BadShape {
+                    body: desc.name.clone(),
+                    reason: "a dynamic body's mesh must be closed and enclose a volume".into(),
+                })?,
+            };
             (props.mass, props.inertia, props.center)
         } else {
             (f32::INFINITY, Mat3::ZERO, Vec3::ZERO)

@@ -30,4 +30,4 @@ pub use events::{CollisionEvent, StepReport};
 pub use joints::{BendEvent, Joint, JointKind};
 pub use mass::{MassProperties, mass_properties};
 pub use simulation::{Simulation, StepStats, StepTiming};
-pub use world::{World, WorldSettings};
+pub use world::{World, WorldSettings, WorldState};

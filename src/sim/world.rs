@@ -99,6 +99,18 @@ impl WorldSettings {
     }
 }
 
+/// The moving state of a [`World`], from [`World::snapshot`].
+#[derive(Debug, Clone)]
+pub struct WorldState {
+    /// Per body: position, orientation, linear and angular velocity, still time, asleep.
+    bodies: Vec<(Vec3, Quat, Vec3, Vec3, f32, bool)>,
+    joints: Vec<Joint>,
+    joined: HashSet<(usize, usize)>,
+    cache: ContactCache,
+    time: f64,
+    steps: u64,
+}
+
 /// Rigid bodies and the settings that step them.
 #[derive(Debug, Clone)]
 pub struct World {
@@ -177,6 +189,73 @@ impl World {
     /// Mutable access to the joints.
     pub fn joints_mut(&mut self) -> &mut [Joint] {
         &mut self.joints
+    }
+
+    /// Rebuilds body `index` from `desc` in place (same index, so joints and events keep
+    /// naming it): a bending body's sub-body after its bone was split. Joints on the body stay
+    /// where they are in the world. The body is woken.
+    ///
+    /// # Errors
+    /// As [`RigidBody::new`]; an index that is not a body, or a name taken by another body.
+    /// On error the world is unchanged.
+    pub fn rebuild_body(&mut self, index: usize, desc: BodyDesc) -> Result<(), SimError> {
+        if index >= self.bodies.len() {
+            return Err(invalid("body index", index, "is not a body of the world"));
+        }
+        if self.bodies.iter().enumerate().any(|(k, b)| k != index && b.name == desc.name) {
+            return Err(invalid("body name", &desc.name, "is already taken"));
+        }
+        let body = RigidBody::new(desc)?;
+        let old = (self.bodies[index].position, self.bodies[index].orientation);
+        for joint in &mut self.joints {
+            joint.rebase(index, old, (body.position, body.orientation));
+        }
+        self.bodies[index] = body;
+        Ok(())
+    }
+
+    /// The moving state of the world (poses, velocities, sleep, joints, time), to step again
+    /// from later with [`restore`](Self::restore): the paper's "dummy step" (Algorithm 2) that
+    /// finds the hits before joints are added where they land. Meshes are not saved.
+    pub fn snapshot(&self) -> WorldState {
+        WorldState {
+            bodies: self
+                .bodies
+                .iter()
+                .map(|b| (b.position, b.orientation, b.linear_velocity, b.angular_velocity, b.still_for, b.asleep))
+                .collect(),
+            joints: self.joints.clone(),
+            joined: self.joined.clone(),
+            cache: self.cache.clone(),
+            time: self.time,
+            steps: self.steps,
+        }
+    }
+
+    /// Puts back a [`snapshot`](Self::snapshot)'s state.
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] when bodies were added since the snapshot; the world is unchanged.
+    pub fn restore(&mut self, state: &WorldState) -> Result<(), SimError> {
+        if state.bodies.len() != self.bodies.len() {
+            return Err(invalid("snapshot", state.bodies.len(), "has a different number of bodies than the world"));
+        }
+        for (body, &(position, orientation, linear, angular, still_for, asleep)) in
+            self.bodies.iter_mut().zip(&state.bodies)
+        {
+            body.position = position;
+            body.orientation = orientation;
+            body.linear_velocity = linear;
+            body.angular_velocity = angular;
+            body.still_for = still_for;
+            body.asleep = asleep;
+        }
+        self.joints.clone_from(&state.joints);
+        self.joined.clone_from(&state.joined);
+        self.cache = state.cache.clone();
+        self.time = state.time;
+        self.steps = state.steps;
+        Ok(())
     }
 
     /// The index of the body called `name`.

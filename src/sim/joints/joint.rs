@@ -191,6 +191,26 @@ impl Joint {
         })
     }
 
+    /// Keeps the joint where it is in the world when `body` (one of its two) is rebuilt from
+    /// pose `old` (centre of mass, orientation) to pose `new`: anchors, sliding axis, target and
+    /// rest are re-expressed in the new body frame.
+    pub(crate) fn rebase(&mut self, body: usize, old: (Vec3, Quat), new: (Vec3, Quat)) {
+        // The new frame relative to the old one: q_new = q_old · turn.
+        let turn = (old.1.inverse() * new.1).normalize();
+        let inverse_new = new.1.inverse();
+        if self.a == body {
+            self.local_a = inverse_new * (old.0 + old.1 * self.local_a - new.0);
+            self.axis_local = turn.inverse() * self.axis_local;
+            self.target = (turn.inverse() * self.target).normalize();
+            self.rest = (turn.inverse() * self.rest).normalize();
+        }
+        if self.b == body {
+            self.local_b = inverse_new * (old.0 + old.1 * self.local_b - new.0);
+            self.target = (self.target * turn).normalize();
+            self.rest = (self.rest * turn).normalize();
+        }
+    }
+
     /// Index of body a.
     pub fn a(&self) -> usize {
         self.a
