@@ -13,7 +13,9 @@ mod error;
 mod events;
 mod mass;
 mod simulation;
+mod sleep;
 mod solver;
+mod warm_start;
 mod world;
 
 pub use body::{BodyDesc, BodyKind, RigidBody, SurfaceMaterial};

@@ -43,6 +43,10 @@ pub(crate) struct Constraint {
     pub colliding: bool,
     normal_impulse: f32,
     tangent_impulse: [f32; 2],
+    /// Normal impulse the contact phase starts from (warm start), N·s.
+    pub warm_normal: f32,
+    /// Friction impulses along `tangents` the contact phase starts from, N·s.
+    pub warm_tangent: [f32; 2],
     /// Total impulse applied to b over the step (a gets the opposite), N·s.
     pub total: Vec3,
 }
@@ -98,7 +102,16 @@ fn constraint(
         colliding: approach < 0.0 && contact.distance + approach * dt <= 0.0,
         normal_impulse: 0.0,
         tangent_impulse: [0.0; 2],
+        warm_normal: 0.0,
+        warm_tangent: [0.0; 2],
         total: Vec3::ZERO,
+    }
+}
+
+impl Constraint {
+    /// The contact phase's accumulated impulses: (normal magnitude, friction vector), N·s.
+    pub fn contact_impulses(&self) -> (f32, Vec3) {
+        (self.normal_impulse, self.tangents[0] * self.tangent_impulse[0] + self.tangents[1] * self.tangent_impulse[1])
     }
 }
 
@@ -183,12 +196,15 @@ pub(crate) fn collide(bodies: &mut [SolverBody], constraints: &mut [Constraint],
     }
 }
 
-/// The contact phase: fresh impulses that keep every contact from closing further than its gap.
+/// The contact phase: impulses that keep every contact from closing further than its gap,
+/// starting from each contact's warm-start impulses (last step's, see `warm_start`).
 pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &WorldSettings) {
     let dt = settings.dt;
     for c in constraints.iter_mut() {
-        c.normal_impulse = 0.0;
-        c.tangent_impulse = [0.0; 2];
+        c.normal_impulse = c.warm_normal;
+        c.tangent_impulse = c.warm_tangent;
+        let start = c.normal * c.warm_normal + c.tangents[0] * c.warm_tangent[0] + c.tangents[1] * c.warm_tangent[1];
+        apply(bodies, c, start);
     }
     // Speculative: a gap may close within the step but no further; overlap is removed by the
     // split position correction, never by velocity (which would pump energy into a pile).

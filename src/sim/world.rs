@@ -5,7 +5,9 @@ use std::time::Instant;
 
 use glam::{Quat, Vec3};
 
+use super::sleep;
 use super::solver::{self, SolverBody};
+use super::warm_start::ContactCache;
 use super::{Aabb, BodyDesc, BodyKind, CollisionEvent, PairContacts, RigidBody, SimError, StepReport};
 use super::{broad_phase, contacts, error::invalid};
 
@@ -32,7 +34,8 @@ pub struct WorldSettings {
     pub margin: f32,
     /// GBF shock propagation in the last contact sweep (stable stacks).
     pub shock_propagation: bool,
-    /// Bodies slower than this (centre and rim), m/s, for `sleep_time` fall asleep.
+    /// An island of touching bodies falls asleep when every body in it has been slower than this
+    /// (centre plus rim, velocities smoothed over 0.1 s), m/s, for `sleep_time`.
     pub sleep_speed: f32,
     /// Seconds of stillness before a body sleeps; ≤ 0 disables sleeping.
     pub sleep_time: f32,
@@ -102,6 +105,8 @@ pub struct World {
     settings: WorldSettings,
     time: f64,
     steps: u64,
+    /// Last step's contact impulses, to warm-start this step's.
+    cache: ContactCache,
 }
 
 impl World {
@@ -111,7 +116,7 @@ impl World {
     /// [`SimError::Invalid`] for bad settings.
     pub fn new(settings: WorldSettings) -> Result<Self, SimError> {
         settings.validate()?;
-        Ok(Self { bodies: Vec::new(), settings, time: 0.0, steps: 0 })
+        Ok(Self { bodies: Vec::new(), settings, time: 0.0, steps: 0, cache: ContactCache::default() })
     }
 
     /// Adds a body and returns its index.
@@ -178,6 +183,7 @@ impl World {
             (a.restitution.max(b.restitution), (a.friction * b.friction).sqrt())
         };
         let mut constraints = solver::constraints(&found, &solver_bodies, s.dt, surface);
+        self.cache.seed(&mut constraints, |i| self.bodies[i].orientation);
         solver::collide(&mut solver_bodies, &mut constraints, &s);
         for (body, sb) in self.bodies.iter().zip(solver_bodies.iter_mut()) {
             if moves_freely(body) {
@@ -185,9 +191,12 @@ impl World {
             }
         }
         solver::contact(&mut solver_bodies, &mut constraints, &s);
+        self.cache.store(&constraints, |i| self.bodies[i].orientation);
         let pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
         let events = events(&found, &constraints);
         self.integrate(&solver_bodies, &pseudo);
+        let links: Vec<(usize, usize)> = found.iter().map(|p| (p.a, p.b)).collect();
+        sleep::settle(&mut self.bodies, &links, &s, self.steps);
         self.time += f64::from(s.dt);
         self.steps += 1;
         StepReport {
@@ -200,7 +209,7 @@ impl World {
 
     /// How far a body's surface can move in one step, m.
     fn reach(&self, body: &RigidBody) -> f32 {
-        if body.kind == BodyKind::Static || body.asleep {
+        if body.kind == BodyKind::Static || body.activity.asleep {
             return 0.0;
         }
         let radius = body.shape.compute_local_bounding_sphere().radius;
@@ -218,19 +227,29 @@ impl World {
 
     /// Pairs that cannot interact: neither body free to move.
     fn skip_pair(&self, i: usize, j: usize) -> bool {
-        let still = |b: &RigidBody| b.kind == BodyKind::Static || (b.kind == BodyKind::Dynamic && b.asleep);
+        let still = |b: &RigidBody| b.kind == BodyKind::Static || (b.kind == BodyKind::Dynamic && b.activity.asleep);
         still(&self.bodies[i]) && still(&self.bodies[j]) || !moves(&self.bodies[i]) && !moves(&self.bodies[j])
     }
 
-    /// Wakes sleeping bodies touched by awake moving ones.
+    /// Wakes the islands of sleeping bodies touched by moving ones.
     fn wake_touched(&mut self, found: &[PairContacts]) {
+        let threshold = self.settings.sleep_speed;
         for pair in found {
-            let (a, b) = (&self.bodies[pair.a], &self.bodies[pair.b]);
-            let active = |x: &RigidBody| moves(x) && !x.asleep && x.still_for == 0.0;
-            if a.asleep && active(b) {
-                self.bodies[pair.a].wake();
-            } else if b.asleep && active(a) {
-                self.bodies[pair.b].wake();
+            let active = |k: usize| {
+                let body = &self.bodies[k];
+                match body.kind {
+                    BodyKind::Static => false,
+                    BodyKind::Kinematic => moves(body),
+                    BodyKind::Dynamic => {
+                        let radius = body.shape.compute_local_bounding_sphere().radius;
+                        body.activity.disturbs(body, radius, threshold)
+                    }
+                }
+            };
+            if self.bodies[pair.a].activity.asleep && active(pair.b) {
+                sleep::wake_island(&mut self.bodies, pair.a);
+            } else if self.bodies[pair.b].activity.asleep && active(pair.a) {
+                sleep::wake_island(&mut self.bodies, pair.b);
             }
         }
     }
@@ -241,7 +260,7 @@ impl World {
         for ((body, sb), &(push, twist)) in self.bodies.iter_mut().zip(solved).zip(pseudo) {
             match body.kind {
                 BodyKind::Static => continue,
-                BodyKind::Dynamic if body.asleep => continue,
+                BodyKind::Dynamic if body.activity.asleep => continue,
                 BodyKind::Dynamic => {
                     body.linear_velocity = sb.linear;
                     body.angular_velocity = sb.angular * (1.0 - s.angular_damping * s.dt).max(0.0);
@@ -252,23 +271,13 @@ impl World {
             let w = body.angular_velocity + twist;
             let spin = Quat::from_xyzw(w.x, w.y, w.z, 0.0) * body.orientation;
             body.orientation = (body.orientation + spin * (0.5 * s.dt)).normalize();
-            if body.kind == BodyKind::Dynamic && s.sleep_time > 0.0 {
-                let radius = body.shape.compute_local_bounding_sphere().radius;
-                let speed = body.linear_velocity.length() + body.angular_velocity.length() * radius;
-                body.still_for = if speed < s.sleep_speed { body.still_for + s.dt } else { 0.0 };
-                if body.still_for >= s.sleep_time {
-                    body.asleep = true;
-                    body.linear_velocity = Vec3::ZERO;
-                    body.angular_velocity = Vec3::ZERO;
-                }
-            }
         }
     }
 }
 
 /// Whether gravity and impulses move the body this step.
 fn moves_freely(body: &RigidBody) -> bool {
-    body.kind == BodyKind::Dynamic && !body.asleep
+    body.kind == BodyKind::Dynamic && !body.activity.asleep
 }
 
 /// Whether the body can move at all (dynamic, or kinematic with a velocity).
