@@ -214,14 +214,12 @@ pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint],
         let last = iteration + 1 == iterations;
         if last && settings.shock_propagation {
             // Bottom-up, each pair's lower body fixed: a stack's top cannot push its base down.
-            let mut order: Vec<usize> = (0..constraints.len()).collect();
-            let low = |c: &Constraint| bodies[c.a].height.min(bodies[c.b].height);
-            order.sort_by(|&i, &j| low(&constraints[i]).total_cmp(&low(&constraints[j])).then(i.cmp(&j)));
+            let order = shock_order(bodies, constraints);
             for k in order {
                 let c = &mut constraints[k];
-                let lower = if bodies[c.a].height <= bodies[c.b].height { c.a } else { c.b };
                 let goal = target(c);
-                solve(bodies, c, goal, Some(lower));
+                let frozen = frozen_body(bodies, c);
+                solve(bodies, c, goal, frozen);
             }
         } else {
             for c in constraints.iter_mut() {
@@ -229,6 +227,46 @@ pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint],
                 solve(bodies, c, goal, None);
             }
         }
+    }
+}
+
+/// Whether the body is fixed during the step (static, kinematic or asleep: no inverse mass).
+fn fixed(body: &SolverBody) -> bool {
+    body.inverse_mass == 0.0
+}
+
+/// The height at which shock propagation visits a contact: its lower body's, or the moving
+/// body's when the other is fixed (a wall's centre may be above the ball it holds), m.
+fn shock_height(bodies: &[SolverBody], c: &Constraint) -> f32 {
+    let (a, b) = (&bodies[c.a], &bodies[c.b]);
+    match (fixed(a), fixed(b)) {
+        (true, false) => b.height,
+        (false, true) => a.height,
+        _ => a.height.min(b.height),
+    }
+}
+
+/// Shock propagation's visiting order: bottom-up by [`shock_height`]; at the same height the
+/// contacts with fixed bodies first, so a body's velocity is final before it is frozen.
+fn shock_order(bodies: &[SolverBody], constraints: &[Constraint]) -> Vec<usize> {
+    let key = |c: &Constraint| (shock_height(bodies, c), !(fixed(&bodies[c.a]) || fixed(&bodies[c.b])));
+    let mut order: Vec<usize> = (0..constraints.len()).collect();
+    order.sort_by(|&i, &j| {
+        let (x, y) = (key(&constraints[i]), key(&constraints[j]));
+        x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(i.cmp(&j))
+    });
+    order
+}
+
+/// The body shock propagation freezes for a contact: the lower one when both move, none when
+/// one is fixed already (freezing the other would leave the contact unsolved).
+fn frozen_body(bodies: &[SolverBody], c: &Constraint) -> Option<usize> {
+    if fixed(&bodies[c.a]) || fixed(&bodies[c.b]) {
+        None
+    } else if bodies[c.a].height <= bodies[c.b].height {
+        Some(c.a)
+    } else {
+        Some(c.b)
     }
 }
 
