@@ -30,6 +30,8 @@ struct Cached {
     normal: f32,
     /// Friction impulse, world, N·s.
     friction: Vec3,
+    /// Rolling-resistance angular impulse on b, world, N·m·s.
+    rolling: Vec3,
 }
 
 /// Last step's contact impulses, per pair of bodies.
@@ -57,6 +59,7 @@ impl ContactCache {
                 c.warm_normal = WARM_FRACTION * k.normal;
                 let friction = WARM_FRACTION * (k.friction - k.friction.dot(c.normal) * c.normal);
                 c.warm_tangent = [friction.dot(c.tangents[0]), friction.dot(c.tangents[1])];
+                c.warm_rolling = WARM_FRACTION * k.rolling;
             }
         }
     }
@@ -70,7 +73,8 @@ impl ContactCache {
                 continue;
             }
             let local = orientation(c.a).inverse() * c.ra;
-            self.pairs.entry((c.a, c.b)).or_default().push(Cached { local, normal, friction });
+            let rolling = c.rolling_impulse();
+            self.pairs.entry((c.a, c.b)).or_default().push(Cached { local, normal, friction, rolling });
         }
     }
 }
