@@ -4,15 +4,21 @@
 
 use dentbend::glam::Vec3;
 use dentbend::mesh;
-use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, Simulation, SurfaceMaterial, World, WorldSettings};
+use dentbend::sim::{
+    BodyDesc, BodyKind, ColliderKind, DentSettings, Simulation, SurfaceMaterial, World, WorldSettings,
+};
 
 const GRAVITY: f32 = 9.81;
 
 /// Drops a ball at 7 m/s onto a 4 × 1 × 4 block and returns (closing speed of the first
 /// event, the ball's vertical velocity after that step).
 fn bounce(block_collider: ColliderKind, ball_collider: ColliderKind, dentable: bool, e: f32) -> (f32, f32) {
-    let settings =
-        WorldSettings { gravity: Vec3::new(0.0, -GRAVITY, 0.0), sleep_time: 0.0, angular_damping: 0.0, ..Default::default() };
+    let settings = WorldSettings {
+        gravity: Vec3::new(0.0, -GRAVITY, 0.0),
+        sleep_time: 0.0,
+        angular_damping: 0.0,
+        ..Default::default()
+    };
     let mut world = World::new(settings).unwrap();
     let surface = SurfaceMaterial { restitution: e, friction: 0.3 };
     let block = mesh::subdivided_box(Vec3::new(4.0, 1.0, 4.0), [16, 4, 16]).unwrap();

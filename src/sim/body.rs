@@ -5,6 +5,7 @@ use glam::{Affine3A, Mat3, Quat, Vec3};
 use parry3d::shape::SharedShape;
 
 use super::error::invalid;
+use super::sleep::Activity;
 use super::{ColliderKind, DentSettings, MassProperties, SimError, mass_properties};
 use crate::mesh::TriMesh;
 
@@ -207,10 +208,8 @@ pub struct RigidBody {
     pub(crate) mesh: TriMesh,
     pub(crate) collider_kind: ColliderKind,
     pub(crate) shape: SharedShape,
-    /// Seconds the body has been nearly still (for sleeping).
-    pub(crate) still_for: f32,
-    /// Whether the body is asleep (not integrated until something wakes it).
-    pub(crate) asleep: bool,
+    /// Sleep bookkeeping.
+    pub(crate) activity: Activity,
 }
 
 impl RigidBody {
@@ -270,8 +269,7 @@ impl RigidBody {
             mesh,
             collider_kind: desc.collider,
             shape,
-            still_for: 0.0,
-            asleep: false,
+            activity: Activity::default(),
         })
     }
 
@@ -328,7 +326,7 @@ impl RigidBody {
 
     /// Whether the body is asleep (still for a while; woken by contacts with moving bodies).
     pub fn is_asleep(&self) -> bool {
-        self.asleep
+        self.activity.asleep
     }
 
     /// The collider, for queries.
@@ -348,11 +346,5 @@ impl RigidBody {
         }
         self.mesh = mesh;
         Ok(())
-    }
-
-    /// Wakes the body.
-    pub(crate) fn wake(&mut self) {
-        self.asleep = false;
-        self.still_for = 0.0;
     }
 }

@@ -81,7 +81,9 @@ impl ColliderKind {
             Self::TriMesh | Self::Auto => {
                 // Deformable so a dent refits the tree instead of rebuilding it (vertices are
                 // kept one-to-one with the mesh's, so no merging).
-                let flags = TriMeshFlags::DEFORMABLE | TriMeshFlags::DELETE_DEGENERATE_TRIANGLES | TriMeshFlags::FIX_INTERNAL_EDGES;
+                let flags = TriMeshFlags::DEFORMABLE
+                    | TriMeshFlags::DELETE_DEGENERATE_TRIANGLES
+                    | TriMeshFlags::FIX_INTERNAL_EDGES;
                 SharedShape::trimesh_with_flags(positions.to_vec(), mesh.faces().to_vec(), flags)
                     .map_err(|e| format!("parry3d refused the triangle mesh: {e:?}"))
             }

@@ -14,6 +14,7 @@ mod events;
 mod joints;
 mod mass;
 mod simulation;
+mod sleep;
 mod solver;
 mod warm_start;
 mod world;

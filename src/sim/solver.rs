@@ -1,7 +1,8 @@
 //! Impulses at contact points, in the Guendelman–Bridson–Fedkiw order (DESIGN.md §2): an elastic
 //! collision phase (restitution) on contacts the step would close, then — after gravity — an
 //! inelastic contact phase that stops penetration, its last sweep with shock propagation. Both
-//! phases apply Coulomb friction. Sequential impulses with accumulated, clamped magnitudes.
+//! phases apply Coulomb friction; the contact phase also rolling resistance. Sequential impulses
+//! with accumulated, clamped magnitudes.
 
 use glam::{Mat3, Vec3};
 
@@ -35,6 +36,9 @@ pub(crate) struct Constraint {
     pub distance: f32,
     pub restitution: f32,
     pub friction: f32,
+    /// Rolling resistance lever: the angular impulse resisting relative rotation is at most this
+    /// × the normal impulse, m (coefficient × rolling radius).
+    pub rolling: f32,
     /// Normal relative velocity before the step, m/s (negative: closing).
     pub approach: f32,
     /// Relative velocity of b with respect to a at the point before the step, m/s.
@@ -43,32 +47,38 @@ pub(crate) struct Constraint {
     pub colliding: bool,
     normal_impulse: f32,
     tangent_impulse: [f32; 2],
+    /// Accumulated rolling-resistance angular impulse on b (a gets the opposite), N·m·s.
+    rolling_impulse: Vec3,
     /// Normal impulse the contact phase starts from (warm start), N·s.
     pub warm_normal: f32,
     /// Friction impulses along `tangents` the contact phase starts from, N·s.
     pub warm_tangent: [f32; 2],
+    /// Rolling-resistance angular impulse on b the contact phase starts from, N·m·s.
+    pub warm_rolling: Vec3,
     /// Total impulse applied to b over the step (a gets the opposite), N·s.
     pub total: Vec3,
 }
 
-/// Builds the constraints of `contacts`; `surface(a, b)` gives the pair's (restitution, friction).
+/// A pair's surface: restitution, friction coefficient, rolling resistance coefficient.
+pub(crate) type Surface = (f32, f32, f32);
+
+/// Builds the constraints of `contacts`; `surface(a, b)` gives the pair's [`Surface`].
 pub(crate) fn constraints(
     contacts: &[PairContacts],
     bodies: &[SolverBody],
     dt: f32,
-    surface: impl Fn(usize, usize) -> (f32, f32),
+    surface: impl Fn(usize, usize) -> Surface,
 ) -> Vec<Constraint> {
     let mut out = Vec::new();
     for (pair, contact) in contacts.iter().enumerate() {
-        let (restitution, friction) = surface(contact.a, contact.b);
+        let surface = surface(contact.a, contact.b);
         for point in &contact.points {
-            out.push(constraint(pair, contact.a, contact.b, point, bodies, dt, restitution, friction));
+            out.push(constraint(pair, contact.a, contact.b, point, bodies, dt, surface));
         }
     }
     out
 }
 
-#[allow(clippy::too_many_arguments)] // one call site; a struct would only rename the arguments
 fn constraint(
     pair: usize,
     a: usize,
@@ -76,8 +86,7 @@ fn constraint(
     contact: &ContactPoint,
     bodies: &[SolverBody],
     dt: f32,
-    restitution: f32,
-    friction: f32,
+    (restitution, friction, rolling_resistance): Surface,
 ) -> Constraint {
     let point = contact.point();
     let (ra, rb) = (point - bodies[a].position, point - bodies[b].position);
@@ -85,6 +94,8 @@ fn constraint(
     let relative_velocity = velocity_at(&bodies[b], rb) - velocity_at(&bodies[a], ra);
     let approach = relative_velocity.dot(normal);
     let (t1, t2) = normal.any_orthonormal_pair();
+    // The rolling radius: the shorter lever, so a ball on a large slab rolls on its own radius.
+    let radius = ra.length().min(rb.length());
     Constraint {
         pair,
         a,
@@ -97,13 +108,16 @@ fn constraint(
         distance: contact.distance,
         restitution,
         friction,
+        rolling: rolling_resistance * radius,
         approach,
         relative_velocity,
         colliding: approach < 0.0 && contact.distance + approach * dt <= 0.0,
         normal_impulse: 0.0,
         tangent_impulse: [0.0; 2],
+        rolling_impulse: Vec3::ZERO,
         warm_normal: 0.0,
         warm_tangent: [0.0; 2],
+        warm_rolling: Vec3::ZERO,
         total: Vec3::ZERO,
     }
 }
@@ -112,6 +126,11 @@ impl Constraint {
     /// The contact phase's accumulated impulses: (normal magnitude, friction vector), N·s.
     pub fn contact_impulses(&self) -> (f32, Vec3) {
         (self.normal_impulse, self.tangents[0] * self.tangent_impulse[0] + self.tangents[1] * self.tangent_impulse[1])
+    }
+
+    /// The contact phase's accumulated rolling-resistance angular impulse on b, N·m·s.
+    pub fn rolling_impulse(&self) -> Vec3 {
+        self.rolling_impulse
     }
 }
 
@@ -139,8 +158,9 @@ fn apply(bodies: &mut [SolverBody], c: &mut Constraint, impulse: Vec3) {
 }
 
 /// One sequential-impulse visit of a constraint: the normal impulse keeps the normal velocity at
-/// least `target`, then friction within the Coulomb cone of the accumulated normal impulse.
-fn solve(bodies: &mut [SolverBody], c: &mut Constraint, target: f32, frozen: Option<usize>) {
+/// least `target`, then friction within the Coulomb cone of the accumulated normal impulse, then
+/// (if `rolling`) rolling resistance.
+fn solve(bodies: &mut [SolverBody], c: &mut Constraint, target: f32, frozen: Option<usize>, rolling: bool) {
     // Shock propagation: the lower body of the pair acts as if it were fixed for this visit.
     let saved = frozen.map(|k| {
         let mass = (bodies[k].inverse_mass, bodies[k].inverse_inertia);
@@ -149,6 +169,9 @@ fn solve(bodies: &mut [SolverBody], c: &mut Constraint, target: f32, frozen: Opt
         (k, mass)
     });
     solve_normal_and_friction(bodies, c, target);
+    if rolling {
+        solve_rolling(bodies, c);
+    }
     if let Some((k, (inverse_mass, inverse_inertia))) = saved {
         bodies[k].inverse_mass = inverse_mass;
         bodies[k].inverse_inertia = inverse_inertia;
@@ -186,12 +209,39 @@ fn solve_normal_and_friction(bodies: &mut [SolverBody], c: &mut Constraint, targ
     apply(bodies, c, impulse);
 }
 
+/// Rolling resistance: an angular impulse towards no relative rotation of the two bodies,
+/// accumulated and clamped to `rolling` × the accumulated normal impulse (a resting contact's
+/// patch resists rolling and spinning; a lifting one does not).
+fn solve_rolling(bodies: &mut [SolverBody], c: &mut Constraint) {
+    let limit = c.rolling * c.normal_impulse;
+    if limit <= 0.0 && c.rolling_impulse == Vec3::ZERO {
+        return;
+    }
+    let (a, b) = (&bodies[c.a], &bodies[c.b]);
+    let k = a.inverse_inertia + b.inverse_inertia;
+    let determinant = k.determinant();
+    if !(determinant > 0.0 && determinant.is_finite()) {
+        return; // both bodies fixed (or frozen)
+    }
+    let spin = b.angular - a.angular;
+    let mut wanted = c.rolling_impulse - k.inverse() * spin;
+    let length = wanted.length();
+    if length > limit {
+        wanted *= limit.max(0.0) / length;
+    }
+    let delta = wanted - c.rolling_impulse;
+    c.rolling_impulse = wanted;
+    let (ia, ib) = (bodies[c.a].inverse_inertia, bodies[c.b].inverse_inertia);
+    bodies[c.a].angular -= ia * delta;
+    bodies[c.b].angular += ib * delta;
+}
+
 /// The collision phase: restitution impulses on the contacts the step closes.
 pub(crate) fn collide(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &WorldSettings) {
     for _ in 0..settings.collision_iterations {
         for c in constraints.iter_mut().filter(|c| c.colliding) {
             let bounce = if -c.approach > settings.restitution_threshold { -c.restitution * c.approach } else { 0.0 };
-            solve(bodies, c, bounce, None);
+            solve(bodies, c, bounce, None, false);
         }
     }
 }
@@ -203,8 +253,12 @@ pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint],
     for c in constraints.iter_mut() {
         c.normal_impulse = c.warm_normal;
         c.tangent_impulse = c.warm_tangent;
+        c.rolling_impulse = c.warm_rolling;
         let start = c.normal * c.warm_normal + c.tangents[0] * c.warm_tangent[0] + c.tangents[1] * c.warm_tangent[1];
         apply(bodies, c, start);
+        let (a, b) = (c.a, c.b);
+        bodies[a].angular -= bodies[a].inverse_inertia * c.warm_rolling;
+        bodies[b].angular += bodies[b].inverse_inertia * c.warm_rolling;
     }
     // Speculative: a gap may close within the step but no further; overlap is removed by the
     // split position correction, never by velocity (which would pump energy into a pile).
@@ -214,21 +268,59 @@ pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint],
         let last = iteration + 1 == iterations;
         if last && settings.shock_propagation {
             // Bottom-up, each pair's lower body fixed: a stack's top cannot push its base down.
-            let mut order: Vec<usize> = (0..constraints.len()).collect();
-            let low = |c: &Constraint| bodies[c.a].height.min(bodies[c.b].height);
-            order.sort_by(|&i, &j| low(&constraints[i]).total_cmp(&low(&constraints[j])).then(i.cmp(&j)));
+            let order = shock_order(bodies, constraints);
             for k in order {
                 let c = &mut constraints[k];
-                let lower = if bodies[c.a].height <= bodies[c.b].height { c.a } else { c.b };
                 let goal = target(c);
-                solve(bodies, c, goal, Some(lower));
+                let frozen = frozen_body(bodies, c);
+                solve(bodies, c, goal, frozen, true);
             }
         } else {
             for c in constraints.iter_mut() {
                 let goal = target(c);
-                solve(bodies, c, goal, None);
+                solve(bodies, c, goal, None, true);
             }
         }
+    }
+}
+
+/// Whether the body is fixed during the step (static, kinematic or asleep: no inverse mass).
+fn fixed(body: &SolverBody) -> bool {
+    body.inverse_mass == 0.0
+}
+
+/// The height at which shock propagation visits a contact: its lower body's, or the moving
+/// body's when the other is fixed (a wall's centre may be above the ball it holds), m.
+fn shock_height(bodies: &[SolverBody], c: &Constraint) -> f32 {
+    let (a, b) = (&bodies[c.a], &bodies[c.b]);
+    match (fixed(a), fixed(b)) {
+        (true, false) => b.height,
+        (false, true) => a.height,
+        _ => a.height.min(b.height),
+    }
+}
+
+/// Shock propagation's visiting order: bottom-up by [`shock_height`]; at the same height the
+/// contacts with fixed bodies first, so a body's velocity is final before it is frozen.
+fn shock_order(bodies: &[SolverBody], constraints: &[Constraint]) -> Vec<usize> {
+    let key = |c: &Constraint| (shock_height(bodies, c), !(fixed(&bodies[c.a]) || fixed(&bodies[c.b])));
+    let mut order: Vec<usize> = (0..constraints.len()).collect();
+    order.sort_by(|&i, &j| {
+        let (x, y) = (key(&constraints[i]), key(&constraints[j]));
+        x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(i.cmp(&j))
+    });
+    order
+}
+
+/// The body shock propagation freezes for a contact: the lower one when both move, none when
+/// one is fixed already (freezing the other would leave the contact unsolved).
+fn frozen_body(bodies: &[SolverBody], c: &Constraint) -> Option<usize> {
+    if fixed(&bodies[c.a]) || fixed(&bodies[c.b]) {
+        None
+    } else if bodies[c.a].height <= bodies[c.b].height {
+        Some(c.a)
+    } else {
+        Some(c.b)
     }
 }
 

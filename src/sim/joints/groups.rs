@@ -31,33 +31,22 @@ fn groups(joints: &[Joint], bodies: &[RigidBody]) -> Vec<usize> {
     (0..bodies.len()).map(|i| root(&mut parent, i)).collect()
 }
 
-/// Brings every jointed group to one sleep state: a group with an awake member stays awake
-/// (asleep members are woken); if a member moved this step (`still_for` = 0) every member's
-/// stillness restarts, so the group only sleeps once all were still together for `sleep_time`.
+/// Wakes every member of a jointed group that has an awake member (a group falls asleep as one
+/// island, see `sleep::settle`, but a body can be woken alone by a touch).
 pub(crate) fn sync_sleep(joints: &[Joint], bodies: &mut [RigidBody]) {
     if joints.is_empty() {
         return;
     }
     let group = groups(joints, bodies);
-    let count = bodies.len();
-    let mut awake = vec![false; count];
-    let mut active = vec![false; count];
-    let mut size = vec![0usize; count];
+    let mut awake = vec![false; bodies.len()];
     for (i, body) in bodies.iter().enumerate() {
-        size[group[i]] += 1;
-        if body.kind == BodyKind::Dynamic && !body.asleep {
+        if body.kind == BodyKind::Dynamic && !body.activity.asleep {
             awake[group[i]] = true;
-            active[group[i]] |= body.still_for == 0.0;
         }
     }
     for (i, body) in bodies.iter_mut().enumerate() {
-        let g = group[i];
-        if size[g] < 2 || body.kind != BodyKind::Dynamic || !awake[g] {
-            continue;
-        }
-        body.asleep = false;
-        if active[g] {
-            body.still_for = 0.0;
+        if body.kind == BodyKind::Dynamic && body.activity.asleep && awake[group[i]] {
+            body.activity.wake();
         }
     }
 }

@@ -35,7 +35,7 @@ pub(crate) fn mobilities(bodies: &[RigidBody], settings: &WorldSettings) -> Vec<
     bodies
         .iter()
         .map(|body| match body.kind {
-            BodyKind::Dynamic if !body.asleep => Mobility {
+            BodyKind::Dynamic if !body.activity.asleep => Mobility {
                 inverse_mass: body.inverse_mass,
                 inverse_inertia: body.inverse_inertia_world(),
                 spin,

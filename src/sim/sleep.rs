@@ -1,0 +1,120 @@
+//! Sleeping by islands. Bodies joined by contacts (or joints) form an island; an island falls
+//! asleep when every body in it has been still for `sleep_time`, and wakes as a whole when a
+//! moving body touches any of its bodies. "Still" is judged on velocities smoothed over
+//! [`SMOOTHING_TIME`], so the sub-millimetre settling of a deep pile (speculative contacts close
+//! tiny gaps at gap/dt, then stop) does not keep it awake while a rolling ball does.
+
+use glam::Vec3;
+
+use super::{BodyKind, RigidBody, WorldSettings};
+
+/// Time constant of the velocity smoothing, s.
+pub(crate) const SMOOTHING_TIME: f32 = 0.1;
+
+/// A body's sleep bookkeeping.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Activity {
+    /// Seconds the body has been still.
+    pub still_for: f32,
+    /// Whether the body is asleep (not integrated until something wakes it).
+    pub asleep: bool,
+    /// Smoothed linear velocity, m/s, and angular velocity, rad/s.
+    pub smoothed: [Vec3; 2],
+    /// The island the body fell asleep with (woken together).
+    pub island: u64,
+}
+
+impl Activity {
+    /// Awake, with its smoothing restarted.
+    pub fn wake(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Whether the body moves enough to wake what it touches: not asleep, and either its
+    /// smoothed or its current speed (centre plus rim) above `threshold`, m/s.
+    pub fn disturbs(&self, body: &RigidBody, radius: f32, threshold: f32) -> bool {
+        let speed = |v: Vec3, w: Vec3| v.length() + w.length() * radius;
+        !self.asleep
+            && (speed(self.smoothed[0], self.smoothed[1]) >= threshold
+                || speed(body.linear_velocity, body.angular_velocity) >= 2.0 * threshold)
+    }
+}
+
+/// Disjoint sets over body indices.
+struct Islands {
+    parent: Vec<usize>,
+}
+
+impl Islands {
+    fn new(n: usize) -> Self {
+        Self { parent: (0..n).collect() }
+    }
+
+    fn root(&mut self, mut i: usize) -> usize {
+        while self.parent[i] != i {
+            self.parent[i] = self.parent[self.parent[i]];
+            i = self.parent[i];
+        }
+        i
+    }
+
+    fn join(&mut self, i: usize, j: usize) {
+        let (a, b) = (self.root(i), self.root(j));
+        if a != b {
+            self.parent[a.max(b)] = a.min(b);
+        }
+    }
+}
+
+/// After a step: smooths each awake dynamic body's velocities, counts its still time, and puts
+/// to sleep every island (bodies joined by `links`) whose bodies have all been still for
+/// `sleep_time`. `step` numbers the islands so two islands never share an id.
+pub(crate) fn settle(bodies: &mut [RigidBody], links: &[(usize, usize)], settings: &WorldSettings, step: u64) {
+    if settings.sleep_time <= 0.0 {
+        return;
+    }
+    let alpha = settings.dt / (SMOOTHING_TIME + settings.dt);
+    for body in bodies.iter_mut().filter(|b| b.kind == BodyKind::Dynamic && !b.activity.asleep) {
+        let radius = body.shape.compute_local_bounding_sphere().radius;
+        let activity = &mut body.activity;
+        activity.smoothed[0] += alpha * (body.linear_velocity - activity.smoothed[0]);
+        activity.smoothed[1] += alpha * (body.angular_velocity - activity.smoothed[1]);
+        let speed = activity.smoothed[0].length() + activity.smoothed[1].length() * radius;
+        activity.still_for = if speed < settings.sleep_speed { activity.still_for + settings.dt } else { 0.0 };
+    }
+    let awake = |b: &RigidBody| b.kind == BodyKind::Dynamic && !b.activity.asleep;
+    let mut islands = Islands::new(bodies.len());
+    for &(i, j) in links {
+        if awake(&bodies[i]) && awake(&bodies[j]) {
+            islands.join(i, j);
+        }
+    }
+    // An island sleeps only if its stillest-for-least body has been still long enough.
+    let roots: Vec<Option<usize>> = (0..bodies.len()).map(|i| awake(&bodies[i]).then(|| islands.root(i))).collect();
+    let mut least = vec![f32::INFINITY; bodies.len()];
+    for (body, root) in bodies.iter().zip(&roots) {
+        if let Some(root) = *root {
+            least[root] = least[root].min(body.activity.still_for);
+        }
+    }
+    let bound = bodies.len() as u64 + 1;
+    for (body, root) in bodies.iter_mut().zip(&roots) {
+        if let Some(root) = root.filter(|&r| least[r] >= settings.sleep_time) {
+            body.activity.asleep = true;
+            body.activity.island = step * bound + root as u64;
+            body.linear_velocity = Vec3::ZERO;
+            body.angular_velocity = Vec3::ZERO;
+        }
+    }
+}
+
+/// Wakes every body of the island body `k` sleeps with.
+pub(crate) fn wake_island(bodies: &mut [RigidBody], k: usize) {
+    if !bodies[k].activity.asleep {
+        return;
+    }
+    let island = bodies[k].activity.island;
+    for body in bodies.iter_mut().filter(|b| b.activity.asleep && b.activity.island == island) {
+        body.activity.wake();
+    }
+}
