@@ -107,6 +107,8 @@ pub struct World {
     steps: u64,
     /// Last step's contact impulses, to warm-start this step's.
     cache: ContactCache,
+    /// Last step's narrow-phase manifolds and workspaces per pair.
+    narrow: contacts::NarrowPhaseCache,
 }
 
 impl World {
@@ -116,7 +118,14 @@ impl World {
     /// [`SimError::Invalid`] for bad settings.
     pub fn new(settings: WorldSettings) -> Result<Self, SimError> {
         settings.validate()?;
-        Ok(Self { bodies: Vec::new(), settings, time: 0.0, steps: 0, cache: ContactCache::default() })
+        Ok(Self {
+            bodies: Vec::new(),
+            settings,
+            time: 0.0,
+            steps: 0,
+            cache: ContactCache::default(),
+            narrow: Default::default(),
+        })
     }
 
     /// Adds a body and returns its index.
@@ -173,7 +182,8 @@ impl World {
         let reach: Vec<f32> = self.bodies.iter().map(|b| self.reach(b)).collect();
         let boxes: Vec<Aabb> = self.bodies.iter().zip(&reach).map(|(b, &r)| self.swept_box(b, r)).collect();
         let pairs = broad_phase::overlapping_pairs(&boxes, |i, j| self.skip_pair(i, j));
-        let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach[i] + reach[j]);
+        let prediction = |i: usize, j: usize| s.margin + reach[i] + reach[j];
+        let found = contacts::find_contacts_cached(&self.bodies, &pairs, prediction, &mut self.narrow);
         self.wake_touched(&found);
 
         let up = -s.gravity.normalize_or(Vec3::NEG_Y);
