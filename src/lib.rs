@@ -38,6 +38,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod bend;
 pub mod cpu;
 pub mod dent;
 pub mod gpu;

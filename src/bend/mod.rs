@@ -1,0 +1,35 @@
+//! Bending, geometry half (paper §4): the articulated [`Skeleton`] of a body, its [`LevelSet`],
+//! volumetric-geodesic [`SkinWeights`] (updated for the split bone only after a
+//! [`Skeleton::split_bone`]) and the [`SubBodies`] each bone simulates as, with their mass
+//! properties.
+//!
+//! ```text
+//! Skeleton (artist / auto_skeleton) ──► WeightCache (LevelSet + voxel graph) ──► SkinWeights
+//!        │ split_bone                                                        │ after_split
+//!        └──────────────────────────────────────────────────────────────────┴──► SubBodies
+//! ```
+
+mod auto_skeleton;
+mod error;
+mod geodesic;
+mod geometry;
+mod level_set;
+mod skeleton;
+mod skeleton_check;
+mod sub_bodies;
+mod voxelize;
+mod weights;
+mod weights_solve;
+
+pub use auto_skeleton::{AUTO_INSET, MAX_AUTO_BONES, auto_skeleton};
+pub use error::BendError;
+pub use level_set::{
+    BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,
+};
+pub use skeleton::{
+    Bone, BoneDesc, BoneJoint, JOINT_GAP_FRACTION, MIN_BONE_FRACTION, MIN_BONE_LENGTH, SPLIT_END_FRACTION, Skeleton,
+};
+pub use skeleton_check::OUTSIDE_TOLERANCE_FRACTION;
+pub use sub_bodies::{NO_BONE, SubBodies, SubBody, triangle_owners};
+pub use weights::{MAX_INFLUENCES, SkinWeights, WeightParams};
+pub use weights_solve::{WeightCache, compute_weights};
