@@ -210,8 +210,6 @@ pub struct RigidBody {
     pub(crate) shape: SharedShape,
     /// Sleep bookkeeping.
     pub(crate) activity: Activity,
-    /// Bumped whenever the collider changes shape (a dent), so cached contact data is dropped.
-    pub(crate) shape_version: u64,
 }
 
 impl RigidBody {
@@ -272,7 +270,6 @@ impl RigidBody {
             collider_kind: desc.collider,
             shape,
             activity: Activity::default(),
-            shape_version: 0,
         })
     }
 
@@ -348,7 +345,6 @@ impl RigidBody {
                 .map_err(|reason| SimError::BadShape { body: self.name.clone(), reason })?;
         }
         self.mesh = mesh;
-        self.shape_version += 1;
         Ok(())
     }
 }

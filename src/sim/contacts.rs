@@ -1,10 +1,8 @@
 //! Narrow phase: contact manifolds of overlapping pairs through parry3d, in world coordinates.
 
-use std::collections::HashMap;
-
 use glam::Vec3;
 use parry3d::math::Pose;
-use parry3d::query::{ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher};
+use parry3d::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 use rayon::prelude::*;
 
 use super::RigidBody;
@@ -45,35 +43,6 @@ pub(crate) fn pose(body: &RigidBody) -> Pose {
     Pose::from_parts(body.position, body.orientation)
 }
 
-/// What parry keeps for one pair between steps: its manifolds and its workspace (for a triangle
-/// mesh, the triangles near the other body, re-queried only when that body leaves a loosened
-/// box), valid while neither collider changes shape.
-#[derive(Default)]
-pub(crate) struct PairCache {
-    manifolds: Vec<ContactManifold<(), ()>>,
-    workspace: Option<ContactManifoldsWorkspace>,
-    versions: (u64, u64),
-}
-
-/// Per-pair narrow-phase caches, kept by the world from one step to the next.
-#[derive(Default)]
-pub(crate) struct NarrowPhaseCache {
-    pairs: HashMap<(usize, usize), PairCache>,
-}
-
-impl std::fmt::Debug for NarrowPhaseCache {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("NarrowPhaseCache").field("pairs", &self.pairs.len()).finish()
-    }
-}
-
-impl Clone for NarrowPhaseCache {
-    /// A clone starts cold: parry's workspaces cannot be cloned, and are only a speed-up.
-    fn clone(&self) -> Self {
-        Self::default()
-    }
-}
-
 /// Contacts of every pair closer than `prediction(a, b)` metres, pairs with no point dropped.
 /// Pairs run in parallel; the result keeps the order of `pairs`.
 pub fn find_contacts(
@@ -81,55 +50,31 @@ pub fn find_contacts(
     pairs: &[(usize, usize)],
     prediction: impl Fn(usize, usize) -> f32 + Sync,
 ) -> Vec<PairContacts> {
-    find_contacts_cached(bodies, pairs, prediction, &mut NarrowPhaseCache::default())
-}
-
-/// [`find_contacts`] reusing last step's per-pair caches; afterwards `cache` holds this step's
-/// pairs only.
-pub(crate) fn find_contacts_cached(
-    bodies: &[RigidBody],
-    pairs: &[(usize, usize)],
-    prediction: impl Fn(usize, usize) -> f32 + Sync,
-    cache: &mut NarrowPhaseCache,
-) -> Vec<PairContacts> {
-    let versions = |a: usize, b: usize| (bodies[a].shape_version, bodies[b].shape_version);
-    let mut states: Vec<PairCache> = pairs
-        .iter()
-        .map(|&(a, b)| {
-            let fresh = PairCache { versions: versions(a, b), ..PairCache::default() };
-            cache.pairs.remove(&(a, b)).filter(|state| state.versions == fresh.versions).unwrap_or(fresh)
-        })
-        .collect();
-    let found = pairs
+    pairs
         .par_iter()
-        .zip(states.par_iter_mut())
-        .map(|(&(a, b), state)| {
-            let points = pair_points(&bodies[a], &bodies[b], prediction(a, b), state);
+        .filter_map(|&(a, b)| {
+            let points = pair_points(&bodies[a], &bodies[b], prediction(a, b));
             (!points.is_empty()).then_some(PairContacts { a, b, points })
         })
-        .collect::<Vec<_>>()
-        .into_iter()
-        .flatten()
-        .collect();
-    cache.pairs = pairs.iter().copied().zip(states).collect();
-    found
+        .collect()
 }
 
 /// The manifold points of bodies a and b within `prediction` metres.
-fn pair_points(a: &RigidBody, b: &RigidBody, prediction: f32, state: &mut PairCache) -> Vec<ContactPoint> {
+fn pair_points(a: &RigidBody, b: &RigidBody, prediction: f32) -> Vec<ContactPoint> {
     let (pose_a, pose_b) = (pose(a), pose(b));
     let pose_ab = pose_a.inv_mul(&pose_b);
+    let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
+    let mut workspace = None;
     let dispatcher = DefaultQueryDispatcher;
-    let PairCache { manifolds, workspace, .. } = state;
     if dispatcher
-        .contact_manifolds(&pose_ab, a.shape.as_ref(), b.shape.as_ref(), prediction, manifolds, workspace)
+        .contact_manifolds(&pose_ab, a.shape.as_ref(), b.shape.as_ref(), prediction, &mut manifolds, &mut workspace)
         .is_err()
     {
         log::warn!("no contact algorithm between the colliders of \"{}\" and \"{}\"", a.name, b.name);
         return Vec::new();
     }
     let mut points = Vec::new();
-    for manifold in manifolds.iter() {
+    for manifold in &manifolds {
         // Points and normals are in each shape's frame, or its sub-shape's for composite shapes.
         let frame_a = manifold.subshape_pos1().map_or(pose_a, |sub| pose_a * *sub);
         let frame_b = manifold.subshape_pos2().map_or(pose_b, |sub| pose_b * *sub);

@@ -138,8 +138,6 @@ pub struct World {
     joined: HashSet<(usize, usize)>,
     /// Last step's contact impulses, to warm-start this step's.
     cache: ContactCache,
-    /// Last step's narrow-phase manifolds and workspaces per pair.
-    narrow: contacts::NarrowPhaseCache,
 }
 
 impl World {
@@ -157,7 +155,6 @@ impl World {
             joints: Vec::new(),
             joined: HashSet::new(),
             cache: ContactCache::default(),
-            narrow: Default::default(),
         })
     }
 
@@ -222,9 +219,7 @@ impl World {
         if self.bodies.iter().enumerate().any(|(k, b)| k != index && b.name == desc.name) {
             return Err(invalid("body name", &desc.name, "is already taken"));
         }
-        let mut body = RigidBody::new(desc)?;
-        // A new shape: cached contact data of the old one must not be reused.
-        body.shape_version = self.bodies[index].shape_version + 1;
+        let body = RigidBody::new(desc)?;
         let old = (self.bodies[index].position, self.bodies[index].orientation);
         for joint in &mut self.joints {
             joint.rebase(index, old, (body.position, body.orientation));
@@ -306,8 +301,7 @@ impl World {
         let reach: Vec<f32> = self.bodies.iter().map(|b| self.reach(b)).collect();
         let boxes: Vec<Aabb> = self.bodies.iter().zip(&reach).map(|(b, &r)| self.swept_box(b, r)).collect();
         let pairs = broad_phase::overlapping_pairs(&boxes, |i, j| self.skip_pair(i, j));
-        let prediction = |i: usize, j: usize| s.margin + reach[i] + reach[j];
-        let found = contacts::find_contacts_cached(&self.bodies, &pairs, prediction, &mut self.narrow);
+        let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach[i] + reach[j]);
         self.wake_touched(&found);
         joints::sync_sleep(&self.joints, &mut self.bodies);
 
