@@ -29,6 +29,9 @@ fn builtin_scenes_build_at_both_sizes() {
         ("glancing", 6, 6),
         ("resolution", 8, 8),
         ("rain", 4 + 1 + 4 + 3 + 1500, 2 + 1 + 2 + 1 + 150),
+        // Bending scenes: their bending body is one world body per bone.
+        ("plank", 2 + 1 + 1 + 1, 2 + 1 + 1 + 1),
+        ("spring", 1 + 2, 1 + 2),
     ];
     assert_eq!(BUILTIN_SCENES.len(), expected.len());
     for (name, full, demo) in expected {
@@ -40,7 +43,8 @@ fn builtin_scenes_build_at_both_sizes() {
             assert!(!scene.description.is_empty());
             let camera = scene.camera;
             assert!(camera.eye.is_finite() && camera.target.is_finite() && camera.eye != camera.target);
-            assert!(scene.world.bodies().iter().any(|b| b.dent.is_some()), "{name}: nothing dents");
+            let dents = scene.world.bodies().iter().any(|b| b.dent.is_some());
+            assert!(dents || !scene.bending.is_empty(), "{name}: nothing dents or bends");
         }
     }
     assert!(matches!(builtin_scene("nope", SceneSize::Demo), Err(SceneError::UnknownScene { .. })));

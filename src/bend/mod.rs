@@ -9,19 +9,26 @@
 //!        └──────────────────────────────────────────────────────────────────┴──► SubBodies
 //! ```
 
+mod articulated;
 mod auto_skeleton;
+mod bendable;
+mod bending;
 mod error;
 mod geodesic;
 mod geometry;
 mod level_set;
 mod skeleton;
 mod skeleton_check;
+mod split;
 mod sub_bodies;
 mod voxelize;
 mod weights;
 mod weights_solve;
 
+pub use articulated::ArticulatedBody;
 pub use auto_skeleton::{AUTO_INSET, MAX_AUTO_BONES, auto_skeleton};
+pub use bendable::{BendableDesc, DynamicArticulation, SkeletonSpec};
+pub use bending::{BendRecord, Bending, JointRecord};
 pub use error::BendError;
 pub use level_set::{
     BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,
@@ -29,6 +36,7 @@ pub use level_set::{
 pub use skeleton::{
     Bone, BoneDesc, BoneJoint, JOINT_GAP_FRACTION, MIN_BONE_FRACTION, MIN_BONE_LENGTH, SPLIT_END_FRACTION, Skeleton,
 };
+pub use split::SplitOutcome;
 pub use skeleton_check::OUTSIDE_TOLERANCE_FRACTION;
 pub use sub_bodies::{NO_BONE, SubBodies, SubBody, triangle_owners};
 pub use weights::{MAX_INFLUENCES, SkinWeights, WeightParams};

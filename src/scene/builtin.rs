@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{Affine3A, Vec3};
 
 use super::types::{fit_camera, framing_bounds};
-use super::{Scene, SceneError, SceneSize, figures, load_scene, rain};
+use super::{Scene, SceneError, SceneSize, bending_scenes, figures, load_scene, rain};
 use crate::mesh::{self, TriMesh};
 use crate::sim::{DentSettings, SimError, World, WorldSettings};
 
@@ -20,7 +20,10 @@ use crate::sim::{DentSettings, SimError, World, WorldSettings};
 /// | `glancing`    | 8      | balls hit three blocks at 0°, 30° and 60° from the normal             |
 /// | `resolution`  | 11     | the same ball impact with dent grids of 20, 50, 100 and 200 cells     |
 /// | `rain`        | 10     | 1,507 dentable spheres rain on a dense bunny and other targets        |
-pub const BUILTIN_SCENES: &[&str] = &["pair", "ball-block", "bunny-block", "glancing", "resolution", "rain"];
+/// | `plank`       | 14     | a ball hits a plank on two supports: a plastic joint appears there    |
+/// | `spring`      | —      | a floating bar with an elastic joint is hit and springs back straight |
+pub const BUILTIN_SCENES: &[&str] =
+    &["pair", "ball-block", "bunny-block", "glancing", "resolution", "rain", "plank", "spring"];
 
 /// Builds the built-in scene `name` (see [`BUILTIN_SCENES`]) at `size`.
 ///
@@ -43,6 +46,8 @@ pub fn builtin_scene(name: &str, size: SceneSize) -> Result<Scene, SceneError> {
         "glancing" => figures::glancing,
         "resolution" => figures::resolution,
         "rain" => rain::rain,
+        "plank" => bending_scenes::plank,
+        "spring" => bending_scenes::spring,
         _ => return Err(SceneError::UnknownScene { name: name.into() }),
     };
     build(size).map_err(|source| SceneError::Builtin { scene: name.into(), source })
@@ -126,5 +131,5 @@ pub(super) fn finish(
     description: &str,
 ) -> Scene {
     let camera = fit_camera(framing_bounds(&world, |b| framed(&b.name)), view);
-    Scene { name: name.into(), world, camera, frames, description: description.into() }
+    Scene { name: name.into(), world, camera, frames, description: description.into(), bending: Default::default() }
 }

@@ -119,6 +119,7 @@
 //!
 //! Loading a scene reads the scene file and the mesh files it names and writes nothing.
 
+mod bending_scenes;
 mod builtin;
 mod error;
 mod figures;
@@ -128,6 +129,7 @@ mod rain;
 mod source;
 mod types;
 
+pub use bending_scenes::{PLANK_HIT, PLANK_SIZE, SPRING_JOINT};
 pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized};
 pub use error::SceneError;
 pub use parse::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, parse_scene};

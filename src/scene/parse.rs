@@ -104,7 +104,14 @@ pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
         None => DEFAULT_FRAMES,
     };
     let stem = origin.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
-    Ok(Scene { name: file.name.unwrap_or(stem), world, camera, frames, description: file.description })
+    Ok(Scene {
+        name: file.name.unwrap_or(stem),
+        world,
+        camera,
+        frames,
+        description: file.description,
+        bending: Default::default(),
+    })
 }
 
 /// Meshes by spec, loaded once each.

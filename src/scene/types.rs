@@ -2,6 +2,7 @@
 
 use glam::Vec3;
 
+use crate::bend::Bending;
 use crate::render::Camera;
 use crate::sim::{RigidBody, World};
 
@@ -22,6 +23,9 @@ pub struct Scene {
     pub frames: u32,
     /// One or two sentences: what the scene shows (and which paper figure it reproduces).
     pub description: String,
+    /// The bending bodies (their sub-bodies are in `world`); empty for most scenes. Hand it to
+    /// [`Simulation::with_bending`](crate::sim::Simulation::with_bending).
+    pub bending: Bending,
 }
 
 /// How big a built-in scene is.

@@ -6,6 +6,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::{DentRecord, Denter, SimError, StepReport, World};
+use crate::bend::Bending;
 use crate::gpu::GpuContext;
 
 /// Wall times and counts of one step.
@@ -29,6 +30,7 @@ pub struct Simulation {
     world: World,
     denter: Denter,
     dents: Vec<DentRecord>,
+    bending: Bending,
 }
 
 impl Simulation {
@@ -38,7 +40,19 @@ impl Simulation {
     /// [`SimError::Gpu`] when the dentable meshes cannot be uploaded.
     pub fn new(world: World, gpu: Option<&'static GpuContext>) -> Result<Self, SimError> {
         let denter = Denter::new(&world, gpu)?;
-        Ok(Self { world, denter, dents: Vec::new() })
+        Ok(Self { world, denter, dents: Vec::new(), bending: Bending::default() })
+    }
+
+    /// Builder: the bending bodies already added to the world (see [`Bending::add`]); each step
+    /// then runs through [`Bending::step`] (dynamic articulation, joint and bend records).
+    pub fn with_bending(mut self, bending: Bending) -> Self {
+        self.bending = bending;
+        self
+    }
+
+    /// The bending bodies and what they did.
+    pub fn bending(&self) -> &Bending {
+        &self.bending
     }
 
     /// The world.
@@ -59,9 +73,10 @@ impl Simulation {
     /// One step: dynamics, then the step's dents.
     ///
     /// # Errors
-    /// A dent failed (the bodies keep their meshes; the step's motion stands).
+    /// A dent failed (the bodies keep their meshes; the step's motion stands), or a bone split
+    /// (see [`Bending::step`]).
     pub fn step(&mut self) -> Result<(StepTiming, StepReport), SimError> {
-        let report = self.world.step();
+        let report = self.bending.step(&mut self.world)?;
         let step = self.world.steps();
         let started = Instant::now();
         let records = self.denter.process(&mut self.world, &report.events, step)?;

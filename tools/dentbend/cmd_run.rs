@@ -4,6 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
+use dentbend::bend::{BendRecord, JointRecord};
+use dentbend::mesh::TriMesh;
 use dentbend::render::{Renderer, Shaded};
 use dentbend::scene::{Scene, SceneSize, load_sized};
 use dentbend::sim::{DentRecord, Simulation, StepStats, StepTiming};
@@ -18,7 +20,7 @@ use crate::error::CliError;
 pub enum MeshChoice {
     /// Every body.
     All,
-    /// Only dentable bodies (the ones whose shape changes).
+    /// Only dentable and bending bodies (the ones whose shape changes).
     Dentable,
     /// No meshes.
     None,
@@ -27,8 +29,8 @@ pub enum MeshChoice {
 /// Arguments of `dentbend run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// A built-in scene (pair, ball-block, bunny-block, glancing, resolution, rain) or a scene
-    /// file (.toml)
+    /// A built-in scene (pair, ball-block, bunny-block, glancing, resolution, rain, plank, spring)
+    /// or a scene file (.toml)
     pub scene: String,
 
     /// Frames to run (one world step each) [default: the scene's]
@@ -81,6 +83,34 @@ struct Summary<'a> {
     ms_per_step: StepStats,
     steps: &'a [StepTiming],
     dents: Vec<DentEntry<'a>>,
+    /// Joints made by dynamic articulation: frame, bending body, world position (m).
+    joints: Vec<JointEntry<'a>>,
+    /// Plastic bends: frame, joint index, angle (rad).
+    bends: &'a [BendRecord],
+}
+
+/// One joint of `summary.json`.
+#[derive(Debug, Serialize)]
+struct JointEntry<'a> {
+    frame: u64,
+    body: &'a str,
+    position: [f32; 3],
+    rest_position: [f32; 3],
+    joint: usize,
+    split_ms: f64,
+}
+
+impl<'a> From<&'a JointRecord> for JointEntry<'a> {
+    fn from(r: &'a JointRecord) -> Self {
+        Self {
+            frame: r.frame,
+            body: &r.body,
+            position: r.position.to_array(),
+            rest_position: r.rest_position.to_array(),
+            joint: r.joint,
+            split_ms: r.split_ms,
+        }
+    }
 }
 
 /// One dent of `summary.json`.
@@ -111,8 +141,8 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     for dir in [&args.out, &meshes_dir, &frames_dir] {
         std::fs::create_dir_all(dir).map_err(|source| CliError::CreateDir { path: dir.clone(), source })?;
     }
-    let Scene { name, world, camera, description, .. } = scene;
-    let mut sim = Simulation::new(world, context).map_err(|e| CliError::Usage(e.to_string()))?;
+    let Scene { name, world, camera, description, bending, .. } = scene;
+    let mut sim = Simulation::new(world, context).map_err(|e| CliError::Usage(e.to_string()))?.with_bending(bending);
     let progress = ProgressBar::new(u64::from(frames));
     progress.set_style(
         ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} frames, {msg} ({elapsed} / ~{duration})")
@@ -143,7 +173,7 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         description: &description,
         frames,
         dt: sim.world().settings().dt,
-        bodies: sim.world().bodies().iter().map(|b| b.name.as_str()).collect(),
+        bodies: shown_bodies(&sim).map(|(_, b)| b.name.as_str()).chain(bending_names(&sim)).collect(),
         dents_on: if sim.dents_on_gpu() { "gpu" } else { "cpu" },
         pictures_on: match &renderer {
             Some(r) if r.is_gpu() => "gpu",
@@ -153,14 +183,17 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         ms_per_step: StepStats::of(&timings),
         steps: &timings,
         dents: sim.dents().iter().map(|record| DentEntry { frame: record.step, record }).collect(),
+        joints: sim.bending().joints().iter().map(JointEntry::from).collect(),
+        bends: sim.bending().bends(),
     };
     let path = args.out.join("summary.json");
     let json = serde_json::to_string_pretty(&summary).map_err(|e| CliError::Usage(e.to_string()))?;
     std::fs::write(&path, json).map_err(|source| CliError::Write { path: path.clone(), source })?;
     let ms = &summary.ms_per_step;
     Ok(format!(
-        "run {name}: {frames} frames, {} dents, {:.2} ms/step ({:.2} dynamics + {:.2} denting), {written} mesh files → {}",
+        "run {name}: {frames} frames, {} dents, {} joints, {:.2} ms/step ({:.2} dynamics + {:.2} denting), {written} mesh files → {}",
         sim.dents().len(),
+        sim.bending().joints().len(),
         ms.total_mean,
         ms.dynamics_mean,
         ms.denting_mean,
@@ -168,21 +201,48 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     ))
 }
 
-/// Writes `meshes/<body>_<frame>.obj` and `.glb` (world coordinates); returns the file count.
+/// The world's bodies but the sub-bodies of bending bodies, with their indices.
+fn shown_bodies(sim: &Simulation) -> impl Iterator<Item = (usize, &dentbend::sim::RigidBody)> {
+    sim.world().bodies().iter().enumerate().filter(|(k, _)| !sim.bending().is_sub_body(*k))
+}
+
+/// The bending bodies' names.
+fn bending_names(sim: &Simulation) -> impl Iterator<Item = &str> {
+    sim.bending().bodies().iter().map(|b| b.name())
+}
+
+/// A body as shown: name, world mesh, colour, and whether its shape changes (dentable or bending).
+struct Shown {
+    name: String,
+    mesh: TriMesh,
+    colour: [f32; 3],
+    changes: bool,
+}
+
+/// Every body to show now, world coordinates: the world's bodies but the sub-bodies of bending
+/// bodies, then each bending body's skinned mesh.
+fn shown_meshes(sim: &Simulation) -> Result<Vec<Shown>, CliError> {
+    let mut meshes: Vec<Shown> = shown_bodies(sim)
+        .map(|(_, b)| Shown { name: b.name.clone(), mesh: b.world_mesh(), colour: b.color, changes: b.dent.is_some() })
+        .collect();
+    let skinned = sim.bending().skinned_meshes(sim.world()).map_err(|e| CliError::Usage(e.to_string()))?;
+    meshes.extend(skinned.into_iter().map(|(name, mesh, colour)| Shown { name, mesh, colour, changes: true }));
+    Ok(meshes)
+}
+
+/// Writes `meshes/<body>_<frame>.obj` and `.glb` (world coordinates; a bending body's skinned
+/// mesh under its own name, its sub-bodies not at all); returns the file count.
 fn write_meshes(sim: &Simulation, frame: u32, choice: MeshChoice, dir: &Path) -> Result<usize, CliError> {
+    if choice == MeshChoice::None {
+        return Ok(0);
+    }
     let mut count = 0;
-    for body in sim.world().bodies() {
-        let wanted = match choice {
-            MeshChoice::All => true,
-            MeshChoice::Dentable => body.dent.is_some(),
-            MeshChoice::None => false,
-        };
-        if !wanted {
+    for Shown { name, mesh, changes, .. } in shown_meshes(sim)? {
+        if choice == MeshChoice::Dentable && !changes {
             continue;
         }
-        let mesh = body.world_mesh();
         for extension in ["obj", "glb"] {
-            let path = dir.join(format!("{}_{frame:04}.{extension}", body.name));
+            let path = dir.join(format!("{name}_{frame:04}.{extension}"));
             dentbend::mesh::save(&path, &mesh)
                 .map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
             count += 1;
@@ -199,8 +259,8 @@ fn draw(
     (width, height): (u32, u32),
     path: &Path,
 ) -> Result<(), CliError> {
-    let meshes: Vec<_> = sim.world().bodies().iter().map(|b| (b.world_mesh(), b.color)).collect();
-    let shaded: Vec<Shaded> = meshes.iter().map(|(mesh, colour)| Shaded { mesh, colour: *colour }).collect();
+    let meshes = shown_meshes(sim)?;
+    let shaded: Vec<Shaded> = meshes.iter().map(|s| Shaded { mesh: &s.mesh, colour: s.colour }).collect();
     let picture = renderer.render(&shaded, camera, width, height).map_err(|e| CliError::Usage(e.to_string()))?;
     picture.save(path).map_err(|e| CliError::Write { path: path.to_path_buf(), source: std::io::Error::other(e) })
 }

@@ -1,0 +1,259 @@
+//! A bending body living in a [`World`]: one rigid sub-body per bone, joined at the skeleton's
+//! joints, and its rest mesh skinned to the sub-bodies' poses every frame (paper Algorithm 2,
+//! steps 1–3 and 13).
+
+use glam::{Affine3A, Quat, Vec3};
+
+use super::bendable::bend_error;
+use super::{BendableDesc, DynamicArticulation, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
+use crate::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
+use crate::mesh::TriMesh;
+use crate::sim::{BodyDesc, ColliderKind, SimError, SurfaceMaterial, World};
+
+/// A bending body: its rest pose (mesh, skeleton, weights, sub-bodies) and the world bodies that
+/// simulate its bones.
+///
+/// Bone k is simulated by the world body [`body_indices`](Self::body_indices)`[k]`, named
+/// `<name>/bone<k>`, whose mesh is the bone's open sub-mesh ([`SubBodies::sub_mesh`]), whose
+/// collider is the convex hull of it and whose mass properties are its level-set cells'. The
+/// model frame of every sub-body is the rest mesh's, so a bone's skinning matrix is its body's
+/// [`model_transform`](crate::sim::RigidBody::model_transform) (model → world). Sub-body masses
+/// and inertias are their voxel shares scaled so that they add up to the closed mesh's exact
+/// mass (the voxel mass of a thin body is off by tens of percent at coarse resolutions).
+#[derive(Debug, Clone)]
+pub struct ArticulatedBody {
+    pub(crate) name: String,
+    pub(crate) rest_mesh: TriMesh,
+    pub(crate) skeleton: Skeleton,
+    pub(crate) cache: WeightCache,
+    pub(crate) weights: SkinWeights,
+    pub(crate) sub_bodies: SubBodies,
+    pub(crate) influences: Vec<SkinInfluence>,
+    pub(crate) bodies: Vec<usize>,
+    pub(crate) density: f32,
+    pub(crate) surface: SurfaceMaterial,
+    pub(crate) color: [f32; 3],
+    pub(crate) dynamic: Option<DynamicArticulation>,
+    /// Joints added by dynamic articulation so far.
+    pub(crate) added_joints: usize,
+    /// The mesh's exact mass over the level set's voxel mass: sub-body masses and inertias are
+    /// scaled by it, so that they add up to the mesh's mass even at coarse resolutions.
+    pub(crate) mass_scale: f32,
+}
+
+impl ArticulatedBody {
+    /// Builds the body's skeleton, weights and sub-bodies and adds one world body per bone and one
+    /// world joint (of `desc.joint`) per skeleton joint to `world`.
+    ///
+    /// # Errors
+    /// As [`BendableDesc::validate`] and [`BendableDesc::build_skeleton`]; [`SimError::BadShape`]
+    /// for an open mesh, an empty level set or a bone that owns no triangle or no inside cell at
+    /// this resolution; [`SimError::Invalid`] for a sub-body name already taken. The world is
+    /// unchanged on error.
+    pub fn new(world: &mut World, desc: BendableDesc) -> Result<Self, SimError> {
+        desc.validate()?;
+        let skeleton = desc.build_skeleton()?;
+        let fail = |e| bend_error(&desc.name, e);
+        let cache = WeightCache::new(&desc.mesh, desc.weights).map_err(fail)?;
+        let weights = SkinWeights::compute(&desc.mesh, &skeleton, &cache).map_err(fail)?;
+        let sub_bodies = SubBodies::compute(&desc.mesh, &weights, cache.level_set(), desc.density).map_err(fail)?;
+        let mut body = Self {
+            name: desc.name.clone(),
+            rest_mesh: desc.mesh.clone(),
+            skeleton,
+            cache,
+            weights,
+            sub_bodies,
+            influences: Vec::new(),
+            bodies: Vec::new(),
+            density: desc.density,
+            surface: desc.surface,
+            color: desc.color,
+            dynamic: desc.dynamic,
+            added_joints: 0,
+            mass_scale: 1.0,
+        };
+        let exact = crate::sim::mass_properties(&desc.mesh, desc.density).map(|m| m.mass);
+        let voxels = body.sub_bodies.total().mass;
+        if let Some(exact) = exact.filter(|&m| m.is_finite() && m > 0.0 && voxels > 0.0) {
+            body.mass_scale = exact / voxels;
+        }
+        body.influences = skin_influences(&body.weights);
+        let rotation = desc.orientation.normalize();
+        let pose = Affine3A::from_rotation_translation(rotation, desc.position);
+        let centre = pose.transform_point3(body.sub_bodies.total().center);
+        let motion = RigidMotion { velocity: desc.linear_velocity, angular: desc.angular_velocity, centre };
+        let descs = (0..body.skeleton.len())
+            .map(|bone| body.sub_body_desc(bone, (desc.position, rotation), motion))
+            .collect::<Result<Vec<_>, _>>()?;
+        if let Some(taken) = descs.iter().find(|d| world.find(&d.name).is_some()) {
+            return Err(SimError::Invalid {
+                what: format!("bendable body \"{}\"", desc.name),
+                value: taken.name.clone(),
+                reason: "names a sub-body like a body already in the world",
+            });
+        }
+        let mut staged = world.clone();
+        for d in descs {
+            body.bodies.push(staged.add(d)?);
+        }
+        for joint in body.skeleton.joints() {
+            let anchor = pose.transform_point3(joint.point);
+            staged.add_joint(body.bodies[joint.parent], body.bodies[joint.child], anchor, desc.joint)?;
+        }
+        *world = staged;
+        Ok(body)
+    }
+
+    /// The body's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The rest mesh, model frame, m.
+    pub fn rest_mesh(&self) -> &TriMesh {
+        &self.rest_mesh
+    }
+
+    /// The skeleton now (grows by one bone per dynamic joint).
+    pub fn skeleton(&self) -> &Skeleton {
+        &self.skeleton
+    }
+
+    /// The skinning weights now.
+    pub fn weights(&self) -> &SkinWeights {
+        &self.weights
+    }
+
+    /// The sub-bodies now.
+    pub fn sub_bodies(&self) -> &SubBodies {
+        &self.sub_bodies
+    }
+
+    /// The weight parameters (level-set resolution…).
+    pub fn weight_params(&self) -> WeightParams {
+        self.cache.params()
+    }
+
+    /// Level-set cell size, m.
+    pub fn cell_size(&self) -> f32 {
+        self.cache.level_set().cell_size()
+    }
+
+    /// World body index of each bone.
+    pub fn body_indices(&self) -> &[usize] {
+        &self.bodies
+    }
+
+    /// The bone simulated by world body `index`, if it is one of this body's.
+    pub fn bone_of(&self, index: usize) -> Option<usize> {
+        self.bodies.iter().position(|&b| b == index)
+    }
+
+    /// Dynamic articulation settings.
+    pub fn dynamic(&self) -> Option<&DynamicArticulation> {
+        self.dynamic.as_ref()
+    }
+
+    /// Colour for pictures.
+    pub fn color(&self) -> [f32; 3] {
+        self.color
+    }
+
+    /// Every bone's model → world transform now (its sub-body's model transform).
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] if a sub-body is missing from `world` (another world).
+    pub fn bone_transforms(&self, world: &World) -> Result<Vec<Affine3A>, SimError> {
+        self.bodies
+            .iter()
+            .map(|&i| {
+                world.bodies().get(i).map(|b| b.model_transform()).ok_or_else(|| SimError::Invalid {
+                    what: format!("bendable body \"{}\": sub-body index", self.name),
+                    value: i.to_string(),
+                    reason: "is not a body of this world",
+                })
+            })
+            .collect()
+    }
+
+    /// The rest mesh skinned to the sub-bodies' current poses ([`cpu::skin`](crate::cpu::skin)
+    /// with bone matrices = model transforms), world coordinates, m.
+    ///
+    /// # Errors
+    /// As [`bone_transforms`](Self::bone_transforms); [`SimError::BadShape`] if skinning fails.
+    pub fn skinned_mesh(&self, world: &World) -> Result<TriMesh, SimError> {
+        let bones: Vec<SkinBone> = self.bone_transforms(world)?.into_iter().map(SkinBone::from_affine).collect();
+        let n = self.rest_mesh.vertex_count();
+        let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
+        let bad = |e: String| SimError::BadShape { body: self.name.clone(), reason: format!("skinning: {e}") };
+        skin(
+            &SkinParams::new(n as u32, bones.len() as u32),
+            &bones,
+            self.rest_mesh.positions(),
+            self.rest_mesh.normals(),
+            &self.influences,
+            &mut positions,
+            &mut normals,
+        )
+        .map_err(|e| bad(e.to_string()))?;
+        let mut mesh = self.rest_mesh.clone();
+        mesh.set_positions(positions).map_err(|e| bad(e.to_string()))?;
+        Ok(mesh)
+    }
+
+    /// The world body of `bone` as its sub-body now, its model frame's origin at `pose.0` (world,
+    /// m) turned by `pose.1`, moving with `motion`.
+    pub(crate) fn sub_body_desc(
+        &self,
+        bone: usize,
+        (origin, rotation): (Vec3, Quat),
+        motion: RigidMotion,
+    ) -> Result<BodyDesc, SimError> {
+        let fail = |e| bend_error(&self.name, e);
+        let (mesh, _) = self.sub_bodies.sub_mesh(&self.rest_mesh, bone).map_err(fail)?;
+        let mut mass = self.sub_bodies.bodies().get(bone).and_then(|s| s.mass).ok_or_else(|| SimError::BadShape {
+            body: self.name.clone(),
+            reason: format!(
+                "bending: bone {bone} owns no inside cell of the level set (resolution {}): raise the resolution",
+                self.cache.params().resolution
+            ),
+        })?;
+        mass.mass *= self.mass_scale;
+        mass.volume *= self.mass_scale;
+        mass.inertia *= self.mass_scale;
+        let centre = origin + rotation * mass.center;
+        let mut desc = BodyDesc::new(format!("{}/bone{bone}", self.name), mesh)
+            .with_mass_properties(mass)
+            .collider(ColliderKind::ConvexHull)
+            .at(origin)
+            .velocity(motion.at(centre));
+        desc.orientation = rotation;
+        desc.angular_velocity = motion.angular;
+        desc.density = self.density;
+        desc.surface = self.surface;
+        desc.color = self.color;
+        Ok(desc)
+    }
+}
+
+/// A rigid motion: `velocity` (m/s) of the point `centre` (world, m) and `angular` velocity
+/// (rad/s, world axes).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RigidMotion {
+    pub velocity: Vec3,
+    pub angular: Vec3,
+    pub centre: Vec3,
+}
+
+impl RigidMotion {
+    /// Velocity of world point `point` under this motion, m/s (v + ω × r).
+    pub fn at(&self, point: Vec3) -> Vec3 {
+        self.velocity + self.angular.cross(point - self.centre)
+    }
+}
+
+/// The weights as the skinning kernel's four influences per vertex.
+pub(crate) fn skin_influences(weights: &SkinWeights) -> Vec<SkinInfluence> {
+    weights.influences4().into_iter().map(|(bones, weights)| SkinInfluence { bones, weights }).collect()
+}

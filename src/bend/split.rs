@@ -1,0 +1,146 @@
+//! Dynamic articulation of one bending body (paper §4.2, Algorithm 2 steps 8–11): split the bone
+//! a hit lands on where the hit projects onto it, recompute the weights of that bone only and
+//! the sub-bodies, and rebuild the world's bodies and joints to match.
+
+use glam::Vec3;
+
+use super::articulated::{RigidMotion, skin_influences};
+use super::bendable::bend_error;
+use super::{ArticulatedBody, BendError, SubBodies};
+use crate::sim::{SimError, World};
+
+/// What a split did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SplitOutcome {
+    /// The bone split (it keeps its index as the first half).
+    pub bone: usize,
+    /// The new bone (the second half).
+    pub new_bone: usize,
+    /// World index of the new bone's body.
+    pub new_body: usize,
+    /// Index of the joint added, in [`World::joints`].
+    pub joint: usize,
+    /// The split point in the rest (model) frame, m.
+    pub rest_point: Vec3,
+    /// The split point in the world when the joint was made, m.
+    pub world_point: Vec3,
+}
+
+impl ArticulatedBody {
+    /// Splits the bone nearest to the world point `point` (a hit on world body `index`, one of
+    /// this body's) at the point's projection onto it, in the rest pose: the point is mapped to
+    /// the rest frame by the inverse of the hit sub-body's bone transform.
+    ///
+    /// Returns `Ok(None)` and changes nothing when the body has no dynamic articulation, has made
+    /// its most joints, `index` is not one of its bodies, either half would be shorter than the
+    /// minimum bone length (or within [`SPLIT_END_FRACTION`](super::SPLIT_END_FRACTION) of an
+    /// end), or a half would own no triangle or no inside cell at this resolution.
+    ///
+    /// Otherwise: the first half keeps the old bone's index and body (rebuilt in place, as is
+    /// every other bone whose sub-body changed), the second half gets a new world body moving
+    /// with the old body's rigid motion (v + ω × r at its centre of mass), the old bone's joints
+    /// to children now on the second half move to it, and a joint of the dynamic kind joins the
+    /// halves at the split point.
+    ///
+    /// # Errors
+    /// A world edit or weight computation failed (a bug); the body and the world are unchanged.
+    pub fn split_at(&mut self, world: &mut World, index: usize, point: Vec3) -> Result<Option<SplitOutcome>, SimError> {
+        let Some(dynamic) = self.dynamic else { return Ok(None) };
+        let Some(hit_bone) = self.bone_of(index) else { return Ok(None) };
+        if self.added_joints >= dynamic.max_joints || !point.is_finite() {
+            return Ok(None);
+        }
+        let transforms = self.bone_transforms(world)?;
+        let rest_point = transforms[hit_bone].inverse().transform_point3(point);
+        let Some((bone, t, _)) = self.skeleton.nearest_bone(rest_point) else { return Ok(None) };
+        let length = self.skeleton.bones()[bone].length();
+        if t * length < dynamic.min_bone_length || (1.0 - t) * length < dynamic.min_bone_length {
+            return Ok(None);
+        }
+        let fail = |e| bend_error(&self.name, e);
+        let mut skeleton = self.skeleton.clone();
+        let (first, second) = match skeleton.split_bone(bone, rest_point) {
+            Ok(halves) => halves,
+            Err(BendError::SplitNearEnd { .. }) => return Ok(None),
+            Err(e) => return Err(fail(e)),
+        };
+        let weights = self.weights.after_split(&self.rest_mesh, &skeleton, bone, (first, second), &self.cache);
+        let weights = weights.map_err(fail)?;
+        let sub_bodies = SubBodies::compute(&self.rest_mesh, &weights, self.cache.level_set(), self.density);
+        let sub_bodies = sub_bodies.map_err(fail)?;
+        if sub_bodies.bodies().iter().any(|s| s.mass.is_none() || s.triangles.is_empty()) {
+            log::debug!("{}: split of bone {bone} skipped: a half owns no cell or triangle", self.name);
+            return Ok(None);
+        }
+        let split_point = skeleton.bones()[second].head;
+        let changed: Vec<usize> = (0..self.skeleton.len())
+            .filter(|&k| {
+                let (old, new) = (&self.sub_bodies.bodies()[k], &sub_bodies.bodies()[k]);
+                k == bone || old.triangles != new.triangles || old.cell_count != new.cell_count
+            })
+            .collect();
+        // Stage: the new state in self (rolled back on error) and the edits on a copy of the world.
+        let old_state = (
+            std::mem::replace(&mut self.skeleton, skeleton),
+            std::mem::replace(&mut self.weights, weights),
+            std::mem::replace(&mut self.sub_bodies, sub_bodies),
+        );
+        let mut staged = world.clone();
+        match self.apply_split(&mut staged, &changed, bone, second, transforms[bone].transform_point3(split_point)) {
+            Ok((new_body, joint)) => {
+                *world = staged;
+                self.bodies.push(new_body);
+                self.influences = skin_influences(&self.weights);
+                self.added_joints += 1;
+                let world_point = transforms[bone].transform_point3(split_point);
+                Ok(Some(SplitOutcome { bone, new_bone: second, new_body, joint, rest_point: split_point, world_point }))
+            }
+            Err(e) => {
+                (self.skeleton, self.weights, self.sub_bodies) = old_state;
+                Err(e)
+            }
+        }
+    }
+
+    /// The world edits of a split (self already holds the new skeleton, weights and sub-bodies):
+    /// returns the new body's index and the new joint's.
+    fn apply_split(
+        &self,
+        world: &mut World,
+        changed: &[usize],
+        bone: usize,
+        second: usize,
+        anchor: Vec3,
+    ) -> Result<(usize, usize), SimError> {
+        let dynamic = self.dynamic.ok_or_else(|| SimError::BadShape {
+            body: self.name.clone(),
+            reason: "bending: split without dynamic articulation".into(),
+        })?;
+        let state = |world: &World, k: usize| {
+            let b = &world.bodies()[self.bodies[k]];
+            let origin = Vec3::from(b.model_transform().translation);
+            let motion = RigidMotion { velocity: b.linear_velocity, angular: b.angular_velocity, centre: b.position };
+            ((origin, b.orientation), motion)
+        };
+        let (old_pose, old_motion) = state(world, bone);
+        for &k in changed {
+            let (pose, motion) = state(world, k);
+            let desc = self.sub_body_desc(k, pose, motion)?;
+            world.rebuild_body(self.bodies[k], desc)?;
+        }
+        let new_body = world.add(self.sub_body_desc(second, old_pose, old_motion)?)?;
+        let old_body = self.bodies[bone];
+        for child in self.skeleton.children(second) {
+            let child_body = self.bodies[child];
+            let joint = world
+                .joints()
+                .iter()
+                .position(|j| (j.a(), j.b()) == (old_body, child_body) || (j.a(), j.b()) == (child_body, old_body));
+            if let Some(joint) = joint {
+                world.retarget_joint(joint, old_body, new_body)?;
+            }
+        }
+        let joint = world.add_joint(old_body, new_body, anchor, dynamic.joint)?;
+        Ok((new_body, joint))
+    }
+}

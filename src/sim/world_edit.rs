@@ -1,0 +1,56 @@
+//! Small edits of a [`World`]'s joints that dynamic articulation needs (paper §4.2): when a bone
+//! is split, the joints of the old bone's far end move to the new second half.
+//!
+//! A child module of `world` (declared there with `#[path]`) so that it can keep the world's
+//! set of joined pairs in step with its joints.
+
+use super::{World, invalid, joints};
+use crate::sim::SimError;
+
+impl World {
+    /// Moves the end of joint `joint` that is on body `from` to body `to`, keeping the joint's
+    /// anchor, sliding axis and target and rest relative orientations where they are in the world
+    /// (so it holds what it held, now through `to`). Bodies `to` and the joint's other body stop
+    /// colliding with each other; `from` and the other body collide again unless another joint
+    /// still joins them.
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] for a joint or body index out of range, `from == to`, a joint that
+    /// does not end on `from`, or a joint whose other end is `to`. The world is unchanged then.
+    pub fn retarget_joint(&mut self, joint: usize, from: usize, to: usize) -> Result<(), SimError> {
+        let Some(current) = self.joints.get(joint) else {
+            return Err(invalid("joint index", joint, "is not a joint of the world"));
+        };
+        for (what, index) in [("retarget from body", from), ("retarget to body", to)] {
+            if index >= self.bodies.len() {
+                return Err(invalid(what, index, "is not a body of the world"));
+            }
+        }
+        if from == to {
+            return Err(invalid("retarget bodies", (from, to), "must be two different bodies"));
+        }
+        let other = match (current.a, current.b) {
+            (a, b) if a == from => b,
+            (a, b) if b == from => a,
+            ends => return Err(invalid("retarget joint ends", ends, "do not include the body to move from")),
+        };
+        if other == to {
+            return Err(invalid("retarget to body", to, "is already the joint's other body"));
+        }
+        let pose = |i: usize| (self.bodies[i].position, self.bodies[i].orientation);
+        let (old, new) = (pose(from), pose(to));
+        let moved = &mut self.joints[joint];
+        moved.rebase(from, old, new);
+        if moved.a == from {
+            moved.a = to;
+        } else {
+            moved.b = to;
+        }
+        self.joined.insert(joints::pair(other, to));
+        let still_joined = self.joints.iter().any(|j| joints::pair(j.a, j.b) == joints::pair(other, from));
+        if !still_joined {
+            self.joined.remove(&joints::pair(other, from));
+        }
+        Ok(())
+    }
+}

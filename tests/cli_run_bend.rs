@@ -1,0 +1,47 @@
+//! `dentbend run plank`: a bending body is written as its skinned mesh (not its sub-bodies), and
+//! `summary.json` lists the joint dynamic articulation made and the plastic bends.
+
+mod common;
+
+use common::cli::{dentbend, text};
+use common::temp::TempDir;
+
+#[test]
+fn a_plank_run_writes_the_skinned_plank_and_its_joint() {
+    let dir = TempDir::new("run-plank");
+    let out = dir.path("plank");
+    let out_text = out.to_str().unwrap();
+    let args = ["run", "plank", "--size", "demo", "--frames", "20", "--every", "10", "--picture", "0,0"];
+    let output = dentbend(&[&args[..], &["--out", out_text]].concat());
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let meshes = out.join("meshes");
+    for frame in ["0000", "0010", "0020"] {
+        for extension in ["obj", "glb"] {
+            let file = meshes.join(format!("plank_{frame}.{extension}"));
+            assert!(file.is_file(), "missing {}", file.display());
+        }
+    }
+    let names: Vec<String> =
+        std::fs::read_dir(&meshes).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert!(names.iter().all(|n| !n.contains("bone")), "sub-body meshes written: {names:?}");
+    // The skinned plank has every vertex of the rest plank (64 segments).
+    let first = dentbend::mesh::load_obj(meshes.join("plank_0000.obj")).unwrap();
+    let rest = dentbend::mesh::plank(4.0, 0.3, 0.1, 64).unwrap();
+    assert_eq!(first.vertex_count(), rest.vertex_count());
+
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    for key in ["scene", "frames", "dt", "bodies", "ms_per_step", "steps", "dents"] {
+        assert!(!summary[key].is_null(), "summary lacks {key}");
+    }
+    let joints = summary["joints"].as_array().unwrap();
+    assert_eq!(joints.len(), 1, "{joints:?}");
+    assert_eq!(joints[0]["body"], "plank");
+    assert!(joints[0]["frame"].as_u64().is_some_and(|f| (1..=20).contains(&f)));
+    let x = joints[0]["position"][0].as_f64().unwrap();
+    assert!((x - 0.3).abs() < 0.05, "joint at x = {x}");
+    let bends = summary["bends"].as_array().unwrap();
+    assert!(!bends.is_empty() && bends.iter().all(|b| b["angle"].as_f64().is_some_and(|a| a > 0.0)));
+    let bodies: Vec<&str> = summary["bodies"].as_array().unwrap().iter().map(|b| b.as_str().unwrap()).collect();
+    assert!(bodies.contains(&"plank") && !bodies.iter().any(|b| b.contains('/')), "{bodies:?}");
+}
