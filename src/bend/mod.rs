@@ -36,8 +36,8 @@ pub use level_set::{
 pub use skeleton::{
     Bone, BoneDesc, BoneJoint, JOINT_GAP_FRACTION, MIN_BONE_FRACTION, MIN_BONE_LENGTH, SPLIT_END_FRACTION, Skeleton,
 };
-pub use split::SplitOutcome;
 pub use skeleton_check::OUTSIDE_TOLERANCE_FRACTION;
+pub use split::SplitOutcome;
 pub use sub_bodies::{NO_BONE, SubBodies, SubBody, triangle_owners};
 pub use weights::{MAX_INFLUENCES, SkinWeights, WeightParams};
 pub use weights_solve::{WeightCache, compute_weights};
