@@ -16,6 +16,7 @@ mod mass;
 mod simulation;
 mod sleep;
 mod solver;
+mod union_find;
 mod warm_start;
 mod world;
 

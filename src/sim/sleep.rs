@@ -6,6 +6,7 @@
 
 use glam::Vec3;
 
+use super::union_find::UnionFind;
 use super::{BodyKind, RigidBody, WorldSettings};
 
 /// Time constant of the velocity smoothing, s.
@@ -40,42 +41,24 @@ impl Activity {
     }
 }
 
-/// Disjoint sets over body indices.
-struct Islands {
-    parent: Vec<usize>,
-}
-
-impl Islands {
-    fn new(n: usize) -> Self {
-        Self { parent: (0..n).collect() }
-    }
-
-    fn root(&mut self, mut i: usize) -> usize {
-        while self.parent[i] != i {
-            self.parent[i] = self.parent[self.parent[i]];
-            i = self.parent[i];
-        }
-        i
-    }
-
-    fn join(&mut self, i: usize, j: usize) {
-        let (a, b) = (self.root(i), self.root(j));
-        if a != b {
-            self.parent[a.max(b)] = a.min(b);
-        }
-    }
-}
-
-/// After a step: smooths each awake dynamic body's velocities, counts its still time, and puts
-/// to sleep every island (bodies joined by `links`) whose bodies have all been still for
-/// `sleep_time`. `step` numbers the islands so two islands never share an id.
-pub(crate) fn settle(bodies: &mut [RigidBody], links: &[(usize, usize)], settings: &WorldSettings, step: u64) {
+/// After a step: smooths each awake dynamic body's velocities, counts its still time (speed =
+/// centre plus rim at `radius[i]` m, its bounding radius), and puts to sleep every island (bodies
+/// joined by `links`) whose bodies have all been still for `sleep_time`. `step` numbers the
+/// islands so two islands never share an id.
+pub(crate) fn settle(
+    bodies: &mut [RigidBody],
+    radius: &[f32],
+    links: &[(usize, usize)],
+    settings: &WorldSettings,
+    step: u64,
+) {
     if settings.sleep_time <= 0.0 {
         return;
     }
     let alpha = settings.dt / (SMOOTHING_TIME + settings.dt);
-    for body in bodies.iter_mut().filter(|b| b.kind == BodyKind::Dynamic && !b.activity.asleep) {
-        let radius = body.shape.compute_local_bounding_sphere().radius;
+    for (body, &radius) in
+        bodies.iter_mut().zip(radius).filter(|(b, _)| b.kind == BodyKind::Dynamic && !b.activity.asleep)
+    {
         let activity = &mut body.activity;
         activity.smoothed[0] += alpha * (body.linear_velocity - activity.smoothed[0]);
         activity.smoothed[1] += alpha * (body.angular_velocity - activity.smoothed[1]);
@@ -83,7 +66,7 @@ pub(crate) fn settle(bodies: &mut [RigidBody], links: &[(usize, usize)], setting
         activity.still_for = if speed < settings.sleep_speed { activity.still_for + settings.dt } else { 0.0 };
     }
     let awake = |b: &RigidBody| b.kind == BodyKind::Dynamic && !b.activity.asleep;
-    let mut islands = Islands::new(bodies.len());
+    let mut islands = UnionFind::new(bodies.len());
     for &(i, j) in links {
         if awake(&bodies[i]) && awake(&bodies[j]) {
             islands.join(i, j);

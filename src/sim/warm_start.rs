@@ -14,13 +14,6 @@ use super::solver::Constraint;
 /// How far a contact point may move in body a's frame between two steps and still be matched, m.
 pub(crate) const MATCH_DISTANCE: f32 = 0.02;
 
-/// Fraction of last step's impulse a matched contact starts from. All of it: the impulses are
-/// accumulated and clamped, so the sweeps can still take back what an opening contact does not
-/// need, while any fraction below 1 makes every step re-solve part of a pile's weight that 12
-/// sweeps cannot recover — 0.9 left a 1,500-sphere pile holding ~90 % of its weight and friction
-/// limits (μ × normal impulse) short by as much, so it crept at ~1 cm/s and never slept.
-const WARM_FRACTION: f32 = 1.0;
-
 /// One contact's impulses at the end of the last contact phase.
 #[derive(Debug, Clone, Copy)]
 struct Cached {
@@ -56,10 +49,16 @@ impl ContactCache {
                 .min_by(|x, y| x.0.total_cmp(&y.0))
                 .filter(|(d2, _)| *d2 <= MATCH_DISTANCE * MATCH_DISTANCE);
             if let Some((_, k)) = nearest {
-                c.warm_normal = WARM_FRACTION * k.normal;
-                let friction = WARM_FRACTION * (k.friction - k.friction.dot(c.normal) * c.normal);
+                // All of last step's impulse: the impulses are accumulated and clamped, so the
+                // sweeps can still take back what an opening contact does not need, while any
+                // fraction below 1 makes every step re-solve part of a pile's weight that 12
+                // sweeps cannot recover — 0.9 left a 1,500-sphere pile holding ~90 % of its
+                // weight and friction limits (μ × normal impulse) short by as much, so it crept
+                // at ~1 cm/s and never slept.
+                c.warm_normal = k.normal;
+                let friction = k.friction - k.friction.dot(c.normal) * c.normal;
                 c.warm_tangent = [friction.dot(c.tangents[0]), friction.dot(c.tangents[1])];
-                c.warm_rolling = WARM_FRACTION * k.rolling;
+                c.warm_rolling = k.rolling;
             }
         }
     }

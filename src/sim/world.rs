@@ -301,11 +301,17 @@ impl World {
     pub fn step(&mut self) -> StepReport {
         let started = Instant::now();
         let s = self.settings;
-        let reach: Vec<f32> = self.bodies.iter().map(|b| self.reach(b)).collect();
+        // Bounding radius about the centre of mass, m: rim speed = |ω| × radius (static: unused).
+        let radius: Vec<f32> = self
+            .bodies
+            .iter()
+            .map(|b| if b.kind == BodyKind::Static { 0.0 } else { b.shape.compute_local_bounding_sphere().radius })
+            .collect();
+        let reach: Vec<f32> = self.bodies.iter().zip(&radius).map(|(b, &r)| self.reach(b, r)).collect();
         let boxes: Vec<Aabb> = self.bodies.iter().zip(&reach).map(|(b, &r)| self.swept_box(b, r)).collect();
         let pairs = broad_phase::overlapping_pairs(&boxes, |i, j| self.skip_pair(i, j));
         let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach[i] + reach[j]);
-        self.wake_touched(&found);
+        self.wake_touched(&found, &radius);
         joints::sync_sleep(&self.joints, &mut self.bodies);
 
         let up = -s.gravity.normalize_or(Vec3::NEG_Y);
@@ -333,7 +339,7 @@ impl World {
         // Islands: bodies touching, and bodies joined by a joint.
         let links: Vec<(usize, usize)> =
             found.iter().map(|p| (p.a, p.b)).chain(self.joints.iter().map(|j| (j.a(), j.b()))).collect();
-        sleep::settle(&mut self.bodies, &links, &s, self.steps);
+        sleep::settle(&mut self.bodies, &radius, &links, &s, self.steps);
         self.time += f64::from(s.dt);
         self.steps += 1;
         StepReport {
@@ -345,12 +351,11 @@ impl World {
         }
     }
 
-    /// How far a body's surface can move in one step, m.
-    fn reach(&self, body: &RigidBody) -> f32 {
+    /// How far a body's surface (within `radius` of its centre of mass) can move in one step, m.
+    fn reach(&self, body: &RigidBody, radius: f32) -> f32 {
         if body.kind == BodyKind::Static || body.activity.asleep {
             return 0.0;
         }
-        let radius = body.shape.compute_local_bounding_sphere().radius;
         let speed = body.linear_velocity.length() + body.angular_velocity.length() * radius;
         let fall = if body.kind == BodyKind::Dynamic { self.settings.gravity.length() * self.settings.dt } else { 0.0 };
         (speed + fall) * self.settings.dt
@@ -372,7 +377,7 @@ impl World {
     }
 
     /// Wakes the islands of sleeping bodies touched by moving ones.
-    fn wake_touched(&mut self, found: &[PairContacts]) {
+    fn wake_touched(&mut self, found: &[PairContacts], radius: &[f32]) {
         let threshold = self.settings.sleep_speed;
         for pair in found {
             let active = |k: usize| {
@@ -380,10 +385,7 @@ impl World {
                 match body.kind {
                     BodyKind::Static => false,
                     BodyKind::Kinematic => moves(body),
-                    BodyKind::Dynamic => {
-                        let radius = body.shape.compute_local_bounding_sphere().radius;
-                        body.activity.disturbs(body, radius, threshold)
-                    }
+                    BodyKind::Dynamic => body.activity.disturbs(body, radius[k], threshold),
                 }
             };
             if self.bodies[pair.a].activity.asleep && active(pair.b) {

@@ -1,9 +1,10 @@
 //! Jointed groups: dynamic bodies connected through joints (static and kinematic bodies do not
-//! connect groups). A group sleeps and wakes as one, so a joint never holds an awake body to an
-//! asleep (immovable) partner: every member must have been still at the same time for the
-//! world's `sleep_time` before the group sleeps, and touching one member wakes them all.
+//! connect groups). A group wakes as one, so a joint never holds an awake body to an asleep
+//! (immovable) partner; it falls asleep as one because joints link the sleep islands
+//! (`sleep::settle`).
 
 use super::Joint;
+use crate::sim::union_find::UnionFind;
 use crate::sim::{BodyKind, RigidBody};
 
 /// The key of an unordered body pair (smaller index first).
@@ -13,22 +14,14 @@ pub(crate) fn pair(a: usize, b: usize) -> (usize, usize) {
 
 /// Group representative of every body (itself when it has no dynamic joint partner).
 fn groups(joints: &[Joint], bodies: &[RigidBody]) -> Vec<usize> {
-    let mut parent: Vec<usize> = (0..bodies.len()).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
+    let mut sets = UnionFind::new(bodies.len());
     let dynamic = |i: usize| bodies.get(i).is_some_and(|b| b.kind == BodyKind::Dynamic);
     for joint in joints {
         if dynamic(joint.a) && dynamic(joint.b) {
-            let (ra, rb) = (root(&mut parent, joint.a), root(&mut parent, joint.b));
-            parent[ra.max(rb)] = ra.min(rb);
+            sets.join(joint.a, joint.b);
         }
     }
-    (0..bodies.len()).map(|i| root(&mut parent, i)).collect()
+    (0..bodies.len()).map(|i| sets.root(i)).collect()
 }
 
 /// Wakes every member of a jointed group that has an awake member (a group falls asleep as one

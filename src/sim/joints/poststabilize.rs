@@ -8,14 +8,15 @@ use glam::Vec3;
 
 use super::solve::{self, Rows};
 use super::system::{self, Mobility, Motion};
-use super::{BendEvent, Joint, groups, plastic};
+use super::{BendEvent, Joint, plastic};
 use crate::sim::{BodyKind, RigidBody, WorldSettings};
 
 /// Velocity error below which a joint holds, m/s and rad/s.
 const TOLERANCE: f64 = 1e-5;
 
-/// Everything joints do after the position update: jointed groups fall asleep together, plastic
-/// joints take their bends (reported), then post-stabilization on the bodies' velocities.
+/// Everything joints do after the position update: plastic joints take their bends (reported),
+/// then post-stabilization on the bodies' velocities. (Jointed groups were brought to one sleep
+/// state at the start of the step, and nothing sleeps or wakes between there and here.)
 pub(crate) fn poststabilize(
     joints: &mut [Joint],
     bodies: &mut [RigidBody],
@@ -24,7 +25,6 @@ pub(crate) fn poststabilize(
     if joints.is_empty() {
         return Vec::new();
     }
-    groups::sync_sleep(joints, bodies);
     let bends = plastic::after_step(joints, bodies, settings.dt);
     let mob = system::mobilities(bodies, settings);
     let mut v: Vec<Motion> =

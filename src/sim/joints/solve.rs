@@ -15,6 +15,7 @@ use glam::Vec3;
 
 use super::system::{self, Frame, Matrix, Mobility, Motion};
 use super::{Joint, JointKind, band, plastic};
+use crate::sim::union_find::UnionFind;
 
 /// Most Gauss–Seidel sweeps over a group that cannot be solved directly.
 const SWEEPS: usize = 48;
@@ -65,14 +66,7 @@ fn held(joint: &Joint) -> [bool; 6] {
 
 /// Joints with rows, grouped by shared bodies that take impulses.
 fn groups(joints: &[Joint], rows: &[Option<Rows>], mob: &[Mobility]) -> Vec<Vec<usize>> {
-    let mut parent: Vec<usize> = (0..joints.len()).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
+    let mut sets = UnionFind::new(joints.len());
     let mut owner: HashMap<usize, usize> = HashMap::new();
     for (k, joint) in joints.iter().enumerate() {
         if rows[k].is_none() {
@@ -83,8 +77,7 @@ fn groups(joints: &[Joint], rows: &[Option<Rows>], mob: &[Mobility]) -> Vec<Vec<
                 continue;
             }
             if let Some(&other) = owner.get(&body) {
-                let (x, y) = (root(&mut parent, k), root(&mut parent, other));
-                parent[x.max(y)] = x.min(y);
+                sets.join(k, other);
             } else {
                 owner.insert(body, k);
             }
@@ -93,7 +86,7 @@ fn groups(joints: &[Joint], rows: &[Option<Rows>], mob: &[Mobility]) -> Vec<Vec<
     let mut out: Vec<Vec<usize>> = Vec::new();
     let mut slot: HashMap<usize, usize> = HashMap::new();
     for k in (0..joints.len()).filter(|&k| rows[k].is_some()) {
-        let r = root(&mut parent, k);
+        let r = sets.root(k);
         let index = *slot.entry(r).or_insert_with(|| {
             out.push(Vec::new());
             out.len() - 1
