@@ -152,11 +152,14 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     progress.set_prefix(name.clone());
     let mut timings = Vec::with_capacity(frames as usize);
     let mut written = 0usize;
+    // Output frames need the shown bodies' world meshes only for files or pictures.
+    let wanted = args.meshes != MeshChoice::None || renderer.is_some();
     for frame in 0..=frames {
-        if frame % args.every == 0 || frame == frames {
-            written += write_meshes(&sim, frame, args.meshes, &meshes_dir)?;
+        if wanted && (frame % args.every == 0 || frame == frames) {
+            let shown = shown_meshes(&sim)?;
+            written += write_meshes(&shown, frame, args.meshes, &meshes_dir)?;
             if let Some(renderer) = &renderer {
-                draw(&sim, renderer, &camera, args.picture, &frames_dir.join(format!("{frame:04}.png")))?;
+                draw(&shown, renderer, &camera, args.picture, &frames_dir.join(format!("{frame:04}.png")))?;
             }
         }
         if frame == frames {
@@ -232,18 +235,18 @@ fn shown_meshes(sim: &Simulation) -> Result<Vec<Shown>, CliError> {
 
 /// Writes `meshes/<body>_<frame>.obj` and `.glb` (world coordinates; a bending body's skinned
 /// mesh under its own name, its sub-bodies not at all); returns the file count.
-fn write_meshes(sim: &Simulation, frame: u32, choice: MeshChoice, dir: &Path) -> Result<usize, CliError> {
+fn write_meshes(shown: &[Shown], frame: u32, choice: MeshChoice, dir: &Path) -> Result<usize, CliError> {
     if choice == MeshChoice::None {
         return Ok(0);
     }
     let mut count = 0;
-    for Shown { name, mesh, changes, .. } in shown_meshes(sim)? {
+    for Shown { name, mesh, changes, .. } in shown {
         if choice == MeshChoice::Dentable && !changes {
             continue;
         }
         for extension in ["obj", "glb"] {
             let path = dir.join(format!("{name}_{frame:04}.{extension}"));
-            dentbend::mesh::save(&path, &mesh)
+            dentbend::mesh::save(&path, mesh)
                 .map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
             count += 1;
         }
@@ -251,16 +254,15 @@ fn write_meshes(sim: &Simulation, frame: u32, choice: MeshChoice, dir: &Path) ->
     Ok(count)
 }
 
-/// Draws the scene from its camera into `path`.
+/// Draws the shown bodies from the scene's camera into `path`.
 fn draw(
-    sim: &Simulation,
+    shown: &[Shown],
     renderer: &Renderer<'_>,
     camera: &dentbend::render::Camera,
     (width, height): (u32, u32),
     path: &Path,
 ) -> Result<(), CliError> {
-    let meshes = shown_meshes(sim)?;
-    let shaded: Vec<Shaded> = meshes.iter().map(|s| Shaded { mesh: &s.mesh, colour: s.colour }).collect();
+    let shaded: Vec<Shaded> = shown.iter().map(|s| Shaded { mesh: &s.mesh, colour: s.colour }).collect();
     let picture = renderer.render(&shaded, camera, width, height).map_err(|e| CliError::Usage(e.to_string()))?;
     picture.save(path).map_err(|e| CliError::Write { path: path.to_path_buf(), source: std::io::Error::other(e) })
 }
