@@ -4,6 +4,7 @@
 use glam::{Affine3A, Mat3, Quat, Vec3};
 use parry3d::shape::SharedShape;
 
+use super::cluster::Role;
 use super::error::invalid;
 use super::sleep::Activity;
 use super::{ColliderKind, DentSettings, MassProperties, SimError, mass_properties};
@@ -210,6 +211,8 @@ pub struct RigidBody {
     pub(crate) shape: SharedShape,
     /// Sleep bookkeeping.
     pub(crate) activity: Activity,
+    /// Simulated on its own, condensed into a rigid cluster, or a cluster's proxy.
+    pub(crate) role: Role,
 }
 
 impl RigidBody {
@@ -270,6 +273,7 @@ impl RigidBody {
             collider_kind: desc.collider,
             shape,
             activity: Activity::default(),
+            role: Role::Free,
         })
     }
 
@@ -327,6 +331,23 @@ impl RigidBody {
     /// Whether the body is asleep (still for a while; woken by contacts with moving bodies).
     pub fn is_asleep(&self) -> bool {
         self.activity.asleep
+    }
+
+    /// Whether the body is condensed into a rigid cluster ([`World::condense`](super::World::condense)):
+    /// its pose and velocities then follow the cluster's, and setting them has no effect.
+    pub fn is_condensed(&self) -> bool {
+        matches!(self.role, Role::Member(_))
+    }
+
+    /// Whether the body is a cluster's stand-in (or a spare one): simulated for its members, never
+    /// drawn or written.
+    pub fn is_cluster_proxy(&self) -> bool {
+        matches!(self.role, Role::Proxy(_) | Role::Spare)
+    }
+
+    /// Whether the step moves this body itself (a free body or an active cluster's proxy).
+    pub(crate) fn is_simulated(&self) -> bool {
+        matches!(self.role, Role::Free | Role::Proxy(_))
     }
 
     /// The collider, for queries.

@@ -18,6 +18,11 @@ pub struct ContactPoint {
     pub normal: Vec3,
     /// Signed distance along the normal, m (negative when the bodies overlap).
     pub distance: f32,
+    /// Which part of a composite collider of a (a compound's shape, a mesh's triangle) the point
+    /// is on; 0 for simple shapes.
+    pub part_a: u32,
+    /// The same for b.
+    pub part_b: u32,
 }
 
 impl ContactPoint {
@@ -88,6 +93,8 @@ fn pair_points(a: &RigidBody, b: &RigidBody, prediction: f32) -> Vec<ContactPoin
                 on_b: frame_b.transform_point(contact.local_p2),
                 normal,
                 distance: contact.dist,
+                part_a: manifold.subshape1,
+                part_b: manifold.subshape2,
             });
         }
     }

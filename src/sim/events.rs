@@ -9,7 +9,7 @@ use super::BendEvent;
 /// A pair of bodies that collided during a step.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CollisionEvent {
-    /// Index of body a in the world.
+    /// Index of body a in the world (for a cluster, the member hit).
     pub a: usize,
     /// Index of body b (> a).
     pub b: usize,
@@ -24,6 +24,21 @@ pub struct CollisionEvent {
     pub normal_speed: f32,
     /// Total impulse the step applied to b (a received the opposite), N·s.
     pub impulse: Vec3,
+}
+
+impl CollisionEvent {
+    /// The same collision seen from b: bodies swapped, normal, relative velocity and impulse
+    /// reversed.
+    pub fn swapped(&self) -> Self {
+        Self {
+            a: self.b,
+            b: self.a,
+            normal: -self.normal,
+            relative_velocity: -self.relative_velocity,
+            impulse: -self.impulse,
+            ..*self
+        }
+    }
 }
 
 /// What one [`World::step`](super::World::step) did.

@@ -4,6 +4,7 @@
 
 mod body;
 mod broad_phase;
+mod cluster;
 mod collider;
 mod contacts;
 mod dent_settings;

@@ -56,8 +56,10 @@ pub(crate) fn settle(
         return;
     }
     let alpha = settings.dt / (SMOOTHING_TIME + settings.dt);
-    for (body, &radius) in
-        bodies.iter_mut().zip(radius).filter(|(b, _)| b.kind == BodyKind::Dynamic && !b.activity.asleep)
+    for (body, &radius) in bodies
+        .iter_mut()
+        .zip(radius)
+        .filter(|(b, _)| b.kind == BodyKind::Dynamic && !b.activity.asleep && b.is_simulated())
     {
         let activity = &mut body.activity;
         activity.smoothed[0] += alpha * (body.linear_velocity - activity.smoothed[0]);
@@ -65,7 +67,7 @@ pub(crate) fn settle(
         let speed = activity.smoothed[0].length() + activity.smoothed[1].length() * radius;
         activity.still_for = if speed < settings.sleep_speed { activity.still_for + settings.dt } else { 0.0 };
     }
-    let awake = |b: &RigidBody| b.kind == BodyKind::Dynamic && !b.activity.asleep;
+    let awake = |b: &RigidBody| b.kind == BodyKind::Dynamic && !b.activity.asleep && b.is_simulated();
     let mut islands = UnionFind::new(bodies.len());
     for &(i, j) in links {
         if awake(&bodies[i]) && awake(&bodies[j]) {
@@ -97,7 +99,7 @@ pub(crate) fn wake_island(bodies: &mut [RigidBody], k: usize) {
         return;
     }
     let island = bodies[k].activity.island;
-    for body in bodies.iter_mut().filter(|b| b.activity.asleep && b.activity.island == island) {
+    for body in bodies.iter_mut().filter(|b| b.activity.asleep && b.activity.island == island && b.is_simulated()) {
         body.activity.wake();
     }
 }

@@ -76,4 +76,9 @@ impl ContactCache {
             self.pairs.entry((c.a, c.b)).or_default().push(Cached { local, normal, friction, rolling });
         }
     }
+
+    /// Drops the cached contacts of body `body` (its shape was replaced).
+    pub fn forget(&mut self, body: usize) {
+        self.pairs.retain(|&(a, b), _| a != body && b != body);
+    }
 }

@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use glam::{Quat, Vec3};
 
+use super::cluster::{Cluster, Role};
 use super::joints::{self, Joint, JointKind};
 use super::sleep::{self, Activity};
 use super::solver::{self, SolverBody};
@@ -14,6 +15,8 @@ use super::warm_start::ContactCache;
 use super::{Aabb, BodyDesc, BodyKind, CollisionEvent, PairContacts, RigidBody, SimError, StepReport};
 use super::{broad_phase, contacts, error::invalid};
 
+#[path = "world_cluster.rs"]
+mod world_cluster;
 #[path = "world_edit.rs"]
 mod world_edit;
 
@@ -126,6 +129,7 @@ pub struct WorldState {
     cache: ContactCache,
     time: f64,
     steps: u64,
+    layout: u64,
 }
 
 /// Rigid bodies and the settings that step them.
@@ -141,6 +145,11 @@ pub struct World {
     joined: HashSet<(usize, usize)>,
     /// Last step's contact impulses, to warm-start this step's.
     cache: ContactCache,
+    /// Rigid clusters, active and dissolved (their proxies kept for reuse).
+    clusters: Vec<Cluster>,
+    /// Counts changes of which bodies are condensed, so a snapshot is only restored onto the
+    /// layout it was taken in.
+    layout: u64,
 }
 
 impl World {
@@ -158,6 +167,8 @@ impl World {
             joints: Vec::new(),
             joined: HashSet::new(),
             cache: ContactCache::default(),
+            clusters: Vec::new(),
+            layout: 0,
         })
     }
 
@@ -192,6 +203,11 @@ impl World {
     /// neither of which is dynamic, a non-finite anchor, or a bad number in `kind` (see
     /// [`JointKind::validate`]).
     pub fn add_joint(&mut self, a: usize, b: usize, anchor: Vec3, kind: JointKind) -> Result<usize, SimError> {
+        for (what, index) in [("joint body a", a), ("joint body b", b)] {
+            if self.bodies.get(index).is_some_and(|body| body.role != Role::Free) {
+                return Err(invalid(what, index, "is condensed into a cluster or is a cluster's proxy"));
+            }
+        }
         let joint = Joint::new(&self.bodies, a, b, anchor, kind)?;
         self.joined.insert(joints::pair(a, b));
         self.joints.push(joint);
@@ -222,6 +238,9 @@ impl World {
         if self.bodies.iter().enumerate().any(|(k, b)| k != index && b.name == desc.name) {
             return Err(invalid("body name", &desc.name, "is already taken"));
         }
+        if self.bodies[index].role != Role::Free {
+            return Err(invalid("body index", index, "is condensed into a cluster or is a cluster's proxy"));
+        }
         let body = RigidBody::new(desc)?;
         let old = (self.bodies[index].position, self.bodies[index].orientation);
         for joint in &mut self.joints {
@@ -246,6 +265,7 @@ impl World {
             cache: self.cache.clone(),
             time: self.time,
             steps: self.steps,
+            layout: self.layout,
         }
     }
 
@@ -256,6 +276,9 @@ impl World {
     pub fn restore(&mut self, state: &WorldState) -> Result<(), SimError> {
         if state.bodies.len() != self.bodies.len() {
             return Err(invalid("snapshot", state.bodies.len(), "has a different number of bodies than the world"));
+        }
+        if state.layout != self.layout {
+            return Err(invalid("snapshot", state.layout, "was taken before bodies were condensed or uncondensed"));
         }
         for (body, &(position, orientation, linear, angular, activity)) in self.bodies.iter_mut().zip(&state.bodies) {
             body.position = position;
@@ -294,7 +317,7 @@ impl World {
 
     /// Total kinetic energy of the dynamic bodies, J.
     pub fn kinetic_energy(&self) -> f64 {
-        self.bodies.iter().map(|b| f64::from(b.kinetic_energy())).sum()
+        self.bodies.iter().filter(|b| b.is_simulated()).map(|b| f64::from(b.kinetic_energy())).sum()
     }
 
     /// Advances the world by one time step and reports the collisions.
@@ -333,9 +356,10 @@ impl World {
         self.cache.store(&constraints, |i| self.bodies[i].orientation);
         let mut pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
         joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s);
-        let events = events(&found, &constraints);
+        let events = events(&found, &constraints, |body, part| self.member_hit(body, part));
         self.integrate(&solver_bodies, &pseudo);
         let bends = joints::poststabilize(&mut self.joints, &mut self.bodies, &s);
+        self.sync_members();
         // Islands: bodies touching, and bodies joined by a joint.
         let links: Vec<(usize, usize)> =
             found.iter().map(|p| (p.a, p.b)).chain(self.joints.iter().map(|j| (j.a(), j.b()))).collect();
@@ -370,6 +394,9 @@ impl World {
 
     /// Pairs that cannot interact: neither body free to move, or joined by a joint.
     fn skip_pair(&self, i: usize, j: usize) -> bool {
+        if !self.bodies[i].is_simulated() || !self.bodies[j].is_simulated() {
+            return true;
+        }
         let still = |b: &RigidBody| b.kind == BodyKind::Static || (b.kind == BodyKind::Dynamic && b.activity.asleep);
         still(&self.bodies[i]) && still(&self.bodies[j])
             || !moves(&self.bodies[i]) && !moves(&self.bodies[j])
@@ -400,6 +427,9 @@ impl World {
     fn integrate(&mut self, solved: &[SolverBody], pseudo: &[(Vec3, Vec3)]) {
         let s = self.settings;
         for ((body, sb), &(push, twist)) in self.bodies.iter_mut().zip(solved).zip(pseudo) {
+            if !body.is_simulated() {
+                continue;
+            }
             match body.kind {
                 BodyKind::Static => continue,
                 BodyKind::Dynamic if body.activity.asleep => continue,
@@ -419,7 +449,7 @@ impl World {
 
 /// Whether gravity and impulses move the body this step.
 fn moves_freely(body: &RigidBody) -> bool {
-    body.kind == BodyKind::Dynamic && !body.activity.asleep
+    body.kind == BodyKind::Dynamic && !body.activity.asleep && body.is_simulated()
 }
 
 /// Whether the body can move at all (dynamic, or kinematic with a velocity).
@@ -444,8 +474,13 @@ fn solver_body(body: &RigidBody, up: Vec3) -> SolverBody {
 }
 
 /// One event per pair with a closing contact: impulse-weighted point, the pair's normal, the
-/// relative velocity there before the step.
-fn events(found: &[PairContacts], constraints: &[solver::Constraint]) -> Vec<CollisionEvent> {
+/// relative velocity there before the step. A cluster's proxy is reported as the member hit
+/// (`member(body, part)`, the part of the closest contact), a before b in index order.
+fn events(
+    found: &[PairContacts],
+    constraints: &[solver::Constraint],
+    member: impl Fn(usize, u32) -> usize,
+) -> Vec<CollisionEvent> {
     let mut out = Vec::new();
     let mut k = 0;
     for (pair, contact) in found.iter().enumerate() {
@@ -454,7 +489,9 @@ fn events(found: &[PairContacts], constraints: &[solver::Constraint]) -> Vec<Col
             k += 1;
         }
         let mine = &constraints[start..k];
-        let Some(closest) = mine.iter().filter(|c| c.colliding).min_by(|x, y| x.approach.total_cmp(&y.approach)) else {
+        let Some((closest_index, closest)) =
+            mine.iter().enumerate().filter(|(_, c)| c.colliding).min_by(|x, y| x.1.approach.total_cmp(&y.1.approach))
+        else {
             continue;
         };
         let impulse: Vec3 = mine.iter().map(|c| c.total).sum();
@@ -464,15 +501,19 @@ fn events(found: &[PairContacts], constraints: &[solver::Constraint]) -> Vec<Col
         } else {
             closest.point
         };
-        out.push(CollisionEvent {
-            a: contact.a,
-            b: contact.b,
+        // Constraints are made one per contact point, in order.
+        let at = &contact.points[closest_index];
+        let (a, b) = (member(contact.a, at.part_a), member(contact.b, at.part_b));
+        let event = CollisionEvent {
+            a,
+            b,
             point,
             normal: closest.normal,
             relative_velocity: closest.relative_velocity,
             normal_speed: -closest.approach,
             impulse,
-        });
+        };
+        out.push(if a < b { event } else { event.swapped() });
     }
     out
 }

@@ -6,6 +6,7 @@
 
 use super::{World, invalid, joints};
 use crate::sim::SimError;
+use crate::sim::cluster::Role;
 
 impl World {
     /// Moves the end of joint `joint` that is on body `from` to body `to`, keeping the joint's
@@ -16,7 +17,8 @@ impl World {
     ///
     /// # Errors
     /// [`SimError::Invalid`] for a joint or body index out of range, `from == to`, a joint that
-    /// does not end on `from`, or a joint whose other end is `to`. The world is unchanged then.
+    /// does not end on `from`, a joint whose other end is `to`, or a body condensed into a
+    /// cluster or standing in for one. The world is unchanged then.
     pub fn retarget_joint(&mut self, joint: usize, from: usize, to: usize) -> Result<(), SimError> {
         let Some(current) = self.joints.get(joint) else {
             return Err(invalid("joint index", joint, "is not a joint of the world"));
@@ -37,6 +39,20 @@ impl World {
         if other == to {
             return Err(invalid("retarget to body", to, "is already the joint's other body"));
         }
+        for (what, index) in [("retarget from body", from), ("retarget to body", to)] {
+            if !matches!(self.bodies[index].role, Role::Free) {
+                return Err(invalid(what, index, "is condensed into a cluster or is a cluster's proxy"));
+            }
+        }
+        self.move_joint_end(joint, from, to);
+        Ok(())
+    }
+
+    /// [`retarget_joint`](Self::retarget_joint) without the checks (`joint` ends on `from`,
+    /// its other end is not `to`).
+    pub(crate) fn move_joint_end(&mut self, joint: usize, from: usize, to: usize) {
+        let current = &self.joints[joint];
+        let other = if current.a == from { current.b } else { current.a };
         let pose = |i: usize| (self.bodies[i].position, self.bodies[i].orientation);
         let (old, new) = (pose(from), pose(to));
         let moved = &mut self.joints[joint];
@@ -51,6 +67,5 @@ impl World {
         if !still_joined {
             self.joined.remove(&joints::pair(other, from));
         }
-        Ok(())
     }
 }

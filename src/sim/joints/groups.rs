@@ -15,7 +15,7 @@ pub(crate) fn pair(a: usize, b: usize) -> (usize, usize) {
 /// Group representative of every body (itself when it has no dynamic joint partner).
 fn groups(joints: &[Joint], bodies: &[RigidBody]) -> Vec<usize> {
     let mut sets = UnionFind::new(bodies.len());
-    let dynamic = |i: usize| bodies.get(i).is_some_and(|b| b.kind == BodyKind::Dynamic);
+    let dynamic = |i: usize| bodies.get(i).is_some_and(|b| b.kind == BodyKind::Dynamic && b.is_simulated());
     for joint in joints {
         if dynamic(joint.a) && dynamic(joint.b) {
             sets.join(joint.a, joint.b);
@@ -38,7 +38,7 @@ pub(crate) fn sync_sleep(joints: &[Joint], bodies: &mut [RigidBody]) {
         }
     }
     for (i, body) in bodies.iter_mut().enumerate() {
-        if body.kind == BodyKind::Dynamic && body.activity.asleep && awake[group[i]] {
+        if body.kind == BodyKind::Dynamic && body.is_simulated() && body.activity.asleep && awake[group[i]] {
             body.activity.wake();
         }
     }

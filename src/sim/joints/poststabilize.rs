@@ -31,7 +31,7 @@ pub(crate) fn poststabilize(
         bodies.iter().map(|b| Motion { linear: b.linear_velocity, angular: b.angular_velocity }).collect();
     hold_velocities(joints, bodies, &mob, &mut v, true);
     for (body, m) in bodies.iter_mut().zip(&v) {
-        if body.kind == BodyKind::Dynamic && !body.activity.asleep {
+        if body.kind == BodyKind::Dynamic && !body.activity.asleep && body.is_simulated() {
             body.linear_velocity = m.linear;
             body.angular_velocity = m.angular;
         }

@@ -29,12 +29,16 @@ pub(crate) struct Mobility {
 }
 
 /// Mobilities as `World::step` treats the bodies: dynamic awake bodies take impulses and are
-/// integrated with damped spin, kinematic ones only move, static and sleeping ones stay put.
+/// integrated with damped spin, kinematic ones only move, static and sleeping ones stay put, and
+/// so do bodies condensed into a cluster (their joints to each other rest).
 pub(crate) fn mobilities(bodies: &[RigidBody], settings: &WorldSettings) -> Vec<Mobility> {
     let spin = (1.0 - settings.angular_damping * settings.dt).max(0.0);
     bodies
         .iter()
         .map(|body| match body.kind {
+            _ if !body.is_simulated() => {
+                Mobility { inverse_mass: 0.0, inverse_inertia: Mat3::ZERO, spin: 1.0, moves: false }
+            }
             BodyKind::Dynamic if !body.activity.asleep => Mobility {
                 inverse_mass: body.inverse_mass,
                 inverse_inertia: body.inverse_inertia_world(),
