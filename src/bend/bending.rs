@@ -7,7 +7,8 @@ use std::time::Instant;
 use glam::Vec3;
 use serde::Serialize;
 
-use super::{ArticulatedBody, BendableDesc};
+use super::condensation::Condenser;
+use super::{ArticulatedBody, BendableDesc, CondenseSettings};
 use crate::mesh::TriMesh;
 use crate::sim::{SimError, StepReport, World};
 
@@ -45,6 +46,7 @@ pub struct Bending {
     bodies: Vec<ArticulatedBody>,
     joints: Vec<JointRecord>,
     bends: Vec<BendRecord>,
+    condenser: Option<Condenser>,
 }
 
 impl Bending {
@@ -67,6 +69,23 @@ impl Bending {
         }
         self.bodies.push(ArticulatedBody::new(world, desc)?);
         Ok(self.bodies.len() - 1)
+    }
+
+    /// Turns condensation on (paper §4.2): from then on every group of bodies joined by quiet
+    /// joints in the world is simulated as one rigid cluster, dissolved for a step by a hit
+    /// that could bend it (see [`CondenseSettings`]).
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] for bad settings.
+    pub fn condense(&mut self, settings: CondenseSettings) -> Result<(), SimError> {
+        settings.validate()?;
+        self.condenser = Some(Condenser::new(settings));
+        Ok(())
+    }
+
+    /// The condensation settings, `None` when condensation is off.
+    pub fn condensation(&self) -> Option<CondenseSettings> {
+        self.condenser.as_ref().map(|c| c.settings)
     }
 
     /// The bending bodies.
@@ -107,66 +126,103 @@ impl Bending {
         self.bodies.iter().map(|b| Ok((b.name().to_owned(), b.skinned_mesh(world)?, b.color()))).collect()
     }
 
-    /// One step of `world`. With dynamic articulation (Algorithm 2 steps 4–12): snapshot, step;
-    /// if a collision involving a sub-body of such a body closed faster than its threshold,
-    /// restore the snapshot, split at the fastest such hit of each body
-    /// ([`ArticulatedBody::split_at`]) and step again. Records the joints made and the plastic
-    /// bends of the step that stands. Without bending bodies this is [`World::step`].
+    /// One step of `world`. With dynamic articulation or condensation (Algorithm 2 steps 4–13):
+    /// snapshot, step; if a collision involving a sub-body of such a body closed faster than
+    /// its threshold, or hit a cluster faster than its wake speed, restore the snapshot,
+    /// dissolve the clusters hit, split at the fastest such hit of each body
+    /// ([`ArticulatedBody::split_at`]) and step again. Then quiet groups are condensed. Records
+    /// the joints made and the plastic bends of the step that stands. Without bending bodies
+    /// or condensation this is [`World::step`].
     ///
     /// # Errors
     /// A split failed (a bug; the world is restored to before the step) or the snapshot could not
     /// be restored.
     pub fn step(&mut self, world: &mut World) -> Result<StepReport, SimError> {
         let dynamic = self.bodies.iter().any(|b| b.dynamic().is_some());
-        let snapshot = dynamic.then(|| world.snapshot());
+        let clustered = self.condenser.is_some() && !world.clusters().is_empty();
+        let snapshot = (dynamic || clustered).then(|| world.snapshot());
         let mut report = world.step();
         if let Some(snapshot) = snapshot {
-            let hits = self.fast_hits(&report);
-            if !hits.is_empty() {
+            let owners = self.owners(world.bodies().len());
+            let hits = self.fast_hits(&report, &owners);
+            let woken = self.condenser.as_ref().map_or_else(Vec::new, |c| {
+                c.hit_clusters(world, &report.events, |body| {
+                    owners[body].and_then(|(k, _)| self.bodies[k].dynamic().map(|d| d.speed_threshold))
+                })
+            });
+            if !hits.is_empty() || !woken.is_empty() {
                 world.restore(&snapshot)?;
-                let frame = world.steps() + 1;
-                for (body, index, point) in hits {
-                    let started = Instant::now();
-                    let outcome = self.bodies[body].split_at(world, index, point)?;
-                    if let Some(o) = outcome {
-                        let name = self.bodies[body].name().to_owned();
-                        log::info!("{name}: joint {} at {:?} (step {frame})", o.joint, o.world_point);
-                        self.joints.push(JointRecord {
-                            frame,
-                            body: name,
-                            position: o.world_point,
-                            rest_position: o.rest_point,
-                            joint: o.joint,
-                            split_ms: started.elapsed().as_secs_f64() * 1e3,
-                        });
-                    }
+                if let Some(condenser) = self.condenser.as_mut() {
+                    condenser.wake(world, &woken)?;
                 }
+                self.split(world, hits)?;
                 report = world.step();
             }
         }
         let frame = world.steps();
         self.bends.extend(report.bends.iter().map(|b| BendRecord { frame, joint: b.joint, angle: b.angle }));
+        if let Some(condenser) = self.condenser.as_mut() {
+            condenser.update(world, &report)?;
+        }
         Ok(report)
     }
 
+    /// Splits each bending body at its hit (after the dummy step was undone) and records the
+    /// joints made.
+    fn split(&mut self, world: &mut World, hits: Vec<(usize, usize, Vec3)>) -> Result<(), SimError> {
+        let frame = world.steps() + 1;
+        for (body, index, point) in hits {
+            if let Some(cluster) = world.cluster_of(index) {
+                world.uncondense(cluster)?;
+            }
+            let started = Instant::now();
+            let outcome = self.bodies[body].split_at(world, index, point)?;
+            if let Some(o) = outcome {
+                let name = self.bodies[body].name().to_owned();
+                log::info!("{name}: joint {} at {:?} (step {frame})", o.joint, o.world_point);
+                self.joints.push(JointRecord {
+                    frame,
+                    body: name,
+                    position: o.world_point,
+                    rest_position: o.rest_point,
+                    joint: o.joint,
+                    split_ms: started.elapsed().as_secs_f64() * 1e3,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Per world body, the bending body and bone it simulates.
+    fn owners(&self, count: usize) -> Vec<Option<(usize, usize)>> {
+        let mut owners = vec![None; count];
+        for (k, body) in self.bodies.iter().enumerate() {
+            for (bone, &index) in body.body_indices().iter().enumerate() {
+                if let Some(slot) = owners.get_mut(index) {
+                    *slot = Some((k, bone));
+                }
+            }
+        }
+        owners
+    }
+
     /// Per bending body with dynamic articulation, the fastest hit on one of its sub-bodies above
-    /// its threshold: (body, world body index hit, contact point).
-    fn fast_hits(&self, report: &StepReport) -> Vec<(usize, usize, Vec3)> {
+    /// its threshold: (body, world body index hit, contact point). `owners` as [`Self::owners`].
+    fn fast_hits(&self, report: &StepReport, owners: &[Option<(usize, usize)>]) -> Vec<(usize, usize, Vec3)> {
         let mut best: Vec<Option<(f32, usize, Vec3)>> = vec![None; self.bodies.len()];
         for event in &report.events {
-            for index in [event.a, event.b] {
-                for (k, body) in self.bodies.iter().enumerate() {
-                    let Some(dynamic) = body.dynamic() else { continue };
-                    let own = |i: usize| body.bone_of(i).is_some();
-                    if own(event.a) && own(event.b) {
-                        continue; // two of its own sub-bodies touching
-                    }
-                    if body.bone_of(index).is_none() || event.normal_speed <= dynamic.speed_threshold {
-                        continue;
-                    }
-                    if best[k].is_none_or(|(speed, _, _)| event.normal_speed > speed) {
-                        best[k] = Some((event.normal_speed, index, event.point));
-                    }
+            let (owner_a, owner_b) = (owners[event.a].map(|o| o.0), owners[event.b].map(|o| o.0));
+            if owner_a.is_some() && owner_a == owner_b {
+                continue; // two of one body's own sub-bodies touching
+            }
+            for (index, owner) in [(event.a, owner_a), (event.b, owner_b)] {
+                let Some(k) = owner else { continue };
+                let Some(dynamic) = self.bodies[k].dynamic() else { continue };
+                if event.normal_speed <= dynamic.speed_threshold {
+                    continue;
+                }
+                if best[k].is_none_or(|(speed, _, _)| event.normal_speed > speed) {
+                    best[k] = Some((event.normal_speed, index, event.point));
                 }
             }
         }

@@ -13,6 +13,7 @@ mod articulated;
 mod auto_skeleton;
 mod bendable;
 mod bending;
+mod condensation;
 mod error;
 mod geodesic;
 mod geometry;
@@ -29,6 +30,7 @@ pub use articulated::ArticulatedBody;
 pub use auto_skeleton::{AUTO_INSET, MAX_AUTO_BONES, auto_skeleton};
 pub use bendable::{BendableDesc, DynamicArticulation, SkeletonSpec};
 pub use bending::{BendRecord, Bending, JointRecord};
+pub use condensation::CondenseSettings;
 pub use error::BendError;
 pub use level_set::{
     BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,

@@ -84,7 +84,7 @@ pub fn fit_camera(bounds: (Vec3, Vec3), direction: Vec3) -> Camera {
 pub(super) fn framing_bounds(world: &World, keep: impl Fn(&RigidBody) -> bool) -> (Vec3, Vec3) {
     let mut lo = Vec3::splat(f32::INFINITY);
     let mut hi = Vec3::splat(f32::NEG_INFINITY);
-    for body in world.bodies().iter().filter(|b| keep(b)) {
+    for body in world.bodies().iter().filter(|b| !b.is_cluster_proxy() && keep(b)) {
         let transform = body.transform();
         for &p in body.mesh().positions() {
             let p = transform.transform_point3(p);

@@ -33,4 +33,5 @@ pub use events::{CollisionEvent, StepReport};
 pub use joints::{BendEvent, Joint, JointKind};
 pub use mass::{MassProperties, mass_properties};
 pub use simulation::{Simulation, StepStats, StepTiming};
+pub(crate) use union_find::UnionFind;
 pub use world::{World, WorldSettings, WorldState};

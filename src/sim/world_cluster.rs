@@ -129,6 +129,17 @@ impl World {
         Some(c.members.iter().map(|m| m.body).collect())
     }
 
+    /// The bodies joint `joint` was made between (or moved to by a split), even while one of
+    /// them is condensed and the joint acts on its cluster's proxy.
+    pub fn joint_ends(&self, joint: usize) -> Option<(usize, usize)> {
+        let j = self.joints.get(joint)?;
+        let member = |end: usize| match self.bodies[end].role {
+            Role::Proxy(id) => self.clusters[id].moved_joints.iter().find(|m| m.0 == joint).map_or(end, |m| m.1),
+            _ => end,
+        };
+        Some((member(j.a), member(j.b)))
+    }
+
     /// Ids of the active clusters.
     pub fn clusters(&self) -> Vec<usize> {
         (0..self.clusters.len()).filter(|&k| self.clusters[k].is_active()).collect()

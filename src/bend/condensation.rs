@@ -1,0 +1,210 @@
+//! When to condense (paper §4.2): bodies joined by joints that have been quiet for a while are
+//! simulated as one rigid cluster ([`World::condense`]); a hit that could bend them dissolves
+//! the cluster for the step that takes it; afterwards every joint that did not bend is quiet
+//! again, so the bodies on either side of a bending joint collapse into two clusters and a
+//! detailed skeleton costs one joint's work.
+
+use serde::Serialize;
+
+use crate::sim::{CollisionEvent, JointKind, SimError, StepReport, World};
+
+/// How condensation decides.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CondenseSettings {
+    /// A hit on a cluster closing faster than this dissolves it for the step, m/s (finite,
+    /// ≥ 0). Hits on bending bodies with dynamic articulation also dissolve it above their
+    /// split threshold.
+    pub wake_speed: f32,
+    /// A joint is quiet once it has not bent, turned or sprung for this long, s (finite, ≥ 0).
+    pub quiet_time: f32,
+    /// Relative angular speed below which a joint is not turning, rad/s (finite, > 0).
+    pub quiet_spin: f32,
+    /// Deflection of an elastic joint from its rest below which its spring is at rest, rad or
+    /// m (finite, > 0).
+    pub quiet_deflection: f32,
+}
+
+impl Default for CondenseSettings {
+    /// Hits above 1 m/s wake; quiet after 0.1 s below 0.05 rad/s and 1 mrad (1 mm).
+    fn default() -> Self {
+        Self { wake_speed: 1.0, quiet_time: 0.1, quiet_spin: 0.05, quiet_deflection: 1e-3 }
+    }
+}
+
+impl CondenseSettings {
+    /// Checks every number.
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), SimError> {
+        let bad = |what: &str, value: f32, reason| SimError::Invalid {
+            what: format!("condensation {what}"),
+            value: value.to_string(),
+            reason,
+        };
+        for (what, value) in [("wake_speed", self.wake_speed), ("quiet_time", self.quiet_time)] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(bad(what, value, "must be finite and >= 0"));
+            }
+        }
+        for (what, value) in [("quiet_spin", self.quiet_spin), ("quiet_deflection", self.quiet_deflection)] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(bad(what, value, "must be finite and > 0"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The condensation state of a world: when each joint was last active.
+#[derive(Debug, Clone)]
+pub(crate) struct Condenser {
+    pub settings: CondenseSettings,
+    /// Per joint, the last step at which it bent, turned or sprung (or was woken by a hit).
+    last_active: Vec<u64>,
+}
+
+impl Condenser {
+    pub fn new(settings: CondenseSettings) -> Self {
+        Self { settings, last_active: Vec::new() }
+    }
+
+    /// Clusters that `events` hit faster than the wake speed, or than `split_speed(body)` for a
+    /// body that a fast hit would split (`None`: no such threshold), in order, without repeats.
+    pub fn hit_clusters(
+        &self,
+        world: &World,
+        events: &[CollisionEvent],
+        split_speed: impl Fn(usize) -> Option<f32>,
+    ) -> Vec<usize> {
+        let mut hit = Vec::new();
+        for event in events {
+            for body in [event.a, event.b] {
+                let Some(cluster) = world.cluster_of(body) else { continue };
+                let threshold = split_speed(body).map_or(self.settings.wake_speed, |s| s.min(self.settings.wake_speed));
+                if event.normal_speed > threshold && !hit.contains(&cluster) {
+                    hit.push(cluster);
+                }
+            }
+        }
+        hit
+    }
+
+    /// Dissolves `clusters` (after the dummy step was undone) and marks their joints active, so
+    /// the hit is taken with every joint free.
+    pub fn wake(&mut self, world: &mut World, clusters: &[usize]) -> Result<(), SimError> {
+        let now = world.steps();
+        self.grow(world);
+        for &cluster in clusters {
+            let members = world.cluster_members(cluster).unwrap_or_default();
+            world.uncondense(cluster)?;
+            for joint in 0..world.joints().len() {
+                let (a, b) = world.joint_ends(joint).unwrap_or((usize::MAX, usize::MAX));
+                if members.contains(&a) || members.contains(&b) {
+                    self.last_active[joint] = now;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// After the step that stands: notes which joints were active, then condenses every group of
+    /// bodies joined by quiet joints that is not one cluster yet (dissolving the smaller clusters
+    /// it swallows). Bodies that cannot be condensed (static, dentable, triangle-mesh
+    /// colliders) keep their joints active.
+    pub fn update(&mut self, world: &mut World, report: &StepReport) -> Result<(), SimError> {
+        self.grow(world);
+        let now = world.steps();
+        for bend in &report.bends {
+            self.last_active[bend.joint] = now;
+        }
+        let quiet_steps = (self.settings.quiet_time / world.settings().dt).ceil() as u64;
+        let mut groups = crate::sim::UnionFind::new(world.bodies().len());
+        for joint in 0..world.joints().len() {
+            if self.is_active(world, joint) {
+                self.last_active[joint] = now;
+                continue;
+            }
+            if now.saturating_sub(self.last_active[joint]) >= quiet_steps
+                && let Some((a, b)) = world.joint_ends(joint)
+                && condensable(world, a)
+                && condensable(world, b)
+            {
+                groups.join(a, b);
+            }
+        }
+        let mut members: Vec<Vec<usize>> = vec![Vec::new(); world.bodies().len()];
+        for body in 0..world.bodies().len() {
+            if condensable(world, body) {
+                members[groups.root(body)].push(body);
+            }
+        }
+        for group in members.into_iter().filter(|g| g.len() >= 2) {
+            let current = world.cluster_of(group[0]);
+            if current.is_some_and(|c| world.cluster_members(c).is_some_and(|m| same_set(&m, &group))) {
+                continue;
+            }
+            let swallowed: Vec<usize> = {
+                let mut ids: Vec<usize> = group.iter().filter_map(|&b| world.cluster_of(b)).collect();
+                ids.dedup();
+                ids
+            };
+            for cluster in swallowed {
+                if world.cluster_members(cluster).is_some() {
+                    world.uncondense(cluster)?;
+                }
+            }
+            if let Err(e) = world.condense(&group) {
+                log::debug!("condensation skipped a group of {} bodies: {e}", group.len());
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether joint `joint` is bending, turning or springing now (joints resting inside a
+    /// cluster are not).
+    fn is_active(&self, world: &World, joint: usize) -> bool {
+        let j = &world.joints()[joint];
+        let bodies = world.bodies();
+        let (a, b) = (&bodies[j.a()], &bodies[j.b()]);
+        if a.is_condensed() && b.is_condensed() {
+            return false;
+        }
+        if j.is_bending() || (b.angular_velocity - a.angular_velocity).length() > self.settings.quiet_spin {
+            return true;
+        }
+        match j.kind() {
+            JointKind::Elastic { .. } => {
+                j.deviation(bodies).is_some_and(|d| d.length() > self.settings.quiet_deflection)
+            }
+            JointKind::ElasticPrismatic { .. } => {
+                j.separation(bodies).is_some_and(|s| s.length() > self.settings.quiet_deflection)
+            }
+            _ => false,
+        }
+    }
+
+    /// Makes room for joints added since the last call (active now).
+    fn grow(&mut self, world: &World) {
+        let now = world.steps();
+        self.last_active.resize(world.joints().len(), now);
+    }
+}
+
+/// Whether a body may be in a cluster (it may be in one already): a dynamic body that is not a
+/// proxy, not dentable and has a simple collider.
+fn condensable(world: &World, body: usize) -> bool {
+    let b = &world.bodies()[body];
+    b.kind == crate::sim::BodyKind::Dynamic
+        && !b.is_cluster_proxy()
+        && b.dent.is_none()
+        && b.shape().as_composite_shape().is_none()
+}
+
+/// Whether two index lists hold the same bodies.
+fn same_set(a: &[usize], b: &[usize]) -> bool {
+    let (mut a, mut b) = (a.to_vec(), b.to_vec());
+    a.sort_unstable();
+    b.sort_unstable();
+    a == b
+}
