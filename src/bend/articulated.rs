@@ -51,6 +51,37 @@ impl ArticulatedBody {
     /// this resolution; [`SimError::Invalid`] for a sub-body name already taken. The world is
     /// unchanged on error.
     pub fn new(world: &mut World, desc: BendableDesc) -> Result<Self, SimError> {
+        Self::at_rest(&desc)?.place(world, &desc)
+    }
+
+    /// Like [`new`](Self::new), but takes the rest state (skeleton, weights, sub-bodies) from
+    /// `template` when it was made from the same mesh, skeleton, weight parameters and density
+    /// and has not been split since: many copies of one body (the struts of Figure 13) then cost
+    /// one weight computation.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn new_like(world: &mut World, desc: BendableDesc, template: &Self) -> Result<Self, SimError> {
+        desc.validate()?;
+        let same = template.added_joints == 0
+            && template.density == desc.density
+            && template.cache.params() == desc.weights
+            && template.rest_mesh == desc.mesh
+            && desc.build_skeleton()? == template.skeleton;
+        if !same {
+            return Self::new(world, desc);
+        }
+        let mut body = template.clone();
+        body.name.clone_from(&desc.name);
+        body.bodies.clear();
+        body.surface = desc.surface;
+        body.color = desc.color;
+        body.dynamic = desc.dynamic;
+        body.place(world, &desc)
+    }
+
+    /// The rest state of `desc`: skeleton, weights, sub-bodies (no world bodies yet).
+    fn at_rest(desc: &BendableDesc) -> Result<Self, SimError> {
         desc.validate()?;
         let skeleton = desc.build_skeleton()?;
         let fail = |e| bend_error(&desc.name, e);
@@ -79,6 +110,13 @@ impl ArticulatedBody {
             body.mass_scale = exact / voxels;
         }
         body.influences = skin_influences(&body.weights);
+        Ok(body)
+    }
+
+    /// Adds one world body per bone and one world joint per skeleton joint for `desc`'s pose
+    /// and motion; the world is unchanged on error.
+    fn place(mut self, world: &mut World, desc: &BendableDesc) -> Result<Self, SimError> {
+        let body = &mut self;
         let rotation = desc.orientation.normalize();
         let pose = Affine3A::from_rotation_translation(rotation, desc.position);
         let centre = pose.transform_point3(body.sub_bodies.total().center);
@@ -93,16 +131,22 @@ impl ArticulatedBody {
                 reason: "names a sub-body like a body already in the world",
             });
         }
-        let mut staged = world.clone();
-        for d in descs {
-            body.bodies.push(staged.add(d)?);
+        let (bodies_before, joints_before) = (world.bodies().len(), world.joints().len());
+        let added = (|| {
+            for d in descs {
+                body.bodies.push(world.add(d)?);
+            }
+            for joint in body.skeleton.joints() {
+                let anchor = pose.transform_point3(joint.point);
+                world.add_joint(body.bodies[joint.parent], body.bodies[joint.child], anchor, desc.joint)?;
+            }
+            Ok(())
+        })();
+        if let Err(e) = added {
+            world.truncate(bodies_before, joints_before);
+            return Err(e);
         }
-        for joint in body.skeleton.joints() {
-            let anchor = pose.transform_point3(joint.point);
-            staged.add_joint(body.bodies[joint.parent], body.bodies[joint.child], anchor, desc.joint)?;
-        }
-        *world = staged;
-        Ok(body)
+        Ok(self)
     }
 
     /// The body's name.

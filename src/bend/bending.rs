@@ -55,7 +55,9 @@ impl Bending {
         Self::default()
     }
 
-    /// Adds a bending body to `world` (see [`ArticulatedBody::new`]); returns its index here.
+    /// Adds a bending body to `world` (see [`ArticulatedBody::new`]; a copy of a body added
+    /// before, same mesh, skeleton, weights and density, reuses its rest state); returns its
+    /// index here.
     ///
     /// # Errors
     /// As [`ArticulatedBody::new`]; also a name already used by another bending body.
@@ -67,7 +69,13 @@ impl Bending {
                 reason: "is already taken",
             });
         }
-        self.bodies.push(ArticulatedBody::new(world, desc)?);
+        // Copies of one body share its rest state (see `ArticulatedBody::new_like`).
+        let template = self.bodies.iter().rev().find(|b| b.rest_mesh().vertex_count() == desc.mesh.vertex_count());
+        let body = match template {
+            Some(template) => ArticulatedBody::new_like(world, desc, template)?,
+            None => ArticulatedBody::new(world, desc)?,
+        };
+        self.bodies.push(body);
         Ok(self.bodies.len() - 1)
     }
 

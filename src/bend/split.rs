@@ -38,9 +38,10 @@ impl ArticulatedBody {
     ///
     /// Otherwise: the first half keeps the old bone's index and body (rebuilt in place, as is
     /// every other bone whose sub-body changed), the second half gets a new world body moving
-    /// with the old body's rigid motion (v + ω × r at its centre of mass), the old bone's joints
-    /// to children now on the second half move to it, and a joint of the dynamic kind joins the
-    /// halves at the split point.
+    /// with the old body's rigid motion (v + ω × r at its centre of mass), every joint of the old
+    /// body anchored nearer the second half (the joints to the bone's children, joints to other
+    /// bodies at its far end) moves to it, and a joint of the dynamic kind joins the halves at
+    /// the split point.
     ///
     /// # Errors
     /// A world edit or weight computation failed (a bug); the body and the world are unchanged.
@@ -130,13 +131,20 @@ impl ArticulatedBody {
         }
         let new_body = world.add(self.sub_body_desc(second, old_pose, old_motion)?)?;
         let old_body = self.bodies[bone];
-        for child in self.skeleton.children(second) {
-            let child_body = self.bodies[child];
-            let joint = world
-                .joints()
-                .iter()
-                .position(|j| (j.a(), j.b()) == (old_body, child_body) || (j.a(), j.b()) == (child_body, old_body));
-            if let Some(joint) = joint {
+        // Every joint on the old bone's far half moves to the new body: the skeleton's joints
+        // to the split bone's children, and joints to other bodies (a strut's end caps).
+        let to_rest = world.bodies()[old_body].model_transform().inverse();
+        let (first_bone, second_bone) = (&self.skeleton.bones()[bone], &self.skeleton.bones()[second]);
+        for joint in 0..world.joints().len() {
+            let j = &world.joints()[joint];
+            let Some((on_a, on_b)) = j.anchors(world.bodies()) else { continue };
+            let anchor_here = match (j.a(), j.b()) {
+                (a, _) if a == old_body => on_a,
+                (_, b) if b == old_body => on_b,
+                _ => continue,
+            };
+            let rest = to_rest.transform_point3(anchor_here);
+            if second_bone.distance(rest) < first_bone.distance(rest) {
                 world.retarget_joint(joint, old_body, new_body)?;
             }
         }

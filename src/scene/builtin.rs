@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{Affine3A, Vec3};
 
 use super::types::{fit_camera, framing_bounds};
-use super::{Scene, SceneError, SceneSize, bending_scenes, figures, load_scene, rain};
+use super::{Scene, SceneError, SceneSize, bending_scenes, figures, load_scene, rain, tetrahedra};
 use crate::mesh::{self, TriMesh};
 use crate::sim::{DentSettings, SimError, World, WorldSettings};
 
@@ -22,8 +22,9 @@ use crate::sim::{DentSettings, SimError, World, WorldSettings};
 /// | `rain`        | 10     | 1,507 dentable spheres rain on a dense bunny and other targets        |
 /// | `plank`       | 14     | a ball hits a plank on two supports: a plastic joint appears there    |
 /// | `spring`      | —      | a floating bar with an elastic joint is hit and springs back straight |
+/// | `tetrahedra`  | 13     | 400 tetrahedra of balls and struts fall on four frames and bend       |
 pub const BUILTIN_SCENES: &[&str] =
-    &["pair", "ball-block", "bunny-block", "glancing", "resolution", "rain", "plank", "spring"];
+    &["pair", "ball-block", "bunny-block", "glancing", "resolution", "rain", "plank", "spring", "tetrahedra"];
 
 /// Builds the built-in scene `name` (see [`BUILTIN_SCENES`]) at `size`.
 ///
@@ -48,6 +49,7 @@ pub fn builtin_scene(name: &str, size: SceneSize) -> Result<Scene, SceneError> {
         "rain" => rain::rain,
         "plank" => bending_scenes::plank,
         "spring" => bending_scenes::spring,
+        "tetrahedra" => tetrahedra::tetrahedra,
         _ => return Err(SceneError::UnknownScene { name: name.into() }),
     };
     build(size).map_err(|source| SceneError::Builtin { scene: name.into(), source })
@@ -132,4 +134,20 @@ pub(super) fn finish(
 ) -> Scene {
     let camera = fit_camera(framing_bounds(&world, |b| framed(&b.name)), view);
     Scene { name: name.into(), world, camera, frames, description: description.into(), bending: Default::default() }
+}
+
+/// A 64-bit linear congruential generator (Knuth's MMIX constants): the same cloud every run.
+pub(super) struct Lcg(pub u64);
+
+impl Lcg {
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f32 {
+        self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// Uniform in [−1, 1).
+    pub fn symmetric(&mut self) -> f32 {
+        2.0 * self.unit() - 1.0
+    }
 }

@@ -127,6 +127,7 @@ mod file;
 mod parse;
 mod rain;
 mod source;
+mod tetrahedra;
 mod types;
 
 pub use bending_scenes::{PLANK_HIT, PLANK_SIZE, SPRING_JOINT};

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::builtin::{BLUE, GROUND, ORANGE, SAND, STEEL, ball, dentable, finish, scaled};
+use super::builtin::{BLUE, GROUND, Lcg, ORANGE, SAND, STEEL, ball, dentable, finish, scaled};
 use super::figures::{frames, target};
 use super::{Scene, SceneSize};
 use crate::mesh;
@@ -103,20 +103,4 @@ fn sphere(name: String, mesh: mesh::TriMesh, centre: Vec3, dent: DentSettings, c
         .collider(ColliderKind::Ball)
         .dentable(dent);
     BodyDesc { color, ..desc }
-}
-
-/// A 64-bit linear congruential generator (Knuth's MMIX constants): the same cloud every run.
-struct Lcg(u64);
-
-impl Lcg {
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f32 {
-        self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-
-    /// Uniform in [−1, 1).
-    fn symmetric(&mut self) -> f32 {
-        2.0 * self.unit() - 1.0
-    }
 }

@@ -1,6 +1,8 @@
 //! Rigid bodies: what a user describes ([`BodyDesc`]) and what the world simulates
 //! ([`RigidBody`]: pose of the centre of mass, velocities, mass properties, collider, mesh).
 
+use std::sync::Arc;
+
 use glam::{Affine3A, Mat3, Quat, Vec3};
 use parry3d::shape::SharedShape;
 
@@ -206,7 +208,8 @@ pub struct RigidBody {
     pub(crate) inverse_inertia: Mat3,
     /// The model origin in body coordinates (minus the centre of mass in model coordinates), m.
     pub(crate) model_offset: Vec3,
-    pub(crate) mesh: TriMesh,
+    /// Shared, so that copying a world (a staged edit, a snapshot) does not copy meshes.
+    pub(crate) mesh: Arc<TriMesh>,
     pub(crate) collider_kind: ColliderKind,
     pub(crate) shape: SharedShape,
     /// Sleep bookkeeping.
@@ -269,7 +272,7 @@ impl RigidBody {
             inverse_mass,
             inverse_inertia,
             model_offset: -center,
-            mesh,
+            mesh: Arc::new(mesh),
             collider_kind: desc.collider,
             shape,
             activity: Activity::default(),
@@ -295,7 +298,7 @@ impl RigidBody {
 
     /// The surface in world coordinates.
     pub fn world_mesh(&self) -> TriMesh {
-        let mut mesh = self.mesh.clone();
+        let mut mesh = (*self.mesh).clone();
         // A rigid motion of a valid mesh stays finite; the transform cannot fail.
         let _ = mesh.transform(self.transform());
         mesh
@@ -365,7 +368,7 @@ impl RigidBody {
                 .build_for(self.kind, &mesh)
                 .map_err(|reason| SimError::BadShape { body: self.name.clone(), reason })?;
         }
-        self.mesh = mesh;
+        self.mesh = Arc::new(mesh);
         Ok(())
     }
 }

@@ -77,7 +77,7 @@ impl Denter {
                 for (k, body) in world.bodies().iter().enumerate() {
                     if body.dent.as_ref().is_some_and(|d| !d.progressive) {
                         slots[k] = Some(meshes.len());
-                        meshes.push(body.mesh.clone());
+                        meshes.push(body.mesh().clone());
                     }
                 }
                 let denter = GpuDenter::new(context, &meshes).map_err(|e| SimError::Gpu(e.to_string()))?;
@@ -159,7 +159,7 @@ impl Denter {
                     .map_err(|e| SimError::Gpu(e.to_string()))?
             }
             None => {
-                let mut meshes: Vec<TriMesh> = targets.iter().map(|&t| world.bodies()[t].mesh.clone()).collect();
+                let mut meshes: Vec<TriMesh> = targets.iter().map(|&t| world.bodies()[t].mesh().clone()).collect();
                 dent_batch(&mut meshes, &jobs).map_err(|e| SimError::Dent {
                     body: world.bodies()[pending[e.job].target].name.clone(),
                     error: e.error,
@@ -188,7 +188,7 @@ impl Denter {
             let state = match index {
                 Some(k) => &mut self.progress[k],
                 None => {
-                    let pre_dent = world.bodies()[p.target].mesh.clone();
+                    let pre_dent = world.bodies()[p.target].mesh().clone();
                     self.progress.push(Progress {
                         target: p.target,
                         projectile: p.projectile,

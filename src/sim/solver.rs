@@ -284,6 +284,26 @@ pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint],
     }
 }
 
+/// More contact-phase sweeps over the constraints `only` (indices), continuing from their
+/// accumulated impulses: after the joints' pre-stabilization impulses changed the velocities,
+/// the contacts of jointed bodies take up what the joints push into them.
+pub(crate) fn contact_sweeps(
+    bodies: &mut [SolverBody],
+    constraints: &mut [Constraint],
+    only: &[usize],
+    settings: &WorldSettings,
+    iterations: u32,
+) {
+    let dt = settings.dt;
+    for _ in 0..iterations {
+        for &k in only {
+            let c = &mut constraints[k];
+            let goal = (-c.distance / dt).min(0.0);
+            solve(bodies, c, goal, None, true);
+        }
+    }
+}
+
 /// Whether the body is fixed during the step (static, kinematic or asleep: no inverse mass).
 fn fixed(body: &SolverBody) -> bool {
     body.inverse_mass == 0.0

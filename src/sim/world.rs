@@ -15,6 +15,9 @@ use super::warm_start::ContactCache;
 use super::{Aabb, BodyDesc, BodyKind, CollisionEvent, PairContacts, RigidBody, SimError, StepReport};
 use super::{broad_phase, contacts, error::invalid};
 
+/// Rounds of contact sweeps and joint pre-stabilization after the first of each.
+const JOINT_CONTACT_ROUNDS: usize = 3;
+
 #[path = "world_cluster.rs"]
 mod world_cluster;
 #[path = "world_edit.rs"]
@@ -353,9 +356,19 @@ impl World {
         }
         joints::apply_springs(&mut self.joints, &self.bodies, &mut solver_bodies, &s);
         solver::contact(&mut solver_bodies, &mut constraints, &s);
-        self.cache.store(&constraints, |i| self.bodies[i].orientation);
         let mut pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
-        joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s);
+        joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, true);
+        // Contacts were solved without the joints' impulses: alternate a few rounds so that a
+        // jointed body's supports take up what its joints push into them (else a chain resting
+        // on two supports sinks through them).
+        let jointed = self.jointed_contacts(&constraints);
+        if !jointed.is_empty() {
+            for _ in 0..JOINT_CONTACT_ROUNDS {
+                solver::contact_sweeps(&mut solver_bodies, &mut constraints, &jointed, &s, s.contact_iterations / 2);
+                joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, false);
+            }
+        }
+        self.cache.store(&constraints, |i| self.bodies[i].orientation);
         let events = events(&found, &constraints, |body, part| self.member_hit(body, part));
         self.integrate(&solver_bodies, &pseudo);
         let bends = joints::poststabilize(&mut self.joints, &mut self.bodies, &s);
@@ -373,6 +386,22 @@ impl World {
             contact_points: constraints.len(),
             seconds: started.elapsed().as_secs_f64(),
         }
+    }
+
+    /// Indices of the constraints on bodies that a joint holds to a dynamic body.
+    fn jointed_contacts(&self, constraints: &[solver::Constraint]) -> Vec<usize> {
+        if self.joints.is_empty() {
+            return Vec::new();
+        }
+        let mut held = vec![false; self.bodies.len()];
+        let dynamic = |i: usize| self.bodies[i].kind == BodyKind::Dynamic && self.bodies[i].is_simulated();
+        for joint in &self.joints {
+            if dynamic(joint.a) && dynamic(joint.b) {
+                held[joint.a] = true;
+                held[joint.b] = true;
+            }
+        }
+        (0..constraints.len()).filter(|&k| held[constraints[k].a] || held[constraints[k].b]).collect()
     }
 
     /// How far a body's surface (within `radius` of its centre of mass) can move in one step, m.

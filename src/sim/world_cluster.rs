@@ -11,6 +11,8 @@
 //! A child module of `world` (declared there with `#[path]`) so that it can edit the world's
 //! bodies, joints and joined pairs together.
 
+use std::sync::Arc;
+
 use glam::{Mat3, Vec3};
 use parry3d::math::Pose;
 use parry3d::shape::SharedShape;
@@ -253,7 +255,7 @@ impl World {
             inverse_mass: 1.0 / mass,
             inverse_inertia,
             model_offset: Vec3::ZERO,
-            mesh: TriMesh::new(positions, faces)?,
+            mesh: Arc::new(TriMesh::new(positions, faces)?),
             collider_kind: ColliderKind::ConvexHull,
             shape: SharedShape::compound(parts),
             activity: if all_asleep { bodies[0].activity } else { Activity::default() },

@@ -68,4 +68,13 @@ impl World {
             self.joined.remove(&joints::pair(other, from));
         }
     }
+
+    /// Drops the bodies and joints added after the world had `bodies` bodies and `joints`
+    /// joints (undoes a failed multi-part addition without copying the world first). Only for
+    /// additions: nothing added may have been condensed.
+    pub(crate) fn truncate(&mut self, bodies: usize, joints: usize) {
+        self.bodies.truncate(bodies);
+        self.joints.truncate(joints);
+        self.joined = self.joints.iter().map(|j| joints::pair(j.a, j.b)).collect();
+    }
 }

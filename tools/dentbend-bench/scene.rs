@@ -35,7 +35,7 @@ pub fn run(
     let scene = load_sized(spec, size).map_err(|e| e.to_string())?;
     let frames = frames.unwrap_or(scene.frames);
     let bodies = scene.world.bodies().len();
-    let mut sim = Simulation::new(scene.world, gpu).map_err(|e| e.to_string())?;
+    let mut sim = Simulation::new(scene.world, gpu).map_err(|e| e.to_string())?.with_bending(scene.bending);
     let mut steps = Vec::with_capacity(frames as usize);
     for _ in 0..frames {
         steps.push(sim.step().map_err(|e| e.to_string())?.0);

@@ -38,29 +38,34 @@ const ANGULAR_TOLERANCE: f64 = 1e-6;
 /// Pre-stabilizes `joints` on the step's velocities `solver` and contact pseudo-velocities
 /// `pseudo` (linear, angular), both changed in place. The pseudo-velocities are first made to
 /// respect the joints at velocity level, so the contact position correction moves jointed bodies
-/// together; the real impulses then remove the joints' predicted errors.
+/// together; the real impulses then remove the joints' predicted errors. With `fresh` false it
+/// continues the step's pre-stabilization after more contact sweeps (the accumulated impulses,
+/// which plastic joints clamp, and the pseudo-velocities carry on).
 pub(crate) fn prestabilize(
     joints: &mut [Joint],
     bodies: &[RigidBody],
     solver: &mut [SolverBody],
     pseudo: &mut [(Vec3, Vec3)],
     settings: &WorldSettings,
+    fresh: bool,
 ) {
     if joints.is_empty() {
         return;
     }
     let mob = system::mobilities(bodies, settings);
     let mut extra: Vec<Motion> = pseudo.iter().map(|&(linear, angular)| Motion { linear, angular }).collect();
-    if extra.iter().any(|m| m.linear != Vec3::ZERO || m.angular != Vec3::ZERO) {
+    if fresh && extra.iter().any(|m| m.linear != Vec3::ZERO || m.angular != Vec3::ZERO) {
         poststabilize::hold_velocities(joints, bodies, &mob, &mut extra, false);
         for (p, e) in pseudo.iter_mut().zip(&extra) {
             *p = (e.linear, e.angular);
         }
     }
     let mut v: Vec<Motion> = solver.iter().map(|b| Motion { linear: b.linear, angular: b.angular }).collect();
-    for joint in joints.iter_mut() {
-        joint.accumulated = Vec3::ZERO;
-        joint.clamped = false;
+    if fresh {
+        for joint in joints.iter_mut() {
+            joint.accumulated = Vec3::ZERO;
+            joint.clamped = false;
+        }
     }
     let dt = settings.dt;
     let mut now = measure(joints, bodies, &mob, &v, &extra, dt);
