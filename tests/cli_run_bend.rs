@@ -45,3 +45,32 @@ fn a_plank_run_writes_the_skinned_plank_and_its_joint() {
     let bodies: Vec<&str> = summary["bodies"].as_array().unwrap().iter().map(|b| b.as_str().unwrap()).collect();
     assert!(bodies.contains(&"plank") && !bodies.iter().any(|b| b.contains('/')), "{bodies:?}");
 }
+
+/// `dentbend run scenes/bent_bar.toml`: a bending body from a scene file is written as its skinned
+/// mesh, and its plastic joints bend (the ball hits at about frame 4 of 20).
+#[test]
+fn a_scene_file_with_a_bending_body_runs() {
+    let dir = TempDir::new("run-bent-bar");
+    let out = dir.path("bent_bar");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bent_bar.toml");
+    let args = ["run", scene, "--frames", "20", "--every", "10", "--picture", "0,0", "--out", out.to_str().unwrap()];
+    let output = dentbend(&args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let meshes = out.join("meshes");
+    for frame in ["0000", "0010", "0020"] {
+        let file = meshes.join(format!("bar_{frame}.obj"));
+        assert!(file.is_file(), "missing {}", file.display());
+    }
+    let names: Vec<String> =
+        std::fs::read_dir(&meshes).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert!(names.iter().all(|n| !n.contains("bone")), "sub-body meshes written: {names:?}");
+    let last = dentbend::mesh::load_obj(meshes.join("bar_0020.obj")).unwrap();
+    assert!(last.positions().iter().all(|p| p.is_finite()));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["scene"], "bent_bar");
+    let bodies: Vec<&str> = summary["bodies"].as_array().unwrap().iter().map(|b| b.as_str().unwrap()).collect();
+    assert_eq!(bodies, ["ball", "bar"]);
+    let bends = summary["bends"].as_array().unwrap();
+    assert!(!bends.is_empty() && bends.iter().all(|b| b["angle"].as_f64().is_some_and(|a| a > 0.0)), "{bends:?}");
+}

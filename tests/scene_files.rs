@@ -32,6 +32,8 @@ fn builtin_scenes_build_at_both_sizes() {
         // Bending scenes: their bending body is one world body per bone.
         ("plank", 2 + 1 + 1 + 1, 2 + 1 + 1 + 1),
         ("spring", 1 + 2, 1 + 2),
+        // Ground, four frames of 12 bars, tetrahedra of 4 balls and 6 one-bone struts.
+        ("tetrahedra", 1 + 48 + 400 * 10, 1 + 48 + 16 * 10),
     ];
     assert_eq!(BUILTIN_SCENES.len(), expected.len());
     for (name, full, demo) in expected {

@@ -2,6 +2,8 @@
 //! joints, and its rest mesh skinned to the sub-bodies' poses every frame (paper Algorithm 2,
 //! steps 1–3 and 13).
 
+use std::sync::Arc;
+
 use glam::{Affine3A, Quat, Vec3};
 
 use super::bendable::bend_error;
@@ -25,9 +27,10 @@ pub struct ArticulatedBody {
     pub(crate) name: String,
     pub(crate) rest_mesh: TriMesh,
     pub(crate) skeleton: Skeleton,
-    pub(crate) cache: WeightCache,
+    /// Shared by copies of one body (see [`new_like`](Self::new_like)).
+    pub(crate) cache: Arc<WeightCache>,
     pub(crate) weights: SkinWeights,
-    pub(crate) sub_bodies: SubBodies,
+    pub(crate) sub_bodies: Arc<SubBodies>,
     pub(crate) influences: Vec<SkinInfluence>,
     pub(crate) bodies: Vec<usize>,
     pub(crate) density: f32,
@@ -92,9 +95,9 @@ impl ArticulatedBody {
             name: desc.name.clone(),
             rest_mesh: desc.mesh.clone(),
             skeleton,
-            cache,
+            cache: Arc::new(cache),
             weights,
-            sub_bodies,
+            sub_bodies: Arc::new(sub_bodies),
             influences: Vec::new(),
             bodies: Vec::new(),
             density: desc.density,

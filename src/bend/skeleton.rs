@@ -18,7 +18,7 @@ pub const SPLIT_END_FRACTION: f32 = 0.05;
 /// A child's head must lie within this fraction of the child's own length from its parent bone.
 pub const JOINT_GAP_FRACTION: f32 = 0.5;
 
-/// How a bone is given in code and in scene files (`[[body.bones]] head = [x, y, z]`,
+/// How a bone is given in code and in scene files (`[[body.bend.bone]] head = [x, y, z]`,
 /// `tail = [x, y, z]`, `parent = 0`).
 ///
 /// # Example

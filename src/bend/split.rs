@@ -84,7 +84,7 @@ impl ArticulatedBody {
         let old_state = (
             std::mem::replace(&mut self.skeleton, skeleton),
             std::mem::replace(&mut self.weights, weights),
-            std::mem::replace(&mut self.sub_bodies, sub_bodies),
+            std::mem::replace(&mut self.sub_bodies, std::sync::Arc::new(sub_bodies)),
         );
         let mut staged = world.clone();
         match self.apply_split(&mut staged, &changed, bone, second, transforms[bone].transform_point3(split_point)) {

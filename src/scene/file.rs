@@ -7,6 +7,7 @@ use serde::Deserialize;
 use serde::de::{self, Deserializer, IgnoredAny, SeqAccess, Visitor};
 use toml::Spanned;
 
+use super::file_bend::BendFile;
 use crate::sim::{BodyKind, ColliderKind, WorldSettings};
 
 /// The whole file.
@@ -51,7 +52,7 @@ pub(super) struct BodyFile {
     /// Built-in mesh name or path relative to the scene file.
     pub mesh: Spanned<String>,
     pub scale: Option<Spanned<Scale>>,
-    pub kind: Option<BodyKind>,
+    pub kind: Option<Spanned<BodyKind>>,
     /// m.
     pub position: Option<Spanned<Triple>>,
     /// Axis-angle: direction = axis, length = angle in degrees.
@@ -64,12 +65,14 @@ pub(super) struct BodyFile {
     pub density: Option<Spanned<f32>>,
     /// kg.
     pub mass: Option<Spanned<f32>>,
-    pub collider: Option<ColliderKind>,
+    pub collider: Option<Spanned<ColliderKind>>,
     pub restitution: Option<Spanned<f32>>,
     pub friction: Option<Spanned<f32>>,
     /// Linear RGB in [0, 1].
     pub color: Option<Spanned<Triple>>,
     pub dent: Option<Spanned<DentFile>>,
+    /// Present = a bending body instead of a rigid one.
+    pub bend: Option<Spanned<BendFile>>,
 }
 
 /// `[body.dent]`: the material and the dent shape.

@@ -65,6 +65,32 @@
 //! | `min_cos`           | lower clamp of cos θ for glancing hits, in [0.01, 1]                  | 0.1          |
 //! | `widen`             | widening t of glancing dents, 1/m                                     | 0            |
 //!
+//! `[body.bend]` (optional; present = the body bends, paper §4: it is simulated as one rigid
+//! sub-body per bone, `<name>/bone<k>`, joined at the skeleton's joints, and drawn as its rest
+//! mesh skinned to them). A bending body is dynamic, with the automatic collider and a
+//! `density` (no `mass`, no `[body.dent]`); its pose, velocities and material apply to all of it.
+//!
+//! | field                | meaning                                                                  | default  |
+//! |----------------------|--------------------------------------------------------------------------|----------|
+//! | `skeleton`           | `"auto"` (a chain along the principal axis) or an array of bone tables   | `"auto"` |
+//! | `bones`              | with `"auto"`: number of bones, 1..=256                                  | 1        |
+//! | `[[body.bend.bone]]` | one bone each: `head`, `tail` `[x, y, z]` m in the mesh's frame after `scale`; `parent` = index of another bone (0-based, in file order), left out for the one root | |
+//! | `resolution`         | level-set cells along the longest side, 8..=256                          | 64       |
+//! | `influences`         | bones per vertex, 1..=8                                                  | 4        |
+//! | `falloff`            | exponent p of the weights w ∝ d⁻ᵖ, in (0, 16]                            | 4        |
+//! | `joint`              | the joints at the skeleton's joints, a joint table (below)               | rigid    |
+//!
+//! A joint table has `kind = "rigid" | "ball" | "plastic" | "elastic" | "elastic-prismatic"` and
+//! exactly the numbers of its kind ([`JointKind`](crate::sim::JointKind)), all required: plastic
+//! `strength` N·m·s, `damping_constant` rad/s², `damping_proportional` 1/s; elastic `stiffness`
+//! N·m/rad, `damping` N·m·s/rad; elastic-prismatic `axis` `[x, y, z]`, `stiffness` N/m,
+//! `damping` N·s/m.
+//!
+//! `[body.bend.dynamic]` (optional; dynamic articulation, paper §4.2): a hit closing faster than
+//! `speed_threshold` m/s splits the bone it lands on there and joins the halves with a joint of
+//! the joint table `joint`, leaving no bone shorter than `min_bone_length` m, at most
+//! `max_joints` times (default 16). `scenes/bent_bar.toml` is an example.
+//!
 //! A full example (also `scenes/example.toml`):
 //!
 //! ```toml
@@ -124,7 +150,9 @@ mod builtin;
 mod error;
 mod figures;
 mod file;
+mod file_bend;
 mod parse;
+mod parse_bend;
 mod rain;
 mod source;
 mod tetrahedra;

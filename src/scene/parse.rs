@@ -9,8 +9,10 @@ use glam::{Affine3A, Quat, Vec3};
 use toml::Spanned;
 
 use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, ResolutionSpec, SceneFile, Triple};
+use super::parse_bend::{add_error as bend_add_error, bendable_desc};
 use super::source::Source;
 use super::{DEFAULT_FRAMES, Scene, SceneError, framing_camera};
+use crate::bend::Bending;
 use crate::dent::{Attenuation, DentError, Resolution};
 use crate::mesh::{self, TriMesh};
 use crate::render::Camera;
@@ -43,7 +45,9 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 /// [`SceneError::Invalid`], `file:line:col: body "name": field: message`, for bad syntax, an
 /// unknown field, a value of the wrong type, a NaN or infinite number, a non-positive mass,
 /// density or scale, a missing or unreadable mesh file, bad dent parameters, a duplicate body
-/// name, or a body the simulation refuses (e.g. an open mesh for a dynamic body).
+/// name, a body the simulation refuses (e.g. an open mesh for a dynamic body), a `[body.bend]`
+/// with a field a bending body cannot have or a bad number, or a skeleton the bending library
+/// refuses (placed on the bone).
 ///
 /// # Example
 /// ```
@@ -79,6 +83,7 @@ pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
     let mut meshes =
         MeshCache { folder: origin.parent().map(Path::to_path_buf).unwrap_or_default(), loaded: HashMap::new() };
     let mut names: HashMap<&str, usize> = HashMap::new();
+    let mut bending = Bending::new();
     for body in &file.bodies {
         let name = body.name.get_ref().as_str();
         if name.trim().is_empty() {
@@ -90,8 +95,13 @@ pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
             return Err(src.error_at(body.name.span(), Some(name), "name", message));
         }
         names.insert(name, body.name.span().start);
-        let desc = body_desc(&src, body, &mut meshes)?;
-        world.add(desc).map_err(|e| sim_error(&src, body, e))?;
+        if let Some(bend) = &body.bend {
+            let desc = bendable_desc(&src, body, bend, &mut meshes)?;
+            bending.add(&mut world, desc).map_err(|e| bend_add_error(&src, body, bend, e))?;
+        } else {
+            let desc = body_desc(&src, body, &mut meshes)?;
+            world.add(desc).map_err(|e| sim_error(&src, body, e))?;
+        }
     }
 
     let camera = match &file.camera {
@@ -104,18 +114,11 @@ pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
         None => DEFAULT_FRAMES,
     };
     let stem = origin.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
-    Ok(Scene {
-        name: file.name.unwrap_or(stem),
-        world,
-        camera,
-        frames,
-        description: file.description,
-        bending: Default::default(),
-    })
+    Ok(Scene { name: file.name.unwrap_or(stem), world, camera, frames, description: file.description, bending })
 }
 
 /// Meshes by spec, loaded once each.
-struct MeshCache {
+pub(super) struct MeshCache {
     /// The scene file's folder: relative mesh paths start here.
     folder: PathBuf,
     loaded: HashMap<String, TriMesh>,
@@ -169,7 +172,7 @@ fn vector(
 }
 
 /// A checked number field: `ok(value)` must hold, or an error at its span saying `rule`.
-fn number(
+pub(super) fn number(
     src: &Source<'_>,
     body: Option<&str>,
     field: &str,
@@ -184,12 +187,12 @@ fn number(
     }
 }
 
-fn positive(x: f32) -> bool {
+pub(super) fn positive(x: f32) -> bool {
     x.is_finite() && x > 0.0
 }
 
 /// One `[[body]]` → a body description, every value checked where it is written.
-fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCache) -> Result<BodyDesc, SceneError> {
+pub(super) fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCache) -> Result<BodyDesc, SceneError> {
     let name = body.name.get_ref().as_str();
     let mut mesh = meshes.get(src, name, &body.mesh)?;
     if let Some(scale) = &body.scale {
@@ -202,8 +205,8 @@ fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCache) -> Resul
             .map_err(|e| src.error_at(scale.span(), Some(name), "scale", e.to_string()))?;
     }
     let mut desc = BodyDesc::new(name, mesh);
-    desc.kind = body.kind.unwrap_or_default();
-    desc.collider = body.collider.unwrap_or_default();
+    desc.kind = body.kind.as_ref().map(|k| *k.get_ref()).unwrap_or_default();
+    desc.collider = body.collider.as_ref().map(|c| *c.get_ref()).unwrap_or_default();
     desc.position = vector(src, name, "position", &body.position)?.unwrap_or(Vec3::ZERO);
     if let Some(rotation) = vector(src, name, "rotation", &body.rotation)? {
         desc.orientation = Quat::from_scaled_axis(rotation * (std::f32::consts::PI / 180.0));
@@ -351,7 +354,7 @@ fn world_error(src: &Source<'_>, error: SimError) -> SceneError {
 }
 
 /// A body the world refused, placed on the field the refusal names (or on the body's name).
-fn sim_error(src: &Source<'_>, body: &BodyFile, error: SimError) -> SceneError {
+pub(super) fn sim_error(src: &Source<'_>, body: &BodyFile, error: SimError) -> SceneError {
     let name = body.name.get_ref().as_str();
     let (field, message) = match &error {
         SimError::Invalid { what, value, reason } => {
