@@ -10,7 +10,7 @@ use super::bendable::bend_error;
 use super::{BendableDesc, DynamicArticulation, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
 use crate::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
 use crate::mesh::TriMesh;
-use crate::sim::{BodyDesc, ColliderKind, SimError, SurfaceMaterial, World};
+use crate::sim::{BodyDesc, ColliderKind, DentSettings, SimError, SurfaceMaterial, World};
 
 /// A bending body: its rest pose (mesh, skeleton, weights, sub-bodies) and the world bodies that
 /// simulate its bones.
@@ -42,6 +42,8 @@ pub struct ArticulatedBody {
     /// The mesh's exact mass over the level set's voxel mass: sub-body masses and inertias are
     /// scaled by it, so that they add up to the mesh's mass even at coarse resolutions.
     pub(crate) mass_scale: f32,
+    /// Denting behaviour of the whole body (its sub-bodies are not dentable themselves).
+    pub(crate) dent: Option<DentSettings>,
 }
 
 impl ArticulatedBody {
@@ -106,6 +108,7 @@ impl ArticulatedBody {
             dynamic: desc.dynamic,
             added_joints: 0,
             mass_scale: 1.0,
+            dent: desc.dent.clone(),
         };
         let exact = crate::sim::mass_properties(&desc.mesh, desc.density).map(|m| m.mass);
         let voxels = body.sub_bodies.total().mass;
@@ -230,21 +233,30 @@ impl ArticulatedBody {
     /// # Errors
     /// As [`bone_transforms`](Self::bone_transforms); [`SimError::BadShape`] if skinning fails.
     pub fn skinned_mesh(&self, world: &World) -> Result<TriMesh, SimError> {
-        let bones: Vec<SkinBone> = self.bone_transforms(world)?.into_iter().map(SkinBone::from_affine).collect();
-        let n = self.rest_mesh.vertex_count();
+        self.skin_rest(&self.rest_mesh, &self.bone_transforms(world)?)
+    }
+
+    /// `rest` (a mesh with the rest mesh's vertices and faces) skinned with the weights to the
+    /// bone matrices `bones` (model → the output's frame), m.
+    ///
+    /// # Errors
+    /// [`SimError::BadShape`] if skinning fails (wrong vertex or bone count).
+    pub(crate) fn skin_rest(&self, rest: &TriMesh, bones: &[Affine3A]) -> Result<TriMesh, SimError> {
+        let bones: Vec<SkinBone> = bones.iter().copied().map(SkinBone::from_affine).collect();
+        let n = rest.vertex_count();
         let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
         let bad = |e: String| SimError::BadShape { body: self.name.clone(), reason: format!("skinning: {e}") };
         skin(
             &SkinParams::new(n as u32, bones.len() as u32),
             &bones,
-            self.rest_mesh.positions(),
-            self.rest_mesh.normals(),
+            rest.positions(),
+            rest.normals(),
             &self.influences,
             &mut positions,
             &mut normals,
         )
         .map_err(|e| bad(e.to_string()))?;
-        let mut mesh = self.rest_mesh.clone();
+        let mut mesh = rest.clone();
         mesh.set_positions(positions).map_err(|e| bad(e.to_string()))?;
         Ok(mesh)
     }

@@ -7,7 +7,7 @@ use glam::{Quat, Vec3};
 
 use super::{BoneDesc, Skeleton, WeightParams, auto_skeleton};
 use crate::mesh::TriMesh;
-use crate::sim::{JointKind, SimError, SurfaceMaterial};
+use crate::sim::{DentSettings, JointKind, SimError, SurfaceMaterial};
 
 /// Where a bendable body's skeleton comes from.
 #[derive(Debug, Clone, PartialEq)]
@@ -77,11 +77,14 @@ pub struct BendableDesc {
     pub joint: JointKind,
     /// Dynamic articulation, `None` for none.
     pub dynamic: Option<DynamicArticulation>,
+    /// Denting behaviour, `None` when the body does not dent: a hit on a sub-body dents the
+    /// skinned mesh and the dent is mapped back to the rest mesh (see `bend::BendDenter`).
+    pub dent: Option<DentSettings>,
 }
 
 impl BendableDesc {
     /// A body at rest at the origin: density 1000 kg/m³, a one-bone automatic skeleton, default
-    /// weights, rigid joints and no dynamic articulation.
+    /// weights, rigid joints, no dynamic articulation and no denting.
     pub fn new(name: impl Into<String>, mesh: TriMesh) -> Self {
         Self {
             name: name.into(),
@@ -97,13 +100,15 @@ impl BendableDesc {
             color: [0.7, 0.7, 0.72],
             joint: JointKind::Rigid,
             dynamic: None,
+            dent: None,
         }
     }
 
     /// Checks every number (not the skeleton, see [`build_skeleton`](Self::build_skeleton)).
     ///
     /// # Errors
-    /// [`SimError::Invalid`] naming the first bad field.
+    /// [`SimError::Invalid`] naming the first bad field; [`SimError::Dent`] for bad dent
+    /// settings (as a [`BodyDesc`](crate::sim::BodyDesc)'s).
     pub fn validate(&self) -> Result<(), SimError> {
         let field = |what: &str| format!("bendable body \"{}\": {what}", self.name);
         let invalid =
@@ -136,6 +141,9 @@ impl BendableDesc {
                 return Err(invalid("min_bone_length", d.min_bone_length.to_string(), "must be finite and > 0"));
             }
             d.joint.validate().map_err(|e| invalid("dynamic joint", e.to_string(), "is not a valid joint"))?;
+        }
+        if let Some(dent) = &self.dent {
+            dent.validate().map_err(|error| SimError::Dent { body: self.name.clone(), error })?;
         }
         Ok(())
     }

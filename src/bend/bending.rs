@@ -43,7 +43,7 @@ pub struct BendRecord {
 /// Every bending body of a world, and what bending did so far.
 #[derive(Debug, Clone, Default)]
 pub struct Bending {
-    bodies: Vec<ArticulatedBody>,
+    pub(super) bodies: Vec<ArticulatedBody>,
     joints: Vec<JointRecord>,
     bends: Vec<BendRecord>,
     condenser: Option<Condenser>,

@@ -14,10 +14,13 @@ mod auto_skeleton;
 mod bendable;
 mod bending;
 mod condensation;
+mod contact_merge;
+mod dent_coupling;
 mod error;
 mod geodesic;
 mod geometry;
 mod level_set;
+mod pose_dent;
 mod skeleton;
 mod skeleton_check;
 mod split;
@@ -31,10 +34,13 @@ pub use auto_skeleton::{AUTO_INSET, MAX_AUTO_BONES, auto_skeleton};
 pub use bendable::{BendableDesc, DynamicArticulation, SkeletonSpec};
 pub use bending::{BendRecord, Bending, JointRecord};
 pub use condensation::CondenseSettings;
+pub use contact_merge::merge_contacts;
+pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
 pub use error::BendError;
 pub use level_set::{
     BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,
 };
+pub use pose_dent::{PoseDent, SINGULAR_BLEND};
 pub use skeleton::{
     Bone, BoneDesc, BoneJoint, JOINT_GAP_FRACTION, MIN_BONE_FRACTION, MIN_BONE_LENGTH, SPLIT_END_FRACTION, Skeleton,
 };

@@ -158,7 +158,7 @@ mod source;
 mod tetrahedra;
 mod types;
 
-pub use bending_scenes::{PLANK_HIT, PLANK_SIZE, SPRING_JOINT};
+pub use bending_scenes::{PLANK_DENT, PLANK_HIT, PLANK_SIZE, SPRING_JOINT};
 pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized};
 pub use error::SceneError;
 pub use parse::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, parse_scene};

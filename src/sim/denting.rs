@@ -3,12 +3,14 @@
 //! dentable, maps built from the undented meshes (Jacobi) — through one batch per step on the
 //! GPU (targets resident there) or on all CPU cores; then colliders are rebuilt.
 
-use glam::{Affine3A, Vec3};
+use glam::Vec3;
 use serde::Serialize;
 
-use super::energy::energy_dent_distance;
-use super::{BodyKind, CollisionEvent, SimError, World};
-use crate::dent::{DentJob, DentParams, Impact, dent_batch};
+use super::{
+    CollisionEvent, DecidedDent, DentSurface, DentTarget, SimError, StepContext, World, decide_dent, dent_job,
+    projectile_near_impact,
+};
+use crate::dent::{DentJob, dent_batch};
 use crate::gpu::{GpuContext, GpuDenter};
 use crate::mesh::TriMesh;
 
@@ -21,7 +23,7 @@ pub struct DentRecord {
     pub target: String,
     /// The body that dented it.
     pub projectile: String,
-    /// Contact point, world, m.
+    /// Contact point, world, m (carried with the target to where it is after the step).
     pub point: Vec3,
     /// Denting normal (into the target), world.
     pub normal: Vec3,
@@ -29,16 +31,6 @@ pub struct DentRecord {
     pub relative_velocity: Vec3,
     /// Dent distance used, m (for progressive dents: the accumulated distance).
     pub dent_distance: f32,
-}
-
-/// A dent decided for this step, before batching.
-#[derive(Clone, Copy)]
-struct Pending {
-    target: usize,
-    projectile: usize,
-    /// Impact in world coordinates.
-    impact: Impact,
-    dent_distance: f32,
 }
 
 /// Progressive denting state of one (target, projectile) contact.
@@ -93,6 +85,8 @@ impl Denter {
     }
 
     /// Dents the bodies hit in `events` (from the step numbered `step`) and returns what it did.
+    /// Every body dents others with its own surface: [`process_with`](Self::process_with) with
+    /// no overrides.
     ///
     /// # Errors
     /// A dent or GPU error; bodies keep their meshes then.
@@ -102,10 +96,31 @@ impl Denter {
         events: &[CollisionEvent],
         step: u64,
     ) -> Result<Vec<DentRecord>, SimError> {
+        self.process_with(world, events, step, &StepContext::default())
+    }
+
+    /// As [`process`](Self::process), with `context`: the bodies listed in its surfaces dent
+    /// others with the surface given there instead of their own (a bending body's sub-bodies dent
+    /// with the whole undented skinned mesh, world coordinates), and each target's contact is
+    /// carried with the target's motion during the step. Every dent map is built from the
+    /// undented surfaces (Jacobi), dynamic projectiles move into the dents after all of them.
+    ///
+    /// # Errors
+    /// A dent or GPU error; bodies keep their meshes then.
+    pub fn process_with(
+        &mut self,
+        world: &mut World,
+        events: &[CollisionEvent],
+        step: u64,
+        context: &StepContext<'_>,
+    ) -> Result<Vec<DentRecord>, SimError> {
         let mut pending = Vec::new();
         for event in events {
-            for (target, projectile, sign) in [(event.a, event.b, 1.0f32), (event.b, event.a, -1.0)] {
-                if let Some(p) = decide(world, event, target, projectile, sign)? {
+            for (target, projectile) in [(event.a, event.b), (event.b, event.a)] {
+                let Some(target) = DentTarget::of_body(world, target) else { continue };
+                let target = DentTarget { motion: context.motion(target.body), ..target };
+                let projectile = context.surface(world, projectile);
+                if let Some(p) = decide_dent(world, event, &target, &projectile)? {
                     pending.push(p);
                 }
             }
@@ -114,26 +129,43 @@ impl Denter {
         if pending.is_empty() {
             return Ok(Vec::new());
         }
-        let (progressive, plain): (Vec<Pending>, Vec<Pending>) =
+        let (progressive, plain): (Vec<DecidedDent>, Vec<DecidedDent>) =
             pending.into_iter().partition(|p| world.bodies()[p.target].dent.as_ref().is_some_and(|d| d.progressive));
-        let mut records = self.dent_plain(world, &plain, step)?;
-        records.extend(self.dent_progressive(world, &progressive, step)?);
+        let surfaces = context.surfaces;
+        let mut records = self.dent_plain(world, &plain, step, surfaces)?;
+        records.extend(self.dent_progressive(world, &progressive, step, surfaces)?);
         for p in plain.iter().chain(&progressive) {
-            move_projectile(world, p);
+            if let Some(settings) = world.bodies()[p.target].dent.clone() {
+                p.move_projectile(world, &settings);
+            }
         }
         Ok(records)
     }
 
     /// Ordinary dents: one batch, on the GPU or all CPU cores.
-    fn dent_plain(&mut self, world: &mut World, pending: &[Pending], step: u64) -> Result<Vec<DentRecord>, SimError> {
+    fn dent_plain(
+        &mut self,
+        world: &mut World,
+        pending: &[DecidedDent],
+        step: u64,
+        surfaces: &[(usize, DentSurface<'_>)],
+    ) -> Result<Vec<DentRecord>, SimError> {
         if pending.is_empty() {
             return Ok(Vec::new());
         }
         // Dents whose projectile has nothing near the impact are dropped before the targets are
         // listed, so no target is copied or read back for nothing.
-        let (pending, projectiles): (Vec<Pending>, Vec<TriMesh>) =
-            pending.iter().filter_map(|p| Some((*p, projectile_in_target(world, p)?))).unzip();
-        let pending = pending.as_slice();
+        let mut kept = Vec::new();
+        let mut projectiles = Vec::new();
+        for p in pending {
+            let target = target_of(world, p.target)?;
+            if let Some(mesh) = projectile_near_impact(&target, p, &DentSurface::lookup(world, p.projectile, surfaces))
+            {
+                kept.push(*p);
+                projectiles.push(mesh);
+            }
+        }
+        let pending = kept.as_slice();
         if pending.is_empty() {
             return Ok(Vec::new());
         }
@@ -143,8 +175,11 @@ impl Denter {
         let jobs: Vec<DentJob<'_>> = pending
             .iter()
             .zip(&projectiles)
-            .map(|(p, mesh)| job(world, p, mesh, targets.binary_search(&p.target).unwrap_or(0)))
-            .collect();
+            .map(|(p, mesh)| {
+                let slot = targets.binary_search(&p.target).unwrap_or(0);
+                Ok(dent_job(&target_of(world, p.target)?, p, p.dent_distance, mesh, slot))
+            })
+            .collect::<Result<_, SimError>>()?;
         let dented: Vec<TriMesh> = match &mut self.gpu {
             Some((denter, slots)) => {
                 let mut gpu_jobs = jobs.clone();
@@ -170,7 +205,7 @@ impl Denter {
         for (&t, mesh) in targets.iter().zip(dented) {
             world.bodies_mut()[t].set_mesh(mesh)?;
         }
-        Ok(pending.iter().map(|p| record(world, p, p.dent_distance, step)).collect())
+        Ok(pending.iter().map(|p| record(world, p, p.dent_distance, step, surfaces)).collect())
     }
 
     /// Progressive dents (paper Figure 3): while a contact lasts, the dent is rebuilt from the
@@ -178,8 +213,9 @@ impl Denter {
     fn dent_progressive(
         &mut self,
         world: &mut World,
-        pending: &[Pending],
+        pending: &[DecidedDent],
         step: u64,
+        surfaces: &[(usize, DentSurface<'_>)],
     ) -> Result<Vec<DentRecord>, SimError> {
         let mut records = Vec::new();
         for p in pending {
@@ -200,160 +236,45 @@ impl Denter {
                 }
             };
             let distance = (state.accumulated + p.dent_distance).min(cap);
-            let Some(projectile) = projectile_in_target(world, p) else { continue };
-            let deeper = Pending { dent_distance: distance, ..*p };
+            let target = target_of(world, p.target)?;
+            let deeper = DecidedDent { dent_distance: distance, ..*p };
+            let projectile = DentSurface::lookup(world, p.projectile, surfaces);
+            let Some(projectile) = projectile_near_impact(&target, &deeper, &projectile) else { continue };
             let mut meshes = vec![state.pre_dent.clone()];
-            dent_batch(&mut meshes, &[job(world, &deeper, &projectile, 0)])
+            dent_batch(&mut meshes, &[dent_job(&target, p, distance, &projectile, 0)])
                 .map_err(|e| SimError::Dent { body: world.bodies()[p.target].name.clone(), error: e.error })?;
             state.accumulated = distance;
             state.last_step = step;
             world.bodies_mut()[p.target].set_mesh(meshes.pop().expect("one mesh"))?;
-            records.push(record(world, p, distance, step));
+            records.push(record(world, p, distance, step, surfaces));
         }
         Ok(records)
     }
 }
 
-/// Whether `target` dents from `event` (it is dentable and the normal speed is above its
-/// threshold), and how deep. `sign` = 1 when the target is body a of the event.
-fn decide(
-    world: &World,
-    event: &CollisionEvent,
-    target: usize,
-    projectile: usize,
-    sign: f32,
-) -> Result<Option<Pending>, SimError> {
-    let body = &world.bodies()[target];
-    let Some(settings) = &body.dent else { return Ok(None) };
-    // Into the target, and the projectile's velocity relative to it.
-    let impact =
-        Impact { point: event.point, normal: -sign * event.normal, relative_velocity: sign * event.relative_velocity };
-    let dent_error = |error| SimError::Dent { body: body.name.clone(), error };
-    let Some(mut distance) = settings.material.dent_distance(&impact).map_err(dent_error)? else {
-        return Ok(None);
-    };
-    if let Some(hardness) = settings.hardness {
-        let projectile_mesh = world.bodies()[projectile].world_mesh();
-        let lost = normal_energy_lost(world, event, target, projectile);
-        let params = DentParams { dent_distance: settings.material.cap, ..settings.params.clone() };
-        distance = energy_dent_distance(&projectile_mesh, &impact, &params, hardness, lost).map_err(dent_error)?;
-        if distance <= 0.0 {
-            return Ok(None);
-        }
-    }
-    Ok(Some(Pending { target, projectile, impact, dent_distance: distance }))
-}
-
-/// Kinetic energy the collision removes along the normal, J: ½·m_eff·v_n²·(1 − e²), with m_eff
-/// the pair's effective mass along the normal at the contact point (rotation included).
-fn normal_energy_lost(world: &World, event: &CollisionEvent, target: usize, projectile: usize) -> f32 {
-    let inverse = |k: usize| {
-        let body = &world.bodies()[k];
-        if body.kind != BodyKind::Dynamic {
-            return 0.0;
-        }
-        let rn = (event.point - body.position).cross(event.normal);
-        body.inverse_mass + (body.inverse_inertia_world() * rn).dot(rn)
-    };
-    let k = inverse(target) + inverse(projectile);
-    if k <= 0.0 {
-        return 0.0;
-    }
-    let (a, b) = (&world.bodies()[target].surface, &world.bodies()[projectile].surface);
-    let e = a.restitution.max(b.restitution);
-    0.5 / k * event.normal_speed.powi(2) * (1.0 - e * e)
-}
-
-/// The part of the projectile's surface that can shape the dent, in the target's body
-/// coordinates: triangles with a corner within [`reach`] of the impact point. Far parts of a
-/// large projectile (a bunny landing on a small ball) cannot touch the target, and leaving them
-/// out keeps the dent's depth origin at the part that hit instead of the projectile's farthest
-/// point. `None` when nothing is that close.
-fn projectile_in_target(world: &World, p: &Pending) -> Option<TriMesh> {
-    let (target, projectile) = (&world.bodies()[p.target], &world.bodies()[p.projectile]);
-    let centre = projectile.transform().inverse().transform_point3(p.impact.point);
-    let mut mesh = crop_to_ball(&projectile.mesh, centre, reach(world, p))?;
-    // A rigid motion of a valid mesh stays finite.
-    let _ = mesh.transform(target.transform().inverse() * projectile.transform());
-    Some(mesh)
-}
-
-/// How far from the impact point the projectile can matter, m: the target's size (its dent
-/// cannot be wider), plus the deepest dent and the Gaussian tails.
-fn reach(world: &World, p: &Pending) -> f32 {
-    let target = &world.bodies()[p.target];
-    let radius = target.shape().compute_local_bounding_sphere().radius;
-    let settings = target.dent.as_ref();
-    let cap = settings.map_or(p.dent_distance, |d| d.material.cap.max(p.dent_distance));
-    let sigma = settings.and_then(|d| d.params.sigma).unwrap_or(0.5 * cap);
-    2.0 * radius + cap + 4.0 * sigma
-}
-
-/// The triangles of `mesh` with a corner within `radius` of `centre`, vertices renumbered;
-/// the whole mesh (cloned) when all of it is that close.
-fn crop_to_ball(mesh: &TriMesh, centre: glam::Vec3, radius: f32) -> Option<TriMesh> {
-    let near: Vec<bool> = mesh.positions().iter().map(|p| p.distance_squared(centre) <= radius * radius).collect();
-    if near.iter().all(|&n| n) {
-        return Some(mesh.clone());
-    }
-    let mut index = vec![u32::MAX; mesh.vertex_count()];
-    let mut positions = Vec::new();
-    let mut faces = Vec::new();
-    for face in mesh.faces() {
-        if !face.iter().any(|&v| near[v as usize]) {
-            continue;
-        }
-        faces.push(face.map(|v| {
-            if index[v as usize] == u32::MAX {
-                index[v as usize] = positions.len() as u32;
-                positions.push(mesh.positions()[v as usize]);
-            }
-            index[v as usize]
-        }));
-    }
-    TriMesh::new(positions, faces).ok()
-}
-
-/// The dent job of `p` in the target's body coordinates, against batch target `slot`.
-fn job<'a>(world: &World, p: &Pending, projectile: &'a TriMesh, slot: usize) -> DentJob<'a> {
-    let target = &world.bodies()[p.target];
-    let to_body: Affine3A = target.transform().inverse();
-    let impact = Impact {
-        point: to_body.transform_point3(p.impact.point),
-        normal: to_body.transform_vector3(p.impact.normal),
-        relative_velocity: to_body.transform_vector3(p.impact.relative_velocity),
-    };
-    let settings = target.dent.as_ref().expect("only dentable bodies get jobs");
-    DentJob {
-        target: slot,
-        projectile,
-        impact,
-        params: DentParams { dent_distance: p.dent_distance, ..settings.params.clone() },
-    }
-}
-
-fn record(world: &World, p: &Pending, dent_distance: f32, step: u64) -> DentRecord {
-    DentRecord {
-        step,
-        target: world.bodies()[p.target].name.clone(),
-        projectile: world.bodies()[p.projectile].name.clone(),
-        point: p.impact.point,
-        normal: p.impact.normal,
-        relative_velocity: p.impact.relative_velocity,
-        dent_distance,
-    }
-}
-
-/// Moves a dynamic projectile into the dent it made, when the target asks for it.
-fn move_projectile(world: &mut World, p: &Pending) {
-    let wants = world.bodies()[p.target].dent.as_ref().is_some_and(|d| d.move_projectile);
-    let projectile = &mut world.bodies_mut()[p.projectile];
-    if wants && projectile.kind == BodyKind::Dynamic {
-        projectile.position += p.impact.unit_normal() * p.dent_distance;
-    }
-}
-
-fn batch_error(world: &World, pending: &[Pending], message: String) -> SimError {
+fn batch_error(world: &World, pending: &[DecidedDent], message: String) -> SimError {
     let names: Vec<&str> = pending.iter().map(|p| world.bodies()[p.target].name.as_str()).collect();
     SimError::Gpu(format!("{message} (targets: {})", names.join(", ")))
+}
+
+/// The record of plain dent `p` (`dent_distance` m at `step`), its projectile named as in
+/// `surfaces` (a bending body's sub-body by its body's name).
+fn record(
+    world: &World,
+    p: &DecidedDent,
+    dent_distance: f32,
+    step: u64,
+    surfaces: &[(usize, DentSurface<'_>)],
+) -> DentRecord {
+    let projectile = DentSurface::lookup(world, p.projectile, surfaces).name;
+    p.record(&world.bodies()[p.target].name, projectile, dent_distance, step)
+}
+
+/// `index` as a dent target (it is dentable: only dentable bodies get dents decided).
+fn target_of(world: &World, index: usize) -> Result<DentTarget<'_>, SimError> {
+    DentTarget::of_body(world, index).ok_or_else(|| SimError::Invalid {
+        what: "dent target".into(),
+        value: world.bodies()[index].name.clone(),
+        reason: "is not dentable",
+    })
 }

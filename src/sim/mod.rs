@@ -7,6 +7,7 @@ mod broad_phase;
 mod cluster;
 mod collider;
 mod contacts;
+mod dent_impact;
 mod dent_settings;
 mod denting;
 mod energy;
@@ -25,6 +26,9 @@ pub use body::{BodyDesc, BodyKind, RigidBody, SurfaceMaterial};
 pub use broad_phase::{Aabb, overlapping_pairs};
 pub use collider::ColliderKind;
 pub use contacts::{ContactPoint, PairContacts, find_contacts};
+pub use dent_impact::{
+    DecidedDent, DentSurface, DentTarget, StepContext, decide_dent, dent_job, projectile_near_impact,
+};
 pub use dent_settings::DentSettings;
 pub use denting::{DentRecord, Denter};
 pub use energy::energy_dent_distance;

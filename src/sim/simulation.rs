@@ -6,7 +6,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::{DentRecord, Denter, SimError, StepReport, World};
-use crate::bend::Bending;
+use crate::bend::{BendDenter, Bending, dent_step};
 use crate::gpu::GpuContext;
 
 /// Wall times and counts of one step.
@@ -32,6 +32,7 @@ pub struct Simulation {
     denter: Denter,
     dents: Vec<DentRecord>,
     bending: Bending,
+    bend_denter: BendDenter,
 }
 
 impl Simulation {
@@ -41,7 +42,7 @@ impl Simulation {
     /// [`SimError::Gpu`] when the dentable meshes cannot be uploaded.
     pub fn new(world: World, gpu: Option<&'static GpuContext>) -> Result<Self, SimError> {
         let denter = Denter::new(&world, gpu)?;
-        Ok(Self { world, denter, dents: Vec::new(), bending: Bending::default() })
+        Ok(Self { world, denter, dents: Vec::new(), bending: Bending::default(), bend_denter: BendDenter::new() })
     }
 
     /// Builder: the bending bodies already added to the world (see [`Bending::add`]); each step
@@ -71,18 +72,22 @@ impl Simulation {
         self.denter.on_gpu()
     }
 
-    /// One step: dynamics, then the step's dents.
+    /// One step: dynamics, then the step's dents (bending bodies' included, see
+    /// [`dent_step`](crate::bend::dent_step)).
     ///
     /// # Errors
     /// A dent failed (the bodies keep their meshes; the step's motion stands), or a bone split
     /// (see [`Bending::step`]).
     pub fn step(&mut self) -> Result<(StepTiming, StepReport), SimError> {
+        // Model transforms before the step: dents land where the targets were hit.
+        let before: Vec<_> = self.world.bodies().iter().map(|b| b.model_transform()).collect();
         let started = Instant::now();
         let report = self.bending.step(&mut self.world)?;
         let dynamics_ms = started.elapsed().as_secs_f64() * 1e3;
         let step = self.world.steps();
         let started = Instant::now();
-        let records = self.denter.process(&mut self.world, &report.events, step)?;
+        let (bending, world, events) = (&mut self.bending, &mut self.world, &report.events);
+        let records = dent_step(&mut self.bend_denter, &mut self.denter, bending, world, events, step, &before)?;
         let timing = StepTiming {
             step,
             dynamics_ms,

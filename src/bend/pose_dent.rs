@@ -1,0 +1,251 @@
+//! Denting a bending body in its current pose (paper §4, last paragraph): skin the rest mesh to
+//! the pose, dent the skinned mesh like a plain body's, map each vertex's displacement back to
+//! the rest pose through the inverse of its blended linear part, and refit the sub-bodies whose
+//! vertices moved.
+//!
+//! What is kept: the skinning weights (per vertex, so they move with the dented material, as a
+//! texture would), the level set and the sub-bodies' cells and mass properties. A dent is
+//! plastic flow, not loss of material: the mass stays, and the level set (cells of a few
+//! centimetres) would change by less than a cell for dents of a few millimetres; recomputing it
+//! and the weights (tens of ms) for every dent would buy nothing the next split or skinning could
+//! use. What changes: the rest mesh, and the open sub-mesh and convex-hull collider of every
+//! bone owning a moved vertex.
+
+use glam::{Affine3A, Mat3, Vec3};
+
+use super::ArticulatedBody;
+use crate::dent::dent_batch;
+use crate::mesh::TriMesh;
+use crate::sim::{
+    DecidedDent, DentSettings, DentSurface, DentTarget, RigidBody, SimError, World, dent_job, projectile_near_impact,
+};
+
+/// Determinant below which a vertex's blended linear part counts as singular (bones turned by
+/// nearly 180° against each other: two bones at ½ each turned by θ give cos²(θ/2), 10⁻³ at
+/// θ ≈ 176°); the vertex's dominant bone's rotation is inverted instead.
+pub const SINGULAR_BLEND: f32 = 1e-3;
+
+/// A dent of a bending body computed in its current pose, not yet applied
+/// ([`ArticulatedBody::apply_pose_dent`]).
+#[derive(Debug, Clone)]
+pub struct PoseDent {
+    /// The rest mesh with the dent mapped back, model frame, m.
+    pub rest_mesh: TriMesh,
+    /// The rest mesh skinned to the pose before the dent, world, m.
+    pub skinned: TriMesh,
+    /// The same, dented: skinning [`rest_mesh`](Self::rest_mesh) to the pose gives it back.
+    pub dented: TriMesh,
+    /// Rest vertices whose position changed (against the body's rest mesh now), ascending.
+    pub moved: Vec<usize>,
+    /// Bones owning a moved vertex (their sub-bodies change), ascending.
+    pub bones: Vec<usize>,
+    /// Indices of the dents applied, ascending (a dent whose projectile has nothing near its
+    /// impact is left out, as the [`Denter`](crate::sim::Denter) leaves it out).
+    pub applied: Vec<usize>,
+    /// World body index and new mesh (body coordinates) of each of those bones.
+    pub(crate) sub_meshes: SubMeshes,
+}
+
+/// New sub-body meshes: (world body index, mesh in its body coordinates).
+type SubMeshes = Vec<(usize, TriMesh)>;
+
+impl ArticulatedBody {
+    /// How the body dents, `None` when it does not.
+    pub fn dent_settings(&self) -> Option<&DentSettings> {
+        self.dent.as_ref()
+    }
+
+    /// Dents `base` (a mesh with the rest mesh's vertices and faces: the rest mesh itself, or a
+    /// progressive dent's pre-dent rest mesh) in the pose of `world` by `dents`: impacts in world
+    /// coordinates on this body's sub-bodies, each with the surface of its projectile.
+    ///
+    /// The skinned mesh is dented in the model frame of the first dent's bone, a rigid change of
+    /// coordinates of the world (this bone's vertices keep their rest coordinates there, as a
+    /// plain body's do in body coordinates). All dent maps come from the undented projectiles;
+    /// the dents are applied in order, as [`dent_batch`] does for one target. A vertex's
+    /// displacement Δ maps back as (Σₖ wₖ Rₖ)⁻¹ Δ, Rₖ the bones' rotations and wₖ the weights
+    /// the skinning uses, so skinning the result gives the dented mesh back (linear blend
+    /// skinning is linear in the rest position).
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] when the body is not dentable, `dents` is empty or hits another
+    /// body, or `base` does not match the rest mesh; [`SimError::Dent`] from the dent pipeline;
+    /// [`SimError::BadShape`] if skinning or a sub-mesh fails. Nothing changes here.
+    pub fn dent_in_pose(
+        &self,
+        world: &World,
+        base: &TriMesh,
+        dents: &[(DecidedDent, DentSurface<'_>)],
+    ) -> Result<PoseDent, SimError> {
+        let invalid = |what: &str, value: String, reason| SimError::Invalid {
+            what: format!("bendable body \"{}\": {what}", self.name),
+            value,
+            reason,
+        };
+        let settings = self.dent.as_ref().ok_or_else(|| invalid("dent", "none".into(), "is not dentable"))?;
+        let Some((first, _)) = dents.first() else { return Err(invalid("dents", "[]".into(), "must not be empty")) };
+        if let Some((d, _)) = dents.iter().find(|(d, _)| self.bone_of(d.target).is_none()) {
+            return Err(invalid("dent target", d.target.to_string(), "is not one of its sub-bodies"));
+        }
+        if base.vertex_count() != self.rest_mesh.vertex_count() || base.faces() != self.rest_mesh.faces() {
+            return Err(invalid("dent base mesh", base.vertex_count().to_string(), "does not match the rest mesh"));
+        }
+        let transforms = self.bone_transforms(world)?;
+        let reference = self.bone_of(first.target).unwrap_or(0);
+        let to_world = transforms[reference];
+        let to_reference = to_world.inverse();
+        // The reference bone exactly the identity: its vertices keep their rest coordinates.
+        let relative: Vec<Affine3A> = (0..transforms.len())
+            .map(|k| if k == reference { Affine3A::IDENTITY } else { to_reference * transforms[k] })
+            .collect();
+        let skinned = self.skin_rest(base, &relative)?;
+        let (lo, hi) = skinned.bounds();
+        let target = |d: &DecidedDent| DentTarget {
+            body: d.target,
+            name: &self.name,
+            settings,
+            to_world,
+            // The impacts are already where the body is now.
+            motion: Affine3A::IDENTITY,
+            radius: 0.5 * lo.distance(hi),
+        };
+        let projectiles: Vec<(usize, TriMesh)> = dents
+            .iter()
+            .enumerate()
+            .filter_map(|(k, (d, surface))| Some((k, projectile_near_impact(&target(d), d, surface)?)))
+            .collect();
+        let jobs: Vec<_> = projectiles
+            .iter()
+            .map(|(k, mesh)| {
+                let d = &dents[*k].0;
+                dent_job(&target(d), d, d.dent_distance, mesh, 0)
+            })
+            .collect();
+        let mut dented = vec![skinned.clone()];
+        if !jobs.is_empty() {
+            dent_batch(&mut dented, &jobs).map_err(|e| SimError::Dent { body: self.name.clone(), error: e.error })?;
+        }
+        let dented = dented.pop().unwrap_or_else(|| skinned.clone());
+
+        let linear: Vec<Mat3> = relative.iter().map(|t| Mat3::from(t.matrix3)).collect();
+        let mut positions = base.positions().to_vec();
+        for (v, (after, before)) in dented.positions().iter().zip(skinned.positions()).enumerate() {
+            if after != before {
+                positions[v] += self.unblend(v, &linear, *after - *before);
+            }
+        }
+        let mut rest_mesh = base.clone();
+        let bad = |e: crate::mesh::MeshError| SimError::BadShape { body: self.name.clone(), reason: e.to_string() };
+        rest_mesh.set_positions(positions).map_err(bad)?;
+        let moved: Vec<usize> = (0..rest_mesh.vertex_count())
+            .filter(|&v| rest_mesh.positions()[v] != self.rest_mesh.positions()[v])
+            .collect();
+        let (bones, sub_meshes) = self.changed_sub_meshes(world, &rest_mesh, &moved)?;
+        let to_world_mesh = |mut mesh: TriMesh| mesh.transform(to_world).map(|_| mesh).map_err(bad);
+        Ok(PoseDent {
+            rest_mesh,
+            skinned: to_world_mesh(skinned)?,
+            dented: to_world_mesh(dented)?,
+            moved,
+            bones,
+            applied: projectiles.iter().map(|(k, _)| *k).collect(),
+            sub_meshes,
+        })
+    }
+
+    /// Applies `dent`: the new rest mesh, and the new meshes (and convex hulls) of the sub-bodies
+    /// of the bones it lists. The sub-bodies keep their poses, velocities, sleep state, masses
+    /// and joints.
+    ///
+    /// # Errors
+    /// [`SimError::BadShape`] when a hull cannot be built, [`SimError::Invalid`] when `dent` was
+    /// made for another body; the body and the world are unchanged then.
+    pub fn apply_pose_dent(&mut self, world: &mut World, dent: PoseDent) -> Result<(), SimError> {
+        super::dent_coupling::uncondense_refitted(world, &dent)?;
+        let refitted = self.refit_sub_bodies(world, &dent)?;
+        for (index, body) in refitted {
+            world.bodies_mut()[index] = body;
+        }
+        self.rest_mesh = dent.rest_mesh;
+        Ok(())
+    }
+
+    /// Copies of the sub-bodies of `dent` with their new meshes and hulls (the world unchanged).
+    pub(crate) fn refit_sub_bodies(&self, world: &World, dent: &PoseDent) -> Result<Vec<(usize, RigidBody)>, SimError> {
+        if dent.rest_mesh.vertex_count() != self.rest_mesh.vertex_count()
+            || dent.sub_meshes.iter().any(|(index, _)| self.bone_of(*index).is_none())
+        {
+            return Err(SimError::Invalid {
+                what: format!("bendable body \"{}\": pose dent", self.name),
+                value: format!("{} vertices", dent.rest_mesh.vertex_count()),
+                reason: "was made for another body",
+            });
+        }
+        dent.sub_meshes
+            .iter()
+            .map(|(index, mesh)| {
+                let mut body = world.bodies()[*index].clone();
+                body.set_mesh(mesh.clone())?;
+                Ok((*index, body))
+            })
+            .collect()
+    }
+
+    /// Displacement `delta` of skinned vertex `v` mapped back to the rest pose through the
+    /// inverse of its blended linear part (`linear`: each bone's), as the skinning kernel blends
+    /// it (weight missing from 1 on the identity).
+    fn unblend(&self, v: usize, linear: &[Mat3], delta: Vec3) -> Vec3 {
+        let influence = &self.influences[v];
+        let mut blend = Mat3::ZERO;
+        let mut total = 0.0;
+        let mut dominant = (f32::NEG_INFINITY, Mat3::IDENTITY);
+        for (&bone, &w) in influence.bones.iter().zip(&influence.weights) {
+            let Some(&m) = linear.get(bone as usize) else { continue };
+            blend += m * w;
+            total += w;
+            if w > dominant.0 {
+                dominant = (w, m);
+            }
+        }
+        blend += Mat3::IDENTITY * (1.0 - total);
+        if blend.determinant().abs() > SINGULAR_BLEND {
+            blend.inverse() * delta
+        } else {
+            dominant.1.transpose() * delta
+        }
+    }
+
+    /// The bones owning a vertex of `moved` (ascending) and each one's world body index and
+    /// sub-mesh of `rest` in that body's coordinates.
+    fn changed_sub_meshes(
+        &self,
+        world: &World,
+        rest: &TriMesh,
+        moved: &[usize],
+    ) -> Result<(Vec<usize>, SubMeshes), SimError> {
+        let mut flags = vec![false; rest.vertex_count()];
+        moved.iter().for_each(|&v| flags[v] = true);
+        let mut owns = vec![false; self.bodies.len()];
+        for (face, &bone) in rest.faces().iter().zip(self.sub_bodies.triangle_bones()) {
+            if face.iter().any(|&v| flags[v as usize])
+                && let Some(o) = owns.get_mut(bone as usize)
+            {
+                *o = true;
+            }
+        }
+        let bones: Vec<usize> = (0..owns.len()).filter(|&k| owns[k]).collect();
+        let fail = |e| super::bendable::bend_error(&self.name, e);
+        let meshes = bones
+            .iter()
+            .map(|&bone| {
+                let (mut mesh, _) = self.sub_bodies.sub_mesh(rest, bone).map_err(fail)?;
+                let index = self.bodies[bone];
+                let offset = world.bodies()[index].model_offset;
+                mesh.transform(Affine3A::from_translation(offset))
+                    .map_err(|e| SimError::BadShape { body: self.name.clone(), reason: e.to_string() })?;
+                Ok((index, mesh))
+            })
+            .collect::<Result<_, SimError>>()?;
+        Ok((bones, meshes))
+    }
+}
