@@ -5,7 +5,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use dentbend::TriMesh;
-use dentbend::bend::{BoneDesc, LevelSet, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
+use dentbend::bend::{LevelSet, SkinWeights, SubBodies, WeightCache, WeightParams, bunny_skeleton};
 use dentbend::glam::Vec3;
 use dentbend::mesh;
 
@@ -14,21 +14,10 @@ fn dense_bunny() -> TriMesh {
     mesh::subdivide_midpoint_n(&mesh::load("bunny").expect("built-in bunny"), 2)
 }
 
-/// Body, head (leaving the body behind the neck, as in the paper's Figure 12) and two ears.
-fn bunny_skeleton() -> Skeleton {
-    let bone = |h: [f32; 3], t: [f32; 3], p| BoneDesc::new(Vec3::from_array(h), Vec3::from_array(t), p);
-    Skeleton::new(vec![
-        bone([2.0, 2.5, 0.8], [0.5, 5.6, 0.8], None),
-        bone([0.5, 5.6, 0.8], [-3.3, 7.4, 0.8], Some(0)),
-        bone([-3.3, 7.6, 0.2], [-3.43, 9.0, -3.0], Some(1)),
-        bone([-2.0, 7.6, 0.3], [-0.45, 9.1, -0.9], Some(1)),
-    ])
-    .expect("bunny skeleton")
-}
-
 fn bend(c: &mut Criterion) {
     let bunny = dense_bunny();
-    let skeleton = bunny_skeleton();
+    // Body, head (leaving the body behind the neck, as in the paper's Figure 12) and two ears.
+    let skeleton = bunny_skeleton(1.0).expect("bunny skeleton");
     let params = WeightParams::default();
     let mut group = c.benchmark_group("bend");
     group.sample_size(30);

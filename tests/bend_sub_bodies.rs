@@ -3,7 +3,7 @@
 
 use dentbend::TriMesh;
 use dentbend::bend::{
-    BendError, BoneDesc, LevelSet, NO_BONE, Skeleton, SubBodies, WeightParams, auto_skeleton, compute_weights,
+    BendError, LevelSet, NO_BONE, SubBodies, WeightParams, auto_skeleton, bunny_skeleton, compute_weights,
 };
 use dentbend::glam::{Mat3, Vec3};
 use dentbend::mesh;
@@ -93,14 +93,7 @@ fn triangles_and_cells_are_all_assigned() {
 #[test]
 fn bunny_sub_bodies_add_up_and_sit_on_their_bones() {
     let bunny = mesh::load("bunny").unwrap();
-    let bone = |h: [f32; 3], t: [f32; 3], p| BoneDesc::new(Vec3::from_array(h), Vec3::from_array(t), p);
-    let skeleton = Skeleton::new(vec![
-        bone([2.0, 2.5, 0.8], [0.5, 5.6, 0.8], None),
-        bone([0.5, 5.6, 0.8], [-3.3, 7.4, 0.8], Some(0)),
-        bone([-3.3, 7.6, 0.2], [-3.43, 9.0, -3.0], Some(1)),
-        bone([-2.0, 7.6, 0.3], [-0.45, 9.1, -0.9], Some(1)),
-    ])
-    .unwrap();
+    let skeleton = bunny_skeleton(1.0).unwrap();
     let (weights, cache) = compute_weights(&bunny, &skeleton, params(32)).unwrap();
     let set = cache.level_set();
     let subs = SubBodies::compute(&bunny, &weights, set, 1000.0).unwrap();

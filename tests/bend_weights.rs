@@ -5,7 +5,8 @@
 
 use dentbend::TriMesh;
 use dentbend::bend::{
-    BendError, BoneDesc, LevelSet, Skeleton, SkinWeights, WeightCache, WeightParams, auto_skeleton, compute_weights,
+    BUNNY_LEFT_EAR, BUNNY_RIGHT_EAR, BendError, BoneDesc, LevelSet, Skeleton, SkinWeights, WeightCache, WeightParams,
+    auto_skeleton, bunny_skeleton, compute_weights,
 };
 use dentbend::glam::{Affine3A, Vec3};
 use dentbend::mesh;
@@ -117,13 +118,8 @@ fn weights_do_not_leak_across_a_gap() {
 #[test]
 fn bunny_with_a_bone_poking_out_of_its_neck() {
     let bunny = mesh::load("bunny").unwrap();
-    let skeleton = Skeleton::new(vec![
-        bone([2.0, 2.5, 0.8], [0.5, 5.6, 0.8], None),        // body
-        bone([0.5, 5.6, 0.8], [-3.3, 7.4, 0.8], Some(0)),    // head: leaves the body behind the neck
-        bone([-3.3, 7.6, 0.2], [-3.43, 9.0, -3.0], Some(1)), // left ear
-        bone([-2.0, 7.6, 0.3], [-0.45, 9.1, -0.9], Some(1)), // right ear
-    ])
-    .unwrap();
+    // Body, head (leaves the body behind the neck), right ear, left ear.
+    let skeleton = bunny_skeleton(1.0).unwrap();
     skeleton.check_against(&bunny).unwrap();
     let cache = WeightCache::new(&bunny, params(32)).unwrap();
     let set = cache.level_set();
@@ -144,9 +140,10 @@ fn bunny_with_a_bone_poking_out_of_its_neck() {
         let p = bunny.positions();
         (0..p.len()).min_by(|&a, &b| p[a].distance(target).total_cmp(&p[b].distance(target))).unwrap()
     };
-    let (left_tip, right_tip) = (nearest(Vec3::new(-3.43, 9.05, -3.1)), nearest(Vec3::new(-0.41, 9.16, -0.94)));
-    assert!(w.weight(left_tip, 2) > 0.99 && w.weight(left_tip, 3) < 1e-3);
-    assert!(w.weight(right_tip, 3) > 0.99 && w.weight(right_tip, 2) < 1e-3);
+    let (right_tip, left_tip) = (nearest(Vec3::new(-3.43, 9.05, -3.1)), nearest(Vec3::new(-0.41, 9.16, -0.94)));
+    let (right, left) = (BUNNY_RIGHT_EAR, BUNNY_LEFT_EAR);
+    assert!(w.weight(right_tip, right) > 0.99 && w.weight(right_tip, left) < 1e-3);
+    assert!(w.weight(left_tip, left) > 0.99 && w.weight(left_tip, right) < 1e-3);
 }
 
 #[test]

@@ -34,6 +34,8 @@ fn builtin_scenes_build_at_both_sizes() {
         ("spring", 1 + 2, 1 + 2),
         // Ground, four frames of 12 bars, tetrahedra of 4 balls and 6 one-bone struts.
         ("tetrahedra", 1 + 48 + 400 * 10, 1 + 48 + 16 * 10),
+        // A stand, two balls and the bunny's four bones.
+        ("bunny-bones", 1 + 2 + 4, 1 + 2 + 4),
     ];
     assert_eq!(BUILTIN_SCENES.len(), expected.len());
     for (name, full, demo) in expected {

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Quat, Vec3};
 
 use super::bendable::bend_error;
-use super::{BendableDesc, DynamicArticulation, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
+use super::{BendableDesc, DynamicArticulation, LevelSet, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
 use crate::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
 use crate::mesh::TriMesh;
 use crate::sim::{BodyDesc, ColliderKind, DentSettings, SimError, SurfaceMaterial, World};
@@ -17,7 +17,8 @@ use crate::sim::{BodyDesc, ColliderKind, DentSettings, SimError, SurfaceMaterial
 ///
 /// Bone k is simulated by the world body [`body_indices`](Self::body_indices)`[k]`, named
 /// `<name>/bone<k>`, whose mesh is the bone's open sub-mesh ([`SubBodies::sub_mesh`]), whose
-/// collider is the convex hull of it and whose mass properties are its level-set cells'. The
+/// collider is the convex hull of it and whose mass properties are its level-set cells'; the
+/// sub-bodies of one bending body do not collide with each other. The
 /// model frame of every sub-body is the rest mesh's, so a bone's skinning matrix is its body's
 /// [`model_transform`](crate::sim::RigidBody::model_transform) (model → world). Sub-body masses
 /// and inertias are their voxel shares scaled so that they add up to the closed mesh's exact
@@ -146,7 +147,7 @@ impl ArticulatedBody {
                 let anchor = pose.transform_point3(joint.point);
                 world.add_joint(body.bodies[joint.parent], body.bodies[joint.child], anchor, desc.joint)?;
             }
-            Ok(())
+            ignore_own_collisions(world, &body.bodies)
         })();
         if let Err(e) = added {
             world.truncate(bodies_before, joints_before);
@@ -178,6 +179,24 @@ impl ArticulatedBody {
     /// The sub-bodies now.
     pub fn sub_bodies(&self) -> &SubBodies {
         &self.sub_bodies
+    }
+
+    /// The level set of the rest mesh (model frame) that the sub-bodies' cells come from.
+    pub fn level_set(&self) -> &LevelSet {
+        self.cache.level_set()
+    }
+
+    /// Every bone's open sub-body surface ([`SubBodies::sub_mesh`]) in the model frame, m, in
+    /// bone order.
+    ///
+    /// # Errors
+    /// [`SimError::BadShape`] if a bone owns no triangle (never for a body built by
+    /// [`new`](Self::new), which refuses that).
+    pub fn sub_meshes(&self) -> Result<Vec<TriMesh>, SimError> {
+        (0..self.skeleton.len())
+            .map(|bone| self.sub_bodies.sub_mesh(&self.rest_mesh, bone).map(|(mesh, _)| mesh))
+            .collect::<Result<_, _>>()
+            .map_err(|e| bend_error(&self.name, e))
     }
 
     /// The weight parameters (level-set resolution…).
@@ -310,6 +329,18 @@ impl RigidMotion {
     pub fn at(&self, point: Vec3) -> Vec3 {
         self.velocity + self.angular.cross(point - self.centre)
     }
+}
+
+/// Stops every two of one bending body's sub-bodies (world indices `bodies`) from colliding with
+/// each other: their convex-hull colliders overlap where they meet (the bunny's ears, its body
+/// and head), and a body does not collide with itself.
+pub(crate) fn ignore_own_collisions(world: &mut World, bodies: &[usize]) -> Result<(), SimError> {
+    for (k, &a) in bodies.iter().enumerate() {
+        for &b in &bodies[k + 1..] {
+            world.ignore_collisions(a, b)?;
+        }
+    }
+    Ok(())
 }
 
 /// The weights as the skinning kernel's four influences per vertex.

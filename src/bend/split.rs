@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::articulated::{RigidMotion, skin_influences};
+use super::articulated::{RigidMotion, ignore_own_collisions, skin_influences};
 use super::bendable::bend_error;
 use super::{ArticulatedBody, BendError, SubBodies};
 use crate::sim::{SimError, World};
@@ -149,6 +149,8 @@ impl ArticulatedBody {
             }
         }
         let joint = world.add_joint(old_body, new_body, anchor, dynamic.joint)?;
+        let own: Vec<usize> = self.bodies.iter().copied().chain([new_body]).collect();
+        ignore_own_collisions(world, &own)?;
         Ok((new_body, joint))
     }
 }

@@ -14,6 +14,10 @@ pub enum RenderError {
     /// The camera is unusable.
     #[error("unusable camera (non-finite, eye on target, up along the view, or field of view outside 1..179°): {0}")]
     Camera(String),
+    /// A bending body's rest pictures could not be made (a non-finite pose, a bone without a
+    /// surface).
+    #[error("bending body: {0}")]
+    Body(String),
     /// The GPU renderer failed: no adapter (when the GPU was asked for), a validation or
     /// out-of-memory error, a lost device or a failed read-back.
     #[error("GPU renderer: {0}")]

@@ -1,6 +1,9 @@
 //! Offscreen pictures of meshes, for the CLI, the README and quick looks: a CPU rasterizer
 //! ([`render`]), a wgpu renderer ([`GpuRenderer`], `shaders/render.wgsl`) that takes the same
 //! inputs, and [`Renderer`] / [`render_auto`] to pick one by [`Backend`](crate::gpu::Backend).
+//! For bending bodies, [`rest_pictures`] draws the skeleton, the sub-bodies and the level set
+//! of the rest state (paper Figure 12), with 2D marks ([`draw_segment`], [`draw_disc`] at
+//! [`project_point`]) and colours ([`bone_colour`]).
 
 mod camera;
 mod check;
@@ -10,12 +13,20 @@ mod gpu_frame;
 mod gpu_pipeline;
 mod gpu_scene;
 mod gpu_target;
+mod level_slices;
+mod overlay;
+mod palette;
 mod raster;
 mod renderer;
+mod rest_pictures;
 
 pub use camera::Camera;
 pub use error::RenderError;
 pub use gpu::{GpuRenderer, MAX_TILE_SIDE};
 pub use gpu_pipeline::RENDER_WGSL;
+pub use level_slices::{SLICES, SliceInput, draw_level_slices};
+pub use overlay::{draw_disc, draw_segment, project_point};
+pub use palette::{bone_colour, darken, lighten};
 pub use raster::{MAX_IMAGE_SIDE, Shaded, render};
 pub use renderer::{Renderer, render_auto};
+pub use rest_pictures::{RestPictures, rest_pictures};

@@ -132,7 +132,7 @@ fn background() -> Vec3 {
     Vec3::new(0.93, 0.94, 0.96)
 }
 
-fn to_srgb8(linear: f32) -> u8 {
+pub(super) fn to_srgb8(linear: f32) -> u8 {
     let c = linear.clamp(0.0, 1.0);
     let s = if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
     (s * 255.0).round() as u8

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{Affine3A, Vec3};
 
 use super::types::{fit_camera, framing_bounds};
-use super::{Scene, SceneError, SceneSize, bending_scenes, figures, load_scene, rain, tetrahedra};
+use super::{Scene, SceneError, SceneSize, bending_scenes, bunny_bones, figures, load_scene, rain, tetrahedra};
 use crate::mesh::{self, TriMesh};
 use crate::sim::{DentSettings, SimError, World, WorldSettings};
 
@@ -22,9 +22,20 @@ use crate::sim::{DentSettings, SimError, World, WorldSettings};
 /// | `rain`        | 10     | 1,507 dentable spheres rain on a dense bunny and other targets        |
 /// | `plank`       | 14     | a ball hits a plank on two supports: a plastic joint appears there    |
 /// | `spring`      | —      | a floating bar with an elastic joint is hit and springs back straight |
+/// | `bunny-bones` | 12     | a four-bone bunny (head bone poking out of the neck): head, ear bend  |
 /// | `tetrahedra`  | 13     | 400 tetrahedra of balls and struts fall on four frames and bend       |
-pub const BUILTIN_SCENES: &[&str] =
-    &["pair", "ball-block", "bunny-block", "glancing", "resolution", "rain", "plank", "spring", "tetrahedra"];
+pub const BUILTIN_SCENES: &[&str] = &[
+    "pair",
+    "ball-block",
+    "bunny-block",
+    "glancing",
+    "resolution",
+    "rain",
+    "plank",
+    "spring",
+    "bunny-bones",
+    "tetrahedra",
+];
 
 /// Builds the built-in scene `name` (see [`BUILTIN_SCENES`]) at `size`.
 ///
@@ -50,6 +61,7 @@ pub fn builtin_scene(name: &str, size: SceneSize) -> Result<Scene, SceneError> {
         "plank" => bending_scenes::plank,
         "spring" => bending_scenes::spring,
         "tetrahedra" => tetrahedra::tetrahedra,
+        "bunny-bones" => bunny_bones::bunny_bones,
         _ => return Err(SceneError::UnknownScene { name: name.into() }),
     };
     build(size).map_err(|source| SceneError::Builtin { scene: name.into(), source })

@@ -147,6 +147,7 @@
 
 mod bending_scenes;
 mod builtin;
+mod bunny_bones;
 mod error;
 mod figures;
 mod file;
@@ -160,6 +161,7 @@ mod types;
 
 pub use bending_scenes::{PLANK_DENT, PLANK_HIT, PLANK_SIZE, SPRING_JOINT};
 pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized};
+pub use bunny_bones::{BUNNY_EAR_HIT, BUNNY_FALLOFF, BUNNY_HEAD_HIT, BUNNY_JOINT, BUNNY_SCALE};
 pub use error::SceneError;
 pub use parse::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, parse_scene};
 pub use types::{DEFAULT_FRAMES, FRAMING_ASPECT, Scene, SceneSize, fit_camera, framing_camera};

@@ -146,6 +146,9 @@ pub struct World {
     joints: Vec<Joint>,
     /// Body pairs (smaller index first) joined by a joint: they do not collide.
     joined: HashSet<(usize, usize)>,
+    /// Body pairs (smaller index first) that do not collide whether joined or not
+    /// ([`ignore_collisions`](Self::ignore_collisions)).
+    ignored: HashSet<(usize, usize)>,
     /// Last step's contact impulses, to warm-start this step's.
     cache: ContactCache,
     /// Rigid clusters, active and dissolved (their proxies kept for reuse).
@@ -169,6 +172,7 @@ impl World {
             steps: 0,
             joints: Vec::new(),
             joined: HashSet::new(),
+            ignored: HashSet::new(),
             cache: ContactCache::default(),
             clusters: Vec::new(),
             layout: 0,
@@ -430,6 +434,7 @@ impl World {
         still(&self.bodies[i]) && still(&self.bodies[j])
             || !moves(&self.bodies[i]) && !moves(&self.bodies[j])
             || self.joined.contains(&joints::pair(i, j))
+            || self.ignored.contains(&joints::pair(i, j))
     }
 
     /// Wakes the islands of sleeping bodies touched by moving ones.

@@ -1,5 +1,6 @@
-//! Small edits of a [`World`]'s joints that dynamic articulation needs (paper §4.2): when a bone
-//! is split, the joints of the old bone's far end move to the new second half.
+//! Small edits of a [`World`]'s joints that bending needs (paper §4): when a bone is split, the
+//! joints of the old bone's far end move to the new second half (§4.2); the sub-bodies of one
+//! bending body do not collide with each other.
 //!
 //! A child module of `world` (declared there with `#[path]`) so that it can keep the world's
 //! set of joined pairs in step with its joints.
@@ -76,5 +77,25 @@ impl World {
         self.bodies.truncate(bodies);
         self.joints.truncate(joints);
         self.joined = self.joints.iter().map(|j| joints::pair(j.a, j.b)).collect();
+        self.ignored.retain(|&(_, b)| b < bodies);
+    }
+
+    /// Stops bodies `a` and `b` from colliding with each other for good, joined or not: for parts
+    /// of one body, such as a bending body's sub-bodies, whose colliders overlap where they meet.
+    ///
+    /// # Errors
+    /// [`SimError::Invalid`] for an index that is not a body or the same body twice; the world
+    /// is unchanged then.
+    pub fn ignore_collisions(&mut self, a: usize, b: usize) -> Result<(), SimError> {
+        for (what, index) in [("ignore collisions of body", a), ("ignore collisions with body", b)] {
+            if index >= self.bodies.len() {
+                return Err(invalid(what, index, "is not a body of the world"));
+            }
+        }
+        if a == b {
+            return Err(invalid("ignore collisions of bodies", (a, b), "must be two different bodies"));
+        }
+        self.ignored.insert(joints::pair(a, b));
+        Ok(())
     }
 }

@@ -1,5 +1,7 @@
 //! `dentbend run SCENE`: steps a built-in scene or a scene file with denting in the loop and
-//! writes meshes (OBJ and glTF), PNG frames and `summary.json`.
+//! writes meshes (OBJ and glTF), PNG frames and `summary.json`, and once at the start the rest
+//! state of every bending body (`rest/`: skeleton, sub-body and level-set pictures, sub-body
+//! meshes).
 
 use std::path::{Path, PathBuf};
 
@@ -14,6 +16,7 @@ use serde::Serialize;
 
 use crate::backend::BackendOption;
 use crate::error::CliError;
+use crate::rest_output::write_rest_files;
 
 /// Which bodies' meshes are written at each output frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -29,15 +32,16 @@ pub enum MeshChoice {
 /// Arguments of `dentbend run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// A built-in scene (pair, ball-block, bunny-block, glancing, resolution, rain, plank, spring)
-    /// or a scene file (.toml)
+    /// A built-in scene (pair, ball-block, bunny-block, glancing, resolution, rain, plank, spring,
+    /// bunny-bones) or a scene file (.toml)
     pub scene: String,
 
     /// Frames to run (one world step each) [default: the scene's]
     #[arg(long, value_name = "N")]
     pub frames: Option<u32>,
 
-    /// Output directory (created if missing): meshes/, frames/, summary.json
+    /// Output directory (created if missing): meshes/, frames/, rest/ (bending bodies' rest
+    /// state), summary.json
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
@@ -87,6 +91,11 @@ struct Summary<'a> {
     joints: Vec<JointEntry<'a>>,
     /// Plastic bends: frame, joint index, angle (rad).
     bends: &'a [BendRecord],
+    /// Pictures of the bending bodies' rest state (skeleton, sub-bodies, level set), relative
+    /// to the output directory.
+    rest_pictures: &'a [String],
+    /// The bending bodies' sub-body meshes at the start, relative to the output directory.
+    rest_meshes: &'a [String],
 }
 
 /// One joint of `summary.json`.
@@ -143,6 +152,8 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     }
     let Scene { name, world, camera, description, bending, .. } = scene;
     let mut sim = Simulation::new(world, context).map_err(|e| CliError::Usage(e.to_string()))?.with_bending(bending);
+    let writes_meshes = args.meshes != MeshChoice::None;
+    let rest = write_rest_files(&sim, &camera, renderer.as_ref(), args.picture, writes_meshes, &args.out)?;
     let progress = ProgressBar::new(u64::from(frames));
     progress.set_style(
         ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} frames, {msg} ({elapsed} / ~{duration})")
@@ -188,18 +199,24 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         dents: sim.dents().iter().map(|record| DentEntry { frame: record.step, record }).collect(),
         joints: sim.bending().joints().iter().map(JointEntry::from).collect(),
         bends: sim.bending().bends(),
+        rest_pictures: &rest.pictures,
+        rest_meshes: &rest.meshes,
     };
     let path = args.out.join("summary.json");
     let json = serde_json::to_string_pretty(&summary).map_err(|e| CliError::Usage(e.to_string()))?;
     std::fs::write(&path, json).map_err(|source| CliError::Write { path: path.clone(), source })?;
     let ms = &summary.ms_per_step;
     Ok(format!(
-        "run {name}: {frames} frames, {} dents, {} joints, {:.2} ms/step ({:.2} dynamics + {:.2} denting), {written} mesh files → {}",
+        "run {name}: {frames} frames, {} dents, {} joints, {:.2} ms/step ({:.2} dynamics + {:.2} denting), {written} mesh files{} → {}",
         sim.dents().len(),
         sim.bending().joints().len(),
         ms.total_mean,
         ms.dynamics_mean,
         ms.denting_mean,
+        match rest.pictures.len() + rest.meshes.len() {
+            0 => String::new(),
+            n => format!(", {n} rest-state files"),
+        },
         args.out.display()
     ))
 }

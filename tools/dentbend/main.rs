@@ -11,6 +11,7 @@ mod cmd_run;
 mod error;
 mod logging;
 mod options;
+mod rest_output;
 mod vector;
 
 use std::io::Write;

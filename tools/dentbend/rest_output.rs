@@ -1,0 +1,78 @@
+//! `dentbend run`'s rest-state files of every bending body, written once before the first step
+//! into `OUT/rest/`: `<body>_skeleton.png`, `<body>_sub_bodies.png` and `<body>_level_set.png`
+//! (paper Figure 12), and `<body>_sub<k>.obj`, bone k's open sub-body surface in world
+//! coordinates at the start.
+
+use std::path::Path;
+
+use dentbend::render::{Camera, Renderer, rest_pictures};
+use dentbend::sim::Simulation;
+
+use crate::error::CliError;
+
+/// Folder under the output directory that holds the rest-state files.
+pub const REST_DIR: &str = "rest";
+
+/// The rest-state files written, as paths relative to the output directory.
+#[derive(Debug, Default)]
+pub struct RestFiles {
+    /// The pictures, three per bending body.
+    pub pictures: Vec<String>,
+    /// The sub-body meshes, one per bone.
+    pub meshes: Vec<String>,
+}
+
+/// Writes the rest-state files of every bending body of `sim` (at its start) under
+/// `out/rest/`: pictures when `renderer` is given (`size` pixels, seen along the scene
+/// `camera`'s view), sub-body meshes when `meshes` holds.
+///
+/// # Errors
+/// [`CliError::CreateDir`], [`CliError::Write`] for a file, [`CliError::Usage`] when a picture
+/// cannot be drawn.
+pub fn write_rest_files(
+    sim: &Simulation,
+    camera: &Camera,
+    renderer: Option<&Renderer<'_>>,
+    size: (u32, u32),
+    meshes: bool,
+    out: &Path,
+) -> Result<RestFiles, CliError> {
+    let mut files = RestFiles::default();
+    let bodies = sim.bending().bodies();
+    if bodies.is_empty() || (renderer.is_none() && !meshes) {
+        return Ok(files);
+    }
+    let dir = out.join(REST_DIR);
+    std::fs::create_dir_all(&dir).map_err(|source| CliError::CreateDir { path: dir.clone(), source })?;
+    for body in bodies {
+        let name = body.name();
+        let usage = |e: &dyn std::fmt::Display| CliError::Usage(format!("bending body \"{name}\": {e}"));
+        let transforms = body.bone_transforms(sim.world()).map_err(|e| usage(&e))?;
+        let pose = *transforms.get(body.skeleton().root()).ok_or_else(|| usage(&"no sub-body for the root bone"))?;
+        if let Some(renderer) = renderer {
+            let pictures =
+                rest_pictures(body, pose, camera.target - camera.eye, renderer, size).map_err(|e| usage(&e))?;
+            for (kind, picture) in [
+                ("skeleton", &pictures.skeleton),
+                ("sub_bodies", &pictures.sub_bodies),
+                ("level_set", &pictures.level_set),
+            ] {
+                let file = format!("{name}_{kind}.png");
+                let path = dir.join(&file);
+                picture.save(&path).map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
+                files.pictures.push(format!("{REST_DIR}/{file}"));
+            }
+        }
+        if meshes {
+            for (k, mut mesh) in body.sub_meshes().map_err(|e| usage(&e))?.into_iter().enumerate() {
+                mesh.transform(pose).map_err(|e| usage(&e))?;
+                let file = format!("{name}_sub{k}.obj");
+                let path = dir.join(&file);
+                dentbend::mesh::save(&path, &mesh)
+                    .map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
+                files.meshes.push(format!("{REST_DIR}/{file}"));
+            }
+        }
+    }
+    Ok(files)
+}
