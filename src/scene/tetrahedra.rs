@@ -48,13 +48,13 @@ pub(super) fn tetrahedra(size: SceneSize) -> Result<Scene, SimError> {
     let strut = mesh::cylinder(STRUT_RADIUS, TETRA_EDGE - 2.0 * STRUT_INSET, 8, 8)?;
     let ball_mesh = ball(BALL_RADIUS, 1)?;
     let mut random = Lcg(0x7E7A_4ED4);
-    let spacing = 0.8;
+    let spacing = 1.0;
     let corner = -0.5 * spacing * (per_row - 1) as f32;
     for t in 0..count {
         let (i, l, j) = (t % per_row, (t / per_row) % per_row, t / (per_row * per_row));
         debug_assert!(j < layers);
         let jitter = Vec3::new(random.symmetric(), random.symmetric(), random.symmetric()) * 0.05;
-        let centre = Vec3::new(corner + spacing * i as f32, 2.6 + 0.8 * j as f32, corner + spacing * l as f32);
+        let centre = Vec3::new(corner + spacing * i as f32, 2.6 + spacing * j as f32, corner + spacing * l as f32);
         let axis = Vec3::new(random.symmetric(), random.symmetric(), random.symmetric()).normalize_or(Vec3::Y);
         let turn = Quat::from_axis_angle(axis, std::f32::consts::PI * random.unit());
         let shade = 0.7 + 0.3 * random.unit();

@@ -226,7 +226,7 @@ impl World {
         let body_inertia = rotation.transpose() * inertia * rotation;
         let inverse_inertia = body_inertia.inverse();
         let name = format!("cluster of \"{}\"", bodies[0].name);
-        if !inverse_inertia.is_finite() || !(mass.is_finite() && mass > 0.0) {
+        if !(inverse_inertia.is_finite() && mass.is_finite() && mass > 0.0) {
             return Err(SimError::BadShape { body: name, reason: "cluster inertia tensor is singular".into() });
         }
         let inverse = orientation.inverse();
