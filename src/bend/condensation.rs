@@ -111,7 +111,7 @@ impl Condenser {
     /// After the step that stands: notes which joints were active, then condenses every group of
     /// bodies joined by quiet joints that is not one cluster yet (dissolving the smaller clusters
     /// it swallows). Bodies that cannot be condensed (static, dentable, triangle-mesh
-    /// colliders) keep their joints active.
+    /// colliders) stay out of clusters.
     pub fn update(&mut self, world: &mut World, report: &StepReport) -> Result<(), SimError> {
         self.grow(world);
         let now = world.steps();
@@ -127,15 +127,15 @@ impl Condenser {
             }
             if now.saturating_sub(self.last_active[joint]) >= quiet_steps
                 && let Some((a, b)) = world.joint_ends(joint)
-                && condensable(world, a)
-                && condensable(world, b)
+                && world.clusterable(a)
+                && world.clusterable(b)
             {
                 groups.join(a, b);
             }
         }
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); world.bodies().len()];
         for body in 0..world.bodies().len() {
-            if condensable(world, body) {
+            if world.clusterable(body) {
                 members[groups.root(body)].push(body);
             }
         }
@@ -189,16 +189,6 @@ impl Condenser {
         let now = world.steps();
         self.last_active.resize(world.joints().len(), now);
     }
-}
-
-/// Whether a body may be in a cluster (it may be in one already): a dynamic body that is not a
-/// proxy, not dentable and has a simple collider.
-fn condensable(world: &World, body: usize) -> bool {
-    let b = &world.bodies()[body];
-    b.kind == crate::sim::BodyKind::Dynamic
-        && !b.is_cluster_proxy()
-        && b.dent.is_none()
-        && b.shape().as_composite_shape().is_none()
 }
 
 /// Whether two index lists hold the same bodies.

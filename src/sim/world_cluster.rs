@@ -186,20 +186,19 @@ impl World {
             if members[..k].contains(&index) {
                 return refuse("is listed twice");
             }
-            if body.kind != BodyKind::Dynamic {
-                return refuse("is not dynamic");
+            if let Some(reason) = unclusterable(body) {
+                return refuse(reason);
             }
             if body.role != Role::Free {
-                return refuse("is already condensed or is a cluster's proxy");
-            }
-            if body.dent.is_some() {
-                return refuse("is dentable (its mesh changes) and cannot be condensed");
-            }
-            if body.shape.as_composite_shape().is_some() {
-                return refuse("has a composite collider (triangle mesh), which a cluster cannot hold");
+                return refuse("is already condensed");
             }
         }
         Ok(())
+    }
+
+    /// Whether body `index` may be in a cluster (it may be in one now): see [`unclusterable`].
+    pub(crate) fn clusterable(&self, index: usize) -> bool {
+        self.bodies.get(index).is_some_and(|body| unclusterable(body).is_none())
     }
 
     /// The proxy of `members`: summed mass properties about the common centre of mass, axes
@@ -267,4 +266,20 @@ impl World {
 /// The outer product a·bᵀ.
 fn outer(a: Vec3, b: Vec3) -> Mat3 {
     Mat3::from_cols(a * b.x, a * b.y, a * b.z)
+}
+
+/// Why `body` can never be in a cluster, if it cannot: not dynamic, a proxy itself, dentable (its
+/// mesh changes) or with a composite collider (a compound cannot hold one).
+fn unclusterable(body: &RigidBody) -> Option<&'static str> {
+    if body.kind != BodyKind::Dynamic {
+        Some("is not dynamic")
+    } else if body.is_cluster_proxy() {
+        Some("is a cluster's proxy")
+    } else if body.dent.is_some() {
+        Some("is dentable (its mesh changes) and cannot be condensed")
+    } else if body.shape.as_composite_shape().is_some() {
+        Some("has a composite collider (triangle mesh), which a cluster cannot hold")
+    } else {
+        None
+    }
 }
