@@ -123,13 +123,12 @@ impl ArticulatedBody {
     /// Adds one world body per bone and one world joint per skeleton joint for `desc`'s pose
     /// and motion; the world is unchanged on error.
     fn place(mut self, world: &mut World, desc: &BendableDesc) -> Result<Self, SimError> {
-        let body = &mut self;
         let rotation = desc.orientation.normalize();
         let pose = Affine3A::from_rotation_translation(rotation, desc.position);
-        let centre = pose.transform_point3(body.sub_bodies.total().center);
+        let centre = pose.transform_point3(self.sub_bodies.total().center);
         let motion = RigidMotion { velocity: desc.linear_velocity, angular: desc.angular_velocity, centre };
-        let descs = (0..body.skeleton.len())
-            .map(|bone| body.sub_body_desc(bone, (desc.position, rotation), motion))
+        let descs = (0..self.skeleton.len())
+            .map(|bone| self.sub_body_desc(bone, (desc.position, rotation), motion))
             .collect::<Result<Vec<_>, _>>()?;
         if let Some(taken) = descs.iter().find(|d| world.find(&d.name).is_some()) {
             return Err(SimError::Invalid {
@@ -141,13 +140,13 @@ impl ArticulatedBody {
         let (bodies_before, joints_before) = (world.bodies().len(), world.joints().len());
         let added = (|| {
             for d in descs {
-                body.bodies.push(world.add(d)?);
+                self.bodies.push(world.add(d)?);
             }
-            for joint in body.skeleton.joints() {
+            for joint in self.skeleton.joints() {
                 let anchor = pose.transform_point3(joint.point);
-                world.add_joint(body.bodies[joint.parent], body.bodies[joint.child], anchor, desc.joint)?;
+                world.add_joint(self.bodies[joint.parent], self.bodies[joint.child], anchor, desc.joint)?;
             }
-            ignore_own_collisions(world, &body.bodies)
+            ignore_own_collisions(world, &self.bodies)
         })();
         if let Err(e) = added {
             world.truncate(bodies_before, joints_before);
