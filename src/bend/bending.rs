@@ -201,8 +201,9 @@ impl Bending {
         Ok(())
     }
 
-    /// Per world body, the bending body and bone it simulates.
-    fn owners(&self, count: usize) -> Vec<Option<(usize, usize)>> {
+    /// Per world body (of `count`), the bending body and bone it simulates: one pass over the
+    /// bones, where [`is_sub_body`](Self::is_sub_body) per body would search them all each time.
+    pub fn owners(&self, count: usize) -> Vec<Option<(usize, usize)>> {
         let mut owners = vec![None; count];
         for (k, body) in self.bodies.iter().enumerate() {
             for (bone, &index) in body.body_indices().iter().enumerate() {

@@ -224,7 +224,8 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
 /// The world's bodies but the sub-bodies of bending bodies and the stand-ins of rigid clusters,
 /// with their indices.
 fn shown_bodies(sim: &Simulation) -> impl Iterator<Item = (usize, &dentbend::sim::RigidBody)> {
-    sim.world().bodies().iter().enumerate().filter(|(k, b)| !sim.bending().is_sub_body(*k) && !b.is_cluster_proxy())
+    let owners = sim.bending().owners(sim.world().bodies().len());
+    sim.world().bodies().iter().enumerate().filter(move |(k, b)| owners[*k].is_none() && !b.is_cluster_proxy())
 }
 
 /// The bending bodies' names.
