@@ -74,3 +74,35 @@ fn a_scene_file_with_a_bending_body_runs() {
     let bends = summary["bends"].as_array().unwrap();
     assert!(!bends.is_empty() && bends.iter().all(|b| b["angle"].as_f64().is_some_and(|a| a > 0.0)), "{bends:?}");
 }
+
+/// `summary.json` says where the bending bodies were skinned: with `--backend gpu` on the GPU
+/// every step (each step's `skinning_ms` positive), with `--backend cpu` on the CPU twin for the
+/// output frames only (each step's `skinning_ms` 0); the output frames' meshes are written
+/// either way.
+#[test]
+fn the_summary_says_where_skinning_ran() {
+    let dir = TempDir::new("run-plank-skin");
+    let gpu = common::context().is_some();
+    for backend in if gpu { &["cpu", "gpu"][..] } else { &["cpu"][..] } {
+        let out = dir.path(backend);
+        let args = ["run", "plank", "--size", "demo", "--frames", "3", "--every", "3", "--picture", "0,0"];
+        let output = dentbend(&[&args[..], &["--backend", backend, "--out", out.to_str().unwrap()]].concat());
+        assert!(output.status.success(), "{backend}: {}", text(&output.stderr));
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+        assert_eq!(summary["skin_on"], *backend);
+        // The output frames' plank meshes, read back from the GPU or skinned on the CPU.
+        for frame in ["0000", "0003"] {
+            let plank = dentbend::mesh::load_obj(out.join(format!("meshes/plank_{frame}.obj"))).unwrap();
+            assert_eq!(plank.vertex_count(), dentbend::mesh::plank(4.0, 0.3, 0.1, 64).unwrap().vertex_count());
+        }
+        let steps = summary["steps"].as_array().unwrap();
+        assert_eq!(steps.len(), 3);
+        for step in steps {
+            let ms = step["skinning_ms"].as_f64().unwrap_or_else(|| panic!("{backend}: {step}"));
+            assert!(if *backend == "gpu" { ms > 0.0 && ms.is_finite() } else { ms == 0.0 }, "{backend}: {step}");
+        }
+        let mean = summary["ms_per_step"]["skinning_mean"].as_f64().unwrap();
+        assert!(mean.is_finite(), "{backend}: skinning_mean {mean}");
+    }
+}

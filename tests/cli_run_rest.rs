@@ -111,3 +111,31 @@ fn rest_files_follow_the_picture_and_mesh_options_and_need_a_bending_body() {
     assert!(strings(&summary["rest_pictures"]).is_empty() && strings(&summary["rest_meshes"]).is_empty());
     assert!(!out.join("rest").exists());
 }
+
+/// The tetrahedra's 96 struts are built alike and share one rest state: it is written once,
+/// under the first strut's name, and every file name holds the body name with its `/` as `_`.
+#[test]
+fn bodies_built_alike_share_one_set_of_rest_files_and_slashes_leave_file_names() {
+    let dir = TempDir::new("run-rest-tetrahedra");
+    let out = dir.path("tetrahedra");
+    let summary = run(&["tetrahedra", "--size", "demo", "--frames", "1", "--every", "1"], &out);
+    let mut rest: Vec<&str> = strings(&summary["rest_pictures"]);
+    rest.extend(strings(&summary["rest_meshes"]));
+    rest.sort_unstable();
+    assert_eq!(
+        rest,
+        [
+            "rest/tetra000_strut0_level_set.png",
+            "rest/tetra000_strut0_skeleton.png",
+            "rest/tetra000_strut0_sub0.obj",
+            "rest/tetra000_strut0_sub_bodies.png"
+        ]
+    );
+    for file in &rest {
+        assert!(out.join(file).is_file(), "{file} listed but not written");
+    }
+    let meshes = out.join("meshes");
+    for name in ["tetra015_strut5_0001.obj", "tetra015_ball3_0001.glb"] {
+        assert!(meshes.join(name).is_file(), "{name} not written");
+    }
+}

@@ -45,6 +45,9 @@ pub struct ArticulatedBody {
     pub(crate) mass_scale: f32,
     /// Denting behaviour of the whole body (its sub-bodies are not dentable themselves).
     pub(crate) dent: Option<DentSettings>,
+    /// Revision of `rest_mesh` and `influences` (see [`rest_revision`](Self::rest_revision)):
+    /// change them through `set_rest_mesh` and `set_influences`, which renew it.
+    pub(crate) rest_revision: u64,
 }
 
 impl ArticulatedBody {
@@ -110,6 +113,7 @@ impl ArticulatedBody {
             added_joints: 0,
             mass_scale: 1.0,
             dent: desc.dent.clone(),
+            rest_revision: super::rest_revision::next_rest_revision(),
         };
         let exact = crate::sim::mass_properties(&desc.mesh, desc.density).map(|m| m.mass);
         let voxels = body.sub_bodies.total().mass;

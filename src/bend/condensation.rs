@@ -95,14 +95,21 @@ impl Condenser {
     pub fn wake(&mut self, world: &mut World, clusters: &[usize]) -> Result<(), SimError> {
         let now = world.steps();
         self.grow(world);
+        let mut woken = vec![false; world.bodies().len()];
         for &cluster in clusters {
-            let members = world.cluster_members(cluster).unwrap_or_default();
+            for member in world.cluster_members(cluster).unwrap_or_default() {
+                woken[member] = true;
+            }
             world.uncondense(cluster)?;
-            for joint in 0..world.joints().len() {
-                let (a, b) = world.joint_ends(joint).unwrap_or((usize::MAX, usize::MAX));
-                if members.contains(&a) || members.contains(&b) {
-                    self.last_active[joint] = now;
-                }
+        }
+        if clusters.is_empty() {
+            return Ok(());
+        }
+        for joint in 0..world.joints().len() {
+            if let Some((a, b)) = world.joint_ends(joint)
+                && (woken[a] || woken[b])
+            {
+                self.last_active[joint] = now;
             }
         }
         Ok(())

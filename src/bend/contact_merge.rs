@@ -2,13 +2,14 @@
 //! bending body in one step (a ball landing on a joint touches both bones) makes one impact on
 //! the body's mesh, not one per sub-body, or the dents would stack.
 
+use std::collections::HashMap;
+
 use glam::Vec3;
 
-use super::Bending;
 use crate::sim::CollisionEvent;
 
 /// A side of a contact: a plain world body, or a bending body (index in [`Bending::bodies`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum Side {
     Body(usize),
     Bending(usize),
@@ -20,14 +21,15 @@ enum Side {
 /// pair's contact points that way; equal weights when no impulse was applied), the impulses
 /// summed, and the bodies those of the heaviest-weighted event. A pair with one event keeps it
 /// as it is, as do events between two sub-bodies of one bending body and between plain bodies.
-pub fn merge_contacts(bending: &Bending, events: &[CollisionEvent]) -> Vec<CollisionEvent> {
-    let side = |index: usize| {
-        bending.bodies.iter().position(|b| b.bone_of(index).is_some()).map_or(Side::Body(index), Side::Bending)
-    };
+/// `owner`: per world body, the bending body (index in [`Bending::bodies`](super::Bending::bodies))
+/// whose sub-body it is (see [`Bending::owners`](super::Bending::owners)).
+pub fn merge_contacts(owner: impl Fn(usize) -> Option<usize>, events: &[CollisionEvent]) -> Vec<CollisionEvent> {
+    let side = |index: usize| owner(index).map_or(Side::Body(index), Side::Bending);
     // Each output slot: an event kept, or the index of a group (pair of sides, the first a
     // bending body; its events oriented from that side, and the first one as given).
     let mut slots: Vec<Result<CollisionEvent, usize>> = Vec::new();
-    let mut groups: Vec<((Side, Side), Vec<Oriented>, CollisionEvent)> = Vec::new();
+    let mut groups: Vec<(Vec<Oriented>, CollisionEvent)> = Vec::new();
+    let mut group_of: HashMap<(Side, Side), usize> = HashMap::new();
     for event in events {
         let (a, b) = (side(event.a), side(event.b));
         let (key, oriented) = match (a, b) {
@@ -42,11 +44,12 @@ pub fn merge_contacts(bending: &Bending, events: &[CollisionEvent]) -> Vec<Colli
             (Side::Bending(_), _) => ((a, b), Oriented::from(event, false)),
             _ => ((b, a), Oriented::from(event, true)),
         };
-        match groups.iter_mut().find(|(k, _, _)| *k == key) {
-            Some((_, list, _)) => list.push(oriented),
+        match group_of.get(&key) {
+            Some(&g) => groups[g].0.push(oriented),
             None => {
+                group_of.insert(key, groups.len());
                 slots.push(Err(groups.len()));
-                groups.push((key, vec![oriented], *event));
+                groups.push((vec![oriented], *event));
             }
         }
     }
@@ -54,8 +57,8 @@ pub fn merge_contacts(bending: &Bending, events: &[CollisionEvent]) -> Vec<Colli
         .into_iter()
         .map(|slot| match slot {
             Ok(event) => event,
-            Err(g) if groups[g].1.len() == 1 => groups[g].2,
-            Err(g) => merge(&groups[g].1),
+            Err(g) if groups[g].0.len() == 1 => groups[g].1,
+            Err(g) => merge(&groups[g].0),
         })
         .collect()
 }

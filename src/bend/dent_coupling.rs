@@ -93,10 +93,11 @@ impl BendDenter {
         step: u64,
         motions: &[Affine3A],
     ) -> Result<StagedBendDents, SimError> {
-        let events = merge_contacts(bending, events);
+        let owners = bending.owners(world.bodies().len());
+        let owner = |index: usize| owners.get(index).copied().flatten().map(|(k, _)| k);
+        let events = merge_contacts(owner, events);
         let bodies = &bending.bodies;
         let mut progress: Vec<Progress> = self.progress.iter().filter(|p| p.last_step + 1 >= step).cloned().collect();
-        let owner = |index: usize| bodies.iter().position(|b| b.bone_of(index).is_some());
         let dentable =
             |index: usize| owner(index).map_or(world.bodies()[index].dent.is_some(), |k| bodies[k].dent.is_some());
         // Events between two bodies other than two sub-bodies of one bending body.
@@ -197,7 +198,7 @@ impl StagedBendDents {
         let mut records = Vec::new();
         for (k, pose, made) in self.dents {
             let body = &mut bending.bodies[k];
-            body.rest_mesh = pose.rest_mesh;
+            body.set_rest_mesh(pose.rest_mesh);
             for m in made {
                 records.push(m.dent.record(&body.name, &m.projectile, m.distance, self.step));
                 if let Some(settings) = &body.dent {

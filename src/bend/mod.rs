@@ -20,10 +20,13 @@ mod dent_coupling;
 mod error;
 mod geodesic;
 mod geometry;
+mod gpu_skinning;
 mod level_set;
 mod pose_dent;
+mod rest_revision;
 mod skeleton;
 mod skeleton_check;
+mod skinning;
 mod split;
 mod sub_bodies;
 mod voxelize;
@@ -39,6 +42,7 @@ pub use condensation::CondenseSettings;
 pub use contact_merge::merge_contacts;
 pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
 pub use error::BendError;
+pub use gpu_skinning::{GROUP_VERTICES, GpuSkinner};
 pub use level_set::{
     BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,
 };
@@ -47,6 +51,7 @@ pub use skeleton::{
     Bone, BoneDesc, BoneJoint, JOINT_GAP_FRACTION, MIN_BONE_FRACTION, MIN_BONE_LENGTH, SPLIT_END_FRACTION, Skeleton,
 };
 pub use skeleton_check::OUTSIDE_TOLERANCE_FRACTION;
+pub use skinning::Skinner;
 pub use split::SplitOutcome;
 pub use sub_bodies::{NO_BONE, SubBodies, SubBody, triangle_owners};
 pub use weights::{MAX_INFLUENCES, SkinWeights, WeightParams};

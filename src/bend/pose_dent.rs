@@ -166,7 +166,7 @@ impl ArticulatedBody {
         for (index, body) in refitted {
             world.bodies_mut()[index] = body;
         }
-        self.rest_mesh = dent.rest_mesh;
+        self.set_rest_mesh(dent.rest_mesh);
         Ok(())
     }
 

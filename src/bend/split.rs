@@ -91,7 +91,7 @@ impl ArticulatedBody {
             Ok((new_body, joint)) => {
                 *world = staged;
                 self.bodies.push(new_body);
-                self.influences = skin_influences(&self.weights);
+                self.set_influences(skin_influences(&self.weights));
                 self.added_joints += 1;
                 let world_point = transforms[bone].transform_point3(split_point);
                 Ok(Some(SplitOutcome { bone, new_bone: second, new_body, joint, rest_point: split_point, world_point }))

@@ -113,3 +113,88 @@ pub fn read_back_range<T: Pod>(
     staging.unmap();
     Ok(values)
 }
+
+/// Copies the first `count` elements of every `(buffer, count)` back to the CPU with one
+/// submission and one wait (where [`read_back`] per buffer would wait once each): the sources
+/// are packed into as few staging buffers as the device's buffer size limit allows.
+///
+/// # Errors
+/// As [`read_back`]; [`GpuError::OverLimit`] for a source range larger than the device's
+/// largest buffer.
+pub fn read_back_all<T: Pod>(
+    context: &GpuContext,
+    sources: &[(&wgpu::Buffer, usize)],
+) -> Result<Vec<Vec<T>>, GpuError> {
+    context.check_alive()?;
+    let limit = context.limits.max_buffer_size;
+    // Where each source lands: (staging buffer, byte offset, bytes); staging sizes in bytes.
+    let mut places = Vec::with_capacity(sources.len());
+    let mut sizes: Vec<u64> = Vec::new();
+    for (_, count) in sources {
+        let bytes = (count * size_of::<T>()) as u64;
+        let padded = bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        if padded > limit {
+            return Err(GpuError::OverLimit { what: "read-back buffer".into(), needed: padded, limit });
+        }
+        let count = sizes.len();
+        match sizes.last_mut() {
+            Some(size) if *size + padded <= limit => {
+                places.push((count - 1, *size, bytes));
+                *size += padded;
+            }
+            _ => {
+                places.push((sizes.len(), 0, bytes));
+                sizes.push(padded);
+            }
+        }
+    }
+    let staging: Vec<wgpu::Buffer> = sizes
+        .iter()
+        .map(|&size| {
+            context.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("read back"),
+                size: size.max(MIN_BYTES),
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        })
+        .collect();
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    for ((buffer, _), &(k, offset, bytes)) in sources.iter().zip(&places) {
+        if bytes > 0 {
+            encoder.copy_buffer_to_buffer(buffer, 0, &staging[k], offset, bytes.next_multiple_of(4));
+        }
+    }
+    context.queue.submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    for (k, buffer) in staging.iter().enumerate() {
+        let sender = sender.clone();
+        buffer.slice(..).map_async(wgpu::MapMode::Read, move |result| {
+            let _ = sender.send((k, result));
+        });
+    }
+    drop(sender);
+    context.wait()?;
+    for _ in &staging {
+        let (_, result) = receiver.recv_timeout(super::WAIT_TIMEOUT).map_err(|e| GpuError::Wait(e.to_string()))?;
+        result.map_err(|e| GpuError::Wait(e.to_string()))?;
+    }
+    let mapped = staging
+        .iter()
+        .map(|buffer| buffer.slice(..).get_mapped_range().map_err(|e| GpuError::Wait(e.to_string())))
+        .collect::<Result<Vec<_>, _>>()?;
+    let values = places
+        .iter()
+        .map(|&(k, offset, bytes)| {
+            if bytes == 0 {
+                return Vec::new();
+            }
+            // Read element by element: a range's start is only as aligned as the staging offset.
+            let range = offset as usize..(offset + bytes) as usize;
+            mapped[k][range].chunks_exact(size_of::<T>()).map(bytemuck::pod_read_unaligned).collect()
+        })
+        .collect();
+    drop(mapped);
+    staging.iter().for_each(wgpu::Buffer::unmap);
+    Ok(values)
+}

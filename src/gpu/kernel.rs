@@ -105,4 +105,16 @@ impl Kernel {
         pass.set_bind_group(0, bind_group, &[]);
         pass.dispatch_workgroups(workgroups[0], workgroups[1], workgroups[2]);
     }
+
+    /// Records one dispatch per `(bind group, workgroups)` in one compute pass, in order (for many
+    /// small independent dispatches, such as one per skinned mesh).
+    pub fn dispatch_all(&self, encoder: &mut wgpu::CommandEncoder, dispatches: &[(&wgpu::BindGroup, [u32; 3])]) {
+        let mut pass = encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.label), timestamp_writes: None });
+        pass.set_pipeline(&self.pipeline);
+        for (bind_group, [x, y, z]) in dispatches {
+            pass.set_bind_group(0, *bind_group, &[]);
+            pass.dispatch_workgroups(*x, *y, *z);
+        }
+    }
 }

@@ -207,6 +207,38 @@ impl Skin {
         Ok(())
     }
 
+    /// [`encode`](Self::encode) for many meshes at once: checks every mesh's bones first (nothing
+    /// is written or recorded when one is wrong), then writes each mesh's bone matrices and
+    /// records all the dispatches in one compute pass. As with `encode`, name each mesh at most
+    /// once per submission.
+    ///
+    /// # Errors
+    /// As [`encode`](Self::encode), for the first mesh whose bones are wrong.
+    pub fn encode_all(
+        &self,
+        context: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        jobs: &[(&SkinMesh, &[SkinBone])],
+    ) -> Result<(), SkinError> {
+        for (mesh, bones) in jobs {
+            validate_bones(bones, mesh.params.bone_count)?;
+        }
+        let mut dispatches = Vec::with_capacity(jobs.len());
+        for (mesh, bones) in jobs {
+            if !bones.is_empty() {
+                context.queue.write_buffer(&mesh.bones, 0, bytemuck::cast_slice(bones));
+            }
+            let groups = mesh.params.vertex_count.div_ceil(WORKGROUP);
+            if groups > 0 {
+                dispatches.push((&mesh.bind_group, [groups, 1, 1]));
+            }
+        }
+        if !dispatches.is_empty() {
+            self.kernel.dispatch_all(encoder, &dispatches);
+        }
+        Ok(())
+    }
+
     /// Skins `mesh` with `bones` on the GPU and reads the result back: the same as
     /// [`cpu::skin`](crate::cpu::skin) on the uploaded rest data.
     ///

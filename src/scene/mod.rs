@@ -17,7 +17,7 @@
 //! `[world]`: any field of [`WorldSettings`](crate::sim::WorldSettings) (`gravity` as
 //! `[x, y, z]` m/s², `dt` s, `collision_iterations`, `contact_iterations`,
 //! `restitution_threshold` m/s, `slop` m, `baumgarte`, `margin` m, `shock_propagation`,
-//! `sleep_speed` m/s, `sleep_time` s, `angular_damping` 1/s, `rolling_resistance`); the others keep
+//! `sleep_speed` m/s, `sleep_time` s, `angular_damping` 1/s, `rolling_resistance`, `max_turn` rad per step); the others keep
 //! their defaults.
 //!
 //! `[camera]` (optional; without it the camera frames every body from the front, a little
@@ -164,4 +164,5 @@ pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized};
 pub use bunny_bones::{BUNNY_EAR_HIT, BUNNY_FALLOFF, BUNNY_HEAD_HIT, BUNNY_JOINT, BUNNY_SCALE};
 pub use error::SceneError;
 pub use parse::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, parse_scene};
+pub use tetrahedra::tetrahedra_grid;
 pub use types::{DEFAULT_FRAMES, FRAMING_ASPECT, Scene, SceneSize, fit_camera, framing_camera};

@@ -33,10 +33,26 @@ const STRUT_JOINT: JointKind = JointKind::Plastic { strength: 1.0, damping_const
 /// Full: 400 tetrahedra (8 × 8 in each of 7 layers, the last one partly filled) over four
 /// frames; demo: 16 (4 × 4 in one layer). Each tetrahedron has 10 bodies and 12 joints.
 pub(super) fn tetrahedra(size: SceneSize) -> Result<Scene, SimError> {
-    let (count, per_row, layers) = match size {
-        SceneSize::Full => (400, 8, 7),
-        SceneSize::Demo => (16, 4, 1),
-    };
+    match size {
+        SceneSize::Full => tetrahedra_grid(400, 8, size),
+        SceneSize::Demo => tetrahedra_grid(16, 4, size),
+    }
+}
+
+/// The `tetrahedra` scene with `count` tetrahedra in layers of `per_row` × `per_row`, 1 m
+/// apart, the lowest 2.6 m up (`size` picks the number of frames). Smaller piles than the full
+/// scene's for tests of what its higher layers do.
+///
+/// # Errors
+/// [`SimError::Invalid`] when `count` or `per_row` is 0 or `count` exceeds 1,000.
+pub fn tetrahedra_grid(count: usize, per_row: usize, size: SceneSize) -> Result<Scene, SimError> {
+    if count == 0 || per_row == 0 || count > 1000 {
+        return Err(SimError::Invalid {
+            what: "tetrahedra grid".into(),
+            value: format!("{count} tetrahedra, {per_row} per row"),
+            reason: "needs 1..=1000 tetrahedra and at least 1 per row",
+        });
+    }
     let mut world = world(GRAVITY)?;
     let ground = mesh::subdivided_box(Vec3::new(12.0, 0.2, 12.0), [1, 1, 1])?;
     let desc = BodyDesc::new("ground", ground).kind(BodyKind::Static).at(Vec3::new(0.0, -0.1, 0.0));
@@ -52,7 +68,6 @@ pub(super) fn tetrahedra(size: SceneSize) -> Result<Scene, SimError> {
     let corner = -0.5 * spacing * (per_row - 1) as f32;
     for t in 0..count {
         let (i, l, j) = (t % per_row, (t / per_row) % per_row, t / (per_row * per_row));
-        debug_assert!(j < layers);
         let jitter = Vec3::new(random.symmetric(), random.symmetric(), random.symmetric()) * 0.05;
         let centre = Vec3::new(corner + spacing * i as f32, 2.6 + spacing * j as f32, corner + spacing * l as f32);
         let axis = Vec3::new(random.symmetric(), random.symmetric(), random.symmetric()).normalize_or(Vec3::Y);

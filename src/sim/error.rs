@@ -39,6 +39,10 @@ pub enum SimError {
     /// The GPU dent batch failed.
     #[error("GPU denting: {0}")]
     Gpu(String),
+    /// Skinning the bending bodies on the GPU failed (a device error or an upload over the
+    /// device's limits).
+    #[error("GPU skinning: {0}")]
+    GpuSkinning(String),
 }
 
 /// A [`SimError::Invalid`] for `what` = `value`.

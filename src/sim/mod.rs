@@ -13,6 +13,7 @@ mod denting;
 mod energy;
 mod error;
 mod events;
+mod joint_rounds;
 mod joints;
 mod mass;
 mod simulation;

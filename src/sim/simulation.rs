@@ -1,13 +1,16 @@
 //! A world with denting in the loop: each step advances the bodies, then dents what was hit
-//! (paper Algorithm 1, lines 9–21), timing the two parts separately.
+//! (paper Algorithm 1, lines 9–21), and optionally skins the bending bodies (Algorithm 2, step
+//! 13), timing the parts separately.
 
 use std::time::Instant;
 
 use serde::Serialize;
 
 use super::{DentRecord, Denter, SimError, StepReport, World};
-use crate::bend::{BendDenter, Bending, dent_step};
+use crate::bend::{BendDenter, Bending, Skinner, dent_step};
 use crate::gpu::GpuContext;
+use crate::gpu::skin::Skinned;
+use crate::mesh::TriMesh;
 
 /// Wall times and counts of one step.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -19,13 +22,25 @@ pub struct StepTiming {
     pub dynamics_ms: f64,
     /// Dent batch and collider rebuilds, ms.
     pub denting_ms: f64,
+    /// Skinning the bending bodies at the end of the step (see
+    /// [`Simulation::skin_every_step`]; on the GPU: uploads of changed rest meshes, the bone
+    /// matrices, the dispatches and the wait for them), ms; 0 when the step does not skin.
+    pub skinning_ms: f64,
     /// Collision events.
     pub events: usize,
     /// Dents made.
     pub dents: usize,
 }
 
-/// A [`World`] whose collisions dent its dentable bodies.
+impl StepTiming {
+    /// The whole step: dynamics, denting and skinning, ms.
+    pub fn total_ms(&self) -> f64 {
+        self.dynamics_ms + self.denting_ms + self.skinning_ms
+    }
+}
+
+/// A [`World`] whose collisions dent its dentable bodies, with its bending bodies skinned on the
+/// GPU or the CPU.
 #[derive(Debug)]
 pub struct Simulation {
     world: World,
@@ -33,23 +48,100 @@ pub struct Simulation {
     dents: Vec<DentRecord>,
     bending: Bending,
     bend_denter: BendDenter,
+    skinner: Skinner,
+    skin_every_step: bool,
+    /// The world step the skinner's results are of; `None` when they are stale.
+    skinned_at: Option<u64>,
 }
 
 impl Simulation {
-    /// Wraps `world`; dents run on `gpu` when given (see [`Denter::new`]), else on the CPU.
+    /// Wraps `world`; dents run on `gpu` when given (see [`Denter::new`]), else on the CPU, and
+    /// so does skinning (see [`skin_on`](Self::skin_on)).
     ///
     /// # Errors
     /// [`SimError::Gpu`] when the dentable meshes cannot be uploaded.
     pub fn new(world: World, gpu: Option<&'static GpuContext>) -> Result<Self, SimError> {
         let denter = Denter::new(&world, gpu)?;
-        Ok(Self { world, denter, dents: Vec::new(), bending: Bending::default(), bend_denter: BendDenter::new() })
+        Ok(Self {
+            world,
+            denter,
+            dents: Vec::new(),
+            bending: Bending::default(),
+            bend_denter: BendDenter::new(),
+            skinner: Skinner::new(gpu),
+            skin_every_step: false,
+            skinned_at: None,
+        })
     }
 
     /// Builder: the bending bodies already added to the world (see [`Bending::add`]); each step
     /// then runs through [`Bending::step`] (dynamic articulation, joint and bend records).
     pub fn with_bending(mut self, bending: Bending) -> Self {
         self.bending = bending;
+        self.skinned_at = None;
         self
+    }
+
+    /// Builder: where the bending bodies are skinned, the `skin` kernel on `gpu` (each body's rest
+    /// mesh resident, see [`GpuSkinner`](crate::bend::GpuSkinner)) or its CPU twin (`None`); by
+    /// default where [`new`](Self::new) was told to dent.
+    pub fn skin_on(mut self, gpu: Option<&'static GpuContext>) -> Self {
+        self.skinner = Skinner::new(gpu);
+        self.skinned_at = None;
+        self
+    }
+
+    /// Builder: whether every step ends by skinning the bending bodies, as a game does before
+    /// drawing them (timed as [`StepTiming::skinning_ms`]); off by default, when
+    /// [`skinned`](Self::skinned) and [`skinned_meshes`](Self::skinned_meshes) skin on demand.
+    pub fn skin_every_step(mut self, every: bool) -> Self {
+        self.skin_every_step = every;
+        self
+    }
+
+    /// Whether skinning runs on the GPU.
+    pub fn skins_on_gpu(&self) -> bool {
+        self.skinner.on_gpu()
+    }
+
+    /// Whether every step ends by skinning (see [`skin_every_step`](Self::skin_every_step)).
+    pub fn skins_every_step(&self) -> bool {
+        self.skin_every_step
+    }
+
+    /// The skinner (on the GPU: its resident meshes and upload count).
+    pub fn skinner(&self) -> &Skinner {
+        &self.skinner
+    }
+
+    /// Every bending body skinned to its pose now, in [`Bending::bodies`] order: positions and
+    /// unit normals straight from the kernel (world, m). Skins now unless the step already did.
+    ///
+    /// # Errors
+    /// As [`Skinner::skin`] and [`Skinner::skinned`].
+    pub fn skinned(&mut self) -> Result<&[Skinned], SimError> {
+        self.skin_now()?;
+        self.skinner.skinned()
+    }
+
+    /// Every bending body's skinned mesh now: (name, mesh, colour), world coordinates, from
+    /// whichever backend skins (see [`Skinner::meshes`]). Skins now unless the step already did.
+    ///
+    /// # Errors
+    /// As [`skinned`](Self::skinned).
+    pub fn skinned_meshes(&mut self) -> Result<Vec<(String, TriMesh, [f32; 3])>, SimError> {
+        self.skin_now()?;
+        self.skinner.meshes(&self.bending)
+    }
+
+    /// Skins the bending bodies unless their results are of this step already.
+    fn skin_now(&mut self) -> Result<(), SimError> {
+        let step = self.world.steps();
+        if self.skinned_at != Some(step) {
+            self.skinner.skin(&self.bending, &self.world)?;
+            self.skinned_at = Some(step);
+        }
+        Ok(())
     }
 
     /// The bending bodies and what they did.
@@ -73,12 +165,14 @@ impl Simulation {
     }
 
     /// One step: dynamics, then the step's dents (bending bodies' included, see
-    /// [`dent_step`](crate::bend::dent_step)).
+    /// [`dent_step`](crate::bend::dent_step)), then, with
+    /// [`skin_every_step`](Self::skin_every_step), skinning the bending bodies.
     ///
     /// # Errors
-    /// A dent failed (the bodies keep their meshes; the step's motion stands), or a bone split
-    /// (see [`Bending::step`]).
+    /// A dent failed (the bodies keep their meshes; the step's motion stands), a bone split
+    /// (see [`Bending::step`]), or skinning failed (the step's motion and dents stand).
     pub fn step(&mut self) -> Result<(StepTiming, StepReport), SimError> {
+        self.skinned_at = None;
         // Model transforms before the step: dents land where the targets were hit.
         let before: Vec<_> = self.world.bodies().iter().map(|b| b.model_transform()).collect();
         let started = Instant::now();
@@ -88,14 +182,16 @@ impl Simulation {
         let started = Instant::now();
         let (bending, world, events) = (&mut self.bending, &mut self.world, &report.events);
         let records = dent_step(&mut self.bend_denter, &mut self.denter, bending, world, events, step, &before)?;
-        let timing = StepTiming {
-            step,
-            dynamics_ms,
-            denting_ms: started.elapsed().as_secs_f64() * 1e3,
-            events: report.events.len(),
-            dents: records.len(),
-        };
+        let denting_ms = started.elapsed().as_secs_f64() * 1e3;
+        let dents = records.len();
         self.dents.extend(records);
+        let mut skinning_ms = 0.0;
+        if self.skin_every_step && !self.bending.is_empty() {
+            let started = Instant::now();
+            self.skin_now()?;
+            skinning_ms = started.elapsed().as_secs_f64() * 1e3;
+        }
+        let timing = StepTiming { step, dynamics_ms, denting_ms, skinning_ms, events: report.events.len(), dents };
         Ok((timing, report))
     }
 }
@@ -109,13 +205,17 @@ pub struct StepStats {
     pub dynamics_mean: f64,
     /// Mean denting time per step (dent batch, collider refits), ms.
     pub denting_mean: f64,
-    /// Mean of both, ms.
+    /// Mean skinning time per step (0 without skinning every step), ms.
+    pub skinning_mean: f64,
+    /// Mean of the three, ms.
     pub total_mean: f64,
     /// Median dynamics time, ms.
     pub dynamics_median: f64,
     /// Median denting time, ms.
     pub denting_median: f64,
-    /// Median of both, ms.
+    /// Median skinning time, ms.
+    pub skinning_median: f64,
+    /// Median of the three, ms.
     pub total_median: f64,
     /// Mean dents per step.
     pub dents_per_step_mean: f64,
@@ -138,10 +238,12 @@ impl StepStats {
             steps: steps.len(),
             dynamics_mean: sum(|t| t.dynamics_ms) / n,
             denting_mean: sum(|t| t.denting_ms) / n,
-            total_mean: sum(|t| t.dynamics_ms + t.denting_ms) / n,
+            skinning_mean: sum(|t| t.skinning_ms) / n,
+            total_mean: sum(StepTiming::total_ms) / n,
             dynamics_median: median(|t| t.dynamics_ms),
             denting_median: median(|t| t.denting_ms),
-            total_median: median(|t| t.dynamics_ms + t.denting_ms),
+            skinning_median: median(|t| t.skinning_ms),
+            total_median: median(StepTiming::total_ms),
             dents_per_step_mean: dents / n,
             denting_per_dent: if dents > 0.0 { sum(|t| t.denting_ms) / dents } else { 0.0 },
         }

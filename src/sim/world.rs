@@ -13,10 +13,7 @@ use super::sleep::{self, Activity};
 use super::solver::{self, SolverBody};
 use super::warm_start::ContactCache;
 use super::{Aabb, BodyDesc, BodyKind, CollisionEvent, PairContacts, RigidBody, SimError, StepReport};
-use super::{broad_phase, contacts, error::invalid};
-
-/// Rounds of contact sweeps and joint pre-stabilization after the first of each.
-const JOINT_CONTACT_ROUNDS: usize = 3;
+use super::{broad_phase, contacts, error::invalid, joint_rounds};
 
 #[path = "world_cluster.rs"]
 mod world_cluster;
@@ -63,6 +60,13 @@ pub struct WorldSettings {
     /// stops a ball rolling at 5 cm/s on a floor in about 1.5 s; much larger values let balls
     /// dropped onto each other stand as columns.
     pub rolling_resistance: f32,
+    /// Most a body's angular velocity may turn it in one step, rad (finite, > 0): a faster spin
+    /// left by a step is scaled down to this (as Box2D and Bullet do). The position update's
+    /// first-order quaternion step and the joints' linearization of it are only accurate for
+    /// modest turns per step; a thin strut rolling on its axis (inertia m r²/2 of a 2.5 cm
+    /// radius) can be spun past 10 rad per step by one friction impulse, and its joints then
+    /// run away. π/2 is 94 rad/s at 60 steps per second.
+    pub max_turn: f32,
 }
 
 impl Default for WorldSettings {
@@ -81,6 +85,7 @@ impl Default for WorldSettings {
             sleep_time: 0.5,
             angular_damping: 0.05,
             rolling_resistance: 0.005,
+            max_turn: std::f32::consts::FRAC_PI_2,
         }
     }
 }
@@ -108,6 +113,9 @@ impl WorldSettings {
             if !(value.is_finite() && value >= 0.0) {
                 return Err(invalid(what, value, "must be finite and >= 0"));
             }
+        }
+        if !(self.max_turn.is_finite() && self.max_turn > 0.0) {
+            return Err(invalid("max_turn", self.max_turn, "must be finite and > 0"));
         }
         if !(0.0..=1.0).contains(&self.baumgarte) {
             return Err(invalid("baumgarte", self.baumgarte, "must be in [0, 1]"));
@@ -362,16 +370,17 @@ impl World {
         solver::contact(&mut solver_bodies, &mut constraints, &s);
         let mut pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
         joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, true);
-        // Contacts were solved without the joints' impulses: alternate a few rounds so that a
-        // jointed body's supports take up what its joints push into them (else a chain resting
-        // on two supports sinks through them).
         let jointed = self.jointed_contacts(&constraints);
-        if !jointed.is_empty() {
-            for _ in 0..JOINT_CONTACT_ROUNDS {
-                solver::contact_sweeps(&mut solver_bodies, &mut constraints, &jointed, &s, s.contact_iterations / 2);
-                joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, false);
-            }
-        }
+        let (joints, bodies) = (&mut self.joints, &self.bodies);
+        joint_rounds::joint_contact_rounds(
+            joints,
+            bodies,
+            &mut solver_bodies,
+            &mut constraints,
+            &mut pseudo,
+            &jointed,
+            &s,
+        );
         self.cache.store(&constraints, |i| self.bodies[i].orientation);
         let events = events(&found, &constraints, |body, part| self.member_hit(body, part));
         self.integrate(&solver_bodies, &pseudo);
@@ -470,6 +479,11 @@ impl World {
                 BodyKind::Dynamic => {
                     body.linear_velocity = sb.linear;
                     body.angular_velocity = sb.angular * (1.0 - s.angular_damping * s.dt).max(0.0);
+                    let limit = s.max_turn / s.dt;
+                    let spin = body.angular_velocity.length();
+                    if spin > limit {
+                        body.angular_velocity *= limit / spin;
+                    }
                 }
                 BodyKind::Kinematic => {}
             }

@@ -60,11 +60,11 @@ enum Command {
         min_time: f64,
     },
     /// Step a built-in scene (or a scene file) with denting in the loop: ms per step split into
-    /// dynamics and denting, dents per step, over the whole run and its busy part.
+    /// dynamics, denting and skinning, dents per step, over the whole run and its busy part.
     Scene {
         /// Built-in scene name (rain, pair, ball-block, bunny-block, glancing, resolution) or a .toml file.
         name: String,
-        /// Write the report as JSON: {"scene","bodies","dents_on","threads","all":{..},"busy":{..},"steps":[..]}.
+        /// Write the report as JSON: {"scene","bodies","dents_on","skin_on","threads","all":{..},"busy":{..},"steps":[..]}.
         #[arg(long)]
         json: Option<PathBuf>,
         /// Frames (steps) to run [default: the scene's].
@@ -76,6 +76,10 @@ enum Command {
         /// Where dents run: cpu, gpu or auto.
         #[arg(long, default_value = "cpu")]
         backend: String,
+        /// End every step by skinning the bending bodies (on the --backend's device), timed as
+        /// skinning.
+        #[arg(long)]
+        skin: bool,
     },
     /// Apply one dent map to a target of about 100,000 vertices.
     Displace {
@@ -126,11 +130,11 @@ fn run(cli: Cli) -> Result<(), String> {
             print!("{}", gpu::render(&adapter, timing, &rows));
             write_json(json, &serde_json::json!({ "adapter": adapter, "kernel_timing": timing, "rows": rows }))
         }
-        Command::Scene { name, json, frames, demo, backend } => {
+        Command::Scene { name, json, frames, demo, backend, skin } => {
             let backend = dentbend::gpu::Backend::parse(&backend).map_err(|e| e.to_string())?;
             let gpu = backend.context().map_err(|e| e.to_string())?;
             let size = if demo { dentbend::scene::SceneSize::Demo } else { dentbend::scene::SceneSize::Full };
-            let report = scene::run(&name, size, frames, gpu)?;
+            let report = scene::run(&name, size, frames, gpu, skin)?;
             print!("{}", scene::render(&report));
             write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
         }

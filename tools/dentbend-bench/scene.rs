@@ -1,6 +1,7 @@
 //! `dentbend-bench scene NAME`: steps a built-in scene (or scene file) with denting in the loop
-//! and reports ms per step split into dynamics and denting, and dents per step, over the whole
-//! run and over its busy part (the steps from the first dent to the last).
+//! and reports ms per step split into dynamics, denting and (with `--skin`) skinning, and dents
+//! per step, over the whole run and over its busy part (the steps from the first dent to the
+//! last).
 
 use dentbend::scene::{SceneSize, load_sized};
 use dentbend::sim::{Simulation, StepStats, StepTiming};
@@ -15,6 +16,8 @@ pub struct Report {
     pub bodies: usize,
     /// Where the dents ran.
     pub dents_on: &'static str,
+    /// Where the bending bodies were skinned at the end of every step: "gpu", "cpu", or "off".
+    pub skin_on: &'static str,
     /// Rayon threads.
     pub threads: usize,
     /// The whole run.
@@ -25,17 +28,20 @@ pub struct Report {
     pub steps: Vec<StepTiming>,
 }
 
-/// Runs `frames` steps of `spec` (built-in name or path) at `size`, dents on `gpu` when given.
+/// Runs `frames` steps of `spec` (built-in name or path) at `size`, dents on `gpu` when given;
+/// with `skin`, every step ends by skinning the bending bodies (on `gpu` too when given).
 pub fn run(
     spec: &str,
     size: SceneSize,
     frames: Option<u32>,
     gpu: Option<&'static dentbend::gpu::GpuContext>,
+    skin: bool,
 ) -> Result<Report, String> {
     let scene = load_sized(spec, size).map_err(|e| e.to_string())?;
     let frames = frames.unwrap_or(scene.frames);
     let bodies = scene.world.bodies().len();
-    let mut sim = Simulation::new(scene.world, gpu).map_err(|e| e.to_string())?.with_bending(scene.bending);
+    let sim = Simulation::new(scene.world, gpu).map_err(|e| e.to_string())?.with_bending(scene.bending);
+    let mut sim = sim.skin_every_step(skin);
     let mut steps = Vec::with_capacity(frames as usize);
     for _ in 0..frames {
         steps.push(sim.step().map_err(|e| e.to_string())?.0);
@@ -46,6 +52,11 @@ pub fn run(
         scene: scene.name,
         bodies,
         dents_on: if sim.dents_on_gpu() { "gpu" } else { "cpu" },
+        skin_on: match (skin, sim.skins_on_gpu()) {
+            (false, _) => "off",
+            (true, true) => "gpu",
+            (true, false) => "cpu",
+        },
         threads: rayon::current_num_threads(),
         all: StepStats::of(&steps),
         busy: StepStats::of(&steps[first..last]),
@@ -56,8 +67,12 @@ pub fn run(
 /// The report as a few lines of text.
 pub fn render(report: &Report) -> String {
     let line = |label: &str, p: &StepStats| {
+        let skinning = match report.skin_on {
+            "off" => String::new(),
+            _ => format!(" + {:.2} skinning", p.skinning_mean),
+        };
         format!(
-            "  {label:<5} {:>5} steps: {:8.2} ms/step ({:.2} dynamics + {:.2} denting), median {:.2}, {:.2} dents/step, {:.3} ms/dent\n",
+            "  {label:<5} {:>5} steps: {:8.2} ms/step ({:.2} dynamics + {:.2} denting{skinning}), median {:.2}, {:.2} dents/step, {:.3} ms/dent\n",
             p.steps,
             p.total_mean,
             p.dynamics_mean,
@@ -68,10 +83,11 @@ pub fn render(report: &Report) -> String {
         )
     };
     format!(
-        "scene {}: {} bodies, dents on {}, {} threads\n{}{}",
+        "scene {}: {} bodies, dents on {}, skinning {}, {} threads\n{}{}",
         report.scene,
         report.bodies,
         report.dents_on,
+        report.skin_on,
         report.threads,
         line("all", &report.all),
         line("busy", &report.busy)

@@ -16,6 +16,7 @@ use serde::Serialize;
 
 use crate::backend::BackendOption;
 use crate::error::CliError;
+use crate::file_names::file_stem;
 use crate::rest_output::write_rest_files;
 
 /// Which bodies' meshes are written at each output frame.
@@ -83,6 +84,9 @@ struct Summary<'a> {
     dt: f32,
     bodies: Vec<&'a str>,
     dents_on: &'static str,
+    /// Where the bending bodies are skinned: "gpu" (every step, timed in `steps[].skinning_ms`,
+    /// read back for output frames only) or "cpu" (for output frames only).
+    skin_on: &'static str,
     pictures_on: &'static str,
     ms_per_step: StepStats,
     steps: &'a [StepTiming],
@@ -151,7 +155,13 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         std::fs::create_dir_all(dir).map_err(|source| CliError::CreateDir { path: dir.clone(), source })?;
     }
     let Scene { name, world, camera, description, bending, .. } = scene;
-    let mut sim = Simulation::new(world, context).map_err(|e| CliError::Usage(e.to_string()))?.with_bending(bending);
+    let sim = Simulation::new(world, context).map_err(|e| CliError::Usage(e.to_string()))?.with_bending(bending);
+    // On the GPU, skin every step as a game would before drawing: the kernel's output stays
+    // resident, only output frames read it back, and `skinning_ms` shows what the issue's
+    // "every frame" costs. The CPU twin skins output frames only: nothing would read the
+    // frames between them, and its time would land in the same loop as the dynamics.
+    let every_step = sim.skins_on_gpu();
+    let mut sim = sim.skin_every_step(every_step);
     let writes_meshes = args.meshes != MeshChoice::None;
     let rest = write_rest_files(&sim, &camera, renderer.as_ref(), args.picture, writes_meshes, &args.out)?;
     let progress = ProgressBar::new(u64::from(frames));
@@ -167,7 +177,7 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     let wanted = args.meshes != MeshChoice::None || renderer.is_some();
     for frame in 0..=frames {
         if wanted && (frame % args.every == 0 || frame == frames) {
-            let shown = shown_meshes(&sim)?;
+            let shown = shown_meshes(&mut sim)?;
             written += write_meshes(&shown, frame, args.meshes, &meshes_dir)?;
             if let Some(renderer) = &renderer {
                 draw(&shown, renderer, &camera, args.picture, &frames_dir.join(format!("{frame:04}.png")))?;
@@ -189,6 +199,7 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         dt: sim.world().settings().dt,
         bodies: shown_bodies(&sim).map(|(_, b)| b.name.as_str()).chain(bending_names(&sim)).collect(),
         dents_on: if sim.dents_on_gpu() { "gpu" } else { "cpu" },
+        skin_on: if sim.skins_on_gpu() { "gpu" } else { "cpu" },
         pictures_on: match &renderer {
             Some(r) if r.is_gpu() => "gpu",
             Some(_) => "cpu",
@@ -207,12 +218,17 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     std::fs::write(&path, json).map_err(|source| CliError::Write { path: path.clone(), source })?;
     let ms = &summary.ms_per_step;
     Ok(format!(
-        "run {name}: {frames} frames, {} dents, {} joints, {:.2} ms/step ({:.2} dynamics + {:.2} denting), {written} mesh files{} → {}",
+        "run {name}: {frames} frames, {} dents, {} joints, {:.2} ms/step ({:.2} dynamics + {:.2} denting{}), {written} mesh files{} → {}",
         sim.dents().len(),
         sim.bending().joints().len(),
         ms.total_mean,
         ms.dynamics_mean,
         ms.denting_mean,
+        if every_step && !sim.bending().is_empty() {
+            format!(" + {:.2} skinning", ms.skinning_mean)
+        } else {
+            String::new()
+        },
         match rest.pictures.len() + rest.meshes.len() {
             0 => String::new(),
             n => format!(", {n} rest-state files"),
@@ -242,12 +258,13 @@ struct Shown {
 }
 
 /// Every body to show now, world coordinates: the world's bodies but the sub-bodies of bending
-/// bodies, then each bending body's skinned mesh.
-fn shown_meshes(sim: &Simulation) -> Result<Vec<Shown>, CliError> {
+/// bodies, then each bending body's skinned mesh (from the simulation's skinner: read back from
+/// the GPU, or skinned now on the CPU).
+fn shown_meshes(sim: &mut Simulation) -> Result<Vec<Shown>, CliError> {
     let mut meshes: Vec<Shown> = shown_bodies(sim)
         .map(|(_, b)| Shown { name: b.name.clone(), mesh: b.world_mesh(), colour: b.color, changes: b.dent.is_some() })
         .collect();
-    let skinned = sim.bending().skinned_meshes(sim.world()).map_err(|e| CliError::Usage(e.to_string()))?;
+    let skinned = sim.skinned_meshes().map_err(|e| CliError::Usage(e.to_string()))?;
     meshes.extend(skinned.into_iter().map(|(name, mesh, colour)| Shown { name, mesh, colour, changes: true }));
     Ok(meshes)
 }
@@ -264,7 +281,7 @@ fn write_meshes(shown: &[Shown], frame: u32, choice: MeshChoice, dir: &Path) -> 
             continue;
         }
         for extension in ["obj", "glb"] {
-            let path = dir.join(format!("{name}_{frame:04}.{extension}"));
+            let path = dir.join(format!("{}_{frame:04}.{extension}", file_stem(name)));
             dentbend::mesh::save(&path, mesh)
                 .map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
             count += 1;

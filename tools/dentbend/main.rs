@@ -9,6 +9,7 @@ mod cmd_dentmap;
 mod cmd_render;
 mod cmd_run;
 mod error;
+mod file_names;
 mod logging;
 mod options;
 mod rest_output;

@@ -9,6 +9,7 @@ use dentbend::render::{Camera, Renderer, rest_pictures};
 use dentbend::sim::Simulation;
 
 use crate::error::CliError;
+use crate::file_names::file_stem;
 
 /// Folder under the output directory that holds the rest-state files.
 pub const REST_DIR: &str = "rest";
@@ -22,8 +23,9 @@ pub struct RestFiles {
     pub meshes: Vec<String>,
 }
 
-/// Writes the rest-state files of every bending body of `sim` (at its start) under
-/// `out/rest/`: pictures when `renderer` is given (`size` pixels, seen along the scene
+/// Writes the rest-state files of every bending body of `sim` (at its start; bodies that share
+/// one rest state once, under the first one's name, with `/` and other characters unfit for a
+/// file name as `_`) under `out/rest/`: pictures when `renderer` is given (`size` pixels, seen along the scene
 /// `camera`'s view), sub-body meshes when `meshes` holds.
 ///
 /// # Errors
@@ -44,8 +46,15 @@ pub fn write_rest_files(
     }
     let dir = out.join(REST_DIR);
     std::fs::create_dir_all(&dir).map_err(|source| CliError::CreateDir { path: dir.clone(), source })?;
+    // Bodies built alike share one rest state (`ArticulatedBody::new_like`): drawn once.
+    let mut drawn: Vec<&dentbend::bend::SubBodies> = Vec::new();
     for body in bodies {
+        if drawn.iter().any(|&d| std::ptr::eq(d, body.sub_bodies())) {
+            continue;
+        }
+        drawn.push(body.sub_bodies());
         let name = body.name();
+        let stem = file_stem(name);
         let usage = |e: &dyn std::fmt::Display| CliError::Usage(format!("bending body \"{name}\": {e}"));
         let transforms = body.bone_transforms(sim.world()).map_err(|e| usage(&e))?;
         let pose = *transforms.get(body.skeleton().root()).ok_or_else(|| usage(&"no sub-body for the root bone"))?;
@@ -57,7 +66,7 @@ pub fn write_rest_files(
                 ("sub_bodies", &pictures.sub_bodies),
                 ("level_set", &pictures.level_set),
             ] {
-                let file = format!("{name}_{kind}.png");
+                let file = format!("{stem}_{kind}.png");
                 let path = dir.join(&file);
                 picture.save(&path).map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
                 files.pictures.push(format!("{REST_DIR}/{file}"));
@@ -66,7 +75,7 @@ pub fn write_rest_files(
         if meshes {
             for (k, mut mesh) in body.sub_meshes().map_err(|e| usage(&e))?.into_iter().enumerate() {
                 mesh.transform(pose).map_err(|e| usage(&e))?;
-                let file = format!("{name}_sub{k}.obj");
+                let file = format!("{stem}_sub{k}.obj");
                 let path = dir.join(&file);
                 dentbend::mesh::save(&path, &mesh)
                     .map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;

@@ -1,0 +1,44 @@
+//! Which rest data a bending body's skin was built from: a revision number that changes whenever
+//! its rest mesh (a dent) or its skinning influences (a split) change, so that a skinner holding
+//! a copy of them (the GPU's resident meshes, [`GpuSkinner`](super::GpuSkinner)) knows when to
+//! upload them again without comparing them.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::ArticulatedBody;
+use crate::cpu::SkinInfluence;
+use crate::mesh::TriMesh;
+
+/// A revision no body has had yet in this process: numbers come from one process-wide counter,
+/// so two bodies share a revision only when one is a copy of the other with the same rest data.
+pub(crate) fn next_rest_revision() -> u64 {
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
+
+impl ArticulatedBody {
+    /// The revision of the rest data the skin reads (rest mesh and influences): a new number
+    /// after every change to either, equal for copies of one body made while their rest data
+    /// agreed ([`Bending::add`](super::Bending::add) of the same body twice).
+    pub fn rest_revision(&self) -> u64 {
+        self.rest_revision
+    }
+
+    /// Replaces the rest mesh (a dent's) and takes a new [`rest_revision`](Self::rest_revision).
+    pub(crate) fn set_rest_mesh(&mut self, mesh: TriMesh) {
+        self.rest_mesh = mesh;
+        self.rest_revision = next_rest_revision();
+    }
+
+    /// Replaces the skinning influences (after a split's re-weighting) and takes a new
+    /// [`rest_revision`](Self::rest_revision).
+    pub(crate) fn set_influences(&mut self, influences: Vec<SkinInfluence>) {
+        self.influences = influences;
+        self.rest_revision = next_rest_revision();
+    }
+
+    /// The four bone influences of every rest vertex, as the skinning kernel reads them.
+    pub fn influences(&self) -> &[SkinInfluence] {
+        &self.influences
+    }
+}
