@@ -1,7 +1,7 @@
-//! Bending bodies in a world: the skinned mesh at rest, an elastic joint that springs back, and
-//! clear errors (never panics) for bad bending descriptions.
+//! Bending bodies in a world: the skinned mesh at rest, an elastic joint that springs back, joints
+//! given their own kind, and clear errors (never panics) for bad bending descriptions.
 
-use dentbend::bend::{BendableDesc, Bending, BoneDesc, DynamicArticulation, SkeletonSpec, WeightParams};
+use dentbend::bend::{BendableDesc, Bending, BoneDesc, DynamicArticulation, JointOverride, SkeletonSpec, WeightParams};
 use dentbend::glam::Vec3;
 use dentbend::scene::{SceneSize, builtin_scene};
 use dentbend::sim::{JointKind, Simulation, World, WorldSettings};
@@ -100,4 +100,44 @@ fn bad_bending_descriptions_are_refused_with_errors() {
     let count = world.bodies().len();
     assert!(bending.add(&mut world, bar()).is_err());
     assert_eq!(world.bodies().len(), count);
+}
+
+/// Joint overrides give single joints their own kind (by child bone; the rest keep the body's),
+/// and bad ones are refused with an error naming the override, before the world changes: a
+/// child out of range, the root bone (it hangs from no joint), a joint given twice, and bad
+/// numbers.
+#[test]
+fn joint_overrides_give_single_joints_their_own_kind() {
+    let plastic = JointKind::Plastic { strength: 2.0, damping_constant: 0.5, damping_proportional: 4.0 };
+    let three = |overrides: Vec<JointOverride>| BendableDesc {
+        skeleton: SkeletonSpec::Auto { bones: 3 },
+        joint: JointKind::Rigid,
+        joint_overrides: overrides,
+        ..bar()
+    };
+    let mut world = empty_world();
+    let mut bending = Bending::new();
+    bending.add(&mut world, three(vec![JointOverride { child: 2, joint: plastic }])).unwrap();
+    let bones = bending.bodies()[0].body_indices().to_vec();
+    let kind_at = |child: usize| *world.joints().iter().find(|j| j.b() == bones[child]).unwrap().kind();
+    assert_eq!((kind_at(1), kind_at(2)), (JointKind::Rigid, plastic));
+
+    let refused_with = |overrides: Vec<JointOverride>, words: &[&str]| {
+        let mut world = empty_world();
+        let message = Bending::new().add(&mut world, three(overrides.clone())).expect_err("accepted").to_string();
+        println!("{overrides:?}: {message}");
+        assert!(world.bodies().is_empty() && world.joints().is_empty(), "{message}: the world changed");
+        for word in words {
+            assert!(message.contains(word), "no \"{word}\" in {message}");
+        }
+    };
+    let at = |child: usize, joint: JointKind| JointOverride { child, joint };
+    refused_with(vec![at(1, plastic), at(3, plastic)], &["joint_overrides[1].child", "3 (of 3 bones)", "not a bone"]);
+    refused_with(vec![at(usize::MAX, JointKind::Ball)], &["joint_overrides[0].child", "not a bone"]);
+    refused_with(vec![at(0, JointKind::Ball)], &["joint_overrides[0].child", "root bone"]);
+    refused_with(vec![at(2, JointKind::Ball), at(2, plastic)], &["joint_overrides[1].child", "second kind"]);
+    let nan = JointKind::Plastic { strength: f32::NAN, damping_constant: 0.5, damping_proportional: 4.0 };
+    refused_with(vec![at(1, nan)], &["joint_overrides[0].joint.strength", "NaN"]);
+    let negative = JointKind::Elastic { stiffness: 10.0, damping: -1.0 };
+    refused_with(vec![at(2, negative)], &["joint_overrides[0].joint.damping", "-1"]);
 }

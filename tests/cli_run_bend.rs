@@ -1,5 +1,6 @@
-//! `dentbend run plank`: a bending body is written as its skinned mesh (not its sub-bodies), and
-//! `summary.json` lists the joint dynamic articulation made and the plastic bends.
+//! `dentbend run plank` and `run arm`: a bending body is written as its skinned mesh (not its
+//! sub-bodies), and `summary.json` lists the joints dynamic articulation made and the plastic
+//! bends.
 
 mod common;
 
@@ -105,4 +106,35 @@ fn the_summary_says_where_skinning_ran() {
         let mean = summary["ms_per_step"]["skinning_mean"].as_f64().unwrap();
         assert!(mean.is_finite(), "{backend}: skinning_mean {mean}");
     }
+}
+
+/// `dentbend run arm` (Figure 15): the condensed armadillo is written as one skinned mesh (neither
+/// its sub-bodies nor the clusters' stand-ins are listed or written), and `summary.json` lists no
+/// made joints and bends of exactly the four arm joints: the skeleton's joints are made in bone
+/// order, so with 12 torso bones in the demo they are the world joints 11–14 (the joints inside
+/// the torso are 0–10, the glue to the stand 15).
+#[test]
+fn an_arm_run_lists_the_bends_of_its_four_arm_joints() {
+    let dir = TempDir::new("run-arm");
+    let out = dir.path("arm");
+    let args = ["run", "arm", "--size", "demo", "--frames", "60", "--every", "60", "--picture", "0,0"];
+    let output = dentbend(&[&args[..], &["--meshes", "dentable", "--out", out.to_str().unwrap()]].concat());
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let mut names: Vec<String> = std::fs::read_dir(out.join("meshes"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["armadillo_0000.glb", "armadillo_0000.obj", "armadillo_0060.glb", "armadillo_0060.obj"]);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let bodies: Vec<&str> = summary["bodies"].as_array().unwrap().iter().map(|b| b.as_str().unwrap()).collect();
+    assert_eq!(bodies, ["stand", "ball", "armadillo"]);
+    assert_eq!(summary["joints"].as_array().map(Vec::len), Some(0));
+    let bends = summary["bends"].as_array().unwrap();
+    let mut joints: Vec<u64> = bends.iter().map(|b| b["joint"].as_u64().unwrap()).collect();
+    joints.sort_unstable();
+    joints.dedup();
+    assert_eq!(joints, [11, 12, 13, 14], "{bends:?}");
+    assert!(bends.iter().all(|b| b["angle"].as_f64().is_some_and(|a| a > 0.0) && b["frame"].as_u64().is_some()));
 }

@@ -36,6 +36,8 @@ fn builtin_scenes_build_at_both_sizes() {
         ("tetrahedra", 1 + 48 + 400 * 10, 1 + 48 + 16 * 10),
         // A stand, two balls and the bunny's four bones.
         ("bunny-bones", 1 + 2 + 4, 1 + 2 + 4),
+        // A stand, a ball and the body's torso bones (20 full, 12 demo) and four arm bones.
+        ("arm", 1 + 1 + 20 + 4, 1 + 1 + 12 + 4),
     ];
     assert_eq!(BUILTIN_SCENES.len(), expected.len());
     for (name, full, demo) in expected {

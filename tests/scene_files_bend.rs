@@ -127,6 +127,39 @@ fn every_joint_kind_is_parsed_with_its_numbers() {
     }
 }
 
+/// A bone table's own `joint` makes the joint at that bone's head (where it hangs from its
+/// parent) of that kind; the other joints keep `[body.bend] joint`'s (rigid by default). Both the
+/// `[[body.bend.bone]]` and the inline `skeleton = [ … ]` forms.
+#[test]
+fn a_bones_own_joint_overrides_the_bodys() {
+    let plastic = JointKind::Plastic { strength: 3.0, damping_constant: 0.5, damping_proportional: 2.0 };
+    let own = "joint = { kind = \"plastic\", strength = 3.0, damping_constant = 0.5, damping_proportional = 2.0 }";
+    let tables = format!(
+        "[[body.bend.bone]]\nhead = [-1.8, 0.0, 0.0]\ntail = [-0.6, 0.0, 0.0]\n\
+         [[body.bend.bone]]\nhead = [-0.6, 0.0, 0.0]\ntail = [0.6, 0.0, 0.0]\nparent = 0\n\
+         [[body.bend.bone]]\nhead = [0.6, 0.0, 0.0]\ntail = [1.8, 0.0, 0.0]\nparent = 1\n{own}\n"
+    );
+    let inline = format!(
+        "skeleton = [{{ head = [-1.8, 0.0, 0.0], tail = [-0.6, 0.0, 0.0] }}, \
+         {{ head = [-0.6, 0.0, 0.0], tail = [0.6, 0.0, 0.0], parent = 0 }}, \
+         {{ head = [0.6, 0.0, 0.0], tail = [1.8, 0.0, 0.0], parent = 1, {own} }}]"
+    );
+    for (bend, default) in [
+        (tables.clone(), JointKind::Rigid),
+        (format!("joint = {{ kind = \"ball\" }}\n{tables}"), JointKind::Ball),
+        (inline, JointKind::Rigid),
+    ] {
+        let scene = parse(&bar("", &bend));
+        let bones = bending_body(&scene, "bar").body_indices().to_vec();
+        let kind_at = |child: usize| {
+            let joint = scene.world.joints().iter().find(|j| j.b() == bones[child]).expect("a joint at the bone");
+            *joint.kind()
+        };
+        assert_eq!((kind_at(1), kind_at(2)), (default, plastic), "{bend}");
+        assert_eq!(scene.world.joints().len(), 2);
+    }
+}
+
 /// `[body.bend.dynamic]` becomes the body's dynamic articulation; `max_joints` defaults to the
 /// library's 16.
 #[test]

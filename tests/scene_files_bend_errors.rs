@@ -177,6 +177,26 @@ fn bad_joints_are_refused() {
     refused(&text, "strength = nan", "bend.joint.strength");
 }
 
+/// A bone's own `joint` (the joint at its head) is checked like `[body.bend] joint`, its errors
+/// named by the bone; the root bone hangs from no joint and may not have one.
+#[test]
+fn bad_joints_of_bones_are_refused() {
+    let plastic = "joint = { kind = \"plastic\", strength = 2.0, damping_constant = 0.0, damping_proportional = 1.0 }";
+    parse_scene(&bar("", &bones(&[(2, plastic)])), Path::new("ok.toml")).unwrap();
+    let message = refused(&bar("", &bones(&[(0, plastic)])), "joint =", "bend.bone[0].joint");
+    assert!(message.contains("root bone"), "{message}");
+    let bad = plastic.replace("strength = 2.0", "strength = -2.0");
+    refused(&bar("", &bones(&[(1, &bad)])), "joint =", "bend.bone[1].joint.strength");
+    let message =
+        refused(&bar("", &bones(&[(2, "joint = { kind = \"plastic\" }")])), "joint =", "bend.bone[2].joint.strength");
+    assert!(message.contains("needs"), "{message}");
+    refused(&bar("", &bones(&[(1, "joint = { kind = \"hinge\" }")])), "joint =", "bend.bone.joint.kind");
+    // The inline form names the skeleton's entry.
+    let inline = "skeleton = [{ head = [-1.0, 0.0, 0.0], tail = [0.0, 0.0, 0.0] }, \
+                  { head = [0.0, 0.0, 0.0], tail = [1.0, 0.0, 0.0], parent = 0, joint = { kind = \"elastic\", stiffness = 0.0, damping = 1.0 } }]";
+    refused(&bar("", inline), "skeleton =", "bend.skeleton[1].joint.stiffness");
+}
+
 #[test]
 fn bad_dynamic_articulation_is_refused() {
     let plastic = "joint = { kind = \"plastic\", strength = 1.0, damping_constant = 0.0, damping_proportional = 1.0 }";

@@ -52,7 +52,7 @@ pub struct ArticulatedBody {
 
 impl ArticulatedBody {
     /// Builds the body's skeleton, weights and sub-bodies and adds one world body per bone and one
-    /// world joint (of `desc.joint`) per skeleton joint to `world`.
+    /// world joint (of [`desc.joint_kind`](BendableDesc::joint_kind)) per skeleton joint to `world`.
     ///
     /// # Errors
     /// As [`BendableDesc::validate`] and [`BendableDesc::build_skeleton`]; [`SimError::BadShape`]
@@ -148,7 +148,8 @@ impl ArticulatedBody {
             }
             for joint in self.skeleton.joints() {
                 let anchor = pose.transform_point3(joint.point);
-                world.add_joint(self.bodies[joint.parent], self.bodies[joint.child], anchor, desc.joint)?;
+                let kind = desc.joint_kind(joint.child);
+                world.add_joint(self.bodies[joint.parent], self.bodies[joint.child], anchor, kind)?;
             }
             ignore_own_collisions(world, &self.bodies)
         })();

@@ -5,7 +5,7 @@
 
 use glam::{Quat, Vec3};
 
-use super::{BoneDesc, Skeleton, WeightParams, auto_skeleton};
+use super::{BoneDesc, JointOverride, Skeleton, WeightParams, auto_skeleton};
 use crate::mesh::TriMesh;
 use crate::sim::{DentSettings, JointKind, SimError, SurfaceMaterial};
 
@@ -47,8 +47,8 @@ impl DynamicArticulation {
 }
 
 /// A bendable body: simulated as one rigid sub-body per bone (named `<name>/bone<k>`), joined by
-/// joints of kind `joint` at the skeleton's joints, and drawn as its rest mesh skinned to the
-/// sub-bodies' poses.
+/// joints of kind `joint` (or their override's) at the skeleton's joints, and drawn as its rest
+/// mesh skinned to the sub-bodies' poses.
 #[derive(Debug, Clone)]
 pub struct BendableDesc {
     /// Unique name (the skinned mesh is written under it).
@@ -73,8 +73,10 @@ pub struct BendableDesc {
     pub surface: SurfaceMaterial,
     /// Linear RGB colour for pictures.
     pub color: [f32; 3],
-    /// Kind of the joints at the skeleton's joints.
+    /// Kind of the joints at the skeleton's joints, but those in `joint_overrides`.
     pub joint: JointKind,
+    /// Joints given their own kind, by child bone (see [`joint_kind`](Self::joint_kind)).
+    pub joint_overrides: Vec<JointOverride>,
     /// Dynamic articulation, `None` for none.
     pub dynamic: Option<DynamicArticulation>,
     /// Denting behaviour, `None` when the body does not dent: a hit on a sub-body dents the
@@ -99,6 +101,7 @@ impl BendableDesc {
             surface: SurfaceMaterial::default(),
             color: [0.7, 0.7, 0.72],
             joint: JointKind::Rigid,
+            joint_overrides: Vec::new(),
             dynamic: None,
             dent: None,
         }
@@ -133,6 +136,7 @@ impl BendableDesc {
         }
         self.weights.validate().map_err(|e| bend_error(&self.name, e))?;
         self.joint.validate().map_err(|e| invalid("joint", e.to_string(), "is not a valid joint"))?;
+        self.validate_joint_overrides()?;
         if let Some(d) = &self.dynamic {
             if !(d.speed_threshold.is_finite() && d.speed_threshold >= 0.0) {
                 return Err(invalid("speed_threshold", d.speed_threshold.to_string(), "must be finite and >= 0"));
@@ -148,11 +152,12 @@ impl BendableDesc {
         Ok(())
     }
 
-    /// The skeleton this description asks for, checked against the mesh.
+    /// The skeleton this description asks for, checked against the mesh and the joint overrides.
     ///
     /// # Errors
     /// As [`Skeleton::new`], [`auto_skeleton`] and [`Skeleton::check_against`] (NaN, zero-length
-    /// bones, cycles, several roots, bones outside the mesh), as [`SimError::BadShape`].
+    /// bones, cycles, several roots, bones outside the mesh), as [`SimError::BadShape`];
+    /// [`SimError::Invalid`] for a joint override whose child is not a bone with a parent.
     pub fn build_skeleton(&self) -> Result<Skeleton, SimError> {
         let skeleton = match &self.skeleton {
             SkeletonSpec::Bones(bones) => Skeleton::new(bones.clone()),
@@ -160,6 +165,7 @@ impl BendableDesc {
         }
         .map_err(|e| bend_error(&self.name, e))?;
         skeleton.check_against(&self.mesh).map_err(|e| bend_error(&self.name, e))?;
+        self.check_joint_overrides(&skeleton)?;
         Ok(skeleton)
     }
 }

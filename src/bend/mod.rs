@@ -21,6 +21,7 @@ mod error;
 mod geodesic;
 mod geometry;
 mod gpu_skinning;
+mod joint_override;
 mod level_set;
 mod pose_dent;
 mod rest_revision;
@@ -43,6 +44,7 @@ pub use contact_merge::merge_contacts;
 pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
 pub use error::BendError;
 pub use gpu_skinning::{GROUP_VERTICES, GpuSkinner};
+pub use joint_override::JointOverride;
 pub use level_set::{
     BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,
 };

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{Affine3A, Vec3};
 
 use super::types::{fit_camera, framing_bounds};
-use super::{Scene, SceneError, SceneSize, bending_scenes, bunny_bones, figures, load_scene, rain, tetrahedra};
+use super::{Scene, SceneError, SceneSize, arm, bending_scenes, bunny_bones, figures, load_scene, rain, tetrahedra};
 use crate::mesh::{self, TriMesh};
 use crate::sim::{DentSettings, SimError, World, WorldSettings};
 
@@ -24,6 +24,7 @@ use crate::sim::{DentSettings, SimError, World, WorldSettings};
 /// | `spring`      | —      | a floating bar with an elastic joint is hit and springs back straight |
 /// | `bunny-bones` | 12     | a four-bone bunny (head bone poking out of the neck): head, ear bend  |
 /// | `tetrahedra`  | 13     | 400 tetrahedra of balls and struts fall on four frames and bend       |
+/// | `arm`         | 15     | a long many-boned body, condensed; a hit bends four joints of its arm |
 pub const BUILTIN_SCENES: &[&str] = &[
     "pair",
     "ball-block",
@@ -35,6 +36,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "spring",
     "bunny-bones",
     "tetrahedra",
+    "arm",
 ];
 
 /// Builds the built-in scene `name` (see [`BUILTIN_SCENES`]) at `size`.
@@ -62,6 +64,7 @@ pub fn builtin_scene(name: &str, size: SceneSize) -> Result<Scene, SceneError> {
         "spring" => bending_scenes::spring,
         "tetrahedra" => tetrahedra::tetrahedra,
         "bunny-bones" => bunny_bones::bunny_bones,
+        "arm" => arm::arm,
         _ => return Err(SceneError::UnknownScene { name: name.into() }),
     };
     build(size).map_err(|source| SceneError::Builtin { scene: name.into(), source })

@@ -49,6 +49,8 @@ pub(super) struct BoneFile {
     pub tail: Spanned<Triple>,
     /// Index of the parent bone (0-based, in the order written); none for the root.
     pub parent: Option<Spanned<usize>>,
+    /// The joint where this bone hangs from its parent, when it is not `[body.bend] joint`'s kind.
+    pub joint: Option<Spanned<JointFile>>,
 }
 
 /// A joint table: `kind` and the numbers that kind takes.

@@ -74,7 +74,7 @@
 //! |----------------------|--------------------------------------------------------------------------|----------|
 //! | `skeleton`           | `"auto"` (a chain along the principal axis) or an array of bone tables   | `"auto"` |
 //! | `bones`              | with `"auto"`: number of bones, 1..=256                                  | 1        |
-//! | `[[body.bend.bone]]` | one bone each: `head`, `tail` `[x, y, z]` m in the mesh's frame after `scale`; `parent` = index of another bone (0-based, in file order), left out for the one root | |
+//! | `[[body.bend.bone]]` | one bone each: `head`, `tail` `[x, y, z]` m in the mesh's frame after `scale`; `parent` = index of another bone (0-based, in file order), left out for the one root; `joint` = a joint table for the joint at this bone's head, if not `joint`'s kind (not on the root) | |
 //! | `resolution`         | level-set cells along the longest side, 8..=256                          | 64       |
 //! | `influences`         | bones per vertex, 1..=8                                                  | 4        |
 //! | `falloff`            | exponent p of the weights w ∝ d⁻ᵖ, in (0, 16]                            | 4        |
@@ -145,6 +145,8 @@
 //!
 //! Loading a scene reads the scene file and the mesh files it names and writes nothing.
 
+mod arm;
+mod arm_shape;
 mod bending_scenes;
 mod builtin;
 mod bunny_bones;
@@ -159,6 +161,7 @@ mod source;
 mod tetrahedra;
 mod types;
 
+pub use arm::{ARM_BONES, ARM_JOINTS, ARM_LENGTH, ARM_TORSO_JOINT};
 pub use bending_scenes::{PLANK_DENT, PLANK_HIT, PLANK_SIZE, SPRING_JOINT};
 pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized};
 pub use bunny_bones::{BUNNY_EAR_HIT, BUNNY_FALLOFF, BUNNY_HEAD_HIT, BUNNY_JOINT, BUNNY_SCALE};

@@ -13,8 +13,8 @@ use super::file_bend::{BendFile, BoneFile, DynamicFile, JointFile, JointKindSpec
 use super::parse::{MeshCache, body_desc, number, positive, sim_error};
 use super::source::Source;
 use crate::bend::{
-    BendError, BendableDesc, BoneDesc, DynamicArticulation, MAX_AUTO_BONES, Skeleton, SkeletonSpec, WeightParams,
-    auto_skeleton,
+    BendError, BendableDesc, BoneDesc, DynamicArticulation, JointOverride, MAX_AUTO_BONES, Skeleton, SkeletonSpec,
+    WeightParams, auto_skeleton,
 };
 use crate::mesh::TriMesh;
 use crate::sim::{BodyKind, ColliderKind, JointKind, SimError};
@@ -44,6 +44,7 @@ pub(super) fn bendable_desc(
     if let Some(joint) = &file.joint {
         desc.joint = joint_kind(src, name, "bend.joint", joint)?;
     }
+    desc.joint_overrides = joint_overrides(src, name, bend)?;
     if let Some(dynamic) = &file.dynamic {
         desc.dynamic = Some(dynamic_articulation(src, name, dynamic)?);
     }
@@ -212,6 +213,31 @@ fn bone_error(
         field += &format!(".{part}");
     }
     src.error_at(at.unwrap_or(all), Some(body), &field, error.to_string())
+}
+
+/// The `joint` tables of given bones → the joints with their own kind (bone k's table is the
+/// joint at its head); the root bone hangs from no joint and may not have one.
+fn joint_overrides(src: &Source<'_>, body: &str, bend: &Spanned<BendFile>) -> Result<Vec<JointOverride>, SceneError> {
+    let file = bend.get_ref();
+    let (field, bones) = match (&file.skeleton, &file.bone_tables) {
+        (Some(skeleton), _) => match skeleton.get_ref() {
+            SkeletonFile::Bones(bones) => ("bend.skeleton", bones.as_slice()),
+            SkeletonFile::Auto => return Ok(Vec::new()),
+        },
+        (None, Some(tables)) => ("bend.bone", tables.get_ref().as_slice()),
+        (None, None) => return Ok(Vec::new()),
+    };
+    let mut overrides = Vec::new();
+    for (child, bone) in bones.iter().enumerate() {
+        let Some(joint) = &bone.get_ref().joint else { continue };
+        let prefix = format!("{field}[{child}].joint");
+        if bone.get_ref().parent.is_none() {
+            let message = "the root bone hangs from no joint: give `joint` on a bone with a `parent`";
+            return Err(src.error_at(joint.span(), Some(body), &prefix, message));
+        }
+        overrides.push(JointOverride { child, joint: joint_kind(src, body, &prefix, joint)? });
+    }
+    Ok(overrides)
 }
 
 /// A joint table → a [`JointKind`]: every number the kind takes is required, numbers of other
