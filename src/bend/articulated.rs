@@ -7,8 +7,10 @@ use std::sync::Arc;
 use glam::{Affine3A, Quat, Vec3};
 
 use super::bendable::bend_error;
+use super::skinning::{skin_error, skin_mesh_on_cpu};
 use super::{BendableDesc, DynamicArticulation, LevelSet, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
-use crate::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
+use crate::cpu::{SkinBone, SkinInfluence};
+use crate::gpu::skin::Skinned;
 use crate::mesh::TriMesh;
 use crate::sim::{BodyDesc, ColliderKind, DentSettings, SimError, SurfaceMaterial, World};
 
@@ -266,21 +268,10 @@ impl ArticulatedBody {
     /// [`SimError::BadShape`] if skinning fails (wrong vertex or bone count).
     pub(crate) fn skin_rest(&self, rest: &TriMesh, bones: &[Affine3A]) -> Result<TriMesh, SimError> {
         let bones: Vec<SkinBone> = bones.iter().copied().map(SkinBone::from_affine).collect();
-        let n = rest.vertex_count();
-        let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
-        let bad = |e: String| SimError::BadShape { body: self.name.clone(), reason: format!("skinning: {e}") };
-        skin(
-            &SkinParams::new(n as u32, bones.len() as u32),
-            &bones,
-            rest.positions(),
-            rest.normals(),
-            &self.influences,
-            &mut positions,
-            &mut normals,
-        )
-        .map_err(|e| bad(e.to_string()))?;
+        let mut out = Skinned::default();
+        skin_mesh_on_cpu(self, rest, &bones, &mut out)?;
         let mut mesh = rest.clone();
-        mesh.set_positions(positions).map_err(|e| bad(e.to_string()))?;
+        mesh.set_positions(out.positions).map_err(|e| skin_error(self, e))?;
         Ok(mesh)
     }
 

@@ -163,7 +163,17 @@ pub(crate) fn bone_matrices(body: &ArticulatedBody, world: &World) -> Result<Vec
 
 /// [`cpu::skin`] of `body`'s rest mesh with `bones` into `out` (resized to the vertex count).
 pub(crate) fn skin_on_cpu(body: &ArticulatedBody, bones: &[SkinBone], out: &mut Skinned) -> Result<(), SimError> {
-    let rest = body.rest_mesh();
+    skin_mesh_on_cpu(body, body.rest_mesh(), bones, out)
+}
+
+/// [`cpu::skin`] of `rest` (a mesh with `body`'s rest vertices, dented or not) with `body`'s
+/// influences and `bones` into `out` (resized to the vertex count).
+pub(crate) fn skin_mesh_on_cpu(
+    body: &ArticulatedBody,
+    rest: &TriMesh,
+    bones: &[SkinBone],
+    out: &mut Skinned,
+) -> Result<(), SimError> {
     let n = rest.vertex_count();
     out.positions.resize(n, Vec3::ZERO);
     out.normals.resize(n, Vec3::ZERO);

@@ -317,13 +317,18 @@ impl RigidBody {
 
     /// Kinetic energy, J (0 for static and kinematic bodies).
     pub fn kinetic_energy(&self) -> f32 {
+        self.kinetic_energy_at(self.linear_velocity, self.angular_velocity)
+    }
+
+    /// Kinetic energy the body would have at velocities `linear` (m/s) and `angular` (rad/s,
+    /// world axes) in its current orientation, J (0 for static and kinematic bodies).
+    pub(crate) fn kinetic_energy_at(&self, linear: Vec3, angular: Vec3) -> f32 {
         if self.kind != BodyKind::Dynamic {
             return 0.0;
         }
         let rotation = Mat3::from_quat(self.orientation);
         let inertia_world = rotation * self.inertia * rotation.transpose();
-        0.5 * self.mass * self.linear_velocity.length_squared()
-            + 0.5 * self.angular_velocity.dot(inertia_world * self.angular_velocity)
+        0.5 * self.mass * linear.length_squared() + 0.5 * angular.dot(inertia_world * angular)
     }
 
     /// Linear momentum, kg·m/s (0 for static and kinematic bodies).

@@ -61,10 +61,11 @@ pub(crate) fn joint_contact_rounds(
     }
     let mut before = vec![0.0f64; solver.len()];
     let mut after = vec![0.0f64; solver.len()];
+    let energy = |i: usize, v: &SolverBody| f64::from(bodies[i].kinetic_energy_at(v.linear, v.angular));
     for i in (0..solver.len()).filter(|&i| moving(i)) {
         let root = islands.root(i);
-        before[root] += kinetic_energy(&velocities[i]);
-        after[root] += kinetic_energy(&solver[i]);
+        before[root] += energy(i, &velocities[i]);
+        after[root] += energy(i, &solver[i]);
     }
     let put_back: Vec<bool> =
         (0..solver.len()).map(|i| after[i] > before[i] * (1.0 + ENERGY_GAIN) + ENERGY_FLOOR).collect();
@@ -91,12 +92,4 @@ pub(crate) fn joint_contact_rounds(
     }
     log::debug!("joint-contact rounds put back {count} island(s) whose kinetic energy they raised");
     count
-}
-
-/// Kinetic energy of a body that takes impulses, J.
-fn kinetic_energy(body: &SolverBody) -> f64 {
-    let linear = f64::from(body.linear.length_squared() / body.inverse_mass);
-    let inertia = body.inverse_inertia.inverse();
-    let angular = if inertia.is_finite() { f64::from(body.angular.dot(inertia * body.angular)) } else { 0.0 };
-    0.5 * (linear + angular)
 }
