@@ -20,18 +20,12 @@
 mod common;
 
 use common::SplitMix64;
+use common::skin_tolerance::{EPS, NORMAL_ULPS, POSITION_ULPS, blend_magnitude, cofactor_terms, position_tolerance};
 use dentbend::cpu::{self, SkinBone, SkinError, SkinInfluence, SkinParams, WEIGHT_SUM_TOLERANCE, skin_bones};
 use dentbend::glam::{Affine3A, DVec3, Quat, Vec3};
 use dentbend::gpu::skin::{MAX_BONES, Skin, SkinMesh, Skinned};
 use dentbend::gpu::{GpuError, buffers};
 use dentbend::mesh;
-
-/// Position tolerance in ε of the terms' magnitude (see the module comment).
-const POSITION_ULPS: f64 = 16.0;
-/// Normal tolerance in ε·κ (see the module comment).
-const NORMAL_ULPS: f64 = 32.0;
-/// ε = 2⁻²³, one ulp at 1.
-const EPS: f64 = f32::EPSILON as f64;
 
 /// A random pose: rotation about a random axis, translation within ±`reach`, and a non-uniform
 /// scale in [1/`stretch`, `stretch`] per axis (1: rigid).
@@ -86,25 +80,6 @@ fn cpu_skin(bones: &[SkinBone], positions: &[Vec3], normals: &[Vec3], influences
     out
 }
 
-/// The absolute values of one vertex's blend terms in f64: `|M|` with `M = Σ wᵢ·Sᵢ` and the
-/// missing weight on the identity, each entry the sum of its terms' absolute values.
-fn blend_magnitude(bones: &[SkinBone], influence: &SkinInfluence) -> [[f64; 4]; 3] {
-    let mut rows = [[0.0; 4]; 3];
-    let mut total = 0.0;
-    for (&b, &w) in influence.bones.iter().zip(&influence.weights) {
-        for (row, bone_row) in rows.iter_mut().zip(&bones[b as usize].rows) {
-            for (entry, value) in row.iter_mut().zip(bone_row) {
-                *entry += (w as f64 * *value as f64).abs();
-            }
-        }
-        total += w as f64;
-    }
-    for (r, row) in rows.iter_mut().enumerate() {
-        row[r] += (1.0 - total).abs();
-    }
-    rows
-}
-
 /// Asserts GPU ≈ CPU per component with the module's tolerances; returns the worst error in
 /// units of the tolerance.
 fn check(what: &str, bones: &[SkinBone], rest: (&[Vec3], &[Vec3]), influences: &[SkinInfluence], gpu: &Skinned) -> f64 {
@@ -115,9 +90,8 @@ fn check(what: &str, bones: &[SkinBone], rest: (&[Vec3], &[Vec3]), influences: &
     for (k, influence) in influences.iter().enumerate() {
         let m = blend_magnitude(bones, influence);
         let (p, n) = (rest.0[k].as_dvec3().abs(), rest.1[k].as_dvec3().abs());
-        for (r, row) in m.iter().enumerate() {
-            let scale = row[0] * p.x + row[1] * p.y + row[2] * p.z + row[3];
-            let tol = POSITION_ULPS * EPS * scale.max(f64::MIN_POSITIVE);
+        for r in 0..3 {
+            let tol = position_tolerance(&m, p, r);
             let error = (gpu.positions[k][r] as f64 - cpu.positions[k][r] as f64).abs();
             assert!(
                 error <= tol,
@@ -128,18 +102,7 @@ fn check(what: &str, bones: &[SkinBone], rest: (&[Vec3], &[Vec3]), influences: &
             worst_position = worst_position.max(error / tol);
         }
         // κ: the cofactor terms' magnitudes over the length of cof(A)·n (CPU's, unnormalized).
-        let a = |r: usize, c: usize| m[r][c];
-        let terms = DVec3::new(
-            (a(1, 1) * a(2, 2) + a(1, 2) * a(2, 1)) * n.x
-                + (a(1, 2) * a(2, 0) + a(1, 0) * a(2, 2)) * n.y
-                + (a(1, 0) * a(2, 1) + a(1, 1) * a(2, 0)) * n.z,
-            (a(2, 1) * a(0, 2) + a(2, 2) * a(0, 1)) * n.x
-                + (a(2, 2) * a(0, 0) + a(2, 0) * a(0, 2)) * n.y
-                + (a(2, 0) * a(0, 1) + a(2, 1) * a(0, 0)) * n.z,
-            (a(0, 1) * a(1, 2) + a(0, 2) * a(1, 1)) * n.x
-                + (a(0, 2) * a(1, 0) + a(0, 0) * a(1, 2)) * n.y
-                + (a(0, 0) * a(1, 1) + a(0, 1) * a(1, 0)) * n.z,
-        );
+        let terms = cofactor_terms(&m, n);
         let length = blended_normal(bones, influence, rest.1[k]).length();
         let kappa = (terms.max_element() / length).max(1.0);
         let tol = NORMAL_ULPS * EPS * kappa;

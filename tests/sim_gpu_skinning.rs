@@ -17,6 +17,8 @@
 
 mod common;
 
+use common::skin_tolerance::{EPS, NORMAL_ULPS, blend_magnitude, cofactor_terms, position_tolerance};
+
 use dentbend::bend::{ArticulatedBody, BendableDesc, Bending, SkeletonSpec, Skinner, WeightParams};
 use dentbend::cpu::{SkinBone, SkinInfluence};
 use dentbend::glam::{DVec3, Vec3, Vec4};
@@ -26,46 +28,10 @@ use dentbend::mesh;
 use dentbend::scene::{SceneSize, load_sized};
 use dentbend::sim::{BodyDesc, ColliderKind, DentSettings, SimError, Simulation, World, WorldSettings};
 
-/// Position tolerance in ε of the blend terms' magnitude.
-const POSITION_ULPS: f64 = 16.0;
-/// Normal tolerance in ε·κ.
-const NORMAL_ULPS: f64 = 32.0;
-/// ε = 2⁻²³.
-const EPS: f64 = f32::EPSILON as f64;
-
-/// `|M|` of one vertex's blend, entry by entry the sum of its terms' absolute values (f64).
-fn blend_magnitude(bones: &[SkinBone], influence: &SkinInfluence) -> [[f64; 4]; 3] {
-    let mut rows = [[0.0; 4]; 3];
-    let mut total = 0.0;
-    for (&b, &w) in influence.bones.iter().zip(&influence.weights) {
-        for (row, bone_row) in rows.iter_mut().zip(&bones[b as usize].rows) {
-            for (entry, value) in row.iter_mut().zip(bone_row) {
-                *entry += (f64::from(w) * f64::from(*value)).abs();
-            }
-        }
-        total += f64::from(w);
-    }
-    for (r, row) in rows.iter_mut().enumerate() {
-        row[r] += (1.0 - total).abs();
-    }
-    rows
-}
-
 /// κ of a vertex: the magnitude of the cofactor terms of `|M|` applied to `|n|` over the length
 /// of the twin's unnormalized `cof(A)·n`, at least 1.
 fn condition(m: &[[f64; 4]; 3], n: DVec3, bones: &[SkinBone], influence: &SkinInfluence) -> f64 {
-    let a = |r: usize, c: usize| m[r][c];
-    let terms = DVec3::new(
-        (a(1, 1) * a(2, 2) + a(1, 2) * a(2, 1)) * n.x
-            + (a(1, 2) * a(2, 0) + a(1, 0) * a(2, 2)) * n.y
-            + (a(1, 0) * a(2, 1) + a(1, 1) * a(2, 0)) * n.z,
-        (a(2, 1) * a(0, 2) + a(2, 2) * a(0, 1)) * n.x
-            + (a(2, 2) * a(0, 0) + a(2, 0) * a(0, 2)) * n.y
-            + (a(2, 0) * a(0, 1) + a(2, 1) * a(0, 0)) * n.z,
-        (a(0, 1) * a(1, 2) + a(0, 2) * a(1, 1)) * n.x
-            + (a(0, 2) * a(1, 0) + a(0, 0) * a(1, 2)) * n.y
-            + (a(0, 0) * a(1, 1) + a(0, 1) * a(1, 0)) * n.z,
-    );
+    let terms = cofactor_terms(m, n);
     // The signed blend A (f64) for the length of cof(A)·n.
     let mut rows = [DVec3::ZERO; 3];
     let mut total = 0.0;
@@ -95,9 +61,8 @@ fn agree(what: &str, body: &ArticulatedBody, world: &World, gpu: &Skinned, cpu: 
     for (v, influence) in body.influences().iter().enumerate() {
         let m = blend_magnitude(&bones, influence);
         let p = rest.positions()[v].as_dvec3().abs();
-        for (r, row) in m.iter().enumerate() {
-            let scale = row[0] * p.x + row[1] * p.y + row[2] * p.z + row[3];
-            let tolerance = POSITION_ULPS * EPS * scale.max(f64::MIN_POSITIVE);
+        for r in 0..3 {
+            let tolerance = position_tolerance(&m, p, r);
             let error = f64::from((gpu.positions[v][r] - cpu.positions[v][r]).abs());
             assert!(
                 error <= tolerance,
