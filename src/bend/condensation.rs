@@ -4,6 +4,7 @@
 //! again, so the bodies on either side of a bending joint collapse into two clusters and a
 //! detailed skeleton costs one joint's work.
 
+use glam::Vec3;
 use serde::Serialize;
 
 use crate::sim::{CollisionEvent, JointKind, SimError, StepReport, World};
@@ -127,10 +128,15 @@ impl Condenser {
         }
         let quiet_steps = (self.settings.quiet_time / world.settings().dt).ceil() as u64;
         let mut groups = crate::sim::UnionFind::new(world.bodies().len());
+        let mut active = Vec::new();
         for joint in 0..world.joints().len() {
             if self.is_active(world, joint) {
                 self.last_active[joint] = now;
+                active.push(joint);
                 continue;
+            }
+            if now.saturating_sub(self.last_active[joint]) < quiet_steps {
+                active.push(joint);
             }
             if now.saturating_sub(self.last_active[joint]) >= quiet_steps
                 && let Some((a, b)) = world.joint_ends(joint)
@@ -146,7 +152,8 @@ impl Condenser {
                 members[groups.root(body)].push(body);
             }
         }
-        for group in members.into_iter().filter(|g| g.len() >= 2) {
+        let tangled = tangled_groups(world, &active, &mut groups);
+        for group in members.into_iter().filter(|g| g.len() >= 2 && !tangled[groups.root(g[0])]) {
             let current = world.cluster_of(group[0]);
             if current.is_some_and(|c| world.cluster_members(c).is_some_and(|m| same_set(&m, &group))) {
                 continue;
@@ -177,8 +184,17 @@ impl Condenser {
         if a.is_condensed() && b.is_condensed() {
             return false;
         }
-        if j.is_bending() || (b.angular_velocity - a.angular_velocity).length() > self.settings.quiet_spin {
+        if j.is_bending() {
             return true;
+        }
+        let relative_spin = b.angular_velocity - a.angular_velocity;
+        match j.kind() {
+            JointKind::Ball => {
+                let centres = [a.position, b.position];
+                return swings_about_anchor(j.anchors(bodies), centres, relative_spin, self.settings.quiet_spin);
+            }
+            _ if relative_spin.length() > self.settings.quiet_spin => return true,
+            _ => {}
         }
         match j.kind() {
             JointKind::Elastic { .. } => {
@@ -196,6 +212,81 @@ impl Condenser {
         let now = world.steps();
         self.last_active.resize(world.joints().len(), now);
     }
+}
+
+/// Whether the relative spin of a ball joint's bodies (rad/s) changes the pair's shape faster
+/// than `quiet_spin`. A body spinning in place about the anchor changes nothing that matters
+/// here: any spin of a body whose centre of mass (world, m) is at the anchor (a ball pinned at
+/// its centre), and spin about the line from the anchor through its centre (a strut about its
+/// axis). Only the rest of the relative spin keeps the joint active.
+fn swings_about_anchor(
+    anchors: Option<(Vec3, Vec3)>,
+    centres: [Vec3; 2],
+    relative_spin: Vec3,
+    quiet_spin: f32,
+) -> bool {
+    /// Arms shorter than this put the centre of mass at the anchor, m.
+    const AT_ANCHOR: f32 = 1e-3;
+    let Some((on_a, on_b)) = anchors else { return relative_spin.length() > quiet_spin };
+    let mut axes = Vec::with_capacity(2);
+    for (anchor, centre) in [(on_a, centres[0]), (on_b, centres[1])] {
+        let arm = centre - anchor;
+        if arm.length() < AT_ANCHOR {
+            return false;
+        }
+        axes.push(arm.normalize());
+    }
+    let normal = axes[0].cross(axes[1]);
+    let residual = if normal.length() > AT_ANCHOR {
+        relative_spin.dot(normal.normalize()).abs()
+    } else {
+        relative_spin.reject_from_normalized(axes[0]).length()
+    };
+    residual > quiet_spin
+}
+
+/// Which quiet groups (by their root in `groups`) must stay uncondensed: those that joints not
+/// quiet yet (`active`) tie into a closed loop of groups. Condensed, such a loop would hold a
+/// bending joint inside one rigid cluster (both its ends in one group) or between two clusters
+/// also joined elsewhere (a strut bent twice, a corner whose three struts all bend): redundant
+/// rows whose bend rates cannot all be met. Groups tied in a tree are condensed as usual.
+fn tangled_groups(world: &World, active: &[usize], groups: &mut crate::sim::UnionFind) -> Vec<bool> {
+    let n = world.bodies().len();
+    let mut linked = crate::sim::UnionFind::new(n);
+    let mut edges = Vec::new();
+    for &joint in active {
+        if let Some((a, b)) = world.joint_ends(joint)
+            && world.clusterable(a)
+            && world.clusterable(b)
+        {
+            let (ra, rb) = (groups.root(a), groups.root(b));
+            linked.join(ra, rb);
+            edges.push((ra, rb));
+        }
+    }
+    // Per component of groups linked by active joints: edges and distinct groups. A connected
+    // graph is a tree exactly when it has one edge fewer than nodes.
+    let mut edge_count = vec![0usize; n];
+    let mut node_count = vec![0usize; n];
+    let mut counted = vec![false; n];
+    for &(ra, rb) in &edges {
+        let component = linked.root(ra);
+        edge_count[component] += 1;
+        for r in [ra, rb] {
+            if !std::mem::replace(&mut counted[r], true) {
+                node_count[component] += 1;
+            }
+        }
+    }
+    let mut tangled = vec![false; n];
+    for &(ra, rb) in &edges {
+        let component = linked.root(ra);
+        if edge_count[component] >= node_count[component] {
+            tangled[ra] = true;
+            tangled[rb] = true;
+        }
+    }
+    tangled
 }
 
 /// Whether two index lists hold the same bodies.

@@ -131,6 +131,7 @@ impl ArticulatedBody {
         }
         let new_body = world.add(self.sub_body_desc(second, old_pose, old_motion)?)?;
         let old_body = self.bodies[bone];
+        world.inherit_ignored_collisions(old_body, new_body);
         // Every joint on the old bone's far half moves to the new body: the skeleton's joints
         // to the split bone's children, and joints to other bodies (a strut's end caps).
         let to_rest = world.bodies()[old_body].model_transform().inverse();

@@ -91,6 +91,13 @@ impl Default for WorldSettings {
 }
 
 impl WorldSettings {
+    /// `spin` (rad/s) scaled down to at most `max_turn` per step.
+    pub(crate) fn limit_spin(&self, spin: Vec3) -> Vec3 {
+        let limit = self.max_turn / self.dt;
+        let speed = spin.length();
+        if speed > limit { spin * (limit / speed) } else { spin }
+    }
+
     /// Checks every number.
     ///
     /// # Errors
@@ -478,12 +485,7 @@ impl World {
                 BodyKind::Dynamic if body.activity.asleep => continue,
                 BodyKind::Dynamic => {
                     body.linear_velocity = sb.linear;
-                    body.angular_velocity = sb.angular * (1.0 - s.angular_damping * s.dt).max(0.0);
-                    let limit = s.max_turn / s.dt;
-                    let spin = body.angular_velocity.length();
-                    if spin > limit {
-                        body.angular_velocity *= limit / spin;
-                    }
+                    body.angular_velocity = s.limit_spin(sb.angular * (1.0 - s.angular_damping * s.dt).max(0.0));
                 }
                 BodyKind::Kinematic => {}
             }

@@ -98,4 +98,27 @@ impl World {
         self.ignored.insert(joints::pair(a, b));
         Ok(())
     }
+
+    /// Makes body `to` ignore every body that `from` ignores (see
+    /// [`ignore_collisions`](Self::ignore_collisions)): the new half of a split body keeps the
+    /// filters set on the whole body.
+    pub(crate) fn inherit_ignored_collisions(&mut self, from: usize, to: usize) {
+        let others: Vec<usize> = self
+            .ignored
+            .iter()
+            .filter_map(|&(a, b)| {
+                if a == from {
+                    Some(b)
+                } else if b == from {
+                    Some(a)
+                } else {
+                    None
+                }
+            })
+            .filter(|&other| other != to)
+            .collect();
+        for other in others {
+            self.ignored.insert(joints::pair(other, to));
+        }
+    }
 }

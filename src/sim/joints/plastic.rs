@@ -18,7 +18,7 @@ use glam::Vec3;
 
 use super::system::{self, Matrix};
 use super::{BendEvent, Joint, JointKind, angle_between};
-use crate::sim::RigidBody;
+use crate::sim::{RigidBody, WorldSettings};
 
 /// Solves a plastic joint's rows (`held`) for `rhs`, clamping the accumulated angular impulse
 /// (`accumulated` plus this solution's, N·m·s) at `strength`. Returns the solution (linear
@@ -53,8 +53,10 @@ pub(crate) fn clamped_solve(
 
 /// After the position update: plastic joints that clamped this step or are still bending take
 /// their current relative orientation as the new target (one [`BendEvent`] each when it moved),
-/// and get the damped relative angular velocity post-stabilization will hold.
-pub(crate) fn after_step(joints: &mut [Joint], bodies: &[RigidBody], dt: f32) -> Vec<BendEvent> {
+/// and get the damped relative angular velocity post-stabilization will hold (at most the
+/// world's `max_turn` per step: a bend never runs away).
+pub(crate) fn after_step(joints: &mut [Joint], bodies: &[RigidBody], settings: &WorldSettings) -> Vec<BendEvent> {
+    let dt = settings.dt;
     let mut bends = Vec::new();
     for (index, joint) in joints.iter_mut().enumerate() {
         let JointKind::Plastic { damping_constant, damping_proportional, .. } = joint.kind else {
@@ -73,7 +75,7 @@ pub(crate) fn after_step(joints: &mut [Joint], bodies: &[RigidBody], dt: f32) ->
         if angle > 0.0 {
             bends.push(BendEvent { joint: index, angle, total_angle: joint.bend_angle() });
         }
-        let turning = b.angular_velocity - a.angular_velocity;
+        let turning = settings.limit_spin(b.angular_velocity - a.angular_velocity);
         let speed = turning.length();
         let damped = (speed - (damping_constant + damping_proportional * speed) * dt).max(0.0);
         joint.bend_rate = if damped > 0.0 && speed > 0.0 {

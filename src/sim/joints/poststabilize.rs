@@ -25,7 +25,7 @@ pub(crate) fn poststabilize(
     if joints.is_empty() {
         return Vec::new();
     }
-    let bends = plastic::after_step(joints, bodies, settings.dt);
+    let bends = plastic::after_step(joints, bodies, settings);
     let mob = system::mobilities(bodies, settings);
     let mut v: Vec<Motion> =
         bodies.iter().map(|b| Motion { linear: b.linear_velocity, angular: b.angular_velocity }).collect();
@@ -33,7 +33,7 @@ pub(crate) fn poststabilize(
     for (body, m) in bodies.iter_mut().zip(&v) {
         if body.kind == BodyKind::Dynamic && !body.activity.asleep && body.is_simulated() {
             body.linear_velocity = m.linear;
-            body.angular_velocity = m.angular;
+            body.angular_velocity = settings.limit_spin(m.angular);
         }
     }
     bends
