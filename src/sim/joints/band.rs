@@ -63,15 +63,19 @@ impl Band {
                 b.swap(k, pivot);
             }
             let diagonal = self.data[self.at(k, k)];
+            // Row k's entries from column k on, and row i's over the same columns: contiguous.
+            let (width, span) = (self.width(), self.last(k) - k + 1);
+            let pivot_start = self.at(k, k);
             for i in k + 1..=bottom {
-                let factor = self.data[self.at(i, k)] / diagonal;
+                let (head, tail) = self.data.split_at_mut(i * width);
+                let pivot_row = &head[pivot_start..pivot_start + span];
+                let row = &mut tail[k + self.lower - i..k + self.lower - i + span];
+                let factor = row[0] / diagonal;
                 if factor == 0.0 {
                     continue;
                 }
-                for j in k..=self.last(k) {
-                    let value = self.data[self.at(k, j)];
-                    let slot = self.at(i, j);
-                    self.data[slot] -= factor * value;
+                for (value, &above) in row.iter_mut().zip(pivot_row) {
+                    *value -= factor * above;
                 }
                 b[i] -= factor * b[k];
             }

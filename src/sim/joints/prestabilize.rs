@@ -68,37 +68,15 @@ pub(crate) fn prestabilize(
         }
     }
     let dt = settings.dt;
-    let mut now = measure(joints, bodies, &mob, &v, &extra, dt);
-    let mut damping = 0.0;
-    for _ in 0..NEWTON {
-        if now.worst < 1.0 {
-            break;
-        }
-        let rows: Vec<Option<Rows>> =
-            joints.iter().map(|joint| linearize(joint, bodies, &mob, &v, &extra, dt)).collect();
-        let start = v.clone();
-        let start_impulse: Vec<(Vec3, bool)> = joints.iter().map(|j| (j.accumulated, j.clamped)).collect();
-        let mut accepted = false;
-        for _ in 0..RETRIES {
-            solve::solve_rows(joints, &rows, &mob, &mut v, true, damping);
-            let after = measure(joints, bodies, &mob, &v, &extra, dt);
-            if after.merit < now.merit {
-                now = after;
-                damping = if damping > 1e-6 { damping * 0.1 } else { 0.0 };
-                accepted = true;
-                break;
-            }
-            // The step made the errors grow: back to the start, shorter (more damped) step.
-            v.copy_from_slice(&start);
-            for (joint, &(accumulated, clamped)) in joints.iter_mut().zip(&start_impulse) {
-                joint.accumulated = accumulated;
-                joint.clamped = clamped;
-            }
-            damping = if damping == 0.0 { 1e-3 } else { damping * 10.0 };
-        }
-        if !accepted {
-            break;
-        }
+    let has_rows = |k: usize| {
+        let joint = &joints[k];
+        system::takes_impulses(&mob[joint.a]) || system::takes_impulses(&mob[joint.b])
+    };
+    let groups = solve::groups(joints, has_rows, &mob);
+    let mut rows: Vec<Option<Rows>> = (0..joints.len()).map(|_| None).collect();
+    let step = Prediction { bodies, mob: &mob, extra: &extra, dt };
+    for group in &groups {
+        newton(joints, group, &step, &mut v, &mut rows);
     }
     for (b, m) in solver.iter_mut().zip(&v) {
         b.linear = m.linear;
@@ -106,8 +84,60 @@ pub(crate) fn prestabilize(
     }
 }
 
-/// A joint's rows linearized at velocities `v`: predicted errors per unit `dt` (the velocity
-/// change that removes them); `None` when neither body takes impulses.
+/// What the joints' predicted errors depend on besides the velocities.
+struct Prediction<'a> {
+    bodies: &'a [RigidBody],
+    mob: &'a [Mobility],
+    /// Contact pseudo-velocities, added in the position update.
+    extra: &'a [Motion],
+    dt: f32,
+}
+
+/// Damped Newton iterations on one group of joints (see the module notes): each group converges,
+/// damps and retries on its own, so a hard group costs only its own solves. `rows` is scratch
+/// space indexed by joint.
+fn newton(joints: &mut [Joint], group: &[usize], step: &Prediction, v: &mut [Motion], rows: &mut [Option<Rows>]) {
+    let (bodies, mob, extra, dt) = (step.bodies, step.mob, step.extra, step.dt);
+    let mut moved: Vec<usize> = group.iter().flat_map(|&k| [joints[k].a, joints[k].b]).collect();
+    moved.sort_unstable();
+    moved.dedup();
+    let mut now = measure(joints, group, bodies, mob, v, extra, dt);
+    let mut damping = 0.0;
+    for _ in 0..NEWTON {
+        if now.worst < 1.0 {
+            break;
+        }
+        for &k in group {
+            rows[k] = linearize(&joints[k], bodies, mob, v, extra, dt);
+        }
+        let start: Vec<Motion> = moved.iter().map(|&i| v[i]).collect();
+        let start_impulse: Vec<(Vec3, bool)> =
+            group.iter().map(|&k| (joints[k].accumulated, joints[k].clamped)).collect();
+        let mut accepted = false;
+        for _ in 0..RETRIES {
+            solve::solve_group(joints, group, rows, mob, v, true, damping);
+            let after = measure(joints, group, bodies, mob, v, extra, dt);
+            if after.merit < now.merit {
+                now = after;
+                damping = if damping > 1e-6 { damping * 0.1 } else { 0.0 };
+                accepted = true;
+                break;
+            }
+            for (&i, &m) in moved.iter().zip(&start) {
+                v[i] = m;
+            }
+            for (&k, &(accumulated, clamped)) in group.iter().zip(&start_impulse) {
+                joints[k].accumulated = accumulated;
+                joints[k].clamped = clamped;
+            }
+            damping = if damping == 0.0 { 1e-3 } else { damping * 10.0 };
+        }
+        if !accepted {
+            break;
+        }
+    }
+}
+
 fn linearize(
     joint: &Joint,
     bodies: &[RigidBody],
@@ -169,6 +199,7 @@ struct Errors {
 
 fn measure(
     joints: &[Joint],
+    group: &[usize],
     bodies: &[RigidBody],
     mob: &[Mobility],
     v: &[Motion],
@@ -176,7 +207,7 @@ fn measure(
     dt: f32,
 ) -> Errors {
     let mut out = Errors { worst: 0.0, merit: 0.0 };
-    for joint in joints {
+    for joint in group.iter().map(|&k| &joints[k]) {
         let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
         if !system::takes_impulses(ma) && !system::takes_impulses(mb) {
             continue;

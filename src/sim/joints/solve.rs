@@ -9,7 +9,7 @@
 //! strength sphere and the rest of the group is solved again. A group whose matrix is singular
 //! or too wide falls back to Gauss–Seidel over its joints, one exact 6×6 block solve per visit.
 
-use std::collections::{HashMap, HashSet, VecDeque};
+use std::collections::{HashMap, VecDeque};
 
 use glam::Vec3;
 
@@ -48,14 +48,28 @@ pub(crate) fn solve_rows(
     clamp: bool,
     damping: f64,
 ) {
-    for group in groups(joints, rows, mob) {
-        // Redundant joints (closed loops of rigid joints) make the plain system singular; the
-        // slightly damped least-squares step still solves it.
-        let solved = direct(joints, &group, rows, mob, v, clamp, damping)
-            || damping == 0.0 && direct(joints, &group, rows, mob, v, clamp, REDUNDANT_DAMPING);
-        if !solved {
-            gauss_seidel(joints, &group, rows, mob, v, clamp);
-        }
+    for group in groups(joints, |k| rows[k].is_some(), mob) {
+        solve_group(joints, &group, rows, mob, v, clamp, damping);
+    }
+}
+
+/// [`solve_rows`] for the joints of one group (as [`groups`] makes them); `rows` outside it are
+/// not read.
+pub(crate) fn solve_group(
+    joints: &mut [Joint],
+    group: &[usize],
+    rows: &[Option<Rows>],
+    mob: &[Mobility],
+    v: &mut [Motion],
+    clamp: bool,
+    damping: f64,
+) {
+    // Redundant joints (closed loops of rigid joints) make the plain system singular; the
+    // slightly damped least-squares step still solves it.
+    let solved = direct(joints, group, rows, mob, v, clamp, damping)
+        || damping == 0.0 && direct(joints, group, rows, mob, v, clamp, REDUNDANT_DAMPING);
+    if !solved {
+        gauss_seidel(joints, group, rows, mob, v, clamp);
     }
 }
 
@@ -64,12 +78,12 @@ fn held(joint: &Joint) -> [bool; 6] {
     system::held_rows(joint)
 }
 
-/// Joints with rows, grouped by shared bodies that take impulses.
-fn groups(joints: &[Joint], rows: &[Option<Rows>], mob: &[Mobility]) -> Vec<Vec<usize>> {
+/// Joints with rows (`has_rows(joint)`), grouped by shared bodies that take impulses.
+pub(crate) fn groups(joints: &[Joint], has_rows: impl Fn(usize) -> bool, mob: &[Mobility]) -> Vec<Vec<usize>> {
     let mut sets = UnionFind::new(joints.len());
     let mut owner: HashMap<usize, usize> = HashMap::new();
     for (k, joint) in joints.iter().enumerate() {
-        if rows[k].is_none() {
+        if !has_rows(k) {
             continue;
         }
         for body in [joint.a, joint.b] {
@@ -85,7 +99,7 @@ fn groups(joints: &[Joint], rows: &[Option<Rows>], mob: &[Mobility]) -> Vec<Vec<
     }
     let mut out: Vec<Vec<usize>> = Vec::new();
     let mut slot: HashMap<usize, usize> = HashMap::new();
-    for k in (0..joints.len()).filter(|&k| rows[k].is_some()) {
+    for k in (0..joints.len()).filter(|&k| has_rows(k)) {
         let r = sets.root(k);
         let index = *slot.entry(r).or_insert_with(|| {
             out.push(Vec::new());
@@ -107,10 +121,11 @@ fn direct(
     clamp: bool,
     damping: f64,
 ) -> bool {
-    let order = order(joints, group, mob);
+    let incidence = GroupIndex::new(joints, group, mob);
+    let order = order(joints, &incidence);
     // Unknowns and equations: the held rows of each joint, in band order.
     let mut index: Vec<(usize, usize)> = Vec::new();
-    let mut slots: HashMap<usize, [usize; 6]> = HashMap::new();
+    let mut slots: Vec<[usize; 6]> = vec![[usize::MAX; 6]; group.len()];
     for &k in &order {
         let h = held(&joints[k]);
         let mut slot = [usize::MAX; 6];
@@ -118,10 +133,9 @@ fn direct(
             slot[r] = index.len();
             index.push((k, r));
         }
-        slots.insert(k, slot);
+        slots[incidence.local(k)] = slot;
     }
-    let position = |k: usize, r: usize| slots[&k][r];
-    let touching = bodies_to_joints(joints, group, mob);
+    let position = |k: usize, r: usize| slots[incidence.local(k)][r];
     let n = index.len();
     let mut matrix: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
     let axes = [Vec3::X, Vec3::Y, Vec3::Z];
@@ -140,11 +154,7 @@ fn direct(
             }
             m
         };
-        let mut neighbours: Vec<usize> =
-            [jq.a, jq.b].iter().filter_map(|body| touching.get(body)).flatten().copied().collect();
-        neighbours.sort_unstable();
-        neighbours.dedup();
-        for p in neighbours {
+        for p in incidence.neighbours(jq, None) {
             let Some(rp) = &rows[p] else { continue };
             let jp = &joints[p];
             let (lin, ang) = system::drift(&rp.frame, moved(jp.a), moved(jp.b));
@@ -157,10 +167,12 @@ fn direct(
     }
     let rhs: Vec<f64> = index.iter().map(|&(k, r)| rows[k].as_ref().map_or(0.0, |x| -x.error[r])).collect();
     // Active set over the plastic joints' angular impulses.
-    let mut fixed: Vec<Option<Vec3>> = vec![None; joints.len()];
+    // Per joint of the group (by its place in `group`), a plastic joint's angular impulse fixed
+    // on its strength sphere.
+    let mut fixed: Vec<Option<Vec3>> = vec![None; group.len()];
     let mut x;
     loop {
-        let is_fixed = |i: usize| index[i].1 >= 3 && fixed[index[i].0].is_some();
+        let is_fixed = |i: usize| index[i].1 >= 3 && fixed[incidence.local(index[i].0)].is_some();
         let mut renumber = vec![usize::MAX; n];
         let mut free = Vec::new();
         for i in (0..n).filter(|&i| !is_fixed(i)) {
@@ -175,7 +187,7 @@ fn direct(
             for &(col, a) in &matrix[row] {
                 if is_fixed(col) {
                     let (k, c) = index[col];
-                    value -= a * fixed[k].map_or(0.0, |l| f64::from(l[c - 3]));
+                    value -= a * fixed[incidence.local(k)].map_or(0.0, |l| f64::from(l[c - 3]));
                 } else {
                     kept.push((renumber[col], a));
                 }
@@ -194,7 +206,7 @@ fn direct(
             break;
         }
     }
-    for &k in group {
+    for (&k, &fixed) in group.iter().zip(&fixed) {
         let Some(r) = &rows[k] else { continue };
         let h = held(&joints[k]);
         let mut solution = [0.0f64; 6];
@@ -202,11 +214,11 @@ fn direct(
             solution[c] = x[position(k, c)];
         }
         let (j, mut l) = system::impulses(&solution, &r.basis);
-        if let Some(fixed) = fixed[k] {
+        if let Some(fixed) = fixed {
             l = fixed;
         }
         if clamp && matches!(joints[k].kind, JointKind::Plastic { .. }) {
-            joints[k].clamped = fixed[k].is_some();
+            joints[k].clamped = fixed.is_some();
             joints[k].accumulated += l;
         }
         system::apply(v, mob, &joints[k], &r.frame, j, l);
@@ -215,8 +227,9 @@ fn direct(
 }
 
 /// Fixes on its strength sphere the angular impulse of every plastic joint of `group` not fixed
-/// yet whose accumulated angular impulse plus the solution's (`x(joint, row)`, rows 3–5) would
-/// pass its strength. Returns whether any was fixed (the group must be solved again).
+/// yet (`fixed`, by place in `group`) whose accumulated angular impulse plus the solution's
+/// (`x(joint, row)`, rows 3–5) would pass its strength. Returns whether any was fixed (the
+/// group must be solved again).
 fn clamp_plastic(
     joints: &[Joint],
     group: &[usize],
@@ -224,67 +237,85 @@ fn clamp_plastic(
     x: impl Fn(usize, usize) -> f64,
 ) -> bool {
     let mut changed = false;
-    for &k in group {
+    for (&k, fixed) in group.iter().zip(fixed.iter_mut()) {
         let JointKind::Plastic { strength, .. } = joints[k].kind else { continue };
-        if fixed[k].is_some() {
+        if fixed.is_some() {
             continue;
         }
         let l = Vec3::new(x(k, 3) as f32, x(k, 4) as f32, x(k, 5) as f32);
         let wanted = joints[k].accumulated + l;
         if wanted.length() > strength {
-            fixed[k] = Some(wanted * (strength / wanted.length()) - joints[k].accumulated);
+            *fixed = Some(wanted * (strength / wanted.length()) - joints[k].accumulated);
             changed = true;
         }
     }
     changed
 }
 
-/// For each body that takes impulses, the group's joints on it.
-fn bodies_to_joints(joints: &[Joint], group: &[usize], mob: &[Mobility]) -> HashMap<usize, Vec<usize>> {
-    let mut map: HashMap<usize, Vec<usize>> = HashMap::new();
-    for &k in group {
-        for body in [joints[k].a, joints[k].b] {
-            if system::takes_impulses(&mob[body]) {
-                map.entry(body).or_default().push(k);
-            }
-        }
+/// A group's joints (sorted, as [`groups`] makes them) by their place in it, and which of them
+/// act on each body that takes impulses.
+struct GroupIndex<'g> {
+    group: &'g [usize],
+    /// (body, joint) pairs sorted by body.
+    incidence: Vec<(usize, usize)>,
+}
+
+impl<'g> GroupIndex<'g> {
+    fn new(joints: &[Joint], group: &'g [usize], mob: &[Mobility]) -> Self {
+        debug_assert!(group.is_sorted(), "joint groups are sorted");
+        let mut incidence: Vec<(usize, usize)> = group
+            .iter()
+            .flat_map(|&k| [(joints[k].a, k), (joints[k].b, k)])
+            .filter(|&(body, _)| system::takes_impulses(&mob[body]))
+            .collect();
+        incidence.sort_unstable();
+        Self { group, incidence }
     }
-    map
+
+    /// Joint `joint`'s place in the group.
+    fn local(&self, joint: usize) -> usize {
+        self.group.partition_point(|&k| k < joint)
+    }
+
+    /// The group's joints on `body`.
+    fn on(&self, body: usize) -> impl Iterator<Item = usize> + '_ {
+        let start = self.incidence.partition_point(|&(b, _)| b < body);
+        self.incidence[start..].iter().take_while(move |&&(b, _)| b == body).map(|&(_, k)| k)
+    }
+
+    /// The group's joints sharing a body with `joint` (itself too unless it is `except`),
+    /// sorted, without repeats.
+    fn neighbours(&self, joint: &Joint, except: Option<usize>) -> Vec<usize> {
+        let mut out: Vec<usize> = self.on(joint.a).chain(self.on(joint.b)).filter(|&p| Some(p) != except).collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
 }
 
 /// The group's joints in reverse Cuthill–McKee order (breadth first from a joint of least
 /// coupling, neighbours by increasing coupling, reversed), which keeps coupled joints close and
 /// the system's band narrow: a chain becomes block-tridiagonal.
-fn order(joints: &[Joint], group: &[usize], mob: &[Mobility]) -> Vec<usize> {
-    let touching = bodies_to_joints(joints, group, mob);
-    let neighbours = |k: usize| -> Vec<usize> {
-        let mut out: Vec<usize> = [joints[k].a, joints[k].b]
-            .iter()
-            .filter_map(|body| touching.get(body))
-            .flatten()
-            .copied()
-            .filter(|&p| p != k)
-            .collect();
-        out.sort_unstable();
-        out.dedup();
-        out
-    };
-    let degree: HashMap<usize, usize> = group.iter().map(|&k| (k, neighbours(k).len())).collect();
-    let mut seen: HashSet<usize> = HashSet::new();
+fn order(joints: &[Joint], index: &GroupIndex) -> Vec<usize> {
+    let group = index.group;
+    let neighbours: Vec<Vec<usize>> = group.iter().map(|&k| index.neighbours(&joints[k], Some(k))).collect();
+    let degree = |k: usize| neighbours[index.local(k)].len();
+    let mut seen = vec![false; group.len()];
     let mut out = Vec::with_capacity(group.len());
     let mut starts: Vec<usize> = group.to_vec();
-    starts.sort_by_key(|k| (degree[k], *k));
+    starts.sort_by_key(|&k| (degree(k), k));
     for &start in &starts {
-        if !seen.insert(start) {
+        if std::mem::replace(&mut seen[index.local(start)], true) {
             continue;
         }
         let mut queue = VecDeque::from([start]);
         while let Some(k) = queue.pop_front() {
             out.push(k);
-            let mut next: Vec<usize> = neighbours(k).into_iter().filter(|p| !seen.contains(p)).collect();
-            next.sort_by_key(|p| (degree[p], *p));
+            let mut next: Vec<usize> =
+                neighbours[index.local(k)].iter().copied().filter(|&p| !seen[index.local(p)]).collect();
+            next.sort_by_key(|&p| (degree(p), p));
             for p in next {
-                seen.insert(p);
+                seen[index.local(p)] = true;
                 queue.push_back(p);
             }
         }
