@@ -18,6 +18,7 @@
 //! Errors left when the budget is spent are taken up by the next step.
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::solve::{self, Rows};
 use super::system::{self, Frame, Mobility, Motion};
@@ -73,15 +74,60 @@ pub(crate) fn prestabilize(
         system::takes_impulses(&mob[joint.a]) || system::takes_impulses(&mob[joint.b])
     };
     let groups = solve::groups(joints, has_rows, &mob);
-    let mut rows: Vec<Option<Rows>> = (0..joints.len()).map(|_| None).collect();
     let step = Prediction { bodies, mob: &mob, extra: &extra, dt };
-    for group in &groups {
-        newton(joints, group, &step, &mut v, &mut rows);
+    // Groups share no body that takes impulses: they are solved in parallel, in a few batches
+    // of similar size, each on its own copy of the velocities and joints.
+    let batches = batches(&groups, rayon::current_num_threads());
+    let solved: Vec<Solved> = batches
+        .par_iter()
+        .map(|batch| {
+            let (mut v, mut joints) = (v.clone(), joints.to_vec());
+            let mut rows: Vec<Option<Rows>> = (0..joints.len()).map(|_| None).collect();
+            for &g in batch {
+                newton(&mut joints, &groups[g], &step, &mut v, &mut rows);
+            }
+            let moved = batch.iter().flat_map(|&g| &groups[g]).flat_map(|&k| [joints[k].a, joints[k].b]);
+            let moved: Vec<(usize, Motion)> =
+                moved.filter(|&i| system::takes_impulses(&mob[i])).map(|i| (i, v[i])).collect();
+            let changed = batch.iter().flat_map(|&g| &groups[g]).map(|&k| (k, joints[k].clone())).collect();
+            (moved, changed)
+        })
+        .collect();
+    for (moved, changed) in solved {
+        for (i, m) in moved {
+            v[i] = m;
+        }
+        for (k, joint) in changed {
+            joints[k] = joint;
+        }
     }
     for (b, m) in solver.iter_mut().zip(&v) {
         b.linear = m.linear;
         b.angular = m.angular;
     }
+}
+
+/// What a batch of groups changed: the velocities of its bodies that take impulses and its
+/// joints (their accumulated impulses and clamps).
+type Solved = (Vec<(usize, Motion)>, Vec<(usize, Joint)>);
+
+/// `groups` (indices) split into at most `count` batches of about equal joint counts, in order.
+fn batches(groups: &[Vec<usize>], count: usize) -> Vec<Vec<usize>> {
+    let total: usize = groups.iter().map(Vec::len).sum();
+    let share = total.div_ceil(count.max(1)).max(1);
+    let mut out: Vec<Vec<usize>> = vec![Vec::new()];
+    let mut filled = 0;
+    for (g, group) in groups.iter().enumerate() {
+        if filled >= share {
+            out.push(Vec::new());
+            filled = 0;
+        }
+        if let Some(batch) = out.last_mut() {
+            batch.push(g);
+        }
+        filled += group.len();
+    }
+    out
 }
 
 /// What the joints' predicted errors depend on besides the velocities.
