@@ -48,7 +48,10 @@ pub(crate) fn joint_contact_rounds(
     let impulses: Vec<(Vec3, bool)> = joints.iter().map(|j| (j.accumulated, j.clamped)).collect();
     for _ in 0..ROUNDS {
         solver::contact_sweeps(solver, constraints, jointed, settings, settings.contact_iterations / 2);
-        joints::prestabilize(joints, bodies, solver, pseudo, settings, false);
+        // Joints that still hold after the sweeps push nothing more into the contacts.
+        if joints::prestabilize(joints, bodies, solver, pseudo, settings, false) == 0 {
+            break;
+        }
     }
     let mut islands = UnionFind::new(solver.len());
     let takes: Vec<bool> = solver.iter().map(|b| b.inverse_mass > 0.0).collect();

@@ -41,7 +41,8 @@ const ANGULAR_TOLERANCE: f64 = 1e-6;
 /// respect the joints at velocity level, so the contact position correction moves jointed bodies
 /// together; the real impulses then remove the joints' predicted errors. With `fresh` false it
 /// continues the step's pre-stabilization after more contact sweeps (the accumulated impulses,
-/// which plastic joints clamp, and the pseudo-velocities carry on).
+/// which plastic joints clamp, and the pseudo-velocities carry on). Returns how many groups of
+/// joints did not hold already and took Newton steps.
 pub(crate) fn prestabilize(
     joints: &mut [Joint],
     bodies: &[RigidBody],
@@ -49,9 +50,9 @@ pub(crate) fn prestabilize(
     pseudo: &mut [(Vec3, Vec3)],
     settings: &WorldSettings,
     fresh: bool,
-) {
+) -> usize {
     if joints.is_empty() {
-        return;
+        return 0;
     }
     let mob = system::mobilities(bodies, settings);
     let mut extra: Vec<Motion> = pseudo.iter().map(|&(linear, angular)| Motion { linear, angular }).collect();
@@ -78,22 +79,24 @@ pub(crate) fn prestabilize(
     // Groups share no body that takes impulses: they are solved in parallel, in a few batches
     // of similar size, each on its own copy of the velocities and joints.
     let batches = batches(&groups, rayon::current_num_threads());
-    let solved: Vec<Solved> = batches
+    let solved: Vec<(Solved, usize)> = batches
         .par_iter()
         .map(|batch| {
             let (mut v, mut joints) = (v.clone(), joints.to_vec());
             let mut rows: Vec<Option<Rows>> = (0..joints.len()).map(|_| None).collect();
+            let mut stepped = 0;
             for &g in batch {
-                newton(&mut joints, &groups[g], &step, &mut v, &mut rows);
+                stepped += usize::from(newton(&mut joints, &groups[g], &step, &mut v, &mut rows));
             }
             let moved = batch.iter().flat_map(|&g| &groups[g]).flat_map(|&k| [joints[k].a, joints[k].b]);
             let moved: Vec<(usize, Motion)> =
                 moved.filter(|&i| system::takes_impulses(&mob[i])).map(|i| (i, v[i])).collect();
             let changed = batch.iter().flat_map(|&g| &groups[g]).map(|&k| (k, joints[k].clone())).collect();
-            (moved, changed)
+            ((moved, changed), stepped)
         })
         .collect();
-    for (moved, changed) in solved {
+    let stepped = solved.iter().map(|(_, stepped)| stepped).sum();
+    for ((moved, changed), _) in solved {
         for (i, m) in moved {
             v[i] = m;
         }
@@ -105,6 +108,7 @@ pub(crate) fn prestabilize(
         b.linear = m.linear;
         b.angular = m.angular;
     }
+    stepped
 }
 
 /// What a batch of groups changed: the velocities of its bodies that take impulses and its
@@ -141,13 +145,20 @@ struct Prediction<'a> {
 
 /// Damped Newton iterations on one group of joints (see the module notes): each group converges,
 /// damps and retries on its own, so a hard group costs only its own solves. `rows` is scratch
-/// space indexed by joint.
-fn newton(joints: &mut [Joint], group: &[usize], step: &Prediction, v: &mut [Motion], rows: &mut [Option<Rows>]) {
+/// space indexed by joint. Returns whether the group did not hold already.
+fn newton(
+    joints: &mut [Joint],
+    group: &[usize],
+    step: &Prediction,
+    v: &mut [Motion],
+    rows: &mut [Option<Rows>],
+) -> bool {
     let (bodies, mob, extra, dt) = (step.bodies, step.mob, step.extra, step.dt);
     let mut moved: Vec<usize> = group.iter().flat_map(|&k| [joints[k].a, joints[k].b]).collect();
     moved.sort_unstable();
     moved.dedup();
     let mut now = measure(joints, group, bodies, mob, v, extra, dt);
+    let held = now.worst < 1.0;
     let mut damping = 0.0;
     for _ in 0..NEWTON {
         if now.worst < 1.0 {
@@ -182,6 +193,7 @@ fn newton(joints: &mut [Joint], group: &[usize], step: &Prediction, v: &mut [Mot
             break;
         }
     }
+    !held
 }
 
 fn linearize(
