@@ -296,3 +296,108 @@ fn same_set(a: &[usize], b: &[usize]) -> bool {
     b.sort_unstable();
     a == b
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::{swings_about_anchor, tangled_groups};
+    use crate::mesh;
+    use crate::sim::{BodyDesc, ColliderKind, JointKind, UnionFind, World, WorldSettings};
+
+    /// The default quiet spin, rad/s.
+    const QUIET: f32 = 0.05;
+
+    /// A ball pinned at its centre (arm 0) spins in place whatever its spin: never active, even
+    /// at 100 rad/s, 2,000 times the quiet spin.
+    #[test]
+    fn a_ball_pinned_at_its_centre_never_swings() {
+        let anchor = Vec3::new(0.3, 1.0, -0.2);
+        let strut = anchor + Vec3::new(0.0, 0.0, 0.3);
+        for spin in [Vec3::X, Vec3::Y, Vec3::Z, Vec3::new(1.0, -2.0, 0.5).normalize()] {
+            assert!(!swings_about_anchor(Some((anchor, anchor)), [anchor, strut], 100.0 * spin, QUIET), "{spin}");
+            assert!(!swings_about_anchor(Some((anchor, anchor)), [strut, anchor], 100.0 * spin, QUIET), "{spin}");
+        }
+    }
+
+    /// Two struts in line through the anchor spinning about their common axis: in place, not
+    /// active at 10 rad/s; the same spin about a perpendicular axis at 0.1 rad/s (twice the
+    /// quiet spin) swings them: active.
+    #[test]
+    fn spin_about_a_strut_axis_is_quiet_and_a_swing_is_not() {
+        let anchor = Vec3::new(0.0, 2.0, 0.0);
+        let axis = Vec3::new(1.0, 1.0, 0.0).normalize();
+        let centres = [anchor - 0.3 * axis, anchor + 0.3 * axis];
+        let anchors = Some((anchor, anchor));
+        assert!(!swings_about_anchor(anchors, centres, 10.0 * axis, QUIET));
+        let across = axis.cross(Vec3::Z);
+        assert!(swings_about_anchor(anchors, centres, 2.0 * QUIET * across, QUIET));
+        // Half the quiet spin across: quiet.
+        assert!(!swings_about_anchor(anchors, centres, 0.5 * QUIET * across, QUIET));
+    }
+
+    /// Two struts meeting at an anchor at 60° (a tetrahedron's corner): only the spin about the
+    /// normal of their plane changes the angle between them. 10 rad/s in their plane is quiet;
+    /// twice the quiet spin about the normal is active, whichever way.
+    #[test]
+    fn struts_at_an_angle_swing_only_about_their_plane_normal() {
+        let anchor = Vec3::ZERO;
+        let (u, v) = (Vec3::X, Vec3::new(0.5, 0.75f32.sqrt(), 0.0));
+        let centres = [anchor + 0.3 * u, anchor + 0.3 * v];
+        let anchors = Some((anchor, anchor));
+        assert!(!swings_about_anchor(anchors, centres, 10.0 * u, QUIET));
+        assert!(!swings_about_anchor(anchors, centres, 10.0 * (u + v).normalize(), QUIET));
+        assert!(swings_about_anchor(anchors, centres, 2.0 * QUIET * Vec3::Z, QUIET));
+        assert!(swings_about_anchor(anchors, centres, -2.0 * QUIET * Vec3::Z, QUIET));
+    }
+
+    /// Without anchors the whole relative spin counts.
+    #[test]
+    fn without_anchors_any_spin_faster_than_quiet_is_active() {
+        let centres = [Vec3::ZERO, Vec3::X];
+        assert!(swings_about_anchor(None, centres, 2.0 * QUIET * Vec3::X, QUIET));
+        assert!(!swings_about_anchor(None, centres, 0.5 * QUIET * Vec3::X, QUIET));
+    }
+
+    /// A world of `n` free boxes in a row and ball joints between the given pairs.
+    fn boxes(n: usize, joints: &[(usize, usize)]) -> World {
+        let mut world = World::new(WorldSettings::default()).unwrap();
+        let cube = mesh::subdivided_box(Vec3::splat(0.2), [1, 1, 1]).unwrap();
+        for k in 0..n {
+            let desc = BodyDesc::new(format!("box{k}"), cube.clone()).at(Vec3::new(k as f32, 1.0, 0.0));
+            world.add(desc.collider(ColliderKind::Cuboid)).unwrap();
+        }
+        for &(a, b) in joints {
+            let anchor = 0.5 * (world.bodies()[a].position + world.bodies()[b].position);
+            world.add_joint(a, b, anchor, JointKind::Ball).unwrap();
+        }
+        world
+    }
+
+    /// Groups {0, 1} and {2, 3} (quiet joints 0 and 1) tied by two active joints (2 and 3) form
+    /// a loop: both tangled.
+    #[test]
+    fn two_groups_joined_twice_are_tangled() {
+        let world = boxes(4, &[(0, 1), (2, 3), (1, 2), (0, 3)]);
+        let mut groups = UnionFind::new(4);
+        groups.join(0, 1);
+        groups.join(2, 3);
+        let tangled = tangled_groups(&world, &[2, 3], &mut groups);
+        assert!(tangled[groups.root(0)] && tangled[groups.root(2)], "{tangled:?}");
+        // Only one of the two ties active: a tree of two groups, not tangled.
+        let tangled = tangled_groups(&world, &[2], &mut groups);
+        assert!(!tangled[groups.root(0)] && !tangled[groups.root(2)], "{tangled:?}");
+    }
+
+    /// A chain of three single-body groups tied by two active joints is a tree: not tangled.
+    /// An active joint with both ends in one group (a bending joint inside it) is a loop.
+    #[test]
+    fn a_chain_is_not_tangled_and_a_joint_inside_a_group_is() {
+        let world = boxes(5, &[(0, 1), (1, 2), (3, 4)]);
+        let mut groups = UnionFind::new(5);
+        groups.join(3, 4);
+        let tangled = tangled_groups(&world, &[0, 1, 2], &mut groups);
+        assert!((0..3).all(|k| !tangled[groups.root(k)]), "chain tangled: {tangled:?}");
+        assert!(tangled[groups.root(3)], "a group holding an active joint is not tangled: {tangled:?}");
+    }
+}

@@ -122,3 +122,36 @@ impl World {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashSet;
+
+    use glam::Vec3;
+
+    use super::super::{World, WorldSettings};
+    use crate::mesh;
+    use crate::sim::{BodyDesc, ColliderKind};
+
+    /// Body 3 inherits what body 0 ignores (1, 2 and 3 itself): it gains 1 and 2, never
+    /// itself; every pair set before stays and body 4 gains nothing.
+    #[test]
+    fn a_new_body_ignores_what_its_source_ignores() {
+        let mut world = World::new(WorldSettings::default()).unwrap();
+        let cube = mesh::subdivided_box(Vec3::splat(0.2), [1, 1, 1]).unwrap();
+        for k in 0..5 {
+            let desc = BodyDesc::new(format!("box{k}"), cube.clone()).at(Vec3::new(k as f32, 0.0, 0.0));
+            world.add(desc.collider(ColliderKind::Cuboid)).unwrap();
+        }
+        for (a, b) in [(1, 0), (0, 2), (3, 0), (2, 4)] {
+            world.ignore_collisions(a, b).unwrap();
+        }
+        world.inherit_ignored_collisions(0, 3);
+        let expected: HashSet<(usize, usize)> = [(0, 1), (0, 2), (0, 3), (2, 4), (1, 3), (2, 3)].into();
+        assert_eq!(world.ignored, expected);
+        // Body 1 now ignores 0 and 3 (the latter inherited): both pass on to 4, nothing else.
+        world.inherit_ignored_collisions(1, 4);
+        let expected: HashSet<(usize, usize)> = [(0, 1), (0, 2), (0, 3), (2, 4), (1, 3), (2, 3), (0, 4), (3, 4)].into();
+        assert_eq!(world.ignored, expected);
+    }
+}
