@@ -221,13 +221,12 @@ fn a_hard_hit_on_a_plastic_joint_leaves_no_spin_past_max_turn() {
     assert!(fastest > 0.9 * limit, "the hit only reached {fastest} rad/s of {limit}");
 }
 
-/// The demo pile (`tetrahedra_grid(16, 4, Demo)`) 5 s after it fell: every tetrahedron should
-/// be one cluster of its own bodies again. Fails at this commit: in tetrahedron 2 the half
-/// `strut1/bone1` of a split strut twists about its own axis at 84.86 rad/s (0.9 × the 94.2
-/// rad/s spin limit) for good, without contacts and undamped, and its plastic joint reports a
-/// 1.33 rad bend every step, so the tetrahedron stays twelve free bodies (measured to 10 s).
+/// The demo pile (`tetrahedra_grid(16, 4, Demo)`) 5 s after it fell: every tetrahedron is one
+/// cluster of its own bodies again. Before pre-stabilization asked a bending joint for the turn
+/// the quaternion step makes at its bend rate, a split strut half in tetrahedron 2 twisted about
+/// its axis at 84.86 rad/s for good (its plastic joint bending 1.33 rad every step), and that
+/// tetrahedron stayed twelve free bodies.
 #[test]
-#[ignore = "known failure: a split strut half twists about its own axis forever, its plastic joint bending every step"]
 fn every_tetrahedron_of_the_demo_pile_is_one_cluster_again() {
     let scene = tetrahedra_grid(16, 4, SceneSize::Demo).expect("scene");
     let mut sim = Simulation::new(scene.world, None).expect("simulation").with_bending(scene.bending);

@@ -226,7 +226,11 @@ fn errors(joint: &Joint, f: &Frame, basis: &[Vec3; 3], dt: f32) -> ([f64; 6], [f
     let linear = f.anchor_b - f.anchor_a;
     let angular = if joint.kind.locks_rotation() {
         // A plastic joint still bending after a hit keeps turning at its damped rate.
-        let keep_turning = (f.qa * joint.bend_rate) * dt;
+        // The turn the position update's first-order quaternion step makes at the bend rate:
+        // 2·atan(ω·dt/2), not ω·dt. Asking for ω·dt would need a faster spin than the rate,
+        // which the next step's rate then measures: a fast bend fed itself up to max_turn.
+        let rate = f.qa * joint.bend_rate;
+        let keep_turning = rate.normalize_or_zero() * (2.0 * (0.5 * rate.length() * dt).atan());
         rotation_vector((f.qb * (f.qa * joint.target).inverse()).normalize()) - keep_turning
     } else {
         Vec3::ZERO
