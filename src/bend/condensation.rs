@@ -137,9 +137,9 @@ impl Condenser {
             }
             if now.saturating_sub(self.last_active[joint]) < quiet_steps {
                 active.push(joint);
+                continue;
             }
-            if now.saturating_sub(self.last_active[joint]) >= quiet_steps
-                && let Some((a, b)) = world.joint_ends(joint)
+            if let Some((a, b)) = world.joint_ends(joint)
                 && world.clusterable(a)
                 && world.clusterable(b)
             {
@@ -191,12 +191,9 @@ impl Condenser {
         match j.kind() {
             JointKind::Ball => {
                 let centres = [a.position, b.position];
-                return swings_about_anchor(j.anchors(bodies), centres, relative_spin, self.settings.quiet_spin);
+                swings_about_anchor(j.anchors(bodies), centres, relative_spin, self.settings.quiet_spin)
             }
-            _ if relative_spin.length() > self.settings.quiet_spin => return true,
-            _ => {}
-        }
-        match j.kind() {
+            _ if relative_spin.length() > self.settings.quiet_spin => true,
             JointKind::Elastic { .. } => {
                 j.deviation(bodies).is_some_and(|d| d.length() > self.settings.quiet_deflection)
             }
@@ -228,13 +225,13 @@ fn swings_about_anchor(
     /// Arms shorter than this put the centre of mass at the anchor, m.
     const AT_ANCHOR: f32 = 1e-3;
     let Some((on_a, on_b)) = anchors else { return relative_spin.length() > quiet_spin };
-    let mut axes = Vec::with_capacity(2);
-    for (anchor, centre) in [(on_a, centres[0]), (on_b, centres[1])] {
+    let mut axes = [Vec3::ZERO; 2];
+    for (axis, (anchor, centre)) in axes.iter_mut().zip([(on_a, centres[0]), (on_b, centres[1])]) {
         let arm = centre - anchor;
         if arm.length() < AT_ANCHOR {
             return false;
         }
-        axes.push(arm.normalize());
+        *axis = arm.normalize();
     }
     let normal = axes[0].cross(axes[1]);
     let residual = if normal.length() > AT_ANCHOR {

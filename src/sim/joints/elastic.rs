@@ -45,10 +45,10 @@ pub(crate) fn apply_springs(
     let mob = system::mobilities(bodies, settings);
     let mut v: Vec<Motion> = solver.iter().map(|b| Motion { linear: b.linear, angular: b.angular }).collect();
     for joint in joints.iter_mut() {
-        let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
-        if !system::takes_impulses(ma) && !system::takes_impulses(mb) {
+        if !system::joint_takes_impulses(joint, &mob) {
             continue;
         }
+        let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
         let f = system::frame(joint, bodies, &mob, &v, None, 0.0);
         match joint.kind {
             JointKind::Elastic { stiffness, damping } => {

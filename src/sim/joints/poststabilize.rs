@@ -56,10 +56,10 @@ pub(crate) fn hold_velocities(
 
 /// A joint's velocity rows: relative anchor velocity, relative angular velocity minus the wanted.
 fn velocity_rows(joint: &Joint, bodies: &[RigidBody], mob: &[Mobility], v: &[Motion], bending: bool) -> Option<Rows> {
-    let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
-    if !system::takes_impulses(ma) && !system::takes_impulses(mb) {
+    if !system::joint_takes_impulses(joint, mob) {
         return None;
     }
+    let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
     let frame = system::frame(joint, bodies, mob, v, None, 0.0);
     let basis = system::linear_basis(joint, frame.qa);
     let (va, vb) = (v[joint.a], v[joint.b]);

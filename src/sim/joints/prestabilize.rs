@@ -70,11 +70,10 @@ pub(crate) fn prestabilize(
         }
     }
     let dt = settings.dt;
-    let has_rows = |k: usize| {
-        let joint = &joints[k];
-        system::takes_impulses(&mob[joint.a]) || system::takes_impulses(&mob[joint.b])
-    };
-    let groups = solve::groups(joints, has_rows, &mob);
+    let groups = solve::groups(joints, |k| system::joint_takes_impulses(&joints[k], &mob), &mob);
+    if groups.is_empty() {
+        return 0;
+    }
     let step = Prediction { bodies, mob: &mob, extra: &extra, dt };
     // Groups share no body that takes impulses: they are solved in parallel, in a few batches
     // of similar size, each on its own copy of the velocities and joints.
@@ -158,7 +157,7 @@ fn newton(
     moved.sort_unstable();
     moved.dedup();
     let mut now = measure(joints, group, bodies, mob, v, extra, dt);
-    let held = now.worst < 1.0;
+    let already_held = now.worst < 1.0;
     let mut damping = 0.0;
     for _ in 0..NEWTON {
         if now.worst < 1.0 {
@@ -180,6 +179,7 @@ fn newton(
                 accepted = true;
                 break;
             }
+            // The step made the errors grow: back to the start, shorter (more damped) step.
             for (&i, &m) in moved.iter().zip(&start) {
                 v[i] = m;
             }
@@ -193,9 +193,11 @@ fn newton(
             break;
         }
     }
-    !held
+    !already_held
 }
 
+/// A joint's rows linearized at velocities `v`: predicted errors per unit `dt` (the velocity
+/// change that removes them); `None` when neither body takes impulses.
 fn linearize(
     joint: &Joint,
     bodies: &[RigidBody],
@@ -204,10 +206,10 @@ fn linearize(
     extra: &[Motion],
     dt: f32,
 ) -> Option<Rows> {
-    let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
-    if !system::takes_impulses(ma) && !system::takes_impulses(mb) {
+    if !system::joint_takes_impulses(joint, mob) {
         return None;
     }
+    let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
     let frame = system::frame(joint, bodies, mob, v, Some(extra), dt);
     let basis = system::linear_basis(joint, frame.qa);
     let (error, tolerance) = errors(joint, &frame, &basis, dt);
@@ -269,11 +271,8 @@ fn measure(
     dt: f32,
 ) -> Errors {
     let mut out = Errors { worst: 0.0, merit: 0.0 };
+    // Every joint of a group has rows (see `solve::groups`).
     for joint in group.iter().map(|&k| &joints[k]) {
-        let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
-        if !system::takes_impulses(ma) && !system::takes_impulses(mb) {
-            continue;
-        }
         let frame = system::frame(joint, bodies, mob, v, Some(extra), dt);
         let basis = system::linear_basis(joint, frame.qa);
         let (error, tolerance) = errors(joint, &frame, &basis, dt);

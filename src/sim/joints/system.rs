@@ -60,6 +60,11 @@ pub(crate) fn takes_impulses(m: &Mobility) -> bool {
     m.inverse_mass > 0.0
 }
 
+/// Whether the joint's impulses move either of its bodies (it has rows to solve).
+pub(crate) fn joint_takes_impulses(joint: &Joint, mob: &[Mobility]) -> bool {
+    takes_impulses(&mob[joint.a]) || takes_impulses(&mob[joint.b])
+}
+
 /// The orientation after one position update with angular velocity `w` (the same first-order
 /// quaternion step as `World::step`'s position integration).
 pub(crate) fn advance(q: Quat, w: Vec3, dt: f32) -> Quat {
