@@ -1,6 +1,6 @@
 //! The per-step bending driver (paper Algorithm 2): steps a [`World`] holding bending bodies,
-//! with the dummy step of dynamic articulation (snapshot, step, split where fast hits landed,
-//! restore and step again), and records the joints made and the plastic bends.
+//! with the dummy step of dynamic articulation (find the step's collisions, split where fast hits
+//! land, find them again, solve), and records the joints made and the plastic bends.
 
 use std::time::Instant;
 
@@ -10,7 +10,7 @@ use serde::Serialize;
 use super::condensation::Condenser;
 use super::{ArticulatedBody, BendableDesc, CondenseSettings};
 use crate::mesh::TriMesh;
-use crate::sim::{SimError, StepReport, World};
+use crate::sim::{CollisionEvent, SimError, StepReport, World};
 
 /// A joint made by dynamic articulation.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -135,38 +135,39 @@ impl Bending {
     }
 
     /// One step of `world`. With dynamic articulation or condensation (Algorithm 2 steps 4–13):
-    /// snapshot, step; if a collision involving a sub-body of such a body closed faster than
-    /// its threshold, or hit a cluster faster than its wake speed, restore the snapshot,
-    /// dissolve the clusters hit, split at the fastest such hit of each body
-    /// ([`ArticulatedBody::split_at`]) and step again. Then quiet groups are condensed. Records
-    /// the joints made and the plastic bends of the step that stands. Without bending bodies
-    /// or condensation this is [`World::step`].
+    /// the step's collisions are found first, with their closing speeds before any impulse
+    /// (Algorithm 2's dummy step, without solving it). If one involving a sub-body of such a body
+    /// closes faster than its threshold, or hits a cluster faster than its wake speed, the
+    /// clusters hit are dissolved, each body is split at its fastest such hit
+    /// ([`ArticulatedBody::split_at`]), and the collisions are found again on the edited world.
+    /// Then the step is solved, and quiet groups are condensed. Records the joints made and the
+    /// plastic bends of the step. Without bending bodies or condensation this is [`World::step`].
     ///
     /// # Errors
-    /// A split failed (a bug; the world is restored to before the step) or the snapshot could not
-    /// be restored.
+    /// A split or a wake failed (a bug). The body that failed is unchanged; earlier edits of the
+    /// step stand and the world has not stepped.
     pub fn step(&mut self, world: &mut World) -> Result<StepReport, SimError> {
         let dynamic = self.bodies.iter().any(|b| b.dynamic().is_some());
         let clustered = self.condenser.is_some() && !world.clusters().is_empty();
-        let snapshot = (dynamic || clustered).then(|| world.snapshot());
-        let mut report = world.step();
-        if let Some(snapshot) = snapshot {
+        let mut detected = world.detect();
+        if dynamic || clustered {
+            let impacts = world.impacts(&detected);
             let owners = self.owners(world.bodies().len());
-            let hits = self.fast_hits(&report, &owners);
+            let hits = self.fast_hits(&impacts, &owners);
             let woken = self.condenser.as_ref().map_or_else(Vec::new, |c| {
-                c.hit_clusters(world, &report.events, |body| {
+                c.hit_clusters(world, &impacts, |body| {
                     owners[body].and_then(|(k, _)| self.bodies[k].dynamic().map(|d| d.speed_threshold))
                 })
             });
             if !hits.is_empty() || !woken.is_empty() {
-                world.restore(&snapshot)?;
                 if let Some(condenser) = self.condenser.as_mut() {
                     condenser.wake(world, &woken)?;
                 }
                 self.split(world, hits)?;
-                report = world.step();
+                detected = world.detect();
             }
         }
+        let report = world.advance(detected);
         let frame = world.steps();
         self.bends.extend(report.bends.iter().map(|b| BendRecord { frame, joint: b.joint, angle: b.angle }));
         if let Some(condenser) = self.condenser.as_mut() {
@@ -175,8 +176,8 @@ impl Bending {
         Ok(report)
     }
 
-    /// Splits each bending body at its hit (after the dummy step was undone) and records the
-    /// joints made.
+    /// Splits each bending body at its hit (before the step is solved) and records the joints
+    /// made.
     fn split(&mut self, world: &mut World, hits: Vec<(usize, usize, Vec3)>) -> Result<(), SimError> {
         let frame = world.steps() + 1;
         for (body, index, point) in hits {
@@ -217,9 +218,9 @@ impl Bending {
 
     /// Per bending body with dynamic articulation, the fastest hit on one of its sub-bodies above
     /// its threshold: (body, world body index hit, contact point). `owners` as [`Self::owners`].
-    fn fast_hits(&self, report: &StepReport, owners: &[Option<(usize, usize)>]) -> Vec<(usize, usize, Vec3)> {
+    fn fast_hits(&self, impacts: &[CollisionEvent], owners: &[Option<(usize, usize)>]) -> Vec<(usize, usize, Vec3)> {
         let mut best: Vec<Option<(f32, usize, Vec3)>> = vec![None; self.bodies.len()];
-        for event in &report.events {
+        for event in impacts {
             let (owner_a, owner_b) = (owners[event.a].map(|o| o.0), owners[event.b].map(|o| o.0));
             if owner_a.is_some() && owner_a == owner_b {
                 continue; // two of one body's own sub-bodies touching

@@ -91,7 +91,7 @@ impl Condenser {
         hit
     }
 
-    /// Dissolves `clusters` (after the dummy step was undone) and marks their joints active, so
+    /// Dissolves `clusters` (before the step is solved) and marks their joints active, so
     /// the hit is taken with every joint free.
     pub fn wake(&mut self, world: &mut World, clusters: &[usize]) -> Result<(), SimError> {
         let now = world.steps();

@@ -17,8 +17,8 @@ use crate::mesh::TriMesh;
 pub struct StepTiming {
     /// Step number (1 = the first).
     pub step: u64,
-    /// Broad phase, contacts and impulses, and bending (the dummy step and its repeat, splits,
-    /// condensation), ms.
+    /// Broad phase, contacts and impulses, and bending (the collisions found again after
+    /// splits, splits, condensation), ms.
     pub dynamics_ms: f64,
     /// Dent batch and collider rebuilds, ms.
     pub denting_ms: f64,

@@ -1,24 +1,25 @@
-//! The world: bodies, settings, and the time step (DESIGN.md §2): broad phase → narrow phase →
-//! collision (restitution) → gravity → elastic joint springs → contact (inelastic, shock
-//! propagation) → joint pre-stabilization → positions → joint post-stabilization.
+//! The world: bodies, joints, settings and saved states; the time step is in `world_step.rs`
+//! (DESIGN.md §2): broad phase → narrow phase → collision (restitution) → gravity → elastic joint
+//! springs → contact (inelastic, shock propagation) → joint pre-stabilization → positions → joint
+//! post-stabilization.
 
 use std::collections::HashSet;
-use std::time::Instant;
 
 use glam::{Quat, Vec3};
 
 use super::cluster::{Cluster, Role};
+use super::error::invalid;
 use super::joints::{self, Joint, JointKind};
-use super::sleep::{self, Activity};
-use super::solver::{self, SolverBody};
+use super::sleep::Activity;
 use super::warm_start::ContactCache;
-use super::{Aabb, BodyDesc, BodyKind, CollisionEvent, PairContacts, RigidBody, SimError, StepReport};
-use super::{broad_phase, contacts, error::invalid, joint_rounds};
+use super::{BodyDesc, RigidBody, SimError};
 
 #[path = "world_cluster.rs"]
 mod world_cluster;
 #[path = "world_edit.rs"]
 mod world_edit;
+#[path = "world_step.rs"]
+mod world_step;
 
 /// Global settings of a world.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -273,8 +274,8 @@ impl World {
     }
 
     /// The moving state of the world (poses, velocities, sleep, joints, time), to step again
-    /// from later with [`restore`](Self::restore): the paper's "dummy step" (Algorithm 2) that
-    /// finds the hits before joints are added where they land. Meshes are not saved.
+    /// from later with [`restore`](Self::restore), e.g. to try a step and take it back. Meshes
+    /// are not saved.
     pub fn snapshot(&self) -> WorldState {
         WorldState {
             bodies: self
@@ -341,229 +342,4 @@ impl World {
     pub fn kinetic_energy(&self) -> f64 {
         self.bodies.iter().filter(|b| b.is_simulated()).map(|b| f64::from(b.kinetic_energy())).sum()
     }
-
-    /// Advances the world by one time step and reports the collisions.
-    pub fn step(&mut self) -> StepReport {
-        let started = Instant::now();
-        let s = self.settings;
-        // Bounding radius about the centre of mass, m: rim speed = |ω| × radius (static: unused).
-        let radius: Vec<f32> = self
-            .bodies
-            .iter()
-            .map(|b| if b.kind == BodyKind::Static { 0.0 } else { b.shape.compute_local_bounding_sphere().radius })
-            .collect();
-        let reach: Vec<f32> = self.bodies.iter().zip(&radius).map(|(b, &r)| self.reach(b, r)).collect();
-        let boxes: Vec<Aabb> = self.bodies.iter().zip(&reach).map(|(b, &r)| self.swept_box(b, r)).collect();
-        let pairs = broad_phase::overlapping_pairs(&boxes, |i, j| self.skip_pair(i, j));
-        let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach[i] + reach[j]);
-        self.wake_touched(&found, &radius);
-        joints::sync_sleep(&self.joints, &mut self.bodies);
-
-        let up = -s.gravity.normalize_or(Vec3::NEG_Y);
-        let mut solver_bodies: Vec<SolverBody> = self.bodies.iter().map(|b| solver_body(b, up)).collect();
-        let surface = |i: usize, j: usize| {
-            let (a, b) = (&self.bodies[i].surface, &self.bodies[j].surface);
-            (a.restitution.max(b.restitution), (a.friction * b.friction).sqrt(), s.rolling_resistance)
-        };
-        let mut constraints = solver::constraints(&found, &solver_bodies, s.dt, surface);
-        self.cache.seed(&mut constraints, |i| self.bodies[i].orientation);
-        solver::collide(&mut solver_bodies, &mut constraints, &s);
-        for (body, sb) in self.bodies.iter().zip(solver_bodies.iter_mut()) {
-            if moves_freely(body) {
-                sb.linear += s.gravity * s.dt;
-            }
-        }
-        joints::apply_springs(&mut self.joints, &self.bodies, &mut solver_bodies, &s);
-        solver::contact(&mut solver_bodies, &mut constraints, &s);
-        let mut pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
-        joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, true);
-        let jointed = self.jointed_contacts(&constraints);
-        let (joints, bodies) = (&mut self.joints, &self.bodies);
-        joint_rounds::joint_contact_rounds(
-            joints,
-            bodies,
-            &mut solver_bodies,
-            &mut constraints,
-            &mut pseudo,
-            &jointed,
-            &s,
-        );
-        self.cache.store(&constraints, |i| self.bodies[i].orientation);
-        let events = events(&found, &constraints, |body, part| self.member_hit(body, part));
-        self.integrate(&solver_bodies, &pseudo);
-        let bends = joints::poststabilize(&mut self.joints, &mut self.bodies, &s);
-        self.sync_members();
-        // Islands: bodies touching, and bodies joined by a joint.
-        let links: Vec<(usize, usize)> =
-            found.iter().map(|p| (p.a, p.b)).chain(self.joints.iter().map(|j| (j.a(), j.b()))).collect();
-        sleep::settle(&mut self.bodies, &radius, &links, &s, self.steps);
-        self.time += f64::from(s.dt);
-        self.steps += 1;
-        StepReport {
-            events,
-            bends,
-            broad_pairs: pairs.len(),
-            contact_points: constraints.len(),
-            seconds: started.elapsed().as_secs_f64(),
-        }
-    }
-
-    /// Indices of the constraints on bodies that a joint holds to a dynamic body.
-    fn jointed_contacts(&self, constraints: &[solver::Constraint]) -> Vec<usize> {
-        if self.joints.is_empty() {
-            return Vec::new();
-        }
-        let mut held = vec![false; self.bodies.len()];
-        let dynamic = |i: usize| self.bodies[i].kind == BodyKind::Dynamic && self.bodies[i].is_simulated();
-        for joint in &self.joints {
-            if dynamic(joint.a) && dynamic(joint.b) {
-                held[joint.a] = true;
-                held[joint.b] = true;
-            }
-        }
-        (0..constraints.len()).filter(|&k| held[constraints[k].a] || held[constraints[k].b]).collect()
-    }
-
-    /// How far a body's surface (within `radius` of its centre of mass) can move in one step, m.
-    fn reach(&self, body: &RigidBody, radius: f32) -> f32 {
-        if body.kind == BodyKind::Static || body.activity.asleep {
-            return 0.0;
-        }
-        let speed = body.linear_velocity.length() + body.angular_velocity.length() * radius;
-        let fall = if body.kind == BodyKind::Dynamic { self.settings.gravity.length() * self.settings.dt } else { 0.0 };
-        (speed + fall) * self.settings.dt
-    }
-
-    /// The body's box grown by the margin and by `reach`, how far it can move in one step.
-    fn swept_box(&self, body: &RigidBody, reach: f32) -> Aabb {
-        let aabb = body.shape.compute_aabb(&contacts::pose(body));
-        let grow = Vec3::splat(self.settings.margin + reach);
-        Aabb { min: aabb.mins - grow, max: aabb.maxs + grow }
-    }
-
-    /// Pairs that cannot interact: neither body free to move, or joined by a joint.
-    fn skip_pair(&self, i: usize, j: usize) -> bool {
-        if !self.bodies[i].is_simulated() || !self.bodies[j].is_simulated() {
-            return true;
-        }
-        let still = |b: &RigidBody| b.kind == BodyKind::Static || (b.kind == BodyKind::Dynamic && b.activity.asleep);
-        still(&self.bodies[i]) && still(&self.bodies[j])
-            || !moves(&self.bodies[i]) && !moves(&self.bodies[j])
-            || self.joined.contains(&joints::pair(i, j))
-            || self.ignored.contains(&joints::pair(i, j))
-    }
-
-    /// Wakes the islands of sleeping bodies touched by moving ones.
-    fn wake_touched(&mut self, found: &[PairContacts], radius: &[f32]) {
-        let threshold = self.settings.sleep_speed;
-        for pair in found {
-            let active = |k: usize| {
-                let body = &self.bodies[k];
-                match body.kind {
-                    BodyKind::Static => false,
-                    BodyKind::Kinematic => moves(body),
-                    BodyKind::Dynamic => body.activity.disturbs(body, radius[k], threshold),
-                }
-            };
-            if self.bodies[pair.a].activity.asleep && active(pair.b) {
-                sleep::wake_island(&mut self.bodies, pair.a);
-            } else if self.bodies[pair.b].activity.asleep && active(pair.a) {
-                sleep::wake_island(&mut self.bodies, pair.b);
-            }
-        }
-    }
-
-    /// New velocities in, positions advanced, sleep bookkeeping.
-    fn integrate(&mut self, solved: &[SolverBody], pseudo: &[(Vec3, Vec3)]) {
-        let s = self.settings;
-        for ((body, sb), &(push, twist)) in self.bodies.iter_mut().zip(solved).zip(pseudo) {
-            if !body.is_simulated() {
-                continue;
-            }
-            match body.kind {
-                BodyKind::Static => continue,
-                BodyKind::Dynamic if body.activity.asleep => continue,
-                BodyKind::Dynamic => {
-                    body.linear_velocity = sb.linear;
-                    body.angular_velocity = s.limit_spin(sb.angular * (1.0 - s.angular_damping * s.dt).max(0.0));
-                }
-                BodyKind::Kinematic => {}
-            }
-            body.position += (body.linear_velocity + push) * s.dt;
-            let w = body.angular_velocity + twist;
-            let spin = Quat::from_xyzw(w.x, w.y, w.z, 0.0) * body.orientation;
-            body.orientation = (body.orientation + spin * (0.5 * s.dt)).normalize();
-        }
-    }
-}
-
-/// Whether gravity and impulses move the body this step.
-fn moves_freely(body: &RigidBody) -> bool {
-    body.kind == BodyKind::Dynamic && !body.activity.asleep && body.is_simulated()
-}
-
-/// Whether the body can move at all (dynamic, or kinematic with a velocity).
-fn moves(body: &RigidBody) -> bool {
-    match body.kind {
-        BodyKind::Static => false,
-        BodyKind::Dynamic => true,
-        BodyKind::Kinematic => body.linear_velocity != Vec3::ZERO || body.angular_velocity != Vec3::ZERO,
-    }
-}
-
-fn solver_body(body: &RigidBody, up: Vec3) -> SolverBody {
-    let free = moves_freely(body);
-    SolverBody {
-        linear: body.linear_velocity,
-        angular: body.angular_velocity,
-        position: body.position,
-        inverse_mass: if free { body.inverse_mass } else { 0.0 },
-        inverse_inertia: if free { body.inverse_inertia_world() } else { glam::Mat3::ZERO },
-        height: body.position.dot(up),
-    }
-}
-
-/// One event per pair with a closing contact: impulse-weighted point, the pair's normal, the
-/// relative velocity there before the step. A cluster's proxy is reported as the member hit
-/// (`member(body, part)`, the part of the closest contact), a before b in index order.
-fn events(
-    found: &[PairContacts],
-    constraints: &[solver::Constraint],
-    member: impl Fn(usize, u32) -> usize,
-) -> Vec<CollisionEvent> {
-    let mut out = Vec::new();
-    let mut k = 0;
-    for (pair, contact) in found.iter().enumerate() {
-        let start = k;
-        while k < constraints.len() && constraints[k].pair == pair {
-            k += 1;
-        }
-        let mine = &constraints[start..k];
-        let Some((closest_index, closest)) =
-            mine.iter().enumerate().filter(|(_, c)| c.colliding).min_by(|x, y| x.1.approach.total_cmp(&y.1.approach))
-        else {
-            continue;
-        };
-        let impulse: Vec3 = mine.iter().map(|c| c.total).sum();
-        let weight: f32 = mine.iter().map(|c| c.total.dot(c.normal).max(0.0)).sum();
-        let point = if weight > 0.0 {
-            mine.iter().map(|c| c.point * c.total.dot(c.normal).max(0.0)).sum::<Vec3>() / weight
-        } else {
-            closest.point
-        };
-        // Constraints are made one per contact point, in order.
-        let at = &contact.points[closest_index];
-        let (a, b) = (member(contact.a, at.part_a), member(contact.b, at.part_b));
-        let event = CollisionEvent {
-            a,
-            b,
-            point,
-            normal: closest.normal,
-            relative_velocity: closest.relative_velocity,
-            normal_speed: -closest.approach,
-            impulse,
-        };
-        out.push(if a < b { event } else { event.swapped() });
-    }
-    out
 }
