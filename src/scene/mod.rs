@@ -17,8 +17,9 @@
 //! `[world]`: any field of [`WorldSettings`](crate::sim::WorldSettings) (`gravity` as
 //! `[x, y, z]` m/s², `dt` s, `collision_iterations`, `contact_iterations`,
 //! `restitution_threshold` m/s, `slop` m, `baumgarte`, `margin` m, `shock_propagation`,
-//! `sleep_speed` m/s, `sleep_time` s, `angular_damping` 1/s, `rolling_resistance`, `max_turn` rad per step); the others keep
-//! their defaults.
+//! `sleep_speed` m/s, `sleep_time` s, `angular_damping` 1/s, `rolling_resistance`, `max_turn` rad
+//! per step, `joint_correction_speed` m/s, `joint_correction_spin` rad/s); the others keep their
+//! defaults.
 //!
 //! `[camera]` (optional; without it the camera frames every body from the front, a little
 //! above): `eye` and `target` `[x, y, z]` m, `up` (default `[0, 1, 0]`), `fov_deg` (vertical,

@@ -15,7 +15,9 @@
 //!    Newton step converges where Gauss–Seidel over nonlinear joint solves can run away;
 //! 3. predict again; if the summed squared errors grew, go back and take a more damped step.
 //!
-//! Errors left when the budget is spent are taken up by the next step.
+//! Errors left when the budget is spent are taken up by the next step. Drift a joint already has
+//! at the start of the step is closed at most at the world's `joint_correction_speed` and
+//! `joint_correction_spin`; the rest is left for the following steps (see [`Prediction::slack`]).
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -74,7 +76,8 @@ pub(crate) fn prestabilize(
     if groups.is_empty() {
         return 0;
     }
-    let step = Prediction { bodies, mob: &mob, extra: &extra, dt };
+    let slack = slack(joints, &groups, bodies, &mob, settings);
+    let step = Prediction { bodies, mob: &mob, extra: &extra, slack: &slack, dt };
     // Groups share no body that takes impulses: they are solved in parallel, in a few batches
     // of similar size, each on its own copy of the velocities and joints.
     let batches = batches(&groups, rayon::current_num_threads());
@@ -139,7 +142,37 @@ struct Prediction<'a> {
     mob: &'a [Mobility],
     /// Contact pseudo-velocities, added in the position update.
     extra: &'a [Motion],
+    /// Per joint (by index), the drift it has now beyond what this step may close (world axes:
+    /// linear m, angular rad): the predicted errors are measured from it, not from zero.
+    slack: &'a [(Vec3, Vec3)],
     dt: f32,
+}
+
+/// Per joint, its drift now (anchors apart, relative orientation off target) beyond what one
+/// step closes at the world's correction speeds; zero for joints outside `groups`.
+fn slack(
+    joints: &[Joint],
+    groups: &[Vec<usize>],
+    bodies: &[RigidBody],
+    mob: &[Mobility],
+    settings: &WorldSettings,
+) -> Vec<(Vec3, Vec3)> {
+    let (reach, turn) = (settings.joint_correction_speed * settings.dt, settings.joint_correction_spin * settings.dt);
+    let mut out = vec![(Vec3::ZERO, Vec3::ZERO); joints.len()];
+    for &k in groups.iter().flatten() {
+        let joint = &joints[k];
+        // dt = 0: the frame now (no velocity is read).
+        let f = system::frame(joint, bodies, mob, &[], None, 0.0);
+        let linear = f.anchor_b - f.anchor_a;
+        let angular = if joint.kind.locks_rotation() { deviation(joint, &f) } else { Vec3::ZERO };
+        out[k] = (linear - linear.clamp_length_max(reach), angular - angular.clamp_length_max(turn));
+    }
+    out
+}
+
+/// Relative orientation of a locking joint off its target in `f`, world axes, rad.
+fn deviation(joint: &Joint, f: &Frame) -> Vec3 {
+    rotation_vector((f.qb * (f.qa * joint.target).inverse()).normalize())
 }
 
 /// Damped Newton iterations on one group of joints (see the module notes): each group converges,
@@ -152,11 +185,10 @@ fn newton(
     v: &mut [Motion],
     rows: &mut [Option<Rows>],
 ) -> bool {
-    let (bodies, mob, extra, dt) = (step.bodies, step.mob, step.extra, step.dt);
     let mut moved: Vec<usize> = group.iter().flat_map(|&k| [joints[k].a, joints[k].b]).collect();
     moved.sort_unstable();
     moved.dedup();
-    let mut now = measure(joints, group, bodies, mob, v, extra, dt);
+    let mut now = measure(joints, group, step, v);
     let already_held = now.worst < 1.0;
     let mut damping = 0.0;
     for _ in 0..NEWTON {
@@ -164,15 +196,15 @@ fn newton(
             break;
         }
         for &k in group {
-            rows[k] = linearize(&joints[k], bodies, mob, v, extra, dt);
+            rows[k] = linearize(&joints[k], step, step.slack[k], v);
         }
         let start: Vec<Motion> = moved.iter().map(|&i| v[i]).collect();
         let start_impulse: Vec<(Vec3, bool)> =
             group.iter().map(|&k| (joints[k].accumulated, joints[k].clamped)).collect();
         let mut accepted = false;
         for _ in 0..RETRIES {
-            solve::solve_group(joints, group, rows, mob, v, true, damping);
-            let after = measure(joints, group, bodies, mob, v, extra, dt);
+            solve::solve_group(joints, group, rows, step.mob, v, true, damping);
+            let after = measure(joints, group, step, v);
             if after.merit < now.merit {
                 now = after;
                 damping = if damping > 1e-6 { damping * 0.1 } else { 0.0 };
@@ -196,23 +228,17 @@ fn newton(
     !already_held
 }
 
-/// A joint's rows linearized at velocities `v`: predicted errors per unit `dt` (the velocity
-/// change that removes them); `None` when neither body takes impulses.
-fn linearize(
-    joint: &Joint,
-    bodies: &[RigidBody],
-    mob: &[Mobility],
-    v: &[Motion],
-    extra: &[Motion],
-    dt: f32,
-) -> Option<Rows> {
+/// A joint's rows linearized at velocities `v`: predicted errors (beyond its `slack`) per unit
+/// `dt` (the velocity change that removes them); `None` when neither body takes impulses.
+fn linearize(joint: &Joint, step: &Prediction, slack: (Vec3, Vec3), v: &[Motion]) -> Option<Rows> {
+    let (mob, dt) = (step.mob, step.dt);
     if !system::joint_takes_impulses(joint, mob) {
         return None;
     }
     let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
-    let frame = system::frame(joint, bodies, mob, v, Some(extra), dt);
+    let frame = system::frame(joint, step.bodies, mob, v, Some(step.extra), dt);
     let basis = system::linear_basis(joint, frame.qa);
-    let (error, tolerance) = errors(joint, &frame, &basis, dt);
+    let (error, tolerance) = errors(joint, &frame, &basis, slack, dt);
     let per_step = 1.0 / f64::from(dt);
     Some(Rows {
         frame,
@@ -223,9 +249,10 @@ fn linearize(
     })
 }
 
-/// The rows' predicted errors (m, rad) and tolerances in `frame`.
-fn errors(joint: &Joint, f: &Frame, basis: &[Vec3; 3], dt: f32) -> ([f64; 6], [f64; 6]) {
-    let linear = f.anchor_b - f.anchor_a;
+/// The rows' predicted errors (m, rad) beyond the joint's `slack` (linear, angular; see
+/// [`Prediction::slack`]) and their tolerances in `frame`.
+fn errors(joint: &Joint, f: &Frame, basis: &[Vec3; 3], slack: (Vec3, Vec3), dt: f32) -> ([f64; 6], [f64; 6]) {
+    let linear = f.anchor_b - f.anchor_a - slack.0;
     let angular = if joint.kind.locks_rotation() {
         // A plastic joint still bending after a hit keeps turning at its damped rate.
         // The turn the position update's first-order quaternion step makes at the bend rate:
@@ -233,7 +260,7 @@ fn errors(joint: &Joint, f: &Frame, basis: &[Vec3; 3], dt: f32) -> ([f64; 6], [f
         // which the next step's rate then measures: a fast bend fed itself up to max_turn.
         let rate = f.qa * joint.bend_rate;
         let keep_turning = rate.normalize_or_zero() * (2.0 * (0.5 * rate.length() * dt).atan());
-        rotation_vector((f.qb * (f.qa * joint.target).inverse()).normalize()) - keep_turning
+        deviation(joint, f) - keep_turning - slack.1
     } else {
         Vec3::ZERO
     };
@@ -261,21 +288,14 @@ struct Errors {
     merit: f64,
 }
 
-fn measure(
-    joints: &[Joint],
-    group: &[usize],
-    bodies: &[RigidBody],
-    mob: &[Mobility],
-    v: &[Motion],
-    extra: &[Motion],
-    dt: f32,
-) -> Errors {
+fn measure(joints: &[Joint], group: &[usize], step: &Prediction, v: &[Motion]) -> Errors {
     let mut out = Errors { worst: 0.0, merit: 0.0 };
     // Every joint of a group has rows (see `solve::groups`).
-    for joint in group.iter().map(|&k| &joints[k]) {
-        let frame = system::frame(joint, bodies, mob, v, Some(extra), dt);
+    for &k in group {
+        let joint = &joints[k];
+        let frame = system::frame(joint, step.bodies, step.mob, v, Some(step.extra), step.dt);
         let basis = system::linear_basis(joint, frame.qa);
-        let (error, tolerance) = errors(joint, &frame, &basis, dt);
+        let (error, tolerance) = errors(joint, &frame, &basis, step.slack[k], step.dt);
         let held = held(joint);
         for r in (0..6).filter(|&r| held[r]) {
             let e = error[r].abs() / tolerance[r];
