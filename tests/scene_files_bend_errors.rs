@@ -73,14 +73,19 @@ fn rigid_only_fields_are_refused() {
         let message = refused(&bar(&format!("kind = \"{kind}\""), ""), "kind =", "kind");
         assert!(message.contains("dynamic"), "{message}");
     }
-    refused(&bar("collider = \"ball\"", ""), "collider =", "collider");
+    for collider in ["ball", "cuboid", "tri-mesh"] {
+        let message = refused(&bar(&format!("collider = \"{collider}\""), ""), "collider =", "collider");
+        assert!(message.contains("capsule"), "{message}");
+    }
     let message = refused(&bar("mass = 80.0", ""), "mass =", "mass");
     assert!(message.contains("density"), "{message}");
     let text = format!("{}[body.dent]\ncap = 0.1\n", bar("", ""));
     refused(&text, "[body.dent]", "dent");
     // What a bending body may have is accepted.
-    let text = bar("kind = \"dynamic\"\ncollider = \"auto\"\ndensity = 600.0", "");
-    parse_scene(&text, Path::new("ok.toml")).unwrap();
+    for collider in ["auto", "convex-hull", "capsule"] {
+        let text = bar(&format!("kind = \"dynamic\"\ncollider = \"{collider}\"\ndensity = 600.0"), "");
+        parse_scene(&text, Path::new("ok.toml")).unwrap();
+    }
 }
 
 #[test]

@@ -12,7 +12,7 @@ use super::{BendableDesc, DynamicArticulation, LevelSet, Skeleton, SkinWeights, 
 use crate::cpu::{SkinBone, SkinInfluence};
 use crate::gpu::skin::Skinned;
 use crate::mesh::TriMesh;
-use crate::sim::{BodyDesc, ColliderKind, DentSettings, SimError, SurfaceMaterial, World};
+use crate::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, SimError, SurfaceMaterial, World};
 
 /// A bending body: its rest pose (mesh, skeleton, weights, sub-bodies) and the world bodies that
 /// simulate its bones.
@@ -38,6 +38,8 @@ pub struct ArticulatedBody {
     pub(crate) bodies: Vec<usize>,
     pub(crate) density: f32,
     pub(crate) surface: SurfaceMaterial,
+    /// Each sub-body's collider kind (convex hull or capsule, fitted to its part).
+    pub(crate) collider: ColliderKind,
     pub(crate) color: [f32; 3],
     pub(crate) dynamic: Option<DynamicArticulation>,
     /// Joints added by dynamic articulation so far.
@@ -86,8 +88,10 @@ impl ArticulatedBody {
         body.name.clone_from(&desc.name);
         body.bodies.clear();
         body.surface = desc.surface;
+        body.collider = desc.collider.resolve(BodyKind::Dynamic);
         body.color = desc.color;
         body.dynamic = desc.dynamic;
+        body.dent.clone_from(&desc.dent);
         body.place(world, &desc)
     }
 
@@ -110,6 +114,7 @@ impl ArticulatedBody {
             bodies: Vec::new(),
             density: desc.density,
             surface: desc.surface,
+            collider: desc.collider.resolve(BodyKind::Dynamic),
             color: desc.color,
             dynamic: desc.dynamic,
             added_joints: 0,
@@ -298,7 +303,7 @@ impl ArticulatedBody {
         let centre = origin + rotation * mass.center;
         let mut desc = BodyDesc::new(format!("{}/bone{bone}", self.name), mesh)
             .with_mass_properties(mass)
-            .collider(ColliderKind::ConvexHull)
+            .collider(self.collider)
             .at(origin)
             .velocity(motion.at(centre));
         desc.orientation = rotation;

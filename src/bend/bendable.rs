@@ -7,7 +7,7 @@ use glam::{Quat, Vec3};
 
 use super::{BoneDesc, JointOverride, Skeleton, WeightParams, auto_skeleton};
 use crate::mesh::TriMesh;
-use crate::sim::{DentSettings, JointKind, SimError, SurfaceMaterial};
+use crate::sim::{ColliderKind, DentSettings, JointKind, SimError, SurfaceMaterial};
 
 /// Where a bendable body's skeleton comes from.
 #[derive(Debug, Clone, PartialEq)]
@@ -71,6 +71,10 @@ pub struct BendableDesc {
     pub density: f32,
     /// Restitution and friction of every sub-body.
     pub surface: SurfaceMaterial,
+    /// Each sub-body's collider, fitted to its part of the mesh: [`ColliderKind::ConvexHull`]
+    /// (also for [`Auto`](ColliderKind::Auto)) or [`ColliderKind::Capsule`] (rods and struts:
+    /// one or two contact points per pair).
+    pub collider: ColliderKind,
     /// Linear RGB colour for pictures.
     pub color: [f32; 3],
     /// Kind of the joints at the skeleton's joints, but those in `joint_overrides`.
@@ -86,7 +90,7 @@ pub struct BendableDesc {
 
 impl BendableDesc {
     /// A body at rest at the origin: density 1000 kg/m³, a one-bone automatic skeleton, default
-    /// weights, rigid joints, no dynamic articulation and no denting.
+    /// weights, convex-hull colliders, rigid joints, no dynamic articulation and no denting.
     pub fn new(name: impl Into<String>, mesh: TriMesh) -> Self {
         Self {
             name: name.into(),
@@ -99,6 +103,7 @@ impl BendableDesc {
             weights: WeightParams::default(),
             density: 1000.0,
             surface: SurfaceMaterial::default(),
+            collider: ColliderKind::ConvexHull,
             color: [0.7, 0.7, 0.72],
             joint: JointKind::Rigid,
             joint_overrides: Vec::new(),
@@ -133,6 +138,10 @@ impl BendableDesc {
         }
         if !(self.density.is_finite() && self.density > 0.0) {
             return Err(invalid("density", self.density.to_string(), "must be finite and > 0"));
+        }
+        if !matches!(self.collider, ColliderKind::Auto | ColliderKind::ConvexHull | ColliderKind::Capsule) {
+            let reason = "a sub-body collides with its part's convex hull or a capsule fitted to it";
+            return Err(invalid("collider", format!("{:?}", self.collider), reason));
         }
         self.weights.validate().map_err(|e| bend_error(&self.name, e))?;
         self.joint.validate().map_err(|e| invalid("joint", e.to_string(), "is not a valid joint"))?;

@@ -39,7 +39,7 @@
 //! | `angular_velocity` | `[x, y, z]` rad/s, world axes                                          | rest        |
 //! | `density`          | kg/m³ (dynamic bodies)                                                 | 1000        |
 //! | `mass`             | kg, instead of `density`: density = mass / the scaled mesh's volume    |             |
-//! | `collider`         | `"auto"`, `"ball"`, `"cuboid"`, `"convex-hull"` or `"tri-mesh"`        | `"auto"`    |
+//! | `collider`         | `"auto"`, `"ball"`, `"cuboid"`, `"capsule"`, `"convex-hull"`, `"tri-mesh"`| `"auto"`    |
 //! | `restitution`      | in [0, 1]                                                              | 0.3         |
 //! | `friction`         | ≥ 0                                                                    | 0.5         |
 //! | `color`            | linear RGB `[r, g, b]`                                                 | grey        |

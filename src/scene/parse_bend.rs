@@ -36,6 +36,7 @@ pub(super) fn bendable_desc(
     desc.angular_velocity = rigid.angular_velocity;
     desc.density = rigid.density;
     desc.surface = rigid.surface;
+    desc.collider = rigid.collider;
     desc.color = rigid.color;
 
     let file = bend.get_ref();
@@ -67,15 +68,18 @@ pub(super) fn add_error(src: &Source<'_>, body: &BodyFile, bend: &Spanned<BendFi
     }
 }
 
-/// `kind`, `collider`, `mass` and `[body.dent]` have no meaning for a bending body.
+/// `kind`, `mass`, `[body.dent]` and a collider other than a part's convex hull or capsule have no
+/// meaning for a bending body.
 fn refuse_rigid_only_fields(src: &Source<'_>, body: &BodyFile, name: &str) -> Result<(), SceneError> {
     if let Some(kind) = body.kind.as_ref().filter(|k| *k.get_ref() != BodyKind::Dynamic) {
         let message = "a bending body (with [body.bend]) must be \"dynamic\"";
         return Err(src.error_at(kind.span(), Some(name), "kind", message));
     }
-    if let Some(collider) = body.collider.as_ref().filter(|c| *c.get_ref() != ColliderKind::Auto) {
-        let message =
-            "a bending body collides with the convex hull of each bone's part: leave collider out or \"auto\"";
+    let fits_parts =
+        |c: &ColliderKind| matches!(c, ColliderKind::Auto | ColliderKind::ConvexHull | ColliderKind::Capsule);
+    if let Some(collider) = body.collider.as_ref().filter(|c| !fits_parts(c.get_ref())) {
+        let message = "a bending body's parts collide as convex hulls or capsules fitted to them: \
+                       \"auto\", \"convex-hull\" or \"capsule\"";
         return Err(src.error_at(collider.span(), Some(name), "collider", message));
     }
     if let Some(mass) = &body.mass {

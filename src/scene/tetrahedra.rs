@@ -139,6 +139,7 @@ fn add_tetrahedron(
         desc.orientation = Quat::from_rotation_arc(Vec3::Y, direction);
         desc.density = density;
         desc.surface = surface;
+        desc.collider = ColliderKind::Capsule;
         desc.color = [0.2 * shade, 0.45 * shade, 0.85 * shade];
         desc.skeleton = SkeletonSpec::Auto { bones: 1 };
         desc.weights = WeightParams { resolution: 32, ..WeightParams::default() };

@@ -3,6 +3,7 @@
 use parry3d::shape::{SharedShape, TriMeshFlags};
 
 use super::BodyKind;
+use super::capsule_fit::capsule_shape;
 use crate::mesh::TriMesh;
 
 /// Which parry3d shape collides for a body.
@@ -20,6 +21,10 @@ pub enum ColliderKind {
     Cuboid,
     /// The convex hull of the vertices, rebuilt after every dent.
     ConvexHull,
+    /// A capsule on the vertices' principal axis, as wide as the mesh and as long (its tips at
+    /// the farthest vertices): struts, rods and limbs, at one or two contact points per pair
+    /// (analytic: dents do not change it).
+    Capsule,
     /// The triangle mesh itself (concave and static bodies), rebuilt after every dent.
     TriMesh,
 }
@@ -76,6 +81,7 @@ impl ColliderKind {
                     Err("a cuboid collider needs a mesh with extent along every axis".into())
                 }
             }
+            Self::Capsule => capsule_shape(mesh),
             Self::ConvexHull => SharedShape::convex_hull(positions)
                 .ok_or_else(|| "the convex hull of the mesh is degenerate (flat or too few points)".into()),
             Self::TriMesh | Self::Auto => {

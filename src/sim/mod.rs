@@ -4,6 +4,7 @@
 
 mod body;
 mod broad_phase;
+mod capsule_fit;
 mod cluster;
 mod collider;
 mod contacts;
@@ -16,6 +17,7 @@ mod events;
 mod joint_rounds;
 mod joints;
 mod mass;
+mod principal_axis;
 mod simulation;
 mod sleep;
 mod solver;
@@ -37,6 +39,7 @@ pub use error::SimError;
 pub use events::{CollisionEvent, StepReport};
 pub use joints::{BendEvent, Joint, JointKind};
 pub use mass::{MassProperties, mass_properties};
+pub(crate) use principal_axis::principal_axis;
 pub use simulation::{Simulation, StepStats, StepTiming};
 pub(crate) use union_find::UnionFind;
 pub use world::{World, WorldSettings, WorldState};
