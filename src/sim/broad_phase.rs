@@ -3,6 +3,10 @@
 //! axis, so thousands of bodies cost milliseconds.
 
 use glam::Vec3;
+use rayon::prelude::*;
+
+/// Boxes per parallel task of the sweep: enough work to outweigh rayon's scheduling.
+const SWEEP_CHUNK: usize = 256;
 
 /// An axis-aligned box, m.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,26 +27,31 @@ impl Aabb {
 /// Pairs `(i, j)`, `i < j`, of boxes that overlap, skipping pairs where `skip(i, j)` holds (two
 /// static bodies, two sleeping ones). Sweeps along the axis of largest spread of box centres;
 /// pairs come out sorted, so results do not depend on sorting ties.
-pub fn overlapping_pairs(boxes: &[Aabb], skip: impl Fn(usize, usize) -> bool) -> Vec<(usize, usize)> {
+pub fn overlapping_pairs(boxes: &[Aabb], skip: impl Fn(usize, usize) -> bool + Sync) -> Vec<(usize, usize)> {
     if boxes.len() < 2 {
         return Vec::new();
     }
     let axis = sweep_axis(boxes);
-    let mut order: Vec<usize> = (0..boxes.len()).collect();
-    order.sort_unstable_by(|&a, &b| boxes[a].min[axis].total_cmp(&boxes[b].min[axis]).then(a.cmp(&b)));
-    let mut pairs = Vec::new();
-    for (k, &i) in order.iter().enumerate() {
-        let reach = boxes[i].max[axis];
-        for &j in &order[k + 1..] {
-            if boxes[j].min[axis] > reach {
-                break;
-            }
-            if boxes[i].overlaps(&boxes[j]) && !skip(i.min(j), i.max(j)) {
-                pairs.push((i.min(j), i.max(j)));
-            }
-        }
-    }
-    pairs.sort_unstable();
+    // The boxes in sweep order, stored contiguously with their index: the inner loop reads
+    // neighbours in memory order instead of through an index.
+    let mut sorted: Vec<(Aabb, usize)> = boxes.iter().copied().zip(0..).collect();
+    sorted.sort_unstable_by(|(a, i), (b, j)| a.min[axis].total_cmp(&b.min[axis]).then(i.cmp(j)));
+    let (sorted, skip) = (&sorted, &skip);
+    let mut pairs: Vec<(usize, usize)> = (0..sorted.len())
+        .into_par_iter()
+        .with_min_len(SWEEP_CHUNK)
+        .flat_map_iter(|k| {
+            let (first, i) = sorted[k];
+            let reach = first.max[axis];
+            sorted[k + 1..]
+                .iter()
+                .take_while(move |(other, _)| other.min[axis] <= reach)
+                .filter(move |(other, _)| first.overlaps(other))
+                .map(move |&(_, j)| (i.min(j), i.max(j)))
+                .filter(move |&(a, b)| !skip(a, b))
+        })
+        .collect();
+    pairs.par_sort_unstable();
     pairs
 }
 

@@ -1,7 +1,9 @@
 //! The joint–contact rounds of a step: contacts are solved before the joints' pre-stabilization,
 //! so a jointed body's supports never saw what its joints push into them (a chain resting on two
 //! supports sank through them). A few rounds of contact sweeps on the jointed bodies' contacts,
-//! each followed by more pre-stabilization, let the supports take that up.
+//! each followed by more pre-stabilization, let the supports take that up. The contact sweeps
+//! of the next round change the velocities again, so a round's pre-stabilization takes one Newton
+//! iteration but the last's, which must leave the joints holding (the full Newton budget).
 //!
 //! The rounds are a block Gauss–Seidel between two constraint sets, and it diverges where they
 //! cannot both hold (a strut of a jointed loop wedged between two bars: its joints pull it
@@ -46,10 +48,11 @@ pub(crate) fn joint_contact_rounds(
     let velocities: Vec<SolverBody> = solver.to_vec();
     let contacts: Vec<Constraint> = jointed.iter().map(|&k| constraints[k]).collect();
     let impulses: Vec<(Vec3, bool)> = joints.iter().map(|j| (j.accumulated, j.clamped)).collect();
-    for _ in 0..ROUNDS {
+    for round in 0..ROUNDS {
         solver::contact_sweeps(solver, constraints, jointed, settings, settings.contact_iterations / 2);
+        let newton = if round + 1 == ROUNDS { joints::NEWTON } else { 1 };
         // Joints that still hold after the sweeps push nothing more into the contacts.
-        if joints::prestabilize(joints, bodies, solver, pseudo, settings, false) == 0 {
+        if joints::prestabilize(joints, bodies, solver, pseudo, settings, false, newton) == 0 {
             break;
         }
     }

@@ -51,8 +51,15 @@ impl World {
             .map(|b| if b.kind == BodyKind::Static { 0.0 } else { b.shape.compute_local_bounding_sphere().radius })
             .collect();
         let reach: Vec<f32> = self.bodies.iter().zip(&radius).map(|(b, &r)| self.reach(b, r)).collect();
-        let boxes: Vec<Aabb> = self.bodies.iter().zip(&reach).map(|(b, &r)| self.swept_box(b, r)).collect();
-        let pairs = broad_phase::overlapping_pairs(&boxes, |i, j| self.skip_pair(i, j));
+        // Bodies condensed into a cluster collide through its proxy: only the simulated ones are
+        // swept (in increasing index order, so pairs map back sorted).
+        let live: Vec<usize> = (0..self.bodies.len()).filter(|&i| self.bodies[i].is_simulated()).collect();
+        let boxes: Vec<Aabb> = live.iter().map(|&i| self.swept_box(&self.bodies[i], reach[i])).collect();
+        let pairs: Vec<(usize, usize)> =
+            broad_phase::overlapping_pairs(&boxes, |a, b| self.skip_pair(live[a], live[b]))
+                .into_iter()
+                .map(|(a, b)| (live[a], live[b]))
+                .collect();
         let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach[i] + reach[j]);
         self.wake_touched(&found, &radius);
         joints::sync_sleep(&self.joints, &mut self.bodies);
@@ -100,7 +107,7 @@ impl World {
         joints::apply_springs(&mut self.joints, &self.bodies, &mut solver_bodies, &s);
         solver::contact(&mut solver_bodies, &mut constraints, &s);
         let mut pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
-        joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, true);
+        joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, true, joints::NEWTON);
         let jointed = self.jointed_contacts(&constraints);
         let (joints, bodies) = (&mut self.joints, &self.bodies);
         joint_rounds::joint_contact_rounds(

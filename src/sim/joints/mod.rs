@@ -18,4 +18,4 @@ pub(crate) use groups::{pair, sync_sleep};
 pub use joint::{BendEvent, Joint, JointKind};
 pub(crate) use joint::{angle_between, rotation_vector};
 pub(crate) use poststabilize::poststabilize;
-pub(crate) use prestabilize::prestabilize;
+pub(crate) use prestabilize::{NEWTON, prestabilize};

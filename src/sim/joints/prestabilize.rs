@@ -28,8 +28,8 @@ use super::{Joint, poststabilize, rotation_vector};
 use crate::sim::solver::SolverBody;
 use crate::sim::{RigidBody, WorldSettings};
 
-/// Most Newton iterations per step.
-const NEWTON: usize = 8;
+/// Most Newton iterations of a pre-stabilization pass that must leave the joints holding.
+pub(crate) const NEWTON: usize = 8;
 /// Most tries of one Newton iteration, each more damped than the last.
 const RETRIES: usize = 8;
 /// A joint whose predicted anchors are this close holds, m (plus 1e-6 of the anchor's distance
@@ -43,8 +43,10 @@ const ANGULAR_TOLERANCE: f64 = 1e-6;
 /// respect the joints at velocity level, so the contact position correction moves jointed bodies
 /// together; the real impulses then remove the joints' predicted errors. With `fresh` false it
 /// continues the step's pre-stabilization after more contact sweeps (the accumulated impulses,
-/// which plastic joints clamp, and the pseudo-velocities carry on). Returns how many groups of
-/// joints did not hold already and took Newton steps.
+/// which plastic joints clamp, and the pseudo-velocities carry on). Each group takes at most
+/// `newton_budget` Newton iterations ([`NEWTON`] for a pass that must leave the joints holding;
+/// one where more contact sweeps follow and change the velocities anyway). Returns how many
+/// groups of joints did not hold already and took Newton steps.
 pub(crate) fn prestabilize(
     joints: &mut [Joint],
     bodies: &[RigidBody],
@@ -52,6 +54,7 @@ pub(crate) fn prestabilize(
     pseudo: &mut [(Vec3, Vec3)],
     settings: &WorldSettings,
     fresh: bool,
+    newton_budget: usize,
 ) -> usize {
     if joints.is_empty() {
         return 0;
@@ -88,7 +91,7 @@ pub(crate) fn prestabilize(
             let mut rows: Vec<Option<Rows>> = (0..joints.len()).map(|_| None).collect();
             let mut stepped = 0;
             for &g in batch {
-                stepped += usize::from(newton(&mut joints, &groups[g], &step, &mut v, &mut rows));
+                stepped += usize::from(newton(&mut joints, &groups[g], &step, &mut v, &mut rows, newton_budget));
             }
             let moved = batch.iter().flat_map(|&g| &groups[g]).flat_map(|&k| [joints[k].a, joints[k].b]);
             let moved: Vec<(usize, Motion)> =
@@ -184,6 +187,7 @@ fn newton(
     step: &Prediction,
     v: &mut [Motion],
     rows: &mut [Option<Rows>],
+    budget: usize,
 ) -> bool {
     let mut moved: Vec<usize> = group.iter().flat_map(|&k| [joints[k].a, joints[k].b]).collect();
     moved.sort_unstable();
@@ -191,7 +195,7 @@ fn newton(
     let mut now = measure(joints, group, step, v);
     let already_held = now.worst < 1.0;
     let mut damping = 0.0;
-    for _ in 0..NEWTON {
+    for _ in 0..budget {
         if now.worst < 1.0 {
             break;
         }
