@@ -80,16 +80,16 @@ impl ArticulatedBody {
                 k == bone || old.triangles != new.triangles || old.cell_count != new.cell_count
             })
             .collect();
-        // Stage: the new state in self (rolled back on error) and the edits on a copy of the world.
+        // Stage: the new state in self and the edits on the world, both put back on error (the
+        // edits rebuild this body's sub-bodies and add one: recording those is enough).
         let old_state = (
             std::mem::replace(&mut self.skeleton, skeleton),
             std::mem::replace(&mut self.weights, weights),
             std::mem::replace(&mut self.sub_bodies, std::sync::Arc::new(sub_bodies)),
         );
-        let mut staged = world.clone();
-        match self.apply_split(&mut staged, &changed, bone, second, transforms[bone].transform_point3(split_point)) {
+        let undo = world.record_edit(&self.bodies);
+        match self.apply_split(world, &changed, bone, second, transforms[bone].transform_point3(split_point)) {
             Ok((new_body, joint)) => {
-                *world = staged;
                 self.bodies.push(new_body);
                 self.set_influences(skin_influences(&self.weights));
                 self.added_joints += 1;
@@ -97,6 +97,7 @@ impl ArticulatedBody {
                 Ok(Some(SplitOutcome { bone, new_bone: second, new_body, joint, rest_point: split_point, world_point }))
             }
             Err(e) => {
+                world.undo_edit(undo);
                 (self.skeleton, self.weights, self.sub_bodies) = old_state;
                 Err(e)
             }

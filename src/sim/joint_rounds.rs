@@ -2,8 +2,9 @@
 //! so a jointed body's supports never saw what its joints push into them (a chain resting on two
 //! supports sank through them). A few rounds of contact sweeps on the jointed bodies' contacts,
 //! each followed by more pre-stabilization, let the supports take that up. The contact sweeps
-//! of the next round change the velocities again, so a round's pre-stabilization takes one Newton
-//! iteration but the last's, which must leave the joints holding (the full Newton budget).
+//! of the next round change the velocities again, so the step's first pre-stabilization and each
+//! round's take one Newton iteration; a last pass with the full Newton budget, after the energy
+//! check below, leaves the joints holding.
 //!
 //! The rounds are a block Gauss–Seidel between two constraint sets, and it diverges where they
 //! cannot both hold (a strut of a jointed loop wedged between two bars: its joints pull it
@@ -45,17 +46,43 @@ pub(crate) fn joint_contact_rounds(
     if jointed.is_empty() {
         return 0;
     }
-    let velocities: Vec<SolverBody> = solver.to_vec();
-    let contacts: Vec<Constraint> = jointed.iter().map(|&k| constraints[k]).collect();
-    let impulses: Vec<(Vec3, bool)> = joints.iter().map(|j| (j.accumulated, j.clamped)).collect();
-    for round in 0..ROUNDS {
+    let saved = Saved {
+        velocities: solver.to_vec(),
+        contacts: jointed.iter().map(|&k| constraints[k]).collect(),
+        impulses: joints.iter().map(|j| (j.accumulated, j.clamped)).collect(),
+    };
+    for _ in 0..ROUNDS {
         solver::contact_sweeps(solver, constraints, jointed, settings, settings.contact_iterations / 2);
-        let newton = if round + 1 == ROUNDS { joints::NEWTON } else { 1 };
         // Joints that still hold after the sweeps push nothing more into the contacts.
-        if joints::prestabilize(joints, bodies, solver, pseudo, settings, false, newton) == 0 {
+        if joints::prestabilize(joints, bodies, solver, pseudo, settings, false, 1) == 0 {
             break;
         }
     }
+    let count = put_back_energetic_islands(joints, bodies, solver, constraints, jointed, saved);
+    // The rounds' pre-stabilization took one Newton iteration each: finish it.
+    joints::prestabilize(joints, bodies, solver, pseudo, settings, false, joints::NEWTON);
+    count
+}
+
+/// What the rounds started from: every body's velocities, the jointed contacts (in the order of
+/// `jointed`) and every joint's accumulated impulse and clamp.
+struct Saved {
+    velocities: Vec<SolverBody>,
+    contacts: Vec<Constraint>,
+    impulses: Vec<(Vec3, bool)>,
+}
+
+/// Puts every island whose kinetic energy the rounds raised back as it was in `saved`; returns
+/// how many were put back.
+fn put_back_energetic_islands(
+    joints: &mut [Joint],
+    bodies: &[RigidBody],
+    solver: &mut [SolverBody],
+    constraints: &mut [Constraint],
+    jointed: &[usize],
+    saved: Saved,
+) -> usize {
+    let Saved { velocities, contacts, impulses } = saved;
     let mut islands = UnionFind::new(solver.len());
     let takes: Vec<bool> = solver.iter().map(|b| b.inverse_mass > 0.0).collect();
     let moving = |i: usize| takes[i];

@@ -6,8 +6,19 @@
 //! set of joined pairs in step with its joints.
 
 use super::{World, invalid, joints};
-use crate::sim::SimError;
 use crate::sim::cluster::Role;
+use crate::sim::{Joint, RigidBody, SimError};
+
+/// What an edit of a few bodies may change, recorded before it so that a failed edit is put
+/// back without copying the world (see [`World::record_edit`]).
+pub(crate) struct EditUndo {
+    body_count: usize,
+    joint_count: usize,
+    bodies: Vec<(usize, RigidBody)>,
+    joints: Vec<(usize, Joint)>,
+    /// Pairs of the recorded bodies that collided with each other before the edit.
+    colliding: Vec<(usize, usize)>,
+}
 
 impl World {
     /// Moves the end of joint `joint` that is on body `from` to body `to`, keeping the joint's
@@ -67,6 +78,38 @@ impl World {
         let still_joined = self.joints.iter().any(|j| joints::pair(j.a, j.b) == joints::pair(other, from));
         if !still_joined {
             self.joined.remove(&joints::pair(other, from));
+        }
+    }
+
+    /// Records bodies `touched` (those an edit may rebuild, move joint ends from or stop from
+    /// colliding with each other), every joint on them, and which of their pairs collide, for
+    /// [`undo_edit`](Self::undo_edit). Whatever else the edit does must be additions of bodies
+    /// and joints and of ignored pairs with the added bodies.
+    pub(crate) fn record_edit(&self, touched: &[usize]) -> EditUndo {
+        let on_touched = |j: &Joint| touched.contains(&j.a) || touched.contains(&j.b);
+        let joints = self.joints.iter().enumerate().filter(|(_, j)| on_touched(j)).map(|(k, j)| (k, j.clone()));
+        let pairs =
+            touched.iter().enumerate().flat_map(|(k, &a)| touched[k + 1..].iter().map(move |&b| joints::pair(a, b)));
+        EditUndo {
+            body_count: self.bodies.len(),
+            joint_count: self.joints.len(),
+            bodies: touched.iter().map(|&i| (i, self.bodies[i].clone())).collect(),
+            joints: joints.collect(),
+            colliding: pairs.filter(|pair| !self.ignored.contains(pair)).collect(),
+        }
+    }
+
+    /// Puts back what `undo` recorded and drops the bodies and joints added since.
+    pub(crate) fn undo_edit(&mut self, undo: EditUndo) {
+        for (i, body) in undo.bodies {
+            self.bodies[i] = body;
+        }
+        for (k, joint) in undo.joints {
+            self.joints[k] = joint;
+        }
+        self.truncate(undo.body_count, undo.joint_count);
+        for pair in undo.colliding {
+            self.ignored.remove(&pair);
         }
     }
 
@@ -131,7 +174,45 @@ mod tests {
 
     use super::super::{World, WorldSettings};
     use crate::mesh;
-    use crate::sim::{BodyDesc, ColliderKind};
+    use crate::sim::{BodyDesc, ColliderKind, JointKind};
+
+    /// Everything an edit may change, as comparable values: body names and poses, joint ends and
+    /// anchors, joined and ignored pairs.
+    fn picture(world: &World) -> impl PartialEq + std::fmt::Debug + use<> {
+        let bodies: Vec<_> = world.bodies.iter().map(|b| (b.name.clone(), b.position, b.orientation)).collect();
+        let joints: Vec<_> = world.joints.iter().map(|j| (j.a, j.b, j.anchors(&world.bodies))).collect();
+        let mut joined: Vec<_> = world.joined.iter().copied().collect();
+        let mut ignored: Vec<_> = world.ignored.iter().copied().collect();
+        joined.sort_unstable();
+        ignored.sort_unstable();
+        (bodies, joints, joined, ignored)
+    }
+
+    /// A split's edits (a body rebuilt elsewhere, a body added, a joint end moved to it, a
+    /// joint added, collision filters set) are all put back by undoing the record taken before.
+    #[test]
+    fn an_undone_edit_leaves_the_world_as_it_was() {
+        let mut world = World::new(WorldSettings::default()).unwrap();
+        let cube = mesh::subdivided_box(Vec3::splat(0.2), [1, 1, 1]).unwrap();
+        let desc = |k: usize, x: f32| BodyDesc::new(format!("box{k}"), cube.clone()).at(Vec3::new(x, 0.0, 0.0));
+        for k in 0..3 {
+            world.add(desc(k, k as f32).collider(ColliderKind::Cuboid)).unwrap();
+        }
+        world.add_joint(0, 1, Vec3::new(0.5, 0.0, 0.0), JointKind::Ball).unwrap();
+        world.add_joint(1, 2, Vec3::new(1.5, 0.0, 0.0), JointKind::Rigid).unwrap();
+        world.ignore_collisions(0, 2).unwrap();
+        let before = picture(&world);
+        let undo = world.record_edit(&[0, 1]);
+        world.rebuild_body(1, desc(1, 1.2)).unwrap();
+        let added = world.add(desc(3, 3.0)).unwrap();
+        world.inherit_ignored_collisions(0, added);
+        world.retarget_joint(1, 1, added).unwrap();
+        world.add_joint(1, added, Vec3::new(2.0, 0.0, 0.0), JointKind::Ball).unwrap();
+        world.ignore_collisions(0, 1).unwrap();
+        assert_ne!(picture(&world), before, "the edits changed nothing");
+        world.undo_edit(undo);
+        assert_eq!(picture(&world), before);
+    }
 
     /// Body 3 inherits what body 0 ignores (1, 2 and 3 itself): it gains 1 and 2, never
     /// itself; every pair set before stays and body 4 gains nothing.

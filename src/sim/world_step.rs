@@ -107,8 +107,10 @@ impl World {
         joints::apply_springs(&mut self.joints, &self.bodies, &mut solver_bodies, &s);
         solver::contact(&mut solver_bodies, &mut constraints, &s);
         let mut pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
-        joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, true, joints::NEWTON);
+        // With jointed contacts, the joint-contact rounds follow and finish with a full pass.
         let jointed = self.jointed_contacts(&constraints);
+        let newton = if jointed.is_empty() { joints::NEWTON } else { 1 };
+        joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, true, newton);
         let (joints, bodies) = (&mut self.joints, &self.bodies);
         joint_rounds::joint_contact_rounds(
             joints,

@@ -79,33 +79,44 @@ pub(crate) fn prestabilize(
     if groups.is_empty() {
         return 0;
     }
-    let slack = slack(joints, &groups, bodies, &mob, settings);
-    let step = Prediction { bodies, mob: &mob, extra: &extra, slack: &slack, dt };
     // Groups share no body that takes impulses: they are solved in parallel, in a few batches
-    // of similar size, each on its own copy of the velocities and joints.
+    // of similar size, each on its own copy of the velocities and of its own joints (numbered
+    // from 0 in group order).
     let batches = batches(&groups, rayon::current_num_threads());
+    let shared: &[Joint] = joints;
     let solved: Vec<(Solved, usize)> = batches
         .par_iter()
         .map(|batch| {
-            let (mut v, mut joints) = (v.clone(), joints.to_vec());
-            let mut rows: Vec<Option<Rows>> = (0..joints.len()).map(|_| None).collect();
-            let mut stepped = 0;
-            for &g in batch {
-                stepped += usize::from(newton(&mut joints, &groups[g], &step, &mut v, &mut rows, newton_budget));
-            }
-            let moved = batch.iter().flat_map(|&g| &groups[g]).flat_map(|&k| [joints[k].a, joints[k].b]);
+            let mut v = v.clone();
+            let mut local: Vec<Joint> = Vec::new();
+            let local_groups: Vec<Vec<usize>> = batch
+                .iter()
+                .map(|&g| {
+                    let first = local.len();
+                    local.extend(groups[g].iter().map(|&k| shared[k].clone()));
+                    (first..local.len()).collect()
+                })
+                .collect();
+            let slack = slack(&local, bodies, &mob, settings);
+            let step = Prediction { bodies, mob: &mob, extra: &extra, slack: &slack, dt };
+            let mut rows: Vec<Option<Rows>> = (0..local.len()).map(|_| None).collect();
+            let stepped = local_groups
+                .iter()
+                .filter(|group| newton(&mut local, group, &step, &mut v, &mut rows, newton_budget))
+                .count();
+            let moved = local.iter().flat_map(|joint| [joint.a, joint.b]);
             let moved: Vec<(usize, Motion)> =
                 moved.filter(|&i| system::takes_impulses(&mob[i])).map(|i| (i, v[i])).collect();
-            let changed = batch.iter().flat_map(|&g| &groups[g]).map(|&k| (k, joints[k].clone())).collect();
-            ((moved, changed), stepped)
+            ((moved, local), stepped)
         })
         .collect();
     let stepped = solved.iter().map(|(_, stepped)| stepped).sum();
-    for ((moved, changed), _) in solved {
+    for (batch, ((moved, local), _)) in batches.iter().zip(solved) {
         for (i, m) in moved {
             v[i] = m;
         }
-        for (k, joint) in changed {
+        let global = batch.iter().flat_map(|&g| &groups[g]);
+        for (&k, joint) in global.zip(local) {
             joints[k] = joint;
         }
     }
@@ -117,8 +128,8 @@ pub(crate) fn prestabilize(
 }
 
 /// What a batch of groups changed: the velocities of its bodies that take impulses and its
-/// joints (their accumulated impulses and clamps).
-type Solved = (Vec<(usize, Motion)>, Vec<(usize, Joint)>);
+/// joints in group order (their accumulated impulses and clamps).
+type Solved = (Vec<(usize, Motion)>, Vec<Joint>);
 
 /// `groups` (indices) split into at most `count` batches of about equal joint counts, in order.
 fn batches(groups: &[Vec<usize>], count: usize) -> Vec<Vec<usize>> {
@@ -151,26 +162,18 @@ struct Prediction<'a> {
     dt: f32,
 }
 
-/// Per joint, its drift now (anchors apart, relative orientation off target) beyond what one
-/// step closes at the world's correction speeds; zero for joints outside `groups`.
-fn slack(
-    joints: &[Joint],
-    groups: &[Vec<usize>],
-    bodies: &[RigidBody],
-    mob: &[Mobility],
-    settings: &WorldSettings,
-) -> Vec<(Vec3, Vec3)> {
+/// Per joint of `joints`, its drift now (anchors apart, relative orientation off target) beyond
+/// what one step closes at the world's correction speeds.
+fn slack(joints: &[Joint], bodies: &[RigidBody], mob: &[Mobility], settings: &WorldSettings) -> Vec<(Vec3, Vec3)> {
     let (reach, turn) = (settings.joint_correction_speed * settings.dt, settings.joint_correction_spin * settings.dt);
-    let mut out = vec![(Vec3::ZERO, Vec3::ZERO); joints.len()];
-    for &k in groups.iter().flatten() {
-        let joint = &joints[k];
+    let drift = |joint: &Joint| {
         // dt = 0: the frame now (no velocity is read).
         let f = system::frame(joint, bodies, mob, &[], None, 0.0);
         let linear = f.anchor_b - f.anchor_a;
         let angular = if joint.kind.locks_rotation() { deviation(joint, &f) } else { Vec3::ZERO };
-        out[k] = (linear - linear.clamp_length_max(reach), angular - angular.clamp_length_max(turn));
-    }
-    out
+        (linear - linear.clamp_length_max(reach), angular - angular.clamp_length_max(turn))
+    };
+    joints.iter().map(drift).collect()
 }
 
 /// Relative orientation of a locking joint off its target in `f`, world axes, rad.
