@@ -4,6 +4,84 @@
 //! bandwidth b, so a chain of any length costs about as much per joint as a single joint.
 //! Optionally a Levenberg–Marquardt step (damped normal equations) instead of the plain solve.
 
+/// A square sparse matrix by rows: row i's (column, value) entries, columns increasing.
+pub(crate) struct Sparse {
+    /// Row i's entries are `entries[starts[i]..starts[i + 1]]`.
+    starts: Vec<usize>,
+    entries: Vec<(usize, f64)>,
+}
+
+impl Sparse {
+    /// The n × n matrix with `entries` (row, column, value), sorted by row then column.
+    pub(crate) fn from_sorted(n: usize, entries: &[(usize, usize, f64)]) -> Self {
+        let mut starts = Vec::with_capacity(n + 1);
+        starts.push(0);
+        let mut k = 0;
+        for row in 0..n {
+            while k < entries.len() && entries[k].0 == row {
+                k += 1;
+            }
+            starts.push(k);
+        }
+        Self { starts, entries: entries[..k].iter().map(|&(_, col, value)| (col, value)).collect() }
+    }
+
+    /// The matrix with rows `rows[i]` ((column, value) pairs, columns < rows.len()).
+    #[cfg(test)]
+    fn from_rows(rows: &[Vec<(usize, f64)>]) -> Self {
+        let mut entries: Vec<(usize, usize, f64)> =
+            rows.iter().enumerate().flat_map(|(i, row)| row.iter().map(move |&(j, v)| (i, j, v))).collect();
+        entries.sort_unstable_by_key(|&(i, j, _)| (i, j));
+        Self::from_sorted(rows.len(), &entries)
+    }
+
+    fn len(&self) -> usize {
+        self.starts.len() - 1
+    }
+
+    fn row(&self, i: usize) -> &[(usize, f64)] {
+        &self.entries[self.starts[i]..self.starts[i + 1]]
+    }
+
+    fn rows(&self) -> impl Iterator<Item = &[(usize, f64)]> {
+        (0..self.len()).map(|i| self.row(i))
+    }
+
+    /// The system a·x = `rhs` with the unknowns where `is_fixed` holds set to `value(column)`
+    /// and their rows dropped: (the reduced matrix, its right-hand side, the kept unknowns in
+    /// order).
+    pub(crate) fn without(
+        &self,
+        rhs: &[f64],
+        is_fixed: impl Fn(usize) -> bool,
+        value: impl Fn(usize) -> f64,
+    ) -> (Self, Vec<f64>, Vec<usize>) {
+        let n = self.len();
+        let mut renumber = vec![usize::MAX; n];
+        let free: Vec<usize> = (0..n).filter(|&i| !is_fixed(i)).collect();
+        for (new, &old) in free.iter().enumerate() {
+            renumber[old] = new;
+        }
+        let mut starts = Vec::with_capacity(free.len() + 1);
+        starts.push(0);
+        let mut entries = Vec::with_capacity(self.entries.len());
+        let mut b = Vec::with_capacity(free.len());
+        for &row in &free {
+            let mut right = rhs[row];
+            for &(col, a) in self.row(row) {
+                if is_fixed(col) {
+                    right -= a * value(col);
+                } else {
+                    entries.push((renumber[col], a));
+                }
+            }
+            starts.push(entries.len());
+            b.push(right);
+        }
+        (Self { starts, entries }, b, free)
+    }
+}
+
 /// Largest band storage (entries) a solve may use; wider systems are refused.
 const MAX_ENTRIES: usize = 1 << 22;
 
@@ -89,25 +167,24 @@ impl Band {
     }
 }
 
-/// Solves the square system whose row i is `rows[i]` ((column, value) pairs, columns < n) for
-/// right-hand side `b`. With `damping` > 0 it takes the Levenberg–Marquardt step instead:
+/// Solves the square system `a` for right-hand side `b`. With `damping` > 0 it takes the Levenberg–Marquardt step instead:
 /// (aᵀa + damping·diag(aᵀa))·x = aᵀb, shorter and defined where the rows are nearly dependent.
 /// `None` when singular or too wide to store.
-pub(crate) fn solve(rows: &[Vec<(usize, f64)>], b: &[f64], damping: f64) -> Option<Vec<f64>> {
+pub(crate) fn solve(a: &Sparse, b: &[f64], damping: f64) -> Option<Vec<f64>> {
     let n = b.len();
     if damping > 0.0 {
         // Damped normal equations are positive definite: any positive pivot will do.
-        return normal_equations(rows, b, damping).and_then(|(normal, mut right)| normal.solve(&mut right, 0.0));
+        return normal_equations(a, b, damping).and_then(|(normal, mut right)| normal.solve(&mut right, 0.0));
     }
     let (mut lower, mut upper) = (0, 0);
-    for (i, row) in rows.iter().enumerate() {
+    for (i, row) in a.rows().enumerate() {
         for &(j, _) in row {
             lower = lower.max(i.saturating_sub(j));
             upper = upper.max(j.saturating_sub(i));
         }
     }
     let mut band = Band::new(n, lower, upper)?;
-    for (i, row) in rows.iter().enumerate() {
+    for (i, row) in a.rows().enumerate() {
         for &(j, value) in row {
             let slot = band.at(i, j);
             band.data[slot] += value;
@@ -118,10 +195,10 @@ pub(crate) fn solve(rows: &[Vec<(usize, f64)>], b: &[f64], damping: f64) -> Opti
 }
 
 /// The damped normal equations of a·x = b as a band, with aᵀb.
-fn normal_equations(rows: &[Vec<(usize, f64)>], b: &[f64], damping: f64) -> Option<(Band, Vec<f64>)> {
+fn normal_equations(a: &Sparse, b: &[f64], damping: f64) -> Option<(Band, Vec<f64>)> {
     let n = b.len();
     let mut half = 0;
-    for row in rows {
+    for row in a.rows() {
         let (low, high) = row.iter().fold((usize::MAX, 0), |(lo, hi), &(j, _)| (lo.min(j), hi.max(j)));
         if low <= high {
             half = half.max(high - low);
@@ -129,7 +206,7 @@ fn normal_equations(rows: &[Vec<(usize, f64)>], b: &[f64], damping: f64) -> Opti
     }
     let mut band = Band::new(n, half, half)?;
     let mut right = vec![0.0f64; n];
-    for (row, &bk) in rows.iter().zip(b) {
+    for (row, &bk) in a.rows().zip(b) {
         for &(i, aki) in row {
             right[i] += aki * bk;
             for &(j, akj) in row {
@@ -163,12 +240,13 @@ mod tests {
         }
         let truth: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
         let b: Vec<f64> = rows.iter().map(|row| row.iter().map(|&(j, v)| v * truth[j]).sum()).collect();
-        let x = solve(&rows, &b, 0.0).unwrap();
+        let a = Sparse::from_rows(&rows);
+        let x = solve(&a, &b, 0.0).unwrap();
         let error = x.iter().zip(&truth).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         assert!(error < 1e-9, "plain solve off by {error}");
-        let damped = solve(&rows, &b, 1e-9).unwrap();
+        let damped = solve(&a, &b, 1e-9).unwrap();
         let error = damped.iter().zip(&truth).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         assert!(error < 1e-4, "damped solve off by {error}");
-        assert!(solve(&[vec![(0, 0.0)]], &[1.0], 0.0).is_none(), "singular system solved");
+        assert!(solve(&Sparse::from_rows(&[vec![(0, 0.0)]]), &[1.0], 0.0).is_none(), "singular system solved");
     }
 }

@@ -197,6 +197,10 @@ fn newton(
     moved.dedup();
     let mut now = measure(joints, group, step, v);
     let already_held = now.worst < 1.0;
+    if already_held {
+        return false;
+    }
+    let layout = solve::Layout::new(joints, group, step.mob);
     let mut damping = 0.0;
     for _ in 0..budget {
         if now.worst < 1.0 {
@@ -210,7 +214,7 @@ fn newton(
             group.iter().map(|&k| (joints[k].accumulated, joints[k].clamped)).collect();
         let mut accepted = false;
         for _ in 0..RETRIES {
-            solve::solve_group(joints, group, rows, step.mob, v, true, damping);
+            solve::solve_group(&layout, joints, rows, step.mob, v, true, damping);
             let after = measure(joints, group, step, v);
             if after.merit < now.merit {
                 now = after;
@@ -232,7 +236,7 @@ fn newton(
             break;
         }
     }
-    !already_held
+    true
 }
 
 /// A joint's rows linearized at velocities `v`: predicted errors (beyond its `slack`) per unit

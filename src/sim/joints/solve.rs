@@ -39,7 +39,7 @@ pub(crate) struct Rows {
 /// they did); without it they are rigid. `damping` > 0 makes the direct solves
 /// Levenberg–Marquardt steps (least squares with the normal equations' diagonal raised by that
 /// fraction), shorter and safe where the rows are nearly dependent. Joints whose `rows` are
-/// `None` are left alone.
+/// `None` are left alone, and so are groups whose held rows are all within their tolerances.
 pub(crate) fn solve_rows(
     joints: &mut [Joint],
     rows: &[Option<Rows>],
@@ -48,16 +48,24 @@ pub(crate) fn solve_rows(
     clamp: bool,
     damping: f64,
 ) {
+    let within = |joints: &[Joint], k: usize| {
+        let (Some(r), h) = (&rows[k], held(&joints[k])) else { return true };
+        (0..6).all(|i| !h[i] || r.error[i].abs() <= r.tolerance[i])
+    };
     for group in groups(joints, |k| rows[k].is_some(), mob) {
-        solve_group(joints, &group, rows, mob, v, clamp, damping);
+        if group.iter().all(|&k| within(joints, k)) {
+            continue;
+        }
+        let layout = Layout::new(joints, &group, mob);
+        solve_group(&layout, joints, rows, mob, v, clamp, damping);
     }
 }
 
-/// [`solve_rows`] for the joints of one group (as [`groups`] makes them); `rows` outside it are
-/// not read.
+/// [`solve_rows`] for the joints of one group laid out by [`Layout::new`]; `rows` outside it
+/// are not read.
 pub(crate) fn solve_group(
+    layout: &Layout,
     joints: &mut [Joint],
-    group: &[usize],
     rows: &[Option<Rows>],
     mob: &[Mobility],
     v: &mut [Motion],
@@ -66,10 +74,10 @@ pub(crate) fn solve_group(
 ) {
     // Redundant joints (closed loops of rigid joints) make the plain system singular; the
     // slightly damped least-squares step still solves it.
-    let solved = direct(joints, group, rows, mob, v, clamp, damping)
-        || damping == 0.0 && direct(joints, group, rows, mob, v, clamp, REDUNDANT_DAMPING);
+    let solved = direct(layout, joints, rows, mob, v, clamp, damping)
+        || damping == 0.0 && direct(layout, joints, rows, mob, v, clamp, REDUNDANT_DAMPING);
     if !solved {
-        gauss_seidel(joints, group, rows, mob, v, clamp);
+        gauss_seidel(joints, &layout.group, rows, mob, v, clamp);
     }
 }
 
@@ -110,34 +118,67 @@ pub(crate) fn groups(joints: &[Joint], has_rows: impl Fn(usize) -> bool, mob: &[
     out
 }
 
+/// How one group's system is laid out: its unknowns (the held rows of each joint, in band
+/// order) and which joints' rows each joint's impulses reach. It depends only on which joints
+/// share bodies and on their kinds, so Newton iterations on one group reuse it.
+pub(crate) struct Layout {
+    /// The group's joints, sorted (as [`groups`] makes them).
+    group: Vec<usize>,
+    /// Unknown i is row `.1` of joint `.0`, in band order.
+    unknowns: Vec<(usize, usize)>,
+    /// Per joint (by place in `group`), its unknowns' indices by row (`usize::MAX`: not held).
+    slots: Vec<[usize; 6]>,
+    /// Per joint (by place in `group`), the group's joints sharing a body with it, itself
+    /// included, sorted.
+    neighbours: Vec<Vec<usize>>,
+}
+
+impl Layout {
+    /// The layout of `group` (sorted joint indices that share bodies taking impulses).
+    pub(crate) fn new(joints: &[Joint], group: &[usize], mob: &[Mobility]) -> Self {
+        let incidence = GroupIndex::new(joints, group, mob);
+        let neighbours: Vec<Vec<usize>> = group.iter().map(|&k| incidence.neighbours(&joints[k])).collect();
+        let order = order(group, &neighbours);
+        let mut unknowns: Vec<(usize, usize)> = Vec::with_capacity(6 * group.len());
+        let mut slots: Vec<[usize; 6]> = vec![[usize::MAX; 6]; group.len()];
+        for &k in &order {
+            let h = held(&joints[k]);
+            let slot = &mut slots[incidence.local(k)];
+            for r in (0..6).filter(|&r| h[r]) {
+                slot[r] = unknowns.len();
+                unknowns.push((k, r));
+            }
+        }
+        Self { group: group.to_vec(), unknowns, slots, neighbours }
+    }
+
+    /// Joint `joint`'s place in the group.
+    fn local(&self, joint: usize) -> usize {
+        self.group.partition_point(|&k| k < joint)
+    }
+
+    /// Index of the unknown for row `r` of joint `k`.
+    fn position(&self, k: usize, r: usize) -> usize {
+        self.slots[self.local(k)][r]
+    }
+}
+
 /// Solves one group exactly. Returns `false` (nothing applied) when its matrix is singular or
 /// too wide.
 fn direct(
+    layout: &Layout,
     joints: &mut [Joint],
-    group: &[usize],
     rows: &[Option<Rows>],
     mob: &[Mobility],
     v: &mut [Motion],
     clamp: bool,
     damping: f64,
 ) -> bool {
-    let incidence = GroupIndex::new(joints, group, mob);
-    let order = order(joints, &incidence);
-    // Unknowns and equations: the held rows of each joint, in band order.
-    let mut index: Vec<(usize, usize)> = Vec::new();
-    let mut slots: Vec<[usize; 6]> = vec![[usize::MAX; 6]; group.len()];
-    for &k in &order {
-        let h = held(&joints[k]);
-        let mut slot = [usize::MAX; 6];
-        for r in (0..6).filter(|&r| h[r]) {
-            slot[r] = index.len();
-            index.push((k, r));
-        }
-        slots[incidence.local(k)] = slot;
-    }
-    let position = |k: usize, r: usize| slots[incidence.local(k)][r];
+    let (group, index) = (&layout.group, &layout.unknowns);
     let n = index.len();
-    let mut matrix: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+    // The matrix by entries (row, column, value): column q·c is the held rows' response to a
+    // unit impulse on row c of joint q.
+    let mut entries: Vec<(usize, usize, f64)> = Vec::with_capacity(n * 12);
     let axes = [Vec3::X, Vec3::Y, Vec3::Z];
     for (col, &(q, c)) in index.iter().enumerate() {
         let Some(rq) = &rows[q] else { continue };
@@ -154,17 +195,19 @@ fn direct(
             }
             m
         };
-        for p in incidence.neighbours(jq, None) {
+        for &p in &layout.neighbours[layout.local(q)] {
             let Some(rp) = &rows[p] else { continue };
             let jp = &joints[p];
             let (lin, ang) = system::drift(&rp.frame, moved(jp.a), moved(jp.b));
             let values = system::rows(lin, ang, &rp.basis);
             let h = held(jp);
             for r in (0..6).filter(|&r| h[r] && values[r] != 0.0) {
-                matrix[position(p, r)].push((col, values[r]));
+                entries.push((layout.position(p, r), col, values[r]));
             }
         }
     }
+    entries.sort_unstable_by_key(|&(row, col, _)| (row, col));
+    let matrix = band::Sparse::from_sorted(n, &entries);
     let rhs: Vec<f64> = index.iter().map(|&(k, r)| rows[k].as_ref().map_or(0.0, |x| -x.error[r])).collect();
     // Active set over the plastic joints' angular impulses.
     // Per joint of the group (by its place in `group`), a plastic joint's angular impulse fixed
@@ -172,37 +215,28 @@ fn direct(
     let mut fixed: Vec<Option<Vec3>> = vec![None; group.len()];
     let mut x;
     loop {
-        let is_fixed = |i: usize| index[i].1 >= 3 && fixed[incidence.local(index[i].0)].is_some();
-        let mut renumber = vec![usize::MAX; n];
-        let mut free = Vec::new();
-        for i in (0..n).filter(|&i| !is_fixed(i)) {
-            renumber[i] = free.len();
-            free.push(i);
-        }
-        let mut sub: Vec<Vec<(usize, f64)>> = Vec::with_capacity(free.len());
-        let mut b = Vec::with_capacity(free.len());
-        for &row in &free {
-            let mut value = rhs[row];
-            let mut kept = Vec::with_capacity(matrix[row].len());
-            for &(col, a) in &matrix[row] {
-                if is_fixed(col) {
-                    let (k, c) = index[col];
-                    value -= a * fixed[incidence.local(k)].map_or(0.0, |l| f64::from(l[c - 3]));
-                } else {
-                    kept.push((renumber[col], a));
+        let solution = if fixed.iter().all(Option::is_none) {
+            band::solve(&matrix, &rhs, damping)
+        } else {
+            let is_fixed = |i: usize| index[i].1 >= 3 && fixed[layout.local(index[i].0)].is_some();
+            let fixed_impulse = |col: usize| {
+                let (k, c) = index[col];
+                fixed[layout.local(k)].map_or(0.0, |l| f64::from(l[c - 3]))
+            };
+            let (sub, b, free) = matrix.without(&rhs, is_fixed, fixed_impulse);
+            band::solve(&sub, &b, damping).map(|solution| {
+                let mut full = vec![0.0f64; n];
+                for (&col, value) in free.iter().zip(solution) {
+                    full[col] = value;
                 }
-            }
-            sub.push(kept);
-            b.push(value);
-        }
-        let Some(solution) = band::solve(&sub, &b, damping) else {
+                full
+            })
+        };
+        let Some(solution) = solution else {
             return false;
         };
-        x = vec![0.0f64; n];
-        for (i, &col) in free.iter().enumerate() {
-            x[col] = solution[i];
-        }
-        if !clamp || !clamp_plastic(joints, group, &mut fixed, |k, c| x[position(k, c)]) {
+        x = solution;
+        if !clamp || !clamp_plastic(joints, group, &mut fixed, |k, c| x[layout.position(k, c)]) {
             break;
         }
     }
@@ -211,7 +245,7 @@ fn direct(
         let h = held(&joints[k]);
         let mut solution = [0.0f64; 6];
         for c in (0..6).filter(|&c| h[c]) {
-            solution[c] = x[position(k, c)];
+            solution[c] = x[layout.position(k, c)];
         }
         let (j, mut l) = system::impulses(&solution, &r.basis);
         if let Some(fixed) = fixed {
@@ -283,10 +317,9 @@ impl<'g> GroupIndex<'g> {
         self.incidence[start..].iter().take_while(move |&&(b, _)| b == body).map(|&(_, k)| k)
     }
 
-    /// The group's joints sharing a body with `joint` (itself too unless it is `except`),
-    /// sorted, without repeats.
-    fn neighbours(&self, joint: &Joint, except: Option<usize>) -> Vec<usize> {
-        let mut out: Vec<usize> = self.on(joint.a).chain(self.on(joint.b)).filter(|&p| Some(p) != except).collect();
+    /// The group's joints sharing a body with `joint`, itself included, sorted, without repeats.
+    fn neighbours(&self, joint: &Joint) -> Vec<usize> {
+        let mut out: Vec<usize> = self.on(joint.a).chain(self.on(joint.b)).collect();
         out.sort_unstable();
         out.dedup();
         out
@@ -295,27 +328,29 @@ impl<'g> GroupIndex<'g> {
 
 /// The group's joints in reverse Cuthill–McKee order (breadth first from a joint of least
 /// coupling, neighbours by increasing coupling, reversed), which keeps coupled joints close and
-/// the system's band narrow: a chain becomes block-tridiagonal.
-fn order(joints: &[Joint], index: &GroupIndex) -> Vec<usize> {
-    let group = index.group;
-    let neighbours: Vec<Vec<usize>> = group.iter().map(|&k| index.neighbours(&joints[k], Some(k))).collect();
-    let degree = |k: usize| neighbours[index.local(k)].len();
+/// the system's band narrow: a chain becomes block-tridiagonal. `neighbours` are per joint (by
+/// place in `group`), each including the joint itself.
+fn order(group: &[usize], neighbours: &[Vec<usize>]) -> Vec<usize> {
+    let local = |k: usize| group.partition_point(|&g| g < k);
+    let degree = |k: usize| neighbours[local(k)].len();
     let mut seen = vec![false; group.len()];
     let mut out = Vec::with_capacity(group.len());
     let mut starts: Vec<usize> = group.to_vec();
     starts.sort_by_key(|&k| (degree(k), k));
+    let mut queue = VecDeque::with_capacity(group.len());
+    let mut next: Vec<usize> = Vec::new();
     for &start in &starts {
-        if std::mem::replace(&mut seen[index.local(start)], true) {
+        if std::mem::replace(&mut seen[local(start)], true) {
             continue;
         }
-        let mut queue = VecDeque::from([start]);
+        queue.push_back(start);
         while let Some(k) = queue.pop_front() {
             out.push(k);
-            let mut next: Vec<usize> =
-                neighbours[index.local(k)].iter().copied().filter(|&p| !seen[index.local(p)]).collect();
+            next.clear();
+            next.extend(neighbours[local(k)].iter().copied().filter(|&p| !seen[local(p)]));
             next.sort_by_key(|&p| (degree(p), p));
-            for p in next {
-                seen[index.local(p)] = true;
+            for &p in &next {
+                seen[local(p)] = true;
                 queue.push_back(p);
             }
         }
