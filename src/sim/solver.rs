@@ -45,6 +45,9 @@ pub(crate) struct Constraint {
     pub relative_velocity: Vec3,
     /// Whether the collision phase handles it (it closes within the step).
     pub colliding: bool,
+    /// Effective masses along the normal and the two tangents, kg (the bodies' masses and
+    /// world inertias are fixed within a step), 0 when both bodies are fixed.
+    masses: [f32; 3],
     normal_impulse: f32,
     tangent_impulse: [f32; 2],
     /// Accumulated rolling-resistance angular impulse on b (a gets the opposite), N·m·s.
@@ -96,6 +99,7 @@ fn constraint(
     let (t1, t2) = normal.any_orthonormal_pair();
     // The rolling radius: the shorter lever, so a ball on a large slab rolls on its own radius.
     let radius = ra.length().min(rb.length());
+    let masses = [normal, t1, t2].map(|d| effective_mass(&bodies[a], &bodies[b], ra, rb, d));
     Constraint {
         pair,
         a,
@@ -112,6 +116,7 @@ fn constraint(
         approach,
         relative_velocity,
         colliding: approach < 0.0 && contact.distance + approach * dt <= 0.0,
+        masses,
         normal_impulse: 0.0,
         tangent_impulse: [0.0; 2],
         rolling_impulse: Vec3::ZERO,
@@ -168,7 +173,14 @@ fn solve(bodies: &mut [SolverBody], c: &mut Constraint, target: f32, frozen: Opt
         bodies[k].inverse_inertia = Mat3::ZERO;
         (k, mass)
     });
-    solve_normal_and_friction(bodies, c, target);
+    let masses = match saved {
+        // The frozen body's mass is gone for this visit.
+        Some(_) => {
+            [c.normal, c.tangents[0], c.tangents[1]].map(|d| effective_mass(&bodies[c.a], &bodies[c.b], c.ra, c.rb, d))
+        }
+        None => c.masses,
+    };
+    solve_normal_and_friction(bodies, c, target, masses);
     if rolling {
         solve_rolling(bodies, c);
     }
@@ -178,9 +190,11 @@ fn solve(bodies: &mut [SolverBody], c: &mut Constraint, target: f32, frozen: Opt
     }
 }
 
-fn solve_normal_and_friction(bodies: &mut [SolverBody], c: &mut Constraint, target: f32) {
+/// The normal and friction impulses of one visit, with the pair's effective `masses` (normal,
+/// tangents; kg).
+fn solve_normal_and_friction(bodies: &mut [SolverBody], c: &mut Constraint, target: f32, masses: [f32; 3]) {
     let relative = velocity_at(&bodies[c.b], c.rb) - velocity_at(&bodies[c.a], c.ra);
-    let mass = effective_mass(&bodies[c.a], &bodies[c.b], c.ra, c.rb, c.normal);
+    let mass = masses[0];
     if mass == 0.0 {
         return;
     }
@@ -195,8 +209,7 @@ fn solve_normal_and_friction(bodies: &mut [SolverBody], c: &mut Constraint, targ
     let limit = c.friction * c.normal_impulse;
     let mut wanted = [0.0; 2];
     for (k, tangent) in c.tangents.iter().enumerate() {
-        let mass = effective_mass(&bodies[c.a], &bodies[c.b], c.ra, c.rb, *tangent);
-        wanted[k] = c.tangent_impulse[k] - relative.dot(*tangent) * mass;
+        wanted[k] = c.tangent_impulse[k] - relative.dot(*tangent) * masses[k + 1];
     }
     let length = (wanted[0] * wanted[0] + wanted[1] * wanted[1]).sqrt();
     if length > limit {
@@ -369,7 +382,8 @@ pub(crate) fn position_correction(
                 let c = &mut constraints[k];
                 let push = settings.baumgarte * (-c.distance - settings.slop) / settings.dt;
                 let friction = std::mem::replace(&mut c.friction, 0.0);
-                solve_normal_and_friction(&mut pseudo, c, push);
+                let masses = c.masses;
+                solve_normal_and_friction(&mut pseudo, c, push, masses);
                 c.friction = friction;
             }
         }

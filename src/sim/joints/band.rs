@@ -12,18 +12,24 @@ pub(crate) struct Sparse {
 }
 
 impl Sparse {
-    /// The n × n matrix with `entries` (row, column, value), sorted by row then column.
-    pub(crate) fn from_sorted(n: usize, entries: &[(usize, usize, f64)]) -> Self {
-        let mut starts = Vec::with_capacity(n + 1);
-        starts.push(0);
-        let mut k = 0;
-        for row in 0..n {
-            while k < entries.len() && entries[k].0 == row {
-                k += 1;
-            }
-            starts.push(k);
+    /// The n × n matrix with `entries` (row, column, value), given column by column (columns
+    /// increasing; any row order within a column): a counting sort by row keeps each row's
+    /// columns increasing.
+    pub(crate) fn by_columns(n: usize, entries: &[(usize, usize, f64)]) -> Self {
+        let mut starts = vec![0usize; n + 1];
+        for &(row, _, _) in entries {
+            starts[row + 1] += 1;
         }
-        Self { starts, entries: entries[..k].iter().map(|&(_, col, value)| (col, value)).collect() }
+        for i in 0..n {
+            starts[i + 1] += starts[i];
+        }
+        let mut next = starts.clone();
+        let mut placed = vec![(0usize, 0.0f64); entries.len()];
+        for &(row, col, value) in entries {
+            placed[next[row]] = (col, value);
+            next[row] += 1;
+        }
+        Self { starts, entries: placed }
     }
 
     /// The matrix with rows `rows[i]` ((column, value) pairs, columns < rows.len()).
@@ -31,8 +37,8 @@ impl Sparse {
     fn from_rows(rows: &[Vec<(usize, f64)>]) -> Self {
         let mut entries: Vec<(usize, usize, f64)> =
             rows.iter().enumerate().flat_map(|(i, row)| row.iter().map(move |&(j, v)| (i, j, v))).collect();
-        entries.sort_unstable_by_key(|&(i, j, _)| (i, j));
-        Self::from_sorted(rows.len(), &entries)
+        entries.sort_unstable_by_key(|&(i, j, _)| (j, i));
+        Self::by_columns(rows.len(), &entries)
     }
 
     fn len(&self) -> usize {
@@ -82,6 +88,11 @@ impl Sparse {
     }
 }
 
+/// A diagonal pivot is kept while it is at least this fraction of its column's largest entry
+/// below it (threshold partial pivoting, as sparse direct solvers use: growth stays bounded by
+/// 1 / threshold per step, and row swaps, which widen the band, stay rare).
+const PIVOT_THRESHOLD: f64 = 0.1;
+
 /// Largest band storage (entries) a solve may use; wider systems are refused.
 const MAX_ENTRIES: usize = 1 << 22;
 
@@ -110,13 +121,10 @@ impl Band {
         i * self.width() + (j + self.lower - i)
     }
 
-    /// Last column row `i` may hold after pivoting.
-    fn last(&self, i: usize) -> usize {
-        (i + self.upper + self.lower).min(self.n - 1)
-    }
-
-    /// Solves in place by Gaussian elimination with partial pivoting; `None` when a pivot is not
-    /// above `tolerance` times the largest diagonal entry (singular).
+    /// Solves in place by Gaussian elimination with threshold partial pivoting (the diagonal
+    /// unless another entry of its column is over [`PIVOT_THRESHOLD`]⁻¹ times larger, which
+    /// keeps the band as narrow as it came wherever the system is near-symmetric); `None` when
+    /// a pivot is not above `tolerance` times the largest diagonal entry (singular).
     fn solve(mut self, b: &mut [f64], tolerance: f64) -> Option<Vec<f64>> {
         let n = self.n;
         let scale = (0..n).map(|i| self.data[self.at(i, i)].abs()).fold(0.0, f64::max);
@@ -126,23 +134,28 @@ impl Band {
         if !(scale > 0.0 && scale.is_finite()) {
             return None;
         }
+        // Last column each row holds so far (row swaps and elimination widen it).
+        let mut end: Vec<usize> = (0..n).map(|i| (i + self.upper).min(n - 1)).collect();
+        let width = self.width();
         for k in 0..n {
             let bottom = (k + self.lower).min(n - 1);
-            let pivot = (k..=bottom)
-                .max_by(|&x, &y| self.data[self.at(x, k)].abs().total_cmp(&self.data[self.at(y, k)].abs()))?;
-            if self.data[self.at(pivot, k)].abs() <= tolerance * scale {
+            let magnitude = |row: usize| self.data[self.at(row, k)].abs();
+            let largest = (k..=bottom).max_by(|&x, &y| magnitude(x).total_cmp(&magnitude(y)))?;
+            let pivot = if magnitude(k) >= PIVOT_THRESHOLD * magnitude(largest) { k } else { largest };
+            if magnitude(pivot) <= tolerance * scale {
                 return None;
             }
             if pivot != k {
-                for j in k..=self.last(k) {
+                for j in k..=end[k].max(end[pivot]) {
                     let (x, y) = (self.at(k, j), self.at(pivot, j));
                     self.data.swap(x, y);
                 }
+                end.swap(k, pivot);
                 b.swap(k, pivot);
             }
             let diagonal = self.data[self.at(k, k)];
             // Row k's entries from column k on, and row i's over the same columns: contiguous.
-            let (width, span) = (self.width(), self.last(k) - k + 1);
+            let span = end[k] - k + 1;
             let pivot_start = self.at(k, k);
             for i in k + 1..=bottom {
                 let (head, tail) = self.data.split_at_mut(i * width);
@@ -155,12 +168,13 @@ impl Band {
                 for (value, &above) in row.iter_mut().zip(pivot_row) {
                     *value -= factor * above;
                 }
+                end[i] = end[i].max(end[k]);
                 b[i] -= factor * b[k];
             }
         }
         let mut x = vec![0.0f64; n];
         for i in (0..n).rev() {
-            let tail: f64 = (i + 1..=self.last(i)).map(|j| self.data[self.at(i, j)] * x[j]).sum();
+            let tail: f64 = (i + 1..=end[i]).map(|j| self.data[self.at(i, j)] * x[j]).sum();
             x[i] = (b[i] - tail) / self.data[self.at(i, i)];
         }
         x.iter().all(|value| value.is_finite()).then_some(x)
@@ -226,8 +240,9 @@ fn normal_equations(a: &Sparse, b: &[f64], damping: f64) -> Option<(Band, Vec<f6
 mod tests {
     use super::*;
 
-    /// A random-ish banded non-symmetric system needing row swaps is solved to round-off, and
-    /// the damped step of a consistent system approaches the solution as the damping vanishes.
+    /// A random-ish banded non-symmetric system is solved to round-off, a zero diagonal is
+    /// pivoted around, and the damped step of a consistent system approaches the solution as the
+    /// damping vanishes.
     #[test]
     fn banded_systems_are_solved() {
         let n = 40;
@@ -248,5 +263,9 @@ mod tests {
         let error = damped.iter().zip(&truth).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         assert!(error < 1e-4, "damped solve off by {error}");
         assert!(solve(&Sparse::from_rows(&[vec![(0, 0.0)]]), &[1.0], 0.0).is_none(), "singular system solved");
+        // A zero diagonal needs a row swap: x1 = 3, 2·x0 + x1 = 4.
+        let swapped = solve(&Sparse::from_rows(&[vec![(1, 1.0)], vec![(0, 2.0), (1, 1.0)]]), &[3.0, 4.0], 0.0);
+        let swapped = swapped.expect("a zero diagonal with a non-zero below it is not singular");
+        assert!((swapped[0] - 0.5).abs() < 1e-12 && (swapped[1] - 3.0).abs() < 1e-12, "{swapped:?}");
     }
 }

@@ -206,8 +206,7 @@ fn direct(
             }
         }
     }
-    entries.sort_unstable_by_key(|&(row, col, _)| (row, col));
-    let matrix = band::Sparse::from_sorted(n, &entries);
+    let matrix = band::Sparse::by_columns(n, &entries);
     let rhs: Vec<f64> = index.iter().map(|&(k, r)| rows[k].as_ref().map_or(0.0, |x| -x.error[r])).collect();
     // Active set over the plastic joints' angular impulses.
     // Per joint of the group (by its place in `group`), a plastic joint's angular impulse fixed
