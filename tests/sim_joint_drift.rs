@@ -23,6 +23,23 @@ fn drifted_pair(settings: WorldSettings, kind: JointKind, offset: Vec3, turn: Qu
     world
 }
 
+/// Steps `world` `steps` times, checking that `drift` (m or rad) shrinks by at most `allowance`
+/// per step; returns the first step after which it is below 1e-3, if any.
+fn steps_to_close(world: &mut World, steps: usize, drift: impl Fn(&World) -> f32, allowance: f32) -> Option<usize> {
+    let mut before = drift(world);
+    let mut closed_at = None;
+    for step in 1..=steps {
+        world.step();
+        let now = drift(world);
+        assert!(now >= before - allowance, "step {step}: closed {} at once, more than {allowance}", before - now);
+        if now < 1e-3 && closed_at.is_none() {
+            closed_at = Some(step);
+        }
+        before = now;
+    }
+    closed_at
+}
+
 fn free_space() -> WorldSettings {
     WorldSettings { gravity: Vec3::ZERO, angular_damping: 0.0, sleep_time: 0.0, ..Default::default() }
 }
@@ -36,19 +53,9 @@ fn a_torn_ball_joint_closes_at_the_correction_speed() {
     let reach = settings.joint_correction_speed * settings.dt;
     let mut world = drifted_pair(settings, JointKind::Ball, Vec3::new(0.0, 0.1, 0.0), Quat::IDENTITY);
     let gap = |world: &World| world.joints()[0].separation(world.bodies()).expect("gap").length();
-    let mut before = gap(&world);
-    assert!((before - 0.1).abs() < 1e-5, "the drift is {before} m, not 10 cm");
-    let mut closed_at = None;
-    for step in 1..=10 {
-        world.step();
-        let now = gap(&world);
-        assert!(now >= before - reach - 1e-4, "step {step}: closed {} m, more than {reach} m", before - now);
-        if now < 1e-3 && closed_at.is_none() {
-            closed_at = Some(step);
-        }
-        before = now;
-    }
-    let closed_at = closed_at.expect("not closed to 1 mm within 10 steps");
+    let start = gap(&world);
+    assert!((start - 0.1).abs() < 1e-5, "the drift is {start} m, not 10 cm");
+    let closed_at = steps_to_close(&mut world, 10, gap, reach + 1e-4).expect("not closed to 1 mm within 10 steps");
     assert!(closed_at >= 6, "closed by step {closed_at}: faster than 1 m/s");
 
     let unbounded = WorldSettings { joint_correction_speed: 1e6, ..free_space() };
@@ -68,19 +75,9 @@ fn a_twisted_rigid_joint_turns_back_at_the_correction_spin() {
     let twist = Quat::from_rotation_z(0.5);
     let mut world = drifted_pair(settings, JointKind::Rigid, Vec3::ZERO, twist);
     let angle = |world: &World| world.joints()[0].deviation(world.bodies()).expect("deviation").length();
-    let mut before = angle(&world);
-    assert!((before - 0.5).abs() < 1e-4, "the twist is {before} rad, not 0.5");
-    let mut back_at = None;
-    for step in 1..=15 {
-        world.step();
-        let now = angle(&world);
-        assert!(now >= before - turn - 1e-3, "step {step}: turned back {} rad, more than {turn}", before - now);
-        if now < 1e-3 && back_at.is_none() {
-            back_at = Some(step);
-        }
-        before = now;
-    }
-    let back_at = back_at.expect("not back within 1 mrad in 15 steps");
+    let start = angle(&world);
+    assert!((start - 0.5).abs() < 1e-4, "the twist is {start} rad, not 0.5");
+    let back_at = steps_to_close(&mut world, 15, angle, turn + 1e-3).expect("not back within 1 mrad in 15 steps");
     assert!(back_at >= 9, "back by step {back_at}: faster than π rad/s");
     let spins: Vec<Vec3> = world.bodies().iter().map(|b| b.angular_velocity).collect();
     assert!((spins[0] - spins[1]).length() < 1e-3, "the halves spin apart: {spins:?}");

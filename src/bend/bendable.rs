@@ -112,6 +112,12 @@ impl BendableDesc {
         }
     }
 
+    /// Whether sub-bodies can collide as `collider` fitted to their parts: a convex hull (also
+    /// [`Auto`](ColliderKind::Auto)) or a capsule.
+    pub fn fits_parts(collider: ColliderKind) -> bool {
+        matches!(collider, ColliderKind::Auto | ColliderKind::ConvexHull | ColliderKind::Capsule)
+    }
+
     /// Checks every number (not the skeleton, see [`build_skeleton`](Self::build_skeleton)).
     ///
     /// # Errors
@@ -139,7 +145,7 @@ impl BendableDesc {
         if !(self.density.is_finite() && self.density > 0.0) {
             return Err(invalid("density", self.density.to_string(), "must be finite and > 0"));
         }
-        if !matches!(self.collider, ColliderKind::Auto | ColliderKind::ConvexHull | ColliderKind::Capsule) {
+        if !Self::fits_parts(self.collider) {
             let reason = "a sub-body collides with its part's convex hull or a capsule fitted to it";
             return Err(invalid("collider", format!("{:?}", self.collider), reason));
         }

@@ -17,7 +17,7 @@ use crate::bend::{
     WeightParams, auto_skeleton,
 };
 use crate::mesh::TriMesh;
-use crate::sim::{BodyKind, ColliderKind, JointKind, SimError};
+use crate::sim::{BodyKind, JointKind, SimError};
 
 /// One `[[body]]` with a `[body.bend]` table → a bending body's description.
 pub(super) fn bendable_desc(
@@ -75,9 +75,7 @@ fn refuse_rigid_only_fields(src: &Source<'_>, body: &BodyFile, name: &str) -> Re
         let message = "a bending body (with [body.bend]) must be \"dynamic\"";
         return Err(src.error_at(kind.span(), Some(name), "kind", message));
     }
-    let fits_parts =
-        |c: &ColliderKind| matches!(c, ColliderKind::Auto | ColliderKind::ConvexHull | ColliderKind::Capsule);
-    if let Some(collider) = body.collider.as_ref().filter(|c| !fits_parts(c.get_ref())) {
+    if let Some(collider) = body.collider.as_ref().filter(|c| !BendableDesc::fits_parts(*c.get_ref())) {
         let message = "a bending body's parts collide as convex hulls or capsules fitted to them: \
                        \"auto\", \"convex-hull\" or \"capsule\"";
         return Err(src.error_at(collider.span(), Some(name), "collider", message));

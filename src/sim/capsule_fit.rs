@@ -5,7 +5,7 @@
 use glam::Vec3;
 use parry3d::shape::SharedShape;
 
-use super::principal_axis::{symmetric_eigen, vertex_covariance};
+use super::principal_axis::{dominant_axis, vertex_covariance};
 use crate::mesh::TriMesh;
 
 /// The segment and radius of the capsule fitted to a mesh's vertices `points` (m), `None` when
@@ -21,12 +21,7 @@ pub(crate) fn fit_capsule(points: &[Vec3]) -> Option<(Vec3, Vec3, f32)> {
         return None;
     }
     let (mean, covariance) = vertex_covariance(points);
-    let (values, vectors) = symmetric_eigen(covariance);
-    let largest = (0..3).max_by(|&a, &b| values[a].total_cmp(&values[b]))?;
-    if values[largest].is_nan() || values[largest] <= 0.0 {
-        return None;
-    }
-    let axis = vectors.col(largest).normalize().as_vec3();
+    let axis = dominant_axis(covariance)?.as_vec3();
     let (mut low, mut high, mut radius) = (f32::INFINITY, f32::NEG_INFINITY, 0.0f32);
     for &p in points {
         let offset = p - mean;

@@ -18,15 +18,21 @@ pub(crate) fn principal_axis(mesh: &TriMesh) -> Option<(Vec3, Vec3)> {
         }
         None => vertex_covariance(mesh.positions()),
     };
-    let (values, vectors) = symmetric_eigen(covariance);
-    let largest = (0..3).max_by(|&a, &b| values[a].total_cmp(&values[b])).unwrap_or(0);
-    if values[largest].is_nan() || values[largest] <= 0.0 {
-        return None;
-    }
-    let axis = vectors.col(largest).normalize();
+    let axis = dominant_axis(covariance)?;
     let flip = axis.to_array().iter().copied().max_by(|a, b| a.abs().total_cmp(&b.abs())).unwrap_or(1.0) < 0.0;
     let axis = if flip { -axis } else { axis };
     Some((centre, axis.as_vec3()))
+}
+
+/// Unit eigenvector of the largest eigenvalue of `covariance` (either sign), `None` when that
+/// eigenvalue is not positive (no spread).
+pub(crate) fn dominant_axis(covariance: DMat3) -> Option<DVec3> {
+    let (values, vectors) = symmetric_eigen(covariance);
+    let largest = (0..3).max_by(|&a, &b| values[a].total_cmp(&values[b]))?;
+    if values[largest].is_nan() || values[largest] <= 0.0 {
+        return None;
+    }
+    Some(vectors.col(largest).normalize())
 }
 
 /// Mean of the points and their covariance about it, m and m².

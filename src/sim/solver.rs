@@ -99,7 +99,7 @@ fn constraint(
     let (t1, t2) = normal.any_orthonormal_pair();
     // The rolling radius: the shorter lever, so a ball on a large slab rolls on its own radius.
     let radius = ra.length().min(rb.length());
-    let masses = [normal, t1, t2].map(|d| effective_mass(&bodies[a], &bodies[b], ra, rb, d));
+    let masses = effective_masses(&bodies[a], &bodies[b], ra, rb, [normal, t1, t2]);
     Constraint {
         pair,
         a,
@@ -143,6 +143,11 @@ fn velocity_at(body: &SolverBody, r: Vec3) -> Vec3 {
     body.linear + body.angular.cross(r)
 }
 
+/// [`effective_mass`] along each of `directions` (normal, tangents), kg.
+fn effective_masses(a: &SolverBody, b: &SolverBody, ra: Vec3, rb: Vec3, directions: [Vec3; 3]) -> [f32; 3] {
+    directions.map(|d| effective_mass(a, b, ra, rb, d))
+}
+
 /// 1 / (effective inverse mass along `direction` at the contact), 0 when both bodies are fixed.
 fn effective_mass(a: &SolverBody, b: &SolverBody, ra: Vec3, rb: Vec3, direction: Vec3) -> f32 {
     let angular = |body: &SolverBody, r: Vec3| {
@@ -175,9 +180,7 @@ fn solve(bodies: &mut [SolverBody], c: &mut Constraint, target: f32, frozen: Opt
     });
     let masses = match saved {
         // The frozen body's mass is gone for this visit.
-        Some(_) => {
-            [c.normal, c.tangents[0], c.tangents[1]].map(|d| effective_mass(&bodies[c.a], &bodies[c.b], c.ra, c.rb, d))
-        }
+        Some(_) => effective_masses(&bodies[c.a], &bodies[c.b], c.ra, c.rb, [c.normal, c.tangents[0], c.tangents[1]]),
         None => c.masses,
     };
     solve_normal_and_friction(bodies, c, target, masses);

@@ -174,11 +174,9 @@ impl World {
         Aabb { min: aabb.mins - grow, max: aabb.maxs + grow }
     }
 
-    /// Pairs that cannot interact: neither body free to move, or joined by a joint.
+    /// Pairs of simulated bodies that cannot interact: neither body free to move, or joined by
+    /// a joint (condensed bodies never reach the sweep).
     fn skip_pair(&self, i: usize, j: usize) -> bool {
-        if !self.bodies[i].is_simulated() || !self.bodies[j].is_simulated() {
-            return true;
-        }
         let still = |b: &RigidBody| b.kind == BodyKind::Static || (b.kind == BodyKind::Dynamic && b.activity.asleep);
         still(&self.bodies[i]) && still(&self.bodies[j])
             || !moves(&self.bodies[i]) && !moves(&self.bodies[j])
