@@ -164,7 +164,7 @@ impl Bending {
                     condenser.wake(world, &woken)?;
                 }
                 self.split(world, hits)?;
-                detected = world.detect();
+                detected = world.redetect(detected);
             }
         }
         let report = world.advance(detected);

@@ -16,6 +16,7 @@
 
 use glam::Vec3;
 
+use super::contact_parts::Parts;
 use super::joints::{self, Joint};
 use super::solver::{self, Constraint, SolverBody};
 use super::union_find::UnionFind;
@@ -31,18 +32,28 @@ const ENERGY_GAIN: f64 = 0.05;
 /// millijoule is a 10 kg body moving at 1.4 cm/s.
 const ENERGY_FLOOR: f64 = 1e-3;
 
-/// Runs the rounds on the constraints `jointed` (the contacts of jointed bodies), changing
-/// `solver` velocities, `constraints` impulses and `joints`' accumulated impulses; returns how
-/// many islands were put back because the rounds raised their energy.
+/// The step's contacts as the rounds see them.
+pub(crate) struct JointedContacts<'a> {
+    /// Every contact constraint of the step, in the order of `parts`.
+    pub constraints: &'a mut [Constraint],
+    /// How the sweeps split the constraints (see `contact_parts`).
+    pub parts: &'a Parts,
+    /// The constraints on jointed bodies (indices, increasing).
+    pub jointed: &'a [usize],
+}
+
+/// Runs the rounds on the jointed contacts, changing `solver` velocities, the constraints'
+/// impulses and `joints`' accumulated impulses; returns how many islands were put back because
+/// the rounds raised their energy.
 pub(crate) fn joint_contact_rounds(
     joints: &mut [Joint],
     bodies: &[RigidBody],
     solver: &mut [SolverBody],
-    constraints: &mut [Constraint],
+    contacts: JointedContacts,
     pseudo: &mut [(Vec3, Vec3)],
-    jointed: &[usize],
     settings: &WorldSettings,
 ) -> usize {
+    let JointedContacts { constraints, parts, jointed } = contacts;
     if jointed.is_empty() {
         return 0;
     }
@@ -52,7 +63,7 @@ pub(crate) fn joint_contact_rounds(
         impulses: joints.iter().map(|j| (j.accumulated, j.clamped)).collect(),
     };
     for _ in 0..ROUNDS {
-        solver::contact_sweeps(solver, constraints, jointed, settings, settings.contact_iterations / 2);
+        solver::contact_sweeps(solver, constraints, parts, jointed, settings, settings.contact_iterations / 2);
         // Joints that still hold after the sweeps push nothing more into the contacts.
         if joints::prestabilize(joints, bodies, solver, pseudo, settings, false, 1) == 0 {
             break;

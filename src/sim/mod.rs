@@ -7,6 +7,7 @@ mod broad_phase;
 mod capsule_fit;
 mod cluster;
 mod collider;
+mod contact_parts;
 mod contacts;
 mod dent_impact;
 mod dent_settings;

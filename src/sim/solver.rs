@@ -2,10 +2,11 @@
 //! collision phase (restitution) on contacts the step would close, then — after gravity — an
 //! inelastic contact phase that stops penetration, its last sweep with shock propagation. Both
 //! phases apply Coulomb friction; the contact phase also rolling resistance. Sequential impulses
-//! with accumulated, clamped magnitudes.
+//! with accumulated, clamped magnitudes. Each sweep runs part by part (see `contact_parts`).
 
 use glam::{Mat3, Vec3};
 
+use super::contact_parts::Parts;
 use super::{ContactPoint, PairContacts, WorldSettings};
 
 /// Velocities and inverse mass of one body during a step.
@@ -253,51 +254,64 @@ fn solve_rolling(bodies: &mut [SolverBody], c: &mut Constraint) {
 }
 
 /// The collision phase: restitution impulses on the contacts the step closes.
-pub(crate) fn collide(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &WorldSettings) {
-    for _ in 0..settings.collision_iterations {
-        for c in constraints.iter_mut().filter(|c| c.colliding) {
-            let bounce = if -c.approach > settings.restitution_threshold { -c.restitution * c.approach } else { 0.0 };
-            solve(bodies, c, bounce, None, false);
-        }
-    }
+pub(crate) fn collide(
+    bodies: &mut [SolverBody],
+    constraints: &mut [Constraint],
+    parts: &Parts,
+    settings: &WorldSettings,
+) {
+    let colliding: Vec<usize> = (0..constraints.len()).filter(|&k| constraints[k].colliding).collect();
+    let threshold = settings.restitution_threshold;
+    parts.sweeps(bodies, constraints, &colliding, settings.collision_iterations as usize, |bodies, c| {
+        let bounce = if -c.approach > threshold { -c.restitution * c.approach } else { 0.0 };
+        solve(bodies, c, bounce, None, false);
+    });
+}
+
+/// The contact phase's goal for a contact's normal velocity: a gap may close within the step
+/// but no further (speculative); overlap is removed by the split position correction, never by
+/// velocity (which would pump energy into a pile), m/s.
+fn closing_goal(c: &Constraint, dt: f32) -> f32 {
+    (-c.distance / dt).min(0.0)
 }
 
 /// The contact phase: impulses that keep every contact from closing further than its gap,
 /// starting from each contact's warm-start impulses (last step's, see `warm_start`).
-pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint], settings: &WorldSettings) {
+pub(crate) fn contact(
+    bodies: &mut [SolverBody],
+    constraints: &mut [Constraint],
+    parts: &Parts,
+    settings: &WorldSettings,
+) {
     let dt = settings.dt;
-    for c in constraints.iter_mut() {
-        c.normal_impulse = c.warm_normal;
-        c.tangent_impulse = c.warm_tangent;
-        c.rolling_impulse = c.warm_rolling;
-        let start = c.normal * c.warm_normal + c.tangents[0] * c.warm_tangent[0] + c.tangents[1] * c.warm_tangent[1];
-        apply(bodies, c, start);
-        let (a, b) = (c.a, c.b);
-        bodies[a].angular -= bodies[a].inverse_inertia * c.warm_rolling;
-        bodies[b].angular += bodies[b].inverse_inertia * c.warm_rolling;
-    }
-    // Speculative: a gap may close within the step but no further; overlap is removed by the
-    // split position correction, never by velocity (which would pump energy into a pile).
-    let target = |c: &Constraint| (-c.distance / dt).min(0.0);
-    let iterations = settings.contact_iterations;
-    for iteration in 0..iterations {
-        let last = iteration + 1 == iterations;
-        if last && settings.shock_propagation {
-            // Bottom-up, each pair's lower body fixed: a stack's top cannot push its base down.
-            let order = shock_order(bodies, constraints);
-            for k in order {
-                let c = &mut constraints[k];
-                let goal = target(c);
-                let frozen = frozen_body(bodies, c);
-                solve(bodies, c, goal, frozen, true);
-            }
-        } else {
-            for c in constraints.iter_mut() {
-                let goal = target(c);
-                solve(bodies, c, goal, None, true);
-            }
+    let all: Vec<usize> = (0..constraints.len()).collect();
+    parts.sweeps(bodies, constraints, &all, 1, warm_start);
+    let iterations = settings.contact_iterations as usize;
+    let shock = usize::from(settings.shock_propagation);
+    parts.sweeps(bodies, constraints, &all, iterations - shock, |bodies, c| {
+        solve(bodies, c, closing_goal(c, dt), None, true);
+    });
+    if shock == 1 {
+        // Bottom-up, each pair's lower body fixed: a stack's top cannot push its base down.
+        for k in shock_order(bodies, constraints) {
+            let c = &mut constraints[k];
+            let frozen = frozen_body(bodies, c);
+            solve(bodies, c, closing_goal(c, dt), frozen, true);
         }
     }
+}
+
+/// Starts a contact from its warm-start impulses: they become its accumulated impulses and are
+/// applied to its bodies.
+fn warm_start(bodies: &mut [SolverBody], c: &mut Constraint) {
+    c.normal_impulse = c.warm_normal;
+    c.tangent_impulse = c.warm_tangent;
+    c.rolling_impulse = c.warm_rolling;
+    let start = c.normal * c.warm_normal + c.tangents[0] * c.warm_tangent[0] + c.tangents[1] * c.warm_tangent[1];
+    apply(bodies, c, start);
+    let (a, b) = (c.a, c.b);
+    bodies[a].angular -= bodies[a].inverse_inertia * c.warm_rolling;
+    bodies[b].angular += bodies[b].inverse_inertia * c.warm_rolling;
 }
 
 /// More contact-phase sweeps over the constraints `only` (indices), continuing from their
@@ -306,18 +320,15 @@ pub(crate) fn contact(bodies: &mut [SolverBody], constraints: &mut [Constraint],
 pub(crate) fn contact_sweeps(
     bodies: &mut [SolverBody],
     constraints: &mut [Constraint],
+    parts: &Parts,
     only: &[usize],
     settings: &WorldSettings,
     iterations: u32,
 ) {
     let dt = settings.dt;
-    for _ in 0..iterations {
-        for &k in only {
-            let c = &mut constraints[k];
-            let goal = (-c.distance / dt).min(0.0);
-            solve(bodies, c, goal, None, true);
-        }
-    }
+    parts.sweeps(bodies, constraints, only, iterations as usize, |bodies, c| {
+        solve(bodies, c, closing_goal(c, dt), None, true);
+    });
 }
 
 /// Whether the body is fixed during the step (static, kinematic or asleep: no inverse mass).
@@ -339,13 +350,14 @@ fn shock_height(bodies: &[SolverBody], c: &Constraint) -> f32 {
 /// Shock propagation's visiting order: bottom-up by [`shock_height`]; at the same height the
 /// contacts with fixed bodies first, so a body's velocity is final before it is frozen.
 fn shock_order(bodies: &[SolverBody], constraints: &[Constraint]) -> Vec<usize> {
-    let key = |c: &Constraint| (shock_height(bodies, c), !(fixed(&bodies[c.a]) || fixed(&bodies[c.b])));
-    let mut order: Vec<usize> = (0..constraints.len()).collect();
-    order.sort_by(|&i, &j| {
-        let (x, y) = (key(&constraints[i]), key(&constraints[j]));
-        x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(i.cmp(&j))
-    });
-    order
+    // Keys computed once: (height, both bodies moving, index), a total order.
+    let mut keyed: Vec<(f32, bool, usize)> = constraints
+        .iter()
+        .enumerate()
+        .map(|(k, c)| (shock_height(bodies, c), !(fixed(&bodies[c.a]) || fixed(&bodies[c.b])), k))
+        .collect();
+    keyed.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
+    keyed.into_iter().map(|(_, _, k)| k).collect()
 }
 
 /// The body shock propagation freezes for a contact: the lower one when both move, none when
@@ -366,6 +378,7 @@ fn frozen_body(bodies: &[SolverBody], c: &Constraint) -> Option<usize> {
 pub(crate) fn position_correction(
     bodies: &[SolverBody],
     constraints: &mut [Constraint],
+    parts: &Parts,
     settings: &WorldSettings,
 ) -> Vec<(Vec3, Vec3)> {
     let mut pseudo: Vec<SolverBody> =
@@ -380,16 +393,14 @@ pub(crate) fn position_correction(
         for &k in &overlapping {
             constraints[k].normal_impulse = 0.0;
         }
-        for _ in 0..settings.contact_iterations {
-            for &k in &overlapping {
-                let c = &mut constraints[k];
-                let push = settings.baumgarte * (-c.distance - settings.slop) / settings.dt;
-                let friction = std::mem::replace(&mut c.friction, 0.0);
-                let masses = c.masses;
-                solve_normal_and_friction(&mut pseudo, c, push, masses);
-                c.friction = friction;
-            }
-        }
+        let (baumgarte, slop, dt) = (settings.baumgarte, settings.slop, settings.dt);
+        parts.sweeps(&mut pseudo, constraints, &overlapping, settings.contact_iterations as usize, |pseudo, c| {
+            let push = baumgarte * (-c.distance - slop) / dt;
+            let friction = std::mem::replace(&mut c.friction, 0.0);
+            let masses = c.masses;
+            solve_normal_and_friction(pseudo, c, push, masses);
+            c.friction = friction;
+        });
         // The pseudo impulses are not physical: the constraints keep the step's real ones.
         for (&k, (total, tangent, normal)) in overlapping.iter().zip(saved) {
             constraints[k].total = total;

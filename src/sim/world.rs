@@ -18,6 +18,8 @@ use super::{BodyDesc, RigidBody, SimError};
 mod world_cluster;
 #[path = "world_edit.rs"]
 mod world_edit;
+#[path = "world_redetect.rs"]
+mod world_redetect;
 #[path = "world_step.rs"]
 mod world_step;
 

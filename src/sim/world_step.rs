@@ -7,26 +7,35 @@ use std::time::Instant;
 
 use glam::{Quat, Vec3};
 
+use super::super::contact_parts::Parts;
+use super::super::joint_rounds::JointedContacts;
 use super::super::joints;
 use super::super::solver::{self, Constraint, SolverBody};
 use super::super::{Aabb, BodyKind, CollisionEvent, PairContacts, RigidBody, StepReport};
 use super::super::{broad_phase, contacts, joint_rounds, sleep};
 use super::World;
+use super::world_redetect::Seen;
 
 /// What the first half of a step found ([`World::detect`]), to be finished by
 /// [`World::advance`] on the same state.
 #[derive(Debug)]
 pub(crate) struct Detection {
     /// The world's step count and body count when detected (a stale detection is refused).
-    step: u64,
-    bodies: usize,
+    pub(super) step: u64,
+    pub(super) bodies: usize,
     started: Instant,
     /// Bounding radius of each body about its centre of mass, m.
     radius: Vec<f32>,
-    broad_pairs: usize,
-    found: Vec<PairContacts>,
+    /// The broad phase's pairs, sorted.
+    pub(super) pairs: Vec<(usize, usize)>,
+    /// Each pair's contacts, in pair order (pairs without points left out).
+    pub(super) found: Vec<PairContacts>,
+    /// What each body was when its contacts were found (see `world_redetect`).
+    pub(super) seen: Vec<Seen>,
     solver_bodies: Vec<SolverBody>,
+    /// The contact constraints, reordered part by part (see `contact_parts`).
     constraints: Vec<Constraint>,
+    parts: Parts,
 }
 
 impl World {
@@ -43,24 +52,55 @@ impl World {
     /// again.
     pub(crate) fn detect(&mut self) -> Detection {
         let started = Instant::now();
-        let s = self.settings;
-        // Bounding radius about the centre of mass, m: rim speed = |ω| × radius (static: unused).
-        let radius: Vec<f32> = self
-            .bodies
-            .iter()
-            .map(|b| if b.kind == BodyKind::Static { 0.0 } else { b.shape.compute_local_bounding_sphere().radius })
-            .collect();
-        let reach: Vec<f32> = self.bodies.iter().zip(&radius).map(|(b, &r)| self.reach(b, r)).collect();
+        let (radius, reach) = self.extents();
         // Bodies condensed into a cluster collide through its proxy: only the simulated ones are
         // swept (in increasing index order, so pairs map back sorted).
-        let live: Vec<usize> = (0..self.bodies.len()).filter(|&i| self.bodies[i].is_simulated()).collect();
+        let live = self.live();
         let boxes: Vec<Aabb> = live.iter().map(|&i| self.swept_box(&self.bodies[i], reach[i])).collect();
         let pairs: Vec<(usize, usize)> =
             broad_phase::overlapping_pairs(&boxes, |a, b| self.skip_pair(live[a], live[b]))
                 .into_iter()
                 .map(|(a, b)| (live[a], live[b]))
                 .collect();
-        let found = contacts::find_contacts(&self.bodies, &pairs, |i, j| s.margin + reach[i] + reach[j]);
+        let found = self.contacts_of(&pairs, &reach);
+        self.finish_detection(started, radius, pairs, found)
+    }
+
+    /// Each body's bounding radius about its centre of mass (0 for static bodies; rim speed =
+    /// |ω| × radius) and [`reach`](Self::reach) this step, m.
+    pub(super) fn extents(&self) -> (Vec<f32>, Vec<f32>) {
+        let radius: Vec<f32> = self
+            .bodies
+            .iter()
+            .map(|b| if b.kind == BodyKind::Static { 0.0 } else { b.shape.compute_local_bounding_sphere().radius })
+            .collect();
+        let reach: Vec<f32> = self.bodies.iter().zip(&radius).map(|(b, &r)| self.reach(b, r)).collect();
+        (radius, reach)
+    }
+
+    /// The simulated bodies, increasing.
+    pub(super) fn live(&self) -> Vec<usize> {
+        (0..self.bodies.len()).filter(|&i| self.bodies[i].is_simulated()).collect()
+    }
+
+    /// The narrow phase on `pairs`, each within the margin plus both bodies' `reach`.
+    pub(super) fn contacts_of(&self, pairs: &[(usize, usize)], reach: &[f32]) -> Vec<PairContacts> {
+        let margin = self.settings.margin;
+        contacts::find_contacts(&self.bodies, pairs, |i, j| margin + reach[i] + reach[j])
+    }
+
+    /// The rest of a detection once the pairs and their contacts are known: what the bodies
+    /// are now, sleeping bodies that moving ones touch woken, and the contacts' constraints.
+    pub(super) fn finish_detection(
+        &mut self,
+        started: Instant,
+        radius: Vec<f32>,
+        pairs: Vec<(usize, usize)>,
+        found: Vec<PairContacts>,
+    ) -> Detection {
+        let s = self.settings;
+        // Before waking: a body woken here has changed since its contacts were found.
+        let seen = self.bodies.iter().map(Seen::of).collect();
         self.wake_touched(&found, &radius);
         joints::sync_sleep(&self.joints, &mut self.bodies);
         let up = -s.gravity.normalize_or(Vec3::NEG_Y);
@@ -69,16 +109,19 @@ impl World {
             let (a, b) = (&self.bodies[i].surface, &self.bodies[j].surface);
             (a.restitution.max(b.restitution), (a.friction * b.friction).sqrt(), s.rolling_resistance)
         };
-        let constraints = solver::constraints(&found, &solver_bodies, s.dt, surface);
+        let mut constraints = solver::constraints(&found, &solver_bodies, s.dt, surface);
+        let parts = Parts::split(&mut constraints, &solver_bodies);
         Detection {
             step: self.steps,
             bodies: self.bodies.len(),
             started,
             radius,
-            broad_pairs: pairs.len(),
+            pairs,
             found,
+            seen,
             solver_bodies,
             constraints,
+            parts,
         }
     }
 
@@ -95,32 +138,26 @@ impl World {
             detected.step == self.steps && detected.bodies == self.bodies.len(),
             "a detection is finished on the state it was made from"
         );
-        let Detection { started, radius, broad_pairs, found, mut solver_bodies, mut constraints, .. } = detected;
+        let Detection { started, radius, pairs, found, mut solver_bodies, mut constraints, parts, .. } = detected;
+        let broad_pairs = pairs.len();
         let s = self.settings;
         self.cache.seed(&mut constraints, |i| self.bodies[i].orientation);
-        solver::collide(&mut solver_bodies, &mut constraints, &s);
+        solver::collide(&mut solver_bodies, &mut constraints, &parts, &s);
         for (body, sb) in self.bodies.iter().zip(solver_bodies.iter_mut()) {
             if moves_freely(body) {
                 sb.linear += s.gravity * s.dt;
             }
         }
         joints::apply_springs(&mut self.joints, &self.bodies, &mut solver_bodies, &s);
-        solver::contact(&mut solver_bodies, &mut constraints, &s);
-        let mut pseudo = solver::position_correction(&solver_bodies, &mut constraints, &s);
+        solver::contact(&mut solver_bodies, &mut constraints, &parts, &s);
+        let mut pseudo = solver::position_correction(&solver_bodies, &mut constraints, &parts, &s);
         // With jointed contacts, the joint-contact rounds follow and finish with a full pass.
         let jointed = self.jointed_contacts(&constraints);
         let newton = if jointed.is_empty() { joints::NEWTON } else { 1 };
         joints::prestabilize(&mut self.joints, &self.bodies, &mut solver_bodies, &mut pseudo, &s, true, newton);
         let (joints, bodies) = (&mut self.joints, &self.bodies);
-        joint_rounds::joint_contact_rounds(
-            joints,
-            bodies,
-            &mut solver_bodies,
-            &mut constraints,
-            &mut pseudo,
-            &jointed,
-            &s,
-        );
+        let contacts = JointedContacts { constraints: &mut constraints, parts: &parts, jointed: &jointed };
+        joint_rounds::joint_contact_rounds(joints, bodies, &mut solver_bodies, contacts, &mut pseudo, &s);
         self.cache.store(&constraints, |i| self.bodies[i].orientation);
         let events = events(&found, &constraints, |body, part| self.member_hit(body, part));
         self.integrate(&solver_bodies, &pseudo);
@@ -168,7 +205,7 @@ impl World {
     }
 
     /// The body's box grown by the margin and by `reach`, how far it can move in one step.
-    fn swept_box(&self, body: &RigidBody, reach: f32) -> Aabb {
+    pub(super) fn swept_box(&self, body: &RigidBody, reach: f32) -> Aabb {
         let aabb = body.shape.compute_aabb(&contacts::pose(body));
         let grow = Vec3::splat(self.settings.margin + reach);
         Aabb { min: aabb.mins - grow, max: aabb.maxs + grow }
@@ -176,7 +213,7 @@ impl World {
 
     /// Pairs of simulated bodies that cannot interact: neither body free to move, or joined by
     /// a joint (condensed bodies never reach the sweep).
-    fn skip_pair(&self, i: usize, j: usize) -> bool {
+    pub(super) fn skip_pair(&self, i: usize, j: usize) -> bool {
         let still = |b: &RigidBody| b.kind == BodyKind::Static || (b.kind == BodyKind::Dynamic && b.activity.asleep);
         still(&self.bodies[i]) && still(&self.bodies[j])
             || !moves(&self.bodies[i]) && !moves(&self.bodies[j])
@@ -254,22 +291,26 @@ fn solver_body(body: &RigidBody, up: Vec3) -> SolverBody {
     }
 }
 
-/// One event per pair with a closing contact: impulse-weighted point, the pair's normal, the
-/// relative velocity there before the step. A cluster's proxy is reported as the member hit
-/// (`member(body, part)`, the part of the closest contact), a before b in index order.
+/// One event per pair with a closing contact, in pair order: impulse-weighted point, the pair's
+/// normal, the relative velocity there before the step. A cluster's proxy is reported as the
+/// member hit (`member(body, part)`, the part of the closest contact), a before b in index order.
 fn events(
     found: &[PairContacts],
     constraints: &[solver::Constraint],
     member: impl Fn(usize, u32) -> usize,
 ) -> Vec<CollisionEvent> {
-    let mut out = Vec::new();
-    let mut k = 0;
-    for (pair, contact) in found.iter().enumerate() {
-        let start = k;
-        while k < constraints.len() && constraints[k].pair == pair {
-            k += 1;
+    // A pair's constraints are contiguous and in point order, though the parts reorder pairs.
+    let mut spans = vec![0..0; found.len()];
+    let mut start = 0;
+    for k in 1..=constraints.len() {
+        if k == constraints.len() || constraints[k].pair != constraints[start].pair {
+            spans[constraints[start].pair] = start..k;
+            start = k;
         }
-        let mine = &constraints[start..k];
+    }
+    let mut out = Vec::new();
+    for (contact, span) in found.iter().zip(spans) {
+        let mine = &constraints[span];
         let Some((closest_index, closest)) =
             mine.iter().enumerate().filter(|(_, c)| c.colliding).min_by(|x, y| x.1.approach.total_cmp(&y.1.approach))
         else {
