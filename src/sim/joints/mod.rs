@@ -4,6 +4,7 @@
 //! it), with the paper's plastic (§4.1) and elastic (§4.3) joints for bending.
 
 mod band;
+mod batches;
 mod elastic;
 mod groups;
 mod joint;

@@ -19,14 +19,12 @@
 //! at the start of the step is closed at most at the world's `joint_correction_speed` and
 //! `joint_correction_spin`; the rest is left for the following steps (see [`Prediction::slack`]).
 
-use glam::Vec3;
-use rayon::prelude::*;
-
 use super::solve::{self, Rows};
 use super::system::{self, Frame, Mobility, Motion};
-use super::{Joint, poststabilize, rotation_vector};
+use super::{Joint, batches, poststabilize, rotation_vector};
 use crate::sim::solver::SolverBody;
 use crate::sim::{RigidBody, WorldSettings};
+use glam::Vec3;
 
 /// Most Newton iterations of a pre-stabilization pass that must leave the joints holding.
 pub(crate) const NEWTON: usize = 8;
@@ -79,75 +77,17 @@ pub(crate) fn prestabilize(
     if groups.is_empty() {
         return 0;
     }
-    // Groups share no body that takes impulses: they are solved in parallel, in a few batches
-    // of similar size, each on its own copy of the velocities and of its own joints (numbered
-    // from 0 in group order).
-    let batches = batches(&groups, rayon::current_num_threads());
-    let shared: &[Joint] = joints;
-    let solved: Vec<(Solved, usize)> = batches
-        .par_iter()
-        .map(|batch| {
-            let mut v = v.clone();
-            let mut local: Vec<Joint> = Vec::new();
-            let local_groups: Vec<Vec<usize>> = batch
-                .iter()
-                .map(|&g| {
-                    let first = local.len();
-                    local.extend(groups[g].iter().map(|&k| shared[k].clone()));
-                    (first..local.len()).collect()
-                })
-                .collect();
-            let slack = slack(&local, bodies, &mob, settings);
-            let step = Prediction { bodies, mob: &mob, extra: &extra, slack: &slack, dt };
-            let mut rows: Vec<Option<Rows>> = (0..local.len()).map(|_| None).collect();
-            let stepped = local_groups
-                .iter()
-                .filter(|group| newton(&mut local, group, &step, &mut v, &mut rows, newton_budget))
-                .count();
-            let moved = local.iter().flat_map(|joint| [joint.a, joint.b]);
-            let moved: Vec<(usize, Motion)> =
-                moved.filter(|&i| system::takes_impulses(&mob[i])).map(|i| (i, v[i])).collect();
-            ((moved, local), stepped)
-        })
-        .collect();
-    let stepped = solved.iter().map(|(_, stepped)| stepped).sum();
-    for (batch, ((moved, local), _)) in batches.iter().zip(solved) {
-        for (i, m) in moved {
-            v[i] = m;
-        }
-        let global = batch.iter().flat_map(|&g| &groups[g]);
-        for (&k, joint) in global.zip(local) {
-            joints[k] = joint;
-        }
-    }
+    let stepped = batches::in_batches(joints, &groups, &mob, &mut v, |local, local_groups, v| {
+        let slack = slack(local, bodies, &mob, settings);
+        let step = Prediction { bodies, mob: &mob, extra: &extra, slack: &slack, dt };
+        let mut rows: Vec<Option<Rows>> = (0..local.len()).map(|_| None).collect();
+        local_groups.iter().filter(|group| newton(local, group, &step, v, &mut rows, newton_budget)).count()
+    });
     for (b, m) in solver.iter_mut().zip(&v) {
         b.linear = m.linear;
         b.angular = m.angular;
     }
     stepped
-}
-
-/// What a batch of groups changed: the velocities of its bodies that take impulses and its
-/// joints in group order (their accumulated impulses and clamps).
-type Solved = (Vec<(usize, Motion)>, Vec<Joint>);
-
-/// `groups` (indices) split into at most `count` batches of about equal joint counts, in order.
-fn batches(groups: &[Vec<usize>], count: usize) -> Vec<Vec<usize>> {
-    let total: usize = groups.iter().map(Vec::len).sum();
-    let share = total.div_ceil(count.max(1)).max(1);
-    let mut out: Vec<Vec<usize>> = vec![Vec::new()];
-    let mut filled = 0;
-    for (g, group) in groups.iter().enumerate() {
-        if filled >= share {
-            out.push(Vec::new());
-            filled = 0;
-        }
-        if let Some(batch) = out.last_mut() {
-            batch.push(g);
-        }
-        filled += group.len();
-    }
-    out
 }
 
 /// What the joints' predicted errors depend on besides the velocities.
