@@ -49,6 +49,10 @@ pub(crate) struct Constraint {
     /// Effective masses along the normal and the two tangents, kg (the bodies' masses and
     /// world inertias are fixed within a step), 0 when both bodies are fixed.
     masses: [f32; 3],
+    /// Per body (a, b), its angular velocity change per unit impulse on b along the normal and
+    /// the two tangents (I⁻¹ (r × d), a's negated when applied), rad/s per N·s: a visit applies
+    /// impulses without multiplying by the inertia.
+    turns: [[Vec3; 3]; 2],
     normal_impulse: f32,
     tangent_impulse: [f32; 2],
     /// Accumulated rolling-resistance angular impulse on b (a gets the opposite), N·m·s.
@@ -101,6 +105,7 @@ fn constraint(
     // The rolling radius: the shorter lever, so a ball on a large slab rolls on its own radius.
     let radius = ra.length().min(rb.length());
     let masses = effective_masses(&bodies[a], &bodies[b], ra, rb, [normal, t1, t2]);
+    let turn = |body: &SolverBody, r: Vec3| [normal, t1, t2].map(|d| body.inverse_inertia * r.cross(d));
     Constraint {
         pair,
         a,
@@ -118,6 +123,7 @@ fn constraint(
         relative_velocity,
         colliding: approach < 0.0 && contact.distance + approach * dt <= 0.0,
         masses,
+        turns: [turn(&bodies[a], ra), turn(&bodies[b], rb)],
         normal_impulse: 0.0,
         tangent_impulse: [0.0; 2],
         rolling_impulse: Vec3::ZERO,
@@ -159,12 +165,21 @@ fn effective_mass(a: &SolverBody, b: &SolverBody, ra: Vec3, rb: Vec3, direction:
     if k > 0.0 { 1.0 / k } else { 0.0 }
 }
 
-fn apply(bodies: &mut [SolverBody], c: &mut Constraint, impulse: Vec3) {
-    let (a, b) = (c.a, c.b);
-    bodies[a].linear -= impulse * bodies[a].inverse_mass;
-    bodies[a].angular -= bodies[a].inverse_inertia * c.ra.cross(impulse);
-    bodies[b].linear += impulse * bodies[b].inverse_mass;
-    bodies[b].angular += bodies[b].inverse_inertia * c.rb.cross(impulse);
+/// Applies the impulse `amounts` (along the normal and the two tangents, N·s) to b and its
+/// opposite to a. Fixed bodies (no inverse mass, or frozen by shock propagation) do not move.
+fn apply(bodies: &mut [SolverBody], c: &mut Constraint, amounts: [f32; 3]) {
+    let impulse = c.normal * amounts[0] + c.tangents[0] * amounts[1] + c.tangents[1] * amounts[2];
+    let turn = |t: &[Vec3; 3]| t[0] * amounts[0] + t[1] * amounts[1] + t[2] * amounts[2];
+    let a = &mut bodies[c.a];
+    if a.inverse_mass > 0.0 {
+        a.linear -= impulse * a.inverse_mass;
+        a.angular -= turn(&c.turns[0]);
+    }
+    let b = &mut bodies[c.b];
+    if b.inverse_mass > 0.0 {
+        b.linear += impulse * b.inverse_mass;
+        b.angular += turn(&c.turns[1]);
+    }
     c.total += impulse;
 }
 
@@ -205,7 +220,7 @@ fn solve_normal_and_friction(bodies: &mut [SolverBody], c: &mut Constraint, targ
     let accumulated = (c.normal_impulse + (target - relative.dot(c.normal)) * mass).max(0.0);
     let delta = accumulated - c.normal_impulse;
     c.normal_impulse = accumulated;
-    apply(bodies, c, delta * c.normal);
+    apply(bodies, c, [delta, 0.0, 0.0]);
     if c.friction <= 0.0 {
         return;
     }
@@ -220,10 +235,9 @@ fn solve_normal_and_friction(bodies: &mut [SolverBody], c: &mut Constraint, targ
         let scale = limit / length;
         wanted = [wanted[0] * scale, wanted[1] * scale];
     }
-    let impulse =
-        c.tangents[0] * (wanted[0] - c.tangent_impulse[0]) + c.tangents[1] * (wanted[1] - c.tangent_impulse[1]);
+    let change = [0.0, wanted[0] - c.tangent_impulse[0], wanted[1] - c.tangent_impulse[1]];
     c.tangent_impulse = wanted;
-    apply(bodies, c, impulse);
+    apply(bodies, c, change);
 }
 
 /// Rolling resistance: an angular impulse towards no relative rotation of the two bodies,
@@ -307,8 +321,7 @@ fn warm_start(bodies: &mut [SolverBody], c: &mut Constraint) {
     c.normal_impulse = c.warm_normal;
     c.tangent_impulse = c.warm_tangent;
     c.rolling_impulse = c.warm_rolling;
-    let start = c.normal * c.warm_normal + c.tangents[0] * c.warm_tangent[0] + c.tangents[1] * c.warm_tangent[1];
-    apply(bodies, c, start);
+    apply(bodies, c, [c.warm_normal, c.warm_tangent[0], c.warm_tangent[1]]);
     let (a, b) = (c.a, c.b);
     bodies[a].angular -= bodies[a].inverse_inertia * c.warm_rolling;
     bodies[b].angular += bodies[b].inverse_inertia * c.warm_rolling;
