@@ -5,7 +5,7 @@
 //! Contacts are matched per pair by their point in body a's frame: a point that moved less than
 //! [`MATCH_DISTANCE`] relative to a is the same contact.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use glam::{Quat, Vec3};
 
@@ -30,7 +30,7 @@ struct Cached {
 /// Last step's contact impulses, per pair of bodies.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ContactCache {
-    pairs: HashMap<(usize, usize), Vec<Cached>>,
+    pairs: FxHashMap<(usize, usize), Vec<Cached>>,
 }
 
 impl ContactCache {

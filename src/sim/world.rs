@@ -3,7 +3,7 @@
 //! springs → contact (inelastic, shock propagation) → joint pre-stabilization → positions → joint
 //! post-stabilization.
 
-use std::collections::HashSet;
+use rustc_hash::FxHashSet;
 
 use glam::{Quat, Vec3};
 
@@ -163,7 +163,7 @@ pub struct WorldState {
     /// Per body: position, orientation, linear and angular velocity, sleep bookkeeping.
     bodies: Vec<(Vec3, Quat, Vec3, Vec3, Activity)>,
     joints: Vec<Joint>,
-    joined: HashSet<(usize, usize)>,
+    joined: FxHashSet<(usize, usize)>,
     cache: ContactCache,
     time: f64,
     steps: u64,
@@ -179,11 +179,12 @@ pub struct World {
     steps: u64,
     /// Joints between bodies, in the order they were added.
     joints: Vec<Joint>,
-    /// Body pairs (smaller index first) joined by a joint: they do not collide.
-    joined: HashSet<(usize, usize)>,
+    /// Body pairs (smaller index first) joined by a joint: they do not collide. (Fx hashing: the
+    /// broad phase looks pairs up by the ten thousand every step.)
+    joined: FxHashSet<(usize, usize)>,
     /// Body pairs (smaller index first) that do not collide whether joined or not
     /// ([`ignore_collisions`](Self::ignore_collisions)).
-    ignored: HashSet<(usize, usize)>,
+    ignored: FxHashSet<(usize, usize)>,
     /// Last step's contact impulses, to warm-start this step's.
     cache: ContactCache,
     /// Rigid clusters, active and dissolved (their proxies kept for reuse).
@@ -206,8 +207,8 @@ impl World {
             time: 0.0,
             steps: 0,
             joints: Vec::new(),
-            joined: HashSet::new(),
-            ignored: HashSet::new(),
+            joined: FxHashSet::default(),
+            ignored: FxHashSet::default(),
             cache: ContactCache::default(),
             clusters: Vec::new(),
             layout: 0,

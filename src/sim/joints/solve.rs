@@ -9,7 +9,9 @@
 //! strength sphere and the rest of the group is solved again. A group whose matrix is singular
 //! or too wide falls back to Gauss–Seidel over its joints, one exact 6×6 block solve per visit.
 
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
+
+use rustc_hash::FxHashMap;
 
 use glam::Vec3;
 
@@ -91,7 +93,7 @@ fn held(joint: &Joint) -> [bool; 6] {
 /// Joints with rows (`has_rows(joint)`), grouped by shared bodies that take impulses.
 pub(crate) fn groups(joints: &[Joint], has_rows: impl Fn(usize) -> bool, mob: &[Mobility]) -> Vec<Vec<usize>> {
     let mut sets = UnionFind::new(joints.len());
-    let mut owner: HashMap<usize, usize> = HashMap::new();
+    let mut owner: FxHashMap<usize, usize> = FxHashMap::default();
     for (k, joint) in joints.iter().enumerate() {
         if !has_rows(k) {
             continue;
@@ -108,7 +110,7 @@ pub(crate) fn groups(joints: &[Joint], has_rows: impl Fn(usize) -> bool, mob: &[
         }
     }
     let mut out: Vec<Vec<usize>> = Vec::new();
-    let mut slot: HashMap<usize, usize> = HashMap::new();
+    let mut slot: FxHashMap<usize, usize> = FxHashMap::default();
     for k in (0..joints.len()).filter(|&k| has_rows(k)) {
         let r = sets.root(k);
         let index = *slot.entry(r).or_insert_with(|| {
@@ -140,8 +142,7 @@ impl Layout {
     pub(crate) fn new(joints: &[Joint], group: &[usize], mob: &[Mobility]) -> Self {
         let incidence = GroupIndex::new(joints, group, mob);
         let neighbours: Vec<Vec<usize>> = group.iter().map(|&k| incidence.neighbours(&joints[k])).collect();
-        let width = |k: usize| held(&joints[k]).iter().filter(|&&h| h).count();
-        let order = order(group, &neighbours, width);
+        let order = order(group, &neighbours);
         let mut unknowns: Vec<(usize, usize)> = Vec::with_capacity(6 * group.len());
         let mut slots: Vec<[usize; 6]> = vec![[usize::MAX; 6]; group.len()];
         for &k in &order {
@@ -328,66 +329,20 @@ impl<'g> GroupIndex<'g> {
     }
 }
 
-/// The group's joints in reverse Cuthill–McKee order (breadth first from a starting joint,
-/// neighbours by increasing coupling, reversed), which keeps coupled joints close and the
-/// system's band narrow: a chain becomes block-tridiagonal. The start is the one, of the
-/// [`ORDER_STARTS`] least coupled joints, whose order gives the narrowest band of unknowns
-/// (`width(joint)` unknowns each): the elimination costs about n·b² for bandwidth b, and on small
-/// cyclic groups (a tetrahedron's twelve joints) the starts differ by a third in b.
-/// `neighbours` are per joint (by place in `group`), each including the joint itself.
-fn order(group: &[usize], neighbours: &[Vec<usize>], width: impl Fn(usize) -> usize) -> Vec<usize> {
-    let local = |k: usize| group.partition_point(|&g| g < k);
-    let degree = |k: usize| neighbours[local(k)].len();
-    let mut starts: Vec<usize> = group.to_vec();
-    starts.sort_by_key(|&k| (degree(k), k));
-    let mut best: Option<(usize, Vec<usize>)> = None;
-    for s in 0..starts.len().min(ORDER_STARTS) {
-        starts[..=s].rotate_right(1);
-        let candidate = cuthill_mckee(group, neighbours, &starts);
-        starts[..=s].rotate_left(1);
-        let band = bandwidth(group, neighbours, &candidate, &width);
-        if best.as_ref().is_none_or(|(narrowest, _)| band < *narrowest) {
-            best = Some((band, candidate));
-        }
-    }
-    best.map(|(_, order)| order).unwrap_or_default()
-}
-
-/// Starting joints [`order`] tries.
-const ORDER_STARTS: usize = 12;
-
-/// The largest distance between coupled unknowns when the joints come in `order` with
-/// `width(joint)` unknowns each (the band's half-width).
-fn bandwidth(group: &[usize], neighbours: &[Vec<usize>], order: &[usize], width: impl Fn(usize) -> usize) -> usize {
-    let local = |k: usize| group.partition_point(|&g| g < k);
-    let mut first = vec![0usize; group.len()];
-    let mut last = vec![0usize; group.len()];
-    let mut next = 0;
-    for &k in order {
-        let w = width(k);
-        first[local(k)] = next;
-        last[local(k)] = (next + w).saturating_sub(1);
-        next += w;
-    }
-    let mut band = 0;
-    for (p, around) in neighbours.iter().enumerate() {
-        for &q in around {
-            band = band.max(last[p].saturating_sub(first[local(q)]));
-        }
-    }
-    band
-}
-
-/// Reverse Cuthill–McKee: breadth first from `starts[0]` (and from the next unseen start for
-/// another component), neighbours by increasing coupling, reversed.
-fn cuthill_mckee(group: &[usize], neighbours: &[Vec<usize>], starts: &[usize]) -> Vec<usize> {
+/// The group's joints in reverse Cuthill–McKee order (breadth first from a joint of least
+/// coupling, neighbours by increasing coupling, reversed), which keeps coupled joints close and
+/// the system's band narrow: a chain becomes block-tridiagonal. `neighbours` are per joint (by
+/// place in `group`), each including the joint itself.
+fn order(group: &[usize], neighbours: &[Vec<usize>]) -> Vec<usize> {
     let local = |k: usize| group.partition_point(|&g| g < k);
     let degree = |k: usize| neighbours[local(k)].len();
     let mut seen = vec![false; group.len()];
     let mut out = Vec::with_capacity(group.len());
+    let mut starts: Vec<usize> = group.to_vec();
+    starts.sort_by_key(|&k| (degree(k), k));
     let mut queue = VecDeque::with_capacity(group.len());
     let mut next: Vec<usize> = Vec::new();
-    for &start in starts {
+    for &start in &starts {
         if std::mem::replace(&mut seen[local(start)], true) {
             continue;
         }
@@ -472,19 +427,27 @@ mod tests {
         ends.iter().map(|&p| (0..ends.len()).filter(|&q| shares(p, ends[q])).collect()).collect()
     }
 
-    /// A chain of ball joints (three unknowns each) is ordered block-tridiagonally: band 5.
-    /// On a tetrahedron of four balls and six struts (twelve ball joints), the order is a
-    /// permutation of the group and no tried start gives a narrower band than the one chosen,
-    /// in particular not the least coupled joint's (plain reverse Cuthill–McKee).
+    /// The largest distance in `order` between coupled joints.
+    fn bandwidth(neighbours: &[Vec<usize>], order: &[usize]) -> usize {
+        let mut place = vec![0; order.len()];
+        for (i, &k) in order.iter().enumerate() {
+            place[k] = i;
+        }
+        let pairs = neighbours.iter().enumerate().flat_map(|(p, around)| around.iter().map(move |&q| (p, q)));
+        pairs.map(|(p, q)| place[p].abs_diff(place[q])).max().unwrap_or(0)
+    }
+
+    /// A shuffled chain of joints comes out in chain order (block-tridiagonal: each joint
+    /// next to the ones it shares a body with), and a tetrahedron's twelve joints (four balls,
+    /// six struts) in a permutation of the group.
     #[test]
-    fn the_order_keeps_the_band_narrowest_over_the_tried_starts() {
-        let chain: Vec<(usize, usize)> = (0..10).map(|i| (i, i + 1)).collect();
+    fn a_chain_is_ordered_along_itself() {
+        let links = [3, 7, 0, 9, 4, 1, 8, 5, 2, 6];
+        let chain: Vec<(usize, usize)> = links.iter().map(|&i| (i, i + 1)).collect();
         let group: Vec<usize> = (0..chain.len()).collect();
         let neighbours = coupling(&chain);
-        let chosen = order(&group, &neighbours, |_| 3);
-        assert_eq!(bandwidth(&group, &neighbours, &chosen, |_| 3), 5);
+        assert_eq!(bandwidth(&neighbours, &order(&group, &neighbours)), 1);
 
-        // Balls are bodies 0–3; the strut between balls i < j is body 4 + its index.
         let mut tetrahedron = Vec::new();
         let mut strut = 4;
         for i in 0..4 {
@@ -494,19 +457,8 @@ mod tests {
             }
         }
         let group: Vec<usize> = (0..tetrahedron.len()).collect();
-        let neighbours = coupling(&tetrahedron);
-        let chosen = order(&group, &neighbours, |_| 3);
-        let mut sorted = chosen.clone();
+        let mut sorted = order(&group, &coupling(&tetrahedron));
         sorted.sort_unstable();
         assert_eq!(sorted, group, "a permutation of the group");
-        let band = bandwidth(&group, &neighbours, &chosen, |_| 3);
-        let mut starts = group.clone();
-        starts.sort_by_key(|&k| (neighbours[k].len(), k));
-        for s in 0..starts.len().min(ORDER_STARTS) {
-            starts[..=s].rotate_right(1);
-            let other = cuthill_mckee(&group, &neighbours, &starts);
-            starts[..=s].rotate_left(1);
-            assert!(band <= bandwidth(&group, &neighbours, &other, |_| 3), "start {} is narrower", starts[s]);
-        }
     }
 }
