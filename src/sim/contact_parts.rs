@@ -16,7 +16,7 @@
 
 use rayon::prelude::*;
 
-use super::solver::{Constraint, SolverBody};
+use super::solver::{Constraint, SolverBody, fixed};
 
 /// Spatial parts a step's constraints are split into.
 pub(crate) const PARTS: usize = 2;
@@ -31,15 +31,10 @@ pub(crate) struct Parts {
     /// Part p's constraints are `bounds[p]..bounds[p + 1]`; the boundary's are
     /// `bounds[PARTS]..` (all of them when the step is swept serially).
     bounds: [usize; PARTS + 1],
-    /// Per part, the moving bodies its constraints change.
+    /// Per part, the moving bodies in its slab (merged back after each parallel sweep).
     members: [Vec<usize>; PARTS],
     /// Moving bodies the boundary's constraints change, with their part.
     crossing: Vec<(usize, usize)>,
-}
-
-/// What a body is during a step's sweeps: fixed (no inverse mass) or moving in a part.
-fn moving(body: &SolverBody) -> bool {
-    body.inverse_mass > 0.0
 }
 
 impl Parts {
@@ -162,7 +157,7 @@ fn slabs(constraints: &[Constraint], bodies: &[SolverBody]) -> Vec<Option<usize>
     let mut weight = vec![0usize; bodies.len()];
     for c in constraints {
         for i in [c.a, c.b] {
-            if moving(&bodies[i]) {
+            if !fixed(&bodies[i]) {
                 weight[i] += 1;
             }
         }

@@ -15,7 +15,9 @@ pub(crate) struct SolverBody {
     pub linear: Vec3,
     pub angular: Vec3,
     pub position: Vec3,
+    /// 1/kg; 0 for a body fixed during the step, whose `inverse_inertia` is zero too.
     pub inverse_mass: f32,
+    /// World inverse inertia, 1/(kg·m²).
     pub inverse_inertia: Mat3,
     /// Height along −gravity, for shock propagation, m.
     pub height: f32,
@@ -302,7 +304,7 @@ pub(crate) fn contact(
     parts.sweeps(bodies, constraints, &all, 1, warm_start);
     let iterations = settings.contact_iterations as usize;
     let shock = usize::from(settings.shock_propagation);
-    parts.sweeps(bodies, constraints, &all, iterations - shock, |bodies, c| {
+    parts.sweeps(bodies, constraints, &all, iterations.saturating_sub(shock), |bodies, c| {
         solve(bodies, c, closing_goal(c, dt), None, true);
     });
     if shock == 1 {
@@ -345,7 +347,7 @@ pub(crate) fn contact_sweeps(
 }
 
 /// Whether the body is fixed during the step (static, kinematic or asleep: no inverse mass).
-fn fixed(body: &SolverBody) -> bool {
+pub(crate) fn fixed(body: &SolverBody) -> bool {
     body.inverse_mass == 0.0
 }
 

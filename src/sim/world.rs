@@ -185,6 +185,9 @@ pub struct World {
     /// Body pairs (smaller index first) that do not collide whether joined or not
     /// ([`ignore_collisions`](Self::ignore_collisions)).
     ignored: FxHashSet<(usize, usize)>,
+    /// How many edits have let a pair collide again (a joined or ignored pair dropped): a
+    /// detection kept across such an edit would miss that pair's contacts.
+    filters_lifted: u64,
     /// Last step's contact impulses, to warm-start this step's.
     cache: ContactCache,
     /// Rigid clusters, active and dissolved (their proxies kept for reuse).
@@ -209,6 +212,7 @@ impl World {
             joints: Vec::new(),
             joined: FxHashSet::default(),
             ignored: FxHashSet::default(),
+            filters_lifted: 0,
             cache: ContactCache::default(),
             clusters: Vec::new(),
             layout: 0,
@@ -332,6 +336,7 @@ impl World {
         }
         self.joints.clone_from(&state.joints);
         self.joined.clone_from(&state.joined);
+        self.filters_lifted += 1;
         self.cache = state.cache.clone();
         self.time = state.time;
         self.steps = state.steps;

@@ -76,8 +76,8 @@ impl World {
         }
         self.joined.insert(joints::pair(other, to));
         let still_joined = self.joints.iter().any(|j| joints::pair(j.a, j.b) == joints::pair(other, from));
-        if !still_joined {
-            self.joined.remove(&joints::pair(other, from));
+        if !still_joined && self.joined.remove(&joints::pair(other, from)) {
+            self.filters_lifted += 1;
         }
     }
 
@@ -111,6 +111,7 @@ impl World {
         for pair in undo.colliding {
             self.ignored.remove(&pair);
         }
+        self.filters_lifted += 1;
     }
 
     /// Drops the bodies and joints added after the world had `bodies` bodies and `joints`
@@ -121,6 +122,7 @@ impl World {
         self.joints.truncate(joints);
         self.joined = self.joints.iter().map(|j| joints::pair(j.a, j.b)).collect();
         self.ignored.retain(|&(_, b)| b < bodies);
+        self.filters_lifted += 1;
     }
 
     /// Stops bodies `a` and `b` from colliding with each other for good, joined or not: for parts

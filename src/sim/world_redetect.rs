@@ -22,12 +22,16 @@ pub(crate) struct Seen {
     /// Holding the collider keeps it alive, so an edit that replaces or changes it (a change
     /// copies a shared collider first) gives another one: the pointers differ.
     shape: SharedShape,
+    /// Centre of mass, world, m.
     position: Vec3,
     orientation: Quat,
+    /// m/s.
     linear_velocity: Vec3,
+    /// rad/s.
     angular_velocity: Vec3,
     kind: BodyKind,
     asleep: bool,
+    /// Not condensed into a cluster (or a cluster's proxy).
     simulated: bool,
 }
 
@@ -58,20 +62,34 @@ impl Seen {
     }
 }
 
+/// Above this share of changed simulated bodies, [`World::redetect`] detects afresh: testing
+/// each changed body against every other costs more than the sweep.
+const FRESH_SHARE: f32 = 0.05;
+
 impl World {
     /// Detects again after edits of a few bodies since `previous` (a detection of this step):
     /// pairs of unchanged bodies keep `previous`'s contacts, pairs with a changed or new body
-    /// go through the broad and narrow phase. A world with fewer bodies than `previous` saw,
-    /// or a detection of another step, is detected afresh.
+    /// go through the broad and narrow phase. Detects afresh instead after a detection of
+    /// another step, with fewer bodies than `previous` saw, after an edit that let a pair
+    /// collide again (a skipped pair of unchanged bodies is not looked at), or with more than
+    /// [`FRESH_SHARE`] of the simulated bodies changed (each is tested against all).
     pub(crate) fn redetect(&mut self, previous: Detection) -> Detection {
-        if previous.step != self.steps || self.bodies.len() < previous.bodies {
+        let started = Instant::now();
+        let stale = previous.step != self.steps
+            || self.bodies.len() < previous.bodies
+            || previous.filters_lifted != self.filters_lifted;
+        if stale {
             return self.detect();
         }
-        let started = Instant::now();
-        let (radius, reach) = self.extents();
         let changed: Vec<bool> = (0..self.bodies.len())
             .map(|i| previous.seen.get(i).is_none_or(|seen| !seen.matches(&self.bodies[i])))
             .collect();
+        let live = self.live().len();
+        let changed_live = (0..self.bodies.len()).filter(|&i| changed[i] && self.bodies[i].is_simulated()).count();
+        if changed_live as f32 > FRESH_SHARE * live as f32 {
+            return self.detect();
+        }
+        let (radius, reach) = self.extents();
         let unchanged_pair = |&(a, b): &(usize, usize)| !changed[a] && !changed[b] && !self.skip_pair(a, b);
         let kept_pairs: Vec<(usize, usize)> = previous.pairs.iter().copied().filter(unchanged_pair).collect();
         let kept_found: Vec<PairContacts> =
@@ -127,7 +145,7 @@ mod tests {
 
     use super::super::{World, WorldSettings};
     use crate::mesh;
-    use crate::sim::{BodyDesc, BodyKind, ColliderKind};
+    use crate::sim::{BodyDesc, BodyKind, ColliderKind, JointKind};
 
     /// After edits like a split's (a body rebuilt with another collider, a body moved, a body
     /// sped up, a body added), detecting again from the first detection finds exactly the
@@ -165,5 +183,27 @@ mod tests {
         assert_eq!(again.pairs, fresh.pairs);
         assert_eq!(again.found, fresh.found);
         assert_eq!(again.seen.len(), fresh.seen.len());
+    }
+
+    /// An edit that lets two unchanged bodies collide again (a joint moved off their pair) is
+    /// seen: their contacts are found, as a fresh detection finds them.
+    #[test]
+    fn a_lifted_joint_filter_brings_the_pair_back() {
+        let mut world = World::new(WorldSettings::default()).unwrap();
+        let cube = mesh::subdivided_box(Vec3::splat(0.2), [1, 1, 1]).unwrap();
+        for k in 0..3 {
+            let at = Vec3::new(0.0, 0.0, k as f32 * 0.2);
+            world.add(BodyDesc::new(format!("box{k}"), cube.clone()).at(at).collider(ColliderKind::Cuboid)).unwrap();
+        }
+        let joint = world.add_joint(0, 1, Vec3::new(0.0, 0.0, 0.1), JointKind::Ball).unwrap();
+        let first = world.detect();
+        assert!(!first.pairs.contains(&(0, 1)), "a joined pair is skipped");
+        world.retarget_joint(joint, 1, 2).unwrap();
+        let mut fresh_world = world.clone();
+        let again = world.redetect(first);
+        let fresh = fresh_world.detect();
+        assert!(fresh.found.iter().any(|p| (p.a, p.b) == (0, 1)), "the touching pair collides again");
+        assert_eq!(again.pairs, fresh.pairs);
+        assert_eq!(again.found, fresh.found);
     }
 }

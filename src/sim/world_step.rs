@@ -23,6 +23,8 @@ pub(crate) struct Detection {
     /// The world's step count and body count when detected (a stale detection is refused).
     pub(super) step: u64,
     pub(super) bodies: usize,
+    /// The world's count of lifted collision filters when detected.
+    pub(super) filters_lifted: u64,
     started: Instant,
     /// Bounding radius of each body about its centre of mass, m.
     radius: Vec<f32>,
@@ -114,6 +116,7 @@ impl World {
         Detection {
             step: self.steps,
             bodies: self.bodies.len(),
+            filters_lifted: self.filters_lifted,
             started,
             radius,
             pairs,

@@ -19,12 +19,13 @@
 //! at the start of the step is closed at most at the world's `joint_correction_speed` and
 //! `joint_correction_spin`; the rest is left for the following steps (see [`Prediction::slack`]).
 
+use glam::Vec3;
+
 use super::solve::{self, Rows};
 use super::system::{self, Frame, Mobility, Motion};
 use super::{Joint, batches, poststabilize, rotation_vector};
 use crate::sim::solver::SolverBody;
 use crate::sim::{RigidBody, WorldSettings};
-use glam::Vec3;
 
 /// Most Newton iterations of a pre-stabilization pass that must leave the joints holding.
 pub(crate) const NEWTON: usize = 8;
