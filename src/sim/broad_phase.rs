@@ -60,12 +60,6 @@ fn sweep_axis(boxes: &[Aabb]) -> usize {
     let n = boxes.len() as f32;
     let centres = boxes.iter().map(|b| 0.5 * (b.min + b.max));
     let mean = centres.clone().fold(Vec3::ZERO, |s, c| s + c) / n;
-    let spread = centres.fold(Vec3::ZERO, |s, c| s + (c - mean) * (c - mean));
-    if spread.x >= spread.y && spread.x >= spread.z {
-        0
-    } else if spread.y >= spread.z {
-        1
-    } else {
-        2
-    }
+    // The first of equal spreads (x before y before z).
+    centres.fold(Vec3::ZERO, |s, c| s + (c - mean) * (c - mean)).max_position()
 }

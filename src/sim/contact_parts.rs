@@ -170,14 +170,7 @@ fn slabs(constraints: &[Constraint], bodies: &[SolverBody]) -> Vec<Option<usize>
         low = low.min(bodies[i].position);
         high = high.max(bodies[i].position);
     }
-    let extent = high - low;
-    let axis = if extent.x >= extent.y && extent.x >= extent.z {
-        0
-    } else if extent.y >= extent.z {
-        1
-    } else {
-        2
-    };
+    let axis = (high - low).max_position();
     touched.sort_by(|&i, &j| bodies[i].position[axis].total_cmp(&bodies[j].position[axis]).then(i.cmp(&j)));
     let total: usize = touched.iter().map(|&i| weight[i]).sum();
     let mut running = 0;

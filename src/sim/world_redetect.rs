@@ -13,7 +13,7 @@ use parry3d::shape::SharedShape;
 
 use super::World;
 use super::world_step::Detection;
-use crate::sim::{Aabb, BodyKind, PairContacts, RigidBody};
+use crate::sim::{BodyKind, PairContacts, RigidBody};
 
 /// What a body's contacts depend on, as it was when they were found: its collider, pose,
 /// velocities (its reach within the step), kind, sleep and whether it is simulated.
@@ -84,9 +84,9 @@ impl World {
         let changed: Vec<bool> = (0..self.bodies.len())
             .map(|i| previous.seen.get(i).is_none_or(|seen| !seen.matches(&self.bodies[i])))
             .collect();
-        let live = self.live().len();
-        let changed_live = (0..self.bodies.len()).filter(|&i| changed[i] && self.bodies[i].is_simulated()).count();
-        if changed_live as f32 > FRESH_SHARE * live as f32 {
+        let live = self.live();
+        let changed_live = live.iter().filter(|&&i| changed[i]).count();
+        if changed_live as f32 > FRESH_SHARE * live.len() as f32 {
             return self.detect();
         }
         let (radius, reach) = self.extents();
@@ -94,7 +94,7 @@ impl World {
         let kept_pairs: Vec<(usize, usize)> = previous.pairs.iter().copied().filter(unchanged_pair).collect();
         let kept_found: Vec<PairContacts> =
             previous.found.into_iter().filter(|p| unchanged_pair(&(p.a, p.b))).collect();
-        let new_pairs = self.pairs_with_changed(&changed, &reach);
+        let new_pairs = self.pairs_with_changed(&live, &changed, &reach);
         let new_found = self.contacts_of(&new_pairs, &reach);
         let pairs = merge_sorted(kept_pairs, new_pairs, |&pair| pair);
         let found = merge_sorted(kept_found, new_found, |p| (p.a, p.b));
@@ -102,10 +102,9 @@ impl World {
     }
 
     /// The broad phase's pairs with at least one `changed` body, sorted: each changed simulated
-    /// body's swept box against every simulated body's.
-    fn pairs_with_changed(&self, changed: &[bool], reach: &[f32]) -> Vec<(usize, usize)> {
-        let live = self.live();
-        let boxes: Vec<Aabb> = live.iter().map(|&i| self.swept_box(&self.bodies[i], reach[i])).collect();
+    /// body's swept box against every simulated (`live`) body's.
+    fn pairs_with_changed(&self, live: &[usize], changed: &[bool], reach: &[f32]) -> Vec<(usize, usize)> {
+        let boxes = self.swept_boxes(live, reach);
         let mut pairs = Vec::new();
         for (x, &i) in live.iter().enumerate().filter(|&(_, &i)| changed[i]) {
             for (y, &j) in live.iter().enumerate() {

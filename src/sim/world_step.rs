@@ -58,7 +58,7 @@ impl World {
         // Bodies condensed into a cluster collide through its proxy: only the simulated ones are
         // swept (in increasing index order, so pairs map back sorted).
         let live = self.live();
-        let boxes: Vec<Aabb> = live.iter().map(|&i| self.swept_box(&self.bodies[i], reach[i])).collect();
+        let boxes = self.swept_boxes(&live, &reach);
         let pairs: Vec<(usize, usize)> =
             broad_phase::overlapping_pairs(&boxes, |a, b| self.skip_pair(live[a], live[b]))
                 .into_iter()
@@ -207,8 +207,14 @@ impl World {
         (speed + fall) * self.settings.dt
     }
 
+    /// The swept boxes of bodies `which` (see [`swept_box`](Self::swept_box)), each grown by
+    /// its `reach` (per world body).
+    pub(super) fn swept_boxes(&self, which: &[usize], reach: &[f32]) -> Vec<Aabb> {
+        which.iter().map(|&i| self.swept_box(&self.bodies[i], reach[i])).collect()
+    }
+
     /// The body's box grown by the margin and by `reach`, how far it can move in one step.
-    pub(super) fn swept_box(&self, body: &RigidBody, reach: f32) -> Aabb {
+    fn swept_box(&self, body: &RigidBody, reach: f32) -> Aabb {
         let aabb = body.shape.compute_aabb(&contacts::pose(body));
         let grow = Vec3::splat(self.settings.margin + reach);
         Aabb { min: aabb.mins - grow, max: aabb.maxs + grow }
