@@ -37,6 +37,12 @@ fn demo_writes_every_picture_and_mesh() {
         "scenes/resolution/summary.json",
         "scenes/rain/summary.json",
         "scenes/rain/frames/0120.png",
+        "scenes/plank/summary.json",
+        "scenes/plank/frames/0045.png",
+        "scenes/spring/summary.json",
+        "scenes/bunny-bones/summary.json",
+        "scenes/tetrahedra/summary.json",
+        "scenes/arm/summary.json",
     ];
     for file in expected {
         let path = out.join(file);
@@ -47,15 +53,28 @@ fn demo_writes_every_picture_and_mesh() {
     assert_eq!(picture.dimensions(), (960, 640));
     // Every step is echoed as the command that reproduces it.
     let stdout = text(&output.stdout);
-    assert_eq!(stdout.lines().filter(|l| l.starts_with("$ dentbend ")).count(), 15, "{stdout}");
-    // Every scene dented something, and the gallery shows the scene frames.
-    for scene in ["pair", "ball-block", "bunny-block", "glancing", "resolution", "rain"] {
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("$ dentbend ")).count(), 20, "{stdout}");
+    // How many entries a scene's summary lists under `key`.
+    let listed = |scene: &str, key: &str| {
         let summary = std::fs::read_to_string(out.join("scenes").join(scene).join("summary.json")).unwrap();
         let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
-        assert!(!summary["dents"].as_array().unwrap().is_empty(), "{scene} made no dent");
+        summary[key].as_array().unwrap().len()
+    };
+    // Every denting scene dented something, and the gallery shows the scene frames.
+    for scene in ["pair", "ball-block", "bunny-block", "glancing", "resolution", "rain"] {
+        assert!(listed(scene, "dents") > 0, "{scene} made no dent");
+    }
+    // Joints appear where hits land on the plank and the tetrahedra's struts; the plank, the
+    // tetrahedra and the arm bend.
+    for scene in ["plank", "tetrahedra"] {
+        assert!(listed(scene, "joints") > 0, "{scene} made no joint");
+    }
+    for scene in ["plank", "tetrahedra", "arm"] {
+        assert!(listed(scene, "bends") > 0, "{scene} did not bend");
     }
     let gallery = std::fs::read_to_string(out.join("gallery.html")).unwrap();
     assert!(gallery.contains("scenes/rain/frames/0120.png") && gallery.contains("fig07_bunny/smoothed.png"));
+    assert!(gallery.contains("scenes/plank/frames/0045.png"));
 }
 
 #[test]

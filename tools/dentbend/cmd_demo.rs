@@ -48,6 +48,14 @@ const STEPS: &[&str] = &[
     "run glancing --size demo --out {out}/scenes/glancing --every 30 --meshes dentable",
     "run resolution --size demo --out {out}/scenes/resolution --every 30 --meshes dentable",
     "run rain --size demo --out {out}/scenes/rain --every 40 --meshes dentable",
+    // The bending scenes, small: a joint appears where the ball hits the plank (Figure 14), an
+    // elastic joint springs back, the bunny's four bones (Figure 12), tetrahedra whose struts
+    // bend (Figure 13), an arm that bends at four joints after a hit (Figure 15).
+    "run plank --size demo --out {out}/scenes/plank --every 15 --meshes dentable",
+    "run spring --size demo --out {out}/scenes/spring --every 30 --meshes dentable",
+    "run bunny-bones --size demo --out {out}/scenes/bunny-bones --every 30 --meshes dentable",
+    "run tetrahedra --size demo --out {out}/scenes/tetrahedra --every 30 --meshes dentable",
+    "run arm --size demo --out {out}/scenes/arm --every 30 --meshes dentable",
 ];
 
 /// Runs every step; returns the summary line and the warnings raised along the way.
