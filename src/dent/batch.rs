@@ -41,6 +41,24 @@ type AppliedTarget = (usize, PendingDisplacement, Vec<(usize, super::DisplaceRep
 /// # Errors
 /// [`BatchError`] naming the first bad job (in job order); every target is unchanged then.
 pub fn dent_batch(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Result<Vec<DentReport>, BatchError> {
+    dent_batch_tracked(targets, jobs).map(|outcome| outcome.reports)
+}
+
+/// What a batch did: each job's report and, per target, the vertices that moved.
+#[derive(Debug, Clone, Default)]
+pub struct BatchOutcome {
+    /// One report per job, in job order.
+    pub reports: Vec<DentReport>,
+    /// Per target (batch order), the indices of the vertices the batch moved, ascending; empty
+    /// for a target no job dented. A caller refits its own collider over these.
+    pub moved: Vec<Vec<u32>>,
+}
+
+/// As [`dent_batch`], also telling which vertices of each target moved.
+///
+/// # Errors
+/// As [`dent_batch`]; every target is unchanged then.
+pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Result<BatchOutcome, BatchError> {
     if let Some((job, bad)) = jobs.iter().enumerate().find(|(_, j)| j.target >= targets.len()) {
         let error = super::error::invalid("target", bad.target, "must index the batch's target list");
         return Err(BatchError { job, error });
@@ -81,11 +99,13 @@ pub fn dent_batch(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Result<Vec<D
         .collect::<Result<_, BatchError>>()?;
 
     let mut out: Vec<Option<DentReport>> = vec![None; jobs.len()];
+    let mut moved = vec![Vec::new(); targets.len()];
     for (t, pending, reports) in applied {
+        moved[t] = pending.moved.iter().enumerate().filter(|(_, m)| **m).map(|(v, _)| v as u32).collect();
         pending.commit(&mut targets[t]);
         for (job, displaced) in reports {
             out[job] = Some(super::apply::report(&stages[job], displaced));
         }
     }
-    Ok(out.into_iter().map(|r| r.unwrap_or_default()).collect())
+    Ok(BatchOutcome { reports: out.into_iter().map(|r| r.unwrap_or_default()).collect(), moved })
 }

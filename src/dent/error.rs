@@ -52,6 +52,19 @@ pub enum DentError {
         /// What is wrong.
         message: String,
     },
+    /// A body's state ([`BodyState`](super::BodyState)) is unusable: non-finite, negative mass.
+    #[error("body {body}: {field} = {value} is invalid")]
+    InvalidBody {
+        /// Which body (the caller's id, formatted, or "target" / "projectile").
+        body: String,
+        /// The field.
+        field: String,
+        /// The value given, formatted.
+        value: String,
+    },
+    /// The batch's backend failed (a GPU device lost or out of memory mid-batch).
+    #[error("dent backend: {0}")]
+    Backend(String),
     /// Applying the map would produce a non-finite vertex position.
     #[error("the dent would move vertex {index} to a non-finite position")]
     NonFiniteResult {

@@ -1,8 +1,16 @@
-//! Denting (paper §3): impact → dent frame → dent map → displaced target mesh.
+//! Denting (paper §3): impact → dent frame → dent map → displaced target mesh, and the
+//! world-free damage API on top ([`Damage`]): contacts from any solver, keyed by the caller's
+//! own body ids, → dent decisions (threshold / gain / cap or the energy model) → cropped
+//! projectiles → one batch on the CPU or the GPU → new meshes, moved vertices and projectile
+//! offsets for the caller to apply.
 
 mod apply;
 mod artist;
 mod batch;
+mod body_state;
+mod damage;
+mod decide;
+mod energy;
 mod error;
 mod grid;
 mod impact;
@@ -11,10 +19,20 @@ mod material;
 mod params;
 mod pipeline;
 mod plan;
+mod progressive;
+mod reach;
+mod settings;
 
 pub use apply::{DentReport, dent, dent_pair};
 pub use artist::gaussian_heights;
-pub use batch::{BatchError, DentJob, dent_batch};
+pub use batch::{BatchError, BatchOutcome, DentJob, dent_batch, dent_batch_tracked};
+pub use body_state::BodyState;
+pub use damage::{
+    AppliedDent, CpuBackend, Damage, DamageError, DamagePlan, DentBackend, DentTargets, DentedTarget, Hit, TargetView,
+    moved_between,
+};
+pub use decide::{decide_dent_distance, projectile_offset};
+pub use energy::{energy_dent_distance, normal_energy_lost};
 pub use error::DentError;
 pub(crate) use error::invalid;
 pub use grid::{DentFrame, Grid};
@@ -24,3 +42,6 @@ pub use material::DentMaterial;
 pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, MIN_COS_FLOOR, Resolution};
 pub use pipeline::{DentStages, dent_map, dent_map_stages};
 pub use plan::{DentPlan, plan_dent};
+pub use progressive::ProgressiveDents;
+pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
+pub use settings::DentSettings;

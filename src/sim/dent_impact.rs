@@ -1,14 +1,15 @@
-//! One collision's dent, whatever the dented surface is: whether a hit dents its target and how
-//! deep ([`decide_dent`]), the part of the projectile that shapes it ([`projectile_near_impact`])
-//! and the dent job in the target's mesh coordinates ([`dent_job`]). The [`Denter`](super::Denter)
-//! dents plain bodies with them, and a bending body's sub-body hit dents its skinned mesh with
-//! them (`bend::BendDenter`).
+//! One collision's dent in world terms, through the world-free damage API of [`crate::dent`]:
+//! whether a hit dents its target and how deep ([`decide_dent`]), the part of the projectile
+//! that shapes it ([`projectile_near_impact`]) and the dent job in the target's mesh coordinates
+//! ([`dent_job`]), with world body indices as the ids. The [`Denter`](super::Denter) dents plain
+//! bodies with them, and a bending body's sub-body hit dents its skinned mesh with them.
 
-use glam::{Affine3A, Vec3};
+use glam::Affine3A;
 
-use super::energy::energy_dent_distance;
-use super::{BodyKind, CollisionEvent, DentRecord, DentSettings, SimError, World};
-use crate::dent::{DentJob, DentParams, Impact};
+use super::{BodyKind, CollisionEvent, DentRecord, DentSettings, RigidBody, SimError, World};
+use crate::dent::{
+    BodyState, DentJob, DentParams, Impact, Surface, decide_dent_distance, projectile_offset, projectile_reach,
+};
 use crate::mesh::TriMesh;
 
 /// A surface as it dents others: a mesh and its mesh → world transform (rigid).
@@ -37,10 +38,12 @@ impl<'a> DentSurface<'a> {
 
     /// The surface in world coordinates.
     pub fn world_mesh(&self) -> TriMesh {
-        let mut mesh = self.mesh.clone();
-        // A rigid motion of a valid mesh stays finite; the transform cannot fail.
-        let _ = mesh.transform(self.to_world);
-        mesh
+        self.surface().world_mesh()
+    }
+
+    /// The surface as the damage API takes it.
+    pub fn surface(&self) -> Surface<'a> {
+        Surface { mesh: self.mesh, to_world: self.to_world }
     }
 }
 
@@ -137,15 +140,29 @@ impl DecidedDent {
     /// `settings` ask for it.
     pub fn move_projectile(&self, world: &mut World, settings: &DentSettings) {
         let projectile = &mut world.bodies_mut()[self.projectile];
-        if settings.move_projectile && projectile.kind == BodyKind::Dynamic {
-            projectile.position += self.impact.unit_normal() * self.dent_distance;
+        if projectile.kind == BodyKind::Dynamic {
+            projectile.position += projectile_offset(settings, &self.impact, self.dent_distance);
         }
+    }
+}
+
+/// Body `index`'s state for the dent decision (fixed and kinematic bodies take no impulse).
+pub fn body_state(body: &RigidBody) -> BodyState {
+    let dynamic = body.kind == BodyKind::Dynamic;
+    BodyState {
+        center_of_mass: body.position,
+        linear_velocity: body.linear_velocity,
+        angular_velocity: body.angular_velocity,
+        inverse_mass: if dynamic { body.inverse_mass } else { 0.0 },
+        inverse_inertia: if dynamic { body.inverse_inertia_world() } else { glam::Mat3::ZERO },
+        restitution: body.surface.restitution,
     }
 }
 
 /// Whether `target` (body a or b of `event`) dents from `event`, whose other body dents it with
 /// `projectile`: its normal speed is above the threshold (or, with a hardness, the energy lost
-/// makes a dent), and how deep. The impact is the event's contact carried by `target.motion`.
+/// makes a dent), and how deep ([`decide_dent_distance`]). The impact is the event's contact
+/// carried by `target.motion`.
 ///
 /// # Errors
 /// [`SimError::Invalid`] when `target.body` is neither body of the event; [`SimError::Dent`]
@@ -161,98 +178,28 @@ pub fn decide_dent(
         b if b == event.b => (-1.0, event.a),
         b => return Err(SimError::Invalid { what: "dent target".into(), value: b.to_string(), reason: "is not hit" }),
     };
-    let settings = target.settings;
     // Into the target, and the projectile's velocity relative to it, carried with the target.
-    let motion = target.motion;
-    let impact = Impact {
-        point: motion.transform_point3(event.point),
-        normal: motion.transform_vector3(-sign * event.normal),
-        relative_velocity: motion.transform_vector3(sign * event.relative_velocity),
-    };
-    let dent_error = |error| SimError::Dent { body: target.name.to_owned(), error };
-    let Some(mut distance) = settings.material.dent_distance(&impact).map_err(dent_error)? else {
-        return Ok(None);
-    };
-    if let Some(hardness) = settings.hardness {
-        let lost = normal_energy_lost(world, event, target.body, other);
-        let params = DentParams { dent_distance: settings.material.cap, ..settings.params.clone() };
-        distance =
-            energy_dent_distance(&projectile.world_mesh(), &impact, &params, hardness, lost).map_err(dent_error)?;
-        if distance <= 0.0 {
-            return Ok(None);
-        }
-    }
-    Ok(Some(DecidedDent { target: target.body, projectile: other, impact, dent_distance: distance }))
+    let impact =
+        Impact { point: event.point, normal: -sign * event.normal, relative_velocity: sign * event.relative_velocity }
+            .transformed(target.motion);
+    let bodies = world.bodies();
+    let (target_state, projectile_state) = (body_state(&bodies[target.body]), body_state(&bodies[other]));
+    let distance =
+        decide_dent_distance(target.settings, &impact, &target_state, &projectile_state, &projectile.surface())
+            .map_err(|error| SimError::Dent { body: target.name.to_owned(), error })?;
+    Ok(distance.map(|dent_distance| DecidedDent { target: target.body, projectile: other, impact, dent_distance }))
 }
 
-/// Kinetic energy the collision removes along the normal, J: ½·m_eff·v_n²·(1 − e²), with m_eff
-/// the pair's effective mass along the normal at the contact point (rotation included).
-fn normal_energy_lost(world: &World, event: &CollisionEvent, target: usize, projectile: usize) -> f32 {
-    let inverse = |k: usize| {
-        let body = &world.bodies()[k];
-        if body.kind != BodyKind::Dynamic {
-            return 0.0;
-        }
-        let rn = (event.point - body.position).cross(event.normal);
-        body.inverse_mass + (body.inverse_inertia_world() * rn).dot(rn)
-    };
-    let k = inverse(target) + inverse(projectile);
-    if k <= 0.0 {
-        return 0.0;
-    }
-    let (a, b) = (&world.bodies()[target].surface, &world.bodies()[projectile].surface);
-    let e = a.restitution.max(b.restitution);
-    0.5 / k * event.normal_speed.powi(2) * (1.0 - e * e)
-}
-
-/// The part of `projectile` that can shape `dent`, in the target's mesh coordinates: triangles
-/// with a corner within reach of the impact point (twice the target's radius plus the cap and
-/// four σ). Far parts of a large projectile (a bunny landing on a small ball) cannot touch the
-/// target, and leaving them out keeps the dent's depth origin at the part that hit instead of
-/// the projectile's farthest point. `None` when nothing is that close.
+/// The part of `projectile` that can shape `dent`, in the target's mesh coordinates
+/// ([`crate::dent::projectile_near_impact`] within [`projectile_reach`]); `None` when nothing
+/// is that close.
 pub fn projectile_near_impact(
     target: &DentTarget<'_>,
     dent: &DecidedDent,
     projectile: &DentSurface<'_>,
 ) -> Option<TriMesh> {
-    let centre = projectile.to_world.inverse().transform_point3(dent.impact.point);
-    let mut mesh = crop_to_ball(projectile.mesh, centre, reach(target, dent))?;
-    // A rigid motion of a valid mesh stays finite.
-    let _ = mesh.transform(target.to_world.inverse() * projectile.to_world);
-    Some(mesh)
-}
-
-/// How far from the impact point the projectile can matter, m: the target's size (its dent
-/// cannot be wider), plus the deepest dent and the Gaussian tails.
-fn reach(target: &DentTarget<'_>, dent: &DecidedDent) -> f32 {
-    let cap = target.settings.material.cap.max(dent.dent_distance);
-    let sigma = target.settings.params.sigma.unwrap_or(0.5 * cap);
-    2.0 * target.radius + cap + 4.0 * sigma
-}
-
-/// The triangles of `mesh` with a corner within `radius` of `centre`, vertices renumbered;
-/// the whole mesh (cloned) when all of it is that close.
-fn crop_to_ball(mesh: &TriMesh, centre: Vec3, radius: f32) -> Option<TriMesh> {
-    let near: Vec<bool> = mesh.positions().iter().map(|p| p.distance_squared(centre) <= radius * radius).collect();
-    if near.iter().all(|&n| n) {
-        return Some(mesh.clone());
-    }
-    let mut index = vec![u32::MAX; mesh.vertex_count()];
-    let mut positions = Vec::new();
-    let mut faces = Vec::new();
-    for face in mesh.faces() {
-        if !face.iter().any(|&v| near[v as usize]) {
-            continue;
-        }
-        faces.push(face.map(|v| {
-            if index[v as usize] == u32::MAX {
-                index[v as usize] = positions.len() as u32;
-                positions.push(mesh.positions()[v as usize]);
-            }
-            index[v as usize]
-        }));
-    }
-    TriMesh::new(positions, faces).ok()
+    let reach = projectile_reach(target.settings, target.radius, dent.dent_distance);
+    crate::dent::projectile_near_impact(&projectile.surface(), dent.impact.point, reach, target.to_world)
 }
 
 /// The job of `dent` (its distance: `dent_distance`, m) in the target's mesh coordinates, with
@@ -264,11 +211,6 @@ pub fn dent_job<'a>(
     projectile: &'a TriMesh,
     slot: usize,
 ) -> DentJob<'a> {
-    let to_mesh = target.to_world.inverse();
-    let impact = Impact {
-        point: to_mesh.transform_point3(dent.impact.point),
-        normal: to_mesh.transform_vector3(dent.impact.normal),
-        relative_velocity: to_mesh.transform_vector3(dent.impact.relative_velocity),
-    };
+    let impact = dent.impact.transformed(target.to_world.inverse());
     DentJob { target: slot, projectile, impact, params: DentParams { dent_distance, ..target.settings.params.clone() } }
 }

@@ -1,16 +1,17 @@
 //! Denting in the simulation loop (paper Algorithm 1, lines 13–21): after each step, every
 //! collision above a dentable body's threshold dents it — both bodies of a pair when both are
 //! dentable, maps built from the undented meshes (Jacobi) — through one batch per step on the
-//! GPU (targets resident there) or on all CPU cores; then colliders are rebuilt.
+//! GPU (targets resident there) or on all CPU cores; then colliders are refitted. A thin user of
+//! the world-free [`Damage`] API, with world body indices as the ids.
 
 use glam::Vec3;
 use serde::Serialize;
 
-use super::{
-    CollisionEvent, DecidedDent, DentSurface, DentTarget, SimError, StepContext, World, decide_dent, dent_job,
-    projectile_near_impact,
+use super::{BodyKind, CollisionEvent, SimError, StepContext, World, body_state};
+use crate::dent::{
+    BatchError, BatchOutcome, CpuBackend, Damage, DamageError, DentBackend, DentError, DentJob, DentTargets, Hit,
+    Impact, TargetView, moved_between,
 };
-use crate::dent::{DentJob, dent_batch};
 use crate::gpu::{GpuContext, GpuDenter};
 use crate::mesh::TriMesh;
 
@@ -33,24 +34,71 @@ pub struct DentRecord {
     pub dent_distance: f32,
 }
 
-/// Progressive denting state of one (target, projectile) contact.
-struct Progress {
-    target: usize,
-    projectile: usize,
-    pre_dent: TriMesh,
-    accumulated: f32,
-    last_step: u64,
-}
-
 /// Runs the dents of each step's collisions.
 pub struct Denter {
-    gpu: Option<(GpuDenter<'static>, Vec<Option<usize>>)>,
-    progress: Vec<Progress>,
+    gpu: Option<GpuBackend>,
+    damage: Damage<usize>,
+}
+
+/// Batches on the GPU, plain dentable bodies resident there (slot per world index).
+struct GpuBackend {
+    denter: GpuDenter<'static>,
+    slots: Vec<Option<usize>>,
+}
+
+impl DentBackend<usize> for GpuBackend {
+    fn dent_batch(
+        &mut self,
+        targets: &mut [(usize, TriMesh)],
+        jobs: &[DentJob<'_>],
+    ) -> Result<BatchOutcome, BatchError> {
+        let slot = |body: usize| self.slots.get(body).copied().flatten().unwrap_or(usize::MAX);
+        let mut gpu_jobs = jobs.to_vec();
+        for job in &mut gpu_jobs {
+            job.target = slot(targets[job.target].0);
+        }
+        let failed = |message: String| BatchError { job: 0, error: DentError::Backend(message) };
+        let infos = self.denter.dent_batch(&gpu_jobs).map_err(|e| failed(e.to_string()))?;
+        // The GPU reports the plan of each dent; what moved is read back below.
+        let reports = infos
+            .iter()
+            .map(|i| crate::dent::DentReport {
+                theta_deg: i.theta_deg,
+                resolution: i.resolution,
+                map_resolution: i.map_resolution,
+                cell_size: i.cell_size,
+                ..Default::default()
+            })
+            .collect();
+        let mut moved = Vec::with_capacity(targets.len());
+        for (body, mesh) in targets.iter_mut() {
+            let dented = self.denter.read_mesh(slot(*body)).map_err(|e| failed(e.to_string()))?;
+            moved.push(moved_between(mesh, &dented));
+            *mesh = dented;
+        }
+        Ok(BatchOutcome { reports, moved })
+    }
 }
 
 impl std::fmt::Debug for Denter {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Denter").field("gpu", &self.gpu.is_some()).finish()
+    }
+}
+
+/// The world's bodies as the damage API asks about them.
+struct WorldTargets<'w>(&'w World);
+
+impl DentTargets<usize> for WorldTargets<'_> {
+    fn contains(&self, key: usize) -> bool {
+        key < self.0.bodies().len()
+    }
+
+    fn target(&self, key: usize) -> Option<TargetView<'_>> {
+        let body = self.0.bodies().get(key)?;
+        let settings = body.dent.as_ref()?;
+        let radius = body.shape().compute_local_bounding_sphere().radius;
+        Some(TargetView { mesh: body.mesh(), to_world: body.transform(), settings, radius })
     }
 }
 
@@ -73,10 +121,10 @@ impl Denter {
                     }
                 }
                 let denter = GpuDenter::new(context, &meshes).map_err(|e| SimError::Gpu(e.to_string()))?;
-                Some((denter, slots))
+                Some(GpuBackend { denter, slots })
             }
         };
-        Ok(Self { gpu, progress: Vec::new() })
+        Ok(Self { gpu, damage: Damage::new() })
     }
 
     /// Whether dents run on the GPU.
@@ -114,167 +162,68 @@ impl Denter {
         step: u64,
         context: &StepContext<'_>,
     ) -> Result<Vec<DentRecord>, SimError> {
-        let mut pending = Vec::new();
+        let bodies = world.bodies();
+        let mut hits = Vec::new();
         for event in events {
-            for (target, projectile) in [(event.a, event.b), (event.b, event.a)] {
-                let Some(target) = DentTarget::of_body(world, target) else { continue };
-                let target = DentTarget { motion: context.motion(target.body), ..target };
-                let projectile = context.surface(world, projectile);
-                if let Some(p) = decide_dent(world, event, &target, &projectile)? {
-                    pending.push(p);
+            for (sign, target, projectile) in [(1.0f32, event.a, event.b), (-1.0, event.b, event.a)] {
+                if bodies.get(target).is_none_or(|b| b.dent.is_none()) {
+                    continue;
                 }
-            }
-        }
-        self.progress.retain(|p| p.last_step + 1 >= step);
-        if pending.is_empty() {
-            return Ok(Vec::new());
-        }
-        let (progressive, plain): (Vec<DecidedDent>, Vec<DecidedDent>) =
-            pending.into_iter().partition(|p| world.bodies()[p.target].dent.as_ref().is_some_and(|d| d.progressive));
-        let surfaces = context.surfaces;
-        let mut records = self.dent_plain(world, &plain, step, surfaces)?;
-        records.extend(self.dent_progressive(world, &progressive, step, surfaces)?);
-        for p in plain.iter().chain(&progressive) {
-            if let Some(settings) = world.bodies()[p.target].dent.clone() {
-                p.move_projectile(world, &settings);
-            }
-        }
-        Ok(records)
-    }
-
-    /// Ordinary dents: one batch, on the GPU or all CPU cores.
-    fn dent_plain(
-        &mut self,
-        world: &mut World,
-        pending: &[DecidedDent],
-        step: u64,
-        surfaces: &[(usize, DentSurface<'_>)],
-    ) -> Result<Vec<DentRecord>, SimError> {
-        if pending.is_empty() {
-            return Ok(Vec::new());
-        }
-        // Dents whose projectile has nothing near the impact are dropped before the targets are
-        // listed, so no target is copied or read back for nothing.
-        let mut kept = Vec::new();
-        let mut projectiles = Vec::new();
-        for p in pending {
-            let target = target_of(world, p.target)?;
-            if let Some(mesh) = projectile_near_impact(&target, p, &DentSurface::lookup(world, p.projectile, surfaces))
-            {
-                kept.push(*p);
-                projectiles.push(mesh);
-            }
-        }
-        let pending = kept.as_slice();
-        if pending.is_empty() {
-            return Ok(Vec::new());
-        }
-        let mut targets: Vec<usize> = pending.iter().map(|p| p.target).collect();
-        targets.sort_unstable();
-        targets.dedup();
-        let jobs: Vec<DentJob<'_>> = pending
-            .iter()
-            .zip(&projectiles)
-            .map(|(p, mesh)| {
-                let slot = targets.binary_search(&p.target).unwrap_or(0);
-                Ok(dent_job(&target_of(world, p.target)?, p, p.dent_distance, mesh, slot))
-            })
-            .collect::<Result<_, SimError>>()?;
-        let dented: Vec<TriMesh> = match &mut self.gpu {
-            Some((denter, slots)) => {
-                let mut gpu_jobs = jobs.clone();
-                for (j, p) in gpu_jobs.iter_mut().zip(pending) {
-                    j.target = slots[p.target].unwrap_or(usize::MAX);
+                // Into the target, the projectile's velocity relative to it, carried with it.
+                let impact = Impact {
+                    point: event.point,
+                    normal: -sign * event.normal,
+                    relative_velocity: sign * event.relative_velocity,
                 }
-                denter.dent_batch(&gpu_jobs).map_err(|e| batch_error(world, pending, e.to_string()))?;
-                targets
-                    .iter()
-                    .map(|&t| denter.read_mesh(slots[t].unwrap_or(usize::MAX)))
-                    .collect::<Result<_, _>>()
-                    .map_err(|e| SimError::Gpu(e.to_string()))?
+                .transformed(context.motion(target));
+                hits.push(Hit {
+                    target,
+                    projectile,
+                    impact,
+                    target_state: body_state(&bodies[target]),
+                    projectile_state: body_state(&bodies[projectile]),
+                    projectile_surface: context.surface(world, projectile).surface(),
+                });
             }
-            None => {
-                let mut meshes: Vec<TriMesh> = targets.iter().map(|&t| world.bodies()[t].mesh().clone()).collect();
-                dent_batch(&mut meshes, &jobs).map_err(|e| SimError::Dent {
-                    body: world.bodies()[pending[e.job].target].name.clone(),
-                    error: e.error,
-                })?;
-                meshes
-            }
+        }
+        let backend: &mut dyn DentBackend<usize> = match &mut self.gpu {
+            Some(gpu) => gpu,
+            None => &mut CpuBackend,
         };
-        for (&t, mesh) in targets.iter().zip(dented) {
-            world.bodies_mut()[t].set_mesh(mesh)?;
+        let plan =
+            self.damage.plan(&WorldTargets(world), &hits, step, backend).map_err(|e| damage_error(world, &hits, e))?;
+        let records: Vec<DentRecord> = plan
+            .dents
+            .iter()
+            .map(|d| DentRecord {
+                step,
+                target: world.bodies()[d.target].name.clone(),
+                projectile: context.surface(world, d.projectile).name.to_owned(),
+                point: d.impact.point,
+                normal: d.impact.normal,
+                relative_velocity: d.impact.relative_velocity,
+                dent_distance: d.dent_distance,
+            })
+            .collect();
+        for target in plan.targets {
+            world.bodies_mut()[target.key].set_mesh(target.mesh)?;
         }
-        Ok(pending.iter().map(|p| record(world, p, p.dent_distance, step, surfaces)).collect())
-    }
-
-    /// Progressive dents (paper Figure 3): while a contact lasts, the dent is rebuilt from the
-    /// pre-dent surface with the accumulated distance, so it deepens instead of stacking.
-    fn dent_progressive(
-        &mut self,
-        world: &mut World,
-        pending: &[DecidedDent],
-        step: u64,
-        surfaces: &[(usize, DentSurface<'_>)],
-    ) -> Result<Vec<DentRecord>, SimError> {
-        let mut records = Vec::new();
-        for p in pending {
-            let cap = world.bodies()[p.target].dent.as_ref().map_or(f32::INFINITY, |d| d.material.cap);
-            let index = self.progress.iter().position(|s| s.target == p.target && s.projectile == p.projectile);
-            let state = match index {
-                Some(k) => &mut self.progress[k],
-                None => {
-                    let pre_dent = world.bodies()[p.target].mesh().clone();
-                    self.progress.push(Progress {
-                        target: p.target,
-                        projectile: p.projectile,
-                        pre_dent,
-                        accumulated: 0.0,
-                        last_step: step,
-                    });
-                    self.progress.last_mut().expect("just pushed")
-                }
-            };
-            let distance = (state.accumulated + p.dent_distance).min(cap);
-            let target = target_of(world, p.target)?;
-            let deeper = DecidedDent { dent_distance: distance, ..*p };
-            let projectile = DentSurface::lookup(world, p.projectile, surfaces);
-            let Some(projectile) = projectile_near_impact(&target, &deeper, &projectile) else { continue };
-            let mut meshes = vec![state.pre_dent.clone()];
-            dent_batch(&mut meshes, &[dent_job(&target, p, distance, &projectile, 0)])
-                .map_err(|e| SimError::Dent { body: world.bodies()[p.target].name.clone(), error: e.error })?;
-            state.accumulated = distance;
-            state.last_step = step;
-            world.bodies_mut()[p.target].set_mesh(meshes.pop().expect("one mesh"))?;
-            records.push(record(world, p, distance, step, surfaces));
+        for d in &plan.dents {
+            let projectile = &mut world.bodies_mut()[d.projectile];
+            if projectile.kind == BodyKind::Dynamic {
+                projectile.position += d.projectile_offset;
+            }
         }
         Ok(records)
     }
 }
 
-fn batch_error(world: &World, pending: &[DecidedDent], message: String) -> SimError {
-    let names: Vec<&str> = pending.iter().map(|p| world.bodies()[p.target].name.as_str()).collect();
-    SimError::Gpu(format!("{message} (targets: {})", names.join(", ")))
-}
-
-/// The record of plain dent `p` (`dent_distance` m at `step`), its projectile named as in
-/// `surfaces` (a bending body's sub-body by its body's name).
-fn record(
-    world: &World,
-    p: &DecidedDent,
-    dent_distance: f32,
-    step: u64,
-    surfaces: &[(usize, DentSurface<'_>)],
-) -> DentRecord {
-    let projectile = DentSurface::lookup(world, p.projectile, surfaces).name;
-    p.record(&world.bodies()[p.target].name, projectile, dent_distance, step)
-}
-
-/// `index` as a dent target (it is dentable: only dentable bodies get dents decided).
-fn target_of(world: &World, index: usize) -> Result<DentTarget<'_>, SimError> {
-    DentTarget::of_body(world, index).ok_or_else(|| SimError::Invalid {
-        what: "dent target".into(),
-        value: world.bodies()[index].name.clone(),
-        reason: "is not dentable",
-    })
+/// A damage error in world terms: the dented body named, a backend failure as a GPU error.
+fn damage_error(world: &World, hits: &[Hit<'_, usize>], error: DamageError) -> SimError {
+    let name = |key: usize| world.bodies().get(key).map_or_else(|| key.to_string(), |b| b.name.clone());
+    match error {
+        DamageError::Dent { error: DentError::Backend(message), .. } => SimError::Gpu(message),
+        DamageError::Dent { hit, error, .. } => SimError::Dent { body: name(hits[hit].target), error },
+        DamageError::UnknownBody { body, .. } => super::error::invalid("dent body", body, "is not in the world"),
+    }
 }

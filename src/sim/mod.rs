@@ -10,9 +10,7 @@ mod collider;
 mod contact_parts;
 mod contacts;
 mod dent_impact;
-mod dent_settings;
 mod denting;
-mod energy;
 mod error;
 mod events;
 mod joint_rounds;
@@ -26,16 +24,16 @@ mod union_find;
 mod warm_start;
 mod world;
 
+pub use crate::dent::DentSettings;
+pub use crate::dent::energy_dent_distance;
 pub use body::{BodyDesc, BodyKind, RigidBody, SurfaceMaterial};
 pub use broad_phase::{Aabb, overlapping_pairs};
 pub use collider::ColliderKind;
 pub use contacts::{ContactPoint, PairContacts, find_contacts};
 pub use dent_impact::{
-    DecidedDent, DentSurface, DentTarget, StepContext, decide_dent, dent_job, projectile_near_impact,
+    DecidedDent, DentSurface, DentTarget, StepContext, body_state, decide_dent, dent_job, projectile_near_impact,
 };
-pub use dent_settings::DentSettings;
 pub use denting::{DentRecord, Denter};
-pub use energy::energy_dent_distance;
 pub use error::SimError;
 pub use events::{CollisionEvent, StepReport};
 pub use joints::{BendEvent, Joint, JointKind};

@@ -1,7 +1,7 @@
 //! The energy model of dent depth: the plastic work of a dent, hardness × the volume of the
 //! projectile's tip pressed into the surface, equals the kinetic energy lost along the normal.
 
-use crate::dent::{DentError, DentParams, Impact, dent_map_stages};
+use super::{BodyState, DentError, DentParams, Impact, dent_map_stages};
 use crate::mesh::TriMesh;
 
 /// The dent distance d in [0, `params.dent_distance`] (the cap) with `hardness`·V(d) = `energy`,
@@ -40,4 +40,19 @@ pub fn energy_dent_distance(
         if work(mid) < energy { lo = mid } else { hi = mid }
     }
     Ok(0.5 * (lo + hi))
+}
+
+/// Kinetic energy a collision removes along the normal, J: ½·m_eff·v_n²·(1 − e²), with m_eff the
+/// pair's effective mass along the normal at the contact point (rotation included), v_n the
+/// closing speed along the normal (m/s, taken from `impact`) and e the larger restitution of
+/// the two. 0 when neither body takes an impulse (both fixed or kinematic).
+pub fn normal_energy_lost(impact: &Impact, target: &BodyState, projectile: &BodyState) -> f32 {
+    let normal = impact.unit_normal();
+    let k = target.inverse_mass_along(impact.point, normal) + projectile.inverse_mass_along(impact.point, normal);
+    if !(k > 0.0) {
+        return 0.0;
+    }
+    let normal_speed = impact.relative_velocity.dot(normal).max(0.0);
+    let e = target.restitution.max(projectile.restitution);
+    0.5 / k * normal_speed.powi(2) * (1.0 - e * e)
 }

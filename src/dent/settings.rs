@@ -1,6 +1,7 @@
 //! How a body dents when it is hit (paper Algorithm 1, lines 14–20).
 
-use crate::dent::{DentError, DentMaterial, DentParams};
+use super::error::invalid;
+use super::{DentError, DentMaterial, DentParams};
 
 /// A dentable body's denting behaviour.
 #[derive(Debug, Clone)]
@@ -43,7 +44,7 @@ impl DentSettings {
         if let Some(h) = self.hardness
             && !(h.is_finite() && h > 0.0)
         {
-            return Err(crate::dent::invalid("hardness", h, "must be finite and > 0"));
+            return Err(invalid("hardness", h, "must be finite and > 0"));
         }
         DentParams { dent_distance: self.material.cap, ..self.params.clone() }.validate()
     }

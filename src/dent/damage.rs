@@ -1,0 +1,366 @@
+//! The world-free damage API: dents from any rigid-body solver's contacts, keyed by the caller's
+//! own body ids. The caller reports hits ([`Hit`]) and exposes its dentable bodies
+//! ([`DentTargets`]); [`Damage::plan`] decides every dent, crops each projectile to the part that
+//! hit, builds the maps from the undented surfaces (Jacobi) and dents copies of the targets on
+//! a [`DentBackend`] (all CPU cores, or the GPU) — changing nothing until the caller takes the
+//! [`DamagePlan`]: new meshes, the vertices that moved (for a collider refit) and how far to move
+//! each projectile into its dent.
+
+use std::hash::Hash;
+
+use glam::{Affine3A, Vec3};
+
+use super::decide::{decide_dent_distance, projectile_offset};
+use super::reach::{projectile_near_impact, projectile_reach};
+use super::{
+    BatchError, BatchOutcome, BodyState, DentError, DentJob, DentParams, DentSettings, Impact, ProgressiveDents,
+    Surface, dent_batch_tracked,
+};
+use crate::mesh::TriMesh;
+
+/// One contact a solver reported, as denting sees it from the target's side.
+#[derive(Debug, Clone, Copy)]
+pub struct Hit<'a, K> {
+    /// The body that may dent (the caller's id).
+    pub target: K,
+    /// The body that hit it.
+    pub projectile: K,
+    /// The contact, world coordinates consistent with the target's `to_world`: normal into the
+    /// target, the projectile's velocity relative to the target before the step
+    /// ([`Impact::from_contact`] builds it from both bodies' states).
+    pub impact: Impact,
+    /// The target's state before the step (for the energy model).
+    pub target_state: BodyState,
+    /// The projectile's state before the step.
+    pub projectile_state: BodyState,
+    /// The projectile's surface where it hit (mesh and mesh → world transform).
+    pub projectile_surface: Surface<'a>,
+}
+
+/// A dentable body as the caller's world holds it.
+#[derive(Debug, Clone, Copy)]
+pub struct TargetView<'a> {
+    /// Its surface, in its own (mesh) coordinates, m.
+    pub mesh: &'a TriMesh,
+    /// Mesh coordinates → world, consistent with its hits' impacts.
+    pub to_world: Affine3A,
+    /// How it dents.
+    pub settings: &'a DentSettings,
+    /// Radius of a ball about the mesh's origin that holds the mesh, m
+    /// ([`radius_about_origin`](super::radius_about_origin), or the collider's bounding sphere).
+    pub radius: f32,
+}
+
+/// The caller's bodies, as the damage API asks about them.
+pub trait DentTargets<K> {
+    /// Whether `key` names a body the caller has (dentable or not).
+    fn contains(&self, key: K) -> bool;
+    /// `key` as a dentable target; `None` for a body that does not dent.
+    fn target(&self, key: K) -> Option<TargetView<'_>>;
+}
+
+/// Where a batch of dents runs: dents `targets` (the caller's id and a copy of its mesh) by
+/// `jobs` (whose `target` indexes `targets`) in place.
+pub trait DentBackend<K> {
+    /// Runs the batch.
+    ///
+    /// # Errors
+    /// [`BatchError`] naming the first bad job; the meshes are unchanged then.
+    fn dent_batch(&mut self, targets: &mut [(K, TriMesh)], jobs: &[DentJob<'_>]) -> Result<BatchOutcome, BatchError>;
+}
+
+/// Batches on all CPU cores ([`dent_batch_tracked`]).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CpuBackend;
+
+impl<K> DentBackend<K> for CpuBackend {
+    fn dent_batch(&mut self, targets: &mut [(K, TriMesh)], jobs: &[DentJob<'_>]) -> Result<BatchOutcome, BatchError> {
+        let mut meshes: Vec<TriMesh> = targets.iter().map(|(_, m)| m.clone()).collect();
+        let outcome = dent_batch_tracked(&mut meshes, jobs)?;
+        for ((_, mesh), dented) in targets.iter_mut().zip(meshes) {
+            *mesh = dented;
+        }
+        Ok(outcome)
+    }
+}
+
+/// What went wrong in [`Damage::plan`]; nothing of the caller's changed.
+#[derive(Debug, thiserror::Error)]
+pub enum DamageError {
+    /// A hit names a body the caller does not have (removed between steps?).
+    #[error("hit {hit}: unknown body {body}")]
+    UnknownBody {
+        /// Index of the hit.
+        hit: usize,
+        /// The id, formatted.
+        body: String,
+    },
+    /// A hit's contact or body states are unusable (NaN, ∞, zero normal), or its dent failed
+    /// ([`DentError::Backend`] when the backend did: a GPU lost mid-batch).
+    #[error("hit {hit} (target {target}): {error}")]
+    Dent {
+        /// Index of the hit.
+        hit: usize,
+        /// The target's id, formatted.
+        target: String,
+        /// What was wrong.
+        #[source]
+        error: DentError,
+    },
+}
+
+/// One dent the plan makes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AppliedDent<K> {
+    /// The dented body.
+    pub target: K,
+    /// The body that dented it.
+    pub projectile: K,
+    /// The contact (world), normal into the target.
+    pub impact: Impact,
+    /// Dent distance, m (a progressive dent's accumulated distance).
+    pub dent_distance: f32,
+    /// How far to move the projectile into the dent, world, m (zero unless the target's
+    /// settings ask for it; only move dynamic projectiles).
+    pub projectile_offset: Vec3,
+}
+
+/// A target's new surface.
+#[derive(Debug, Clone)]
+pub struct DentedTarget<K> {
+    /// The body.
+    pub key: K,
+    /// Its dented mesh (same vertices and faces, same coordinates as before).
+    pub mesh: TriMesh,
+    /// The vertices that moved, ascending: refit the collider over these.
+    pub moved: Vec<u32>,
+}
+
+/// The result of one step's hits, not yet applied to the caller's bodies.
+#[derive(Debug, Clone)]
+pub struct DamagePlan<K> {
+    /// Every dent made, plain ones first, each group in hit order.
+    pub dents: Vec<AppliedDent<K>>,
+    /// Every dented body's new surface, once each.
+    pub targets: Vec<DentedTarget<K>>,
+}
+
+/// A hit that dents, with its distance.
+#[derive(Debug, Clone, Copy)]
+struct Decided<'a, K> {
+    hit: usize,
+    data: Hit<'a, K>,
+    distance: f32,
+}
+
+/// Engine-neutral denting state: progressive dents under way, keyed by the caller's ids.
+#[derive(Debug, Clone)]
+pub struct Damage<K> {
+    progress: ProgressiveDents<K, TriMesh>,
+}
+
+impl<K> Default for Damage<K> {
+    fn default() -> Self {
+        Self { progress: ProgressiveDents::default() }
+    }
+}
+
+impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
+    /// No progressive dent under way.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Forgets `body`'s progressive dents (call when the caller removes it).
+    pub fn forget(&mut self, body: K) {
+        self.progress.forget(body);
+    }
+
+    /// Decides and computes the dents `hits` (of the step numbered `step`) make on `targets`,
+    /// ordinary ones as one batch on `backend`, progressive ones from their pre-dent surfaces;
+    /// every map comes from the undented surfaces. Hits on bodies that do not dent, and hits too
+    /// slow to dent, are skipped. Progressive state advances only when the whole plan succeeds.
+    ///
+    /// # Errors
+    /// [`DamageError`] naming the hit; nothing changes then.
+    pub fn plan(
+        &mut self,
+        targets: &impl DentTargets<K>,
+        hits: &[Hit<'_, K>],
+        step: u64,
+        backend: &mut dyn DentBackend<K>,
+    ) -> Result<DamagePlan<K>, DamageError> {
+        let decided = decide(targets, hits)?;
+        let (progressive, plain): (Vec<_>, Vec<_>) =
+            decided.into_iter().partition(|d| view(targets, d).settings.progressive);
+        let mut plan = plain_dents(targets, &plain, backend)?;
+        let mut progress = self.progress.clone();
+        progress.end_stale(step);
+        for d in &progressive {
+            let target = view(targets, d);
+            let (pre_dent, distance) =
+                progress.next(d.data.target, d.data.projectile, d.distance, target.settings.material.cap, || {
+                    latest(&plan, d.data.target).unwrap_or(target.mesh).clone()
+                });
+            let Some(mesh) = dent_one(&target, d, distance, &pre_dent)? else { continue };
+            // Rebuilt from the pre-dent surface: what moved is what differs from the surface now.
+            let moved = moved_between(latest(&plan, d.data.target).unwrap_or(target.mesh), &mesh);
+            progress.record(d.data.target, d.data.projectile, pre_dent, distance, step);
+            plan.dents.push(applied(&target, d, distance));
+            match plan.targets.iter_mut().find(|t| t.key == d.data.target) {
+                Some(t) => merge(t, mesh, moved),
+                None => plan.targets.push(DentedTarget { key: d.data.target, mesh, moved }),
+            }
+        }
+        self.progress = progress;
+        Ok(plan)
+    }
+}
+
+/// The target of a decided hit (it was looked up when decided).
+fn view<'t, K: Copy>(targets: &'t impl DentTargets<K>, d: &Decided<'_, K>) -> TargetView<'t> {
+    targets.target(d.data.target).expect("decided hits are on dentable targets")
+}
+
+/// Every hit's dent decision, validated up front.
+fn decide<'a, K: Copy + std::fmt::Debug>(
+    targets: &impl DentTargets<K>,
+    hits: &[Hit<'a, K>],
+) -> Result<Vec<Decided<'a, K>>, DamageError> {
+    let mut out = Vec::new();
+    for (k, hit) in hits.iter().enumerate() {
+        for body in [hit.target, hit.projectile] {
+            if !targets.contains(body) {
+                return Err(DamageError::UnknownBody { hit: k, body: format!("{body:?}") });
+            }
+        }
+        let Some(target) = targets.target(hit.target) else { continue };
+        let error = |error| DamageError::Dent { hit: k, target: format!("{:?}", hit.target), error };
+        hit.impact
+            .validate()
+            .or_else(|e| if matches!(e, DentError::Separating { .. }) { Ok(()) } else { Err(e) })
+            .map_err(error)?;
+        let distance = decide_dent_distance(
+            target.settings,
+            &hit.impact,
+            &hit.target_state,
+            &hit.projectile_state,
+            &hit.projectile_surface,
+        )
+        .map_err(error)?;
+        if let Some(distance) = distance {
+            out.push(Decided { hit: k, data: *hit, distance });
+        }
+    }
+    Ok(out)
+}
+
+/// The job of decided hit `d` with `distance` m against batch target `slot`, its projectile
+/// cropped (in the target's mesh coordinates, kept alive in `projectile`).
+fn job<'p, K>(
+    target: &TargetView<'_>,
+    d: &Decided<'_, K>,
+    distance: f32,
+    projectile: &'p TriMesh,
+    slot: usize,
+) -> DentJob<'p> {
+    let impact = d.data.impact.transformed(target.to_world.inverse());
+    DentJob {
+        target: slot,
+        projectile,
+        impact,
+        params: DentParams { dent_distance: distance, ..target.settings.params.clone() },
+    }
+}
+
+/// The projectile of `d` cropped to what can shape a `distance` m dent in `target`.
+fn cropped<K>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) -> Option<TriMesh> {
+    let reach = projectile_reach(target.settings, target.radius, distance);
+    projectile_near_impact(&d.data.projectile_surface, d.data.impact.point, reach, target.to_world)
+}
+
+fn applied<K: Copy>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) -> AppliedDent<K> {
+    AppliedDent {
+        target: d.data.target,
+        projectile: d.data.projectile,
+        impact: d.data.impact,
+        dent_distance: distance,
+        projectile_offset: projectile_offset(target.settings, &d.data.impact, distance),
+    }
+}
+
+/// Ordinary dents: one batch over copies of the targets hit.
+fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
+    targets: &impl DentTargets<K>,
+    plain: &[Decided<'_, K>],
+    backend: &mut dyn DentBackend<K>,
+) -> Result<DamagePlan<K>, DamageError> {
+    let mut kept = Vec::new();
+    let mut projectiles = Vec::new();
+    for d in plain {
+        if let Some(mesh) = cropped(&view(targets, d), d, d.distance) {
+            kept.push(*d);
+            projectiles.push(mesh);
+        }
+    }
+    let mut batch: Vec<(K, TriMesh)> = Vec::new();
+    let mut jobs = Vec::with_capacity(kept.len());
+    for (d, projectile) in kept.iter().zip(&projectiles) {
+        let slot = match batch.iter().position(|(k, _)| *k == d.data.target) {
+            Some(slot) => slot,
+            None => {
+                batch.push((d.data.target, view(targets, d).mesh.clone()));
+                batch.len() - 1
+            }
+        };
+        jobs.push(job(&view(targets, d), d, d.distance, projectile, slot));
+    }
+    if jobs.is_empty() {
+        return Ok(DamagePlan { dents: Vec::new(), targets: Vec::new() });
+    }
+    let outcome = backend.dent_batch(&mut batch, &jobs).map_err(|e| {
+        let d = &kept[e.job];
+        DamageError::Dent { hit: d.hit, target: format!("{:?}", d.data.target), error: e.error }
+    })?;
+    let dents = kept.iter().map(|d| applied(&view(targets, d), d, d.distance)).collect();
+    let targets =
+        batch.into_iter().zip(outcome.moved).map(|((key, mesh), moved)| DentedTarget { key, mesh, moved }).collect();
+    Ok(DamagePlan { dents, targets })
+}
+
+/// A progressive dent of `d`, `distance` m deep, rebuilt from `pre_dent`; `None` when no part
+/// of the projectile is near.
+fn dent_one<K: std::fmt::Debug>(
+    target: &TargetView<'_>,
+    d: &Decided<'_, K>,
+    distance: f32,
+    pre_dent: &TriMesh,
+) -> Result<Option<TriMesh>, DamageError> {
+    let Some(projectile) = cropped(target, d, distance) else { return Ok(None) };
+    let mut meshes = vec![pre_dent.clone()];
+    dent_batch_tracked(&mut meshes, &[job(target, d, distance, &projectile, 0)]).map_err(|e| DamageError::Dent {
+        hit: d.hit,
+        target: format!("{:?}", d.data.target),
+        error: e.error,
+    })?;
+    Ok(meshes.pop())
+}
+
+/// The vertices whose positions differ between `before` and `after` (same vertex count).
+pub fn moved_between(before: &TriMesh, after: &TriMesh) -> Vec<u32> {
+    let pairs = before.positions().iter().zip(after.positions());
+    pairs.enumerate().filter(|(_, (a, b))| a != b).map(|(v, _)| v as u32).collect()
+}
+
+/// The newest surface the plan has for `key`.
+fn latest<K: PartialEq>(plan: &DamagePlan<K>, key: K) -> Option<&TriMesh> {
+    plan.targets.iter().find(|t| t.key == key).map(|t| &t.mesh)
+}
+
+/// `target` takes `mesh`, the union of both moved sets.
+fn merge<K>(target: &mut DentedTarget<K>, mesh: TriMesh, moved: Vec<u32>) {
+    target.mesh = mesh;
+    target.moved.extend(moved);
+    target.moved.sort_unstable();
+    target.moved.dedup();
+}
