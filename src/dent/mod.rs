@@ -22,6 +22,7 @@ mod plan;
 mod progressive;
 mod reach;
 mod settings;
+mod target_set;
 
 pub use apply::{DentReport, dent, dent_pair};
 pub use artist::gaussian_heights;
@@ -45,3 +46,4 @@ pub use plan::{DentPlan, plan_dent};
 pub use progressive::ProgressiveDents;
 pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
 pub use settings::DentSettings;
+pub use target_set::TargetSet;
