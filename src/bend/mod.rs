@@ -22,6 +22,7 @@ mod geodesic;
 mod geometry;
 mod gpu_skinning;
 mod joint_override;
+mod joint_rules;
 mod level_set;
 mod pose_dent;
 mod rest_revision;
@@ -45,6 +46,7 @@ pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
 pub use error::BendError;
 pub use gpu_skinning::{GROUP_VERTICES, GpuSkinner};
 pub use joint_override::JointOverride;
+pub use joint_rules::{clamp_to_strength, damped_bend_rate, effective_inertia, spring, spring_impulse};
 pub use level_set::{
     BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,
 };

@@ -26,6 +26,7 @@ use glam::{DVec3, Vec3};
 
 use super::system::{self, Frame, Matrix, Mobility, Motion};
 use super::{Joint, JointKind, rotation_vector};
+use crate::bend::spring;
 use crate::sim::solver::SolverBody;
 use crate::sim::{RigidBody, WorldSettings};
 
@@ -159,69 +160,4 @@ fn prismatic_spring(
     let impulse = axis * ((mass * (secant - f64::from(speed))) as f32);
     v[joint.a].linear -= impulse * ma.inverse_mass;
     v[joint.b].linear += impulse * mb.inverse_mass;
-}
-
-/// The free motion of `inertia·x″ + damping·x′ + stiffness·x = 0` from (x, x′) = (`x0`, `v0`)
-/// after time `t` (s): the closed forms of the under-, critically and over-damped cases.
-/// Returns (x, x′) at `t`.
-pub(crate) fn spring(x0: f64, v0: f64, inertia: f64, stiffness: f64, damping: f64, t: f64) -> (f64, f64) {
-    let gamma = damping / (2.0 * inertia);
-    let natural2 = stiffness / inertia;
-    let disc = gamma * gamma - natural2;
-    // Relative width of the critical band, where the under/over-damped forms lose precision.
-    let critical = disc.abs() <= 1e-9 * natural2.max(gamma * gamma);
-    if critical {
-        let decay = (-gamma * t).exp();
-        let b = v0 + gamma * x0;
-        (decay * (x0 + b * t), decay * (v0 - gamma * b * t))
-    } else if disc < 0.0 {
-        let wd = (-disc).sqrt();
-        let (s, c) = (wd * t).sin_cos();
-        let decay = (-gamma * t).exp();
-        let x = decay * (x0 * c + (v0 + gamma * x0) / wd * s);
-        let v = decay * (v0 * c - (natural2 * x0 + gamma * v0) / wd * s);
-        (x, v)
-    } else {
-        let root = disc.sqrt();
-        let (r1, r2) = (-gamma + root, -gamma - root);
-        let c1 = (v0 - r2 * x0) / (r1 - r2);
-        let c2 = x0 - c1;
-        let (e1, e2) = ((r1 * t).exp(), (r2 * t).exp());
-        (c1 * e1 + c2 * e2, c1 * r1 * e1 + c2 * r2 * e2)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::spring;
-
-    /// Each closed form solves the equation: it starts at (x0, v0), its velocity is the
-    /// derivative of its position, and x″ (central differences, h = 1e-4 s, error ~h²·ω⁴·x)
-    /// equals −(C·x′ + κ·x)/I within 1e-3 of κ·|x0|/I; just under and just over critical
-    /// damping agree with the critical form within 1e-6.
-    #[test]
-    fn closed_forms_solve_the_spring_equation() {
-        let (inertia, stiffness, x0, v0) = (0.2, 30.0, 0.1, -0.7);
-        let critical = 2.0 * f64::sqrt(stiffness * inertia);
-        let scale = stiffness * x0 / inertia;
-        for damping in [0.0, 0.3 * critical, critical, 3.0 * critical] {
-            let at = |t: f64| spring(x0, v0, inertia, stiffness, damping, t);
-            assert!((at(0.0).0 - x0).abs() < 1e-12 && (at(0.0).1 - v0).abs() < 1e-12, "C = {damping}");
-            let h = 1e-4;
-            for t in [0.01, 0.0167, 0.1, 0.5] {
-                let ((xm, _), (x, v), (xp, _)) = (at(t - h), at(t), at(t + h));
-                assert!(((xp - xm) / (2.0 * h) - v).abs() < 1e-4 * scale, "C = {damping}, t = {t}: velocity");
-                let accel = (xp - 2.0 * x + xm) / (h * h);
-                let wanted = -(damping * v + stiffness * x) / inertia;
-                assert!((accel - wanted).abs() < 1e-3 * scale, "C = {damping}, t = {t}: {accel} vs {wanted}");
-            }
-        }
-        for t in [0.0167, 0.2] {
-            let exact = spring(x0, v0, inertia, stiffness, critical, t);
-            for near in [critical * (1.0 - 1e-7), critical * (1.0 + 1e-7)] {
-                let (x, v) = spring(x0, v0, inertia, stiffness, near, t);
-                assert!((x - exact.0).abs() < 1e-6 && (v - exact.1).abs() < 1e-6, "near critical at t = {t}");
-            }
-        }
-    }
 }

@@ -18,6 +18,7 @@ use glam::Vec3;
 
 use super::system::{self, Matrix};
 use super::{BendEvent, Joint, JointKind, angle_between};
+use crate::bend::damped_bend_rate;
 use crate::sim::{RigidBody, WorldSettings};
 
 /// Solves a plastic joint's rows (`held`) for `rhs`, clamping the accumulated angular impulse
@@ -76,13 +77,8 @@ pub(crate) fn after_step(joints: &mut [Joint], bodies: &[RigidBody], settings: &
             bends.push(BendEvent { joint: index, angle, total_angle: joint.bend_angle() });
         }
         let turning = settings.limit_spin(b.angular_velocity - a.angular_velocity);
-        let speed = turning.length();
-        let damped = (speed - (damping_constant + damping_proportional * speed) * dt).max(0.0);
-        joint.bend_rate = if damped > 0.0 && speed > 0.0 {
-            a.orientation.inverse() * (turning * (damped / speed))
-        } else {
-            Vec3::ZERO
-        };
+        let rate = damped_bend_rate(turning, damping_constant, damping_proportional, dt);
+        joint.bend_rate = if rate == Vec3::ZERO { Vec3::ZERO } else { a.orientation.inverse() * rate };
     }
     bends
 }
