@@ -39,6 +39,7 @@
 //! ```
 
 pub mod bend;
+pub mod coupling;
 pub mod cpu;
 pub mod dent;
 pub mod gpu;

@@ -1,10 +1,12 @@
 //! Bending bodies in a world: the skinned mesh at rest, an elastic joint that springs back, joints
 //! given their own kind, and clear errors (never panics) for bad bending descriptions.
 
-use dentbend::bend::{BendableDesc, Bending, BoneDesc, DynamicArticulation, JointOverride, SkeletonSpec, WeightParams};
+use dentbend::bend::{BoneDesc, WeightParams};
+use dentbend::coupling::Simulation;
+use dentbend::coupling::{BendableDesc, Bending, DynamicArticulation, JointOverride, SkeletonSpec};
 use dentbend::glam::Vec3;
 use dentbend::scene::{SceneSize, builtin_scene};
-use dentbend::sim::{JointKind, Simulation, World, WorldSettings};
+use dentbend::sim::{JointKind, World, WorldSettings};
 
 /// A 2 × 0.2 × 0.2 m bar with a coarse level set (32 cells along it) so debug builds stay fast.
 fn bar() -> BendableDesc {

@@ -2,10 +2,12 @@
 //! strut rest on the ground at their radius, a strut's split halves get capsules fitted to their
 //! own parts, and a bending body refuses colliders that cannot be fitted to a part.
 
-use dentbend::bend::{BendableDesc, Bending, DynamicArticulation, SkeletonSpec, WeightParams};
+use dentbend::bend::WeightParams;
+use dentbend::coupling::Simulation;
+use dentbend::coupling::{BendableDesc, Bending, DynamicArticulation, SkeletonSpec};
 use dentbend::glam::{Quat, Vec3};
 use dentbend::mesh::{self, TriMesh};
-use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, Simulation, World, WorldSettings};
+use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, World, WorldSettings};
 
 /// The tetrahedra's strut: radius 0.025 m, 0.48 m long, along its model y axis.
 const RADIUS: f32 = 0.025;

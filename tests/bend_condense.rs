@@ -3,7 +3,8 @@
 //! bodies on either side of the joint that bends collapse into two clusters while it bends, and
 //! the whole body condenses again once it is quiet, keeping its bend.
 
-use dentbend::bend::{BendableDesc, Bending, CondenseSettings, SkeletonSpec, WeightParams};
+use dentbend::bend::WeightParams;
+use dentbend::coupling::{BendableDesc, Bending, CondenseSettings, SkeletonSpec};
 use dentbend::glam::{Affine3A, Vec3};
 use dentbend::mesh;
 use dentbend::sim::{BodyDesc, ColliderKind, JointKind, SurfaceMaterial, World, WorldSettings};

@@ -8,13 +8,15 @@
 //! mistake they guard against (a frame or map-back missing, a dent applied twice or to the wrong
 //! mesh) moves vertices by a sizeable part of the dent.
 
-use dentbend::bend::{ArticulatedBody, BendDenter, BendableDesc, Bending, SkeletonSpec, WeightParams, dent_step};
+use dentbend::bend::WeightParams;
+use dentbend::coupling::Simulation;
+use dentbend::coupling::{ArticulatedBody, BendDenter, BendableDesc, Bending, SkeletonSpec, dent_step};
 use dentbend::glam::{Quat, Vec3};
 use dentbend::mesh::{self, TriMesh};
 use dentbend::scene::{PLANK_DENT, PLANK_HIT, SceneSize, builtin_scene};
 use dentbend::sim::{
-    BodyDesc, ColliderKind, CollisionEvent, DecidedDent, DentSettings, DentSurface, Denter, JointKind, SimError,
-    Simulation, World, WorldSettings,
+    BodyDesc, ColliderKind, CollisionEvent, DecidedDent, DentSettings, DentSurface, Denter, JointKind, SimError, World,
+    WorldSettings,
 };
 
 /// Ball radius, m.

@@ -5,9 +5,9 @@
 //! The demo-size scene (64 segments, level set 128 cells along the 4 m plank: cells of
 //! 4.0 / 128 ≈ 0.031 m plus border) keeps the whole run under a few seconds in debug builds.
 
+use dentbend::coupling::Simulation;
 use dentbend::glam::Vec3;
 use dentbend::scene::{PLANK_HIT, PLANK_SIZE, SceneSize, builtin_scene};
-use dentbend::sim::Simulation;
 
 /// Frames of the run: the ball lands at frame 6 and the bend has settled by about frame 30.
 const FRAMES: usize = 45;

@@ -5,10 +5,11 @@
 
 use std::collections::BTreeSet;
 
-use dentbend::bend::ArticulatedBody;
+use dentbend::coupling::ArticulatedBody;
+use dentbend::coupling::Simulation;
 use dentbend::glam::Quat;
 use dentbend::scene::{ARM_BONES, SceneSize, builtin_scene};
-use dentbend::sim::{Simulation, World};
+use dentbend::sim::World;
 
 /// The armadillo's bones and joints, as world indices.
 struct Arm {

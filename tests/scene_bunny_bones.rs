@@ -4,9 +4,10 @@
 //! not, and sub-bodies of one bending body that never collide with each other.
 
 use dentbend::bend::{BUNNY_BODY, BUNNY_HEAD, BUNNY_LEFT_EAR, BUNNY_RIGHT_EAR, bunny_skeleton};
+use dentbend::coupling::Simulation;
 use dentbend::glam::Vec3;
 use dentbend::scene::{BUNNY_SCALE, SceneSize, builtin_scene};
-use dentbend::sim::{BodyDesc, Simulation, World, WorldSettings};
+use dentbend::sim::{BodyDesc, World, WorldSettings};
 
 #[test]
 fn the_bunny_has_four_bones_with_sub_bodies_and_a_bone_out_of_its_neck() {

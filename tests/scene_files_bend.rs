@@ -4,7 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use dentbend::bend::{ArticulatedBody, BoneDesc, DynamicArticulation, auto_skeleton};
+use dentbend::bend::{BoneDesc, auto_skeleton};
+use dentbend::coupling::{ArticulatedBody, DynamicArticulation};
 use dentbend::glam::{Affine3A, Quat, Vec3};
 use dentbend::scene::{Scene, load_scene, parse_scene};
 use dentbend::sim::JointKind;

@@ -6,10 +6,11 @@
 
 use std::collections::BTreeMap;
 
+use dentbend::coupling::Simulation;
 use dentbend::glam::Vec3;
 use dentbend::mesh;
 use dentbend::scene::{SceneSize, tetrahedra_grid};
-use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, Simulation, SurfaceMaterial, World, WorldSettings};
+use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, SurfaceMaterial, World, WorldSettings};
 
 /// The world bodies of each tetrahedron (`tetra<t>/…`: balls, struts and strut halves), by name
 /// prefix.

@@ -1,9 +1,10 @@
 //! Denting in the simulation loop (paper Algorithm 1): thresholds, Figure 1's symmetry through
 //! the full simulation, glancing hits, the energy model, and determinism.
 
+use dentbend::coupling::Simulation;
 use dentbend::glam::Vec3;
 use dentbend::mesh::{self, TriMesh};
-use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, Simulation, World, WorldSettings};
+use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, World, WorldSettings};
 
 fn weightless() -> WorldSettings {
     WorldSettings { gravity: Vec3::ZERO, sleep_time: 0.0, ..Default::default() }

@@ -19,14 +19,16 @@ mod common;
 
 use common::skin_tolerance::{EPS, NORMAL_ULPS, blend_magnitude, cofactor_terms, position_tolerance};
 
-use dentbend::bend::{ArticulatedBody, BendableDesc, Bending, SkeletonSpec, Skinner, WeightParams};
+use dentbend::bend::WeightParams;
+use dentbend::coupling::Simulation;
+use dentbend::coupling::{ArticulatedBody, BendableDesc, Bending, SkeletonSpec, Skinner};
 use dentbend::cpu::{SkinBone, SkinInfluence};
 use dentbend::glam::{DVec3, Vec3, Vec4};
 use dentbend::gpu::skin::Skinned;
 use dentbend::gpu::{GpuContext, buffers};
 use dentbend::mesh;
 use dentbend::scene::{SceneSize, load_sized};
-use dentbend::sim::{BodyDesc, ColliderKind, DentSettings, SimError, Simulation, World, WorldSettings};
+use dentbend::sim::{BodyDesc, ColliderKind, DentSettings, SimError, World, WorldSettings};
 
 /// κ of a vertex: the magnitude of the cofactor terms of `|M|` applied to `|n|` over the length
 /// of the twin's unnormalized `cof(A)·n`, at least 1.

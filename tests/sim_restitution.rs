@@ -2,11 +2,10 @@
 //! collider must bounce with e × its closing speed, not more (internal-edge contacts with
 //! tilted normals used to add up to 40 % extra bounce).
 
+use dentbend::coupling::Simulation;
 use dentbend::glam::Vec3;
 use dentbend::mesh;
-use dentbend::sim::{
-    BodyDesc, BodyKind, ColliderKind, DentSettings, Simulation, SurfaceMaterial, World, WorldSettings,
-};
+use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, SurfaceMaterial, World, WorldSettings};
 
 const GRAVITY: f32 = 9.81;
 

@@ -3,10 +3,11 @@
 //! scene (struts pinned by ball joints, split by plastic joints, wedged in frames) ran away to
 //! speeds of 10⁹ m/s within a second.
 
+use dentbend::coupling::Simulation;
 use dentbend::glam::Vec3;
 use dentbend::mesh::subdivided_box;
 use dentbend::scene::{SceneSize, tetrahedra_grid};
-use dentbend::sim::{BodyDesc, ColliderKind, Simulation, World, WorldSettings};
+use dentbend::sim::{BodyDesc, ColliderKind, World, WorldSettings};
 
 /// The fastest the pile's bodies can honestly move, m/s: the highest tetrahedron falls about
 /// 4.6 m (9.5 m/s; the guarded run's fastest body was 10.3 m/s); 30 m/s is three times that

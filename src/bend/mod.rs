@@ -9,54 +9,31 @@
 //!        └──────────────────────────────────────────────────────────────────┴──► SubBodies
 //! ```
 
-mod articulated;
 mod auto_skeleton;
-mod bendable;
-mod bending;
 mod bunny;
-mod condensation;
-mod contact_merge;
-mod dent_coupling;
 mod error;
 mod geodesic;
 mod geometry;
-mod gpu_skinning;
-mod joint_override;
 mod joint_rules;
 mod level_set;
-mod pose_dent;
-mod rest_revision;
 mod skeleton;
 mod skeleton_check;
-mod skinning;
-mod split;
 mod sub_bodies;
 mod voxelize;
 mod weights;
 mod weights_solve;
 
-pub use articulated::ArticulatedBody;
 pub use auto_skeleton::{AUTO_INSET, MAX_AUTO_BONES, auto_skeleton};
-pub use bendable::{BendableDesc, DynamicArticulation, SkeletonSpec};
-pub use bending::{BendRecord, Bending, JointRecord};
 pub use bunny::{BUNNY_BODY, BUNNY_HEAD, BUNNY_LEFT_EAR, BUNNY_RIGHT_EAR, bunny_bones, bunny_skeleton};
-pub use condensation::CondenseSettings;
-pub use contact_merge::merge_contacts;
-pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
 pub use error::BendError;
-pub use gpu_skinning::{GROUP_VERTICES, GpuSkinner};
-pub use joint_override::JointOverride;
 pub use joint_rules::{clamp_to_strength, damped_bend_rate, effective_inertia, spring, spring_impulse};
 pub use level_set::{
     BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,
 };
-pub use pose_dent::{PoseDent, SINGULAR_BLEND};
 pub use skeleton::{
     Bone, BoneDesc, BoneJoint, JOINT_GAP_FRACTION, MIN_BONE_FRACTION, MIN_BONE_LENGTH, SPLIT_END_FRACTION, Skeleton,
 };
 pub use skeleton_check::OUTSIDE_TOLERANCE_FRACTION;
-pub use skinning::Skinner;
-pub use split::SplitOutcome;
 pub use sub_bodies::{NO_BONE, SubBodies, SubBody, triangle_owners};
 pub use weights::{MAX_INFLUENCES, SkinWeights, WeightParams};
 pub use weights_solve::{WeightCache, compute_weights};

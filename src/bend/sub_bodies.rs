@@ -6,8 +6,8 @@ use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
 use super::{BendError, LevelSet, SkinWeights};
+use crate::mesh::MassProperties;
 use crate::mesh::TriMesh;
-use crate::sim::MassProperties;
 
 /// Label of a cell or triangle that no bone owns.
 pub const NO_BONE: u32 = u32::MAX;

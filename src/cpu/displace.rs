@@ -3,10 +3,10 @@
 
 use glam::{Vec3, Vec4};
 
+use super::Attenuation;
 use super::DisplaceParams;
 use super::layout::falloff;
 use super::sample::{bilinear, near_grid};
-use crate::dent::Attenuation;
 
 /// For every vertex at grid coordinates `(x, y)` and depth `z` below the collision plane, adds
 /// `a(z)·Δ(x, y)` where `Δ` is the dent map (`[Δx, Δy, Δz, height]` per cell, world units)

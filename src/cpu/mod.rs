@@ -2,6 +2,7 @@
 //! kernels in `shaders/` (same stem, same inputs in binding order). They are the reference in
 //! tests and the fallback when no GPU adapter exists.
 
+mod attenuation;
 mod displace;
 mod envelope_cols;
 mod envelope_rows;
@@ -14,6 +15,7 @@ mod skin;
 mod skin_layout;
 mod zbuffer;
 
+pub use attenuation::{Attenuation, FalloffFn};
 pub use displace::{displace, falloff_table};
 pub use envelope_cols::envelope_cols;
 pub use envelope_rows::envelope_rows;

@@ -13,7 +13,6 @@ use glam::{UVec4, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::skin_layout::{SkinBone, SkinInfluence, SkinParams};
-use crate::gpu::GpuError;
 
 /// How far a vertex's weights may sum from one.
 pub const WEIGHT_SUM_TOLERANCE: f32 = 1e-4;
@@ -88,9 +87,10 @@ pub enum SkinError {
         /// The vertex.
         vertex: usize,
     },
-    /// The GPU path failed (device error or a size over the device's limits).
+    /// The GPU path failed (device error or a size over the device's limits): a
+    /// `gpu::GpuError`, shared so this layer does not name the GPU's types.
     #[error(transparent)]
-    Gpu(#[from] GpuError),
+    Gpu(std::sync::Arc<dyn std::error::Error + Send + Sync>),
 }
 
 /// Checks every vertex's influences: finite, non-negative weights summing to one within

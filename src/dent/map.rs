@@ -98,7 +98,7 @@ impl DentMap {
     ) -> Result<PendingDisplacement, DentError> {
         self.validate()?;
         let d = self.dent_distance;
-        attenuation.validate(d)?;
+        super::params::validate_attenuation(attenuation, d)?;
         let (params, table) = self.displace_params(attenuation, before.len());
         let mut positions = before.to_vec();
         let mut moved = vec![false; positions.len()];

@@ -1,10 +1,8 @@
 //! Tuning knobs of the dent pipeline, with their defaults and units.
 
-use std::fmt;
-use std::sync::Arc;
-
 use super::DentError;
 use super::error::invalid;
+pub use crate::cpu::{Attenuation, FalloffFn};
 
 /// Smallest accepted `min_cos`: θ ≤ 89.4°, a 100× stretch of the map along the velocity.
 pub const MIN_COS_FLOOR: f32 = 0.01;
@@ -34,88 +32,25 @@ impl Default for Resolution {
     }
 }
 
-/// A user-supplied falloff `a(z, d)`: `z` is depth into the target (world units, ≥ 0), `d` the
-/// dent distance; it must return 1 at `z = 0`.
-pub type FalloffFn = dyn Fn(f32, f32) -> f32 + Send + Sync;
-
-/// The attenuation `a(z)` that scales the dent map at depth `z` below the collision plane
-/// (paper §3.1). Points in front of the plane (`z < 0`) always get `a = 1`.
-#[derive(Clone, Default)]
-pub enum Attenuation {
-    /// The paper's `a(z) = 2 / (1 + e^{z/d})`: the back of a block bulges by `a(thickness)·d`.
-    #[default]
-    Logistic,
-    /// `a(z) = max(0, 1 − z / (scale·d))`; `scale < 1` is steeper than the no-fold bound.
-    Linear {
-        /// Depth at which the dent has faded out, in dent distances.
-        scale: f32,
-    },
-    /// `a(z) = 1`: the whole body moves with the dent map (no falloff).
-    None,
-    /// Any function of depth; see [`FalloffFn`].
-    Custom(Arc<FalloffFn>),
-}
-
-impl fmt::Debug for Attenuation {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Logistic => f.write_str("Logistic"),
-            Self::Linear { scale } => f.debug_struct("Linear").field("scale", scale).finish(),
-            Self::None => f.write_str("None"),
-            Self::Custom(_) => f.write_str("Custom(..)"),
+/// Checks the falloff for dent distance `d`; a custom one must give a(0) = 1 and stay finite
+/// at the depths [`cpu::displace`](crate::cpu::displace) samples it.
+pub(crate) fn validate_attenuation(attenuation: &Attenuation, d: f32) -> Result<(), DentError> {
+    match attenuation {
+        Attenuation::Linear { scale } if !(scale.is_finite() && *scale > 0.0) => {
+            Err(invalid("attenuation.scale", scale, "must be finite and > 0"))
         }
-    }
-}
-
-impl Attenuation {
-    /// `a(z)` for depth `z` (world units) and dent distance `d > 0`.
-    #[inline]
-    pub fn eval(&self, z: f32, d: f32) -> f32 {
-        if z <= 0.0 {
-            return 1.0;
-        }
-        match self {
-            Self::Logistic => 2.0 / (1.0 + (z / d).exp()),
-            Self::Linear { scale } => (1.0 - z / (scale * d)).max(0.0),
-            Self::None => 1.0,
-            Self::Custom(f) => f(z, d),
-        }
-    }
-
-    /// Steepest descent of `a` over `z ∈ [0, 8d]`, in units of `1/d`: the falloff folds thin
-    /// walls when this exceeds 1, the slope of `1 − z/d` (paper §3.1, Figure 2d). Sampled at
-    /// 1024 intervals, so a custom function's kink narrower than `d/128` can be missed.
-    pub fn max_steepness(&self, d: f32) -> f32 {
-        const SAMPLES: usize = 1024;
-        let dz = 8.0 * d / SAMPLES as f32;
-        (0..SAMPLES)
-            .map(|k| {
-                let z = k as f32 * dz;
-                (self.eval(z, d) - self.eval(z + dz, d)) / dz * d
-            })
-            .fold(0.0, f32::max)
-    }
-
-    /// Checks the falloff for dent distance `d`; a custom one must give a(0) = 1 and stay finite
-    /// at the depths [`cpu::displace`](crate::cpu::displace) samples it.
-    pub(crate) fn validate(&self, d: f32) -> Result<(), DentError> {
-        match self {
-            Self::Linear { scale } if !(scale.is_finite() && *scale > 0.0) => {
-                Err(invalid("attenuation.scale", scale, "must be finite and > 0"))
+        Attenuation::Custom(f) => {
+            let at_zero = f(0.0, d);
+            if !at_zero.is_finite() || (at_zero - 1.0).abs() > 1e-3 {
+                return Err(invalid("attenuation", at_zero, "a custom falloff must give a(0) = 1"));
             }
-            Self::Custom(f) => {
-                let at_zero = f(0.0, d);
-                if !at_zero.is_finite() || (at_zero - 1.0).abs() > 1e-3 {
-                    return Err(invalid("attenuation", at_zero, "a custom falloff must give a(0) = 1"));
-                }
-                let (_, _, table) = crate::cpu::falloff_table(self, d);
-                match table.into_iter().find(|a| !a.is_finite()) {
-                    Some(bad) => Err(invalid("attenuation", bad, "a custom falloff must stay finite")),
-                    None => Ok(()),
-                }
+            let (_, _, table) = crate::cpu::falloff_table(attenuation, d);
+            match table.into_iter().find(|a| !a.is_finite()) {
+                Some(bad) => Err(invalid("attenuation", bad, "a custom falloff must stay finite")),
+                None => Ok(()),
             }
-            _ => Ok(()),
         }
+        _ => Ok(()),
     }
 }
 
@@ -210,6 +145,6 @@ impl DentParams {
         if !(self.min_cos >= MIN_COS_FLOOR && self.min_cos <= 1.0) {
             return Err(invalid("min_cos", self.min_cos, "must be in [0.01, 1]"));
         }
-        self.attenuation.validate(d)
+        validate_attenuation(&self.attenuation, d)
     }
 }

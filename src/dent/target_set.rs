@@ -94,7 +94,7 @@ impl<K: Copy + Eq + Hash> TargetSet<K> {
         self.targets.get(&key).map(|e| &e.settings)
     }
 
-    /// Takes a plan's new meshes ([`DamagePlan::targets`]) and returns each body's moved
+    /// Takes a plan's new meshes ([`DamagePlan::targets`](super::DamagePlan::targets)) and returns each body's moved
     /// vertices, for the caller's collider refits. Dents of bodies no longer in the set are
     /// dropped.
     pub fn apply(&mut self, dented: Vec<DentedTarget<K>>) -> Vec<(K, Vec<u32>)> {

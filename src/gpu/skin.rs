@@ -273,6 +273,12 @@ fn output(context: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
     })
 }
 
+impl From<GpuError> for SkinError {
+    fn from(error: GpuError) -> Self {
+        SkinError::Gpu(std::sync::Arc::new(error))
+    }
+}
+
 fn over_limit(what: &str, needed: u64, limit: u64) -> SkinError {
     GpuError::OverLimit { what: what.into(), needed, limit }.into()
 }

@@ -5,7 +5,6 @@
 //! of the rest state (paper Figure 12), with 2D marks ([`draw_segment`], [`draw_disc`] at
 //! [`project_point`]) and colours ([`bone_colour`]).
 
-mod camera;
 mod check;
 mod error;
 mod gpu;
@@ -20,7 +19,7 @@ mod raster;
 mod renderer;
 mod rest_pictures;
 
-pub use camera::Camera;
+pub use crate::scene::Camera;
 pub use error::RenderError;
 pub use gpu::{GpuRenderer, MAX_TILE_SIDE};
 pub use gpu_pipeline::RENDER_WGSL;

@@ -8,7 +8,7 @@ use super::level_slices::{SliceInput, draw_level_slices};
 use super::overlay::{draw_disc, draw_segment, project_point};
 use super::palette::{bone_colour, lighten};
 use super::{Camera, RenderError, Renderer, Shaded};
-use crate::bend::ArticulatedBody;
+use crate::coupling::ArticulatedBody;
 use crate::mesh::TriMesh;
 use crate::sim::SimError;
 

@@ -6,10 +6,11 @@
 use glam::Vec3;
 
 use super::arm_shape::{Centreline, tube};
-use super::builtin::{GROUND, ORANGE, ball, finish, launch, world};
-use super::figures::frames;
+use super::kit::frames;
+use super::kit::{GROUND, ORANGE, ball, finish, launch, world};
 use super::{Scene, SceneSize};
-use crate::bend::{BendableDesc, Bending, CondenseSettings, JointOverride, SkeletonSpec, WeightParams};
+use crate::bend::WeightParams;
+use crate::coupling::{BendableDesc, Bending, CondenseSettings, JointOverride, SkeletonSpec};
 use crate::mesh::subdivided_box;
 use crate::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, SimError, SurfaceMaterial};
 

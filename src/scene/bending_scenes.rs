@@ -3,10 +3,11 @@
 
 use glam::Vec3;
 
-use super::builtin::{BLUE, GROUND, ORANGE, SAND, STEEL, ball, finish, world};
-use super::figures::frames;
+use super::kit::frames;
+use super::kit::{BLUE, GROUND, ORANGE, SAND, STEEL, ball, finish, world};
 use super::{Scene, SceneSize};
-use crate::bend::{BendableDesc, Bending, DynamicArticulation, SkeletonSpec, WeightParams};
+use crate::bend::WeightParams;
+use crate::coupling::{BendableDesc, Bending, DynamicArticulation, SkeletonSpec};
 use crate::mesh::{plank as plank_mesh, subdivided_box};
 use crate::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, JointKind, SimError, SurfaceMaterial};
 
@@ -32,7 +33,7 @@ pub(super) fn plank(size: SceneSize) -> Result<Scene, SimError> {
         SceneSize::Full => (128, 192),
         SceneSize::Demo => (64, 128),
     };
-    let mut world = world(super::builtin::GRAVITY)?;
+    let mut world = world(super::kit::GRAVITY)?;
     let support = subdivided_box(Vec3::new(0.4, 0.6, 0.6), [2, 2, 2])?;
     for (name, x) in [("support-left", -1.9), ("support-right", 1.9)] {
         let desc = BodyDesc::new(name, support.clone()).kind(BodyKind::Static).at(Vec3::new(x, -0.3, 0.0));
@@ -51,7 +52,7 @@ pub(super) fn plank(size: SceneSize) -> Result<Scene, SimError> {
     // travel (5 cm) above it, where the dent's depth falloff would leave little of the dent.
     let top = PLANK_SIZE.y + 0.002;
     let aim = Vec3::new(PLANK_HIT.x, top + 0.01 + radius, PLANK_HIT.z);
-    let (start, velocity) = super::builtin::launch(aim, Vec3::new(0.0, -6.0, 0.0), super::builtin::GRAVITY, 0.1);
+    let (start, velocity) = super::kit::launch(aim, Vec3::new(0.0, -6.0, 0.0), super::kit::GRAVITY, 0.1);
     let desc = BodyDesc::new("ball", projectile).at(start).velocity(velocity).collider(ColliderKind::Ball);
     world.add(BodyDesc {
         density,

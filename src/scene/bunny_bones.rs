@@ -4,10 +4,11 @@
 
 use glam::Vec3;
 
-use super::builtin::{GROUND, ORANGE, finish, launch, world};
-use super::figures::frames;
+use super::kit::frames;
+use super::kit::{GROUND, ORANGE, finish, launch, world};
 use super::{Scene, SceneSize};
-use crate::bend::{BUNNY_BODY, BendableDesc, Bending, SkeletonSpec, WeightParams};
+use crate::bend::{BUNNY_BODY, WeightParams};
+use crate::coupling::{BendableDesc, Bending, SkeletonSpec};
 use crate::mesh::{builtin as builtin_mesh, subdivided_box};
 use crate::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, SimError, SurfaceMaterial};
 
@@ -56,7 +57,7 @@ pub(super) fn bunny_bones(size: SceneSize) -> Result<Scene, SimError> {
         ("ball-head", 0.12, 16.0, BUNNY_HEAD_HIT, Vec3::new(0.0, -5.0, 0.0), 0.5, 0.35),
     ];
     for (name, radius, mass, hit, velocity, restitution, lead) in throws {
-        let projectile = super::builtin::ball(radius, 3)?;
+        let projectile = super::kit::ball(radius, 3)?;
         // The ball's centre passes one radius short of the hit point.
         let centre = hit - velocity.normalize() * radius;
         let (start, start_velocity) = launch(centre, velocity, Vec3::ZERO, lead);

@@ -5,7 +5,7 @@
 
 use glam::{Quat, Vec3};
 
-use super::builtin::{BLUE, GREEN, ORANGE, SAND, STEEL, ball, dentable, finish, launch, scaled, world};
+use super::kit::{BLUE, GREEN, ORANGE, SAND, STEEL, ball, dentable, finish, frames, launch, scaled, world};
 use super::{Scene, SceneSize};
 use crate::dent::{Attenuation, Resolution};
 use crate::sim::{BodyDesc, BodyKind, ColliderKind, SimError, SurfaceMaterial};
@@ -43,7 +43,7 @@ pub(super) fn pair(size: SceneSize) -> Result<Scene, SimError> {
 pub(super) fn ball_block(size: SceneSize) -> Result<Scene, SimError> {
     let block = scaled(fine_block(size), Vec3::new(1.0, 0.5, 1.0))?;
     let projectile = ball(0.6, ball_subdivisions(size))?;
-    let mut world = world(super::builtin::GRAVITY)?;
+    let mut world = world(super::kit::GRAVITY)?;
     let variants =
         [("block-attenuated", "ball-1", Attenuation::Logistic), ("block-unattenuated", "ball-2", Attenuation::None)];
     for (k, (block_name, ball_name, attenuation)) in variants.into_iter().enumerate() {
@@ -72,7 +72,7 @@ pub(super) fn ball_block(size: SceneSize) -> Result<Scene, SimError> {
 pub(super) fn bunny_block(size: SceneSize) -> Result<Scene, SimError> {
     let block = scaled(fine_block(size), Vec3::splat(0.6))?;
     let bunny = scaled("bunny", Vec3::splat(0.15))?;
-    let mut world = world(super::builtin::GRAVITY)?;
+    let mut world = world(super::kit::GRAVITY)?;
     let (caps, sigmas) = ([0.04, 0.08, 0.12, 0.16], [0.015, 0.04, 0.065, 0.09]);
     for (k, (cap, sigma)) in caps.into_iter().zip(sigmas).enumerate() {
         let x = -4.5 + 3.0 * k as f32;
@@ -100,7 +100,7 @@ pub(super) fn bunny_block(size: SceneSize) -> Result<Scene, SimError> {
 pub(super) fn glancing(size: SceneSize) -> Result<Scene, SimError> {
     let block = crate::mesh::builtin(fine_block(size))?;
     let projectile = ball(0.6, ball_subdivisions(size))?;
-    let gravity = super::builtin::GRAVITY;
+    let gravity = super::kit::GRAVITY;
     let mut world = world(gravity)?;
     for (k, degrees) in [0.0f32, 30.0, 60.0].into_iter().enumerate() {
         let x = -5.0 + 5.0 * k as f32;
@@ -130,7 +130,7 @@ pub(super) fn glancing(size: SceneSize) -> Result<Scene, SimError> {
 pub(super) fn resolution(size: SceneSize) -> Result<Scene, SimError> {
     let block = crate::mesh::builtin(fine_block(size))?;
     let projectile = ball(0.6, ball_subdivisions(size))?;
-    let mut world = world(super::builtin::GRAVITY)?;
+    let mut world = world(super::kit::GRAVITY)?;
     for (k, cells) in [20u32, 50, 100, 200].into_iter().enumerate() {
         let x = -7.5 + 5.0 * k as f32;
         let mut dent = dentable(1.0, 0.035, 0.3, None);
@@ -161,14 +161,6 @@ const DENTED_RESTITUTION: f32 = 0.1;
 
 fn dented_surface() -> SurfaceMaterial {
     SurfaceMaterial { restitution: DENTED_RESTITUTION, ..SurfaceMaterial::default() }
-}
-
-/// `full` frames at full size, `demo` in the demo.
-pub(super) fn frames(size: SceneSize, full: u32, demo: u32) -> u32 {
-    match size {
-        SceneSize::Full => full,
-        SceneSize::Demo => demo,
-    }
 }
 
 /// The dent target block: `block-fine` (57,344 triangles) at full size, `block` (24,576) in the demo.

@@ -8,14 +8,14 @@ use std::path::{Path, PathBuf};
 use glam::{Affine3A, Quat, Vec3};
 use toml::Spanned;
 
+use super::Camera;
 use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, ResolutionSpec, SceneFile, Triple};
 use super::parse_bend::{add_error as bend_add_error, bendable_desc};
 use super::source::Source;
 use super::{DEFAULT_FRAMES, Scene, SceneError, framing_camera};
-use crate::bend::Bending;
+use crate::coupling::Bending;
 use crate::dent::{Attenuation, DentError, Resolution};
 use crate::mesh::{self, TriMesh};
-use crate::render::Camera;
 use crate::sim::{BodyDesc, DentSettings, SimError, SurfaceMaterial, World};
 
 /// Dent threshold when `[body.dent]` gives none, m/s.

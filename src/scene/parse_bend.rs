@@ -12,10 +12,8 @@ use super::file::BodyFile;
 use super::file_bend::{BendFile, BoneFile, DynamicFile, JointFile, JointKindSpec, SkeletonFile};
 use super::parse::{MeshCache, body_desc, number, positive, sim_error};
 use super::source::Source;
-use crate::bend::{
-    BendError, BendableDesc, BoneDesc, DynamicArticulation, JointOverride, MAX_AUTO_BONES, Skeleton, SkeletonSpec,
-    WeightParams, auto_skeleton,
-};
+use crate::bend::{BendError, BoneDesc, MAX_AUTO_BONES, Skeleton, WeightParams, auto_skeleton};
+use crate::coupling::{BendableDesc, DynamicArticulation, JointOverride, SkeletonSpec};
 use crate::mesh::TriMesh;
 use crate::sim::{BodyKind, JointKind, SimError};
 
@@ -52,7 +50,7 @@ pub(super) fn bendable_desc(
     Ok(desc)
 }
 
-/// A refusal of [`Bending::add`](crate::bend::Bending::add), placed on the field it names, or on
+/// A refusal of [`Bending::add`](crate::coupling::Bending::add), placed on the field it names, or on
 /// the `bend` table for the bending library's own errors.
 pub(super) fn add_error(src: &Source<'_>, body: &BodyFile, bend: &Spanned<BendFile>, error: SimError) -> SceneError {
     let name = body.name.get_ref().as_str();

@@ -4,8 +4,9 @@
 
 use glam::Vec3;
 
-use super::builtin::{BLUE, GROUND, Lcg, ORANGE, SAND, STEEL, ball, dentable, finish, scaled};
-use super::figures::{frames, target};
+use super::figures::target;
+use super::kit::frames;
+use super::kit::{BLUE, GROUND, Lcg, ORANGE, SAND, STEEL, ball, dentable, finish, scaled};
 use super::{Scene, SceneSize};
 use crate::mesh;
 use crate::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, SimError};
@@ -26,7 +27,7 @@ struct Cloud {
 }
 
 pub(super) fn rain(size: SceneSize) -> Result<Scene, SimError> {
-    let mut world = super::builtin::world(super::builtin::GRAVITY)?;
+    let mut world = super::kit::world(super::kit::GRAVITY)?;
     // Targets: 0.006 m per m/s above 2 m/s, at most 0.08 m; small spheres land at 10–14 m/s.
     let target_dent = dentable(2.0, 0.006, 0.08, None);
     let (ground_size, cloud, medium, large) = match size {

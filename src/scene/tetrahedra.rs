@@ -5,10 +5,11 @@
 
 use glam::{Quat, Vec3};
 
-use super::builtin::{GRAVITY, GROUND, Lcg, STEEL, ball, finish, world};
-use super::figures::frames;
+use super::kit::frames;
+use super::kit::{GRAVITY, GROUND, Lcg, STEEL, ball, finish, world};
 use super::{Scene, SceneSize};
-use crate::bend::{BendableDesc, Bending, CondenseSettings, DynamicArticulation, SkeletonSpec, WeightParams};
+use crate::bend::WeightParams;
+use crate::coupling::{BendableDesc, Bending, CondenseSettings, DynamicArticulation, SkeletonSpec};
 use crate::mesh::{self, TriMesh};
 use crate::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, SimError, SurfaceMaterial, World};
 

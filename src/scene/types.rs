@@ -2,8 +2,8 @@
 
 use glam::Vec3;
 
-use crate::bend::Bending;
-use crate::render::Camera;
+use super::Camera;
+use crate::coupling::Bending;
 use crate::sim::{RigidBody, World};
 
 /// Frames run when a scene file gives no `frames`.
@@ -24,7 +24,7 @@ pub struct Scene {
     /// One or two sentences: what the scene shows (and which paper figure it reproduces).
     pub description: String,
     /// The bending bodies (their sub-bodies are in `world`); empty for most scenes. Hand it to
-    /// [`Simulation::with_bending`](crate::sim::Simulation::with_bending).
+    /// [`Simulation::with_bending`](crate::coupling::Simulation::with_bending).
     pub bending: Bending,
 }
 

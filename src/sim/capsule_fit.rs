@@ -5,8 +5,8 @@
 use glam::Vec3;
 use parry3d::shape::SharedShape;
 
-use super::principal_axis::{dominant_axis, vertex_covariance};
 use crate::mesh::TriMesh;
+use crate::mesh::principal_axis::{dominant_axis, vertex_covariance};
 
 /// The segment and radius of the capsule fitted to a mesh's vertices `points` (m), `None` when
 /// they lie on one line or one point.

@@ -16,7 +16,21 @@
 
 use rayon::prelude::*;
 
-use super::solver::{Constraint, SolverBody, fixed};
+use glam::Vec3;
+
+/// A constraint as the parts see it: the two bodies it joins (indices into the step's bodies).
+pub(crate) trait Joins: Copy + Send + Sync {
+    /// The two bodies.
+    fn bodies(&self) -> [usize; 2];
+}
+
+/// A body as the parts see it: where it is and whether it moves during the step.
+pub(crate) trait Placed: Copy + Send + Sync {
+    /// Centre of mass, world, m.
+    fn position(&self) -> Vec3;
+    /// Fixed during the step (static, kinematic, asleep or frozen).
+    fn is_fixed(&self) -> bool;
+}
 
 /// Spatial parts a step's constraints are split into.
 pub(crate) const PARTS: usize = 2;
@@ -40,14 +54,14 @@ pub(crate) struct Parts {
 impl Parts {
     /// Splits `constraints` (over `bodies`) into parts, reordering them; a step with fewer than
     /// [`MIN_PARALLEL`] constraints is left in order, all of it boundary.
-    pub(crate) fn split(constraints: &mut Vec<Constraint>, bodies: &[SolverBody]) -> Self {
+    pub(crate) fn split<C: Joins, B: Placed>(constraints: &mut Vec<C>, bodies: &[B]) -> Self {
         if constraints.len() < MIN_PARALLEL {
             return Self::default();
         }
         let part_of = slabs(constraints, bodies);
         // A constraint's part: that of its moving bodies when they agree, else the boundary.
-        let class = |c: &Constraint| {
-            let parts = [c.a, c.b].map(|i| part_of[i]);
+        let class = |c: &C| {
+            let parts = c.bodies().map(|i| part_of[i]);
             match parts {
                 [Some(p), Some(q)] if p == q => p,
                 [Some(p), None] | [None, Some(p)] => p,
@@ -72,7 +86,7 @@ impl Parts {
             order[next[class]] = k;
             next[class] += 1;
         }
-        let sorted: Vec<Constraint> = order.iter().map(|&k| constraints[k]).collect();
+        let sorted: Vec<C> = order.iter().map(|&k| constraints[k]).collect();
         *constraints = sorted;
         let mut members: [Vec<usize>; PARTS] = Default::default();
         for (i, part) in part_of.iter().enumerate() {
@@ -82,7 +96,7 @@ impl Parts {
         }
         let mut crossing: Vec<(usize, usize)> = constraints[bounds[PARTS]..]
             .iter()
-            .flat_map(|c| [c.a, c.b])
+            .flat_map(|c| c.bodies())
             .filter_map(|i| part_of[i].map(|p| (i, p)))
             .collect();
         crossing.sort_unstable();
@@ -97,13 +111,13 @@ impl Parts {
 
     /// `count` sweeps of `visit` over the constraints `selection` (indices, increasing): each
     /// part's in parallel on its own copy of `bodies`, then the boundary's, each in its order.
-    pub(crate) fn sweeps(
+    pub(crate) fn sweeps<C: Joins, B: Placed>(
         &self,
-        bodies: &mut [SolverBody],
-        constraints: &mut [Constraint],
+        bodies: &mut [B],
+        constraints: &mut [C],
         selection: &[usize],
         count: usize,
-        visit: impl Fn(&mut [SolverBody], &mut Constraint) + Sync,
+        visit: impl Fn(&mut [B], &mut C) + Sync,
     ) {
         debug_assert!(selection.is_sorted(), "a selection of constraints is sorted");
         let boundary_start = self.bounds[PARTS];
@@ -118,7 +132,7 @@ impl Parts {
         }
         // Each part's selected constraints, numbered within its own slice of the constraints.
         let (parts, boundary_constraints) = constraints.split_at_mut(boundary_start);
-        let mut work: Vec<(&mut [Constraint], Vec<usize>, Vec<SolverBody>)> = Vec::with_capacity(PARTS);
+        let mut work: Vec<(&mut [C], Vec<usize>, Vec<B>)> = Vec::with_capacity(PARTS);
         let mut rest = parts;
         for p in 0..PARTS {
             let (start, end) = (self.bounds[p], self.bounds[p + 1]);
@@ -153,11 +167,11 @@ impl Parts {
 /// Each moving body's part (`None` for fixed bodies and bodies without contacts): slabs along
 /// the widest axis of the touching bodies' centres, cut where the running count of contacts
 /// on the bodies passes each p / [`PARTS`] of the total.
-fn slabs(constraints: &[Constraint], bodies: &[SolverBody]) -> Vec<Option<usize>> {
+fn slabs<C: Joins, B: Placed>(constraints: &[C], bodies: &[B]) -> Vec<Option<usize>> {
     let mut weight = vec![0usize; bodies.len()];
     for c in constraints {
-        for i in [c.a, c.b] {
-            if !fixed(&bodies[i]) {
+        for i in c.bodies() {
+            if !bodies[i].is_fixed() {
                 weight[i] += 1;
             }
         }
@@ -165,13 +179,13 @@ fn slabs(constraints: &[Constraint], bodies: &[SolverBody]) -> Vec<Option<usize>
     let mut touched: Vec<usize> = (0..bodies.len()).filter(|&i| weight[i] > 0).collect();
     let mut part_of = vec![None; bodies.len()];
     let Some(&first) = touched.first() else { return part_of };
-    let (mut low, mut high) = (bodies[first].position, bodies[first].position);
+    let (mut low, mut high) = (bodies[first].position(), bodies[first].position());
     for &i in &touched {
-        low = low.min(bodies[i].position);
-        high = high.max(bodies[i].position);
+        low = low.min(bodies[i].position());
+        high = high.max(bodies[i].position());
     }
     let axis = (high - low).max_position();
-    touched.sort_by(|&i, &j| bodies[i].position[axis].total_cmp(&bodies[j].position[axis]).then(i.cmp(&j)));
+    touched.sort_by(|&i, &j| bodies[i].position()[axis].total_cmp(&bodies[j].position()[axis]).then(i.cmp(&j)));
     let total: usize = touched.iter().map(|&i| weight[i]).sum();
     let mut running = 0;
     for &i in &touched {

@@ -6,7 +6,7 @@
 
 use glam::{Mat3, Vec3};
 
-use super::contact_parts::Parts;
+use super::contact_parts::{Joins, Parts, Placed};
 use super::{ContactPoint, PairContacts, WorldSettings};
 
 /// Velocities and inverse mass of one body during a step.
@@ -344,6 +344,22 @@ pub(crate) fn contact_sweeps(
     parts.sweeps(bodies, constraints, only, iterations as usize, |bodies, c| {
         solve(bodies, c, closing_goal(c, dt), None, true);
     });
+}
+
+impl Joins for Constraint {
+    fn bodies(&self) -> [usize; 2] {
+        [self.a, self.b]
+    }
+}
+
+impl Placed for SolverBody {
+    fn position(&self) -> Vec3 {
+        self.position
+    }
+
+    fn is_fixed(&self) -> bool {
+        fixed(self)
+    }
 }
 
 /// Whether the body is fixed during the step (static, kinematic or asleep: no inverse mass).

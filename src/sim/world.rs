@@ -20,6 +20,8 @@ mod world_cluster;
 mod world_edit;
 #[path = "world_redetect.rs"]
 mod world_redetect;
+#[path = "world_seen.rs"]
+mod world_seen;
 #[path = "world_step.rs"]
 mod world_step;
 

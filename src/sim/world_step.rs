@@ -14,7 +14,7 @@ use super::super::solver::{self, Constraint, SolverBody};
 use super::super::{Aabb, BodyKind, CollisionEvent, PairContacts, RigidBody, StepReport};
 use super::super::{broad_phase, contacts, joint_rounds, sleep};
 use super::World;
-use super::world_redetect::Seen;
+use super::world_seen::Seen;
 
 /// What the first half of a step found ([`World::detect`]), to be finished by
 /// [`World::advance`] on the same state.

@@ -3,8 +3,8 @@
 //! per step, over the whole run and over its busy part (the steps from the first dent to the
 //! last).
 
+use dentbend::coupling::{Simulation, StepStats, StepTiming};
 use dentbend::scene::{SceneSize, load_sized};
-use dentbend::sim::{Simulation, StepStats, StepTiming};
 use serde::Serialize;
 
 /// The benchmark's report.

@@ -6,11 +6,12 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
-use dentbend::bend::{BendRecord, JointRecord};
+use dentbend::coupling::{BendRecord, JointRecord};
+use dentbend::coupling::{Simulation, StepStats, StepTiming};
 use dentbend::mesh::TriMesh;
 use dentbend::render::{Renderer, Shaded};
 use dentbend::scene::{Scene, SceneSize, load_sized};
-use dentbend::sim::{DentRecord, Simulation, StepStats, StepTiming};
+use dentbend::sim::DentRecord;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 

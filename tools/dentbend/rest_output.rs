@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
+use dentbend::coupling::Simulation;
 use dentbend::render::{Camera, Renderer, rest_pictures};
-use dentbend::sim::Simulation;
 
 use crate::error::CliError;
 use crate::file_names::file_stem;

@@ -2,7 +2,8 @@
 //! [`BendableDesc::joint`], and a few are given another (paper Figure 15: an armadillo whose body
 //! holds while four joints of its right arm bend).
 
-use super::{BendableDesc, Skeleton};
+use super::BendableDesc;
+use crate::bend::Skeleton;
 use crate::sim::{JointKind, SimError};
 
 /// The joint at bone `child`'s head (where it hangs from its parent) made of kind `joint`
@@ -10,7 +11,7 @@ use crate::sim::{JointKind, SimError};
 ///
 /// # Example
 /// ```
-/// use dentbend::bend::{BendableDesc, JointOverride, SkeletonSpec};
+/// use dentbend::coupling::{BendableDesc, JointOverride, SkeletonSpec};
 /// use dentbend::sim::JointKind;
 /// let mut desc = BendableDesc::new("bar", dentbend::mesh::plank(2.0, 0.2, 0.2, 16).unwrap());
 /// desc.skeleton = SkeletonSpec::Auto { bones: 3 };

@@ -8,7 +8,8 @@ use glam::{Affine3A, Quat, Vec3};
 
 use super::bendable::bend_error;
 use super::skinning::{skin_error, skin_mesh_on_cpu};
-use super::{BendableDesc, DynamicArticulation, LevelSet, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
+use super::{BendableDesc, DynamicArticulation};
+use crate::bend::{LevelSet, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
 use crate::cpu::{SkinBone, SkinInfluence};
 use crate::gpu::skin::Skinned;
 use crate::mesh::TriMesh;

@@ -6,11 +6,11 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::{DentRecord, Denter, SimError, StepReport, World};
-use crate::bend::{BendDenter, Bending, Skinner, dent_step};
+use super::{BendDenter, Bending, Skinner, dent_step};
 use crate::gpu::GpuContext;
 use crate::gpu::skin::Skinned;
 use crate::mesh::TriMesh;
+use crate::sim::{DentRecord, Denter, SimError, StepReport, World};
 
 /// Wall times and counts of one step.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -83,7 +83,7 @@ impl Simulation {
     }
 
     /// Builder: where the bending bodies are skinned, the `skin` kernel on `gpu` (each body's rest
-    /// mesh resident, see [`GpuSkinner`](crate::bend::GpuSkinner)) or its CPU twin (`None`); by
+    /// mesh resident, see [`GpuSkinner`](crate::coupling::GpuSkinner)) or its CPU twin (`None`); by
     /// default where [`new`](Self::new) was told to dent.
     pub fn skin_on(mut self, gpu: Option<&'static GpuContext>) -> Self {
         self.skinner = Skinner::new(gpu);
@@ -165,7 +165,7 @@ impl Simulation {
     }
 
     /// One step: dynamics, then the step's dents (bending bodies' included, see
-    /// [`dent_step`](crate::bend::dent_step)), then, with
+    /// [`dent_step`](crate::coupling::dent_step)), then, with
     /// [`skin_every_step`](Self::skin_every_step), skinning the bending bodies.
     ///
     /// # Errors

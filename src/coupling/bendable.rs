@@ -5,7 +5,8 @@
 
 use glam::{Quat, Vec3};
 
-use super::{BoneDesc, JointOverride, Skeleton, WeightParams, auto_skeleton};
+use super::JointOverride;
+use crate::bend::{BoneDesc, Skeleton, WeightParams, auto_skeleton};
 use crate::mesh::TriMesh;
 use crate::sim::{ColliderKind, DentSettings, JointKind, SimError, SurfaceMaterial};
 
@@ -17,7 +18,7 @@ pub enum SkeletonSpec {
     Bones(Vec<BoneDesc>),
     /// A chain of `bones` equal bones along the mesh's principal axis ([`auto_skeleton`]).
     Auto {
-        /// Number of bones, 1..=[`MAX_AUTO_BONES`](super::MAX_AUTO_BONES).
+        /// Number of bones, 1..=[`MAX_AUTO_BONES`](crate::bend::MAX_AUTO_BONES).
         bones: usize,
     },
 }
@@ -186,6 +187,6 @@ impl BendableDesc {
 }
 
 /// A bending error of body `name` as a [`SimError::BadShape`] ("body "plank": bending: …").
-pub(crate) fn bend_error(name: &str, error: super::BendError) -> SimError {
+pub(crate) fn bend_error(name: &str, error: crate::bend::BendError) -> SimError {
     SimError::BadShape { body: name.into(), reason: format!("bending: {error}") }
 }

@@ -16,7 +16,7 @@ use crate::sim::{SimError, World};
 /// Skins the bending bodies of a [`Bending`] on the GPU or the CPU and keeps the results.
 ///
 /// ```no_run
-/// use dentbend::bend::Skinner;
+/// use dentbend::coupling::Skinner;
 /// use dentbend::scene::{SceneSize, load_sized};
 ///
 /// let scene = load_sized("plank", SceneSize::Demo)?;

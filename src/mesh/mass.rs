@@ -3,7 +3,7 @@
 
 use glam::{DMat3, DVec3, Mat3, Vec3};
 
-use crate::mesh::TriMesh;
+use super::TriMesh;
 
 /// Mass properties of a solid body.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -162,7 +162,7 @@ impl GpuSkinner {
         }
         let residence = match self.skin.upload(self.context, &positions, &normals, &influences, base) {
             Ok(mesh) => Residence::Gpu(mesh),
-            Err(SkinError::Gpu(error @ GpuError::OverLimit { .. })) => {
+            Err(SkinError::Gpu(error)) if matches!(error.downcast_ref(), Some(GpuError::OverLimit { .. })) => {
                 let names: Vec<&str> = group.iter().map(ArticulatedBody::name).collect();
                 log::warn!("bending bodies {names:?} are skinned on the CPU: {error}");
                 Residence::Cpu(vec![Skinned::default(); group.len()])
@@ -290,7 +290,7 @@ fn gpu_error(error: impl std::fmt::Display) -> SimError {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::bend::*;
 
     /// Keys of bodies with these (vertices, bones).
     fn keys(sizes: &[(usize, usize)]) -> Vec<Key> {

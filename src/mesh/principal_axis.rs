@@ -3,8 +3,7 @@
 
 use glam::{DMat3, DVec3, Vec3};
 
-use super::mass_properties;
-use crate::mesh::TriMesh;
+use super::{TriMesh, mass_properties};
 
 /// Centroid and unit principal axis of the solid (or of the vertices when the mesh encloses no
 /// volume); `None` when the vertices coincide.

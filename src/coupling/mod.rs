@@ -1,0 +1,31 @@
+//! The coupling layer, above the rigid core (`sim`) and the rig (`bend`): the bending driver
+//! (articulated bodies in a world, skinning them, splitting bones where fast hits land,
+//! plastic/elastic joints as world joints), condensation of quiet articulated bodies, denting
+//! coupled with bending, and [`Simulation`], which steps a world with all of it.
+
+mod articulated;
+mod bendable;
+mod bending;
+mod condensation;
+mod contact_merge;
+mod dent_coupling;
+mod gpu_skinning;
+mod joint_override;
+mod pose_dent;
+mod rest_revision;
+mod simulation;
+mod skinning;
+mod split;
+
+pub use articulated::ArticulatedBody;
+pub use bendable::{BendableDesc, DynamicArticulation, SkeletonSpec};
+pub use bending::{BendRecord, Bending, JointRecord};
+pub use condensation::CondenseSettings;
+pub use contact_merge::merge_contacts;
+pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
+pub use gpu_skinning::{GROUP_VERTICES, GpuSkinner};
+pub use joint_override::JointOverride;
+pub use pose_dent::{PoseDent, SINGULAR_BLEND};
+pub use simulation::{Simulation, StepStats, StepTiming};
+pub use skinning::Skinner;
+pub use split::SplitOutcome;

@@ -1,0 +1,267 @@
+//! The library's layering (ARCHITECTURE.md, "Layers"): each top-level module imports only the
+//! modules below it, so no two import each other; inside a module, files import each other in
+//! a circle only in the known groups listed here to untangle, and in no new one. Reads the
+//! sources' `crate::…` and `super::…` paths (comments and test modules left out), so a new
+//! upward or circular import fails here.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Bottom to top. `lib.rs` may name any of them.
+const LAYERS: [&str; 10] = ["mesh", "io", "cpu", "dent", "gpu", "bend", "sim", "coupling", "scene", "render"];
+
+fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            sources(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The library code of a source file: without its `#[cfg(test)]` module (the file's tail, by
+/// convention) and without comments (line, doc and block comments); strings kept.
+fn code(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text.find("#[cfg(test)]").map_or(text, |k| &text[..k]);
+    while !rest.is_empty() {
+        if rest.starts_with("//") {
+            rest = rest.find('\n').map_or("", |k| &rest[k..]);
+        } else if rest.starts_with("/*") {
+            rest = rest.find("*/").map_or("", |k| &rest[k + 2..]);
+        } else {
+            let c = rest.chars().next().unwrap();
+            out.push(c);
+            rest = &rest[c.len_utf8()..];
+        }
+    }
+    out
+}
+
+fn ident(text: &str) -> &str {
+    let end = text.find(|c: char| !(c.is_alphanumeric() || c == '_')).unwrap_or(text.len());
+    &text[..end]
+}
+
+/// The first path segment after every `prefix` in `code`: `prefix::a::…` gives `a`, and
+/// `prefix::{a::…, b}` gives `a` and `b`.
+fn heads(code: &str, prefix: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let needle = format!("{prefix}::");
+    for (k, _) in code.match_indices(&needle) {
+        let before = code[..k].chars().next_back();
+        if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+            continue;
+        }
+        let after = &code[k + needle.len()..];
+        if let Some(group) = after.strip_prefix('{') {
+            let (mut depth, mut start) = (0usize, 0usize);
+            for (i, c) in group.char_indices() {
+                match c {
+                    '{' => depth += 1,
+                    '}' if depth == 0 => {
+                        out.push(ident(group[start..].trim_start()).to_owned());
+                        break;
+                    }
+                    '}' => depth -= 1,
+                    ',' if depth == 0 => {
+                        out.push(ident(group[start..].trim_start()).to_owned());
+                        start = i + 1;
+                    }
+                    _ => {}
+                }
+            }
+        } else {
+            out.push(ident(after).to_owned());
+        }
+    }
+    out.retain(|h| !h.is_empty());
+    out
+}
+
+/// Top-level module of a file under src/ (`None` for lib.rs).
+fn top(path: &Path, src: &Path) -> Option<String> {
+    let rel = path.strip_prefix(src).unwrap();
+    let mut parts = rel.components();
+    let first = parts.next()?.as_os_str().to_string_lossy().into_owned();
+    if rel.components().count() == 1 {
+        return first.strip_suffix(".rs").filter(|s| *s != "lib").map(str::to_owned);
+    }
+    Some(first)
+}
+
+#[test]
+fn modules_import_only_the_layers_below_them() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    sources(&src, &mut files);
+    let rank = |m: &str| LAYERS.iter().position(|l| *l == m);
+    let mut upward = BTreeSet::new();
+    for file in &files {
+        let Some(module) = top(file, &src) else { continue };
+        let mine = rank(&module).unwrap_or_else(|| panic!("{module} (from {}) is not in LAYERS", file.display()));
+        let text = code(&std::fs::read_to_string(file).unwrap());
+        for head in heads(&text, "crate") {
+            if let Some(theirs) = rank(&head)
+                && theirs > mine
+            {
+                upward
+                    .insert(format!("{} imports {head} (above {module})", file.strip_prefix(&src).unwrap().display()));
+            }
+        }
+    }
+    assert!(upward.is_empty(), "upward imports:\n{}", upward.into_iter().collect::<Vec<_>>().join("\n"));
+}
+
+/// Which file of module `dir` defines each name its `mod.rs` re-exports (`pub use file::{…}`).
+fn exports(mod_rs: &str) -> BTreeMap<String, String> {
+    let mut out = BTreeMap::new();
+    for statement in mod_rs.split(';') {
+        let statement = statement.trim();
+        let Some(path) = statement.strip_prefix("pub use ").or_else(|| statement.strip_prefix("pub(crate) use "))
+        else {
+            continue;
+        };
+        let file = ident(path).to_owned();
+        let items = path[file.len()..].trim_start_matches("::");
+        let items = items.trim_start_matches('{').trim_end_matches('}');
+        for item in items.split(',') {
+            let name = item.trim().rsplit(" as ").next().unwrap_or("").trim();
+            if !name.is_empty() {
+                out.insert(ident(name).to_owned(), file.clone());
+            }
+        }
+    }
+    out
+}
+
+/// Groups of files that still import each other in a circle, inside one module, from before
+/// the layering was enforced. Each is one type spread over files (a `World` and the files that
+/// extend it; a body and its collider) and is to be untangled; the test fails on any new cycle
+/// or any group that grows, and each entry must still exist (shrink the list as cycles go).
+const KNOWN_CYCLES: &[(&str, &[&str])] = &[
+    ("mesh", &["obj", "save"]),
+    ("cpu", &["skin", "skin_layout"]),
+    ("sim", &["body", "collider", "contacts", "joints", "sleep", "solver", "warm_start", "world"]),
+    ("sim", &["dent_impact", "denting"]),
+    ("coupling", &["bendable", "joint_override"]),
+    ("coupling", &["articulated", "bending", "gpu_skinning", "rest_revision", "skinning"]),
+    ("coupling", &["dent_coupling", "pose_dent"]),
+    ("scene", &["file", "file_bend"]),
+    ("scene", &["builtin", "error", "parse", "parse_bend", "source"]),
+    ("render", &["check", "raster"]),
+];
+
+#[test]
+fn files_inside_a_module_import_each_other_in_no_new_cycles() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut found: Vec<(String, BTreeSet<String>)> = Vec::new();
+    for layer in LAYERS {
+        let dir = src.join(layer);
+        let Ok(mod_rs) = std::fs::read_to_string(dir.join("mod.rs")) else { continue };
+        let names = exports(&code(&mod_rs));
+        let mut files = Vec::new();
+        sources(&dir, &mut files);
+        // Direct files of the module only (a nested directory module is one node).
+        let stem = |p: &Path| -> Option<String> {
+            let rel = p.strip_prefix(&dir).ok()?;
+            let first = rel.components().next()?.as_os_str().to_string_lossy().into_owned();
+            Some(first.trim_end_matches(".rs").to_owned()).filter(|s| s != "mod")
+        };
+        let mut edges: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for file in &files {
+            let Some(from) = stem(file) else { continue };
+            let direct = file.parent() == Some(dir.as_path());
+            let text = code(&std::fs::read_to_string(file).unwrap());
+            let mut targets: Vec<String> = if direct { heads(&text, "super") } else { Vec::new() };
+            targets.extend(heads(&text, &format!("crate::{layer}")));
+            for target in targets {
+                let to = names.get(&target).cloned().unwrap_or(target);
+                if to != from && (dir.join(format!("{to}.rs")).exists() || dir.join(&to).is_dir()) {
+                    edges.entry(from.clone()).or_default().insert(to);
+                }
+            }
+        }
+        found.extend(cycles(&edges).into_iter().map(|group| (layer.to_owned(), group)));
+    }
+    let known: Vec<(String, BTreeSet<String>)> = KNOWN_CYCLES
+        .iter()
+        .map(|(layer, files)| (layer.to_string(), files.iter().map(|f| f.to_string()).collect()))
+        .collect();
+    let new: Vec<String> = found
+        .iter()
+        .filter(|(layer, group)| !known.iter().any(|(l, k)| l == layer && group.is_subset(k)))
+        .map(|(layer, group)| format!("{layer}: {group:?}"))
+        .collect();
+    assert!(new.is_empty(), "files that import each other in a circle:\n{}", new.join("\n"));
+    let gone: Vec<String> = known
+        .iter()
+        .filter(|(layer, k)| !found.iter().any(|(l, group)| l == layer && group == k))
+        .map(|(layer, k)| format!("{layer}: {k:?}"))
+        .collect();
+    assert!(gone.is_empty(), "these cycles are untangled or smaller now; update KNOWN_CYCLES:\n{}", gone.join("\n"));
+}
+
+/// The strongly connected groups of two or more nodes (Tarjan's algorithm).
+fn cycles(edges: &BTreeMap<String, BTreeSet<String>>) -> Vec<BTreeSet<String>> {
+    struct State<'a> {
+        edges: &'a BTreeMap<String, BTreeSet<String>>,
+        index: BTreeMap<&'a str, usize>,
+        low: BTreeMap<&'a str, usize>,
+        stack: Vec<&'a str>,
+        out: Vec<BTreeSet<String>>,
+    }
+    fn visit<'a>(node: &'a str, s: &mut State<'a>) {
+        let n = s.index.len();
+        s.index.insert(node, n);
+        s.low.insert(node, n);
+        s.stack.push(node);
+        for next in s.edges.get(node).into_iter().flatten() {
+            if !s.index.contains_key(next.as_str()) {
+                visit(next, s);
+                let l = s.low[next.as_str()].min(s.low[node]);
+                s.low.insert(node, l);
+            } else if s.stack.contains(&next.as_str()) {
+                let l = s.index[next.as_str()].min(s.low[node]);
+                s.low.insert(node, l);
+            }
+        }
+        if s.low[node] == s.index[node] {
+            let mut group = BTreeSet::new();
+            while let Some(top) = s.stack.pop() {
+                group.insert(top.to_owned());
+                if top == node {
+                    break;
+                }
+            }
+            if group.len() > 1 {
+                s.out.push(group);
+            }
+        }
+    }
+    let mut s = State { edges, index: BTreeMap::new(), low: BTreeMap::new(), stack: Vec::new(), out: Vec::new() };
+    let nodes: BTreeSet<&str> =
+        edges.iter().flat_map(|(k, v)| std::iter::once(k.as_str()).chain(v.iter().map(String::as_str))).collect();
+    for node in nodes {
+        if !s.index.contains_key(node) {
+            visit(node, &mut s);
+        }
+    }
+    s.out
+}
+
+#[test]
+fn the_checker_sees_grouped_and_nested_imports() {
+    let text = code(
+        "use crate::{dent::Impact, gpu::{GpuContext, GpuError}};\n// crate::render::x\nlet a = crate::sim::World::new();",
+    );
+    assert_eq!(heads(&text, "crate"), ["dent", "gpu", "sim"]);
+    let mut edges = BTreeMap::new();
+    edges.insert("a".to_owned(), BTreeSet::from(["b".to_owned()]));
+    edges.insert("b".to_owned(), BTreeSet::from(["a".to_owned()]));
+    edges.insert("c".to_owned(), BTreeSet::from(["a".to_owned()]));
+    let groups = cycles(&edges);
+    assert_eq!(groups, [BTreeSet::from(["a".to_owned(), "b".to_owned()])]);
+}
