@@ -1,4 +1,4 @@
-//! Criterion benches, one group per kernel (DESIGN.md §1), on the paper's Table 1 scene.
+//! Criterion benches, one group per kernel (ARCHITECTURE.md §1), on the paper's Table 1 scene.
 //! Run with `cargo bench --bench kernels`; `dentbend-bench` gives the same numbers as JSON.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};

@@ -1,4 +1,4 @@
-// envelope_cols: second pass of the exact Gaussian envelope (DESIGN.md §4 "Broadening").
+// envelope_cols: second pass of the exact Gaussian envelope (ARCHITECTURE.md §4 "Broadening").
 //
 // For every column i and row j of every dent of the batch:
 //   envelope[j][i] = exp(−min_k (c·(j − k)² + rows[k][i]))  over the finite rows[k][i],

@@ -1,4 +1,4 @@
-// envelope_rows: first pass of the exact Gaussian envelope (DESIGN.md §4 "Broadening").
+// envelope_rows: first pass of the exact Gaussian envelope (ARCHITECTURE.md §4 "Broadening").
 //
 // For every row j and column i of every dent of the batch:
 //   rows[j][i] = min_k (c·(i − k)² − ln P[j][k])  over the cells k of row j with 0 < P < ∞,

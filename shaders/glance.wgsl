@@ -1,5 +1,5 @@
 // glance: maps each dent's smoothed heights (on the Z-buffer grid, perpendicular to the relative
-// velocity) onto the collision plane and shears them along the velocity (paper §3.3, DESIGN.md
+// velocity) onto the collision plane and shears them along the velocity (paper §3.3, ARCHITECTURE.md
 // §4). GPU twin of src/cpu/glance.rs, with the bilinear sampling of src/cpu/sample.rs.
 //
 // For the dent-map cell at in-plane coordinates (u, v) (world units from the impact point along

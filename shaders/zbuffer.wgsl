@@ -1,5 +1,5 @@
 // zbuffer: the Z-buffer profile P = max(0, d + max s) of each dent's projectile (paper §3.2,
-// DESIGN.md §4). GPU twin of `cpu::zbuffer` (src/cpu/zbuffer.rs), whose module doc explains the
+// ARCHITECTURE.md §4). GPU twin of `cpu::zbuffer` (src/cpu/zbuffer.rs), whose module doc explains the
 // three kinds of samples (exact centre samples, edge walks, the tip); the functions below mirror
 // it line by line, with the same f32 operations in the same order.
 //

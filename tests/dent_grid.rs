@@ -1,4 +1,4 @@
-//! Grid conventions (DESIGN.md §3) and the falloff the `displace` kernel applies agree with the
+//! Grid conventions (ARCHITECTURE.md §3) and the falloff the `displace` kernel applies agree with the
 //! Rust-side definitions they mirror.
 
 use dentbend::dent::{DentFrame, Grid};

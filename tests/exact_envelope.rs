@@ -1,4 +1,4 @@
-//! Guards the exact Gaussian envelope (`envelope_rows` then `envelope_cols`, DESIGN.md §4
+//! Guards the exact Gaussian envelope (`envelope_rows` then `envelope_cols`, ARCHITECTURE.md §4
 //! "Broadening") against the f64 brute force `envelope_brute` on random, sparse and degenerate
 //! profiles and a range of widths.
 //!

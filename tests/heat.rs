@@ -1,4 +1,4 @@
-//! Guards the heat smoothing of the envelope (DESIGN.md §4 "Smoothing"): the 5-point step with
+//! Guards the heat smoothing of the envelope (ARCHITECTURE.md §4 "Smoothing"): the 5-point step with
 //! a zero border, its increase-only variant, and `heat` = k₁ plain steps, rescale to the dent
 //! distance, k₂ clamped steps.
 

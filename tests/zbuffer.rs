@@ -1,4 +1,4 @@
-//! Guards the Z-buffer profile kernel `cpu::zbuffer` (paper §3.2, DESIGN.md §4): spheres against
+//! Guards the Z-buffer profile kernel `cpu::zbuffer` (paper §3.2, ARCHITECTURE.md §4): spheres against
 //! the analytic cap, the bunny against an f64 ray cast, thin and edge-on features, empty and
 //! degenerate input.
 

@@ -298,7 +298,7 @@ fn same_set(a: &[usize], b: &[usize]) -> bool {
 mod tests {
     use glam::Vec3;
 
-    use crate::bend::{swings_about_anchor, tangled_groups};
+    use super::{swings_about_anchor, tangled_groups};
     use crate::mesh;
     use crate::sim::{BodyDesc, ColliderKind, JointKind, UnionFind, World, WorldSettings};
 

@@ -1,4 +1,4 @@
-//! Denting coupled with bending (paper §4, last paragraph; DESIGN.md §4): each step, a hit on a
+//! Denting coupled with bending (paper §4, last paragraph; ARCHITECTURE.md §4): each step, a hit on a
 //! sub-body of a dentable bending body dents the whole body's skinned mesh, mapped back to its
 //! rest mesh ([`ArticulatedBody::dent_in_pose`](super::ArticulatedBody::dent_in_pose)), and the
 //! sub-bodies are refitted.

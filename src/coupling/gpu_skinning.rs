@@ -290,7 +290,7 @@ fn gpu_error(error: impl std::fmt::Display) -> SimError {
 
 #[cfg(test)]
 mod tests {
-    use crate::bend::*;
+    use super::*;
 
     /// Keys of bodies with these (vertices, bones).
     fn keys(sizes: &[(usize, usize)]) -> Vec<Key> {

@@ -1,5 +1,5 @@
 //! Maps the smoothed profile onto the collision plane and shears it along the relative velocity
-//! (paper §3.3, DESIGN.md §4). CPU twin of `shaders/glance.wgsl`.
+//! (paper §3.3, ARCHITECTURE.md §4). CPU twin of `shaders/glance.wgsl`.
 
 use glam::Vec4;
 

@@ -1,4 +1,4 @@
-//! Z-buffer profile of the projectile (paper §3.2, DESIGN.md §4). CPU twin of `shaders/zbuffer.wgsl`.
+//! Z-buffer profile of the projectile (paper §3.2, ARCHITECTURE.md §4). CPU twin of `shaders/zbuffer.wgsl`.
 //!
 //! Three passes, each one invocation per triangle (`for face in faces` here) in grid-index space,
 //! where cell (row j, col i) is centred at the integer point (i, j); samples are max-merged

@@ -1,4 +1,4 @@
-//! The dent frame and the square cell grids the dent stages live on (DESIGN.md §3).
+//! The dent frame and the square cell grids the dent stages live on (ARCHITECTURE.md §3).
 
 use glam::Vec3;
 use serde::Serialize;
@@ -70,7 +70,7 @@ impl Grid {
     }
 }
 
-/// The orthonormal directions of one impact (paper §3.3, DESIGN.md §4), with θ clamped so that
+/// The orthonormal directions of one impact (paper §3.3, ARCHITECTURE.md §4), with θ clamped so that
 /// `cos θ ≥ min_cos`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DentFrame {

@@ -203,7 +203,7 @@ mod tests {
 
     use super::*;
 
-    use crate::sim::solver;
+    use crate::sim::solver::{self, Constraint, SolverBody};
     use crate::sim::{ContactPoint, PairContacts};
 
     /// Constraints of one contact point per pair (a, b), halfway between the bodies.

@@ -1,5 +1,5 @@
 //! A thin rigid-body core on parry3d: bodies, collisions, contacts and collision events, stepped
-//! in the Guendelman–Bridson–Fedkiw order (DESIGN.md §2), with denting in the loop (paper
+//! in the Guendelman–Bridson–Fedkiw order (ARCHITECTURE.md §2), with denting in the loop (paper
 //! Algorithm 1).
 
 mod body;

@@ -1,4 +1,4 @@
-//! Impulses at contact points, in the Guendelman–Bridson–Fedkiw order (DESIGN.md §2): an elastic
+//! Impulses at contact points, in the Guendelman–Bridson–Fedkiw order (ARCHITECTURE.md §2): an elastic
 //! collision phase (restitution) on contacts the step would close, then — after gravity — an
 //! inelastic contact phase that stops penetration, its last sweep with shock propagation. Both
 //! phases apply Coulomb friction; the contact phase also rolling resistance. Sequential impulses

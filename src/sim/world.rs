@@ -1,5 +1,5 @@
 //! The world: bodies, joints, settings and saved states; the time step is in `world_step.rs`
-//! (DESIGN.md §2): broad phase → narrow phase → collision (restitution) → gravity → elastic joint
+//! (ARCHITECTURE.md §2): broad phase → narrow phase → collision (restitution) → gravity → elastic joint
 //! springs → contact (inelastic, shock propagation) → joint pre-stabilization → positions → joint
 //! post-stabilization.
 

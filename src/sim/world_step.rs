@@ -1,4 +1,4 @@
-//! The time step (DESIGN.md §2), in two halves so that a caller can look at what a step is about
+//! The time step (ARCHITECTURE.md §2), in two halves so that a caller can look at what a step is about
 //! to hit before it is taken (the bending layer's dummy step): [`World::detect`] (broad phase,
 //! narrow phase, closing speeds) and [`World::advance`] (collision, gravity, springs, contact,
 //! joint pre-stabilization, positions, joint post-stabilization, sleep).
