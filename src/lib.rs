@@ -39,14 +39,20 @@
 //! ```
 
 pub mod bend;
+#[cfg(feature = "sim")]
 pub mod coupling;
 pub mod cpu;
 pub mod dent;
+#[cfg(feature = "gpu")]
 pub mod gpu;
+#[cfg(feature = "io")]
 pub mod io;
 pub mod mesh;
+#[cfg(feature = "render")]
 pub mod render;
+#[cfg(feature = "scene")]
 pub mod scene;
+#[cfg(feature = "sim")]
 pub mod sim;
 
 pub use dent::{

@@ -23,6 +23,7 @@ pub use glance::glance;
 pub use heat::{heat, heat_step};
 pub use layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff};
 pub use skin::{SkinError, WEIGHT_SUM_TOLERANCE, skin, validate_influences};
+#[cfg(feature = "gpu")]
 pub(crate) use skin::{check_length, validate_bones, validate_vertices};
 pub use skin_layout::{BONES_PER_VERTEX, SkinBone, SkinInfluence, SkinParams, skin_bones};
 pub use zbuffer::zbuffer;

@@ -1,8 +1,6 @@
 //! Dent maps that do not come from a projectile: painted height maps (PNG) and analytic
 //! Gaussians (paper §3.1), so an artist can supply the shape of a dent.
 
-use std::path::Path;
-
 use super::error::invalid;
 use super::{DentError, DentFrame, DentMap, DentParams, Grid, Impact, MAX_RESOLUTION, Resolution, plan};
 
@@ -50,7 +48,8 @@ impl DentMap {
         Ok(Self { grid: map_grid, cells, dent_distance: params.dent_distance })
     }
 
-    /// Reads a square 8- or 16-bit grayscale PNG (see [`crate::io::read_height_png`]) as a dent
+    #[cfg(feature = "io")]
+    /// Reads a square 8- or 16-bit grayscale PNG (see `io::read_height_png`; `io` feature) as a dent
     /// of side `extent` (world units): its brightest pixel becomes the dent distance, black is
     /// no dent. Pixel (row r, column c) is cell (r, c) of [`from_heights`](Self::from_heights).
     ///
@@ -58,7 +57,7 @@ impl DentMap {
     /// [`DentError::Image`] for unreadable, non-square or all-black pictures; otherwise as
     /// [`from_heights`](Self::from_heights).
     pub fn from_png(
-        path: impl AsRef<Path>,
+        path: impl AsRef<std::path::Path>,
         extent: f32,
         impact: &Impact,
         params: &DentParams,

@@ -49,7 +49,7 @@ pub fn energy_dent_distance(
 pub fn normal_energy_lost(impact: &Impact, target: &BodyState, projectile: &BodyState) -> f32 {
     let normal = impact.unit_normal();
     let k = target.inverse_mass_along(impact.point, normal) + projectile.inverse_mass_along(impact.point, normal);
-    if !(k > 0.0) {
+    if k.is_nan() || k <= 0.0 {
         return 0.0;
     }
     let normal_speed = impact.relative_velocity.dot(normal).max(0.0);

@@ -35,6 +35,7 @@ pub use damage::{
 pub use decide::{decide_dent_distance, projectile_offset};
 pub use energy::{energy_dent_distance, normal_energy_lost};
 pub use error::DentError;
+#[cfg(feature = "gpu")]
 pub(crate) use error::invalid;
 pub use grid::{DentFrame, Grid};
 pub use impact::Impact;

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+#[cfg(feature = "io")]
 use super::gltf_read::load_gltf;
 use super::obj::{load_obj, parse_obj_named};
 use super::ply::load_ply;
@@ -62,7 +63,8 @@ pub fn builtin(name: &str) -> Result<TriMesh, MeshError> {
 ///
 /// # Errors
 /// [`MeshError::UnsupportedFormat`] (listing the built-in names) for anything else; otherwise
-/// as [`load_obj`], [`load_ply`](super::load_ply) or [`load_gltf`](super::load_gltf).
+/// as [`load_obj`], [`load_ply`](super::load_ply) or `load_gltf` (glTF needs the `io` feature;
+/// without it a glTF file is an unsupported format).
 ///
 /// # Example
 /// ```
@@ -78,6 +80,7 @@ pub fn load(spec: &str) -> Result<TriMesh, MeshError> {
     match extension.as_deref() {
         Some("obj") => load_obj(path),
         Some("ply") => load_ply(path),
+        #[cfg(feature = "io")]
         Some("gltf" | "glb") => load_gltf(path),
         _ => Err(unsupported(spec)),
     }

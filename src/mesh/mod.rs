@@ -3,9 +3,13 @@
 
 mod builtin;
 mod error;
+#[cfg(feature = "io")]
 mod glb;
+#[cfg(feature = "io")]
 mod gltf;
+#[cfg(feature = "io")]
 mod gltf_access;
+#[cfg(feature = "io")]
 mod gltf_read;
 mod mass;
 mod obj;
@@ -18,9 +22,11 @@ mod save;
 mod subdivide;
 mod trimesh;
 
+#[cfg(feature = "io")]
 pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb, save_glb_scene};
 pub use builtin::{BUILTIN_NAMES, builtin, load};
 pub use error::MeshError;
+#[cfg(feature = "io")]
 pub use gltf_read::load_gltf;
 pub use mass::{MassProperties, mass_properties};
 pub use obj::{load_obj, parse_obj, save_obj};

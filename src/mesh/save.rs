@@ -6,10 +6,10 @@ use std::io::{self, BufWriter};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::{MeshError, TriMesh, save_glb, save_obj};
+use super::{MeshError, TriMesh, save_obj};
 
 /// Writes `mesh` in the format named by the extension of `path` (case-insensitive): `.obj`
-/// ([`save_obj`]) or `.glb` ([`save_glb`]).
+/// ([`save_obj`]) or `.glb` (`save_glb`, with the `io` feature).
 ///
 /// # Errors
 /// [`MeshError::UnsupportedSaveFormat`] for any other extension (nothing is written); otherwise
@@ -25,7 +25,8 @@ pub fn save(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<(), MeshError> {
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match extension.as_deref() {
         Some("obj") => save_obj(mesh, path),
-        Some("glb") => save_glb(path, mesh),
+        #[cfg(feature = "io")]
+        Some("glb") => super::save_glb(path, mesh),
         _ => Err(MeshError::UnsupportedSaveFormat { path: path.to_path_buf() }),
     }
 }
