@@ -13,6 +13,7 @@ use super::envelope_rows::{EnvelopeBuffers, EnvelopeRows, scratch_bytes};
 use super::glance::{GlanceBuffers, GlanceKernel};
 use super::heat::{HeatBatch, HeatBuffers, HeatDent, HeatKernel};
 use super::normals::{Normals, NormalsParams, adjacency};
+use super::recorder::{KernelTimes, Recorder};
 use super::zbuffer::{Zbuffer, ZbufferBuffers, work_words};
 use super::{GpuContext, GpuError, buffers};
 use crate::cpu::{DisplaceParams, EnvelopeParams, GlanceParams, HeatParams, ZbufferParams, falloff_table};
@@ -110,8 +111,13 @@ struct Kernels {
 /// the same target apply in submission order. The deformed vertices stay in
 /// [`vertex_buffer`](Self::vertex_buffer) (`vec4<f32>` per vertex, `w` = moved in the last
 /// batch) for a renderer to bind; [`read_positions`](Self::read_positions) copies them back.
-pub struct GpuDenter<'c> {
-    context: &'c GpuContext,
+///
+/// The denter holds its own clone of the [`GpuContext`] (no borrow), so it is `Send + Sync +
+/// 'static` and can live in an application's resources. [`record_batch`](Self::record_batch)
+/// records a batch into the caller's command encoder; [`dent_batch`](Self::dent_batch) records,
+/// submits and checks the device in one call.
+pub struct GpuDenter {
+    context: GpuContext,
     kernels: Kernels,
     targets: Vec<Resident>,
     positions: wgpu::Buffer,
@@ -120,13 +126,38 @@ pub struct GpuDenter<'c> {
     adjacency: wgpu::Buffer,
 }
 
-impl<'c> GpuDenter<'c> {
-    /// Compiles the kernels and uploads `targets` (positions, triangles, vertex→face adjacency).
+/// How a [`GpuDenter`] creates its resident buffers.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct GpuDenterOptions {
+    /// Give the resident vertex and normal buffers `VERTEX` usage as well as `STORAGE`, so a
+    /// render pipeline can bind them as vertex buffers (`Float32x3` at offset 0, stride 16 bytes)
+    /// with no copy.
+    pub vertex_usage: bool,
+}
+
+impl GpuDenter {
+    /// Compiles the kernels and uploads `targets` (positions, triangles, vertex→face adjacency)
+    /// onto `context`'s device, keeping a clone of `context` (cheap: the handles are shared).
     ///
     /// # Errors
     /// Kernel compilation errors, or [`GpuError::OverLimit`] when the targets do not fit one
     /// storage binding.
-    pub fn new(context: &'c GpuContext, targets: &[TriMesh]) -> Result<Self, GpuError> {
+    pub fn new(context: &GpuContext, targets: &[TriMesh]) -> Result<Self, GpuError> {
+        Self::with_options(context, targets, GpuDenterOptions::default())
+    }
+
+    /// [`new`](Self::new) with `options` (e.g. resident buffers an application can bind as
+    /// vertex buffers).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn with_options(
+        context: &GpuContext,
+        targets: &[TriMesh],
+        options: GpuDenterOptions,
+    ) -> Result<Self, GpuError> {
+        let context = context.clone();
+        let context = &context;
         let kernels = Kernels {
             zbuffer: Zbuffer::new(context)?,
             rows: EnvelopeRows::new(context)?,
@@ -163,15 +194,25 @@ impl<'c> GpuDenter<'c> {
             });
         }
         buffers::check_binding_size(context, "resident adjacency", (adjacent.len() * 4) as u64)?;
+        let mut usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        if options.vertex_usage {
+            usage |= wgpu::BufferUsages::VERTEX;
+        }
+        let bytes = |data: &[[f32; 4]]| bytemuck::cast_slice::<[f32; 4], u8>(data).to_vec();
         Ok(Self {
-            positions: buffers::storage(context, "resident positions", &positions),
-            normals: buffers::storage(context, "resident normals", &normals),
+            positions: buffers::with_contents(context, "resident positions", &bytes(&positions), usage),
+            normals: buffers::with_contents(context, "resident normals", &bytes(&normals), usage),
             faces: buffers::storage(context, "resident faces", &faces),
             adjacency: buffers::storage(context, "resident adjacency", &adjacent),
-            context,
+            context: context.clone(),
             kernels,
             targets: resident,
         })
+    }
+
+    /// The context (device and queue) the denter runs on.
+    pub fn context(&self) -> &GpuContext {
+        &self.context
     }
 
     /// The deformed vertices of every target, `vec4<f32>` each (xyz world units, w = 1 when the
@@ -208,7 +249,7 @@ impl<'c> GpuDenter<'c> {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
         let (first, count) = (resident.vertices.start as usize, resident.vertices.len());
-        let values: Vec<[f32; 4]> = buffers::read_back_range(self.context, &self.positions, first, count)?;
+        let values: Vec<[f32; 4]> = buffers::read_back_range(&self.context, &self.positions, first, count)?;
         Ok(values.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
     }
 
@@ -222,7 +263,7 @@ impl<'c> GpuDenter<'c> {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
         let (first, count) = (resident.vertices.start as usize, resident.vertices.len());
-        let values: Vec<[f32; 4]> = buffers::read_back_range(self.context, &self.normals, first, count)?;
+        let values: Vec<[f32; 4]> = buffers::read_back_range(&self.context, &self.normals, first, count)?;
         Ok(values.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
     }
 
@@ -247,7 +288,33 @@ impl<'c> GpuDenter<'c> {
     /// [`GpuBatchError::Job`] naming the first invalid dent (nothing is submitted then);
     /// [`GpuBatchError::Gpu`] for device errors.
     pub fn dent_batch(&mut self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
-        self.run_batch(jobs, None)
+        self.context.check_alive()?;
+        let mut encoder = self.context.device.create_command_encoder(&Default::default());
+        let info = self.record_batch(&mut encoder, jobs)?;
+        self.context.queue.submit([encoder.finish()]);
+        self.context.check_alive()?;
+        Ok(info)
+    }
+
+    /// Records the batch [`dent_batch`](Self::dent_batch) runs into the caller's `encoder`,
+    /// without submitting or polling: the targets change when the caller submits the encoder's
+    /// commands (uploads of the batch's small buffers go through `queue.write_buffer` and land
+    /// before that submission). Record several batches before one submission and they apply in
+    /// recording order.
+    ///
+    /// # Errors
+    /// As [`dent_batch`](Self::dent_batch). An invalid job is found before anything is recorded;
+    /// a device limit met while recording leaves part of the batch in `encoder`, so after an
+    /// error drop the encoder instead of submitting it (the targets then stay as they were).
+    pub fn record_batch(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        jobs: &[DentJob<'_>],
+    ) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
+        let plans = self.plan(jobs)?;
+        let mut sink = Sink::Caller(encoder);
+        self.context.scoped("dent batch", || self.encode_batch(&plans, jobs, &mut sink))??;
+        Ok(infos(&plans))
     }
 
     /// [`dent_batch`](Self::dent_batch), submitting and waiting after every kernel stage to time
@@ -258,71 +325,48 @@ impl<'c> GpuDenter<'c> {
     /// As [`dent_batch`](Self::dent_batch).
     pub fn dent_batch_timed(&mut self, jobs: &[DentJob<'_>]) -> Result<KernelTimes, GpuBatchError> {
         let mut times = KernelTimes::new();
-        self.run_batch(jobs, Some(&mut times))?;
+        let plans = self.plan(jobs)?;
+        self.context.check_alive()?;
+        let mut sink = Sink::Own { timings: Some(&mut times), pending: Vec::new() };
+        self.context.scoped("dent batch", || self.encode_batch(&plans, jobs, &mut sink))??;
+        if let Sink::Own { pending, .. } = sink {
+            self.context.queue.submit(pending);
+        }
+        self.context.check_alive()?;
         Ok(times)
     }
 
-    fn run_batch(
-        &mut self,
-        jobs: &[DentJob<'_>],
-        mut timings: Option<&mut KernelTimes>,
-    ) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
-        let plans = self.plan(jobs)?;
-        let context = self.context;
-        context.check_alive()?;
-        let timed = timings.is_some();
-        // Every chunk is encoded (and so checked against the device's limits) before anything is
-        // submitted, so a batch refused for its size leaves every target as it was. Timing
-        // submits stage by stage instead.
-        let encoded = context.scoped("dent batch", || -> Result<(), GpuError> {
-            let mut pending = Vec::new();
-            let mut clear = Recorder::new(context, None);
-            self.kernels.displace.encode_clear_moved(context, &mut clear.encoder, &self.positions)?;
-            pending.push(clear.finish());
-            for chunk in chunks(&plans, jobs, context) {
-                if timed {
-                    context.queue.submit(pending.drain(..));
-                }
-                let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
-                let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
-                let mut rec = Recorder::new(context, timings.as_deref_mut());
-                let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, false)?;
-                self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
-                pending.push(rec.finish());
-            }
-            let mut touched = vec![false; self.targets.len()];
-            jobs.iter().for_each(|j| touched[j.target] = true);
-            let normals: Vec<NormalsParams> =
-                (0..self.targets.len()).filter(|&t| touched[t]).map(|t| self.normals_params(t)).collect();
-            if timed {
-                context.queue.submit(pending.drain(..));
-            }
-            let mut rec = Recorder::new(context, timings);
-            self.kernels.normals.encode(
-                context,
-                &mut rec.encoder,
-                &normals,
-                &self.positions,
-                &self.faces,
-                &self.adjacency,
-                &self.normals,
-            )?;
-            rec.stage("normals")?;
-            pending.push(rec.finish());
-            context.queue.submit(pending);
-            Ok(())
-        });
-        encoded??;
-        context.check_alive()?;
-        Ok(plans
-            .iter()
-            .map(|p| GpuDentInfo {
-                theta_deg: p.frame.theta_deg(),
-                resolution: p.zbuffer_grid.res,
-                map_resolution: p.map_grid.res,
-                cell_size: p.zbuffer_grid.cell_size,
-            })
-            .collect())
+    /// Records the whole batch into `sink`: clear the moved flags, then per chunk (cut to the
+    /// device's limits) the map kernels and the displacement, then the normals of every target
+    /// a job names. A timing sink submits what came before each chunk and the normals.
+    fn encode_batch(&self, plans: &[DentPlan], jobs: &[DentJob<'_>], sink: &mut Sink<'_>) -> Result<(), GpuError> {
+        let context = &self.context;
+        let mut clear = sink.recorder(context);
+        self.kernels.displace.encode_clear_moved(context, clear.encoder(), &self.positions)?;
+        let done = clear.finish();
+        sink.push(done);
+        for chunk in chunks(plans, jobs, context) {
+            sink.flush(context);
+            let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
+            let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
+            let mut rec = sink.recorder(context);
+            let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, false)?;
+            self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
+            let done = rec.finish();
+            sink.push(done);
+        }
+        let mut touched = vec![false; self.targets.len()];
+        jobs.iter().for_each(|j| touched[j.target] = true);
+        let normals: Vec<NormalsParams> =
+            (0..self.targets.len()).filter(|&t| touched[t]).map(|t| self.normals_params(t)).collect();
+        sink.flush(context);
+        let mut rec = sink.recorder(context);
+        let (positions, faces, adjacency) = (&self.positions, &self.faces, &self.adjacency);
+        self.kernels.normals.encode(context, rec.encoder(), &normals, positions, faces, adjacency, &self.normals)?;
+        rec.stage("normals")?;
+        let done = rec.finish();
+        sink.push(done);
+        Ok(())
     }
 
     /// Builds every job's dent map on the GPU and reads all stages back, without touching the
@@ -352,18 +396,18 @@ impl<'c> GpuDenter<'c> {
             return Err(GpuError::OverLimit { what: "dent grid side".into(), needed: res.into(), limit });
         }
         let mut out = Vec::with_capacity(jobs.len());
-        for chunk in chunks(plans, jobs, self.context) {
+        for chunk in chunks(plans, jobs, &self.context) {
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
-            let mut rec = Recorder::new(self.context, None);
+            let mut rec = Recorder::new(&self.context, None);
             let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, true)?;
             rec.submit();
             let cells = maps.cell_offsets.last().copied().unwrap_or(0) as usize;
-            let profile: Vec<f32> = buffers::read_back(self.context, &maps.work, cells)?;
-            let envelope: Vec<f32> = buffers::read_back(self.context, &maps.envelope, cells)?;
-            let smoothed: Vec<f32> = buffers::read_back(self.context, &maps.smoothed, cells)?;
+            let profile: Vec<f32> = buffers::read_back(&self.context, &maps.work, cells)?;
+            let envelope: Vec<f32> = buffers::read_back(&self.context, &maps.envelope, cells)?;
+            let smoothed: Vec<f32> = buffers::read_back(&self.context, &maps.smoothed, cells)?;
             let map_cells = maps.map_offsets.last().copied().unwrap_or(0) as usize;
-            let map: Vec<[f32; 4]> = buffers::read_back(self.context, &maps.map, map_cells)?;
+            let map: Vec<[f32; 4]> = buffers::read_back(&self.context, &maps.map, map_cells)?;
             for (k, plan) in chunk_plans.iter().enumerate() {
                 let cells = maps.cell_offsets[k] as usize..maps.cell_offsets[k + 1] as usize;
                 let map_range = maps.map_offsets[k] as usize..maps.map_offsets[k + 1] as usize;
@@ -404,7 +448,7 @@ impl<'c> GpuDenter<'c> {
         plans: &[&DentPlan],
         keep_envelope: bool,
     ) -> Result<MapBuffers, GpuError> {
-        let context = self.context;
+        let context = &self.context;
         let batch = plans.len() as u32;
         // Projectiles, each uploaded once however many dents share it.
         let (mut positions, mut faces) = (Vec::<Vec3>::new(), Vec::<[u32; 3]>::new());
@@ -478,7 +522,7 @@ impl<'c> GpuDenter<'c> {
 
         self.kernels.zbuffer.encode(
             context,
-            &mut rec.encoder,
+            rec.encoder(),
             &ZbufferBuffers {
                 params: &buffers::storage(context, "zbuffer params", &zparams),
                 positions: &buffers::storage(context, "projectile positions", &positions),
@@ -492,15 +536,15 @@ impl<'c> GpuDenter<'c> {
         rec.stage("zbuffer")?;
         let eparams = buffers::storage(context, "envelope params", &eparams);
         let rows_buffers = EnvelopeBuffers { params: &eparams, input: &work, output: &rows, scratch: &scratch };
-        self.kernels.rows.encode(context, &mut rec.encoder, &rows_buffers, batch, max_res)?;
+        self.kernels.rows.encode(context, rec.encoder(), &rows_buffers, batch, max_res)?;
         rec.stage("envelope_rows")?;
         let cols_buffers = EnvelopeBuffers { params: &eparams, input: &rows, output: &envelope, scratch: &scratch };
-        self.kernels.cols.encode(context, &mut rec.encoder, &cols_buffers, batch, max_res)?;
+        self.kernels.cols.encode(context, rec.encoder(), &cols_buffers, batch, max_res)?;
         rec.stage("envelope_cols")?;
         // Heat smooths in place; the rows pass's output is free by now and serves as its scratch.
         let smoothed = if keep_envelope {
             let copy = buffers::storage_zeroed(context, "smoothed", cells * 4);
-            rec.encoder.copy_buffer_to_buffer(&envelope, 0, &copy, 0, cells * 4);
+            rec.encoder().copy_buffer_to_buffer(&envelope, 0, &copy, 0, cells * 4);
             copy
         } else {
             envelope.clone()
@@ -517,7 +561,7 @@ impl<'c> GpuDenter<'c> {
             grid: &smoothed,
             scratch: &rows,
         };
-        self.kernels.heat.encode(context, &mut rec.encoder, &heat_buffers, heat_batch)?;
+        self.kernels.heat.encode(context, rec.encoder(), &heat_buffers, heat_batch)?;
         rec.stage("heat")?;
         let max_map_cells = plans.iter().map(|p| p.map_grid.res.pow(2)).max().unwrap_or(0);
         let glance_buffers = GlanceBuffers {
@@ -525,7 +569,7 @@ impl<'c> GpuDenter<'c> {
             heights: &smoothed,
             dent_map: &map,
         };
-        self.kernels.glance.encode(context, &mut rec.encoder, &glance_buffers, batch, max_map_cells)?;
+        self.kernels.glance.encode(context, rec.encoder(), &glance_buffers, batch, max_map_cells)?;
         rec.stage("glance")?;
         Ok(MapBuffers { work, envelope, smoothed, map, cell_offsets, map_offsets })
     }
@@ -561,8 +605,8 @@ impl<'c> GpuDenter<'c> {
                 }
             })
             .collect();
-        let tables = buffers::storage(self.context, "falloff tables", &tables);
-        self.kernels.displace.encode(self.context, &mut rec.encoder, &params, &maps.map, &tables, &self.positions)?;
+        let tables = buffers::storage(&self.context, "falloff tables", &tables);
+        self.kernels.displace.encode(&self.context, rec.encoder(), &params, &maps.map, &tables, &self.positions)?;
         rec.stage("displace")
     }
 
@@ -579,77 +623,47 @@ impl<'c> GpuDenter<'c> {
     }
 }
 
-/// A command encoder that, when timing, submits and waits at the end of every stage and records
-/// how long the stage took: its GPU time from timestamp queries where the device has them,
-/// else the wall time of submit-and-wait.
-struct Recorder<'a> {
-    context: &'a GpuContext,
-    encoder: wgpu::CommandEncoder,
-    timings: Option<&'a mut KernelTimes>,
-    started: std::time::Instant,
-    stamps: Option<(wgpu::QuerySet, wgpu::Buffer)>,
+/// What each planned dent of a batch was planned as.
+fn infos(plans: &[DentPlan]) -> Vec<GpuDentInfo> {
+    plans
+        .iter()
+        .map(|p| GpuDentInfo {
+            theta_deg: p.frame.theta_deg(),
+            resolution: p.zbuffer_grid.res,
+            map_resolution: p.map_grid.res,
+            cell_size: p.zbuffer_grid.cell_size,
+        })
+        .collect()
 }
 
-impl<'a> Recorder<'a> {
-    fn new(context: &'a GpuContext, timings: Option<&'a mut KernelTimes>) -> Self {
-        let mut encoder = context.device.create_command_encoder(&Default::default());
-        let stamps = (timings.is_some() && context.timestamps).then(|| {
-            let set = context.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("stage timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            });
-            let resolved = context.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("stage timestamps"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            encoder.write_timestamp(&set, 0);
-            (set, resolved)
-        });
-        Self { context, encoder, timings, started: std::time::Instant::now(), stamps }
-    }
+/// Where [`GpuDenter::encode_batch`] records: the caller's encoder, or command buffers of its own
+/// (submitted stage by stage when timing, else by the caller of `encode_batch`).
+enum Sink<'s> {
+    Caller(&'s mut wgpu::CommandEncoder),
+    Own { timings: Option<&'s mut KernelTimes>, pending: Vec<wgpu::CommandBuffer> },
+}
 
-    /// Ends stage `name`: when timing, submits what was recorded, waits, and adds the time.
-    fn stage(&mut self, name: &'static str) -> Result<(), GpuError> {
-        let Some(timings) = self.timings.as_deref_mut() else { return Ok(()) };
-        if let Some((set, resolved)) = &self.stamps {
-            self.encoder.write_timestamp(set, 1);
-            self.encoder.resolve_query_set(set, 0..2, resolved, 0);
+impl Sink<'_> {
+    fn recorder<'r>(&'r mut self, context: &'r GpuContext) -> Recorder<'r> {
+        match self {
+            Sink::Caller(encoder) => Recorder::caller(context, encoder),
+            Sink::Own { timings, .. } => Recorder::new(context, timings.as_deref_mut()),
         }
-        let encoder =
-            std::mem::replace(&mut self.encoder, self.context.device.create_command_encoder(&Default::default()));
-        self.context.queue.submit([encoder.finish()]);
-        self.context.wait()?;
-        let seconds = match &self.stamps {
-            Some((set, resolved)) => {
-                let ticks: Vec<u64> = super::buffers::read_back(self.context, resolved, 2)?;
-                self.encoder.write_timestamp(set, 0);
-                let period_ns = f64::from(self.context.queue.get_timestamp_period());
-                ticks[1].saturating_sub(ticks[0]) as f64 * period_ns * 1e-9
-            }
-            None => self.started.elapsed().as_secs_f64(),
-        };
-        *timings.entry(name).or_default() += seconds;
-        self.started = std::time::Instant::now();
-        Ok(())
     }
 
-    /// Submits whatever is left.
-    fn submit(self) {
-        self.context.queue.submit([self.encoder.finish()]);
+    fn push(&mut self, buffer: Option<wgpu::CommandBuffer>) {
+        if let (Sink::Own { pending, .. }, Some(buffer)) = (self, buffer) {
+            pending.push(buffer);
+        }
     }
 
-    /// Finishes what is left into a command buffer, for the caller to submit.
-    fn finish(self) -> wgpu::CommandBuffer {
-        self.encoder.finish()
+    /// When timing, submits what is pending (so the next stage's time is its own).
+    fn flush(&mut self, context: &GpuContext) {
+        if let Sink::Own { timings: Some(_), pending } = self {
+            context.queue.submit(pending.drain(..));
+        }
     }
 }
-
-/// Seconds spent in each kernel stage (`zbuffer`, `envelope_rows`, `envelope_cols`, `heat`,
-/// `glance`, `displace`, `normals`), summed over a batch's chunks.
-pub type KernelTimes = std::collections::BTreeMap<&'static str, f64>;
 
 /// The buffers of one chunk's maps and where each dent sits in them (prefix sums, one entry
 /// more than dents).

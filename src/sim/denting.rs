@@ -44,7 +44,7 @@ struct Progress {
 
 /// Runs the dents of each step's collisions.
 pub struct Denter {
-    gpu: Option<(GpuDenter<'static>, Vec<Option<usize>>)>,
+    gpu: Option<(GpuDenter, Vec<Option<usize>>)>,
     progress: Vec<Progress>,
 }
 
