@@ -1,6 +1,8 @@
 //! Many dents per frame on the GPU: `GpuDenter` keeps target meshes resident and runs each
 //! kernel once per batch (paper Algorithm 1 for every impact of a time step at once).
 
+mod output;
+
 use std::collections::HashMap;
 use std::ops::Range;
 
@@ -12,6 +14,8 @@ use super::envelope_cols::EnvelopeCols;
 use super::envelope_rows::{EnvelopeBuffers, EnvelopeRows, scratch_bytes};
 use super::glance::{GlanceBuffers, GlanceKernel};
 use super::heat::{HeatBatch, HeatBuffers, HeatDent, HeatKernel};
+use super::interleave::Interleave;
+use super::moved::Moved;
 use super::normals::{Normals, NormalsParams, adjacency};
 use super::recorder::{KernelTimes, Recorder};
 use super::zbuffer::{Zbuffer, ZbufferBuffers, work_words};
@@ -102,6 +106,8 @@ struct Kernels {
     glance: GlanceKernel,
     displace: Displace,
     normals: Normals,
+    interleave: Interleave,
+    moved: Moved,
 }
 
 /// Dents target meshes that stay on the GPU.
@@ -166,6 +172,8 @@ impl GpuDenter {
             glance: GlanceKernel::new(context)?,
             displace: Displace::new(context)?,
             normals: Normals::new(context)?,
+            interleave: Interleave::new(context)?,
+            moved: Moved::new(context)?,
         };
         let (mut positions, mut normals, mut faces, mut adjacent) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut resident = Vec::with_capacity(targets.len());
