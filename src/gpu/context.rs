@@ -143,8 +143,10 @@ impl GpuContext {
     }
 
     /// Whether a mapping of a fresh buffer fails, which it does at once on a lost device (on a
-    /// live one it succeeds, or is still pending, after one non-blocking poll).
+    /// live one it succeeds, or is still pending, after one non-blocking poll). Runs inside a
+    /// validation scope, so the failure reaches no application error handler.
     fn probe_lost(&self) -> bool {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let probe = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("dentbend device-lost probe"),
             size: wgpu::COPY_BUFFER_ALIGNMENT,
@@ -156,9 +158,14 @@ impl GpuContext {
             let _ = sender.send(result.is_err());
         });
         let polled = self.device.poll(wgpu::PollType::Poll);
-        let failed = receiver.try_recv().unwrap_or(false);
-        probe.destroy();
-        polled.is_err() || failed
+        let caught = pollster::block_on(scope.pop()).is_some();
+        caught || polled.is_err() || receiver.try_recv().unwrap_or(false)
+    }
+
+    /// `error`, or [`GpuError::DeviceLost`] when the device turns out to be lost (what a failed
+    /// submission or mapping on a lost device really means).
+    pub(crate) fn lost_or(&self, error: GpuError) -> GpuError {
+        self.check_alive().err().unwrap_or(error)
     }
 
     /// Blocks until all submitted work is done, at most [`WAIT_TIMEOUT`].

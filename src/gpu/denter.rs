@@ -299,8 +299,11 @@ impl GpuDenter {
         self.context.check_alive()?;
         let mut encoder = self.context.device.create_command_encoder(&Default::default());
         let info = self.record_batch(&mut encoder, jobs)?;
-        self.context.queue.submit([encoder.finish()]);
-        self.context.check_alive()?;
+        let context = &self.context;
+        context
+            .scoped("dent batch submit", || context.queue.submit([encoder.finish()]))
+            .map_err(|e| context.lost_or(e))?;
+        context.check_alive()?;
         Ok(info)
     }
 

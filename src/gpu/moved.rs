@@ -76,13 +76,15 @@ impl Moved {
         buffers::check_binding_size(context, "moved list", list_bytes)?;
         let list = buffers::storage_zeroed(context, "moved list", list_bytes);
         let used = buffers::storage_zeroed(context, "moved count", 4);
-        let mut encoder = context.device.create_command_encoder(&Default::default());
-        context.scoped("moved", || {
-            let uniform = buffers::uniform(context, "moved params", &params);
-            let bind = self.kernel.bind(context, &[&uniform, positions, &list, &used]);
-            self.kernel.dispatch(&mut encoder, &bind, [groups, 1, 1]);
-        })?;
-        context.queue.submit([encoder.finish()]);
+        context
+            .scoped("moved", || {
+                let mut encoder = context.device.create_command_encoder(&Default::default());
+                let uniform = buffers::uniform(context, "moved params", &params);
+                let bind = self.kernel.bind(context, &[&uniform, positions, &list, &used]);
+                self.kernel.dispatch(&mut encoder, &bind, [groups, 1, 1]);
+                context.queue.submit([encoder.finish()]);
+            })
+            .map_err(|e| context.lost_or(e))?;
         let count: Vec<u32> = buffers::read_back(context, &used, 1)?;
         let count = count[0].min(params.vertex_count) as usize;
         let slots: Vec<[u32; 4]> = buffers::read_back(context, &list, count)?;
