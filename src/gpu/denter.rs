@@ -1,6 +1,8 @@
 //! Many dents per frame on the GPU: `GpuDenter` keeps target meshes resident and runs each
 //! kernel once per batch (paper Algorithm 1 for every impact of a time step at once).
 
+mod batch;
+mod chunks;
 mod output;
 
 use std::collections::HashMap;
@@ -17,18 +19,12 @@ use super::heat::{HeatBatch, HeatBuffers, HeatDent, HeatKernel};
 use super::interleave::Interleave;
 use super::moved::Moved;
 use super::normals::{Normals, NormalsParams, adjacency};
-use super::recorder::{KernelTimes, Recorder};
+use super::recorder::Recorder;
 use super::zbuffer::{Zbuffer, ZbufferBuffers, work_words};
 use super::{GpuContext, GpuError, buffers};
 use crate::cpu::{DisplaceParams, EnvelopeParams, GlanceParams, HeatParams, ZbufferParams, falloff_table};
 use crate::dent::{BatchError, DentJob, DentMap, DentPlan, DentStages, plan_dent};
 use crate::mesh::TriMesh;
-
-/// Bytes per grid cell across the map-building buffers of a chunk (profile 4, rows 4, envelope
-/// 4, hull scratch 12, heat scratch 4): a chunk's largest binding is the 12-byte scratch.
-const SCRATCH_BYTES_PER_CELL: u64 = 12;
-/// Bytes per dent-map cell (`vec4<f32>`).
-const MAP_BYTES_PER_CELL: u64 = 16;
 
 /// Why a GPU batch failed; no target changed.
 #[derive(Debug, thiserror::Error)]
@@ -285,101 +281,6 @@ impl GpuDenter {
             .map_err(|e| GpuError::Validation { label: "read back mesh".into(), message: e.to_string() })
     }
 
-    /// Dents the resident targets by every job (`job.target` indexes the targets given to
-    /// [`new`](Self::new)): plans on the CPU (all cores), then every kernel once per chunk of the
-    /// batch, chunks sized to the device's binding limit. Dents on the same target apply in
-    /// submission order. A dent whose profile vanishes on its grid (σ or d far outside the
-    /// projectile's scale) leaves its target unchanged, where the CPU pipeline reports
-    /// [`DentError::EmptyProfile`](crate::DentError::EmptyProfile): telling would need a read-back.
-    ///
-    /// # Errors
-    /// [`GpuBatchError::Job`] naming the first invalid dent (nothing is submitted then);
-    /// [`GpuBatchError::Gpu`] for device errors.
-    pub fn dent_batch(&mut self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
-        self.context.check_alive()?;
-        let mut encoder = self.context.device.create_command_encoder(&Default::default());
-        let info = self.record_batch(&mut encoder, jobs)?;
-        let context = &self.context;
-        context
-            .scoped("dent batch submit", || context.queue.submit([encoder.finish()]))
-            .map_err(|e| context.lost_or(e))?;
-        context.check_alive()?;
-        Ok(info)
-    }
-
-    /// Records the batch [`dent_batch`](Self::dent_batch) runs into the caller's `encoder`,
-    /// without submitting or polling: the targets change when the caller submits the encoder's
-    /// commands (uploads of the batch's small buffers go through `queue.write_buffer` and land
-    /// before that submission). Record several batches before one submission and they apply in
-    /// recording order.
-    ///
-    /// # Errors
-    /// As [`dent_batch`](Self::dent_batch). An invalid job is found before anything is recorded;
-    /// a device limit met while recording leaves part of the batch in `encoder`, so after an
-    /// error drop the encoder instead of submitting it (the targets then stay as they were).
-    pub fn record_batch(
-        &mut self,
-        encoder: &mut wgpu::CommandEncoder,
-        jobs: &[DentJob<'_>],
-    ) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
-        let plans = self.plan(jobs)?;
-        let mut sink = Sink::Caller(encoder);
-        self.context.scoped("dent batch", || self.encode_batch(&plans, jobs, &mut sink))??;
-        Ok(infos(&plans))
-    }
-
-    /// [`dent_batch`](Self::dent_batch), submitting and waiting after every kernel stage to time
-    /// it (slower than `dent_batch`, which records a chunk's stages into one submission): GPU
-    /// time from timestamp queries when [`GpuContext::timestamps`] is set, else wall time.
-    ///
-    /// # Errors
-    /// As [`dent_batch`](Self::dent_batch).
-    pub fn dent_batch_timed(&mut self, jobs: &[DentJob<'_>]) -> Result<KernelTimes, GpuBatchError> {
-        let mut times = KernelTimes::new();
-        let plans = self.plan(jobs)?;
-        self.context.check_alive()?;
-        let mut sink = Sink::Own { timings: Some(&mut times), pending: Vec::new() };
-        self.context.scoped("dent batch", || self.encode_batch(&plans, jobs, &mut sink))??;
-        if let Sink::Own { pending, .. } = sink {
-            self.context.queue.submit(pending);
-        }
-        self.context.check_alive()?;
-        Ok(times)
-    }
-
-    /// Records the whole batch into `sink`: clear the moved flags, then per chunk (cut to the
-    /// device's limits) the map kernels and the displacement, then the normals of every target
-    /// a job names. A timing sink submits what came before each chunk and the normals.
-    fn encode_batch(&self, plans: &[DentPlan], jobs: &[DentJob<'_>], sink: &mut Sink<'_>) -> Result<(), GpuError> {
-        let context = &self.context;
-        let mut clear = sink.recorder(context);
-        self.kernels.displace.encode_clear_moved(context, clear.encoder(), &self.positions)?;
-        let done = clear.finish();
-        sink.push(done);
-        for chunk in chunks(plans, jobs, context) {
-            sink.flush(context);
-            let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
-            let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
-            let mut rec = sink.recorder(context);
-            let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, false)?;
-            self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
-            let done = rec.finish();
-            sink.push(done);
-        }
-        let mut touched = vec![false; self.targets.len()];
-        jobs.iter().for_each(|j| touched[j.target] = true);
-        let normals: Vec<NormalsParams> =
-            (0..self.targets.len()).filter(|&t| touched[t]).map(|t| self.normals_params(t)).collect();
-        sink.flush(context);
-        let mut rec = sink.recorder(context);
-        let (positions, faces, adjacency) = (&self.positions, &self.faces, &self.adjacency);
-        self.kernels.normals.encode(context, rec.encoder(), &normals, positions, faces, adjacency, &self.normals)?;
-        rec.stage("normals")?;
-        let done = rec.finish();
-        sink.push(done);
-        Ok(())
-    }
-
     /// Builds every job's dent map on the GPU and reads all stages back, without touching the
     /// targets (the GPU twin of `dent_map_stages`, batched).
     ///
@@ -407,7 +308,7 @@ impl GpuDenter {
             return Err(GpuError::OverLimit { what: "dent grid side".into(), needed: res.into(), limit });
         }
         let mut out = Vec::with_capacity(jobs.len());
-        for chunk in chunks(plans, jobs, &self.context) {
+        for chunk in chunks::chunks(plans, jobs, &self.context) {
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
             let mut rec = Recorder::new(&self.context, None);
@@ -634,48 +535,6 @@ impl GpuDenter {
     }
 }
 
-/// What each planned dent of a batch was planned as.
-fn infos(plans: &[DentPlan]) -> Vec<GpuDentInfo> {
-    plans
-        .iter()
-        .map(|p| GpuDentInfo {
-            theta_deg: p.frame.theta_deg(),
-            resolution: p.zbuffer_grid.res,
-            map_resolution: p.map_grid.res,
-            cell_size: p.zbuffer_grid.cell_size,
-        })
-        .collect()
-}
-
-/// Where [`GpuDenter::encode_batch`] records: the caller's encoder, or command buffers of its own
-/// (submitted stage by stage when timing, else by the caller of `encode_batch`).
-enum Sink<'s> {
-    Caller(&'s mut wgpu::CommandEncoder),
-    Own { timings: Option<&'s mut KernelTimes>, pending: Vec<wgpu::CommandBuffer> },
-}
-
-impl Sink<'_> {
-    fn recorder<'r>(&'r mut self, context: &'r GpuContext) -> Recorder<'r> {
-        match self {
-            Sink::Caller(encoder) => Recorder::caller(context, encoder),
-            Sink::Own { timings, .. } => Recorder::new(context, timings.as_deref_mut()),
-        }
-    }
-
-    fn push(&mut self, buffer: Option<wgpu::CommandBuffer>) {
-        if let (Sink::Own { pending, .. }, Some(buffer)) = (self, buffer) {
-            pending.push(buffer);
-        }
-    }
-
-    /// When timing, submits what is pending (so the next stage's time is its own).
-    fn flush(&mut self, context: &GpuContext) {
-        if let Sink::Own { timings: Some(_), pending } = self {
-            context.queue.submit(pending.drain(..));
-        }
-    }
-}
-
 /// The buffers of one chunk's maps and where each dent sits in them (prefix sums, one entry
 /// more than dents).
 struct MapBuffers {
@@ -685,83 +544,4 @@ struct MapBuffers {
     map: wgpu::Buffer,
     cell_offsets: Vec<u32>,
     map_offsets: Vec<u32>,
-}
-
-/// Consecutive job ranges that one set of dispatches can serve: every buffer within the device's
-/// storage binding limit (grid scratch 12 bytes per cell, map 16 bytes per cell, projectile
-/// geometry 24 bytes per vertex and triangle), and at most as many dents as workgroups per
-/// dispatch dimension. A single dent too large on its own still gets a chunk, which its
-/// kernels then refuse with [`GpuError::OverLimit`].
-fn chunks(plans: &[DentPlan], jobs: &[DentJob<'_>], context: &GpuContext) -> Vec<Range<usize>> {
-    let limit = context.limits.max_storage_buffer_binding_size;
-    let max_dents = context.limits.max_compute_workgroups_per_dimension as usize;
-    let mut out = Vec::new();
-    let (mut start, mut cells, mut map_cells, mut geometry) = (0, 0u64, 0u64, 0u64);
-    let mut seen: std::collections::HashSet<*const TriMesh> = Default::default();
-    for (k, plan) in plans.iter().enumerate() {
-        let (c, m) = (u64::from(plan.zbuffer_grid.res.pow(2)), u64::from(plan.map_grid.res.pow(2)));
-        let projectile = jobs[k].projectile;
-        let size = 12 * (projectile.vertex_count() + projectile.face_count()) as u64;
-        let g = if seen.contains(&std::ptr::from_ref(projectile)) { 0 } else { size };
-        let over = (cells + c) * SCRATCH_BYTES_PER_CELL > limit
-            || (map_cells + m) * MAP_BYTES_PER_CELL > limit
-            || geometry + g > limit
-            || k - start >= max_dents;
-        if over && k > start {
-            out.push(start..k);
-            (start, cells, map_cells, geometry) = (k, 0, 0, 0);
-            seen.clear();
-        }
-        cells += c;
-        map_cells += m;
-        if seen.insert(std::ptr::from_ref(projectile)) {
-            geometry += size;
-        }
-    }
-    if start < plans.len() {
-        out.push(start..plans.len());
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::{DentParams, Impact, Resolution};
-
-    fn plan(res: u32) -> DentPlan {
-        let ball = crate::mesh::icosphere(1.0, 1).unwrap();
-        let impact = Impact::head_on(ball.support_point(glam::Vec3::Y), glam::Vec3::Y);
-        let params = DentParams { resolution: Resolution::Fixed(res), ..DentParams::new(0.2) };
-        plan_dent(&ball, &impact, &params, None).unwrap()
-    }
-
-    /// Batches are cut where the next dent would push a chunk's largest buffer (12 bytes per
-    /// grid cell, 16 per map cell) past the 128 MiB binding limit, keeping submission order.
-    #[test]
-    fn batches_split_at_the_binding_limit() {
-        let Ok(context) = crate::gpu::shared_context() else {
-            eprintln!("skipping: no GPU adapter");
-            return;
-        };
-        let ball = crate::mesh::icosphere(1.0, 1).unwrap();
-        let job = DentJob {
-            target: 0,
-            projectile: &ball,
-            impact: Impact::head_on(glam::Vec3::ZERO, glam::Vec3::Y),
-            params: DentParams::new(0.2),
-        };
-        let jobs = vec![job; 150];
-        // Head-on, the map is as large as the grid and its 16 bytes per cell bind first: 52 dents.
-        let per_chunk = (128u64 << 20) / (SCRATCH_BYTES_PER_CELL.max(MAP_BYTES_PER_CELL) * 400 * 400);
-        let plans: Vec<DentPlan> = (0..150).map(|_| plan(400)).collect();
-        let cut = chunks(&plans, &jobs, context);
-        assert_eq!(cut.iter().map(|r| r.len() as u64).max().unwrap(), per_chunk);
-        assert_eq!(cut.first().unwrap().start, 0);
-        assert_eq!(cut.last().unwrap().end, 150);
-        assert!(cut.windows(2).all(|w| w[0].end == w[1].start), "chunks are consecutive: {cut:?}");
-        // One dent larger than the limit still gets its own chunk (and the kernels refuse it).
-        assert_eq!(chunks(&[plan(2048)], &jobs[..1], context), vec![0..1]);
-        assert!(chunks(&[], &[], context).is_empty());
-    }
 }
