@@ -113,3 +113,41 @@ fn a_denter_outlives_its_context_value_and_crosses_threads() {
     .unwrap();
     assert!(moved > 0);
 }
+
+/// dentbend replaces neither of the application's device-wide callbacks: after a batch, the
+/// application's uncaptured-error handler still sees the application's own mistakes, and its
+/// device-lost callback still fires.
+#[test]
+fn the_applications_callbacks_stay_in_place() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let Some((device, queue)) = common::gpu::own_device(wgpu::Limits::downlevel_defaults()) else { return };
+    let (errors, lost) = (Arc::new(AtomicUsize::new(0)), Arc::new(AtomicUsize::new(0)));
+    let seen = errors.clone();
+    device.on_uncaptured_error(Arc::new(move |_| {
+        seen.fetch_add(1, Ordering::SeqCst);
+    }));
+    let seen = lost.clone();
+    device.set_device_lost_callback(move |_, _| {
+        seen.fetch_add(1, Ordering::SeqCst);
+    });
+    let context = GpuContext::from_device(device.clone(), queue).unwrap();
+    let mut denter = GpuDenter::new(&context, &[mesh::builtin("block").unwrap()]).unwrap();
+    denter.dent_batch(&jobs(&balls())[..1]).unwrap();
+    assert_eq!(errors.load(Ordering::SeqCst), 0, "dentbend's batch raised an uncaptured error");
+    // The application's own mistake: a copy from an unaligned offset.
+    let buffer = |usage| {
+        device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 16, usage, mapped_at_creation: false })
+    };
+    let (src, dst) = (buffer(wgpu::BufferUsages::COPY_SRC), buffer(wgpu::BufferUsages::COPY_DST));
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(&src, 2, &dst, 0, 4);
+    drop(encoder.finish());
+    assert_eq!(errors.load(Ordering::SeqCst), 1, "the application's error handler was replaced");
+    // wgpu calls the lost callback from the first poll that finds the destroyed device's queue
+    // empty, so let the batch finish first.
+    context.wait().unwrap();
+    device.destroy();
+    let _ = device.poll(wgpu::PollType::Poll);
+    assert_eq!(lost.load(Ordering::SeqCst), 1, "the application's device-lost callback was replaced");
+}
