@@ -164,8 +164,13 @@ impl GpuContext {
 
     /// `error`, or [`GpuError::DeviceLost`] when the device turns out to be lost (what a failed
     /// submission or mapping on a lost device really means).
+    /// Probes the device even when dentbend owns it: its device-lost callback only runs from a
+    /// poll that finds the queue empty, which may not have happened yet.
     pub(crate) fn lost_or(&self, error: GpuError) -> GpuError {
-        self.check_alive().err().unwrap_or(error)
+        if !self.lost.load(Ordering::SeqCst) && self.probe_lost() {
+            self.lost.store(true, Ordering::SeqCst);
+        }
+        self.check_flag().err().unwrap_or(error)
     }
 
     /// Blocks until all submitted work is done, at most [`WAIT_TIMEOUT`].

@@ -16,13 +16,22 @@ impl GpuDenter {
     /// projectile's scale) leaves its target unchanged, where the CPU pipeline reports
     /// [`DentError::EmptyProfile`](crate::DentError::EmptyProfile): telling would need a read-back.
     ///
+    /// Submits without waiting for the GPU to finish; the read-backs wait.
+    ///
     /// # Errors
     /// [`GpuBatchError::Job`] naming the first invalid dent (nothing is submitted then);
-    /// [`GpuBatchError::Gpu`] for device errors.
+    /// [`GpuBatchError::Gpu`] for device errors: [`GpuError::DeviceLost`] for a device lost
+    /// before or while the batch is recorded and submitted (the caller's meshes are never
+    /// touched by the GPU path).
     pub fn dent_batch(&mut self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
         self.context.check_alive()?;
         let mut encoder = self.context.device.create_command_encoder(&Default::default());
-        let info = self.record_batch(&mut encoder, jobs)?;
+        // A device lost while recording shows up as a validation error of some command; name
+        // the real cause.
+        let info = self.record_batch(&mut encoder, jobs).map_err(|error| match error {
+            GpuBatchError::Gpu(gpu) => GpuBatchError::Gpu(self.context.lost_or(gpu)),
+            job => job,
+        })?;
         let context = &self.context;
         context
             .scoped("dent batch submit", || context.queue.submit([encoder.finish()]))
