@@ -164,6 +164,7 @@ impl GpuContext {
 
     /// `error`, or [`GpuError::DeviceLost`] when the device turns out to be lost (what a failed
     /// submission or mapping on a lost device really means).
+    ///
     /// Probes the device even when dentbend owns it: its device-lost callback only runs from a
     /// poll that finds the queue empty, which may not have happened yet.
     pub(crate) fn lost_or(&self, error: GpuError) -> GpuError {
