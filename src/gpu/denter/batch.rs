@@ -50,6 +50,9 @@ impl GpuDenter {
     /// As [`dent_batch`](Self::dent_batch). An invalid job is found before anything is recorded;
     /// a device limit met while recording leaves part of the batch in `encoder`, so after an
     /// error drop the encoder instead of submitting it (the targets then stay as they were).
+    /// Resource creation is checked here inside error scopes; what wgpu only validates when the
+    /// caller finishes the encoder is checked beforehand against the device's limits (grid
+    /// sizes, dispatch sizes, binding sizes), so it should not reach the application's handler.
     pub fn record_batch(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
