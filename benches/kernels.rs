@@ -153,9 +153,58 @@ fn skin(c: &mut Criterion) {
     group.finish();
 }
 
+/// The dense bunny copied into a 32-byte interleaved layout (`interleave`) and its moved vertices
+/// listed, every other vertex flagged (`moved`): CPU twins, and on the GPU from a `GpuDenter`.
+fn output(c: &mut Criterion) {
+    use dentbend::gpu::{GpuDenter, VertexLayout};
+    let mesh = dentbend::mesh::builtin("bunny-dense").expect("dense bunny");
+    let n = mesh.vertex_count();
+    let flagged = |k: usize| if k.is_multiple_of(2) { 1.0 } else { 0.0 };
+    let positions: Vec<[f32; 4]> =
+        mesh.positions().iter().enumerate().map(|(k, p)| p.extend(flagged(k)).to_array()).collect();
+    let normals: Vec<[f32; 4]> = mesh.normals().iter().map(|v| v.extend(0.0).to_array()).collect();
+    let params =
+        cpu::InterleaveParams { vertex_count: n as u32, stride_words: 8, normal_word: 3, ..Default::default() };
+    let mut dst = vec![0u32; n * 8];
+    let mut group = c.benchmark_group("interleave");
+    group.bench_function(BenchmarkId::new("cpu", n), |b| {
+        b.iter(|| cpu::interleave(&params, &positions, &normals, &mut dst))
+    });
+    let context = dentbend::gpu::shared_context().ok();
+    let denter =
+        context.map(|context| (context, GpuDenter::new(context, std::slice::from_ref(&mesh)).expect("denter")));
+    if let Some((context, denter)) = &denter {
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX;
+        let dst = dentbend::gpu::buffers::with_contents(context, "interleaved", &vec![0; n * 32], usage);
+        group.bench_function(BenchmarkId::new("gpu", n), |b| {
+            b.iter(|| {
+                let mut encoder = context.device.create_command_encoder(&Default::default());
+                denter.copy_target_into(&mut encoder, 0, &dst, 0, 32, VertexLayout::POSITION_NORMAL).expect("copy");
+                context.queue.submit([encoder.finish()]);
+                context.wait().expect("wait")
+            })
+        });
+    }
+    group.finish();
+    let mut group = c.benchmark_group("moved");
+    let params = cpu::MovedParams { vertex_offset: 0, vertex_count: n as u32, _pad: [0; 2] };
+    let mut list = Vec::with_capacity(n);
+    group.bench_function(BenchmarkId::new("cpu", n), |b| {
+        b.iter(|| {
+            list.clear();
+            cpu::moved(&params, &positions, &mut list)
+        })
+    });
+    // On the GPU after no batch: the compaction pass and the two small read-backs.
+    if let Some((_, denter)) = &denter {
+        group.bench_function(BenchmarkId::new("gpu", n), |b| b.iter(|| denter.read_moved(0).expect("moved")));
+    }
+    group.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(2));
-    targets = kernels, displace, skin
+    targets = kernels, displace, skin, output
 }
 criterion_main!(benches);

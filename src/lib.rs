@@ -61,3 +61,6 @@ pub use dent::{
 };
 pub use glam;
 pub use mesh::{MeshError, TriMesh};
+/// The wgpu version dentbend's GPU path is built on, for handing it an application's device
+/// ([`gpu::GpuContext::from_device`]).
+pub use wgpu;

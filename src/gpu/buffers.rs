@@ -86,20 +86,27 @@ pub fn read_back_range<T: Pod>(
         return Ok(Vec::new());
     }
     context.check_alive()?;
-    let staging = context.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("read back"),
-        size: bytes.next_multiple_of(4),
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = context.device.create_command_encoder(&Default::default());
-    encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, bytes.next_multiple_of(4));
-    context.queue.submit([encoder.finish()]);
-    let slice = staging.slice(..);
     let (sender, receiver) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |result| {
-        let _ = sender.send(result);
-    });
+    // In an error scope: on a lost application device the copy and mapping fail validation,
+    // which must become an error here rather than reach the application's error handler.
+    let staging = context
+        .scoped("read back", || {
+            let staging = context.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("read back"),
+                size: bytes.next_multiple_of(4),
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder = context.device.create_command_encoder(&Default::default());
+            encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, bytes.next_multiple_of(4));
+            context.queue.submit([encoder.finish()]);
+            staging.slice(..).map_async(wgpu::MapMode::Read, move |result| {
+                let _ = sender.send(result);
+            });
+            staging
+        })
+        .map_err(|e| context.lost_or(e))?;
+    let slice = staging.slice(..);
     context.wait()?;
     // The wait has run every callback of finished work; a mapping that never completes (a device
     // going away) times out rather than blocking the caller forever.
@@ -148,31 +155,37 @@ pub fn read_back_all<T: Pod>(
             }
         }
     }
-    let staging: Vec<wgpu::Buffer> = sizes
-        .iter()
-        .map(|&size| {
-            context.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("read back"),
-                size: size.max(MIN_BYTES),
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        })
-        .collect();
-    let mut encoder = context.device.create_command_encoder(&Default::default());
-    for ((buffer, _), &(k, offset, bytes)) in sources.iter().zip(&places) {
-        if bytes > 0 {
-            encoder.copy_buffer_to_buffer(buffer, 0, &staging[k], offset, bytes.next_multiple_of(4));
-        }
-    }
-    context.queue.submit([encoder.finish()]);
     let (sender, receiver) = std::sync::mpsc::channel();
-    for (k, buffer) in staging.iter().enumerate() {
-        let sender = sender.clone();
-        buffer.slice(..).map_async(wgpu::MapMode::Read, move |result| {
-            let _ = sender.send((k, result));
-        });
-    }
+    // In an error scope, as in `read_back_range`.
+    let staging = context
+        .scoped("read back", || {
+            let staging: Vec<wgpu::Buffer> = sizes
+                .iter()
+                .map(|&size| {
+                    context.device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("read back"),
+                        size: size.max(MIN_BYTES),
+                        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    })
+                })
+                .collect();
+            let mut encoder = context.device.create_command_encoder(&Default::default());
+            for ((buffer, _), &(k, offset, bytes)) in sources.iter().zip(&places) {
+                if bytes > 0 {
+                    encoder.copy_buffer_to_buffer(buffer, 0, &staging[k], offset, bytes.next_multiple_of(4));
+                }
+            }
+            context.queue.submit([encoder.finish()]);
+            for (k, buffer) in staging.iter().enumerate() {
+                let sender = sender.clone();
+                buffer.slice(..).map_async(wgpu::MapMode::Read, move |result| {
+                    let _ = sender.send((k, result));
+                });
+            }
+            staging
+        })
+        .map_err(|e| context.lost_or(e))?;
     drop(sender);
     context.wait()?;
     for _ in &staging {

@@ -9,11 +9,14 @@ use super::GpuError;
 /// hanging (a stuck driver or a runaway shader).
 pub const WAIT_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(120);
 
-/// A GPU device ready for compute work.
+/// A GPU device ready for compute work: dentbend's own ([`new`](Self::new)) or an application's
+/// ([`from_device`](Self::from_device)).
 ///
-/// Created once (it is cheap to share by reference); the adapter comes from
-/// `wgpu::util::initialize_adapter_from_env_or_default`, so `WGPU_ADAPTER_NAME=llvmpipe` picks
-/// Mesa's lavapipe, and only the downlevel-default limits are requested so any adapter works.
+/// Cheap to clone (the wgpu handles are reference-counted; clones share the device-lost state).
+/// For its own device the adapter comes from `wgpu::util::initialize_adapter_from_env_or_default`,
+/// so `WGPU_ADAPTER_NAME=llvmpipe` picks Mesa's lavapipe, and only the downlevel-default limits are
+/// requested so any adapter works.
+#[derive(Clone)]
 pub struct GpuContext {
     /// The device kernels and buffers are created on.
     pub device: wgpu::Device,
@@ -24,15 +27,21 @@ pub struct GpuContext {
     /// Whether timestamp queries (also between passes) are enabled: requested whenever the
     /// adapter has them, for per-kernel GPU times.
     pub timestamps: bool,
-    /// The limits the device was created with (downlevel defaults: 4 storage buffers per stage,
-    /// 128 MiB per binding, 65,535 workgroups per dimension).
+    /// The device's limits (for [`new`](Self::new) the downlevel defaults: 4 storage buffers
+    /// per stage, 128 MiB per binding, 65,535 workgroups per dimension); batches are cut to them.
     pub limits: wgpu::Limits,
     lost: Arc<AtomicBool>,
+    /// Whether dentbend created the device (and installed its device-lost callback).
+    owned: bool,
 }
 
 impl std::fmt::Debug for GpuContext {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("GpuContext").field("adapter", &self.info.name).field("backend", &self.info.backend).finish()
+        f.debug_struct("GpuContext")
+            .field("adapter", &self.info.name)
+            .field("backend", &self.info.backend)
+            .field("owned", &self.owned)
+            .finish()
     }
 }
 
@@ -73,7 +82,37 @@ impl GpuContext {
         });
         device.on_uncaptured_error(Arc::new(|error| log::error!("uncaptured GPU error: {error}")));
         log::info!("dentbend GPU adapter: {} ({:?}, {})", info.name, info.backend, info.driver);
-        Ok(Self { device, queue, info, timestamps: features == timing, limits, lost })
+        Ok(Self { device, queue, info, timestamps: features == timing, limits, lost, owned: true })
+    }
+
+    /// Wraps an application's device and queue (e.g. Bevy's `RenderDevice::wgpu_device()` and
+    /// `RenderQueue`), so dentbend's kernels and resident buffers live on the device the
+    /// application renders with.
+    ///
+    /// The device's limits are checked against [`REQUIRED_LIMITS`](super::REQUIRED_LIMITS) (any
+    /// device created with `wgpu::Limits::downlevel_defaults()` or better passes); timestamp
+    /// queries are used only if the device has both `TIMESTAMP_QUERY` features. No device-wide
+    /// callback is installed (the application's device-lost and uncaptured-error handlers stay
+    /// as they are): a lost device is detected instead by a probe mapping in
+    /// [`check_alive`](Self::check_alive) and [`wait`](Self::wait), and dentbend's own work runs
+    /// inside error scopes.
+    ///
+    /// # Errors
+    /// [`GpuError::MissingLimits`] naming the first limit the device falls short of.
+    pub fn from_device(device: wgpu::Device, queue: wgpu::Queue) -> Result<Self, GpuError> {
+        let limits = device.limits();
+        super::limits::check_limits(&limits)?;
+        let timing = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+        let timestamps = device.features().contains(timing);
+        let info = device.adapter_info();
+        log::info!("dentbend on the application's device: {} ({:?})", info.name, info.backend);
+        Ok(Self { device, queue, info, timestamps, limits, lost: Arc::new(AtomicBool::new(false)), owned: false })
+    }
+
+    /// Whether dentbend created this device ([`new`](Self::new)) rather than wrapping an
+    /// application's ([`from_device`](Self::from_device)).
+    pub fn owns_device(&self) -> bool {
+        self.owned
     }
 
     /// A short description of the adapter, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan)`.
@@ -81,15 +120,58 @@ impl GpuContext {
         format!("{} ({:?})", self.info.name, self.info.backend)
     }
 
-    /// Fails if the device has been lost.
+    /// Fails if the device has been lost. On its own device dentbend's device-lost callback
+    /// raises a flag; on an application's device this probes: it maps a 4-byte buffer and
+    /// polls once without blocking (a lost device fails the mapping at once).
     ///
     /// # Errors
     /// [`GpuError::DeviceLost`].
     pub fn check_alive(&self) -> Result<(), GpuError> {
+        if !self.owned && !self.lost.load(Ordering::SeqCst) && self.probe_lost() {
+            self.lost.store(true, Ordering::SeqCst);
+        }
+        self.check_flag()
+    }
+
+    /// Fails if the device is known to be lost, without touching the device (for recording).
+    pub(crate) fn check_flag(&self) -> Result<(), GpuError> {
         if self.lost.load(Ordering::SeqCst) {
-            return Err(GpuError::DeviceLost("see the log for the driver's reason".into()));
+            let why = if self.owned { "see the log for the driver's reason" } else { "a probe mapping failed" };
+            return Err(GpuError::DeviceLost(why.into()));
         }
         Ok(())
+    }
+
+    /// Whether a mapping of a fresh buffer fails, which it does at once on a lost device (on a
+    /// live one it succeeds, or is still pending, after one non-blocking poll). Runs inside a
+    /// validation scope, so the failure reaches no application error handler.
+    fn probe_lost(&self) -> bool {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let probe = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("dentbend device-lost probe"),
+            size: wgpu::COPY_BUFFER_ALIGNMENT,
+            usage: wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let (sender, receiver) = std::sync::mpsc::channel();
+        probe.slice(..).map_async(wgpu::MapMode::Read, move |result| {
+            let _ = sender.send(result.is_err());
+        });
+        let polled = self.device.poll(wgpu::PollType::Poll);
+        let caught = pollster::block_on(scope.pop()).is_some();
+        caught || polled.is_err() || receiver.try_recv().unwrap_or(false)
+    }
+
+    /// `error`, or [`GpuError::DeviceLost`] when the device turns out to be lost (what a failed
+    /// submission or mapping on a lost device really means).
+    ///
+    /// Probes the device even when dentbend owns it: its device-lost callback only runs from a
+    /// poll that finds the queue empty, which may not have happened yet.
+    pub(crate) fn lost_or(&self, error: GpuError) -> GpuError {
+        if !self.lost.load(Ordering::SeqCst) && self.probe_lost() {
+            self.lost.store(true, Ordering::SeqCst);
+        }
+        self.check_flag().err().unwrap_or(error)
     }
 
     /// Blocks until all submitted work is done, at most [`WAIT_TIMEOUT`].
@@ -109,6 +191,7 @@ impl GpuContext {
     /// # Errors
     /// [`GpuError::Validation`] or [`GpuError::OutOfMemory`] when wgpu reports one.
     pub fn scoped<T>(&self, label: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        self.check_flag()?;
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = f();
@@ -120,7 +203,7 @@ impl GpuContext {
         if oom.is_some() {
             return Err(GpuError::OutOfMemory(label.into()));
         }
-        self.check_alive()?;
+        self.check_flag()?;
         Ok(value)
     }
 }

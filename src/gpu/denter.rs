@@ -1,6 +1,10 @@
 //! Many dents per frame on the GPU: `GpuDenter` keeps target meshes resident and runs each
 //! kernel once per batch (paper Algorithm 1 for every impact of a time step at once).
 
+mod batch;
+mod chunks;
+mod output;
+
 use std::collections::HashMap;
 use std::ops::Range;
 
@@ -12,18 +16,15 @@ use super::envelope_cols::EnvelopeCols;
 use super::envelope_rows::{EnvelopeBuffers, EnvelopeRows, scratch_bytes};
 use super::glance::{GlanceBuffers, GlanceKernel};
 use super::heat::{HeatBatch, HeatBuffers, HeatDent, HeatKernel};
+use super::interleave::Interleave;
+use super::moved::Moved;
 use super::normals::{Normals, NormalsParams, adjacency};
+use super::recorder::Recorder;
 use super::zbuffer::{Zbuffer, ZbufferBuffers, work_words};
 use super::{GpuContext, GpuError, buffers};
 use crate::cpu::{DisplaceParams, EnvelopeParams, GlanceParams, HeatParams, ZbufferParams, falloff_table};
 use crate::dent::{BatchError, DentJob, DentMap, DentPlan, DentStages, plan_dent};
 use crate::mesh::TriMesh;
-
-/// Bytes per grid cell across the map-building buffers of a chunk (profile 4, rows 4, envelope
-/// 4, hull scratch 12, heat scratch 4): a chunk's largest binding is the 12-byte scratch.
-const SCRATCH_BYTES_PER_CELL: u64 = 12;
-/// Bytes per dent-map cell (`vec4<f32>`).
-const MAP_BYTES_PER_CELL: u64 = 16;
 
 /// Why a GPU batch failed; no target changed.
 #[derive(Debug, thiserror::Error)]
@@ -101,6 +102,8 @@ struct Kernels {
     glance: GlanceKernel,
     displace: Displace,
     normals: Normals,
+    interleave: Interleave,
+    moved: Moved,
 }
 
 /// Dents target meshes that stay on the GPU.
@@ -110,8 +113,13 @@ struct Kernels {
 /// the same target apply in submission order. The deformed vertices stay in
 /// [`vertex_buffer`](Self::vertex_buffer) (`vec4<f32>` per vertex, `w` = moved in the last
 /// batch) for a renderer to bind; [`read_positions`](Self::read_positions) copies them back.
-pub struct GpuDenter<'c> {
-    context: &'c GpuContext,
+///
+/// The denter holds its own clone of the [`GpuContext`] (no borrow), so it is `Send + Sync +
+/// 'static` and can live in an application's resources. [`record_batch`](Self::record_batch)
+/// records a batch into the caller's command encoder; [`dent_batch`](Self::dent_batch) records,
+/// submits and checks the device in one call.
+pub struct GpuDenter {
+    context: GpuContext,
     kernels: Kernels,
     targets: Vec<Resident>,
     positions: wgpu::Buffer,
@@ -120,13 +128,38 @@ pub struct GpuDenter<'c> {
     adjacency: wgpu::Buffer,
 }
 
-impl<'c> GpuDenter<'c> {
-    /// Compiles the kernels and uploads `targets` (positions, triangles, vertex→face adjacency).
+/// How a [`GpuDenter`] creates its resident buffers.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct GpuDenterOptions {
+    /// Give the resident vertex and normal buffers `VERTEX` usage as well as `STORAGE`, so a
+    /// render pipeline can bind them as vertex buffers (`Float32x3` at offset 0, stride 16 bytes)
+    /// with no copy.
+    pub vertex_usage: bool,
+}
+
+impl GpuDenter {
+    /// Compiles the kernels and uploads `targets` (positions, triangles, vertex→face adjacency)
+    /// onto `context`'s device, keeping a clone of `context` (cheap: the handles are shared).
     ///
     /// # Errors
     /// Kernel compilation errors, or [`GpuError::OverLimit`] when the targets do not fit one
     /// storage binding.
-    pub fn new(context: &'c GpuContext, targets: &[TriMesh]) -> Result<Self, GpuError> {
+    pub fn new(context: &GpuContext, targets: &[TriMesh]) -> Result<Self, GpuError> {
+        Self::with_options(context, targets, GpuDenterOptions::default())
+    }
+
+    /// [`new`](Self::new) with `options` (e.g. resident buffers an application can bind as
+    /// vertex buffers).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn with_options(
+        context: &GpuContext,
+        targets: &[TriMesh],
+        options: GpuDenterOptions,
+    ) -> Result<Self, GpuError> {
+        let context = context.clone();
+        let context = &context;
         let kernels = Kernels {
             zbuffer: Zbuffer::new(context)?,
             rows: EnvelopeRows::new(context)?,
@@ -135,6 +168,8 @@ impl<'c> GpuDenter<'c> {
             glance: GlanceKernel::new(context)?,
             displace: Displace::new(context)?,
             normals: Normals::new(context)?,
+            interleave: Interleave::new(context)?,
+            moved: Moved::new(context)?,
         };
         let (mut positions, mut normals, mut faces, mut adjacent) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut resident = Vec::with_capacity(targets.len());
@@ -163,15 +198,25 @@ impl<'c> GpuDenter<'c> {
             });
         }
         buffers::check_binding_size(context, "resident adjacency", (adjacent.len() * 4) as u64)?;
+        let mut usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+        if options.vertex_usage {
+            usage |= wgpu::BufferUsages::VERTEX;
+        }
+        let bytes = |data: &[[f32; 4]]| bytemuck::cast_slice::<[f32; 4], u8>(data).to_vec();
         Ok(Self {
-            positions: buffers::storage(context, "resident positions", &positions),
-            normals: buffers::storage(context, "resident normals", &normals),
+            positions: buffers::with_contents(context, "resident positions", &bytes(&positions), usage),
+            normals: buffers::with_contents(context, "resident normals", &bytes(&normals), usage),
             faces: buffers::storage(context, "resident faces", &faces),
             adjacency: buffers::storage(context, "resident adjacency", &adjacent),
-            context,
+            context: context.clone(),
             kernels,
             targets: resident,
         })
+    }
+
+    /// The context (device and queue) the denter runs on.
+    pub fn context(&self) -> &GpuContext {
+        &self.context
     }
 
     /// The deformed vertices of every target, `vec4<f32>` each (xyz world units, w = 1 when the
@@ -208,7 +253,7 @@ impl<'c> GpuDenter<'c> {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
         let (first, count) = (resident.vertices.start as usize, resident.vertices.len());
-        let values: Vec<[f32; 4]> = buffers::read_back_range(self.context, &self.positions, first, count)?;
+        let values: Vec<[f32; 4]> = buffers::read_back_range(&self.context, &self.positions, first, count)?;
         Ok(values.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
     }
 
@@ -222,7 +267,7 @@ impl<'c> GpuDenter<'c> {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
         let (first, count) = (resident.vertices.start as usize, resident.vertices.len());
-        let values: Vec<[f32; 4]> = buffers::read_back_range(self.context, &self.normals, first, count)?;
+        let values: Vec<[f32; 4]> = buffers::read_back_range(&self.context, &self.normals, first, count)?;
         Ok(values.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
     }
 
@@ -234,95 +279,6 @@ impl<'c> GpuDenter<'c> {
         let positions = self.read_positions(target)?;
         TriMesh::new(positions, self.targets[target].faces.clone())
             .map_err(|e| GpuError::Validation { label: "read back mesh".into(), message: e.to_string() })
-    }
-
-    /// Dents the resident targets by every job (`job.target` indexes the targets given to
-    /// [`new`](Self::new)): plans on the CPU (all cores), then every kernel once per chunk of the
-    /// batch, chunks sized to the device's binding limit. Dents on the same target apply in
-    /// submission order. A dent whose profile vanishes on its grid (σ or d far outside the
-    /// projectile's scale) leaves its target unchanged, where the CPU pipeline reports
-    /// [`DentError::EmptyProfile`](crate::DentError::EmptyProfile): telling would need a read-back.
-    ///
-    /// # Errors
-    /// [`GpuBatchError::Job`] naming the first invalid dent (nothing is submitted then);
-    /// [`GpuBatchError::Gpu`] for device errors.
-    pub fn dent_batch(&mut self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
-        self.run_batch(jobs, None)
-    }
-
-    /// [`dent_batch`](Self::dent_batch), submitting and waiting after every kernel stage to time
-    /// it (slower than `dent_batch`, which records a chunk's stages into one submission): GPU
-    /// time from timestamp queries when [`GpuContext::timestamps`] is set, else wall time.
-    ///
-    /// # Errors
-    /// As [`dent_batch`](Self::dent_batch).
-    pub fn dent_batch_timed(&mut self, jobs: &[DentJob<'_>]) -> Result<KernelTimes, GpuBatchError> {
-        let mut times = KernelTimes::new();
-        self.run_batch(jobs, Some(&mut times))?;
-        Ok(times)
-    }
-
-    fn run_batch(
-        &mut self,
-        jobs: &[DentJob<'_>],
-        mut timings: Option<&mut KernelTimes>,
-    ) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
-        let plans = self.plan(jobs)?;
-        let context = self.context;
-        context.check_alive()?;
-        let timed = timings.is_some();
-        // Every chunk is encoded (and so checked against the device's limits) before anything is
-        // submitted, so a batch refused for its size leaves every target as it was. Timing
-        // submits stage by stage instead.
-        let encoded = context.scoped("dent batch", || -> Result<(), GpuError> {
-            let mut pending = Vec::new();
-            let mut clear = Recorder::new(context, None);
-            self.kernels.displace.encode_clear_moved(context, &mut clear.encoder, &self.positions)?;
-            pending.push(clear.finish());
-            for chunk in chunks(&plans, jobs, context) {
-                if timed {
-                    context.queue.submit(pending.drain(..));
-                }
-                let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
-                let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
-                let mut rec = Recorder::new(context, timings.as_deref_mut());
-                let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, false)?;
-                self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
-                pending.push(rec.finish());
-            }
-            let mut touched = vec![false; self.targets.len()];
-            jobs.iter().for_each(|j| touched[j.target] = true);
-            let normals: Vec<NormalsParams> =
-                (0..self.targets.len()).filter(|&t| touched[t]).map(|t| self.normals_params(t)).collect();
-            if timed {
-                context.queue.submit(pending.drain(..));
-            }
-            let mut rec = Recorder::new(context, timings);
-            self.kernels.normals.encode(
-                context,
-                &mut rec.encoder,
-                &normals,
-                &self.positions,
-                &self.faces,
-                &self.adjacency,
-                &self.normals,
-            )?;
-            rec.stage("normals")?;
-            pending.push(rec.finish());
-            context.queue.submit(pending);
-            Ok(())
-        });
-        encoded??;
-        context.check_alive()?;
-        Ok(plans
-            .iter()
-            .map(|p| GpuDentInfo {
-                theta_deg: p.frame.theta_deg(),
-                resolution: p.zbuffer_grid.res,
-                map_resolution: p.map_grid.res,
-                cell_size: p.zbuffer_grid.cell_size,
-            })
-            .collect())
     }
 
     /// Builds every job's dent map on the GPU and reads all stages back, without touching the
@@ -352,18 +308,18 @@ impl<'c> GpuDenter<'c> {
             return Err(GpuError::OverLimit { what: "dent grid side".into(), needed: res.into(), limit });
         }
         let mut out = Vec::with_capacity(jobs.len());
-        for chunk in chunks(plans, jobs, self.context) {
+        for chunk in chunks::chunks(plans, jobs, &self.context) {
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
-            let mut rec = Recorder::new(self.context, None);
+            let mut rec = Recorder::new(&self.context, None);
             let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, true)?;
             rec.submit();
             let cells = maps.cell_offsets.last().copied().unwrap_or(0) as usize;
-            let profile: Vec<f32> = buffers::read_back(self.context, &maps.work, cells)?;
-            let envelope: Vec<f32> = buffers::read_back(self.context, &maps.envelope, cells)?;
-            let smoothed: Vec<f32> = buffers::read_back(self.context, &maps.smoothed, cells)?;
+            let profile: Vec<f32> = buffers::read_back(&self.context, &maps.work, cells)?;
+            let envelope: Vec<f32> = buffers::read_back(&self.context, &maps.envelope, cells)?;
+            let smoothed: Vec<f32> = buffers::read_back(&self.context, &maps.smoothed, cells)?;
             let map_cells = maps.map_offsets.last().copied().unwrap_or(0) as usize;
-            let map: Vec<[f32; 4]> = buffers::read_back(self.context, &maps.map, map_cells)?;
+            let map: Vec<[f32; 4]> = buffers::read_back(&self.context, &maps.map, map_cells)?;
             for (k, plan) in chunk_plans.iter().enumerate() {
                 let cells = maps.cell_offsets[k] as usize..maps.cell_offsets[k + 1] as usize;
                 let map_range = maps.map_offsets[k] as usize..maps.map_offsets[k + 1] as usize;
@@ -404,7 +360,7 @@ impl<'c> GpuDenter<'c> {
         plans: &[&DentPlan],
         keep_envelope: bool,
     ) -> Result<MapBuffers, GpuError> {
-        let context = self.context;
+        let context = &self.context;
         let batch = plans.len() as u32;
         // Projectiles, each uploaded once however many dents share it.
         let (mut positions, mut faces) = (Vec::<Vec3>::new(), Vec::<[u32; 3]>::new());
@@ -478,7 +434,7 @@ impl<'c> GpuDenter<'c> {
 
         self.kernels.zbuffer.encode(
             context,
-            &mut rec.encoder,
+            rec.encoder(),
             &ZbufferBuffers {
                 params: &buffers::storage(context, "zbuffer params", &zparams),
                 positions: &buffers::storage(context, "projectile positions", &positions),
@@ -492,15 +448,15 @@ impl<'c> GpuDenter<'c> {
         rec.stage("zbuffer")?;
         let eparams = buffers::storage(context, "envelope params", &eparams);
         let rows_buffers = EnvelopeBuffers { params: &eparams, input: &work, output: &rows, scratch: &scratch };
-        self.kernels.rows.encode(context, &mut rec.encoder, &rows_buffers, batch, max_res)?;
+        self.kernels.rows.encode(context, rec.encoder(), &rows_buffers, batch, max_res)?;
         rec.stage("envelope_rows")?;
         let cols_buffers = EnvelopeBuffers { params: &eparams, input: &rows, output: &envelope, scratch: &scratch };
-        self.kernels.cols.encode(context, &mut rec.encoder, &cols_buffers, batch, max_res)?;
+        self.kernels.cols.encode(context, rec.encoder(), &cols_buffers, batch, max_res)?;
         rec.stage("envelope_cols")?;
         // Heat smooths in place; the rows pass's output is free by now and serves as its scratch.
         let smoothed = if keep_envelope {
             let copy = buffers::storage_zeroed(context, "smoothed", cells * 4);
-            rec.encoder.copy_buffer_to_buffer(&envelope, 0, &copy, 0, cells * 4);
+            rec.encoder().copy_buffer_to_buffer(&envelope, 0, &copy, 0, cells * 4);
             copy
         } else {
             envelope.clone()
@@ -517,7 +473,7 @@ impl<'c> GpuDenter<'c> {
             grid: &smoothed,
             scratch: &rows,
         };
-        self.kernels.heat.encode(context, &mut rec.encoder, &heat_buffers, heat_batch)?;
+        self.kernels.heat.encode(context, rec.encoder(), &heat_buffers, heat_batch)?;
         rec.stage("heat")?;
         let max_map_cells = plans.iter().map(|p| p.map_grid.res.pow(2)).max().unwrap_or(0);
         let glance_buffers = GlanceBuffers {
@@ -525,7 +481,7 @@ impl<'c> GpuDenter<'c> {
             heights: &smoothed,
             dent_map: &map,
         };
-        self.kernels.glance.encode(context, &mut rec.encoder, &glance_buffers, batch, max_map_cells)?;
+        self.kernels.glance.encode(context, rec.encoder(), &glance_buffers, batch, max_map_cells)?;
         rec.stage("glance")?;
         Ok(MapBuffers { work, envelope, smoothed, map, cell_offsets, map_offsets })
     }
@@ -561,8 +517,8 @@ impl<'c> GpuDenter<'c> {
                 }
             })
             .collect();
-        let tables = buffers::storage(self.context, "falloff tables", &tables);
-        self.kernels.displace.encode(self.context, &mut rec.encoder, &params, &maps.map, &tables, &self.positions)?;
+        let tables = buffers::storage(&self.context, "falloff tables", &tables);
+        self.kernels.displace.encode(&self.context, rec.encoder(), &params, &maps.map, &tables, &self.positions)?;
         rec.stage("displace")
     }
 
@@ -579,78 +535,6 @@ impl<'c> GpuDenter<'c> {
     }
 }
 
-/// A command encoder that, when timing, submits and waits at the end of every stage and records
-/// how long the stage took: its GPU time from timestamp queries where the device has them,
-/// else the wall time of submit-and-wait.
-struct Recorder<'a> {
-    context: &'a GpuContext,
-    encoder: wgpu::CommandEncoder,
-    timings: Option<&'a mut KernelTimes>,
-    started: std::time::Instant,
-    stamps: Option<(wgpu::QuerySet, wgpu::Buffer)>,
-}
-
-impl<'a> Recorder<'a> {
-    fn new(context: &'a GpuContext, timings: Option<&'a mut KernelTimes>) -> Self {
-        let mut encoder = context.device.create_command_encoder(&Default::default());
-        let stamps = (timings.is_some() && context.timestamps).then(|| {
-            let set = context.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("stage timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            });
-            let resolved = context.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("stage timestamps"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            encoder.write_timestamp(&set, 0);
-            (set, resolved)
-        });
-        Self { context, encoder, timings, started: std::time::Instant::now(), stamps }
-    }
-
-    /// Ends stage `name`: when timing, submits what was recorded, waits, and adds the time.
-    fn stage(&mut self, name: &'static str) -> Result<(), GpuError> {
-        let Some(timings) = self.timings.as_deref_mut() else { return Ok(()) };
-        if let Some((set, resolved)) = &self.stamps {
-            self.encoder.write_timestamp(set, 1);
-            self.encoder.resolve_query_set(set, 0..2, resolved, 0);
-        }
-        let encoder =
-            std::mem::replace(&mut self.encoder, self.context.device.create_command_encoder(&Default::default()));
-        self.context.queue.submit([encoder.finish()]);
-        self.context.wait()?;
-        let seconds = match &self.stamps {
-            Some((set, resolved)) => {
-                let ticks: Vec<u64> = super::buffers::read_back(self.context, resolved, 2)?;
-                self.encoder.write_timestamp(set, 0);
-                let period_ns = f64::from(self.context.queue.get_timestamp_period());
-                ticks[1].saturating_sub(ticks[0]) as f64 * period_ns * 1e-9
-            }
-            None => self.started.elapsed().as_secs_f64(),
-        };
-        *timings.entry(name).or_default() += seconds;
-        self.started = std::time::Instant::now();
-        Ok(())
-    }
-
-    /// Submits whatever is left.
-    fn submit(self) {
-        self.context.queue.submit([self.encoder.finish()]);
-    }
-
-    /// Finishes what is left into a command buffer, for the caller to submit.
-    fn finish(self) -> wgpu::CommandBuffer {
-        self.encoder.finish()
-    }
-}
-
-/// Seconds spent in each kernel stage (`zbuffer`, `envelope_rows`, `envelope_cols`, `heat`,
-/// `glance`, `displace`, `normals`), summed over a batch's chunks.
-pub type KernelTimes = std::collections::BTreeMap<&'static str, f64>;
-
 /// The buffers of one chunk's maps and where each dent sits in them (prefix sums, one entry
 /// more than dents).
 struct MapBuffers {
@@ -660,83 +544,4 @@ struct MapBuffers {
     map: wgpu::Buffer,
     cell_offsets: Vec<u32>,
     map_offsets: Vec<u32>,
-}
-
-/// Consecutive job ranges that one set of dispatches can serve: every buffer within the device's
-/// storage binding limit (grid scratch 12 bytes per cell, map 16 bytes per cell, projectile
-/// geometry 24 bytes per vertex and triangle), and at most as many dents as workgroups per
-/// dispatch dimension. A single dent too large on its own still gets a chunk, which its
-/// kernels then refuse with [`GpuError::OverLimit`].
-fn chunks(plans: &[DentPlan], jobs: &[DentJob<'_>], context: &GpuContext) -> Vec<Range<usize>> {
-    let limit = context.limits.max_storage_buffer_binding_size;
-    let max_dents = context.limits.max_compute_workgroups_per_dimension as usize;
-    let mut out = Vec::new();
-    let (mut start, mut cells, mut map_cells, mut geometry) = (0, 0u64, 0u64, 0u64);
-    let mut seen: std::collections::HashSet<*const TriMesh> = Default::default();
-    for (k, plan) in plans.iter().enumerate() {
-        let (c, m) = (u64::from(plan.zbuffer_grid.res.pow(2)), u64::from(plan.map_grid.res.pow(2)));
-        let projectile = jobs[k].projectile;
-        let size = 12 * (projectile.vertex_count() + projectile.face_count()) as u64;
-        let g = if seen.contains(&std::ptr::from_ref(projectile)) { 0 } else { size };
-        let over = (cells + c) * SCRATCH_BYTES_PER_CELL > limit
-            || (map_cells + m) * MAP_BYTES_PER_CELL > limit
-            || geometry + g > limit
-            || k - start >= max_dents;
-        if over && k > start {
-            out.push(start..k);
-            (start, cells, map_cells, geometry) = (k, 0, 0, 0);
-            seen.clear();
-        }
-        cells += c;
-        map_cells += m;
-        if seen.insert(std::ptr::from_ref(projectile)) {
-            geometry += size;
-        }
-    }
-    if start < plans.len() {
-        out.push(start..plans.len());
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::{DentParams, Impact, Resolution};
-
-    fn plan(res: u32) -> DentPlan {
-        let ball = crate::mesh::icosphere(1.0, 1).unwrap();
-        let impact = Impact::head_on(ball.support_point(glam::Vec3::Y), glam::Vec3::Y);
-        let params = DentParams { resolution: Resolution::Fixed(res), ..DentParams::new(0.2) };
-        plan_dent(&ball, &impact, &params, None).unwrap()
-    }
-
-    /// Batches are cut where the next dent would push a chunk's largest buffer (12 bytes per
-    /// grid cell, 16 per map cell) past the 128 MiB binding limit, keeping submission order.
-    #[test]
-    fn batches_split_at_the_binding_limit() {
-        let Ok(context) = crate::gpu::shared_context() else {
-            eprintln!("skipping: no GPU adapter");
-            return;
-        };
-        let ball = crate::mesh::icosphere(1.0, 1).unwrap();
-        let job = DentJob {
-            target: 0,
-            projectile: &ball,
-            impact: Impact::head_on(glam::Vec3::ZERO, glam::Vec3::Y),
-            params: DentParams::new(0.2),
-        };
-        let jobs = vec![job; 150];
-        // Head-on, the map is as large as the grid and its 16 bytes per cell bind first: 52 dents.
-        let per_chunk = (128u64 << 20) / (SCRATCH_BYTES_PER_CELL.max(MAP_BYTES_PER_CELL) * 400 * 400);
-        let plans: Vec<DentPlan> = (0..150).map(|_| plan(400)).collect();
-        let cut = chunks(&plans, &jobs, context);
-        assert_eq!(cut.iter().map(|r| r.len() as u64).max().unwrap(), per_chunk);
-        assert_eq!(cut.first().unwrap().start, 0);
-        assert_eq!(cut.last().unwrap().end, 150);
-        assert!(cut.windows(2).all(|w| w[0].end == w[1].start), "chunks are consecutive: {cut:?}");
-        // One dent larger than the limit still gets its own chunk (and the kernels refuse it).
-        assert_eq!(chunks(&[plan(2048)], &jobs[..1], context), vec![0..1]);
-        assert!(chunks(&[], &[], context).is_empty());
-    }
 }

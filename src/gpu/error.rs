@@ -31,6 +31,17 @@ pub enum GpuError {
         /// The device's limit.
         limit: u64,
     },
+    /// An application's device falls short of a limit the kernels need (see
+    /// [`REQUIRED_LIMITS`](super::REQUIRED_LIMITS)).
+    #[error("the GPU device's {limit} is {available}; dentbend's kernels need at least {needed}")]
+    MissingLimits {
+        /// The [`wgpu::Limits`] field.
+        limit: &'static str,
+        /// The least value the kernels need.
+        needed: u64,
+        /// The device's value.
+        available: u64,
+    },
     /// The device was lost (driver reset, GPU removed).
     #[error("the GPU device was lost: {0}")]
     DeviceLost(String),

@@ -97,6 +97,24 @@ impl Kernel {
         })
     }
 
+    /// A bind group of buffer ranges in binding order (for a caller's buffer bound from an
+    /// offset).
+    pub fn bind_ranges(&self, context: &GpuContext, ranges: &[wgpu::BufferBinding<'_>]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> = ranges
+            .iter()
+            .enumerate()
+            .map(|(k, range)| wgpu::BindGroupEntry {
+                binding: k as u32,
+                resource: wgpu::BindingResource::Buffer(range.clone()),
+            })
+            .collect();
+        context.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(self.label),
+            layout: &self.layout,
+            entries: &entries,
+        })
+    }
+
     /// Records one dispatch of `workgroups` (x, y, z) with `bind_group`.
     pub fn dispatch(&self, encoder: &mut wgpu::CommandEncoder, bind_group: &wgpu::BindGroup, workgroups: [u32; 3]) {
         let mut pass = encoder

@@ -27,6 +27,8 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("displace", include_str!("../../shaders/displace.wgsl")),
     ("normals", include_str!("../../shaders/normals.wgsl")),
     ("skin", include_str!("../../shaders/skin.wgsl")),
+    ("interleave", include_str!("../../shaders/interleave.wgsl")),
+    ("moved", include_str!("../../shaders/moved.wgsl")),
 ];
 
 /// The WGSL source of kernel `stem` with the shared declarations prepended, as compiled.

@@ -42,7 +42,7 @@ pub struct Denter {
 
 /// Batches on the GPU, plain dentable bodies resident there (slot per world index).
 struct GpuBackend {
-    denter: GpuDenter<'static>,
+    denter: GpuDenter,
     slots: Vec<Option<usize>>,
 }
 
