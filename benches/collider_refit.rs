@@ -19,7 +19,12 @@ fn scene() -> (TriMesh, TriMesh, Impact, DentParams) {
 
 /// Flag sets: dentbend's world collider (pseudo-normals) and a bare deformable mesh.
 const FLAGS: [(&str, TriMeshFlags); 2] = [
-    ("world_flags", TriMeshFlags::DEFORMABLE.union(TriMeshFlags::DELETE_DEGENERATE_TRIANGLES).union(TriMeshFlags::FIX_INTERNAL_EDGES)),
+    (
+        "world_flags",
+        TriMeshFlags::DEFORMABLE
+            .union(TriMeshFlags::DELETE_DEGENERATE_TRIANGLES)
+            .union(TriMeshFlags::FIX_INTERNAL_EDGES),
+    ),
     ("plain", TriMeshFlags::DEFORMABLE),
 ];
 

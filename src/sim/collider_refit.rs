@@ -175,9 +175,7 @@ pub fn refit_shared_trimesh(
 /// Indices past the shorter slice are not compared.
 pub fn moved_vertices(before: &[Vec3], after: &[Vec3]) -> Vec<u32> {
     let same = |a: Vec3, b: Vec3| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
-    (0..before.len().min(after.len()) as u32)
-        .filter(|&i| !same(before[i as usize], after[i as usize]))
-        .collect()
+    (0..before.len().min(after.len()) as u32).filter(|&i| !same(before[i as usize], after[i as usize])).collect()
 }
 
 /// For each vertex of a parry [`TriMesh`] built from a source mesh, the source vertex it came from.
