@@ -1,22 +1,6 @@
 //! Refitting a parry3d triangle-mesh collider after a dent moved some of its vertices, for shapes
 //! the caller owns (dentbend's own world uses it too).
 //!
-//! # What parry3d 0.31 allows
-//!
-//! parry3d's [`TriMesh`] keeps its vertices, BVH and pseudo-normals private. Its public update
-//! paths are [`TriMesh::set_vertices`] and [`TriMesh::update_vertices`], and both refit *every*
-//! leaf and recompute *every* pseudo-normal (with hash maps over all edges) when the mesh has any
-//! (flags [`ORIENTED`](TriMeshFlags::ORIENTED) or
-//! [`FIX_INTERNAL_EDGES`](TriMeshFlags::FIX_INTERNAL_EDGES)). The tree itself
-//! ([`parry3d::partitioning::Bvh`]) has a public partial refit (`insert_or_update_partially` +
-//! `refit_partial`), but the mesh only lends it out read-only ([`TriMesh::bvh`]), so a refit of
-//! only the changed leaves and their ancestors cannot be written against parry's public API.
-//!
-//! [`refit_trimesh`] therefore validates the update, skips it when nothing moved, and otherwise
-//! takes the cheapest public route, [`TriMesh::update_vertices`], writing only the moved
-//! vertices. The result is exact: the leaves, the ancestors and the pseudo-normals are those of a
-//! fresh build on the new vertices (the tree's *structure* stays the one built first).
-//!
 //! # Vertex numbering
 //!
 //! Flag [`MERGE_DUPLICATE_VERTICES`](TriMeshFlags::MERGE_DUPLICATE_VERTICES) (which
@@ -78,7 +62,7 @@ pub struct RefitStats {
     /// Vertices moved (the length of the update).
     pub moved_vertices: usize,
     /// Triangle leaves whose bounding box parry refitted: every triangle when anything moved
-    /// (parry3d 0.31 refits the whole tree, see the [module docs](self)), 0 otherwise.
+    /// (parry3d 0.31 refits the whole tree, see [`refit_trimesh`]), 0 otherwise.
     pub refitted_leaves: usize,
     /// Whether the mesh's pseudo-normals were recomputed (it has some and anything moved).
     pub pseudo_normals_recomputed: bool,
@@ -115,7 +99,24 @@ pub fn validate_refit(vertex_count: usize, moved: &[u32], positions: &[Vec3]) ->
 /// (body coordinates, world units; `positions[k]` is the new place of `moved[k]`) and refits the
 /// collider: leaf boxes, their ancestors and the pseudo-normals, if the mesh has any.
 ///
-/// An empty `moved` changes nothing and costs nothing.
+/// An empty `moved` changes nothing and costs nothing. Vertices of a mesh built with a merging
+/// flag are numbered by parry, not like the source mesh: see [`VertexMap`].
+///
+/// # What parry3d 0.31 allows
+///
+/// parry3d's [`TriMesh`] keeps its vertices, BVH and pseudo-normals private. Its public update
+/// paths are [`TriMesh::set_vertices`] and [`TriMesh::update_vertices`], and both refit *every*
+/// leaf and recompute *every* pseudo-normal (with hash maps over all edges) when the mesh has any
+/// (flags [`ORIENTED`](TriMeshFlags::ORIENTED) or
+/// [`FIX_INTERNAL_EDGES`](TriMeshFlags::FIX_INTERNAL_EDGES)). The tree itself
+/// ([`parry3d::partitioning::Bvh`]) has a public partial refit (`insert_or_update_partially` +
+/// `refit_partial`), but the mesh only lends it out read-only ([`TriMesh::bvh`]), so a refit of
+/// only the changed leaves and their ancestors cannot be written against parry's public API.
+///
+/// This function therefore validates the update, skips it when nothing moved, and otherwise
+/// takes the cheapest public route, [`TriMesh::update_vertices`], writing only the moved
+/// vertices. The result is exact: the leaves, the ancestors and the pseudo-normals are those of a
+/// fresh build on the new vertices (the tree's *structure* stays the one built first).
 ///
 /// # Errors
 /// [`RefitError`] for lengths that differ, an unknown or repeated index, or a NaN/∞ position;
