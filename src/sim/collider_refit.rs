@@ -118,6 +118,11 @@ pub fn validate_refit(vertex_count: usize, moved: &[u32], positions: &[Vec3]) ->
 /// vertices. The result is exact: the leaves, the ancestors and the pseudo-normals are those of a
 /// fresh build on the new vertices (the tree's *structure* stays the one built first).
 ///
+/// Cost on a 24,960-triangle sphere, one core (bench `collider_refit`): about 0.4 ms without
+/// pseudo-normals and 4.7 ms with them ([`FIX_INTERNAL_EDGES`](TriMeshFlags::FIX_INTERNAL_EDGES),
+/// as dentbend's world builds its mesh colliders), against 14 ms for a rebuild. Most of the
+/// 4.7 ms is parry's recomputation of every pseudo-normal, which only parry can make partial.
+///
 /// # Errors
 /// [`RefitError`] for lengths that differ, an unknown or repeated index, or a NaN/∞ position;
 /// the shape is unchanged then.
@@ -171,7 +176,9 @@ pub fn refit_shared_trimesh(
 }
 
 /// The vertices whose position differs between `before` and `after` (bitwise), as indices, for a
-/// caller that knows the old and new positions but not which vertices a dent moved. `O(n)`.
+/// caller that knows the old and new positions but not which vertices a dent moved
+/// ([`DentReport`](crate::dent::DentReport) only counts them). `O(n)`: about 20 µs for 12,500
+/// vertices.
 ///
 /// Indices past the shorter slice are not compared.
 pub fn moved_vertices(before: &[Vec3], after: &[Vec3]) -> Vec<u32> {
