@@ -9,7 +9,7 @@ use parry3d::shape::SharedShape;
 use super::cluster::Role;
 use super::error::invalid;
 use super::sleep::Activity;
-use super::{ColliderKind, DentSettings, MassProperties, SimError, mass_properties};
+use super::{ColliderKind, DentSettings, MassProperties, SimError, VertexMap, mass_properties};
 use crate::mesh::TriMesh;
 
 /// How a body moves.
@@ -212,6 +212,9 @@ pub struct RigidBody {
     pub(crate) mesh: Arc<TriMesh>,
     pub(crate) collider_kind: ColliderKind,
     pub(crate) shape: SharedShape,
+    /// For a triangle-mesh collider, which mesh vertex each collider vertex follows (parry may
+    /// renumber them); filled on the first refit, dropped when the collider is rebuilt.
+    pub(crate) collider_map: Option<Arc<VertexMap>>,
     /// Sleep bookkeeping.
     pub(crate) activity: Activity,
     /// Simulated on its own, condensed into a rigid cluster, or a cluster's proxy.
@@ -275,6 +278,7 @@ impl RigidBody {
             mesh: Arc::new(mesh),
             collider_kind: desc.collider,
             shape,
+            collider_map: None,
             activity: Activity::default(),
             role: Role::Free,
         })
@@ -363,11 +367,14 @@ impl RigidBody {
         &self.shape
     }
 
-    /// Replaces the surface (body coordinates) after a dent and rebuilds mesh colliders.
+    /// Replaces the surface (body coordinates) after a dent: a triangle-mesh collider is refitted
+    /// where the vertices moved, other mesh colliders are rebuilt.
     pub(crate) fn set_mesh(&mut self, mesh: TriMesh) -> Result<(), SimError> {
         let kind = self.collider_kind.resolve(self.kind);
-        let refitted = kind == ColliderKind::TriMesh && ColliderKind::refit(&mut self.shape, &mesh);
+        let refitted = kind == ColliderKind::TriMesh
+            && ColliderKind::refit(&mut self.shape, &mut self.collider_map, &self.mesh, &mesh);
         if self.collider_kind.follows_mesh(self.kind) && !refitted {
+            self.collider_map = None;
             self.shape = self
                 .collider_kind
                 .build_for(self.kind, &mesh)

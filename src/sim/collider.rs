@@ -1,9 +1,12 @@
 //! Collision shapes through parry3d, built from a body's mesh in body coordinates.
 
+use std::sync::Arc;
+
 use parry3d::shape::{SharedShape, TriMeshFlags};
 
 use super::BodyKind;
 use super::capsule_fit::capsule_shape;
+use super::collider_refit::{VertexMap, refit_shared_trimesh};
 use crate::mesh::TriMesh;
 
 /// Which parry3d shape collides for a body.
@@ -44,17 +47,27 @@ impl ColliderKind {
         matches!(self.resolve(kind), Self::ConvexHull | Self::TriMesh)
     }
 
-    /// Moves a mesh collider's vertices to `mesh`'s (same vertex count and faces, as after a
-    /// dent) by refitting its tree in place. Returns `false` when the shape is not a triangle
-    /// mesh with matching vertices, so the caller rebuilds it.
-    pub(crate) fn refit(shape: &mut SharedShape, mesh: &TriMesh) -> bool {
-        match shape.make_mut().as_trimesh_mut() {
-            Some(trimesh) if trimesh.vertices().len() == mesh.vertex_count() => {
-                trimesh.set_vertices(mesh.positions());
-                true
-            }
-            _ => false,
+    /// Moves a mesh collider's vertices from `before`'s to `after`'s (same faces, as after a
+    /// dent) through [`refit_shared_trimesh`], translating vertex numbers with `map` (computed
+    /// on first use and kept). Only the vertices whose position changed are written. Returns
+    /// `false` when the shape is not a triangle mesh built from `before`, so the caller rebuilds
+    /// it (and drops `map`).
+    pub(crate) fn refit(
+        shape: &mut SharedShape,
+        map: &mut Option<Arc<VertexMap>>,
+        before: &TriMesh,
+        after: &TriMesh,
+    ) -> bool {
+        if before.faces() != after.faces() {
+            return false;
         }
+        let Some(trimesh) = shape.as_trimesh() else { return false };
+        if map.is_none() {
+            *map = VertexMap::new(trimesh, before.positions(), before.faces()).map(Arc::new);
+        }
+        let Some(vertex_map) = map.as_deref() else { return false };
+        let (moved, positions) = vertex_map.moved_between(before.positions(), after.positions());
+        refit_shared_trimesh(shape, &moved, &positions).is_ok()
     }
 
     /// Builds the shape of a body of `kind` with surface `mesh` (body coordinates).

@@ -257,6 +257,7 @@ impl World {
             mesh: Arc::new(TriMesh::new(positions, faces)?),
             collider_kind: ColliderKind::ConvexHull,
             shape: SharedShape::compound(parts),
+            collider_map: None,
             activity: if all_asleep { bodies[0].activity } else { Activity::default() },
             role: Role::Free,
         })
