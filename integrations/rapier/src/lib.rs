@@ -11,6 +11,7 @@
 //!
 //! Units: metres, seconds, kilograms, radians; world coordinates unless a doc says otherwise.
 
+mod adapter;
 mod bendable;
 mod contacts;
 mod dentable;
@@ -21,7 +22,9 @@ mod refit;
 mod states;
 mod world;
 
+pub use adapter::{Adapter, StepReport};
 pub use bendable::{BendJoint, BendReport, BendSettings, Bendable, JointKind, JointRule, Piece};
+pub mod demo;
 pub use contacts::{Contact, ImpactCollector};
 pub use dentable::{DentReport, Dentables};
 pub use elastic::ElasticJoint;
