@@ -304,7 +304,7 @@ impl Bendable {
             },
         };
         let own = states.body(self.pieces[piece].body, &world.bodies)?;
-        let projectile = world.colliders.get(other).ok_or(AdapterError::UnknownCollider(other))?.parent();
+        let projectile = states.collider(other, &world.bodies, &world.colliders)?.parent();
         let hitter = match projectile {
             Some(b) => Some((b, states.body(b, &world.bodies)?)),
             None => None,

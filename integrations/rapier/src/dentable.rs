@@ -237,7 +237,7 @@ fn collider_side(
     bodies: &RigidBodySet,
     colliders: &ColliderSet,
 ) -> Result<(ColliderHandle, Affine3A, BodyState), AdapterError> {
-    let collider = colliders.get(handle).ok_or(AdapterError::UnknownCollider(handle))?;
+    let collider = states.collider(handle, bodies, colliders)?;
     let pose = states.collider_pose(handle).unwrap_or_else(|| crate::to_affine(collider.position()));
     let mut state = match collider.parent() {
         Some(body) => states.body(body, bodies)?,

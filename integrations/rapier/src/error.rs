@@ -34,10 +34,15 @@ pub enum AdapterError {
     /// A rigid body the adapter or the caller named is not in the body set.
     #[error("unknown rigid body {0:?}")]
     UnknownBody(RigidBodyHandle),
-    /// A body whose state was recorded before the step is gone after it (removed between steps),
-    /// or was added after [`record`](crate::BodyStates::record) ran.
-    #[error("rigid body {0:?} was removed (or added) between the recorded state and the contacts")]
+    /// A body whose state was recorded before the step is gone after it (removed between steps).
+    #[error("rigid body {0:?} was removed between the recorded state and the contacts")]
     RemovedBody(RigidBodyHandle),
+    /// A body added after the states were recorded ([`BodyStates::record`](crate::BodyStates::record)).
+    #[error("rigid body {0:?} has no recorded state (added after the record?)")]
+    NotRecorded(RigidBodyHandle),
+    /// A collider recorded before the step is gone after it (removed between steps).
+    #[error("collider {0:?} was removed between the recorded state and the contacts")]
+    RemovedCollider(ColliderHandle),
     /// A joint the adapter manages is gone from the impulse-joint set.
     #[error("unknown impulse joint {0:?}")]
     UnknownJoint(ImpulseJointHandle),

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use dentbend::dent::BodyState;
 use glam::{Affine3A, Mat3};
 use rapier3d::math::Pose;
-use rapier3d::prelude::{ColliderHandle, ColliderSet, RigidBody, RigidBodyHandle, RigidBodySet};
+use rapier3d::prelude::{Collider, ColliderHandle, ColliderSet, RigidBody, RigidBodyHandle, RigidBodySet};
 
 use crate::AdapterError;
 
@@ -18,6 +18,7 @@ pub struct BodyStates {
     bodies: HashMap<RigidBodyHandle, BodyState>,
     poses: HashMap<RigidBodyHandle, Pose>,
     colliders: HashMap<ColliderHandle, Affine3A>,
+    parents: HashMap<ColliderHandle, RigidBodyHandle>,
 }
 
 impl BodyStates {
@@ -25,13 +26,14 @@ impl BodyStates {
     pub fn record(bodies: &RigidBodySet, colliders: &ColliderSet) -> Self {
         let poses = bodies.iter().map(|(h, rb)| (h, *rb.position())).collect();
         let bodies = bodies.iter().map(|(h, rb)| (h, body_state(rb))).collect();
+        let parents = colliders.iter().filter_map(|(h, c)| c.parent().map(|b| (h, b))).collect();
         let colliders = colliders.iter().map(|(h, c)| (h, to_affine(c.position()))).collect();
-        Self { bodies, poses, colliders }
+        Self { bodies, poses, colliders, parents }
     }
 
-    /// Body `handle`'s recorded state; a body missing from the record is
-    /// [`AdapterError::RemovedBody`] when `bodies` no longer has it either, else
-    /// [`AdapterError::UnknownBody`]. A body recorded but gone from `bodies` is removed too.
+    /// Body `handle`'s recorded state: [`AdapterError::RemovedBody`] when it was recorded but
+    /// `bodies` no longer has it, [`AdapterError::NotRecorded`] when it was added after the
+    /// record, [`AdapterError::UnknownBody`] when neither knows it.
     ///
     /// # Errors
     /// As above.
@@ -39,7 +41,7 @@ impl BodyStates {
         match (self.bodies.get(&handle), bodies.contains(handle)) {
             (Some(state), true) => Ok(*state),
             (Some(_), false) => Err(AdapterError::RemovedBody(handle)),
-            (None, true) => Err(AdapterError::RemovedBody(handle)),
+            (None, true) => Err(AdapterError::NotRecorded(handle)),
             (None, false) => Err(AdapterError::UnknownBody(handle)),
         }
     }
@@ -52,6 +54,34 @@ impl BodyStates {
     /// Collider `handle`'s recorded pose (collider frame → world).
     pub fn collider_pose(&self, handle: ColliderHandle) -> Option<Affine3A> {
         self.colliders.get(&handle).copied()
+    }
+
+    /// The body collider `handle` was attached to when recorded.
+    pub fn collider_parent(&self, handle: ColliderHandle) -> Option<RigidBodyHandle> {
+        self.parents.get(&handle).copied()
+    }
+
+    /// Collider `handle` from `colliders`, or why it is missing: its recorded body was removed
+    /// ([`AdapterError::RemovedBody`]), it was removed itself
+    /// ([`AdapterError::RemovedCollider`]), or it was never there
+    /// ([`AdapterError::UnknownCollider`]).
+    ///
+    /// # Errors
+    /// As above.
+    pub fn collider<'c>(
+        &self,
+        handle: ColliderHandle,
+        bodies: &RigidBodySet,
+        colliders: &'c ColliderSet,
+    ) -> Result<&'c Collider, AdapterError> {
+        if let Some(c) = colliders.get(handle) {
+            return Ok(c);
+        }
+        match self.collider_parent(handle) {
+            Some(body) if !bodies.contains(body) => Err(AdapterError::RemovedBody(body)),
+            _ if self.colliders.contains_key(&handle) => Err(AdapterError::RemovedCollider(handle)),
+            _ => Err(AdapterError::UnknownCollider(handle)),
+        }
     }
 
     /// Overrides body `handle`'s recorded state (for tests and callers with their own
