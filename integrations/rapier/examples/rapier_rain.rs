@@ -23,8 +23,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let ms = |s: f64| 1000.0 * s / steps;
     let max_depth = totals.dents.iter().map(|(_, d)| d.dent_distance).fold(0.0, f32::max);
     let on = |c| totals.dents.iter().filter(|(_, d)| d.target == c).count();
-    let (physics, dent, collider) =
-        (ms(totals.physics_seconds), ms(totals.dent_seconds), ms(totals.collider_seconds));
+    let (physics, dent, collider) = (ms(totals.physics_seconds), ms(totals.dent_seconds), ms(totals.collider_seconds));
     let json = serde_json::json!({
         "steps": totals.steps,
         "dents": totals.dents.len(),

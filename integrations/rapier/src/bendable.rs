@@ -7,7 +7,7 @@
 //! Frames: every piece's body frame is the bendable's rest frame (the mesh's coordinates), so a
 //! piece's Rapier pose *is* its bone's skinning transform (rest → world).
 
-use dentbend::bend::{SkinWeights, Skeleton, SubBodies, WeightCache, WeightParams};
+use dentbend::bend::{Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
 use dentbend::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
 use dentbend::mesh::TriMesh;
 use glam::{Affine3A, Quat, Vec3};
@@ -165,7 +165,11 @@ impl Bendable {
     ) -> Result<Self, AdapterError> {
         check_settings(&settings)?;
         if !pose.is_finite() {
-            return Err(AdapterError::InvalidParameter { name: "pose", value: format!("{pose:?}"), reason: "must be finite" });
+            return Err(AdapterError::InvalidParameter {
+                name: "pose",
+                value: format!("{pose:?}"),
+                reason: "must be finite",
+            });
         }
         let cache = WeightCache::new(&mesh, settings.weights).map_err(rig)?;
         let weights = SkinWeights::compute(&mesh, &skeleton, &cache).map_err(rig)?;
@@ -227,12 +231,8 @@ impl Bendable {
     /// As [`bone_transforms`](Self::bone_transforms), or a skinning failure.
     pub fn skinned_mesh(&self, world: &PhysicsWorld) -> Result<TriMesh, AdapterError> {
         let bones: Vec<SkinBone> = self.bone_transforms(world)?.into_iter().map(SkinBone::from_affine).collect();
-        let influences: Vec<SkinInfluence> = self
-            .weights
-            .influences4()
-            .into_iter()
-            .map(|(bones, weights)| SkinInfluence { bones, weights })
-            .collect();
+        let influences: Vec<SkinInfluence> =
+            self.weights.influences4().into_iter().map(|(bones, weights)| SkinInfluence { bones, weights }).collect();
         let n = self.rest.vertex_count();
         let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
         let params = SkinParams::new(n as u32, bones.len() as u32);
@@ -337,14 +337,16 @@ impl Bendable {
         let old = self.pieces[split.piece];
         let mut skeleton = self.skeleton.clone();
         let Ok((first, second)) = skeleton.split_bone(old.bone, split.rest_point) else { return Ok(()) };
-        let weights = self.weights.after_split(&self.rest, &skeleton, old.bone, (first, second), &self.cache).map_err(rig)?;
+        let weights =
+            self.weights.after_split(&self.rest, &skeleton, old.bone, (first, second), &self.cache).map_err(rig)?;
         let hulls = hulls(&self.rest, &weights, &self.cache, self.settings.density, &[first, second])?;
         let (Some(pose), state) = (states.body_pose(old.body), states.body(old.body, &world.bodies)?) else {
             return Ok(());
         };
         // Checked: commit.
-        let attached: Vec<usize> =
-            (0..self.joints.len()).filter(|&j| [self.joints[j].parent, self.joints[j].child].contains(&old.bone)).collect();
+        let attached: Vec<usize> = (0..self.joints.len())
+            .filter(|&j| [self.joints[j].parent, self.joints[j].child].contains(&old.bone))
+            .collect();
         world.remove_body(old.body);
         report.removed_colliders.push(old.collider);
         self.skeleton = skeleton;
@@ -426,7 +428,9 @@ impl Bendable {
             JointKind::Plastic { strength, damping_constant, damping_proportional } => {
                 JointRule::Plastic(PlasticJoint::new(strength, damping_constant, damping_proportional, rest)?)
             }
-            JointKind::Elastic { stiffness, damping } => JointRule::Elastic(ElasticJoint::new(stiffness, damping, rest)?),
+            JointKind::Elastic { stiffness, damping } => {
+                JointRule::Elastic(ElasticJoint::new(stiffness, damping, rest)?)
+            }
         };
         let joint: GenericJoint = SphericalJointBuilder::new()
             .local_anchor1(rest_point)

@@ -123,7 +123,9 @@ fn raw_impact(pair: &ContactPair) -> Option<RawImpact> {
         if total > best {
             (best, normal) = (total, m.data.normal);
         }
-        points.extend(m.contacts().iter().filter(|c| c.data.impulse > 0.0).map(|c| (c.local_p1, c.local_p2, c.data.impulse)));
+        points.extend(
+            m.contacts().iter().filter(|c| c.data.impulse > 0.0).map(|c| (c.local_p1, c.local_p2, c.data.impulse)),
+        );
     }
     (!points.is_empty()).then_some(RawImpact { collider1: pair.collider1, collider2: pair.collider2, points, normal })
 }

@@ -183,7 +183,9 @@ impl Dentables {
             let a = collider_side(c.collider1, states, bodies, colliders)?;
             let b = collider_side(c.collider2, states, bodies, colliders)?;
             for (target, projectile, into_target) in [(a, b, -c.normal), (b, a, c.normal)] {
-                if self.is_dentable(target.0) && (self.is_dentable(projectile.0) || self.surfaces.contains_key(&projectile.0)) {
+                if self.is_dentable(target.0)
+                    && (self.is_dentable(projectile.0) || self.surfaces.contains_key(&projectile.0))
+                {
                     sides.push(Side {
                         target: target.0,
                         projectile: projectile.0,
@@ -203,8 +205,7 @@ impl Dentables {
     /// The hit of `side`; `None` when its impact separates by more than rounding.
     fn hit(&self, side: &Side) -> Option<Hit<'_, ColliderHandle>> {
         let mesh = self.targets.mesh(side.projectile).or_else(|| self.surfaces.get(&side.projectile))?;
-        let impact =
-            Impact::from_contact(side.point, side.normal, &side.target_state, &side.projectile_state).ok()?;
+        let impact = Impact::from_contact(side.point, side.normal, &side.target_state, &side.projectile_state).ok()?;
         Some(Hit {
             target: side.target,
             projectile: side.projectile,

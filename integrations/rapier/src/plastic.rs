@@ -100,8 +100,7 @@ impl PlasticJoint {
             self.bend_rate = damped_bend_rate(after, self.damping_constant, self.damping_proportional, dt);
         } else if self.bend_rate != Vec3::ZERO {
             self.rest = (b1.rotation().inverse() * *b2.rotation()).normalize();
-            self.bend_rate =
-                damped_bend_rate(self.bend_rate, self.damping_constant, self.damping_proportional, dt);
+            self.bend_rate = damped_bend_rate(self.bend_rate, self.damping_constant, self.damping_proportional, dt);
         }
         JointStep { impulse, yielded }
     }

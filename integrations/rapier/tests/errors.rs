@@ -4,12 +4,8 @@
 use dentbend::dent::CpuBackend;
 use dentbend::mesh::{self, TriMesh};
 use dentbend_rapier::demo::rain::{ball_dent, target_dent};
-use dentbend_rapier::rapier3d::prelude::{
-    ActiveEvents, ColliderHandle, RigidBodyBuilder, RigidBodyHandle,
-};
-use dentbend_rapier::{
-    AdapterError, BodyStates, Contact, Dentables, PhysicsWorld, convex_collider, trimesh_collider,
-};
+use dentbend_rapier::rapier3d::prelude::{ActiveEvents, ColliderHandle, RigidBodyBuilder, RigidBodyHandle};
+use dentbend_rapier::{AdapterError, BodyStates, Contact, Dentables, PhysicsWorld, convex_collider, trimesh_collider};
 use glam::Vec3;
 
 struct Scene {
@@ -28,9 +24,9 @@ fn scene() -> Scene {
     let fixed = world.bodies.insert(RigidBodyBuilder::fixed());
     let block = world.colliders.insert_with_parent(trimesh_collider(&block_mesh).unwrap(), fixed, &mut world.bodies);
     let ball_mesh = mesh::icosphere(0.1, 2).unwrap();
-    let ball_body = world.bodies.insert(
-        RigidBodyBuilder::dynamic().translation(Vec3::new(0.0, 0.36, 0.0)).linvel(Vec3::new(0.0, -6.0, 0.0)),
-    );
+    let ball_body = world
+        .bodies
+        .insert(RigidBodyBuilder::dynamic().translation(Vec3::new(0.0, 0.36, 0.0)).linvel(Vec3::new(0.0, -6.0, 0.0)));
     let collider = convex_collider(&ball_mesh).unwrap().active_events(ActiveEvents::CONTACT_FORCE_EVENTS);
     let ball = world.colliders.insert_with_parent(collider, ball_body, &mut world.bodies);
     let mut dentables = Dentables::new();
@@ -69,9 +65,7 @@ fn assert_unchanged(s: &Scene, before: &(TriMesh, TriMesh, Vec<Vec3>, Vec<Vec3>,
 
 fn process(s: &mut Scene, states: &BodyStates, contacts: &[Contact]) -> Result<usize, AdapterError> {
     let Scene { world, dentables, .. } = s;
-    dentables
-        .process(contacts, states, &mut world.bodies, &mut world.colliders, &mut CpuBackend)
-        .map(|r| r.dents.len())
+    dentables.process(contacts, states, &mut world.bodies, &mut world.colliders, &mut CpuBackend).map(|r| r.dents.len())
 }
 
 #[test]

@@ -88,8 +88,7 @@ fn a_bad_contact_changes_no_joint_or_body() {
     let states = BodyStates::record(&p.world.bodies, &p.world.colliders);
     let piece = p.plank().pieces()[0];
     let joints_before: Vec<_> = p.plank().joints().to_vec();
-    let poses: Vec<_> =
-        p.plank().pieces().iter().map(|pc| *p.world.bodies.get(pc.body).unwrap().position()).collect();
+    let poses: Vec<_> = p.plank().pieces().iter().map(|pc| *p.world.bodies.get(pc.body).unwrap().position()).collect();
     let vels: Vec<_> = p.plank().pieces().iter().map(|pc| p.world.bodies.get(pc.body).unwrap().angvel()).collect();
     let bad = Contact {
         collider1: piece.collider,

@@ -87,8 +87,11 @@ impl Plank {
         let gap = 0.3;
         let start_speed = (BALL_SPEED * BALL_SPEED - 2.0 * 9.81 * gap).sqrt();
         let centre = Vec3::new(HIT_X, PLANK_SIZE.y + 0.002 + gap + BALL_RADIUS, 0.0);
-        let ball =
-            world.bodies.insert(RigidBodyBuilder::dynamic().translation(centre).linvel(Vec3::new(0.0, -start_speed, 0.0)));
+        let ball = world.bodies.insert(RigidBodyBuilder::dynamic().translation(centre).linvel(Vec3::new(
+            0.0,
+            -start_speed,
+            0.0,
+        )));
         let density = BALL_MASS / (4.0 / 3.0 * std::f32::consts::PI * BALL_RADIUS.powi(3));
         world.colliders.insert_with_parent(
             ColliderBuilder::ball(BALL_RADIUS).density(density).friction(0.5),

@@ -172,9 +172,10 @@ impl Rain {
             let x = centre.x + self.rng.range(-half, half);
             let z = centre.z + self.rng.range(-half, half);
             let y = top + self.rng.range(1.2, 2.2);
-            let body = self.world.bodies.insert(
-                RigidBodyBuilder::dynamic().translation(Vec3::new(x, y, z)).linvel(Vec3::new(0.0, -1.0, 0.0)),
-            );
+            let body = self
+                .world
+                .bodies
+                .insert(RigidBodyBuilder::dynamic().translation(Vec3::new(x, y, z)).linvel(Vec3::new(0.0, -1.0, 0.0)));
             let collider = convex_collider(&self.ball_mesh)?
                 .density(density)
                 .restitution(0.3)
