@@ -27,10 +27,10 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let json = serde_json::json!({
         "steps": totals.steps,
         "dents": totals.dents,
-        "max_dent_depth": 0.0,
+        "max_dent_depth": totals.max_dent_depth,
         "physics_ms_per_step": 1000.0 * totals.physics_seconds / steps,
-        "dent_ms_per_step": 0.0,
-        "collider_ms_per_step": 0.0,
+        "dent_ms_per_step": 1000.0 * totals.dent_seconds / steps,
+        "collider_ms_per_step": 1000.0 * totals.collider_seconds / steps,
         "bend_ms_per_step": 1000.0 * totals.bend_seconds / steps,
         "joints_created": totals.joints_created,
         "split_step": totals.split_step,

@@ -116,6 +116,14 @@ impl Adapter {
         report.refitted = dents.refitted;
         report.dent_seconds = dents.dent_seconds;
         report.collider_seconds = dents.collider_seconds;
+        let start = Instant::now();
+        let Self { bendables, dentables, backend, .. } = self;
+        for b in bendables.iter_mut() {
+            let r = b.dent_parent(world, states, &live, |h| dentables.surface(h), backend.as_mut())?;
+            report.dents.extend(r.dents);
+            report.refitted.extend(r.refitted.into_iter().map(|c| (c, r.moved)));
+        }
+        report.dent_seconds += start.elapsed().as_secs_f64();
         report.contacts = contacts;
         Ok(report)
     }

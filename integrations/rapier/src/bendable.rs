@@ -140,13 +140,14 @@ pub struct BendReport {
 /// A bendable body in a Rapier world.
 #[derive(Debug)]
 pub struct Bendable {
-    rest: TriMesh,
+    pub(crate) rest: TriMesh,
     skeleton: Skeleton,
-    weights: SkinWeights,
-    cache: WeightCache,
-    pieces: Vec<Piece>,
+    pub(crate) weights: SkinWeights,
+    pub(crate) cache: WeightCache,
+    pub(crate) pieces: Vec<Piece>,
     joints: Vec<BendJoint>,
-    settings: BendSettings,
+    pub(crate) settings: BendSettings,
+    pub(crate) dent: Option<crate::bend_dent::BendDent>,
 }
 
 impl Bendable {
@@ -174,7 +175,8 @@ impl Bendable {
         let cache = WeightCache::new(&mesh, settings.weights).map_err(rig)?;
         let weights = SkinWeights::compute(&mesh, &skeleton, &cache).map_err(rig)?;
         let hulls = hulls(&mesh, &weights, &cache, settings.density, &(0..skeleton.len()).collect::<Vec<_>>())?;
-        let mut this = Self { rest: mesh, skeleton, weights, cache, pieces: Vec::new(), joints: Vec::new(), settings };
+        let mut this =
+            Self { rest: mesh, skeleton, weights, cache, pieces: Vec::new(), joints: Vec::new(), settings, dent: None };
         for (bone, hull) in hulls {
             let piece = this.add_piece(world, bone, hull, pose, (Vec3::ZERO, Vec3::ZERO), None);
             this.pieces.push(piece);
@@ -230,7 +232,12 @@ impl Bendable {
     /// # Errors
     /// As [`bone_transforms`](Self::bone_transforms), or a skinning failure.
     pub fn skinned_mesh(&self, world: &PhysicsWorld) -> Result<TriMesh, AdapterError> {
-        let bones: Vec<SkinBone> = self.bone_transforms(world)?.into_iter().map(SkinBone::from_affine).collect();
+        self.skin_with(&self.bone_transforms(world)?)
+    }
+
+    /// The rest mesh skinned by `transforms` (one per bone, rest frame → world), m.
+    pub(crate) fn skin_with(&self, transforms: &[Affine3A]) -> Result<TriMesh, AdapterError> {
+        let bones: Vec<SkinBone> = transforms.iter().copied().map(SkinBone::from_affine).collect();
         let influences: Vec<SkinInfluence> =
             self.weights.influences4().into_iter().map(|(bones, weights)| SkinInfluence { bones, weights }).collect();
         let n = self.rest.vertex_count();

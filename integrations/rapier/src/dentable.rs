@@ -104,6 +104,12 @@ impl Dentables {
         self.targets.mesh(handle)
     }
 
+    /// The surface collider `handle` dents others with (collider frame, m): its dentable mesh
+    /// or its projectile surface.
+    pub fn surface(&self, handle: ColliderHandle) -> Option<&TriMesh> {
+        self.targets.mesh(handle).or_else(|| self.surfaces.get(&handle))
+    }
+
     /// Whether collider `handle` dents.
     pub fn is_dentable(&self, handle: ColliderHandle) -> bool {
         self.kinds.contains_key(&handle)

@@ -12,6 +12,7 @@
 //! Units: metres, seconds, kilograms, radians; world coordinates unless a doc says otherwise.
 
 mod adapter;
+mod bend_dent;
 mod bendable;
 mod contacts;
 mod dentable;
@@ -23,6 +24,7 @@ mod states;
 mod world;
 
 pub use adapter::{Adapter, StepReport};
+pub use bend_dent::{BendDentReport, SINGULAR_BLEND};
 pub use bendable::{BendJoint, BendReport, BendSettings, Bendable, JointKind, JointRule, Piece};
 pub mod demo;
 pub use contacts::{Contact, ImpactCollector};

@@ -106,3 +106,44 @@ fn a_bad_contact_changes_no_joint_or_body() {
         assert_eq!(rb.angvel(), vels[i]);
     }
 }
+
+#[test]
+fn the_ball_dents_the_plank_where_it_lands() {
+    let mut p = Plank::new(64).unwrap();
+    let totals = p.run(SETTLE).unwrap();
+    let (threshold, gain, cap) = dentbend_rapier::demo::plank::PLANK_DENT;
+    assert!(totals.dents >= 1);
+    assert!(totals.max_dent_depth <= cap + 1e-6);
+    let plank = p.plank();
+    let before = dentbend::mesh::plank(PLANK_SIZE.x, PLANK_SIZE.z, PLANK_SIZE.y, 64).unwrap();
+    let after = plank.rest_mesh();
+    assert_eq!(after.vertex_count(), before.vertex_count());
+    // The dent's reach in the rest frame: the ball's radius plus 5σ (σ = cap / 2 by default).
+    let reach = dentbend_rapier::demo::plank::BALL_RADIUS + 5.0 * 0.5 * cap;
+    let hit = Vec3::new(HIT_X, 0.5 * PLANK_SIZE.y, 0.0);
+    let mut deepest: f32 = 0.0;
+    for (v, (a, b)) in before.positions().iter().zip(after.positions()).enumerate() {
+        let m = a.distance(*b);
+        assert!(m.is_finite());
+        if m <= 1e-6 {
+            continue;
+        }
+        let lateral = Vec3::new(a.x - hit.x, 0.0, a.z - hit.z).length();
+        assert!(lateral <= reach, "rest vertex {v} at {a} moved {m} m, {lateral} m off the hit");
+        if m > 0.01 * cap {
+            assert!(a.distance(hit) <= reach, "rest vertex {v} at {a} moved {m} m");
+        }
+        assert!(m <= 1.01 * cap * totals.dents as f32, "rest vertex {v} moved {m} m");
+        deepest = deepest.max(m);
+    }
+    // The ball lands at about 6 m/s: about (6 − 2) · 5 mm = 2 cm; at least half of it shows in
+    // the rest mesh (the mapping back is a rotation: lengths are kept).
+    let expected = (dentbend_rapier::demo::plank::BALL_SPEED - threshold) * gain;
+    assert!(deepest >= 0.5 * expected, "deepest {deepest} m, expected about {expected} m");
+    // The pieces' hulls are the dented sub-bodies'.
+    for piece in plank.pieces() {
+        let hull = p.world.colliders.get(piece.collider).unwrap().shape().as_convex_polyhedron().unwrap();
+        assert!(hull.points().iter().all(|q| after.positions().contains(q)));
+    }
+    assert!(plank.skinned_mesh(&p.world).unwrap().positions().iter().all(|q| q.is_finite()));
+}
