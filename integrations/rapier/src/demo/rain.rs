@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use dentbend::dent::{AppliedDent, DentSettings};
+use dentbend::dent::{AppliedDent, CpuBackend, DentBackend, DentSettings};
 use dentbend::mesh::{self, TriMesh};
 use glam::{Affine3A, Vec3};
 use rapier3d::prelude::{ActiveEvents, ColliderBuilder, ColliderHandle, RigidBodyBuilder, RigidBodyHandle};
@@ -100,8 +100,19 @@ impl Rain {
     /// # Errors
     /// A mesh or collider that cannot be built (none for the defaults).
     pub fn new(settings: RainSettings) -> Result<Self, AdapterError> {
+        Self::with_backend(settings, Box::new(CpuBackend))
+    }
+
+    /// The scene with its dents on `backend`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn with_backend(
+        settings: RainSettings,
+        backend: Box<dyn DentBackend<ColliderHandle>>,
+    ) -> Result<Self, AdapterError> {
         let mut world = PhysicsWorld::new(Vec3::new(0.0, -9.81, 0.0), 1.0 / 60.0);
-        let mut adapter = Adapter::new();
+        let mut adapter = Adapter::with_backend(backend);
         let mut initial = HashMap::new();
         let ground = world.bodies.insert(RigidBodyBuilder::fixed().translation(Vec3::new(0.0, -0.1, 0.0)));
         world.colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 0.1, 10.0), ground, &mut world.bodies);
