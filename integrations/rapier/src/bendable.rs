@@ -275,10 +275,18 @@ impl Bendable {
             for c in contacts {
                 c.validate()?;
             }
+            // Every split decided (and every contact checked) before any is made; one split per
+            // piece per step.
+            let mut splits: Vec<Split> = Vec::new();
             for c in contacts {
-                if let Some(split) = self.split_of(c, speed, states, world)? {
-                    self.split(world, states, split, &mut report)?;
+                if let Some(split) = self.split_of(c, speed, states, world)?
+                    && !splits.iter().any(|s| s.piece == split.piece)
+                {
+                    splits.push(split);
                 }
+            }
+            for split in splits {
+                self.split(world, states, split, &mut report)?;
             }
         }
         let dt = world.params.dt;

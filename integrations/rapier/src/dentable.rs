@@ -138,7 +138,7 @@ impl Dentables {
         backend: &mut dyn DentBackend<ColliderHandle>,
     ) -> Result<DentReport, AdapterError> {
         let started = Instant::now();
-        self.step += 1;
+        let step = self.step + 1;
         let sides = self.sides(contacts, states, bodies, colliders)?;
         // Poses are bookkeeping, refreshed on every call: setting them changes no mesh.
         for side in &sides {
@@ -147,7 +147,7 @@ impl Dentables {
         let targets = &self.targets;
         let hits: Vec<Hit<'_, ColliderHandle>> = sides.iter().filter_map(|s| self.hit(s)).collect();
         let mut damage = self.damage.clone();
-        let plan = damage.plan(targets, &hits, self.step, backend)?;
+        let plan = damage.plan(targets, &hits, step, backend)?;
         let dent_seconds = started.elapsed().as_secs_f64();
 
         let refit_start = Instant::now();
@@ -161,6 +161,7 @@ impl Dentables {
         // Everything checked: commit.
         let commit_start = Instant::now();
         self.damage = damage;
+        self.step = step;
         self.targets.apply(plan.targets);
         let dent_seconds = dent_seconds + commit_start.elapsed().as_secs_f64();
         let commit_start = Instant::now();
