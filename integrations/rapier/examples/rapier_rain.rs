@@ -44,7 +44,11 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let text = serde_json::to_string_pretty(&json)?;
     println!("{text}");
     if let Some(path) = json_path {
-        std::fs::write(&path, text + "\n")?;
+        let path = std::path::Path::new(&path);
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)?;
+        }
+        std::fs::write(path, text + "\n")?;
     }
     Ok(())
 }

@@ -132,3 +132,74 @@ fn check(name: &'static str, value: f32, ok: bool, reason: &'static str) -> Resu
         Err(AdapterError::InvalidParameter { name, value: value.to_string(), reason })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::{Quat, Vec3};
+    use rapier3d::prelude::{ColliderBuilder, ColliderSet, RigidBodyBuilder, RigidBodyHandle, RigidBodySet};
+
+    use super::PlasticJoint;
+
+    const DT: f32 = 1.0 / 60.0;
+
+    /// Two unit cubes of 1 kg (inertia 1/6 kg·m² about every axis), body 2 spinning about z at
+    /// `spin` rad/s relative to body 1.
+    fn pair(spin: f32) -> (RigidBodySet, RigidBodyHandle, RigidBodyHandle) {
+        let mut bodies = RigidBodySet::new();
+        let mut colliders = ColliderSet::new();
+        let b1 = bodies.insert(RigidBodyBuilder::dynamic());
+        let b2 = bodies.insert(RigidBodyBuilder::dynamic().angvel(Vec3::new(0.0, 0.0, spin)));
+        for b in [b1, b2] {
+            colliders.insert_with_parent(ColliderBuilder::cuboid(0.5, 0.5, 0.5).density(1.0), b, &mut bodies);
+        }
+        (bodies, b1, b2)
+    }
+
+    #[test]
+    fn a_strong_joint_stops_the_relative_spin_and_does_not_bend() {
+        // Stopping 2 rad/s takes I·ω = (1/12 kg·m², the pair's reduced inertia) · 2 = 1/6 N·m·s.
+        let (mut bodies, b1, b2) = pair(2.0);
+        let mut joint = PlasticJoint::new(1.0, 0.5, 10.0, Quat::IDENTITY).unwrap();
+        let (Some(r1), Some(r2)) = bodies.get_pair_mut(b1, b2) else { panic!() };
+        let step = joint.apply(r1, r2, DT);
+        assert!(!step.yielded);
+        assert!((step.impulse.z + 1.0 / 6.0).abs() < 1e-5, "{}", step.impulse);
+        assert!((r2.angvel() - r1.angvel()).length() < 1e-5);
+        // Equal and opposite: the total angular velocity (equal inertias) is kept.
+        assert!(((r1.angvel() + r2.angvel()).z - 2.0).abs() < 1e-5);
+        assert_eq!(joint.rest, Quat::IDENTITY);
+    }
+
+    #[test]
+    fn a_weak_joint_yields_takes_the_current_orientation_and_keeps_bending_at_a_damped_rate() {
+        let (mut bodies, b1, b2) = pair(2.0);
+        // The current orientation, 0.3 rad apart: a weak joint yields and rests there.
+        let bent = Quat::from_rotation_z(0.3);
+        bodies.get_mut(b2).unwrap().set_rotation(bent, true);
+        let mut joint = PlasticJoint::new(0.05, 0.5, 10.0, Quat::IDENTITY).unwrap();
+        let (Some(r1), Some(r2)) = bodies.get_pair_mut(b1, b2) else { panic!() };
+        let step = joint.apply(r1, r2, DT);
+        assert!(step.yielded && joint.yields == 1);
+        assert!((step.impulse.length() - 0.05).abs() < 1e-6, "clamped at the strength: {}", step.impulse);
+        assert!(joint.rest.angle_between(bent) < 1e-5, "rest {:?}", joint.rest);
+        assert!((joint.bend_angle() - 0.3).abs() < 1e-4);
+        // The relative spin left after the clamped impulse, 2 − 0.05·12 = 1.4 rad/s, goes on
+        // damped: 1.4 − (0.5 + 10·1.4)/60.
+        let expected = 1.4 - (0.5 + 10.0 * 1.4) * DT;
+        assert!((joint.bend_rate.z - expected).abs() < 1e-4, "{} vs {expected}", joint.bend_rate);
+        // While the post-bend rate lasts, the rest orientation follows the bodies.
+        r2.set_rotation(Quat::from_rotation_z(0.32), true);
+        joint.apply(r1, r2, DT);
+        assert!((joint.bend_angle() - 0.32).abs() < 1e-4);
+        assert!(joint.bend_rate.z < expected);
+    }
+
+    #[test]
+    fn bad_parameters_are_named() {
+        assert!(PlasticJoint::new(0.0, 0.5, 10.0, Quat::IDENTITY).is_err());
+        assert!(PlasticJoint::new(f32::NAN, 0.5, 10.0, Quat::IDENTITY).is_err());
+        assert!(PlasticJoint::new(1.0, -1.0, 10.0, Quat::IDENTITY).is_err());
+        assert!(PlasticJoint::new(1.0, 0.5, f32::INFINITY, Quat::IDENTITY).is_err());
+        assert!(PlasticJoint::new(1.0, 0.5, 10.0, Quat::from_xyzw(f32::NAN, 0.0, 0.0, 1.0)).is_err());
+    }
+}
