@@ -68,9 +68,10 @@ impl Adapter {
     /// colliders from the step's impacts.
     ///
     /// # Errors
-    /// A bad contact, an unknown or removed body or collider, a failed dent or refit. Rapier's
-    /// step has run then; the adapter changed no mesh, collider or joint for a bad contact
-    /// (contacts are checked before anything else).
+    /// A bad contact, an unknown or removed body or collider: Rapier's step has run, the adapter
+    /// changed no mesh, collider, body or joint (contacts and the bodies they name are checked
+    /// before anything else). A dent that fails on the backend (a lost GPU) after the bendable
+    /// bodies were split and bent leaves the meshes and colliders unchanged.
     pub fn step(&mut self, world: &mut PhysicsWorld) -> Result<StepReport, AdapterError> {
         let states = BodyStates::record(&world.bodies, &world.colliders);
         let start = Instant::now();
@@ -92,8 +93,14 @@ impl Adapter {
         contacts: Vec<Contact>,
         physics_seconds: f64,
     ) -> Result<StepReport, AdapterError> {
+        // Every contact and every body it names is checked before anything changes.
         for c in &contacts {
             c.validate()?;
+            for handle in [c.collider1, c.collider2] {
+                if let Some(body) = states.collider(handle, &world.bodies, &world.colliders)?.parent() {
+                    states.body(body, &world.bodies)?;
+                }
+            }
         }
         let start = Instant::now();
         let mut report = StepReport { physics_seconds, ..StepReport::default() };

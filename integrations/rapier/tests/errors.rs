@@ -153,3 +153,37 @@ fn a_body_removed_between_steps_is_named_and_changes_nothing() {
     assert!(matches!(err, AdapterError::NotRecorded(h) if h == late), "{err}");
     assert_unchanged(&s, &before);
 }
+
+#[test]
+fn the_adapter_checks_every_contact_before_it_splits_bends_or_dents() {
+    use dentbend_rapier::demo::plank::Plank;
+    // The plank scene just before the ball lands: a good contact on a piece and a contact
+    // naming a removed body; the adapter names the removed body and changes nothing.
+    let mut p = Plank::new(64).unwrap();
+    p.run(2).unwrap();
+    let extra = p.world.bodies.insert(RigidBodyBuilder::dynamic().translation(Vec3::new(3.0, 3.0, 0.0)));
+    let extra_collider = p.world.colliders.insert_with_parent(
+        convex_collider(&mesh::icosphere(0.1, 1).unwrap()).unwrap(),
+        extra,
+        &mut p.world.bodies,
+    );
+    let states = BodyStates::record(&p.world.bodies, &p.world.colliders);
+    p.world.remove_body(extra);
+    let piece = p.plank().pieces()[0];
+    let ball = p.world.bodies.get(p.ball).unwrap().colliders()[0];
+    let hit = Contact {
+        collider1: piece.collider,
+        collider2: ball,
+        point: Vec3::new(0.3, 0.102, 0.0),
+        normal: Vec3::Y,
+        impulse: 100.0,
+    };
+    // Not on the plank: only the up-front check stops the split the first contact asks for.
+    let gone = Contact { collider1: ball, collider2: extra_collider, ..hit };
+    let pieces_before = p.plank().pieces().to_vec();
+    let err = p.adapter.after_step(&mut p.world, &states, vec![hit, gone], 0.0).unwrap_err();
+    assert!(matches!(err, AdapterError::RemovedBody(h) if h == extra), "{err}");
+    assert_eq!(p.plank().pieces(), &pieces_before[..]);
+    assert!(p.plank().joints().is_empty());
+    assert_eq!(p.plank().rest_mesh().positions(), mesh::plank(4.0, 0.3, 0.1, 64).unwrap().positions());
+}
