@@ -23,7 +23,7 @@ pub struct StepReport {
     pub plastic_bends: usize,
     /// Rapier's `PhysicsPipeline::step`, s.
     pub physics_seconds: f64,
-    /// Dent decisions and dent maps, s.
+    /// Dents: contact extraction and checks, dent decisions, maps, meshes, s.
     pub dent_seconds: f64,
     /// Collider refits, s.
     pub collider_seconds: f64,
@@ -77,8 +77,12 @@ impl Adapter {
         let start = Instant::now();
         world.step(&self.collector);
         let physics_seconds = start.elapsed().as_secs_f64();
+        let start = Instant::now();
         let contacts = self.collector.take_contacts(&states);
-        self.after_step(world, &states, contacts, physics_seconds)
+        let extraction = start.elapsed().as_secs_f64();
+        let mut report = self.after_step(world, &states, contacts, physics_seconds)?;
+        report.dent_seconds += extraction;
+        Ok(report)
     }
 
     /// The adapter's half of a step, for callers who step Rapier themselves: `states` recorded
@@ -94,6 +98,7 @@ impl Adapter {
         physics_seconds: f64,
     ) -> Result<StepReport, AdapterError> {
         // Every contact and every body it names is checked before anything changes.
+        let checks = Instant::now();
         for c in &contacts {
             c.validate()?;
             for handle in [c.collider1, c.collider2] {
@@ -102,6 +107,7 @@ impl Adapter {
                 }
             }
         }
+        let checked = checks.elapsed().as_secs_f64();
         let start = Instant::now();
         let mut report = StepReport { physics_seconds, ..StepReport::default() };
         let mut removed = Vec::new();
@@ -130,7 +136,7 @@ impl Adapter {
             report.dents.extend(r.dents);
             report.refitted.extend(r.refitted.into_iter().map(|c| (c, r.moved)));
         }
-        report.dent_seconds += start.elapsed().as_secs_f64();
+        report.dent_seconds += start.elapsed().as_secs_f64() + checked;
         report.contacts = contacts;
         Ok(report)
     }

@@ -73,7 +73,8 @@ impl Bendable {
     ) -> Result<BendDentReport, AdapterError> {
         let Some(dent) = &self.dent else { return Ok(BendDentReport::default()) };
         let mut sides: Vec<Side<'s>> = Vec::new();
-        for c in contacts {
+        let progressive = dent.settings.progressive;
+        for c in contacts.iter().filter(|c| c.started || progressive) {
             for (mine, other, normal) in [(c.collider1, c.collider2, -c.normal), (c.collider2, c.collider1, c.normal)] {
                 if let Some(piece) = self.pieces.iter().find(|p| p.collider == mine)
                     && let Some(mesh) = surface(other)

@@ -278,7 +278,7 @@ impl Bendable {
             // Every split decided (and every contact checked) before any is made; one split per
             // piece per step.
             let mut splits: Vec<Split> = Vec::new();
-            for c in contacts {
+            for c in contacts.iter().filter(|c| c.started) {
                 if let Some(split) = self.split_of(c, speed, states, world)?
                     && !splits.iter().any(|s| s.piece == split.piece)
                 {

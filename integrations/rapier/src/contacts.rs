@@ -5,8 +5,10 @@
 //! `contact_force_event_threshold` (coming from below or from not touching). With
 //! [`ActiveEvents::CONTACT_FORCE_EVENTS`] and a threshold of 0 N that is the first step a pair
 //! pushes, and again after every bounce: one dent per impact, none while a body rests. The
-//! contact itself comes from the pair's *solver* manifolds (Rapier may cluster manifolds; only
-//! the solver's carry impulses): the impulse-weighted mean of the contacts that pushed.
+//! collector keeps the other force events too, flagged not `started`: progressive targets
+//! (paper Figure 3) deepen their dent on every step a push goes on above the dent threshold.
+//! The contact itself comes from the pair's *solver* manifolds (Rapier may cluster manifolds;
+//! only the solver's carry impulses): the impulse-weighted mean of the contacts that pushed.
 
 use std::sync::Mutex;
 
@@ -33,6 +35,9 @@ pub struct Contact {
     pub normal: Vec3,
     /// Normal impulse the solver applied over the step, N·s (0 when unknown).
     pub impulse: f32,
+    /// Whether this is the impact's first step (`ContactForceEvent::started`); later steps of
+    /// a push only dent progressive targets.
+    pub started: bool,
 }
 
 impl Contact {
@@ -67,10 +72,11 @@ struct RawImpact {
     points: Vec<(Vec3, Vec3, f32)>,
     /// World normal, 1 → 2.
     normal: Vec3,
+    started: bool,
 }
 
-/// A Rapier [`EventHandler`] that keeps the pairs whose force event `started` this step, with
-/// their solver contacts. Pass it to `PhysicsPipeline::step`, then take
+/// A Rapier [`EventHandler`] that keeps the pairs with a contact force event this step, with
+/// their solver contacts and whether the event `started`. Pass it to `PhysicsPipeline::step`, then take
 /// [`contacts`](Self::take_contacts).
 #[derive(Debug, Default)]
 pub struct ImpactCollector {
@@ -102,10 +108,8 @@ impl EventHandler for ImpactCollector {
         pair: &ContactPair,
         total_force_magnitude: Real,
     ) {
-        if !ContactForceEvent::from_contact_pair(dt, pair, total_force_magnitude).started {
-            return;
-        }
-        if let Some(raw) = raw_impact(pair) {
+        let started = ContactForceEvent::from_contact_pair(dt, pair, total_force_magnitude).started;
+        if let Some(raw) = raw_impact(pair, started) {
             self.raw.lock().unwrap_or_else(|e| e.into_inner()).push(raw);
         }
     }
@@ -115,7 +119,7 @@ impl EventHandler for ImpactCollector {
 
 /// The contacts of `pair`'s solver manifolds that pushed, and the normal of the manifold that
 /// pushed most; `None` when none pushed.
-fn raw_impact(pair: &ContactPair) -> Option<RawImpact> {
+fn raw_impact(pair: &ContactPair, started: bool) -> Option<RawImpact> {
     let mut points = Vec::new();
     let (mut best, mut normal) = (0.0, Vec3::ZERO);
     for m in pair.solver_manifolds() {
@@ -127,7 +131,13 @@ fn raw_impact(pair: &ContactPair) -> Option<RawImpact> {
             m.contacts().iter().filter(|c| c.data.impulse > 0.0).map(|c| (c.local_p1, c.local_p2, c.data.impulse)),
         );
     }
-    (!points.is_empty()).then_some(RawImpact { collider1: pair.collider1, collider2: pair.collider2, points, normal })
+    (!points.is_empty()).then_some(RawImpact {
+        collider1: pair.collider1,
+        collider2: pair.collider2,
+        points,
+        normal,
+        started,
+    })
 }
 
 /// `raw` in world coordinates: the impulse-weighted mean of the midpoints of the two
@@ -139,5 +149,12 @@ fn to_contact(raw: &RawImpact, states: &BodyStates) -> Option<Contact> {
     let point = raw.points.iter().fold(Vec3::ZERO, |acc, (p1, p2, j)| {
         acc + 0.5 * (pose1.transform_point3(*p1) + pose2.transform_point3(*p2)) * *j
     }) / impulse;
-    Some(Contact { collider1: raw.collider1, collider2: raw.collider2, point, normal: raw.normal, impulse })
+    Some(Contact {
+        collider1: raw.collider1,
+        collider2: raw.collider2,
+        point,
+        normal: raw.normal,
+        impulse,
+        started: raw.started,
+    })
 }

@@ -190,9 +190,9 @@ impl Dentables {
             let a = collider_side(c.collider1, states, bodies, colliders)?;
             let b = collider_side(c.collider2, states, bodies, colliders)?;
             for (target, projectile, into_target) in [(a, b, -c.normal), (b, a, c.normal)] {
-                if self.is_dentable(target.0)
-                    && (self.is_dentable(projectile.0) || self.surfaces.contains_key(&projectile.0))
-                {
+                let progressive = self.targets.settings(target.0).is_some_and(|s| s.progressive);
+                let surface = self.is_dentable(projectile.0) || self.surfaces.contains_key(&projectile.0);
+                if self.is_dentable(target.0) && surface && (c.started || progressive) {
                     sides.push(Side {
                         target: target.0,
                         projectile: projectile.0,

@@ -37,7 +37,14 @@ fn scene() -> Scene {
 
 /// A head-on hit of the ball on the block's top.
 fn good_contact(s: &Scene) -> Contact {
-    Contact { collider1: s.block, collider2: s.ball, point: Vec3::new(0.0, 0.25, 0.0), normal: Vec3::Y, impulse: 1.0 }
+    Contact {
+        collider1: s.block,
+        collider2: s.ball,
+        point: Vec3::new(0.0, 0.25, 0.0),
+        normal: Vec3::Y,
+        impulse: 1.0,
+        started: true,
+    }
 }
 
 /// Everything the adapter could change, to compare before and after.
@@ -177,6 +184,7 @@ fn the_adapter_checks_every_contact_before_it_splits_bends_or_dents() {
         point: Vec3::new(0.3, 0.102, 0.0),
         normal: Vec3::Y,
         impulse: 100.0,
+        started: true,
     };
     // Not on the plank: only the up-front check stops the split the first contact asks for.
     let gone = Contact { collider1: ball, collider2: extra_collider, ..hit };

@@ -38,8 +38,14 @@ fn dent_once(backend: &mut dyn DentBackend<ColliderHandle>) -> (TriMesh, TriMesh
     dentables.insert(&world.colliders, block, block_mesh, target_dent()).unwrap();
     dentables.insert(&world.colliders, ball, ball_mesh, ball_dent()).unwrap();
     let states = BodyStates::record(&world.bodies, &world.colliders);
-    let contact =
-        Contact { collider1: block, collider2: ball, point: Vec3::new(0.0, 0.25, 0.0), normal: Vec3::Y, impulse: 1.0 };
+    let contact = Contact {
+        collider1: block,
+        collider2: ball,
+        point: Vec3::new(0.0, 0.25, 0.0),
+        normal: Vec3::Y,
+        impulse: 1.0,
+        started: true,
+    };
     let report = dentables.process(&[contact], &states, &mut world.bodies, &mut world.colliders, backend).unwrap();
     assert_eq!(report.dents.len(), 2);
     (dentables.mesh(block).unwrap().clone(), dentables.mesh(ball).unwrap().clone())

@@ -96,6 +96,7 @@ fn a_bad_contact_changes_no_joint_or_body() {
         point: Vec3::new(f32::NAN, 0.0, 0.0),
         normal: Vec3::Y,
         impulse: 1.0,
+        started: true,
     };
     let err = p.adapter.after_step(&mut p.world, &states, vec![bad], 0.0).unwrap_err();
     assert!(matches!(err, AdapterError::NonFiniteContact { .. }), "{err}");
