@@ -7,21 +7,21 @@
 //! Frames: every piece's body frame is the bendable's rest frame (the mesh's coordinates), so a
 //! piece's Rapier pose *is* its bone's skinning transform (rest → world).
 
-use dentbend::bend::{Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
-use dentbend::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
+use dentbend::bend::{Skeleton, SkinWeights, WeightCache, WeightParams};
 use dentbend::mesh::TriMesh;
-use glam::{Affine3A, Quat, Vec3};
+use glam::{Quat, Vec3};
 use rapier3d::math::Pose;
 use rapier3d::prelude::{
-    ActiveEvents, ColliderHandle, GenericJoint, ImpulseJointHandle, RigidBodyBuilder, RigidBodyHandle,
+    ActiveEvents, ColliderBuilder, ColliderHandle, GenericJoint, ImpulseJointHandle, RigidBodyBuilder, RigidBodyHandle,
     SphericalJointBuilder,
 };
 
 use crate::contacts::Contact;
 use crate::elastic::ElasticJoint;
 use crate::plastic::PlasticJoint;
+use crate::split::{Split, hulls};
 use crate::world::PhysicsWorld;
-use crate::{AdapterError, BodyStates, convex_collider};
+use crate::{AdapterError, BodyStates};
 
 /// The angular rule of a bendable body's joints.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -141,11 +141,11 @@ pub struct BendReport {
 #[derive(Debug)]
 pub struct Bendable {
     pub(crate) rest: TriMesh,
-    skeleton: Skeleton,
+    pub(crate) skeleton: Skeleton,
     pub(crate) weights: SkinWeights,
     pub(crate) cache: WeightCache,
     pub(crate) pieces: Vec<Piece>,
-    joints: Vec<BendJoint>,
+    pub(crate) joints: Vec<BendJoint>,
     pub(crate) settings: BendSettings,
     pub(crate) dent: Option<crate::bend_dent::BendDent>,
 }
@@ -213,41 +213,6 @@ impl Bendable {
         self.pieces.iter().any(|p| p.collider == handle)
     }
 
-    /// Each bone's skinning transform (rest frame → world): its piece's Rapier pose.
-    ///
-    /// # Errors
-    /// [`AdapterError::UnknownBody`] when a piece's body was removed.
-    pub fn bone_transforms(&self, world: &PhysicsWorld) -> Result<Vec<Affine3A>, AdapterError> {
-        let mut out = vec![Affine3A::IDENTITY; self.skeleton.len()];
-        for p in &self.pieces {
-            let rb = world.bodies.get(p.body).ok_or(AdapterError::UnknownBody(p.body))?;
-            out[p.bone] = crate::to_affine(rb.position());
-        }
-        Ok(out)
-    }
-
-    /// The parent mesh skinned to the pieces' current poses (world, m), linear blend over the
-    /// skinning weights on the CPU.
-    ///
-    /// # Errors
-    /// As [`bone_transforms`](Self::bone_transforms), or a skinning failure.
-    pub fn skinned_mesh(&self, world: &PhysicsWorld) -> Result<TriMesh, AdapterError> {
-        self.skin_with(&self.bone_transforms(world)?)
-    }
-
-    /// The rest mesh skinned by `transforms` (one per bone, rest frame → world), m.
-    pub(crate) fn skin_with(&self, transforms: &[Affine3A]) -> Result<TriMesh, AdapterError> {
-        let bones: Vec<SkinBone> = transforms.iter().copied().map(SkinBone::from_affine).collect();
-        let influences: Vec<SkinInfluence> =
-            self.weights.influences4().into_iter().map(|(bones, weights)| SkinInfluence { bones, weights }).collect();
-        let n = self.rest.vertex_count();
-        let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
-        let params = SkinParams::new(n as u32, bones.len() as u32);
-        skin(&params, &bones, self.rest.positions(), self.rest.normals(), &influences, &mut positions, &mut normals)
-            .map_err(|e| AdapterError::Rig(e.to_string()))?;
-        Ok(TriMesh::new(positions, self.rest.faces().to_vec())?)
-    }
-
     /// After Rapier's step: splits bones where fast hits in `contacts` landed (dynamic
     /// articulation), then applies every joint's plastic or elastic rule.
     ///
@@ -303,107 +268,13 @@ impl Bendable {
         Ok(report)
     }
 
-    /// The split a contact asks for: (piece index, rest point, projectile body).
-    fn split_of(
-        &self,
-        c: &Contact,
-        speed: f32,
-        states: &BodyStates,
-        world: &PhysicsWorld,
-    ) -> Result<Option<Split>, AdapterError> {
-        let (piece, other, normal) = match self.pieces.iter().position(|p| p.collider == c.collider1) {
-            Some(i) => (i, c.collider2, -c.normal),
-            None => match self.pieces.iter().position(|p| p.collider == c.collider2) {
-                Some(i) => (i, c.collider1, c.normal),
-                None => return Ok(None),
-            },
-        };
-        let own = states.body(self.pieces[piece].body, &world.bodies)?;
-        let projectile = states.collider(other, &world.bodies, &world.colliders)?.parent();
-        let hitter = match projectile {
-            Some(b) => Some((b, states.body(b, &world.bodies)?)),
-            None => None,
-        };
-        let their = hitter.map(|(_, s)| s.velocity_at(c.point)).unwrap_or(Vec3::ZERO);
-        let approach = (their - own.velocity_at(c.point)).dot(normal.normalize());
-        if approach < speed {
-            return Ok(None);
-        }
-        let Some(pose) = states.body_pose(self.pieces[piece].body) else { return Ok(None) };
-        let rest_point = pose.inverse_transform_point(c.point);
-        let bone = self.pieces[piece].bone;
-        let b = &self.skeleton.bones()[bone];
-        let on_bone = b.point_at(b.project(rest_point).clamp(0.0, 1.0));
-        if self.joints.iter().any(|j| j.rest_point.distance(on_bone) < self.settings.min_joint_spacing) {
-            return Ok(None);
-        }
-        Ok(Some(Split { piece, rest_point, projectile: hitter.map(|(b, _)| b) }))
-    }
-
-    /// Splits the bone of `split.piece` at `split.rest_point`; a point too near the bone's ends
-    /// is no split.
-    fn split(
-        &mut self,
-        world: &mut PhysicsWorld,
-        states: &BodyStates,
-        split: Split,
-        report: &mut BendReport,
-    ) -> Result<(), AdapterError> {
-        let old = self.pieces[split.piece];
-        let mut skeleton = self.skeleton.clone();
-        let Ok((first, second)) = skeleton.split_bone(old.bone, split.rest_point) else { return Ok(()) };
-        let weights =
-            self.weights.after_split(&self.rest, &skeleton, old.bone, (first, second), &self.cache).map_err(rig)?;
-        let hulls = hulls(&self.rest, &weights, &self.cache, self.settings.density, &[first, second])?;
-        let (Some(pose), state) = (states.body_pose(old.body), states.body(old.body, &world.bodies)?) else {
-            return Ok(());
-        };
-        // Checked: commit.
-        let attached: Vec<usize> = (0..self.joints.len())
-            .filter(|&j| [self.joints[j].parent, self.joints[j].child].contains(&old.bone))
-            .collect();
-        world.remove_body(old.body);
-        report.removed_colliders.push(old.collider);
-        self.skeleton = skeleton;
-        self.weights = weights;
-        let mut made = Vec::new();
-        for (bone, hull) in hulls {
-            let velocity = (state.linear_velocity, state.angular_velocity);
-            made.push(self.add_piece(world, bone, hull, pose, velocity, Some(state.center_of_mass)));
-        }
-        self.pieces[split.piece] = made[0];
-        self.pieces.push(made[1]);
-        for j in attached {
-            let mut joint = self.joints[j];
-            if joint.parent == old.bone && self.skeleton.bones()[joint.child].parent == Some(second) {
-                joint.parent = second;
-            }
-            let rebuilt = self.add_joint(world, joint.parent, joint.child, joint.rest_point, joint.dynamic)?;
-            self.joints[j] = BendJoint { handle: rebuilt.handle, ..joint };
-        }
-        let at = self.skeleton.bones()[second].head;
-        let joint = self.add_joint(world, first, second, at, true)?;
-        self.joints.push(joint);
-        report.joints_created += 1;
-        if let Some(body) = split.projectile
-            && let (Some(p), Ok(s)) = (states.body_pose(body), states.body(body, &world.bodies))
-            && let Some(rb) = world.bodies.get_mut(body)
-            && rb.is_dynamic()
-        {
-            rb.set_position(p, true);
-            rb.set_linvel(s.linear_velocity, true);
-            rb.set_angvel(s.angular_velocity, true);
-        }
-        Ok(())
-    }
-
     /// Adds bone `bone`'s body with collider `hull` at `pose`, moving with `velocity` (linear
     /// m/s of the point `com`, angular rad/s; `com` None: the body's own centre of mass).
-    fn add_piece(
+    pub(crate) fn add_piece(
         &self,
         world: &mut PhysicsWorld,
         bone: usize,
-        hull: rapier3d::prelude::ColliderBuilder,
+        hull: ColliderBuilder,
         pose: Pose,
         velocity: (Vec3, Vec3),
         com: Option<Vec3>,
@@ -427,7 +298,7 @@ impl Bendable {
 
     /// Joins bones `parent` and `child` at `rest_point` (rest frame) with the settings' rule, at
     /// rest in their current relative orientation.
-    fn add_joint(
+    pub(crate) fn add_joint(
         &self,
         world: &mut PhysicsWorld,
         parent: usize,
@@ -458,33 +329,7 @@ impl Bendable {
     }
 }
 
-/// A split to make.
-#[derive(Debug, Clone, Copy)]
-struct Split {
-    piece: usize,
-    rest_point: Vec3,
-    projectile: Option<RigidBodyHandle>,
-}
-
-/// The convex-hull collider of each of `bones`' sub-bodies.
-fn hulls(
-    mesh: &TriMesh,
-    weights: &SkinWeights,
-    cache: &WeightCache,
-    density: f32,
-    bones: &[usize],
-) -> Result<Vec<(usize, rapier3d::prelude::ColliderBuilder)>, AdapterError> {
-    let subs = SubBodies::compute(mesh, weights, cache.level_set(), density).map_err(rig)?;
-    bones
-        .iter()
-        .map(|&bone| {
-            let (sub, _) = subs.sub_mesh(mesh, bone).map_err(rig)?;
-            Ok((bone, convex_collider(&sub)?))
-        })
-        .collect()
-}
-
-fn rig(e: dentbend::bend::BendError) -> AdapterError {
+pub(crate) fn rig(e: dentbend::bend::BendError) -> AdapterError {
     AdapterError::Rig(e.to_string())
 }
 

@@ -54,6 +54,8 @@ mod error;
 mod gpu;
 mod plastic;
 mod refit;
+mod skinned;
+mod split;
 mod states;
 mod world;
 
