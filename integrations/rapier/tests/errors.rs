@@ -195,3 +195,22 @@ fn the_adapter_checks_every_contact_before_it_splits_bends_or_dents() {
     assert!(p.plank().joints().is_empty());
     assert_eq!(p.plank().rest_mesh().positions(), mesh::plank(4.0, 0.3, 0.1, 64).unwrap().positions());
 }
+
+#[test]
+fn unknown_ids_are_named() {
+    let mut s = scene();
+    let states = BodyStates::record(&s.world.bodies, &s.world.colliders);
+    let stranger = RigidBodyHandle::from_raw_parts(999, 0);
+    let err = states.body(stranger, &s.world.bodies).unwrap_err();
+    assert!(matches!(err, AdapterError::UnknownBody(h) if h == stranger), "{err}");
+    // Registering an unknown collider changes nothing.
+    let collider = ColliderHandle::from_raw_parts(999, 0);
+    let err = s.dentables.insert(&s.world.colliders, collider, mesh::icosphere(0.1, 1).unwrap(), target_dent());
+    assert!(matches!(err, Err(AdapterError::UnknownCollider(h)) if h == collider));
+    assert!(!s.dentables.is_dentable(collider));
+    // A mesh that does not match its tri-mesh collider is refused.
+    let err = s.dentables.insert(&s.world.colliders, s.block, mesh::icosphere(0.1, 1).unwrap(), target_dent());
+    assert!(matches!(err, Err(AdapterError::Refit { .. })), "{err:?}");
+    let block = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16]).unwrap();
+    assert_eq!(s.dentables.mesh(s.block).unwrap().positions(), block.positions());
+}
