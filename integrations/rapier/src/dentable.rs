@@ -146,6 +146,11 @@ impl Dentables {
         }
         let targets = &self.targets;
         let hits: Vec<Hit<'_, ColliderHandle>> = sides.iter().filter_map(|s| self.hit(s)).collect();
+        if hits.is_empty() {
+            // Nothing to dent; progressive dents gone stale end at the next hit's planning.
+            self.step = step;
+            return Ok(DentReport { dent_seconds: started.elapsed().as_secs_f64(), ..DentReport::default() });
+        }
         let mut damage = self.damage.clone();
         let plan = damage.plan(targets, &hits, step, backend)?;
         let dent_seconds = started.elapsed().as_secs_f64();
