@@ -131,12 +131,15 @@ impl Adapter {
         report.collider_seconds = dents.collider_seconds;
         let start = Instant::now();
         let Self { bendables, dentables, backend, .. } = self;
+        let mut bend_colliders = 0.0;
         for b in bendables.iter_mut() {
             let r = b.dent_parent(world, states, &live, |h| dentables.surface(h), backend.as_mut())?;
             report.dents.extend(r.dents);
             report.refitted.extend(r.refitted.into_iter().map(|c| (c, r.moved)));
+            bend_colliders += r.collider_seconds;
         }
-        report.dent_seconds += start.elapsed().as_secs_f64() + checked;
+        report.dent_seconds += start.elapsed().as_secs_f64() - bend_colliders + checked;
+        report.collider_seconds += bend_colliders;
         report.contacts = contacts;
         Ok(report)
     }

@@ -44,6 +44,8 @@ pub struct BendDentReport {
     pub moved: usize,
     /// Pieces whose colliders were refitted.
     pub refitted: Vec<ColliderHandle>,
+    /// Seconds spent on the pieces' new hulls (wall clock).
+    pub collider_seconds: f64,
 }
 
 impl Bendable {
@@ -126,9 +128,12 @@ impl Bendable {
             return Ok(BendDentReport::default());
         };
         let rest = self.mapped_back(&skinned, &dented.mesh, &dented.moved, &transforms)?;
+        let refit_start = std::time::Instant::now();
         let refits = self.refits(&rest, &dented.moved)?;
+        let mut collider_seconds = refit_start.elapsed().as_secs_f64();
 
         // Checked: commit.
+        let commit_start = std::time::Instant::now();
         let mut report = BendDentReport { moved: dented.moved.len(), ..BendDentReport::default() };
         for (collider, shape) in refits {
             if let Some(c) = world.colliders.get_mut(collider) {
@@ -136,6 +141,8 @@ impl Bendable {
                 report.refitted.push(collider);
             }
         }
+        collider_seconds += commit_start.elapsed().as_secs_f64();
+        report.collider_seconds = collider_seconds;
         self.rest = rest;
         if let Some(d) = &mut self.dent {
             (d.damage, d.step) = (damage, step);

@@ -62,7 +62,7 @@ pub struct PlankTotals {
     pub max_dent_depth: f32,
     /// Dent decisions, maps and the mapping back to the rest frame, s.
     pub dent_seconds: f64,
-    /// Collider refits (hulls of dented pieces), s — counted in `dent_seconds`.
+    /// Collider refits (hulls of dented pieces), s.
     pub collider_seconds: f64,
     /// Rapier's step, s.
     pub physics_seconds: f64,
