@@ -198,7 +198,7 @@ impl Bendable {
         &self.skeleton
     }
 
-    /// The pieces, one per bone.
+    /// The pieces, one per bone, in bone order (`pieces()[b].bone == b`).
     pub fn pieces(&self) -> &[Piece] {
         &self.pieces
     }

@@ -148,3 +148,12 @@ fn the_ball_dents_the_plank_where_it_lands() {
     }
     assert!(plank.skinned_mesh(&p.world).unwrap().positions().iter().all(|q| q.is_finite()));
 }
+
+#[test]
+fn pieces_stay_in_bone_order_after_the_split() {
+    let mut p = Plank::new(64).unwrap();
+    p.run(SETTLE).unwrap();
+    for (b, piece) in p.plank().pieces().iter().enumerate() {
+        assert_eq!(piece.bone, b);
+    }
+}
