@@ -4,6 +4,7 @@
 mod backend;
 pub mod buffers;
 mod context;
+mod dent_backend;
 mod denter;
 pub mod displace;
 pub mod envelope_cols;
@@ -23,6 +24,7 @@ pub mod zbuffer;
 
 pub use backend::{Backend, shared_context};
 pub use context::{GpuContext, WAIT_TIMEOUT};
+pub use dent_backend::GpuBackend;
 pub use denter::{GpuBatchError, GpuDentInfo, GpuDenter, GpuDenterOptions, GpuStages};
 pub use error::GpuError;
 pub use interleave::{InterleaveError, VertexLayout};

@@ -8,11 +8,8 @@ use glam::Vec3;
 use serde::Serialize;
 
 use super::{BodyKind, CollisionEvent, SimError, StepContext, World, body_state};
-use crate::dent::{
-    BatchError, BatchOutcome, CpuBackend, Damage, DamageError, DentBackend, DentError, DentJob, DentTargets, Hit,
-    Impact, TargetView, moved_between,
-};
-use crate::gpu::{GpuContext, GpuDenter};
+use crate::dent::{CpuBackend, Damage, DamageError, DentBackend, DentError, DentTargets, Hit, Impact, TargetView};
+use crate::gpu::{GpuBackend, GpuContext};
 use crate::mesh::TriMesh;
 
 /// One dent made during a run.
@@ -36,48 +33,8 @@ pub struct DentRecord {
 
 /// Runs the dents of each step's collisions.
 pub struct Denter {
-    gpu: Option<GpuBackend>,
+    gpu: Option<GpuBackend<usize>>,
     damage: Damage<usize>,
-}
-
-/// Batches on the GPU, plain dentable bodies resident there (slot per world index).
-struct GpuBackend {
-    denter: GpuDenter,
-    slots: Vec<Option<usize>>,
-}
-
-impl DentBackend<usize> for GpuBackend {
-    fn dent_batch(
-        &mut self,
-        targets: &mut [(usize, TriMesh)],
-        jobs: &[DentJob<'_>],
-    ) -> Result<BatchOutcome, BatchError> {
-        let slot = |body: usize| self.slots.get(body).copied().flatten().unwrap_or(usize::MAX);
-        let mut gpu_jobs = jobs.to_vec();
-        for job in &mut gpu_jobs {
-            job.target = slot(targets[job.target].0);
-        }
-        let failed = |message: String| BatchError { job: 0, error: DentError::Backend(message) };
-        let infos = self.denter.dent_batch(&gpu_jobs).map_err(|e| failed(e.to_string()))?;
-        // The GPU reports the plan of each dent; what moved is read back below.
-        let reports = infos
-            .iter()
-            .map(|i| crate::dent::DentReport {
-                theta_deg: i.theta_deg,
-                resolution: i.resolution,
-                map_resolution: i.map_resolution,
-                cell_size: i.cell_size,
-                ..Default::default()
-            })
-            .collect();
-        let mut moved = Vec::with_capacity(targets.len());
-        for (body, mesh) in targets.iter_mut() {
-            let dented = self.denter.read_mesh(slot(*body)).map_err(|e| failed(e.to_string()))?;
-            moved.push(moved_between(mesh, &dented));
-            *mesh = dented;
-        }
-        Ok(BatchOutcome { reports, moved })
-    }
 }
 
 impl std::fmt::Debug for Denter {
@@ -112,16 +69,14 @@ impl Denter {
         let gpu = match gpu {
             None => None,
             Some(context) => {
-                let mut slots = vec![None; world.bodies().len()];
-                let mut meshes = Vec::new();
-                for (k, body) in world.bodies().iter().enumerate() {
-                    if body.dent.as_ref().is_some_and(|d| !d.progressive) {
-                        slots[k] = Some(meshes.len());
-                        meshes.push(body.mesh().clone());
-                    }
-                }
-                let denter = GpuDenter::new(context, &meshes).map_err(|e| SimError::Gpu(e.to_string()))?;
-                Some(GpuBackend { denter, slots })
+                let mut backend = GpuBackend::new(context);
+                // The plain dentable bodies go resident now, once, instead of at their first hit.
+                let plain: Vec<(usize, TriMesh)> = (world.bodies().iter().enumerate())
+                    .filter(|(_, body)| body.dent.as_ref().is_some_and(|d| !d.progressive))
+                    .map(|(k, body)| (k, body.mesh().clone()))
+                    .collect();
+                backend.make_resident(&plain).map_err(|e| SimError::Gpu(e.to_string()))?;
+                Some(backend)
             }
         };
         Ok(Self { gpu, damage: Damage::new() })

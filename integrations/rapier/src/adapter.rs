@@ -1,0 +1,146 @@
+//! One call per step: record the bodies' states, step Rapier, split and bend the bendable
+//! bodies, dent the dentable colliders — timing each part.
+
+use std::time::Instant;
+
+use dentbend::dent::{AppliedDent, CpuBackend, DentBackend};
+use rapier3d::prelude::ColliderHandle;
+
+use crate::{AdapterError, Bendable, BodyStates, Contact, Dentables, ImpactCollector, PhysicsWorld};
+
+/// What one [`Adapter::step`] did, with wall-clock timings (s).
+#[derive(Debug, Clone, Default)]
+pub struct StepReport {
+    /// Impacts reported by Rapier this step.
+    pub contacts: Vec<Contact>,
+    /// Dents made.
+    pub dents: Vec<AppliedDent<ColliderHandle>>,
+    /// Colliders refitted, with their moved vertex counts.
+    pub refitted: Vec<(ColliderHandle, usize)>,
+    /// Joints made by dynamic articulation.
+    pub joints_created: usize,
+    /// Plastic joints that yielded.
+    pub plastic_bends: usize,
+    /// Rapier's `PhysicsPipeline::step`, s.
+    pub physics_seconds: f64,
+    /// Dents: contact extraction and checks, dent decisions, maps, meshes, s.
+    pub dent_seconds: f64,
+    /// Collider refits, s.
+    pub collider_seconds: f64,
+    /// Splits and joint rules, s.
+    pub bend_seconds: f64,
+}
+
+/// Dentable colliders and bendable bodies of one [`PhysicsWorld`], and where dents run.
+pub struct Adapter {
+    /// The dentable colliders.
+    pub dentables: Dentables,
+    /// The bendable bodies.
+    pub bendables: Vec<Bendable>,
+    collector: ImpactCollector,
+    backend: Box<dyn DentBackend<ColliderHandle>>,
+}
+
+impl Default for Adapter {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl std::fmt::Debug for Adapter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Adapter").field("dentables", &self.dentables).field("bendables", &self.bendables).finish()
+    }
+}
+
+impl Adapter {
+    /// Nothing dentable or bendable yet; dents on all CPU cores.
+    pub fn new() -> Self {
+        Self::with_backend(Box::new(CpuBackend))
+    }
+
+    /// As [`new`](Self::new), dents on `backend` (the GPU one, or your own).
+    pub fn with_backend(backend: Box<dyn DentBackend<ColliderHandle>>) -> Self {
+        Self { dentables: Dentables::new(), bendables: Vec::new(), collector: ImpactCollector::new(), backend }
+    }
+
+    /// Steps `world` once, then splits and bends the bendable bodies and dents the dentable
+    /// colliders from the step's impacts.
+    ///
+    /// # Errors
+    /// A bad contact, an unknown or removed body or collider: Rapier's step has run, the adapter
+    /// changed no mesh, collider, body or joint (contacts and the bodies they name are checked
+    /// before anything else). A dent that fails on the backend (a lost GPU) after the bendable
+    /// bodies were split and bent leaves the meshes and colliders unchanged.
+    pub fn step(&mut self, world: &mut PhysicsWorld) -> Result<StepReport, AdapterError> {
+        let states = BodyStates::record(&world.bodies, &world.colliders);
+        let start = Instant::now();
+        world.step(&self.collector);
+        let physics_seconds = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let contacts = self.collector.take_contacts(&states);
+        let extraction = start.elapsed().as_secs_f64();
+        let mut report = self.after_step(world, &states, contacts, physics_seconds)?;
+        report.dent_seconds += extraction;
+        Ok(report)
+    }
+
+    /// The adapter's half of a step, for callers who step Rapier themselves: `states` recorded
+    /// before the step, `contacts` its impacts ([`ImpactCollector::take_contacts`]).
+    ///
+    /// # Errors
+    /// As [`step`](Self::step).
+    pub fn after_step(
+        &mut self,
+        world: &mut PhysicsWorld,
+        states: &BodyStates,
+        contacts: Vec<Contact>,
+        physics_seconds: f64,
+    ) -> Result<StepReport, AdapterError> {
+        // Every contact and every body it names is checked before anything changes.
+        let checks = Instant::now();
+        for c in &contacts {
+            c.validate()?;
+            for handle in [c.collider1, c.collider2] {
+                if let Some(body) = states.collider(handle, &world.bodies, &world.colliders)?.parent() {
+                    states.body(body, &world.bodies)?;
+                }
+            }
+        }
+        let checked = checks.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let mut report = StepReport { physics_seconds, ..StepReport::default() };
+        let mut removed = Vec::new();
+        for b in &mut self.bendables {
+            let r = b.after_step(world, states, &contacts)?;
+            report.joints_created += r.joints_created;
+            report.plastic_bends += r.plastic_bends;
+            removed.extend(r.removed_colliders);
+        }
+        report.bend_seconds = start.elapsed().as_secs_f64();
+        let live: Vec<Contact> = contacts
+            .iter()
+            .filter(|c| !removed.contains(&c.collider1) && !removed.contains(&c.collider2))
+            .copied()
+            .collect();
+        let dents =
+            self.dentables.process(&live, states, &mut world.bodies, &mut world.colliders, self.backend.as_mut())?;
+        report.dents = dents.dents;
+        report.refitted = dents.refitted;
+        report.dent_seconds = dents.dent_seconds;
+        report.collider_seconds = dents.collider_seconds;
+        let start = Instant::now();
+        let Self { bendables, dentables, backend, .. } = self;
+        let mut bend_colliders = 0.0;
+        for b in bendables.iter_mut() {
+            let r = b.dent_parent(world, states, &live, |h| dentables.surface(h), backend.as_mut())?;
+            report.dents.extend(r.dents);
+            report.refitted.extend(r.refitted.into_iter().map(|c| (c, r.moved)));
+            bend_colliders += r.collider_seconds;
+        }
+        report.dent_seconds += start.elapsed().as_secs_f64() - bend_colliders + checked;
+        report.collider_seconds += bend_colliders;
+        report.contacts = contacts;
+        Ok(report)
+    }
+}

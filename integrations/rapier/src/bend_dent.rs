@@ -1,0 +1,220 @@
+//! Denting a bendable body's parent mesh (paper §4, last paragraph): skin the rest mesh to the
+//! pieces' poses at the start of the step, dent the skinned mesh like a plain body's (any
+//! [`DentBackend`]), map each moved vertex's displacement back to the rest frame through the
+//! inverse of its blended linear part, and give every piece owning a moved vertex the convex
+//! hull of its new sub-mesh. The weights and the level set are kept (a dent of millimetres
+//! moves the surface by less than a cell); Rapier recomputes each refitted piece's mass from its
+//! new hull.
+
+use dentbend::bend::SubBodies;
+use dentbend::dent::{BodyState, Damage, DentBackend, DentSettings, Hit, Impact, Surface, TargetSet};
+use dentbend::mesh::TriMesh;
+use glam::{Affine3A, Mat3, Vec3};
+use rapier3d::prelude::{ColliderHandle, SharedShape};
+
+use crate::{AdapterError, Bendable, BodyStates, Contact, PhysicsWorld};
+
+/// Determinant under which a vertex's blended linear part counts as singular (bones turned
+/// nearly 180° against each other); its dominant bone's rotation is inverted instead.
+pub const SINGULAR_BLEND: f32 = 1e-3;
+
+/// The key of the parent mesh in the dent planning (projectiles are keyed by their colliders).
+fn parent_key() -> ColliderHandle {
+    ColliderHandle::invalid()
+}
+
+/// A contact on a piece: (piece body, piece collider, projectile collider, projectile surface,
+/// point, normal into the piece, impulse N·s).
+type Side<'s> = (rapier3d::prelude::RigidBodyHandle, ColliderHandle, ColliderHandle, &'s TriMesh, Vec3, Vec3, f32);
+
+/// A bendable body's denting: its settings and progressive state.
+#[derive(Debug, Clone)]
+pub(crate) struct BendDent {
+    settings: DentSettings,
+    damage: Damage<ColliderHandle>,
+    step: u64,
+}
+
+/// What denting a bendable body did.
+#[derive(Debug, Clone, Default)]
+pub struct BendDentReport {
+    /// Dents made (target: the hit piece's collider).
+    pub dents: Vec<dentbend::dent::AppliedDent<ColliderHandle>>,
+    /// Rest vertices that moved.
+    pub moved: usize,
+    /// Pieces whose colliders were refitted.
+    pub refitted: Vec<ColliderHandle>,
+    /// Seconds spent on the pieces' new hulls (wall clock).
+    pub collider_seconds: f64,
+}
+
+impl Bendable {
+    /// Makes the parent mesh dentable with `settings`.
+    ///
+    /// # Errors
+    /// Invalid settings.
+    pub fn set_dentable(&mut self, settings: DentSettings) -> Result<(), AdapterError> {
+        settings.validate()?;
+        self.dent = Some(BendDent { settings, damage: Damage::new(), step: 0 });
+        Ok(())
+    }
+
+    /// Dents the parent mesh by the `contacts` on its pieces whose other collider has a
+    /// surface (`surface` gives it, collider frame), on `backend`. No-op unless
+    /// [`set_dentable`](Self::set_dentable) was called.
+    ///
+    /// # Errors
+    /// A removed body or collider, a failed dent or hull; nothing changed then.
+    pub fn dent_parent<'s>(
+        &mut self,
+        world: &mut PhysicsWorld,
+        states: &BodyStates,
+        contacts: &[Contact],
+        surface: impl Fn(ColliderHandle) -> Option<&'s TriMesh>,
+        backend: &mut dyn DentBackend<ColliderHandle>,
+    ) -> Result<BendDentReport, AdapterError> {
+        let Some(dent) = &self.dent else { return Ok(BendDentReport::default()) };
+        let mut sides: Vec<Side<'s>> = Vec::new();
+        let progressive = dent.settings.progressive;
+        for c in contacts.iter().filter(|c| c.started || progressive) {
+            for (mine, other, normal) in [(c.collider1, c.collider2, -c.normal), (c.collider2, c.collider1, c.normal)] {
+                if let Some(piece) = self.pieces.iter().find(|p| p.collider == mine)
+                    && let Some(mesh) = surface(other)
+                {
+                    // One impact of a projectile on the parent mesh, even when it touches
+                    // several pieces (near a joint): the contact that pushed most.
+                    match sides.iter().position(|s: &Side<'_>| s.2 == other) {
+                        Some(i) if sides[i].6 >= c.impulse => {}
+                        Some(i) => sides[i] = (piece.body, mine, other, mesh, c.point, normal, c.impulse),
+                        None => sides.push((piece.body, mine, other, mesh, c.point, normal, c.impulse)),
+                    }
+                }
+            }
+        }
+        if sides.is_empty() {
+            return Ok(BendDentReport::default());
+        }
+        let transforms = self.pre_step_transforms(states)?;
+        let skinned = self.skin_with(&transforms)?;
+        let mut targets = TargetSet::new();
+        targets.insert(parent_key(), skinned.clone(), Affine3A::IDENTITY, dent.settings.clone())?;
+        let mut hits = Vec::with_capacity(sides.len());
+        for &(body, _, other, mesh, point, normal, _) in &sides {
+            let target_state = states.body(body, &world.bodies)?;
+            let collider = states.collider(other, &world.bodies, &world.colliders)?;
+            let projectile_state = match collider.parent() {
+                Some(b) => states.body(b, &world.bodies)?,
+                None => BodyState::FIXED,
+            };
+            let pose = states.collider_pose(other).unwrap_or_else(|| crate::to_affine(collider.position()));
+            targets.insert_rigid(other);
+            let Ok(impact) = Impact::from_contact(point, normal, &target_state, &projectile_state) else { continue };
+            hits.push(Hit {
+                target: parent_key(),
+                projectile: other,
+                impact,
+                target_state,
+                projectile_state,
+                projectile_surface: Surface { mesh, to_world: pose },
+            });
+        }
+        let mut damage = dent.damage.clone();
+        let step = dent.step + 1;
+        let plan = damage.plan(&targets, &hits, step, backend)?;
+        let Some(dented) = plan.targets.into_iter().find(|t| t.key == parent_key()) else {
+            if let Some(d) = &mut self.dent {
+                (d.damage, d.step) = (damage, step);
+            }
+            return Ok(BendDentReport::default());
+        };
+        let rest = self.mapped_back(&skinned, &dented.mesh, &dented.moved, &transforms)?;
+        let refit_start = std::time::Instant::now();
+        let refits = self.refits(&rest, &dented.moved)?;
+        let mut collider_seconds = refit_start.elapsed().as_secs_f64();
+
+        // Checked: commit.
+        let commit_start = std::time::Instant::now();
+        let mut report = BendDentReport { moved: dented.moved.len(), ..BendDentReport::default() };
+        for (collider, shape) in refits {
+            if let Some(c) = world.colliders.get_mut(collider) {
+                c.set_shape(shape);
+                report.refitted.push(collider);
+            }
+        }
+        collider_seconds += commit_start.elapsed().as_secs_f64();
+        report.collider_seconds = collider_seconds;
+        self.rest = rest;
+        if let Some(d) = &mut self.dent {
+            (d.damage, d.step) = (damage, step);
+        }
+        let piece_of = |point: Vec3| sides.iter().find(|s| s.4 == point).map(|s| s.1).unwrap_or_else(parent_key);
+        report.dents = plan
+            .dents
+            .into_iter()
+            .map(|d| dentbend::dent::AppliedDent { target: piece_of(d.impact.point), ..d })
+            .collect();
+        Ok(report)
+    }
+
+    /// Each bone's transform at the start of the step (its piece's recorded pose).
+    fn pre_step_transforms(&self, states: &BodyStates) -> Result<Vec<Affine3A>, AdapterError> {
+        let mut out = vec![Affine3A::IDENTITY; self.pieces.len()];
+        for p in &self.pieces {
+            let pose = states.body_pose(p.body).ok_or(AdapterError::NotRecorded(p.body))?;
+            out[p.bone] = crate::to_affine(&pose);
+        }
+        Ok(out)
+    }
+
+    /// The rest mesh with the displacements `dented − skinned` of `moved` mapped back through
+    /// each vertex's blended linear part.
+    fn mapped_back(
+        &self,
+        skinned: &TriMesh,
+        dented: &TriMesh,
+        moved: &[u32],
+        transforms: &[Affine3A],
+    ) -> Result<TriMesh, AdapterError> {
+        let mut positions = self.rest.positions().to_vec();
+        for &v in moved {
+            let v = v as usize;
+            let (bones, weights) = self.weights.influences(v);
+            let blend: Mat3 =
+                bones.iter().zip(weights).map(|(&b, &w)| Mat3::from(transforms[b as usize].matrix3) * w).sum();
+            let inverse = if blend.determinant().abs() > SINGULAR_BLEND {
+                blend.inverse()
+            } else {
+                let b = self.weights.dominant_bone(v).unwrap_or(0);
+                Mat3::from(transforms[b].matrix3).transpose()
+            };
+            positions[v] += inverse * (dented.positions()[v] - skinned.positions()[v]);
+        }
+        let mut rest = self.rest.clone();
+        rest.set_positions(positions)?;
+        Ok(rest)
+    }
+
+    /// New hulls for the pieces owning a vertex of `moved`, from `rest`.
+    fn refits(&self, rest: &TriMesh, moved: &[u32]) -> Result<Vec<(ColliderHandle, SharedShape)>, AdapterError> {
+        let rig = |e: dentbend::bend::BendError| AdapterError::Rig(e.to_string());
+        let subs =
+            SubBodies::compute(rest, &self.weights, self.cache.level_set(), self.settings.density).map_err(rig)?;
+        let owners = subs.triangle_bones();
+        let mut bones: Vec<usize> = Vec::new();
+        for (t, face) in rest.faces().iter().enumerate() {
+            if face.iter().any(|v| moved.binary_search(v).is_ok()) && !bones.contains(&(owners[t] as usize)) {
+                bones.push(owners[t] as usize);
+            }
+        }
+        let mut out = Vec::new();
+        for p in self.pieces.iter().filter(|p| bones.contains(&p.bone)) {
+            let (sub, _) = subs.sub_mesh(rest, p.bone).map_err(rig)?;
+            let hull = SharedShape::convex_hull(sub.positions()).ok_or_else(|| AdapterError::Refit {
+                collider: p.collider,
+                reason: "no convex hull of the dented sub-body".into(),
+            })?;
+            out.push((p.collider, hull));
+        }
+        Ok(out)
+    }
+}

@@ -1,0 +1,212 @@
+//! `rapier_rain`: balls rain in waves on the bunny and a block, both fixed tri-mesh colliders;
+//! everything dents (the balls are convex hulls of icospheres that the bunny and the block dent
+//! back). 60 Hz.
+
+use std::collections::HashMap;
+
+use dentbend::dent::{AppliedDent, CpuBackend, DentBackend, DentSettings};
+use dentbend::mesh::{self, TriMesh};
+use glam::{Affine3A, Vec3};
+use rapier3d::prelude::{ActiveEvents, ColliderBuilder, ColliderHandle, RigidBodyBuilder, RigidBodyHandle};
+
+use super::Lcg;
+use crate::{Adapter, AdapterError, PhysicsWorld, StepReport, convex_collider, trimesh_collider};
+
+/// Ball radius, m.
+pub const BALL_RADIUS: f32 = 0.12;
+/// Ball mass, kg.
+pub const BALL_MASS: f32 = 2.0;
+/// Where the bunny stands (the middle of its base), world, m.
+pub const BUNNY_AT: Vec3 = Vec3::new(-1.2, 0.0, 0.0);
+/// Where the block's centre is, world, m.
+pub const BLOCK_AT: Vec3 = Vec3::new(1.3, 0.25, 0.0);
+/// Block size, m.
+pub const BLOCK_SIZE: Vec3 = Vec3::new(1.6, 0.5, 1.6);
+
+/// The bunny's and the block's dent settings: threshold 2 m/s, 8 mm per m/s above it, at most
+/// 4 cm; σ 4 cm.
+pub fn target_dent() -> DentSettings {
+    let mut s = DentSettings::new(2.0, 0.008, 0.04);
+    s.params.sigma = Some(0.04);
+    s
+}
+
+/// The balls' dent settings: threshold 3 m/s, 2 mm per m/s above it, at most 1 cm; σ 2 cm.
+pub fn ball_dent() -> DentSettings {
+    let mut s = DentSettings::new(3.0, 0.002, 0.01);
+    s.params.sigma = Some(0.02);
+    s
+}
+
+/// The run's size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RainSettings {
+    /// Steps of 1/60 s.
+    pub steps: usize,
+    /// Balls in all.
+    pub balls: usize,
+    /// Waves they come in, one every `wave_interval` steps from step 0.
+    pub waves: usize,
+    /// Steps between waves.
+    pub wave_interval: usize,
+    /// Jitter seed.
+    pub seed: u64,
+}
+
+impl Default for RainSettings {
+    fn default() -> Self {
+        Self { steps: 300, balls: 32, waves: 4, wave_interval: 45, seed: 7 }
+    }
+}
+
+/// Totals of a run.
+#[derive(Debug, Clone, Default)]
+pub struct RainTotals {
+    /// Steps run.
+    pub steps: usize,
+    /// Every dent, with the step it was made on.
+    pub dents: Vec<(usize, AppliedDent<ColliderHandle>)>,
+    /// Seconds in Rapier's step, dents, collider refits.
+    pub physics_seconds: f64,
+    /// Dent decisions and maps, s.
+    pub dent_seconds: f64,
+    /// Collider refits, s.
+    pub collider_seconds: f64,
+}
+
+/// The scene, stepped by [`Rain::step`].
+pub struct Rain {
+    /// The Rapier world.
+    pub world: PhysicsWorld,
+    /// The adapter (all CPU).
+    pub adapter: Adapter,
+    /// The bunny's collider (fixed, tri-mesh).
+    pub bunny: ColliderHandle,
+    /// The block's collider (fixed, tri-mesh).
+    pub block: ColliderHandle,
+    /// The balls launched so far.
+    pub balls: Vec<(RigidBodyHandle, ColliderHandle)>,
+    /// Every dentable collider's mesh before the run (collider frame).
+    pub initial: HashMap<ColliderHandle, TriMesh>,
+    settings: RainSettings,
+    rng: Lcg,
+    ball_mesh: TriMesh,
+    step: usize,
+}
+
+impl Rain {
+    /// The scene before the first wave.
+    ///
+    /// # Errors
+    /// A mesh or collider that cannot be built (none for the defaults).
+    pub fn new(settings: RainSettings) -> Result<Self, AdapterError> {
+        Self::with_backend(settings, Box::new(CpuBackend))
+    }
+
+    /// The scene with its dents on `backend`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn with_backend(
+        settings: RainSettings,
+        backend: Box<dyn DentBackend<ColliderHandle>>,
+    ) -> Result<Self, AdapterError> {
+        let mut world = PhysicsWorld::new(Vec3::new(0.0, -9.81, 0.0), 1.0 / 60.0);
+        let mut adapter = Adapter::with_backend(backend);
+        let mut initial = HashMap::new();
+        let ground = world.bodies.insert(RigidBodyBuilder::fixed().translation(Vec3::new(0.0, -0.1, 0.0)));
+        world.colliders.insert_with_parent(ColliderBuilder::cuboid(10.0, 0.1, 10.0), ground, &mut world.bodies);
+
+        let mut bunny_mesh = mesh::builtin("bunny")?;
+        bunny_mesh.transform(Affine3A::from_scale(Vec3::splat(0.15)))?;
+        let bunny = add_fixed(&mut world, &bunny_mesh, BUNNY_AT)?;
+        let block_mesh = mesh::subdivided_box(BLOCK_SIZE, [32, 10, 32])?;
+        let block = add_fixed(&mut world, &block_mesh, BLOCK_AT)?;
+        for (handle, mesh) in [(bunny, bunny_mesh), (block, block_mesh)] {
+            adapter.dentables.insert(&world.colliders, handle, mesh.clone(), target_dent())?;
+            initial.insert(handle, mesh);
+        }
+        let ball_mesh = mesh::icosphere(BALL_RADIUS, 2)?;
+        let rng = Lcg::new(settings.seed);
+        Ok(Self { world, adapter, bunny, block, balls: Vec::new(), initial, settings, rng, ball_mesh, step: 0 })
+    }
+
+    /// The run's settings.
+    pub fn settings(&self) -> RainSettings {
+        self.settings
+    }
+
+    /// Steps once (launching a wave first when one is due).
+    ///
+    /// # Errors
+    /// As [`Adapter::step`].
+    pub fn step(&mut self) -> Result<StepReport, AdapterError> {
+        let s = self.settings;
+        if self.step.is_multiple_of(s.wave_interval.max(1)) && self.step / s.wave_interval.max(1) < s.waves {
+            self.launch_wave()?;
+        }
+        self.step += 1;
+        self.adapter.step(&mut self.world)
+    }
+
+    /// Runs every step.
+    ///
+    /// # Errors
+    /// As [`step`](Self::step).
+    pub fn run(&mut self) -> Result<RainTotals, AdapterError> {
+        let mut totals = RainTotals::default();
+        for i in 0..self.settings.steps {
+            let r = self.step()?;
+            totals.steps += 1;
+            totals.physics_seconds += r.physics_seconds;
+            totals.dent_seconds += r.dent_seconds;
+            totals.collider_seconds += r.collider_seconds;
+            totals.dents.extend(r.dents.into_iter().map(|d| (i, d)));
+        }
+        Ok(totals)
+    }
+
+    /// One wave: half the wave's balls over the bunny, half over the block, 1.2–2.2 m above
+    /// their tops, falling at 1 m/s.
+    fn launch_wave(&mut self) -> Result<(), AdapterError> {
+        let per_wave = self.settings.balls.div_ceil(self.settings.waves.max(1));
+        let density = BALL_MASS / self.ball_mesh.volume();
+        for k in 0..per_wave {
+            if self.balls.len() >= self.settings.balls {
+                break;
+            }
+            let (centre, half, top) = if k % 2 == 0 {
+                (BUNNY_AT, 0.45, 1.45)
+            } else {
+                (BLOCK_AT, 0.5 * BLOCK_SIZE.x - 0.15, BLOCK_AT.y + 0.5 * BLOCK_SIZE.y)
+            };
+            let x = centre.x + self.rng.range(-half, half);
+            let z = centre.z + self.rng.range(-half, half);
+            let y = top + self.rng.range(1.2, 2.2);
+            let body = self
+                .world
+                .bodies
+                .insert(RigidBodyBuilder::dynamic().translation(Vec3::new(x, y, z)).linvel(Vec3::new(0.0, -1.0, 0.0)));
+            let collider = convex_collider(&self.ball_mesh)?
+                .density(density)
+                .restitution(0.3)
+                .active_events(ActiveEvents::CONTACT_FORCE_EVENTS)
+                .contact_force_event_threshold(0.0);
+            let collider = self.world.colliders.insert_with_parent(collider, body, &mut self.world.bodies);
+            self.adapter.dentables.insert(&self.world.colliders, collider, self.ball_mesh.clone(), ball_dent())?;
+            self.initial.insert(collider, self.ball_mesh.clone());
+            self.balls.push((body, collider));
+        }
+        Ok(())
+    }
+}
+
+/// A fixed tri-mesh collider of `mesh` (its own coordinates) on a fixed body at `at`, m.
+fn add_fixed(world: &mut PhysicsWorld, mesh: &TriMesh, at: Vec3) -> Result<ColliderHandle, AdapterError> {
+    let body = world.bodies.insert(RigidBodyBuilder::fixed().translation(at));
+    let collider = trimesh_collider(mesh)?
+        .active_events(ActiveEvents::CONTACT_FORCE_EVENTS)
+        .contact_force_event_threshold(0.0)
+        .friction(0.6);
+    Ok(world.colliders.insert_with_parent(collider, body, &mut world.bodies))
+}

@@ -1,0 +1,76 @@
+//! dentbend for Rapier 0.36: dentable colliders and bendable bodies.
+//!
+//! Denting (paper §3): record the bodies' states before `PhysicsPipeline::step`
+//! ([`BodyStates::record`]), step with an [`ImpactCollector`] as the event handler, then hand
+//! its impacts to [`Dentables::process`], which dents the dentable colliders' meshes (on the
+//! CPU or any [`DentBackend`](dentbend::dent::DentBackend)) and refits their colliders.
+//!
+//! Bending (paper §4): [`Bendable`] drives a body split into Rapier bodies joined by impulse
+//! joints whose plasticity and elasticity the adapter applies each step, splits a body where a
+//! fast hit lands, and skins the parent mesh from the Rapier poses.
+//!
+//! Units: metres, seconds, kilograms, radians; world coordinates unless a doc says otherwise.
+//!
+//! # Example
+//! A ball falls on a dentable block; the block's collider is refitted to its dent.
+//! ```
+//! use dentbend_rapier::dentbend::{dent::DentSettings, mesh};
+//! use dentbend_rapier::rapier3d::prelude::{ActiveEvents, RigidBodyBuilder};
+//! use dentbend_rapier::{Adapter, PhysicsWorld, convex_collider, trimesh_collider};
+//! use glam::Vec3;
+//!
+//! let mut world = PhysicsWorld::new(Vec3::new(0.0, -9.81, 0.0), 1.0 / 60.0);
+//! let mut adapter = Adapter::new();
+//! let block_mesh = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16])?;
+//! let fixed = world.bodies.insert(RigidBodyBuilder::fixed());
+//! let events = ActiveEvents::CONTACT_FORCE_EVENTS;
+//! let block = trimesh_collider(&block_mesh)?.active_events(events).contact_force_event_threshold(0.0);
+//! let block = world.colliders.insert_with_parent(block, fixed, &mut world.bodies);
+//! // 2 m/s threshold, 1 cm per m/s above it, at most 5 cm.
+//! adapter.dentables.insert(&world.colliders, block, block_mesh, DentSettings::new(2.0, 0.01, 0.05))?;
+//!
+//! let ball_mesh = mesh::icosphere(0.1, 2)?;
+//! let ball = RigidBodyBuilder::dynamic().translation(Vec3::new(0.0, 0.4, 0.0)).linvel(-6.0 * Vec3::Y);
+//! let ball = world.bodies.insert(ball);
+//! let collider = convex_collider(&ball_mesh)?.density(2000.0);
+//! let collider = world.colliders.insert_with_parent(collider, ball, &mut world.bodies);
+//! adapter.dentables.insert_projectile(&world.colliders, collider, ball_mesh)?;
+//!
+//! let mut dents = 0;
+//! for _ in 0..30 {
+//!     dents += adapter.step(&mut world)?.dents.len();
+//! }
+//! assert_eq!(dents, 1);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod adapter;
+mod bend_dent;
+mod bendable;
+mod contacts;
+mod dentable;
+mod elastic;
+mod error;
+mod plastic;
+mod refit;
+mod skinned;
+mod split;
+mod states;
+mod world;
+
+pub use adapter::{Adapter, StepReport};
+pub use bend_dent::{BendDentReport, SINGULAR_BLEND};
+pub use bendable::{BendJoint, BendReport, BendSettings, Bendable, JointKind, JointRule, Piece};
+pub mod demo;
+pub use contacts::{Contact, ImpactCollector};
+pub use dentable::{DentReport, Dentables};
+pub use dentbend::gpu::GpuBackend;
+pub use elastic::ElasticJoint;
+pub use error::AdapterError;
+pub use plastic::{DRIFT_CORRECTION, JointStep, PlasticJoint};
+pub use refit::{Refit, ShapeKind, convex_collider, prepare_refit, refit_collider, shape_kind, trimesh_collider};
+pub use states::{BodyStates, body_state, to_affine};
+pub use world::PhysicsWorld;
+
+pub use dentbend;
+pub use rapier3d;

@@ -1,0 +1,133 @@
+//! Dynamic articulation (paper §4.2): a hit whose approach speed reaches the body's split
+//! speed splits the bone it lands on at the contact's projection, replacing the hit piece by
+//! two Rapier bodies joined by a new joint.
+
+use dentbend::bend::{SkinWeights, SubBodies, WeightCache};
+use dentbend::mesh::TriMesh;
+use glam::Vec3;
+use rapier3d::prelude::{ColliderBuilder, RigidBodyHandle};
+
+use crate::bendable::{BendJoint, BendReport, rig};
+use crate::{AdapterError, Bendable, BodyStates, Contact, PhysicsWorld, convex_collider};
+
+impl Bendable {
+    /// The split a contact asks for: (piece index, rest point, projectile body).
+    pub(crate) fn split_of(
+        &self,
+        c: &Contact,
+        speed: f32,
+        states: &BodyStates,
+        world: &PhysicsWorld,
+    ) -> Result<Option<Split>, AdapterError> {
+        let (piece, other, normal) = match self.pieces.iter().position(|p| p.collider == c.collider1) {
+            Some(i) => (i, c.collider2, -c.normal),
+            None => match self.pieces.iter().position(|p| p.collider == c.collider2) {
+                Some(i) => (i, c.collider1, c.normal),
+                None => return Ok(None),
+            },
+        };
+        let own = states.body(self.pieces[piece].body, &world.bodies)?;
+        let projectile = states.collider(other, &world.bodies, &world.colliders)?.parent();
+        let hitter = match projectile {
+            Some(b) => Some((b, states.body(b, &world.bodies)?)),
+            None => None,
+        };
+        let their = hitter.map(|(_, s)| s.velocity_at(c.point)).unwrap_or(Vec3::ZERO);
+        let approach = (their - own.velocity_at(c.point)).dot(normal.normalize());
+        if approach < speed {
+            return Ok(None);
+        }
+        let Some(pose) = states.body_pose(self.pieces[piece].body) else { return Ok(None) };
+        let rest_point = pose.inverse_transform_point(c.point);
+        let bone = self.pieces[piece].bone;
+        let b = &self.skeleton.bones()[bone];
+        let on_bone = b.point_at(b.project(rest_point).clamp(0.0, 1.0));
+        if self.joints.iter().any(|j| j.rest_point.distance(on_bone) < self.settings.min_joint_spacing) {
+            return Ok(None);
+        }
+        Ok(Some(Split { piece, rest_point, projectile: hitter.map(|(b, _)| b) }))
+    }
+
+    /// Splits the bone of `split.piece` at `split.rest_point`; a point too near the bone's ends
+    /// is no split.
+    pub(crate) fn split(
+        &mut self,
+        world: &mut PhysicsWorld,
+        states: &BodyStates,
+        split: Split,
+        report: &mut BendReport,
+    ) -> Result<(), AdapterError> {
+        let old = self.pieces[split.piece];
+        let mut skeleton = self.skeleton.clone();
+        let Ok((first, second)) = skeleton.split_bone(old.bone, split.rest_point) else { return Ok(()) };
+        let weights =
+            self.weights.after_split(&self.rest, &skeleton, old.bone, (first, second), &self.cache).map_err(rig)?;
+        let hulls = hulls(&self.rest, &weights, &self.cache, self.settings.density, &[first, second])?;
+        let (Some(pose), state) = (states.body_pose(old.body), states.body(old.body, &world.bodies)?) else {
+            return Ok(());
+        };
+        // Checked: commit.
+        let attached: Vec<usize> = (0..self.joints.len())
+            .filter(|&j| [self.joints[j].parent, self.joints[j].child].contains(&old.bone))
+            .collect();
+        world.remove_body(old.body);
+        report.removed_colliders.push(old.collider);
+        self.skeleton = skeleton;
+        self.weights = weights;
+        let mut made = Vec::new();
+        for (bone, hull) in hulls {
+            let velocity = (state.linear_velocity, state.angular_velocity);
+            made.push(self.add_piece(world, bone, hull, pose, velocity, Some(state.center_of_mass)));
+        }
+        self.pieces[split.piece] = made[0];
+        self.pieces.push(made[1]);
+        for j in attached {
+            let mut joint = self.joints[j];
+            if joint.parent == old.bone && self.skeleton.bones()[joint.child].parent == Some(second) {
+                joint.parent = second;
+            }
+            let rebuilt = self.add_joint(world, joint.parent, joint.child, joint.rest_point, joint.dynamic)?;
+            self.joints[j] = BendJoint { handle: rebuilt.handle, ..joint };
+        }
+        let at = self.skeleton.bones()[second].head;
+        let joint = self.add_joint(world, first, second, at, true)?;
+        self.joints.push(joint);
+        report.joints_created += 1;
+        if let Some(body) = split.projectile
+            && let (Some(p), Ok(s)) = (states.body_pose(body), states.body(body, &world.bodies))
+            && let Some(rb) = world.bodies.get_mut(body)
+            && rb.is_dynamic()
+        {
+            rb.set_position(p, true);
+            rb.set_linvel(s.linear_velocity, true);
+            rb.set_angvel(s.angular_velocity, true);
+        }
+        Ok(())
+    }
+}
+
+/// A split to make.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Split {
+    pub(crate) piece: usize,
+    rest_point: Vec3,
+    projectile: Option<RigidBodyHandle>,
+}
+
+/// The convex-hull collider of each of `bones`' sub-bodies.
+pub(crate) fn hulls(
+    mesh: &TriMesh,
+    weights: &SkinWeights,
+    cache: &WeightCache,
+    density: f32,
+    bones: &[usize],
+) -> Result<Vec<(usize, ColliderBuilder)>, AdapterError> {
+    let subs = SubBodies::compute(mesh, weights, cache.level_set(), density).map_err(rig)?;
+    bones
+        .iter()
+        .map(|&bone| {
+            let (sub, _) = subs.sub_mesh(mesh, bone).map_err(rig)?;
+            Ok((bone, convex_collider(&sub)?))
+        })
+        .collect()
+}

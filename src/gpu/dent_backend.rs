@@ -1,0 +1,127 @@
+//! Dents on the GPU for the world-free damage API: a [`DentBackend`] keyed by the caller's ids
+//! whose targets stay resident on the device ([`GpuDenter`]) between steps. A target whose mesh the GPU has not seen (a new dentable
+//! collider, or a mesh changed outside the backend) makes it upload every known target again;
+//! otherwise a batch uploads nothing but its jobs and reads back the dented targets.
+
+use std::collections::HashMap;
+use std::hash::Hash;
+
+use super::{GpuBatchError, GpuContext, GpuDenter};
+use crate::dent::{BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentReport, moved_between};
+use crate::mesh::TriMesh;
+
+/// Batches on a GPU, targets resident there, keyed by the caller's ids.
+pub struct GpuBackend<K> {
+    context: GpuContext,
+    denter: Option<GpuDenter>,
+    slots: HashMap<K, usize>,
+    meshes: Vec<TriMesh>,
+}
+
+impl<K> std::fmt::Debug for GpuBackend<K> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GpuBackend").field("resident", &self.meshes.len()).finish()
+    }
+}
+
+impl<K: Copy + Eq + Hash> GpuBackend<K> {
+    /// A backend on `context` (e.g. [`shared_context`](super::shared_context), or an
+    /// application's device through [`GpuContext::from_device`]); nothing resident yet.
+    pub fn new(context: &GpuContext) -> Self {
+        Self { context: context.clone(), denter: None, slots: HashMap::new(), meshes: Vec::new() }
+    }
+
+    /// Forgets `key` (its mesh leaves the device at the next upload).
+    pub fn forget(&mut self, key: K) {
+        if let Some(slot) = self.slots.remove(&key) {
+            self.meshes.remove(slot);
+            self.slots.values_mut().filter(|s| **s > slot).for_each(|s| *s -= 1);
+            self.denter = None;
+        }
+    }
+
+    /// Makes `targets` (ids and current meshes) resident now, uploading once, so that their
+    /// first batch uploads nothing but its jobs.
+    ///
+    /// # Errors
+    /// [`DentError::Backend`] when the upload fails.
+    pub fn make_resident(&mut self, targets: &[(K, TriMesh)]) -> Result<(), DentError> {
+        self.resident(targets).map(|_| ())
+    }
+
+    /// Makes every target of the batch resident with its current mesh; the slot of each.
+    fn resident(&mut self, targets: &[(K, TriMesh)]) -> Result<Vec<usize>, DentError> {
+        let mut stale = self.denter.is_none();
+        for (key, mesh) in targets {
+            match self.slots.get(key) {
+                Some(&slot) if self.meshes[slot].positions() == mesh.positions() => {}
+                Some(&slot) => {
+                    self.meshes[slot] = mesh.clone();
+                    stale = true;
+                }
+                None => {
+                    self.slots.insert(*key, self.meshes.len());
+                    self.meshes.push(mesh.clone());
+                    stale = true;
+                }
+            }
+        }
+        if stale {
+            self.denter = None;
+            let denter = GpuDenter::new(&self.context, &self.meshes).map_err(|e| DentError::Backend(e.to_string()))?;
+            self.denter = Some(denter);
+        }
+        Ok(targets.iter().map(|(k, _)| self.slots[k]).collect())
+    }
+}
+
+impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
+    fn dent_batch(&mut self, targets: &mut [(K, TriMesh)], jobs: &[DentJob<'_>]) -> Result<BatchOutcome, BatchError> {
+        let slots = self.resident(targets).map_err(|error| BatchError { job: 0, error })?;
+        let mut gpu_jobs = jobs.to_vec();
+        for job in &mut gpu_jobs {
+            job.target = slots[job.target];
+        }
+        let failed = |error: String| BatchError { job: 0, error: DentError::Backend(error) };
+        let Some(denter) = self.denter.as_mut() else { return Err(failed("no resident targets".into())) };
+        let infos = denter.dent_batch(&gpu_jobs).map_err(|e| match e {
+            GpuBatchError::Job(job) => job,
+            GpuBatchError::Gpu(e) => failed(e.to_string()),
+        });
+        let infos = match infos {
+            Ok(infos) => infos,
+            Err(e) => {
+                // The device may hold a half-applied batch: upload again next time.
+                self.denter = None;
+                return Err(e);
+            }
+        };
+        let reports = infos
+            .iter()
+            .map(|i| DentReport {
+                theta_deg: i.theta_deg,
+                resolution: i.resolution,
+                map_resolution: i.map_resolution,
+                cell_size: i.cell_size,
+                ..Default::default()
+            })
+            .collect();
+        let mut dented = Vec::with_capacity(targets.len());
+        for &slot in &slots {
+            match denter.read_mesh(slot) {
+                Ok(mesh) => dented.push(mesh),
+                Err(e) => {
+                    self.denter = None;
+                    return Err(failed(e.to_string()));
+                }
+            }
+        }
+        let mut moved = Vec::with_capacity(targets.len());
+        for (((_, mesh), new), &slot) in targets.iter_mut().zip(dented).zip(&slots) {
+            moved.push(moved_between(mesh, &new));
+            self.meshes[slot] = new.clone();
+            *mesh = new;
+        }
+        Ok(BatchOutcome { reports, moved })
+    }
+}
