@@ -1,7 +1,12 @@
 //! # dentbend
 //!
-//! Real-time denting and bending of rigid bodies without finite elements, after Heo, Hashemi,
-//! Fedkiw et al., *Efficient Denting and Bending of Rigid Bodies* (SCA 2014).
+//! Real-time denting and bending of rigid bodies without finite elements, after Patkar,
+//! Aanjaneya, Bartle, Lee and Fedkiw, *Efficient Denting and Bending of Rigid Bodies* (SCA 2014).
+//!
+//! Denting works with any rigid-body solver: feed your contacts to the world-free damage API
+//! ([`dent::Damage`], keyed by your own body ids) and apply the meshes, moved vertices and
+//! projectile offsets it returns; `dentbend-rapier` does this for Rapier. The rig and the
+//! plastic / elastic joint rules are in [`bend`]. See ARCHITECTURE.md for the layers.
 //!
 //! ## Data flow of a dent (paper Algorithm 1)
 //!
