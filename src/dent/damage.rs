@@ -194,25 +194,30 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
         let (progressive, plain): (Vec<_>, Vec<_>) =
             decided.into_iter().partition(|d| view(targets, d).settings.progressive);
         let mut plan = plain_dents(targets, &plain, backend)?;
-        let mut progress = self.progress.clone();
-        progress.end_stale(step);
+        // Progressive state changes only once the whole plan stands: this step's contacts are
+        // staged (a contact hit twice in one step deepens its staged dent).
+        let mut staged: ProgressiveDents<K, TriMesh> = ProgressiveDents::new();
         for d in &progressive {
             let target = view(targets, d);
-            let (pre_dent, distance) =
-                progress.next(d.data.target, d.data.projectile, d.distance, target.settings.material.cap, || {
-                    latest(&plan, d.data.target).unwrap_or(target.mesh).clone()
-                });
+            let (key, projectile) = (d.data.target, d.data.projectile);
+            let limits = (d.distance, target.settings.material.cap);
+            let (pre_dent, distance) = if staged.contains(key, projectile) {
+                staged.next(key, projectile, step, limits, || target.mesh.clone())
+            } else {
+                self.progress.next(key, projectile, step, limits, || latest(&plan, key).unwrap_or(target.mesh).clone())
+            };
             let Some(mesh) = dent_one(&target, d, distance, &pre_dent)? else { continue };
             // Rebuilt from the pre-dent surface: what moved is what differs from the surface now.
-            let moved = moved_between(latest(&plan, d.data.target).unwrap_or(target.mesh), &mesh);
-            progress.record(d.data.target, d.data.projectile, pre_dent, distance, step);
+            let moved = moved_between(latest(&plan, key).unwrap_or(target.mesh), &mesh);
+            staged.record(key, projectile, pre_dent, distance, step);
             plan.dents.push(applied(&target, d, distance));
-            match plan.targets.iter_mut().find(|t| t.key == d.data.target) {
+            match plan.targets.iter_mut().find(|t| t.key == key) {
                 Some(t) => merge(t, mesh, moved),
-                None => plan.targets.push(DentedTarget { key: d.data.target, mesh, moved }),
+                None => plan.targets.push(DentedTarget { key, mesh, moved }),
             }
         }
-        self.progress = progress;
+        self.progress.end_stale(step);
+        self.progress.absorb(staged);
         Ok(plan)
     }
 }

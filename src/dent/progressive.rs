@@ -46,12 +46,19 @@ impl<K: Copy + PartialEq, M: Clone> ProgressiveDents<K, M> {
         self.contacts.is_empty()
     }
 
-    /// The surface to rebuild `target`'s dent by `projectile` from, and the distance (m) the
-    /// dent will have after adding `more` m, at most `cap` m: the pre-dent surface of a contact
-    /// under way, else `current()` (the surface now, which becomes the contact's pre-dent one
-    /// when [`record`](Self::record)ed).
-    pub fn next(&self, target: K, projectile: K, more: f32, cap: f32, current: impl FnOnce() -> M) -> (M, f32) {
-        match self.find(target, projectile) {
+    /// The surface to rebuild `target`'s dent by `projectile` from at step `step`, and the
+    /// distance (m) the dent will have after adding `more` m, at most `cap` m: the pre-dent
+    /// surface of a contact under way (hit at `step` − 1 or later), else `current()` (the surface
+    /// now, which becomes the contact's pre-dent one when [`record`](Self::record)ed).
+    pub fn next(
+        &self,
+        target: K,
+        projectile: K,
+        step: u64,
+        (more, cap): (f32, f32),
+        current: impl FnOnce() -> M,
+    ) -> (M, f32) {
+        match self.find(target, projectile).filter(|&k| self.contacts[k].last_step + 1 >= step) {
             Some(k) => (self.contacts[k].pre_dent.clone(), (self.contacts[k].accumulated + more).min(cap)),
             None => (current(), more.min(cap)),
         }
@@ -67,6 +74,21 @@ impl<K: Copy + PartialEq, M: Clone> ProgressiveDents<K, M> {
             }
             None => {
                 self.contacts.push(Progress { target, projectile, pre_dent, accumulated: distance, last_step: step })
+            }
+        }
+    }
+
+    /// Whether the contact of `target` and `projectile` is under way (recorded, stale or not).
+    pub fn contains(&self, target: K, projectile: K) -> bool {
+        self.find(target, projectile).is_some()
+    }
+
+    /// Takes `newer`'s contacts, replacing the same contacts here.
+    pub fn absorb(&mut self, newer: Self) {
+        for p in newer.contacts {
+            match self.find(p.target, p.projectile) {
+                Some(k) => self.contacts[k] = p,
+                None => self.contacts.push(p),
             }
         }
     }
