@@ -59,14 +59,19 @@ pub trait DentTargets<K> {
     fn target(&self, key: K) -> Option<TargetView<'_>>;
 }
 
-/// Where a batch of dents runs: dents `targets` (the caller's id and a copy of its mesh) by
-/// `jobs` (whose `target` indexes `targets`) in place.
+/// Where a batch of dents runs: dents `meshes` (copies of the targets' meshes; `keys[i]` is the
+/// caller's id of `meshes[i]`) by `jobs` (whose `target` indexes `meshes`) in place.
 pub trait DentBackend<K> {
     /// Runs the batch.
     ///
     /// # Errors
     /// [`BatchError`] naming the first bad job; the meshes are unchanged then.
-    fn dent_batch(&mut self, targets: &mut [(K, TriMesh)], jobs: &[DentJob<'_>]) -> Result<BatchOutcome, BatchError>;
+    fn dent_batch(
+        &mut self,
+        keys: &[K],
+        meshes: &mut [TriMesh],
+        jobs: &[DentJob<'_>],
+    ) -> Result<BatchOutcome, BatchError>;
 }
 
 /// Batches on all CPU cores ([`dent_batch_tracked`]).
@@ -74,13 +79,13 @@ pub trait DentBackend<K> {
 pub struct CpuBackend;
 
 impl<K> DentBackend<K> for CpuBackend {
-    fn dent_batch(&mut self, targets: &mut [(K, TriMesh)], jobs: &[DentJob<'_>]) -> Result<BatchOutcome, BatchError> {
-        let mut meshes: Vec<TriMesh> = targets.iter().map(|(_, m)| m.clone()).collect();
-        let outcome = dent_batch_tracked(&mut meshes, jobs)?;
-        for ((_, mesh), dented) in targets.iter_mut().zip(meshes) {
-            *mesh = dented;
-        }
-        Ok(outcome)
+    fn dent_batch(
+        &mut self,
+        _: &[K],
+        meshes: &mut [TriMesh],
+        jobs: &[DentJob<'_>],
+    ) -> Result<BatchOutcome, BatchError> {
+        dent_batch_tracked(meshes, jobs)
     }
 }
 
@@ -308,14 +313,15 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
             projectiles.push(mesh);
         }
     }
-    let mut batch: Vec<(K, TriMesh)> = Vec::new();
+    let (mut keys, mut meshes): (Vec<K>, Vec<TriMesh>) = (Vec::new(), Vec::new());
     let mut jobs = Vec::with_capacity(kept.len());
     for (d, projectile) in kept.iter().zip(&projectiles) {
-        let slot = match batch.iter().position(|(k, _)| *k == d.data.target) {
+        let slot = match keys.iter().position(|k| *k == d.data.target) {
             Some(slot) => slot,
             None => {
-                batch.push((d.data.target, view(targets, d).mesh.clone()));
-                batch.len() - 1
+                keys.push(d.data.target);
+                meshes.push(view(targets, d).mesh.clone());
+                keys.len() - 1
             }
         };
         jobs.push(job(&view(targets, d), d, d.distance, projectile, slot));
@@ -323,13 +329,13 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
     if jobs.is_empty() {
         return Ok(DamagePlan { dents: Vec::new(), targets: Vec::new() });
     }
-    let outcome = backend.dent_batch(&mut batch, &jobs).map_err(|e| {
+    let outcome = backend.dent_batch(&keys, &mut meshes, &jobs).map_err(|e| {
         let d = &kept[e.job];
         DamageError::Dent { hit: d.hit, target: format!("{:?}", d.data.target), error: e.error }
     })?;
     let dents = kept.iter().map(|d| applied(&view(targets, d), d, d.distance)).collect();
-    let targets =
-        batch.into_iter().zip(outcome.moved).map(|((key, mesh), moved)| DentedTarget { key, mesh, moved }).collect();
+    let dented = keys.into_iter().zip(meshes).zip(outcome.moved);
+    let targets = dented.map(|((key, mesh), moved)| DentedTarget { key, mesh, moved }).collect();
     Ok(DamagePlan { dents, targets })
 }
 

@@ -1,7 +1,7 @@
 //! How a body dents when it is hit (paper Algorithm 1, lines 14–20).
 
 use super::error::invalid;
-use super::{DentError, DentMaterial, DentParams};
+use super::{DentError, DentMaterial, DentParams, Impact};
 
 /// A dentable body's denting behaviour.
 #[derive(Debug, Clone)]
@@ -33,6 +33,14 @@ impl DentSettings {
             move_projectile: false,
             progressive: false,
         }
+    }
+
+    /// Whether a hit at `impact` can dent at all: its speed along the denting normal is above the
+    /// material's threshold (m/s). A cheap test to run on every contact before gathering the
+    /// bodies' states for [`Hit`](super::Hit)s; [`decide_dent_distance`](super::decide_dent_distance)
+    /// makes the same test first, so skipping what fails it changes nothing.
+    pub fn may_dent(&self, impact: &Impact) -> bool {
+        impact.relative_velocity.dot(impact.unit_normal()) > self.material.threshold
     }
 
     /// Checks the material, the hardness and the dent shape.

@@ -40,19 +40,19 @@ impl<K: Copy + Eq + Hash> GpuBackend<K> {
         }
     }
 
-    /// Makes `targets` (ids and current meshes) resident now, uploading once, so that their
+    /// Makes `meshes` (current meshes; `keys[i]` the id of `meshes[i]`) resident now, uploading once, so that their
     /// first batch uploads nothing but its jobs.
     ///
     /// # Errors
     /// [`DentError::Backend`] when the upload fails.
-    pub fn make_resident(&mut self, targets: &[(K, TriMesh)]) -> Result<(), DentError> {
-        self.resident(targets).map(|_| ())
+    pub fn make_resident(&mut self, keys: &[K], meshes: &[TriMesh]) -> Result<(), DentError> {
+        self.resident(keys, meshes).map(|_| ())
     }
 
     /// Makes every target of the batch resident with its current mesh; the slot of each.
-    fn resident(&mut self, targets: &[(K, TriMesh)]) -> Result<Vec<usize>, DentError> {
+    fn resident(&mut self, keys: &[K], meshes: &[TriMesh]) -> Result<Vec<usize>, DentError> {
         let mut stale = self.denter.is_none();
-        for (key, mesh) in targets {
+        for (key, mesh) in keys.iter().zip(meshes) {
             match self.slots.get(key) {
                 Some(&slot) if self.meshes[slot].positions() == mesh.positions() => {}
                 Some(&slot) => {
@@ -71,13 +71,18 @@ impl<K: Copy + Eq + Hash> GpuBackend<K> {
             let denter = GpuDenter::new(&self.context, &self.meshes).map_err(|e| DentError::Backend(e.to_string()))?;
             self.denter = Some(denter);
         }
-        Ok(targets.iter().map(|(k, _)| self.slots[k]).collect())
+        Ok(keys.iter().map(|k| self.slots[k]).collect())
     }
 }
 
 impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
-    fn dent_batch(&mut self, targets: &mut [(K, TriMesh)], jobs: &[DentJob<'_>]) -> Result<BatchOutcome, BatchError> {
-        let slots = self.resident(targets).map_err(|error| BatchError { job: 0, error })?;
+    fn dent_batch(
+        &mut self,
+        keys: &[K],
+        targets: &mut [TriMesh],
+        jobs: &[DentJob<'_>],
+    ) -> Result<BatchOutcome, BatchError> {
+        let slots = self.resident(keys, targets).map_err(|error| BatchError { job: 0, error })?;
         let mut gpu_jobs = jobs.to_vec();
         for job in &mut gpu_jobs {
             job.target = slots[job.target];
@@ -117,7 +122,7 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
             }
         }
         let mut moved = Vec::with_capacity(targets.len());
-        for (((_, mesh), new), &slot) in targets.iter_mut().zip(dented).zip(&slots) {
+        for ((mesh, new), &slot) in targets.iter_mut().zip(dented).zip(&slots) {
             moved.push(moved_between(mesh, &new));
             self.meshes[slot] = new.clone();
             *mesh = new;

@@ -71,11 +71,11 @@ impl Denter {
             Some(context) => {
                 let mut backend = GpuBackend::new(context);
                 // The plain dentable bodies go resident now, once, instead of at their first hit.
-                let plain: Vec<(usize, TriMesh)> = (world.bodies().iter().enumerate())
+                let (keys, meshes): (Vec<usize>, Vec<TriMesh>) = (world.bodies().iter().enumerate())
                     .filter(|(_, body)| body.dent.as_ref().is_some_and(|d| !d.progressive))
                     .map(|(k, body)| (k, body.mesh().clone()))
-                    .collect();
-                backend.make_resident(&plain).map_err(|e| SimError::Gpu(e.to_string()))?;
+                    .unzip();
+                backend.make_resident(&keys, &meshes).map_err(|e| SimError::Gpu(e.to_string()))?;
                 Some(backend)
             }
         };
@@ -121,9 +121,7 @@ impl Denter {
         let mut hits = Vec::new();
         for event in events {
             for (sign, target, projectile) in [(1.0f32, event.a, event.b), (-1.0, event.b, event.a)] {
-                if bodies.get(target).is_none_or(|b| b.dent.is_none()) {
-                    continue;
-                }
+                let Some(settings) = bodies.get(target).and_then(|b| b.dent.as_ref()) else { continue };
                 // Into the target, the projectile's velocity relative to it, carried with it.
                 let impact = Impact {
                     point: event.point,
@@ -131,6 +129,9 @@ impl Denter {
                     relative_velocity: sign * event.relative_velocity,
                 }
                 .transformed(context.motion(target));
+                if !settings.may_dent(&impact) {
+                    continue;
+                }
                 hits.push(Hit {
                     target,
                     projectile,
