@@ -4,6 +4,7 @@
 //! `cargo run --release -p dentbend-rapier --example rapier_plank -- --json FILE`
 
 use dentbend_rapier::demo::plank::Plank;
+use dentbend_rapier::demo::report::{json_arg, publish};
 
 /// Steps of 1/60 s: the ball lands within 0.1 s, the bend settles well before 2 s.
 const STEPS: usize = 120;
@@ -39,27 +40,6 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         "max_bend_deg": totals.max_bend_deg,
         "final_bend_deg": final_bend,
     });
-    let text = serde_json::to_string_pretty(&json)?;
-    println!("{text}");
-    if let Some(path) = json_path {
-        let path = std::path::Path::new(&path);
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)?;
-        }
-        std::fs::write(path, text + "\n")?;
-    }
+    publish(&serde_json::to_string_pretty(&json)?, json_path.as_deref())?;
     Ok(())
-}
-
-/// The FILE of `--json FILE`, if given.
-fn json_arg() -> Result<Option<String>, String> {
-    let mut args = std::env::args().skip(1);
-    let mut path = None;
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--json" => path = Some(args.next().ok_or("--json needs a file name")?),
-            other => return Err(format!("unknown argument {other} (usage: --json FILE)")),
-        }
-    }
-    Ok(path)
 }

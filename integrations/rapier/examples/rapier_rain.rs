@@ -6,6 +6,7 @@
 //! and prints (and writes to FILE) the run's numbers as JSON.
 
 use dentbend_rapier::demo::rain::{Rain, RainSettings};
+use dentbend_rapier::demo::report::{json_arg, publish};
 
 fn main() {
     if let Err(e) = run() {
@@ -41,27 +42,6 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         "plastic_bends": 0,
         "max_bend_deg": 0.0,
     });
-    let text = serde_json::to_string_pretty(&json)?;
-    println!("{text}");
-    if let Some(path) = json_path {
-        let path = std::path::Path::new(&path);
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)?;
-        }
-        std::fs::write(path, text + "\n")?;
-    }
+    publish(&serde_json::to_string_pretty(&json)?, json_path.as_deref())?;
     Ok(())
-}
-
-/// The FILE of `--json FILE`, if given.
-fn json_arg() -> Result<Option<String>, String> {
-    let mut args = std::env::args().skip(1);
-    let mut path = None;
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--json" => path = Some(args.next().ok_or("--json needs a file name")?),
-            other => return Err(format!("unknown argument {other} (usage: --json FILE)")),
-        }
-    }
-    Ok(path)
 }

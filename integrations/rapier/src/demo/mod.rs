@@ -2,6 +2,7 @@
 
 pub mod plank;
 pub mod rain;
+pub mod report;
 
 /// A small deterministic generator (64-bit LCG) for scene jitter: no dependency, same numbers
 /// on every platform.
