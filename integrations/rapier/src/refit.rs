@@ -1,12 +1,13 @@
-//! Collider refits after a dent: the one place the adapter changes a collider's shape, so a
-//! faster refit (a partial BVH refit over the moved vertices) can replace it later.
+//! Collider refits after a dent: the one place the adapter changes a collider's shape.
 //!
-//! - Tri-mesh colliders are refitted in place ([`parry`'s `TriMesh::set_vertices`], which
-//!   refits the BVH keeping its structure); build them with [`trimesh_collider`] so Rapier
-//!   treats them as deformable.
+//! - Tri-mesh colliders are refitted in place over the moved vertices only
+//!   ([`dentbend::sim::refit_trimesh`]: validated, then parry's `update_vertices`, which refits
+//!   the tree keeping its structure); build them with [`trimesh_collider`] (deformable, no
+//!   pseudo-normals, vertices in the mesh's order) so the refit stays cheap.
 //! - Convex colliders (dynamic bodies) get the convex hull of the dented vertices.
 
 use dentbend::mesh::TriMesh;
+use dentbend::sim::{refit_trimesh, validate_refit};
 use glam::Vec3;
 use rapier3d::parry::shape::TriMeshFlags;
 use rapier3d::prelude::{Collider, ColliderBuilder, ColliderHandle, SharedShape};
@@ -25,8 +26,9 @@ pub enum ShapeKind {
 /// A refit computed and checked, not yet applied.
 #[derive(Debug, Clone)]
 pub enum Refit {
-    /// New tri-mesh vertices (collider frame, m).
-    Vertices(Vec<Vec3>),
+    /// The moved tri-mesh vertices (indices, ascending) and their new positions (collider
+    /// frame, m).
+    Vertices(Vec<u32>, Vec<Vec3>),
     /// A new convex hull.
     Shape(SharedShape),
 }
@@ -92,7 +94,9 @@ pub fn prepare_refit(
             if shape.vertices().len() != mesh.vertex_count() {
                 return Err(bad(format!("{} vertices, the mesh has {}", shape.vertices().len(), mesh.vertex_count())));
             }
-            Ok(Refit::Vertices(mesh.positions().to_vec()))
+            let positions: Vec<Vec3> = moved.iter().map(|&v| mesh.positions()[v as usize]).collect();
+            validate_refit(shape.vertices().len(), moved, &positions).map_err(|e| bad(e.to_string()))?;
+            Ok(Refit::Vertices(moved.to_vec(), positions))
         }
         ShapeKind::Convex => {
             if collider.shape().as_convex_polyhedron().is_none() {
@@ -109,10 +113,10 @@ impl Refit {
     /// Applies the refit to the collider it was prepared for.
     pub fn commit(self, collider: &mut Collider) {
         match self {
-            Refit::Vertices(vertices) => {
-                // Checked by `prepare_refit`: a tri-mesh with as many vertices.
+            Refit::Vertices(moved, positions) => {
+                // Checked by `prepare_refit`: a tri-mesh with as many vertices, a valid update.
                 if let Some(mesh) = collider.shape_mut().as_trimesh_mut() {
-                    mesh.set_vertices(&vertices);
+                    let _ = refit_trimesh(mesh, &moved, &positions);
                 }
             }
             Refit::Shape(shape) => collider.set_shape(shape),
