@@ -68,4 +68,5 @@ pub use glam;
 pub use mesh::{MeshError, TriMesh};
 /// The wgpu version dentbend's GPU path is built on, for handing it an application's device
 /// ([`gpu::GpuContext::from_device`]).
+#[cfg(feature = "gpu")]
 pub use wgpu;
