@@ -10,8 +10,8 @@ use super::bendable::bend_error;
 use super::skinning::{skin_error, skin_mesh_on_cpu};
 use super::{BendableDesc, DynamicArticulation};
 use crate::bend::{LevelSet, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
+use crate::cpu::Skinned;
 use crate::cpu::{SkinBone, SkinInfluence};
-use crate::gpu::skin::Skinned;
 use crate::mesh::TriMesh;
 use crate::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, SimError, SurfaceMaterial, World};
 

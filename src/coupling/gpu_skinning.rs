@@ -3,7 +3,7 @@
 //!
 //! Consecutive bodies share one [`SkinMesh`] (a *group*: their rest vertices one after the other,
 //! each body's bones after the previous body's, at most [`MAX_BONES`] bones and
-//! [`GROUP_VERTICES`] vertices), so that a scene of many small bodies (Figure 13's 2,400 struts)
+//! [`GROUP_VERTICES`](super::GROUP_VERTICES) vertices), so that a scene of many small bodies (Figure 13's 2,400 struts)
 //! costs a few bone writes and dispatches per call rather than thousands. A group is uploaded
 //! again only when one of its bodies' [`rest_revision`](ArticulatedBody::rest_revision) (a
 //! dent, a split) or bone count changes; each [`skin`](GpuSkinner::skin) writes only the bone
@@ -19,10 +19,6 @@ use crate::cpu::{SkinBone, SkinError, SkinInfluence, check_length, validate_bone
 use crate::gpu::skin::{MAX_BONES, Skin, SkinMesh, Skinned};
 use crate::gpu::{GpuContext, GpuError, buffers};
 use crate::sim::{SimError, World};
-
-/// Most vertices of one group (unless a single body has more): what one change uploads again,
-/// 64 bytes of rest data per vertex (4 MiB).
-pub const GROUP_VERTICES: usize = 1 << 16;
 
 /// What a body's upload depends on: its rest revision, vertex count and bone count.
 type Key = (u64, usize, usize);
@@ -62,7 +58,7 @@ enum Residence {
 
 impl GpuSkinner {
     /// Compiles the `skin` kernel on `context`; groups hold at most `group_vertices` vertices
-    /// (at least one body each; [`GROUP_VERTICES`] by default in [`Skinner`](super::Skinner)).
+    /// (at least one body each; [`GROUP_VERTICES`](super::GROUP_VERTICES) by default in [`Skinner`](super::Skinner)).
     /// Nothing is uploaded before the first [`sync`](Self::sync).
     ///
     /// # Errors

@@ -9,6 +9,7 @@ mod bending;
 mod condensation;
 mod contact_merge;
 mod dent_coupling;
+#[cfg(feature = "gpu")]
 mod gpu_skinning;
 mod joint_override;
 mod pose_dent;
@@ -23,9 +24,10 @@ pub use bending::{BendRecord, Bending, JointRecord};
 pub use condensation::CondenseSettings;
 pub use contact_merge::merge_contacts;
 pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
-pub use gpu_skinning::{GROUP_VERTICES, GpuSkinner};
+#[cfg(feature = "gpu")]
+pub use gpu_skinning::GpuSkinner;
 pub use joint_override::JointOverride;
 pub use pose_dent::{PoseDent, SINGULAR_BLEND};
 pub use simulation::{Simulation, StepStats, StepTiming};
-pub use skinning::Skinner;
+pub use skinning::{GROUP_VERTICES, Skinner};
 pub use split::SplitOutcome;

@@ -7,10 +7,9 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::{BendDenter, Bending, Skinner, dent_step};
-use crate::gpu::GpuContext;
-use crate::gpu::skin::Skinned;
+use crate::cpu::Skinned;
 use crate::mesh::TriMesh;
-use crate::sim::{DentRecord, Denter, SimError, StepReport, World};
+use crate::sim::{DentRecord, Denter, GpuDevice, SimError, StepReport, World};
 
 /// Wall times and counts of one step.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -60,7 +59,7 @@ impl Simulation {
     ///
     /// # Errors
     /// [`SimError::Gpu`] when the dentable meshes cannot be uploaded.
-    pub fn new(world: World, gpu: Option<&'static GpuContext>) -> Result<Self, SimError> {
+    pub fn new(world: World, gpu: Option<&'static GpuDevice>) -> Result<Self, SimError> {
         let denter = Denter::new(&world, gpu)?;
         Ok(Self {
             world,
@@ -85,7 +84,7 @@ impl Simulation {
     /// Builder: where the bending bodies are skinned, the `skin` kernel on `gpu` (each body's rest
     /// mesh resident, see [`GpuSkinner`](crate::coupling::GpuSkinner)) or its CPU twin (`None`); by
     /// default where [`new`](Self::new) was told to dent.
-    pub fn skin_on(mut self, gpu: Option<&'static GpuContext>) -> Self {
+    pub fn skin_on(mut self, gpu: Option<&'static GpuDevice>) -> Self {
         self.skinner = Skinner::new(gpu);
         self.skinned_at = None;
         self

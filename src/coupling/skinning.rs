@@ -5,13 +5,13 @@
 
 use glam::Vec3;
 
-use super::gpu_skinning::GROUP_VERTICES;
-use super::{ArticulatedBody, Bending, GpuSkinner};
+#[cfg(feature = "gpu")]
+use super::GpuSkinner;
+use super::{ArticulatedBody, Bending};
+use crate::cpu::Skinned;
 use crate::cpu::{self, SkinBone, SkinParams};
-use crate::gpu::GpuContext;
-use crate::gpu::skin::Skinned;
 use crate::mesh::TriMesh;
-use crate::sim::{SimError, World};
+use crate::sim::{GpuDevice, SimError, World};
 
 /// Skins the bending bodies of a [`Bending`] on the GPU or the CPU and keeps the results.
 ///
@@ -27,10 +27,15 @@ use crate::sim::{SimError, World};
 /// }
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
+/// Most vertices of one group of bodies skinned together on the GPU (unless a single body has
+/// more): what one change uploads again, 64 bytes of rest data per vertex (4 MiB).
+pub const GROUP_VERTICES: usize = 1 << 16;
+
 #[derive(Debug)]
 pub struct Skinner {
-    context: Option<&'static GpuContext>,
+    context: Option<&'static GpuDevice>,
     /// Built at the first skin with bodies on the GPU.
+    #[cfg(feature = "gpu")]
     gpu: Option<GpuSkinner>,
     group_vertices: usize,
     /// The last skin's results per body: the CPU twin's, or the GPU's once read back.
@@ -42,8 +47,15 @@ pub struct Skinner {
 impl Skinner {
     /// Skins on `gpu` when given, else on the CPU twin. Nothing is compiled or uploaded before
     /// the first [`skin`](Self::skin).
-    pub fn new(gpu: Option<&'static GpuContext>) -> Self {
-        Self { context: gpu, gpu: None, group_vertices: GROUP_VERTICES, outputs: Vec::new(), read: true }
+    pub fn new(gpu: Option<&'static GpuDevice>) -> Self {
+        Self {
+            context: gpu,
+            #[cfg(feature = "gpu")]
+            gpu: None,
+            group_vertices: GROUP_VERTICES,
+            outputs: Vec::new(),
+            read: true,
+        }
     }
 
     /// Builder: on the GPU, at most `vertices` vertices per group of bodies skinned together
@@ -59,6 +71,7 @@ impl Skinner {
     }
 
     /// The GPU skinner (resident meshes, upload count), once the first GPU skin made it.
+    #[cfg(feature = "gpu")]
     pub fn gpu(&self) -> Option<&GpuSkinner> {
         self.gpu.as_ref()
     }
@@ -84,6 +97,7 @@ impl Skinner {
     fn skin_all(&mut self, bending: &Bending, world: &World) -> Result<(), SimError> {
         let bodies = bending.bodies();
         match self.context {
+            #[cfg(feature = "gpu")]
             Some(context) if !bodies.is_empty() => {
                 self.read = false;
                 let gpu = match &mut self.gpu {
@@ -111,6 +125,7 @@ impl Skinner {
     /// [`SimError::GpuSkinning`] if the read-back fails.
     pub fn skinned(&mut self) -> Result<&[Skinned], SimError> {
         if !self.read {
+            #[cfg(feature = "gpu")]
             if let Some(gpu) = &self.gpu {
                 self.outputs = gpu.read_back()?;
             }

@@ -26,7 +26,7 @@ pub use heat::{heat, heat_step};
 pub use interleave::{InterleaveParams, NO_NORMAL, interleave};
 pub use layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff};
 pub use moved::{MovedParams, moved};
-pub use skin::{SkinError, WEIGHT_SUM_TOLERANCE, skin, validate_influences};
+pub use skin::{SkinError, Skinned, WEIGHT_SUM_TOLERANCE, skin, validate_influences};
 #[cfg(feature = "gpu")]
 pub(crate) use skin::{check_length, validate_bones, validate_vertices};
 pub use skin_layout::{BONES_PER_VERTEX, SkinBone, SkinInfluence, SkinParams, skin_bones};

@@ -93,6 +93,15 @@ pub enum SkinError {
     Gpu(std::sync::Arc<dyn std::error::Error + Send + Sync>),
 }
 
+/// A skinned mesh: what [`skin`] computes and the GPU's `skin` kernel reads back.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Skinned {
+    /// Skinned positions, world units, one per vertex.
+    pub positions: Vec<Vec3>,
+    /// Skinned unit normals (zero where the transformed normal vanishes), one per vertex.
+    pub normals: Vec<Vec3>,
+}
+
 /// Checks every vertex's influences: finite, non-negative weights summing to one within
 /// [`WEIGHT_SUM_TOLERANCE`], and bone indices below `bone_count` (unused slots too: pad them
 /// with bone 0 and weight 0). Reports the first bad vertex.

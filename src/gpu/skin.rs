@@ -32,6 +32,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec3, Vec4};
 
 use super::{Binding, GpuContext, GpuError, Kernel, buffers};
+pub use crate::cpu::Skinned;
 use crate::cpu::{SkinBone, SkinError, SkinInfluence, SkinParams, check_length, validate_bones, validate_vertices};
 
 /// Invocations per workgroup along x. Keep in sync with `WORKGROUP` in `shaders/skin.wgsl`.
@@ -68,15 +69,6 @@ pub struct SkinMesh {
     positions: wgpu::Buffer,
     normals: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
-}
-
-/// A skinned mesh read back by [`Skin::run`].
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Skinned {
-    /// Skinned positions, world units, one per vertex.
-    pub positions: Vec<Vec3>,
-    /// Skinned unit normals (zero where the transformed normal vanishes), one per vertex.
-    pub normals: Vec<Vec3>,
 }
 
 impl SkinMesh {

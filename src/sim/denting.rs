@@ -7,9 +7,11 @@
 use glam::Vec3;
 use serde::Serialize;
 
-use super::{BodyKind, CollisionEvent, SimError, StepContext, World, body_state};
+use super::{BodyKind, CollisionEvent, GpuDevice, SimError, StepContext, World, body_state};
 use crate::dent::{CpuBackend, Damage, DamageError, DentBackend, DentError, DentTargets, Hit, Impact, TargetView};
-use crate::gpu::{GpuBackend, GpuContext};
+#[cfg(feature = "gpu")]
+use crate::gpu::GpuBackend;
+#[cfg(feature = "gpu")]
 use crate::mesh::TriMesh;
 
 /// One dent made during a run.
@@ -33,13 +35,14 @@ pub struct DentRecord {
 
 /// Runs the dents of each step's collisions.
 pub struct Denter {
+    #[cfg(feature = "gpu")]
     gpu: Option<GpuBackend<usize>>,
     damage: Damage<usize>,
 }
 
 impl std::fmt::Debug for Denter {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Denter").field("gpu", &self.gpu.is_some()).finish()
+        f.debug_struct("Denter").field("gpu", &self.on_gpu()).finish()
     }
 }
 
@@ -65,7 +68,8 @@ impl Denter {
     ///
     /// # Errors
     /// [`SimError::Gpu`] when the upload fails.
-    pub fn new(world: &World, gpu: Option<&'static GpuContext>) -> Result<Self, SimError> {
+    pub fn new(world: &World, gpu: Option<&'static GpuDevice>) -> Result<Self, SimError> {
+        #[cfg(feature = "gpu")]
         let gpu = match gpu {
             None => None,
             Some(context) => {
@@ -79,12 +83,21 @@ impl Denter {
                 Some(backend)
             }
         };
-        Ok(Self { gpu, damage: Damage::new() })
+        #[cfg(not(feature = "gpu"))]
+        let _ = (world, gpu.map(|device| match *device {}));
+        Ok(Self {
+            #[cfg(feature = "gpu")]
+            gpu,
+            damage: Damage::new(),
+        })
     }
 
     /// Whether dents run on the GPU.
     pub fn on_gpu(&self) -> bool {
-        self.gpu.is_some()
+        #[cfg(feature = "gpu")]
+        return self.gpu.is_some();
+        #[cfg(not(feature = "gpu"))]
+        false
     }
 
     /// Dents the bodies hit in `events` (from the step numbered `step`) and returns what it did.
@@ -142,10 +155,13 @@ impl Denter {
                 });
             }
         }
+        #[cfg(feature = "gpu")]
         let backend: &mut dyn DentBackend<usize> = match &mut self.gpu {
             Some(gpu) => gpu,
             None => &mut CpuBackend,
         };
+        #[cfg(not(feature = "gpu"))]
+        let backend: &mut dyn DentBackend<usize> = &mut CpuBackend;
         let plan =
             self.damage.plan(&WorldTargets(world), &hits, step, backend).map_err(|e| damage_error(world, &hits, e))?;
         let records: Vec<DentRecord> = plan

@@ -14,6 +14,7 @@ mod dent_impact;
 mod denting;
 mod error;
 mod events;
+mod gpu_device;
 mod joint_rounds;
 mod joints;
 mod sleep;
@@ -38,6 +39,7 @@ pub use dent_impact::{
 pub use denting::{DentRecord, Denter};
 pub use error::SimError;
 pub use events::{CollisionEvent, StepReport};
+pub use gpu_device::GpuDevice;
 pub use joints::{BendEvent, Joint, JointKind};
 pub(crate) use union_find::UnionFind;
 pub use world::{World, WorldSettings, WorldState};
