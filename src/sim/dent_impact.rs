@@ -173,15 +173,12 @@ pub fn decide_dent(
     target: &DentTarget<'_>,
     projectile: &DentSurface<'_>,
 ) -> Result<Option<DecidedDent>, SimError> {
-    let (sign, other) = match target.body {
-        b if b == event.a => (1.0f32, event.b),
-        b if b == event.b => (-1.0, event.a),
-        b => return Err(SimError::Invalid { what: "dent target".into(), value: b.to_string(), reason: "is not hit" }),
-    };
+    let other = if target.body == event.a { event.b } else { event.a };
     // Into the target, and the projectile's velocity relative to it, carried with the target.
-    let impact =
-        Impact { point: event.point, normal: -sign * event.normal, relative_velocity: sign * event.relative_velocity }
-            .transformed(target.motion);
+    let Some(impact) = event.impact_on(target.body, target.motion) else {
+        let body = target.body.to_string();
+        return Err(SimError::Invalid { what: "dent target".into(), value: body, reason: "is not hit" });
+    };
     let bodies = world.bodies();
     let (target_state, projectile_state) = (body_state(&bodies[target.body]), body_state(&bodies[other]));
     let distance =

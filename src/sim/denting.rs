@@ -8,7 +8,7 @@ use glam::Vec3;
 use serde::Serialize;
 
 use super::{BodyKind, CollisionEvent, GpuDevice, SimError, StepContext, World, body_state};
-use crate::dent::{CpuBackend, Damage, DamageError, DentBackend, DentError, DentTargets, Hit, Impact, TargetView};
+use crate::dent::{CpuBackend, Damage, DamageError, DentBackend, DentError, DentTargets, Hit, TargetView};
 #[cfg(feature = "gpu")]
 use crate::gpu::GpuBackend;
 #[cfg(feature = "gpu")]
@@ -133,15 +133,9 @@ impl Denter {
         let bodies = world.bodies();
         let mut hits = Vec::new();
         for event in events {
-            for (sign, target, projectile) in [(1.0f32, event.a, event.b), (-1.0, event.b, event.a)] {
+            for (target, projectile) in [(event.a, event.b), (event.b, event.a)] {
                 let Some(settings) = bodies.get(target).and_then(|b| b.dent.as_ref()) else { continue };
-                // Into the target, the projectile's velocity relative to it, carried with it.
-                let impact = Impact {
-                    point: event.point,
-                    normal: -sign * event.normal,
-                    relative_velocity: sign * event.relative_velocity,
-                }
-                .transformed(context.motion(target));
+                let Some(impact) = event.impact_on(target, context.motion(target)) else { continue };
                 if !settings.may_dent(&impact) {
                     continue;
                 }

@@ -1,10 +1,11 @@
 //! What a step reports about each colliding pair: the input of denting (paper Algorithm 1,
 //! lines 10–12) and of anything else a user hangs on collisions.
 
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 use serde::Serialize;
 
 use super::BendEvent;
+use crate::dent::Impact;
 
 /// A pair of bodies that collided during a step.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -38,6 +39,20 @@ impl CollisionEvent {
             impulse: -self.impulse,
             ..*self
         }
+    }
+
+    /// The contact as body `target` (a or b) is dented by it, carried by `motion` (the target's
+    /// motion since the contact, see `DentTarget::motion`): normal into the target, the other
+    /// body's velocity relative to it. `None` when `target` is neither body.
+    pub fn impact_on(&self, target: usize, motion: Affine3A) -> Option<Impact> {
+        let sign = match target {
+            t if t == self.a => 1.0f32,
+            t if t == self.b => -1.0,
+            _ => return None,
+        };
+        let impact =
+            Impact { point: self.point, normal: -sign * self.normal, relative_velocity: sign * self.relative_velocity };
+        Some(impact.transformed(motion))
     }
 }
 
