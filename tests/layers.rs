@@ -147,7 +147,7 @@ const KNOWN_CYCLES: &[(&str, &[&str])] = &[
     ("sim", &["body", "collider", "contacts", "joints", "sleep", "solver", "warm_start", "world"]),
     ("sim", &["dent_impact", "denting"]),
     ("coupling", &["bendable", "joint_override"]),
-    ("coupling", &["articulated", "bending", "gpu_skinning", "rest_revision", "skinning"]),
+    ("coupling", &["articulated", "bending", "rest_revision", "skinning"]),
     ("coupling", &["dent_coupling", "pose_dent"]),
     ("scene", &["file", "file_bend"]),
     ("scene", &["builtin", "error", "parse", "parse_bend", "source"]),
