@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use dentbend::dent::{DentJob, DentParams, Impact};
 use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter, GpuError};
-use dentbend::mesh;
+use dentbend::mesh::{self, TriMesh};
 use glam::Vec3;
 
 #[test]
@@ -21,12 +21,7 @@ fn a_destroyed_device_gives_errors_and_leaves_the_meshes_alone() {
     let targets = vec![mesh::builtin("block").unwrap()];
     let ball = mesh::builtin("sphere").unwrap();
     let mut denter = GpuDenter::new(&context, &targets).unwrap();
-    let job = DentJob {
-        target: 0,
-        projectile: &ball,
-        impact: Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -Vec3::Y },
-        params: DentParams::new(0.2),
-    };
+    let job = head_on(&ball);
     let before = targets[0].positions().to_vec();
     context.device.destroy();
     let started = Instant::now();
@@ -53,12 +48,7 @@ fn a_destroyed_application_device_gives_a_typed_error() {
     let targets = vec![mesh::builtin("block").unwrap()];
     let ball = mesh::builtin("sphere").unwrap();
     let mut denter = GpuDenter::new(&context, &targets).unwrap();
-    let job = DentJob {
-        target: 0,
-        projectile: &ball,
-        impact: Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -Vec3::Y },
-        params: DentParams::new(0.2),
-    };
+    let job = head_on(&ball);
     let before = targets[0].positions().to_vec();
     // Lost mid-batch: recorded into the application's encoder, the device goes away before the
     // application submits.
@@ -75,4 +65,14 @@ fn a_destroyed_application_device_gives_a_typed_error() {
     assert!(matches!(context.check_alive(), Err(GpuError::DeviceLost(_))));
     assert!(denter.read_positions(0).is_err(), "a read-back from a destroyed device succeeded");
     assert_eq!(targets[0].positions(), &before[..]);
+}
+
+/// A unit ball hitting the `block` target (slot 0) head-on on its top face, 0.2 m deep.
+fn head_on(ball: &TriMesh) -> DentJob<'_> {
+    DentJob {
+        target: 0,
+        projectile: ball,
+        impact: Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -Vec3::Y },
+        params: DentParams::new(0.2),
+    }
 }

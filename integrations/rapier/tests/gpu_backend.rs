@@ -2,12 +2,14 @@
 //! runs with its dents on the GPU. Skipped (with the reason printed) when no adapter exists,
 //! unless `DENTBEND_REQUIRE_GPU=1` (set in CI, which installs lavapipe).
 
+mod common;
+
 use dentbend::dent::{CpuBackend, DentBackend};
 use dentbend::gpu::{GpuContext, shared_context};
-use dentbend::mesh::{self, TriMesh};
+use dentbend::mesh::TriMesh;
 use dentbend_rapier::demo::rain::{Rain, RainSettings, ball_dent, target_dent};
-use dentbend_rapier::rapier3d::prelude::{ColliderHandle, RigidBodyBuilder};
-use dentbend_rapier::{BodyStates, Contact, Dentables, GpuBackend, PhysicsWorld, convex_collider, trimesh_collider};
+use dentbend_rapier::rapier3d::prelude::ColliderHandle;
+use dentbend_rapier::{BodyStates, Dentables, GpuBackend};
 use glam::Vec3;
 
 fn context() -> Option<&'static GpuContext> {
@@ -25,27 +27,12 @@ fn context() -> Option<&'static GpuContext> {
 
 /// A block and a ball hitting it head-on at 6 m/s, dented on `backend`: both dented meshes.
 fn dent_once(backend: &mut dyn DentBackend<ColliderHandle>) -> (TriMesh, TriMesh) {
-    let mut world = PhysicsWorld::new(Vec3::new(0.0, -9.81, 0.0), 1.0 / 60.0);
-    let block_mesh = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16]).unwrap();
-    let fixed = world.bodies.insert(RigidBodyBuilder::fixed());
-    let block = world.colliders.insert_with_parent(trimesh_collider(&block_mesh).unwrap(), fixed, &mut world.bodies);
-    let ball_mesh = mesh::icosphere(0.1, 2).unwrap();
-    let body = world
-        .bodies
-        .insert(RigidBodyBuilder::dynamic().translation(Vec3::new(0.0, 0.36, 0.0)).linvel(Vec3::new(0.0, -6.0, 0.0)));
-    let ball = world.colliders.insert_with_parent(convex_collider(&ball_mesh).unwrap(), body, &mut world.bodies);
+    let (mut world, (block, block_mesh), (ball, ball_mesh)) = common::block_and_ball(Vec3::new(0.0, -9.81, 0.0), 0.36);
     let mut dentables = Dentables::new();
     dentables.insert(&world.colliders, block, block_mesh, target_dent()).unwrap();
     dentables.insert(&world.colliders, ball, ball_mesh, ball_dent()).unwrap();
     let states = BodyStates::record(&world.bodies, &world.colliders);
-    let contact = Contact {
-        collider1: block,
-        collider2: ball,
-        point: Vec3::new(0.0, 0.25, 0.0),
-        normal: Vec3::Y,
-        impulse: 1.0,
-        started: true,
-    };
+    let contact = common::top_contact(block, ball, true);
     let report = dentables.process(&[contact], &states, &mut world.bodies, &mut world.colliders, backend).unwrap();
     assert_eq!(report.dents.len(), 2);
     (dentables.mesh(block).unwrap().clone(), dentables.mesh(ball).unwrap().clone())
