@@ -4,7 +4,7 @@
 //! states, and errors that change nothing.
 
 use dentbend::dent::{
-    BodyState, CpuBackend, Damage, DamageError, DentSettings, Hit, Impact, Surface, TargetSet, moved_between,
+    BodyState, CpuBackend, Damage, DamageError, DentSettings, Hit, Impact, Surface, TargetSet, moved_vertices,
 };
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh::{self, TriMesh};
@@ -76,7 +76,7 @@ fn a_contact_list_dents_by_the_material_and_reports_what_moved() {
     // sampling: 1% of d).
     assert!((deepest(&before, after) - 0.2).abs() < 0.002, "{}", deepest(&before, after));
     // Exactly the vertices that moved are reported, and only near the impact.
-    assert_eq!(moved, vec![(BLOCK, moved_between(&before, after))]);
+    assert_eq!(moved, vec![(BLOCK, moved_vertices(before.positions(), after.positions()))]);
     assert!(!moved[0].1.is_empty() && moved[0].1.len() < before.vertex_count());
 }
 

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::hash::Hash;
 
 use super::{GpuBatchError, GpuContext, GpuDenter};
-use crate::dent::{BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentReport, moved_between};
+use crate::dent::{BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentReport, moved_vertices};
 use crate::mesh::TriMesh;
 
 /// Batches on a GPU, targets resident there, keyed by the caller's ids.
@@ -123,7 +123,7 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         }
         let mut moved = Vec::with_capacity(targets.len());
         for ((mesh, new), &slot) in targets.iter_mut().zip(dented).zip(&slots) {
-            moved.push(moved_between(mesh, &new));
+            moved.push(moved_vertices(mesh.positions(), new.positions()));
             self.meshes[slot] = new.clone();
             *mesh = new;
         }

@@ -175,17 +175,6 @@ pub fn refit_shared_trimesh(
     refit_trimesh(trimesh, moved, positions)
 }
 
-/// The vertices whose position differs between `before` and `after` (bitwise), as indices, for a
-/// caller that knows the old and new positions but not which vertices a dent moved
-/// ([`DentReport`](crate::dent::DentReport) only counts them). `O(n)`: about 20 µs for 12,500
-/// vertices.
-///
-/// Indices past the shorter slice are not compared.
-pub fn moved_vertices(before: &[Vec3], after: &[Vec3]) -> Vec<u32> {
-    let same = |a: Vec3, b: Vec3| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
-    (0..before.len().min(after.len()) as u32).filter(|&i| !same(before[i as usize], after[i as usize])).collect()
-}
-
 /// For each vertex of a parry [`TriMesh`] built from a source mesh, the source vertex it came from.
 ///
 /// Without merging flags this is the identity; with

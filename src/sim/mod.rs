@@ -23,15 +23,13 @@ mod union_find;
 mod warm_start;
 mod world;
 
-pub use crate::dent::DentSettings;
 pub use crate::dent::energy_dent_distance;
+pub use crate::dent::{DentSettings, moved_vertices};
 pub use crate::mesh::{MassProperties, mass_properties};
 pub use body::{BodyDesc, BodyKind, RigidBody, SurfaceMaterial};
 pub use broad_phase::{Aabb, overlapping_pairs};
 pub use collider::ColliderKind;
-pub use collider_refit::{
-    RefitError, RefitStats, VertexMap, moved_vertices, refit_shared_trimesh, refit_trimesh, validate_refit,
-};
+pub use collider_refit::{RefitError, RefitStats, VertexMap, refit_shared_trimesh, refit_trimesh, validate_refit};
 pub use contacts::{ContactPoint, PairContacts, find_contacts};
 pub use dent_impact::{
     DecidedDent, DentSurface, DentTarget, StepContext, body_state, decide_dent, dent_job, projectile_near_impact,
