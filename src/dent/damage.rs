@@ -232,7 +232,7 @@ fn view<'t, K: Copy>(targets: &'t impl DentTargets<K>, d: &Decided<'_, K>) -> Ta
     targets.target(d.data.target).expect("decided hits are on dentable targets")
 }
 
-/// Every hit's dent decision, validated up front.
+/// Every hit's dent decision (which validates its contact), before anything is dented.
 fn decide<'a, K: Copy + std::fmt::Debug>(
     targets: &impl DentTargets<K>,
     hits: &[Hit<'a, K>],
@@ -246,10 +246,6 @@ fn decide<'a, K: Copy + std::fmt::Debug>(
         }
         let Some(target) = targets.target(hit.target) else { continue };
         let error = |error| DamageError::Dent { hit: k, target: format!("{:?}", hit.target), error };
-        hit.impact
-            .validate()
-            .or_else(|e| if matches!(e, DentError::Separating { .. }) { Ok(()) } else { Err(e) })
-            .map_err(error)?;
         let distance = decide_dent_distance(
             target.settings,
             &hit.impact,
