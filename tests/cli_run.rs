@@ -10,7 +10,9 @@ fn a_run_writes_meshes_frames_and_a_summary() {
     let dir = TempDir::new("run-pair");
     let out = dir.path("pair");
     let out_text = out.to_str().unwrap();
-    let output = dentbend(&["run", "pair", "--size", "demo", "--frames", "40", "--every", "20", "--out", out_text]);
+    let output = dentbend(&[
+        "run", "pair", "--size", "demo", "--frames", "40", "--every", "20", "--meshes", "all", "--out", out_text,
+    ]);
     assert!(output.status.success(), "{}", text(&output.stderr));
     for frame in ["0000", "0020", "0040"] {
         for body in ["left", "right"] {

@@ -12,7 +12,8 @@ fn a_plank_run_writes_the_skinned_plank_and_its_joint() {
     let dir = TempDir::new("run-plank");
     let out = dir.path("plank");
     let out_text = out.to_str().unwrap();
-    let args = ["run", "plank", "--size", "demo", "--frames", "20", "--every", "10", "--picture", "0,0"];
+    let args =
+        ["run", "plank", "--size", "demo", "--frames", "20", "--every", "10", "--picture", "0,0", "--meshes", "all"];
     let output = dentbend(&[&args[..], &["--out", out_text]].concat());
     assert!(output.status.success(), "{}", text(&output.stderr));
     let meshes = out.join("meshes");
@@ -54,7 +55,20 @@ fn a_scene_file_with_a_bending_body_runs() {
     let dir = TempDir::new("run-bent-bar");
     let out = dir.path("bent_bar");
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bent_bar.toml");
-    let args = ["run", scene, "--frames", "20", "--every", "10", "--picture", "0,0", "--out", out.to_str().unwrap()];
+    let args = [
+        "run",
+        scene,
+        "--frames",
+        "20",
+        "--every",
+        "10",
+        "--picture",
+        "0,0",
+        "--meshes",
+        "all",
+        "--out",
+        out.to_str().unwrap(),
+    ];
     let output = dentbend(&args);
     assert!(output.status.success(), "{}", text(&output.stderr));
     let meshes = out.join("meshes");
@@ -86,7 +100,8 @@ fn the_summary_says_where_skinning_ran() {
     let gpu = common::context().is_some();
     for backend in if gpu { &["cpu", "gpu"][..] } else { &["cpu"][..] } {
         let out = dir.path(backend);
-        let args = ["run", "plank", "--size", "demo", "--frames", "3", "--every", "3", "--picture", "0,0"];
+        let args =
+            ["run", "plank", "--size", "demo", "--frames", "3", "--every", "3", "--picture", "0,0", "--meshes", "all"];
         let output = dentbend(&[&args[..], &["--backend", backend, "--out", out.to_str().unwrap()]].concat());
         assert!(output.status.success(), "{backend}: {}", text(&output.stderr));
         let summary: serde_json::Value =

@@ -17,6 +17,7 @@ mod rest_revision;
 mod simulation;
 mod skinning;
 mod split;
+mod step_stats;
 
 pub use articulated::ArticulatedBody;
 pub use bendable::{BendableDesc, DynamicArticulation, SkeletonSpec};
@@ -28,6 +29,7 @@ pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
 pub use gpu_skinning::GpuSkinner;
 pub use joint_override::JointOverride;
 pub use pose_dent::{PoseDent, SINGULAR_BLEND};
-pub use simulation::{Simulation, StepStats, StepTiming};
+pub use simulation::{Simulation, StepTiming};
 pub use skinning::{GROUP_VERTICES, Skinner};
 pub use split::SplitOutcome;
+pub use step_stats::{StepStats, StepStatsStream};

@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::{BendDenter, Bending, Skinner, dent_step};
 use crate::cpu::Skinned;
@@ -12,7 +12,7 @@ use crate::mesh::TriMesh;
 use crate::sim::{DentRecord, Denter, GpuDevice, SimError, StepReport, World};
 
 /// Wall times and counts of one step.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct StepTiming {
     /// Step number (1 = the first).
     pub step: u64,
@@ -192,59 +192,5 @@ impl Simulation {
         }
         let timing = StepTiming { step, dynamics_ms, denting_ms, skinning_ms, events: report.events.len(), dents };
         Ok((timing, report))
-    }
-}
-
-/// Step-time statistics of a run (or part of one), ms.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
-pub struct StepStats {
-    /// Steps summarized.
-    pub steps: usize,
-    /// Mean dynamics time per step (broad phase, contacts, impulses), ms.
-    pub dynamics_mean: f64,
-    /// Mean denting time per step (dent batch, collider refits), ms.
-    pub denting_mean: f64,
-    /// Mean skinning time per step (0 without skinning every step), ms.
-    pub skinning_mean: f64,
-    /// Mean of the three, ms.
-    pub total_mean: f64,
-    /// Median dynamics time, ms.
-    pub dynamics_median: f64,
-    /// Median denting time, ms.
-    pub denting_median: f64,
-    /// Median skinning time, ms.
-    pub skinning_median: f64,
-    /// Median of the three, ms.
-    pub total_median: f64,
-    /// Mean dents per step.
-    pub dents_per_step_mean: f64,
-    /// Denting time per dent (the batched pipeline's per-dent cost), ms; 0 without dents.
-    pub denting_per_dent: f64,
-}
-
-impl StepStats {
-    /// Means and medians of `steps` (all zero for none).
-    pub fn of(steps: &[StepTiming]) -> Self {
-        let n = steps.len().max(1) as f64;
-        let sum = |f: fn(&StepTiming) -> f64| steps.iter().map(f).sum::<f64>();
-        let median = |f: fn(&StepTiming) -> f64| {
-            let mut values: Vec<f64> = steps.iter().map(f).collect();
-            values.sort_by(f64::total_cmp);
-            values.get(values.len() / 2).copied().unwrap_or(0.0)
-        };
-        let dents = sum(|t| t.dents as f64);
-        Self {
-            steps: steps.len(),
-            dynamics_mean: sum(|t| t.dynamics_ms) / n,
-            denting_mean: sum(|t| t.denting_ms) / n,
-            skinning_mean: sum(|t| t.skinning_ms) / n,
-            total_mean: sum(StepTiming::total_ms) / n,
-            dynamics_median: median(|t| t.dynamics_ms),
-            denting_median: median(|t| t.denting_ms),
-            skinning_median: median(|t| t.skinning_ms),
-            total_median: median(StepTiming::total_ms),
-            dents_per_step_mean: dents / n,
-            denting_per_dent: if dents > 0.0 { sum(|t| t.denting_ms) / dents } else { 0.0 },
-        }
     }
 }

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use image::{ImageFormat, Rgb, RgbImage};
+use image::{Rgb, RgbImage};
 
 use super::IoError;
 
@@ -56,7 +56,7 @@ pub fn write_heatmap_png(
 ) -> Result<(), IoError> {
     let path = path.as_ref();
     let picture = heatmap_rgb(values, width, height, max_value)?;
-    picture.save_with_format(path, ImageFormat::Png).map_err(|e| IoError::image(path, e))
+    super::write_png(path, &picture)
 }
 
 /// Checks that a row-major array of `len` values is a non-empty `width × height` grid.

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Luma};
+use image::{DynamicImage, ImageBuffer, ImageReader, Luma};
 
 use super::IoError;
 use super::heatmap::check_size;
@@ -69,5 +69,5 @@ pub fn write_height_png16(
         .collect();
     let picture = ImageBuffer::<Luma<u16>, Vec<u16>>::from_raw(width, height, pixels)
         .ok_or_else(|| IoError::InvalidArgument("image buffer size mismatch".into()))?;
-    picture.save_with_format(path, ImageFormat::Png).map_err(|e| IoError::image(path, e))
+    super::write_png(path, &picture)
 }

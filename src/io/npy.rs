@@ -49,9 +49,7 @@ pub fn write_npy_f32(path: impl AsRef<Path>, shape: &[usize], data: &[f32]) -> R
     for v in data {
         bytes.extend_from_slice(&v.to_le_bytes());
     }
-    let mut file = fs::File::create(path).map_err(|e| IoError::io(path, e))?;
-    file.write_all(&bytes).map_err(|e| IoError::io(path, e))?;
-    file.flush().map_err(|e| IoError::io(path, e))
+    crate::mesh::write_file_atomically(path, |out| out.write_all(&bytes)).map_err(|e| IoError::io(path, e))
 }
 
 /// Reads a `.npy` file of little-endian f32 (`descr` `'<f4'`) in C order, returning its shape

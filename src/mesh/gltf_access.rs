@@ -185,7 +185,7 @@ fn read_uri(uri: &str, base: &Path) -> Result<Vec<u8>, String> {
     if let Some(scheme) = scheme {
         return Err(format!("URI scheme '{scheme}:' is not supported (only data: URIs and relative paths)"));
     }
-    let path = base.join(percent_decode(uri)?);
+    let path = super::confined::resolve_inside(base, &percent_decode(uri)?)?;
     std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))
 }
 

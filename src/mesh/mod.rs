@@ -2,6 +2,7 @@
 //! primitives and the built-in meshes that work wherever a mesh path is accepted.
 
 mod builtin;
+pub(crate) mod confined;
 mod error;
 #[cfg(feature = "io")]
 mod glb;
@@ -32,6 +33,6 @@ pub use mass::{MassProperties, mass_properties};
 pub use obj::{load_obj, parse_obj, save_obj};
 pub use ply::{load_ply, parse_ply};
 pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere};
-pub use save::save;
+pub use save::{save, write_file_atomically};
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 pub use trimesh::{TriMesh, validate};

@@ -34,23 +34,44 @@ pub fn save(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<(), MeshError> {
 /// Writes a file through `write`, atomically as far as the file system allows: the bytes go to a
 /// hidden temporary file in the same directory, which is renamed over `path` only once
 /// everything was written. On any error the temporary file is removed and `path` is left as it
-/// was (absent, or with its old contents). The data is not `fsync`ed.
+/// was (absent, or with its old contents). The data is not `fsync`ed. Every file dentbend writes
+/// (meshes, arrays, pictures, the command line's JSON) goes through here.
 ///
 /// # Errors
-/// [`MeshError::Io`] naming `path` if the temporary file cannot be created (for example because
-/// the directory does not exist), written or renamed.
+/// The [`io::Error`] of creating (for example because the directory does not exist), writing or
+/// renaming the temporary file.
+///
+/// # Example
+/// ```
+/// use std::io::Write;
+/// let path = std::env::temp_dir().join(format!("dentbend-doc-{}.txt", std::process::id()));
+/// dentbend::mesh::write_file_atomically(&path, |out| out.write_all(b"complete")).unwrap();
+/// let failed = dentbend::mesh::write_file_atomically(&path, |out| {
+///     out.write_all(b"partial")?;
+///     Err(std::io::Error::other("the writer failed half-way"))
+/// });
+/// assert!(failed.is_err());
+/// assert_eq!(std::fs::read(&path).unwrap(), b"complete"); // the old contents survive
+/// # std::fs::remove_file(&path).unwrap();
+/// ```
+pub fn write_file_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
+) -> io::Result<()> {
+    let temp = temp_sibling(path)?;
+    let file = OpenOptions::new().write(true).create_new(true).open(&temp)?;
+    fill_and_rename(file, &temp, path, write).inspect_err(|_| {
+        // Best effort: the rename did not happen, so the temporary file is ours to remove.
+        let _ = fs::remove_file(&temp);
+    })
+}
+
+/// [`write_file_atomically`] with its error as [`MeshError::Io`] naming `path`.
 pub(crate) fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
 ) -> Result<(), MeshError> {
-    let io_error = |source| MeshError::Io { path: path.to_path_buf(), source };
-    let temp = temp_sibling(path).map_err(io_error)?;
-    let file = OpenOptions::new().write(true).create_new(true).open(&temp).map_err(io_error)?;
-    fill_and_rename(file, &temp, path, write).map_err(|source| {
-        // Best effort: the rename did not happen, so the temporary file is ours to remove.
-        let _ = fs::remove_file(&temp);
-        io_error(source)
-    })
+    write_file_atomically(path, write).map_err(|source| MeshError::Io { path: path.to_path_buf(), source })
 }
 
 /// Writes and flushes `file` (open at `temp`), closes it, then renames `temp` to `path`.

@@ -2,7 +2,10 @@
 
 use std::path::Path;
 
-use super::{Scene, SceneError, SceneSize, arm, bending_scenes, bunny_bones, figures, load_scene, rain, tetrahedra};
+use super::{
+    LoadOptions, Scene, SceneError, SceneSize, arm, bending_scenes, bunny_bones, figures, load_scene_with, rain,
+    tetrahedra,
+};
 
 /// Names accepted by [`builtin_scene`], one per paper figure they reproduce:
 ///
@@ -79,12 +82,20 @@ pub fn load(spec: &str) -> Result<Scene, SceneError> {
 /// [`SceneError::UnknownScene`] when `spec` is neither a built-in name nor a `.toml` path or an
 /// existing file; otherwise as [`builtin_scene`] or [`load_scene`].
 pub fn load_sized(spec: &str, size: SceneSize) -> Result<Scene, SceneError> {
+    load_with(spec, &LoadOptions::sized(size))
+}
+
+/// [`load_sized`] with `options` (size, where a scene file's mesh paths may lead, limits).
+///
+/// # Errors
+/// As [`load_sized`], with [`load_scene_with`]'s for files.
+pub fn load_with(spec: &str, options: &LoadOptions) -> Result<Scene, SceneError> {
     if BUILTIN_SCENES.contains(&spec) {
-        return builtin_scene(spec, size);
+        return builtin_scene(spec, options.size);
     }
     let path = Path::new(spec);
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) || path.is_file() {
-        return load_scene(path);
+        return load_scene_with(path, options);
     }
     Err(SceneError::UnknownScene { name: spec.into() })
 }

@@ -157,6 +157,7 @@ mod figures;
 mod file;
 mod file_bend;
 mod kit;
+mod options;
 mod parse;
 mod parse_bend;
 mod rain;
@@ -166,10 +167,14 @@ mod types;
 
 pub use arm::{ARM_BONES, ARM_JOINTS, ARM_LENGTH, ARM_TORSO_JOINT};
 pub use bending_scenes::{PLANK_DENT, PLANK_HIT, PLANK_SIZE, SPRING_JOINT};
-pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized};
+pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized, load_with};
 pub use bunny_bones::{BUNNY_EAR_HIT, BUNNY_FALLOFF, BUNNY_HEAD_HIT, BUNNY_JOINT, BUNNY_SCALE};
 pub use camera::Camera;
 pub use error::SceneError;
-pub use parse::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, parse_scene};
+pub use options::{DEFAULT_MAX_BODIES, DEFAULT_MAX_FILE_BYTES, LoadOptions, MeshPaths};
+pub use parse::{
+    DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, load_scene_with, parse_scene,
+    parse_scene_with,
+};
 pub use tetrahedra::tetrahedra_grid;
 pub use types::{DEFAULT_FRAMES, FRAMING_ASPECT, Scene, SceneSize, fit_camera, framing_camera};

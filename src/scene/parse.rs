@@ -12,9 +12,10 @@ use super::Camera;
 use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, ResolutionSpec, SceneFile, Triple};
 use super::parse_bend::{add_error as bend_add_error, bendable_desc};
 use super::source::Source;
-use super::{DEFAULT_FRAMES, Scene, SceneError, framing_camera};
+use super::{DEFAULT_FRAMES, LoadOptions, MeshPaths, Scene, SceneError, framing_camera};
 use crate::coupling::Bending;
 use crate::dent::{Attenuation, DentError, Resolution};
+use crate::mesh::confined::resolve_inside;
 use crate::mesh::{self, TriMesh};
 use crate::sim::{BodyDesc, DentSettings, SimError, SurfaceMaterial, World};
 
@@ -34,8 +35,29 @@ const DEFAULT_VIEW: Vec3 = Vec3::new(0.0, -0.45, -1.0);
 /// # Errors
 /// [`SceneError::Read`] when the file cannot be read, otherwise as [`parse_scene`].
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: path.into(), source })?;
-    parse_scene(&text, path)
+    load_scene_with(path, &LoadOptions::default())
+}
+
+/// [`load_scene`] with `options`: mesh paths trusted or confined, limits on bodies and size.
+///
+/// # Errors
+/// [`SceneError::Read`] when the file cannot be read, is not a file or is larger than
+/// `options.max_file_bytes`; otherwise as [`parse_scene_with`].
+pub fn load_scene_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+    let read_error = |source| SceneError::Read { path: path.into(), source };
+    let metadata = std::fs::metadata(path).map_err(read_error)?;
+    if metadata.is_dir() {
+        return Err(read_error(std::io::Error::other("it is a directory, not a scene file")));
+    }
+    if metadata.len() > options.max_file_bytes {
+        return Err(read_error(std::io::Error::other(format!(
+            "the file has {} bytes, more than the limit of {} for a scene file",
+            metadata.len(),
+            options.max_file_bytes
+        ))));
+    }
+    let text = std::fs::read_to_string(path).map_err(read_error)?;
+    parse_scene_with(&text, path, options)
 }
 
 /// Builds a scene from the TOML `text` of a scene file. `origin` is the file's path: it is
@@ -75,13 +97,36 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 /// # Ok::<(), dentbend::scene::SceneError>(())
 /// ```
 pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
+    parse_scene_with(text, origin, &LoadOptions::default())
+}
+
+/// [`parse_scene`] with `options`: mesh paths confined to the file's folder (the default) or
+/// trusted, and at most `options.max_bodies` bodies.
+///
+/// # Errors
+/// As [`parse_scene`]; also for a mesh path that leaves the scene file's folder while confined,
+/// and for more bodies than the limit.
+pub fn parse_scene_with(text: &str, origin: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let src = Source::new(text, origin);
+    if text.len() as u64 > options.max_file_bytes {
+        return Err(src.error_at(
+            0..0,
+            None,
+            "file",
+            format!("{} bytes is more than the limit of {}", text.len(), options.max_file_bytes),
+        ));
+    }
     let file: SceneFile = toml::from_str(text).map_err(|e| src.toml_error(&e))?;
+    if file.bodies.len() > options.max_bodies {
+        let span = file.bodies[options.max_bodies].name.span();
+        let message = format!("{} bodies is more than the limit of {}", file.bodies.len(), options.max_bodies);
+        return Err(src.error_at(span, None, "body", message));
+    }
     let settings = file.world.unwrap_or_default();
     let mut world = World::new(settings).map_err(|e| world_error(&src, e))?;
 
-    let mut meshes =
-        MeshCache { folder: origin.parent().map(Path::to_path_buf).unwrap_or_default(), loaded: HashMap::new() };
+    let folder = origin.parent().map(Path::to_path_buf).unwrap_or_default();
+    let mut meshes = MeshCache { folder, paths: options.mesh_paths, loaded: HashMap::new() };
     let mut names: HashMap<&str, usize> = HashMap::new();
     let mut bending = Bending::new();
     for body in &file.bodies {
@@ -121,6 +166,8 @@ pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
 pub(super) struct MeshCache {
     /// The scene file's folder: relative mesh paths start here.
     folder: PathBuf,
+    /// Whether mesh paths may leave `folder`.
+    paths: MeshPaths,
     loaded: HashMap<String, TriMesh>,
 }
 
@@ -136,6 +183,9 @@ impl MeshCache {
             mesh::builtin(name).map_err(|e| fail(e.to_string()))?
         } else {
             let path = self.folder.join(name);
+            if path.is_dir() {
+                return Err(fail(format!("{} is a directory, not a mesh file", path.display())));
+            }
             if !path.is_file() {
                 let builtins = mesh::BUILTIN_NAMES.join(", ");
                 return Err(fail(format!(
@@ -144,6 +194,12 @@ impl MeshCache {
                     path.display()
                 )));
             }
+            let path = match self.paths {
+                MeshPaths::Trusted => path,
+                MeshPaths::Confined => resolve_inside(&self.folder, name).map_err(|e| {
+                    fail(format!("{e} (to read files elsewhere, load the scene with trusted mesh paths: `--trust-paths` on the command line)"))
+                })?,
+            };
             let path_text = path.to_str().ok_or_else(|| fail(format!("mesh path {} is not UTF-8", path.display())))?;
             mesh::load(path_text).map_err(|e| fail(e.to_string()))?
         };

@@ -7,6 +7,7 @@ use clap::{Args, Parser};
 
 use crate::backend::BackendOption;
 use crate::error::CliError;
+use crate::output::write_text;
 
 /// Arguments of `dentbend demo`.
 #[derive(Debug, Args)]
@@ -91,7 +92,7 @@ fn write_gallery(out: &Path) -> Result<PathBuf, CliError> {
         html.push_str(&format!("<figure><img src=\"{picture}\"><figcaption>{picture}</figcaption></figure>\n"));
     }
     let path = out.join("gallery.html");
-    std::fs::write(&path, html).map_err(|source| CliError::Write { path: path.clone(), source })?;
+    write_text(&path, &html)?;
     Ok(path)
 }
 

@@ -13,6 +13,7 @@ use serde::Serialize;
 use crate::backend::{BackendOption, gpu_stages};
 use crate::error::CliError;
 use crate::options::{MapOptions, ProjectileOptions, nonzero, sig3};
+use crate::output::write_json;
 use crate::vector::parse_vec3;
 
 /// Arguments of `dentbend dentmap`.
@@ -150,11 +151,7 @@ fn write_outputs(dir: &Path, stages: &DentStages, metadata: &Metadata) -> Result
     let lengths: Vec<f32> = map.cells.iter().map(|&[x, y, z, _]| Vec3::new(x, y, z).length()).collect();
     write_npy_f32(dir.join("dentmap.npy"), &[map_res as usize, map_res as usize, 3], &vectors)?;
     write_heatmap_png(dir.join("dentmap.png"), &lengths, map_res, map_res, d.max(map.max_displacement()))?;
-    let json_path = dir.join("dentmap.json");
-    let write_error = |source| CliError::Write { path: dir.join("dentmap.json"), source };
-    let mut text = serde_json::to_string_pretty(metadata).map_err(|e| write_error(std::io::Error::other(e)))?;
-    text.push('\n');
-    fs::write(&json_path, text).map_err(write_error)
+    write_json(&dir.join("dentmap.json"), metadata)
 }
 
 /// `dir/` for the summary line.

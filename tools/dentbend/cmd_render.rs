@@ -10,6 +10,7 @@ use dentbend::render::{Camera, Shaded};
 use crate::backend::BackendOption;
 use crate::error::CliError;
 use crate::options::{load_mesh, nonzero};
+use crate::output::{require_extension, write_picture};
 use crate::vector::parse_vec3;
 
 /// Colours given to the meshes in order (linear RGB): steel, copper, sage, plum.
@@ -56,6 +57,7 @@ pub fn run(args: &RenderArgs) -> Result<String, CliError> {
     if !(args.zoom.is_finite() && args.zoom > 0.0) {
         return Err(CliError::Usage(format!("--zoom {} is out of range: it must be finite and > 0", args.zoom)));
     }
+    require_extension(&args.out, "--out", &["png"])?;
     let (width, height) = args.size;
     let meshes = args.meshes.iter().map(|spec| load_mesh("mesh", spec)).collect::<Result<Vec<_>, _>>()?;
     let bounds = meshes
@@ -68,20 +70,30 @@ pub fn run(args: &RenderArgs) -> Result<String, CliError> {
         meshes.iter().zip(PALETTE.iter().cycle()).map(|(mesh, &colour)| Shaded { mesh, colour }).collect();
     let renderer = args.backend.renderer()?;
     let picture = renderer.render(&shaded, &camera, width, height).map_err(|e| CliError::Usage(e.to_string()))?;
-    picture
-        .save(&args.out)
-        .map_err(|e| CliError::Write { path: args.out.clone(), source: std::io::Error::other(e) })?;
+    write_picture(&args.out, &picture)?;
     Ok(format!("render: {} mesh(es), {width}×{height} → {}", meshes.len(), args.out.display()))
 }
 
-/// Parses `W,H` (two positive integers).
+/// Largest picture side, pixels.
+const MAX_SIDE: u32 = 16_384;
+/// Largest picture, pixels (8192 × 8192: 200 MB of colour, as much again of depth).
+const MAX_PIXELS: u64 = 1 << 26;
+
+/// Parses `W,H` (two whole numbers, each at most 16384, together at most 8192 × 8192 pixels).
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    match parts.as_slice() {
-        [w, h] => match (w.parse(), h.parse()) {
-            (Ok(w), Ok(h)) => Ok((w, h)),
-            _ => Err(format!("expected two whole numbers W,H, got '{text}'")),
+    let (w, h) = match parts.as_slice() {
+        [w, h] => match (w.parse::<u32>(), h.parse::<u32>()) {
+            (Ok(w), Ok(h)) => (w, h),
+            _ => return Err(format!("expected two whole numbers W,H, got '{text}'")),
         },
-        _ => Err(format!("expected W,H, got '{text}'")),
+        _ => return Err(format!("expected W,H, got '{text}'")),
+    };
+    if w > MAX_SIDE || h > MAX_SIDE || u64::from(w) * u64::from(h) > MAX_PIXELS {
+        return Err(format!(
+            "{w}×{h} pixels is too large: each side may be at most {MAX_SIDE} and the picture at most {} megapixels",
+            MAX_PIXELS >> 20
+        ));
     }
+    Ok((w, h))
 }

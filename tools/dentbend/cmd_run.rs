@@ -7,25 +7,31 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use dentbend::coupling::{BendRecord, JointRecord};
-use dentbend::coupling::{Simulation, StepStats, StepTiming};
-use dentbend::mesh::TriMesh;
+use dentbend::coupling::{Simulation, StepStats};
+use dentbend::mesh::{GltfNode, TriMesh, save_glb_scene};
 use dentbend::render::{Renderer, Shaded};
-use dentbend::scene::{Scene, SceneSize, load_sized};
+use dentbend::scene::{LoadOptions, MeshPaths, Scene, SceneSize, load_with};
 use dentbend::sim::DentRecord;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
 use crate::backend::BackendOption;
 use crate::error::CliError;
-use crate::file_names::file_stem;
+use crate::file_names::{check_distinct_stems, file_stem};
+use crate::output::{write_json, write_mesh, write_picture};
 use crate::rest_output::write_rest_files;
+use crate::run_budget::{self, BodyOutput, RunShape};
+use crate::step_log::{LoggedSteps, StepLog};
 
-/// Which bodies' meshes are written at each output frame.
+/// Which meshes are written at each output frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MeshChoice {
-    /// Every body.
+    /// One binary glTF scene per output frame, `meshes/frame_<frame>.glb`, every body a named
+    /// node with its colour.
+    Frame,
+    /// Every body in its own files, `meshes/<body>_<frame>.obj` and `.glb`.
     All,
-    /// Only dentable and bending bodies (the ones whose shape changes).
+    /// Like `all`, only the dentable and bending bodies (the ones whose shape changes).
     Dentable,
     /// No meshes.
     None,
@@ -38,7 +44,7 @@ pub struct RunArgs {
     /// bunny-bones, tetrahedra, arm) or a scene file (.toml)
     pub scene: String,
 
-    /// Frames to run (one world step each) [default: the scene's]
+    /// Frames to run (one world step each, ≥ 1) [default: the scene's]
     #[arg(long, value_name = "N")]
     pub frames: Option<u32>,
 
@@ -55,13 +61,23 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value = "full")]
     pub size: SizeChoice,
 
-    /// Which bodies' meshes to write
-    #[arg(long, value_enum, default_value = "all")]
+    /// Which meshes to write at each output frame
+    #[arg(long, value_enum, default_value = "frame")]
     pub meshes: MeshChoice,
 
     /// Picture size in pixels, WIDTH,HEIGHT (0,0 writes no pictures)
     #[arg(long, value_name = "W,H", value_parser = crate::cmd_render::parse_size, default_value = "960,640")]
     pub picture: (u32, u32),
+
+    /// Go ahead with a run over the output budget (1 GB, 10,000 files, 10,000 bodies, 20
+    /// million triangles), which is otherwise refused up front with its estimate
+    #[arg(long)]
+    pub allow_large: bool,
+
+    /// Let a scene file's mesh paths leave its folder (absolute paths, `..`, symbolic links out);
+    /// only for scene files you trust
+    #[arg(long)]
+    pub trust_paths: bool,
 
     #[command(flatten)]
     pub backend: BackendOption,
@@ -90,7 +106,7 @@ struct Summary<'a> {
     skin_on: &'static str,
     pictures_on: &'static str,
     ms_per_step: StepStats,
-    steps: &'a [StepTiming],
+    steps: LoggedSteps<'a>,
     dents: Vec<DentEntry<'a>>,
     /// Joints made by dynamic articulation: frame, bending body, world position (m).
     joints: Vec<JointEntry<'a>>,
@@ -141,20 +157,25 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     if args.every == 0 {
         return Err(CliError::Usage("--every must be at least 1".into()));
     }
+    if args.frames == Some(0) {
+        return Err(CliError::Usage("--frames must be at least 1".into()));
+    }
     let size = match args.size {
         SizeChoice::Full => SceneSize::Full,
         SizeChoice::Demo => SceneSize::Demo,
     };
-    let scene = load_sized(&args.scene, size).map_err(|e| CliError::Usage(e.to_string()))?;
+    let mut options = LoadOptions::sized(size);
+    if args.trust_paths {
+        options.mesh_paths = MeshPaths::Trusted;
+    }
+    if args.allow_large {
+        options = options.unlimited();
+    }
+    let scene = load_with(&args.scene, &options).map_err(|e| CliError::Usage(e.to_string()))?;
     let frames = args.frames.unwrap_or(scene.frames);
     let context = args.backend.context()?;
     let pictures = args.picture.0 > 0 && args.picture.1 > 0;
     let renderer = if pictures { Some(args.backend.renderer()?) } else { None };
-    let meshes_dir = args.out.join("meshes");
-    let frames_dir = args.out.join("frames");
-    for dir in [&args.out, &meshes_dir, &frames_dir] {
-        std::fs::create_dir_all(dir).map_err(|source| CliError::CreateDir { path: dir.clone(), source })?;
-    }
     let Scene { name, world, camera, description, bending, .. } = scene;
     let sim = Simulation::new(world, context).map_err(|e| CliError::Usage(e.to_string()))?.with_bending(bending);
     // On the GPU, skin every step as a game would before drawing: the kernel's output stays
@@ -163,22 +184,31 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     // frames between them, and its time would land in the same loop as the dynamics.
     let every_step = sim.skins_on_gpu();
     let mut sim = sim.skin_every_step(every_step);
+    // Everything is checked before the first file is written.
+    let mut shown = Some(shown_meshes(&mut sim)?);
+    let first = shown.as_deref().unwrap_or_default();
+    check_distinct_stems(first.iter().map(|s| s.name.as_str())).map_err(CliError::Usage)?;
+    let outputs: Vec<BodyOutput> = first.iter().map(|s| body_output(s, args.meshes)).collect();
+    let shape = RunShape { frames, every: args.every, picture: args.picture };
+    run_budget::check(&run_budget::estimate(&shape, &outputs), &outputs, args.allow_large)?;
+    let meshes_dir = args.out.join("meshes");
+    let frames_dir = args.out.join("frames");
+    for dir in [&args.out, &meshes_dir, &frames_dir] {
+        std::fs::create_dir_all(dir).map_err(|source| CliError::CreateDir { path: dir.clone(), source })?;
+    }
     let writes_meshes = args.meshes != MeshChoice::None;
     let rest = write_rest_files(&sim, &camera, renderer.as_ref(), args.picture, writes_meshes, &args.out)?;
-    let progress = ProgressBar::new(u64::from(frames));
-    progress.set_style(
-        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} frames, {msg} ({elapsed} / ~{duration})")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    progress.set_prefix(name.clone());
-    let mut timings = Vec::with_capacity(frames as usize);
+    let progress = progress_bar(&name, frames);
+    let mut log = StepLog::create(&args.out)?;
     let mut written = 0usize;
     // Output frames need the shown bodies' world meshes only for files or pictures.
     let wanted = args.meshes != MeshChoice::None || renderer.is_some();
     for frame in 0..=frames {
         if wanted && (frame % args.every == 0 || frame == frames) {
-            let shown = shown_meshes(&mut sim)?;
+            let shown = match shown.take() {
+                Some(first) => first,
+                None => shown_meshes(&mut sim)?,
+            };
             written += write_meshes(&shown, frame, args.meshes, &meshes_dir)?;
             if let Some(renderer) = &renderer {
                 draw(&shown, renderer, &camera, args.picture, &frames_dir.join(format!("{frame:04}.png")))?;
@@ -188,11 +218,12 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
             break;
         }
         let (timing, _) = sim.step().map_err(|e| CliError::Usage(format!("frame {}: {e}", frame + 1)))?;
-        timings.push(timing);
+        log.push(&timing)?;
         progress.set_message(format!("{} dents", sim.dents().len()));
         progress.inc(1);
     }
     progress.finish_and_clear();
+    let ms = log.stats();
     let summary = Summary {
         scene: &name,
         description: &description,
@@ -206,22 +237,20 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
             Some(_) => "cpu",
             None => "none",
         },
-        ms_per_step: StepStats::of(&timings),
-        steps: &timings,
+        ms_per_step: ms,
+        steps: log.steps()?,
         dents: sim.dents().iter().map(|record| DentEntry { frame: record.step, record }).collect(),
         joints: sim.bending().joints().iter().map(JointEntry::from).collect(),
         bends: sim.bending().bends(),
         rest_pictures: &rest.pictures,
         rest_meshes: &rest.meshes,
     };
-    let path = args.out.join("summary.json");
-    let json = serde_json::to_string_pretty(&summary).map_err(|e| CliError::Usage(e.to_string()))?;
-    std::fs::write(&path, json).map_err(|source| CliError::Write { path: path.clone(), source })?;
-    let ms = &summary.ms_per_step;
+    write_json(&args.out.join("summary.json"), &summary)?;
     Ok(format!(
-        "run {name}: {frames} frames, {} dents, {} joints, {:.2} ms/step ({:.2} dynamics + {:.2} denting{}), {written} mesh files{} → {}",
+        "run {name}: {frames} frames, {} dents, {} joints, {} plastic bends, {:.2} ms/step ({:.2} dynamics + {:.2} denting{}), {written} mesh files{} → {}",
         sim.dents().len(),
         sim.bending().joints().len(),
+        sim.bending().bends().len(),
         ms.total_mean,
         ms.dynamics_mean,
         ms.denting_mean,
@@ -236,6 +265,28 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         },
         args.out.display()
     ))
+}
+
+/// The progress bar on stderr (hidden when stderr is not a terminal).
+fn progress_bar(name: &str, frames: u32) -> ProgressBar {
+    let progress = ProgressBar::new(u64::from(frames));
+    progress.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} frames, {msg} ({elapsed} / ~{duration})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    progress.set_prefix(name.to_owned());
+    progress
+}
+
+/// What `choice` writes of one shown body at each output frame.
+fn body_output(shown: &Shown, choice: MeshChoice) -> BodyOutput {
+    BodyOutput {
+        vertices: shown.mesh.vertex_count(),
+        triangles: shown.mesh.face_count(),
+        own_files: choice == MeshChoice::All || (choice == MeshChoice::Dentable && shown.changes),
+        in_frame_scene: choice == MeshChoice::Frame,
+    }
 }
 
 /// The world's bodies but the sub-bodies of bending bodies and the stand-ins of rigid clusters,
@@ -270,25 +321,35 @@ fn shown_meshes(sim: &mut Simulation) -> Result<Vec<Shown>, CliError> {
     Ok(meshes)
 }
 
-/// Writes `meshes/<body>_<frame>.obj` and `.glb` (world coordinates; a bending body's skinned
-/// mesh under its own name, its sub-bodies not at all); returns the file count.
+/// Writes the output frame's meshes (world coordinates; a bending body's skinned mesh under its
+/// own name, its sub-bodies not at all): `meshes/frame_<frame>.glb` for `frame`, or
+/// `meshes/<body>_<frame>.obj` and `.glb` for `all` and `dentable`; returns the file count.
 fn write_meshes(shown: &[Shown], frame: u32, choice: MeshChoice, dir: &Path) -> Result<usize, CliError> {
-    if choice == MeshChoice::None {
-        return Ok(0);
-    }
-    let mut count = 0;
-    for Shown { name, mesh, changes, .. } in shown {
-        if choice == MeshChoice::Dentable && !changes {
-            continue;
+    match choice {
+        MeshChoice::None => Ok(0),
+        MeshChoice::Frame => {
+            let nodes: Vec<GltfNode> = shown
+                .iter()
+                .map(|s| GltfNode { color: s.colour.map(|c| c.clamp(0.0, 1.0)), ..GltfNode::new(&s.name, &s.mesh) })
+                .collect();
+            let path = dir.join(format!("frame_{frame:04}.glb"));
+            save_glb_scene(&path, &nodes).map_err(|source| CliError::Save { path, source })?;
+            Ok(1)
         }
-        for extension in ["obj", "glb"] {
-            let path = dir.join(format!("{}_{frame:04}.{extension}", file_stem(name)));
-            dentbend::mesh::save(&path, mesh)
-                .map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
-            count += 1;
+        MeshChoice::All | MeshChoice::Dentable => {
+            let mut count = 0;
+            for Shown { name, mesh, changes, .. } in shown {
+                if choice == MeshChoice::Dentable && !changes {
+                    continue;
+                }
+                for extension in ["obj", "glb"] {
+                    write_mesh(&dir.join(format!("{}_{frame:04}.{extension}", file_stem(name))), mesh)?;
+                    count += 1;
+                }
+            }
+            Ok(count)
         }
     }
-    Ok(count)
 }
 
 /// Draws the shown bodies from the scene's camera into `path`.
@@ -301,5 +362,5 @@ fn draw(
 ) -> Result<(), CliError> {
     let shaded: Vec<Shaded> = shown.iter().map(|s| Shaded { mesh: &s.mesh, colour: s.colour }).collect();
     let picture = renderer.render(&shaded, camera, width, height).map_err(|e| CliError::Usage(e.to_string()))?;
-    picture.save(path).map_err(|e| CliError::Write { path: path.to_path_buf(), source: std::io::Error::other(e) })
+    write_picture(path, &picture)
 }

@@ -12,7 +12,10 @@ mod error;
 mod file_names;
 mod logging;
 mod options;
+mod output;
 mod rest_output;
+mod run_budget;
+mod step_log;
 mod vector;
 
 use std::io::Write;

@@ -10,6 +10,7 @@ use dentbend::render::{Camera, Renderer, rest_pictures};
 
 use crate::error::CliError;
 use crate::file_names::file_stem;
+use crate::output::{write_mesh, write_picture};
 
 /// Folder under the output directory that holds the rest-state files.
 pub const REST_DIR: &str = "rest";
@@ -68,7 +69,7 @@ pub fn write_rest_files(
             ] {
                 let file = format!("{stem}_{kind}.png");
                 let path = dir.join(&file);
-                picture.save(&path).map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
+                write_picture(&path, picture)?;
                 files.pictures.push(format!("{REST_DIR}/{file}"));
             }
         }
@@ -77,8 +78,7 @@ pub fn write_rest_files(
                 mesh.transform(pose).map_err(|e| usage(&e))?;
                 let file = format!("{stem}_sub{k}.obj");
                 let path = dir.join(&file);
-                dentbend::mesh::save(&path, &mesh)
-                    .map_err(|e| CliError::Write { path, source: std::io::Error::other(e) })?;
+                write_mesh(&path, &mesh)?;
                 files.meshes.push(format!("{REST_DIR}/{file}"));
             }
         }
