@@ -65,8 +65,11 @@ pub enum DentError {
     /// The batch's backend failed (a GPU device lost or out of memory mid-batch).
     #[error("dent backend: {0}")]
     Backend(String),
-    /// Applying the map would produce a non-finite vertex position.
-    #[error("the dent would move vertex {index} to a non-finite position")]
+    /// Applying the map would move a vertex out of finite space or beyond
+    /// [`MAX_COORDINATE`](crate::mesh::MAX_COORDINATE); the mesh is left unchanged.
+    #[error(
+        "the dent would move vertex {index} to a non-finite position or beyond ±1e6, the supported coordinate range"
+    )]
     NonFiniteResult {
         /// Index of the vertex.
         index: usize,

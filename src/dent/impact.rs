@@ -3,6 +3,11 @@
 use glam::Vec3;
 
 use super::DentError;
+use crate::mesh::MAX_COORDINATE;
+
+/// Fastest relative velocity an impact may have, units/s (10⁵: 300 times the speed of sound in
+/// air when the unit is the metre). Kinetic energies of such speeds stay far inside f32.
+pub const MAX_SPEED: f32 = 1.0e5;
 
 /// One contact between a target A (the body being dented) and a projectile B, as a rigid-body
 /// solver reports it.
@@ -42,6 +47,18 @@ impl Impact {
             if !v.is_finite() {
                 return Err(DentError::InvalidImpact(format!("{name} {v} is not finite")));
             }
+        }
+        if self.point.abs().max_element() > MAX_COORDINATE {
+            return Err(DentError::InvalidImpact(format!(
+                "point {} lies beyond ±1e6, the supported coordinate range",
+                self.point
+            )));
+        }
+        if self.relative_velocity.length() > MAX_SPEED {
+            return Err(DentError::InvalidImpact(format!(
+                "relative_velocity {} is faster than {MAX_SPEED:e} units/s, the supported range",
+                self.relative_velocity
+            )));
         }
         let Some(normal) = unit(self.normal) else {
             return Err(DentError::InvalidImpact("normal is the zero vector".into()));

@@ -103,7 +103,8 @@ impl DentMap {
         let mut positions = before.to_vec();
         let mut moved = vec![false; positions.len()];
         cpu::displace(&params, &self.cells, &table, &mut positions, &mut moved);
-        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
+        let out_of_range = |p: &Vec3| !p.is_finite() || p.abs().max_element() > crate::mesh::MAX_COORDINATE;
+        if let Some(index) = positions.iter().position(out_of_range) {
             return Err(DentError::NonFiniteResult { index });
         }
         let max_displacement = positions.iter().zip(before).map(|(new, old)| new.distance(*old)).fold(0.0, f32::max);

@@ -38,7 +38,7 @@ pub use error::DentError;
 #[cfg(feature = "gpu")]
 pub(crate) use error::invalid;
 pub use grid::{DentFrame, Grid};
-pub use impact::Impact;
+pub use impact::{Impact, MAX_SPEED};
 pub use map::{DentMap, DisplaceReport};
 pub use material::DentMaterial;
 pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, MIN_COS_FLOOR, Resolution};

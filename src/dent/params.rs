@@ -3,6 +3,7 @@
 use super::DentError;
 use super::error::invalid;
 pub use crate::cpu::{Attenuation, FalloffFn};
+use crate::mesh::MAX_COORDINATE;
 
 /// Smallest accepted `min_cos`: θ ≤ 89.4°, a 100× stretch of the map along the velocity.
 pub const MIN_COS_FLOOR: f32 = 0.01;
@@ -112,13 +113,13 @@ impl DentParams {
     /// [`DentError::InvalidParameter`] naming the first bad field.
     pub fn validate(&self) -> Result<(), DentError> {
         let d = self.dent_distance;
-        if !(d.is_finite() && d > 0.0) {
-            return Err(invalid("dent_distance", d, "must be finite and > 0"));
+        if !(d.is_finite() && d > 0.0 && d <= MAX_COORDINATE) {
+            return Err(invalid("dent_distance", d, "must be finite, > 0 and at most 1e6 (the coordinate range)"));
         }
         if let Some(s) = self.sigma
-            && !(s.is_finite() && s > 0.0)
+            && !(s.is_finite() && s > 0.0 && s <= MAX_COORDINATE)
         {
-            return Err(invalid("sigma", s, "must be finite and > 0"));
+            return Err(invalid("sigma", s, "must be finite, > 0 and at most 1e6 (the coordinate range)"));
         }
         match self.resolution {
             Resolution::Fixed(n) if !(1..=MAX_RESOLUTION).contains(&n) => {

@@ -23,6 +23,19 @@ pub enum MeshError {
         /// Its coordinates as read.
         position: [f32; 3],
     },
+    /// A vertex coordinate lies beyond [`MAX_COORDINATE`](super::MAX_COORDINATE).
+    #[error(
+        "vertex {index} at {position:?} lies beyond ±{limit:e}, the supported coordinate range (areas and volumes of \
+         larger coordinates overflow f32)"
+    )]
+    OutOfRange {
+        /// Index of the offending vertex.
+        index: usize,
+        /// Its coordinates.
+        position: [f32; 3],
+        /// The limit, mesh units.
+        limit: f32,
+    },
     /// A face refers to a vertex that does not exist.
     #[error("face {face} refers to vertex {index}, but the mesh has only {vertex_count} vertices")]
     IndexOutOfRange {

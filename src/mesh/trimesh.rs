@@ -21,7 +21,8 @@ impl TriMesh {
     /// Builds a mesh from positions and faces, validating both and computing vertex normals.
     ///
     /// # Errors
-    /// [`MeshError::Empty`], [`MeshError::NonFinite`] or [`MeshError::IndexOutOfRange`].
+    /// [`MeshError::Empty`], [`MeshError::NonFinite`], [`MeshError::OutOfRange`] (a coordinate
+    /// beyond ±[`MAX_COORDINATE`]) or [`MeshError::IndexOutOfRange`].
     ///
     /// # Example
     /// ```
@@ -74,7 +75,8 @@ impl TriMesh {
     /// Replaces every vertex position (same count) and refreshes the normals.
     ///
     /// # Errors
-    /// [`MeshError::LengthMismatch`] or [`MeshError::NonFinite`]; the mesh is unchanged then.
+    /// [`MeshError::LengthMismatch`], [`MeshError::NonFinite`] or [`MeshError::OutOfRange`]; the
+    /// mesh is unchanged then.
     pub fn set_positions(&mut self, positions: Vec<Vec3>) -> Result<(), MeshError> {
         if positions.len() != self.positions.len() {
             return Err(MeshError::LengthMismatch { expected: self.positions.len(), actual: positions.len() });
@@ -93,7 +95,8 @@ impl TriMesh {
     /// Applies an affine map to every vertex (normals are recomputed).
     ///
     /// # Errors
-    /// [`MeshError::NonFinite`] if the map produces a non-finite coordinate; the mesh is unchanged then.
+    /// [`MeshError::NonFinite`] or [`MeshError::OutOfRange`] if the map moves a vertex out of
+    /// finite space or beyond ±[`MAX_COORDINATE`]; the mesh is unchanged then.
     pub fn transform(&mut self, matrix: glam::Affine3A) -> Result<(), MeshError> {
         let moved: Vec<Vec3> = self.positions.iter().map(|&p| matrix.transform_point3(p)).collect();
         self.set_positions(moved)
@@ -205,9 +208,21 @@ pub(crate) fn face_area_normal(positions: &[Vec3], face: &[u32; 3]) -> Vec3 {
     (b - a).cross(c - a)
 }
 
+/// Largest coordinate magnitude a mesh may have, mesh units: 10⁶ (1000 km in metres). Twice
+/// a triangle's area needs squared lengths (10¹² here) and a volume needs cubes (10¹⁸), far
+/// inside f32's 3.4·10³⁸, while a game world's coordinates rarely pass 10⁵.
+pub const MAX_COORDINATE: f32 = 1.0e6;
+
+/// Every position finite and within ±[`MAX_COORDINATE`].
 fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
-    match positions.iter().position(|p| !p.is_finite()) {
-        Some(index) => Err(MeshError::NonFinite { index, position: positions[index].to_array() }),
+    let bad = positions.iter().position(|p| !p.is_finite() || p.abs().max_element() > MAX_COORDINATE);
+    match bad {
+        Some(index) if !positions[index].is_finite() => {
+            Err(MeshError::NonFinite { index, position: positions[index].to_array() })
+        }
+        Some(index) => {
+            Err(MeshError::OutOfRange { index, position: positions[index].to_array(), limit: MAX_COORDINATE })
+        }
         None => Ok(()),
     }
 }

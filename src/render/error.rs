@@ -12,7 +12,7 @@ pub enum RenderError {
         height: u32,
     },
     /// The camera is unusable.
-    #[error("unusable camera (non-finite, eye on target, up along the view, or field of view outside 1..179°): {0}")]
+    #[error("unusable camera: {0}")]
     Camera(String),
     /// A bending body's rest pictures could not be made (a non-finite pose, a bone without a
     /// surface).

@@ -14,10 +14,10 @@ use super::parse_bend::{add_error as bend_add_error, bendable_desc};
 use super::source::Source;
 use super::{DEFAULT_FRAMES, LoadOptions, MeshPaths, Scene, SceneError, framing_camera};
 use crate::coupling::Bending;
-use crate::dent::{Attenuation, DentError, Resolution};
+use crate::dent::{Attenuation, DentError, MAX_SPEED, Resolution};
 use crate::mesh::confined::resolve_inside;
-use crate::mesh::{self, TriMesh};
-use crate::sim::{BodyDesc, DentSettings, SimError, SurfaceMaterial, World};
+use crate::mesh::{self, MAX_COORDINATE, TriMesh};
+use crate::sim::{BodyDesc, DentSettings, MAX_ANGULAR_SPEED, SimError, SurfaceMaterial, World};
 
 /// Dent threshold when `[body.dent]` gives none, m/s.
 pub const DEFAULT_DENT_THRESHOLD: f32 = 1.0;
@@ -208,22 +208,40 @@ impl MeshCache {
     }
 }
 
-/// A checked vector field: finite, or an error at its span.
+/// The range a vector field must lie in besides being finite.
+#[derive(Debug, Clone, Copy)]
+enum Bound {
+    /// Any finite vector.
+    Finite,
+    /// Every component within ± the limit, with its unit for the message.
+    Axis(f32, &'static str),
+    /// Length at most the limit, with its unit for the message.
+    Length(f32, &'static str),
+}
+
+/// A checked vector field: finite and within `bound`, or an error at its span.
 fn vector(
     src: &Source<'_>,
     body: &str,
     field: &str,
     value: &Option<Spanned<Triple>>,
+    bound: Bound,
 ) -> Result<Option<Vec3>, SceneError> {
-    match value {
-        Some(v) if !v.get_ref().0.iter().all(|x| x.is_finite()) => Err(src.error_at(
-            v.span(),
-            Some(body),
-            field,
-            format!("{:?} must be finite (no nan or inf)", v.get_ref().0),
-        )),
-        Some(v) => Ok(Some(Vec3::from_array(v.get_ref().0))),
-        None => Ok(None),
+    let Some(v) = value else { return Ok(None) };
+    let array = v.get_ref().0;
+    let fail = |message: String| Err(src.error_at(v.span(), Some(body), field, message));
+    if !array.iter().all(|x| x.is_finite()) {
+        return fail(format!("{array:?} must be finite (no nan or inf)"));
+    }
+    let vector = Vec3::from_array(array);
+    match bound {
+        Bound::Axis(limit, unit) if vector.abs().max_element() > limit => {
+            fail(format!("{array:?} lies beyond ±{limit:e} {unit}, the supported range"))
+        }
+        Bound::Length(limit, unit) if vector.length() > limit => {
+            fail(format!("{array:?} is longer than {limit:e} {unit}, the supported range"))
+        }
+        _ => Ok(Some(vector)),
     }
 }
 
@@ -263,13 +281,16 @@ pub(super) fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCach
     let mut desc = BodyDesc::new(name, mesh);
     desc.kind = body.kind.as_ref().map(|k| *k.get_ref()).unwrap_or_default();
     desc.collider = body.collider.as_ref().map(|c| *c.get_ref()).unwrap_or_default();
-    desc.position = vector(src, name, "position", &body.position)?.unwrap_or(Vec3::ZERO);
-    if let Some(rotation) = vector(src, name, "rotation", &body.rotation)? {
+    desc.position =
+        vector(src, name, "position", &body.position, Bound::Axis(MAX_COORDINATE, "m"))?.unwrap_or(Vec3::ZERO);
+    if let Some(rotation) = vector(src, name, "rotation", &body.rotation, Bound::Axis(1.0e6, "degrees"))? {
         desc.orientation = Quat::from_scaled_axis(rotation * (std::f32::consts::PI / 180.0));
     }
-    desc.linear_velocity = vector(src, name, "velocity", &body.velocity)?.unwrap_or(Vec3::ZERO);
-    desc.angular_velocity = vector(src, name, "angular_velocity", &body.angular_velocity)?.unwrap_or(Vec3::ZERO);
-    if let Some(color) = vector(src, name, "color", &body.color)? {
+    desc.linear_velocity =
+        vector(src, name, "velocity", &body.velocity, Bound::Length(MAX_SPEED, "m/s"))?.unwrap_or(Vec3::ZERO);
+    let spin = Bound::Length(MAX_ANGULAR_SPEED, "rad/s");
+    desc.angular_velocity = vector(src, name, "angular_velocity", &body.angular_velocity, spin)?.unwrap_or(Vec3::ZERO);
+    if let Some(color) = vector(src, name, "color", &body.color, Bound::Finite)? {
         desc.color = color.to_array();
     }
 
@@ -378,7 +399,11 @@ fn dent_error(src: &Source<'_>, body: &str, dent: &Spanned<DentFile>, error: Den
 fn camera_from(src: &Source<'_>, camera: &CameraFile) -> Result<Camera, SceneError> {
     let point = |field: &str, v: &Spanned<Triple>| -> Result<Vec3, SceneError> {
         let p = Vec3::from_array(v.get_ref().0);
-        if p.is_finite() { Ok(p) } else { Err(src.error_at(v.span(), None, field, format!("{p} must be finite"))) }
+        if p.is_finite() && p.abs().max_element() <= MAX_COORDINATE {
+            Ok(p)
+        } else {
+            Err(src.error_at(v.span(), None, field, format!("{p} must be finite and within ±1e6 m")))
+        }
     };
     let eye = point("camera.eye", &camera.eye)?;
     let target = point("camera.target", &camera.target)?;

@@ -10,7 +10,13 @@ use super::cluster::Role;
 use super::error::invalid;
 use super::sleep::Activity;
 use super::{ColliderKind, DentSettings, MassProperties, SimError, VertexMap, mass_properties};
-use crate::mesh::TriMesh;
+use crate::dent::MAX_SPEED;
+use crate::mesh::{MAX_COORDINATE, TriMesh};
+
+/// Fastest spin a body may start with, rad/s (10⁴: about 1600 turns a second).
+pub const MAX_ANGULAR_SPEED: f32 = 1.0e4;
+/// Densest material a body may have, kg/m³ (10⁶: forty times osmium).
+pub const MAX_DENSITY: f32 = 1.0e6;
 
 /// How a body moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -138,20 +144,23 @@ impl BodyDesc {
         if self.name.is_empty() {
             return Err(invalid("body name", &self.name, "must not be empty"));
         }
-        for (what, v) in [
-            ("position", self.position),
-            ("linear_velocity", self.linear_velocity),
-            ("angular_velocity", self.angular_velocity),
+        for (what, v, limit, rule) in [
+            ("position", self.position, MAX_COORDINATE, "must be finite and within ±1e6 m along each axis"),
+            ("linear_velocity", self.linear_velocity, MAX_SPEED, "must be finite and at most 1e5 m/s"),
+            ("angular_velocity", self.angular_velocity, MAX_ANGULAR_SPEED, "must be finite and at most 1e4 rad/s"),
         ] {
-            if !v.is_finite() {
-                return Err(invalid(field(what), v, "must be finite"));
+            let magnitude = if what == "position" { v.abs().max_element() } else { v.length() };
+            if !(v.is_finite() && magnitude <= limit) {
+                return Err(invalid(field(what), v, rule));
             }
         }
         if !self.orientation.is_finite() || self.orientation.length_squared() < 1e-12 {
             return Err(invalid(field("orientation"), self.orientation, "must be a finite non-zero quaternion"));
         }
-        if self.kind == BodyKind::Dynamic && !(self.density.is_finite() && self.density > 0.0) {
-            return Err(invalid(field("density"), self.density, "must be finite and > 0"));
+        if self.kind == BodyKind::Dynamic
+            && !(self.density.is_finite() && self.density > 0.0 && self.density <= MAX_DENSITY)
+        {
+            return Err(invalid(field("density"), self.density, "must be finite, > 0 and at most 1e6 kg/m³"));
         }
         let SurfaceMaterial { restitution, friction } = self.surface;
         if !(0.0..=1.0).contains(&restitution) {

@@ -26,7 +26,7 @@ mod world;
 pub use crate::dent::energy_dent_distance;
 pub use crate::dent::{DentSettings, moved_vertices};
 pub use crate::mesh::{MassProperties, mass_properties};
-pub use body::{BodyDesc, BodyKind, RigidBody, SurfaceMaterial};
+pub use body::{BodyDesc, BodyKind, MAX_ANGULAR_SPEED, MAX_DENSITY, RigidBody, SurfaceMaterial};
 pub use broad_phase::{Aabb, overlapping_pairs};
 pub use collider::ColliderKind;
 pub use collider_refit::{RefitError, RefitStats, VertexMap, refit_shared_trimesh, refit_trimesh, validate_refit};

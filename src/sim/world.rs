@@ -119,8 +119,8 @@ impl WorldSettings {
     /// # Errors
     /// [`SimError::Invalid`] naming the first bad field.
     pub fn validate(&self) -> Result<(), SimError> {
-        if !self.gravity.is_finite() {
-            return Err(invalid("gravity", self.gravity, "must be finite"));
+        if !(self.gravity.is_finite() && self.gravity.length() <= 1.0e4) {
+            return Err(invalid("gravity", self.gravity, "must be finite and at most 1e4 m/s² (a thousand g)"));
         }
         if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
             return Err(invalid("dt", self.dt, "must be in (0, 1] s"));
