@@ -9,6 +9,13 @@ use common::{TempDir, dentbend, text};
 fn demo_writes_every_picture_and_mesh() {
     let dir = TempDir::new("demo");
     let out = dir.path("out");
+    // Pictures of an earlier run in the same folder: the gallery must not list them.
+    std::fs::create_dir_all(out.join("scenes/pair/frames")).unwrap();
+    for stale in ["stale.png", "scenes/pair/frames/9999.png"] {
+        std::fs::write(out.join(stale), b"not this run's").unwrap();
+        let old = std::time::SystemTime::now() - std::time::Duration::from_secs(3600);
+        std::fs::File::options().write(true).open(out.join(stale)).unwrap().set_modified(old).unwrap();
+    }
     let output = dentbend(&["demo", "--out", out.to_str().unwrap()]);
     assert!(output.status.success(), "{}", text(&output.stderr));
     let expected = [
@@ -75,6 +82,10 @@ fn demo_writes_every_picture_and_mesh() {
     let gallery = std::fs::read_to_string(out.join("gallery.html")).unwrap();
     assert!(gallery.contains("scenes/rain/frames/0120.png") && gallery.contains("fig07_bunny/smoothed.png"));
     assert!(gallery.contains("scenes/plank/frames/0045.png"));
+    assert!(!gallery.contains("stale.png") && !gallery.contains("9999.png"), "stale pictures listed");
+    // Each picture comes with its caption and the command that made it.
+    assert!(gallery.contains("Paper Figure 7") && gallery.contains("dentbend dentmap --projectile bunny"));
+    assert!(gallery.contains("dentbend run rain --size demo"));
 }
 
 #[test]

@@ -10,6 +10,8 @@ mod cmd_render;
 mod cmd_run;
 mod error;
 mod file_names;
+#[path = "../common/headless.rs"]
+mod headless;
 mod logging;
 mod options;
 mod output;
@@ -69,6 +71,7 @@ fn execute(command: &Command) -> CommandResult {
 const FAILURE: u8 = 2;
 
 fn main() -> ExitCode {
+    headless::quiet_headless_vulkan();
     logging::init();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
