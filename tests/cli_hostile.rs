@@ -58,7 +58,8 @@ fn a_failed_write_leaves_no_partial_file_and_the_old_one_intact() {
     std::fs::create_dir_all(out.join("summary.json")).unwrap();
     let output = dentbend(&["run", "pair", "--frames", "2", "--picture", "0,0", "--out", out.to_str().unwrap()]);
     assert_refused(&output, &["summary.json"]);
-    let hidden: Vec<String> = files_under(&out).into_iter().filter(|f| f.contains("/.") || f.starts_with('.')).collect();
+    let hidden: Vec<String> =
+        files_under(&out).into_iter().filter(|f| f.contains("/.") || f.starts_with('.')).collect();
     assert!(hidden.is_empty(), "temporary files left behind: {hidden:?}");
     // A picture over an existing one is replaced whole.
     let picture = dir.path("p.png");
@@ -102,7 +103,15 @@ fn absurd_counts_are_refused_up_front_with_the_estimate() {
     assert_refused(&dentbend(&["run", "pair", "--frames", "0", "--out", out_text]), &["--frames", "at least 1"]);
     let output = dentbend(&["run", "pair", "--picture", "100000,100000", "--out", out_text]);
     assert_refused(&output, &["too large"]);
-    let output = dentbend(&["render", "--mesh", "sphere", "--size", "16384,16384", "--out", dir.path("x.png").to_str().unwrap()]);
+    let output = dentbend(&[
+        "render",
+        "--mesh",
+        "sphere",
+        "--size",
+        "16384,16384",
+        "--out",
+        dir.path("x.png").to_str().unwrap(),
+    ]);
     assert_refused(&output, &["too large"]);
     assert!(!out.exists() && !dir.path("x.png").exists());
 }
@@ -135,8 +144,7 @@ fn gltf_buffers_and_scene_meshes_stay_inside_their_folder() {
             "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]}"#,
     )
     .unwrap();
-    let output =
-        dentbend(&["render", "--mesh", gltf.to_str().unwrap(), "--out", dir.path("x.png").to_str().unwrap()]);
+    let output = dentbend(&["render", "--mesh", gltf.to_str().unwrap(), "--out", dir.path("x.png").to_str().unwrap()]);
     assert_refused(&output, &["../secret.bin", ".."]);
     // A scene file naming a mesh outside its folder, by `..` and by an absolute path.
     std::fs::write(dir.path("outside.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
@@ -188,7 +196,8 @@ fn magnitudes_beyond_the_supported_range_name_the_real_problem() {
         ("angular_velocity", "[0, 1e9, 0]", &["angular_velocity", "1e4"][..]),
     ] {
         let scene = dir.path("fast.toml");
-        std::fs::write(&scene, format!("frames = 1\n[[body]]\nname = \"b\"\nmesh = \"sphere\"\n{field} = {value}\n")).unwrap();
+        std::fs::write(&scene, format!("frames = 1\n[[body]]\nname = \"b\"\nmesh = \"sphere\"\n{field} = {value}\n"))
+            .unwrap();
         let output = dentbend(&["run", scene.to_str().unwrap(), "--out", dir.path("o").to_str().unwrap()]);
         assert_refused(&output, &[&[":5:"][..], words].concat());
     }

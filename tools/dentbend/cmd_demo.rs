@@ -40,7 +40,10 @@ const STEPS: &[(&str, &str)] = &[
         "dent --target block-fine --projectile bunny --scale 0.25 --rotate 180,0,0 --translate 0.35,2.95,0.1 \
          --point 0,0.5,0 --normal 0,-1,0 --dent-distance 0.6 --sigma 0.08 --out {out}/block_bunny.obj",
     ),
-    ("Paper Figure 5, drawn", "render --mesh {out}/block_bunny.obj --view -0.3,-1,-0.6 --zoom 1.8 --out {out}/block_bunny.png"),
+    (
+        "Paper Figure 5, drawn",
+        "render --mesh {out}/block_bunny.obj --view -0.3,-1,-0.6 --zoom 1.8 --out {out}/block_bunny.png",
+    ),
     (
         "Paper Figures 8–9: a glancing hit at 50°, sheared along the velocity and widened",
         "dent --target block-fine --projectile sphere --scale 0.6 --translate -0.46,1.09,0 --point 0,0.5,0 \
@@ -169,7 +172,9 @@ fn write_gallery(out: &Path, steps: &[Step]) -> Result<PathBuf, CliError> {
         html.push_str(&format!("<h2>{}</h2>\n<code>{}</code>\n", escape(step.caption), escape(&step.command)));
         for picture in &step.pictures {
             let name = escape(picture);
-            html.push_str(&format!("<figure><img src=\"{name}\" alt=\"{name}\"><figcaption>{name}</figcaption></figure>\n"));
+            html.push_str(&format!(
+                "<figure><img src=\"{name}\" alt=\"{name}\"><figcaption>{name}</figcaption></figure>\n"
+            ));
         }
     }
     let path = out.join("gallery.html");

@@ -10,6 +10,7 @@ use dentbend::{Attenuation, Impact, MeshError, TriMesh, mesh};
 use crate::backend::{BackendOption, gpu_dent};
 use crate::error::{CliError, flag_error};
 use crate::options::{MapOptions, ProjectileOptions, load_mesh, nonzero, sig3};
+use crate::output::require_extension;
 use crate::vector::parse_vec3;
 
 /// How the dent fades with depth z below the collision plane.
@@ -89,6 +90,10 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
         (Falloff::None, None) => Attenuation::None,
     };
     params.validate().map_err(flag_error)?;
+    require_extension(&args.out, "--out", &["obj"])?;
+    if let Some(path) = &args.projectile_out {
+        require_extension(path, "--projectile-out", &["obj"])?;
+    }
     let normal = nonzero(args.normal, "--normal")?;
     let impact = Impact { point: args.point, normal, relative_velocity: args.velocity.unwrap_or(normal) };
     impact.validate()?;
@@ -171,17 +176,7 @@ impl Drop for Staged {
 /// Writes `mesh` as OBJ to a temporary file beside `path`, so that a failure leaves neither a
 /// partial file nor a damaged earlier one.
 fn stage(mesh: &TriMesh, path: &Path) -> Result<Staged, CliError> {
-    if path.is_dir() {
-        return Err(CliError::Usage(format!("{} is a directory, not a file", path.display())));
-    }
-    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    if !parent.is_dir() {
-        return Err(CliError::Usage(format!(
-            "cannot write {}: directory {} does not exist",
-            path.display(),
-            parent.display()
-        )));
-    }
+    crate::output::prepare_file(path)?;
     let stem = path.file_stem().map_or_else(|| "out".into(), |s| s.to_string_lossy());
     let temp = path.with_file_name(format!(".{stem}.dentbend-{}.obj", std::process::id()));
     let staged = Staged { temp, path: path.to_owned() };

@@ -10,7 +10,7 @@ use dentbend::render::{Camera, Shaded};
 use crate::backend::BackendOption;
 use crate::error::CliError;
 use crate::options::{load_mesh, nonzero};
-use crate::output::{require_extension, write_picture};
+use crate::output::{prepare_file, require_extension, write_picture};
 use crate::vector::parse_vec3;
 
 /// Colours given to the meshes in order (linear RGB): steel, copper, sage, plum.
@@ -70,6 +70,7 @@ pub fn run(args: &RenderArgs) -> Result<String, CliError> {
         meshes.iter().zip(PALETTE.iter().cycle()).map(|(mesh, &colour)| Shaded { mesh, colour }).collect();
     let renderer = args.backend.renderer()?;
     let picture = renderer.render(&shaded, &camera, width, height).map_err(|e| CliError::Usage(e.to_string()))?;
+    prepare_file(&args.out)?;
     write_picture(&args.out, &picture)?;
     Ok(format!("render: {} mesh(es), {width}×{height} → {}", meshes.len(), args.out.display()))
 }

@@ -37,6 +37,20 @@ pub fn write_mesh(path: &Path, mesh: &dentbend::TriMesh) -> Result<(), CliError>
     dentbend::mesh::save(path, mesh).map_err(|source| CliError::Save { path: path.to_path_buf(), source })
 }
 
+/// Creates the folder `path` will be written into, if missing (like `dentmap --out` and `run
+/// --out` create theirs), and refuses a `path` that is a folder.
+pub fn prepare_file(path: &Path) -> Result<(), CliError> {
+    if path.is_dir() {
+        return Err(CliError::Usage(format!("{} is a directory, not a file", path.display())));
+    }
+    match path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        Some(parent) => {
+            std::fs::create_dir_all(parent).map_err(|source| CliError::CreateDir { path: parent.to_path_buf(), source })
+        }
+        None => Ok(()),
+    }
+}
+
 /// Refuses an output path whose extension is not one of `extensions` (compared without case),
 /// before anything is computed or written: `flag` names the option in the message.
 pub fn require_extension(path: &Path, flag: &str, extensions: &[&str]) -> Result<(), CliError> {
