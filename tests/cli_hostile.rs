@@ -202,3 +202,37 @@ fn magnitudes_beyond_the_supported_range_name_the_real_problem() {
         assert_refused(&output, &[&[":5:"][..], words].concat());
     }
 }
+
+#[test]
+fn every_builtin_scene_at_its_defaults_stays_within_the_output_budget() {
+    let dir = TempDir::new("hostile-defaults");
+    let out = dir.path("out");
+    for scene in dentbend::scene::BUILTIN_SCENES {
+        let output = dentbend(&["run", scene, "--estimate", "--out", out.to_str().unwrap()]);
+        let stdout = text(&output.stdout);
+        assert!(output.status.success(), "{scene}: {}", text(&output.stderr));
+        assert!(stdout.contains("within the budget"), "{scene}: {stdout}");
+    }
+    assert!(!out.exists(), "--estimate wrote {}", out.display());
+    // And the estimate is honest: a real run writes within a factor of two of it.
+    let output =
+        dentbend(&["run", "rain", "--size", "demo", "--frames", "20", "--estimate", "--out", out.to_str().unwrap()]);
+    let stdout = text(&output.stdout);
+    let files: u64 = stdout.split(" in ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    let output = dentbend(&["run", "rain", "--size", "demo", "--frames", "20", "--out", out.to_str().unwrap()]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let written = files_under(&out);
+    let bytes: u64 = written.iter().map(|f| std::fs::metadata(out.join(f)).unwrap().len()).sum();
+    assert_eq!(written.len() as u64, files, "{written:?}");
+    let estimated = stdout.split("about ").nth(1).unwrap();
+    let (value, unit) = estimated.split_once(' ').unwrap();
+    let scale = match unit.split(' ').next().unwrap() {
+        "MB" => 1e6,
+        "kB" => 1e3,
+        "GB" => 1e9,
+        other => panic!("unit {other}"),
+    };
+    let estimated_bytes = value.parse::<f64>().unwrap() * scale;
+    let ratio = estimated_bytes / bytes as f64;
+    assert!((0.5..=2.0).contains(&ratio), "estimated {estimated_bytes} B, wrote {bytes} B");
+}

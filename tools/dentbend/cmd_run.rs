@@ -74,6 +74,11 @@ pub struct RunArgs {
     #[arg(long)]
     pub allow_large: bool,
 
+    /// Print what the run would write (bytes, files, output frames) and whether that is within
+    /// the budget, then stop: nothing is run or written
+    #[arg(long)]
+    pub estimate: bool,
+
     /// Let a scene file's mesh paths leave its folder (absolute paths, `..`, symbolic links out);
     /// only for scene files you trust
     #[arg(long)]
@@ -190,7 +195,21 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     check_distinct_stems(first.iter().map(|s| s.name.as_str())).map_err(CliError::Usage)?;
     let outputs: Vec<BodyOutput> = first.iter().map(|s| body_output(s, args.meshes)).collect();
     let shape = RunShape { frames, every: args.every, picture: args.picture };
-    run_budget::check(&run_budget::estimate(&shape, &outputs), &outputs, args.allow_large)?;
+    let estimate = run_budget::estimate(&shape, &outputs);
+    if args.estimate {
+        let verdict = match run_budget::check(&estimate, &outputs, false) {
+            Ok(()) => "within the budget".to_owned(),
+            Err(e) => e.one_line().replace("this run is too large: ", "over the budget: "),
+        };
+        return Ok(format!(
+            "run {name}: would write about {} in {} files ({} output frames of {} bodies), {verdict}",
+            run_budget::human_bytes(estimate.bytes),
+            estimate.files,
+            estimate.output_frames,
+            outputs.len()
+        ));
+    }
+    run_budget::check(&estimate, &outputs, args.allow_large)?;
     let meshes_dir = args.out.join("meshes");
     let frames_dir = args.out.join("frames");
     for dir in [&args.out, &meshes_dir, &frames_dir] {
