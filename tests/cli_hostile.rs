@@ -236,3 +236,26 @@ fn every_builtin_scene_at_its_defaults_stays_within_the_output_budget() {
     let ratio = estimated_bytes / bytes as f64;
     assert!((0.5..=2.0).contains(&ratio), "estimated {estimated_bytes} B, wrote {bytes} B");
 }
+
+#[test]
+fn a_successful_gpu_run_on_a_headless_machine_prints_no_driver_errors() {
+    // As on CI and render farms: no display, no XDG_RUNTIME_DIR. `auto` takes the GPU when an
+    // adapter exists (lavapipe on CI) and the CPU otherwise; either way the run succeeds and
+    // stderr has no `error:` line from a driver's layer.
+    let dir = TempDir::new("hostile-noise");
+    let picture = dir.path("sphere.png");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_dentbend"))
+        .args(["render", "--mesh", "sphere", "--size", "64,64", "--backend", "auto", "--out"])
+        .arg(&picture)
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("DISPLAY")
+        .env_remove("NODEVICE_SELECT")
+        .env_remove("RUST_LOG")
+        .output()
+        .unwrap();
+    let stderr = text(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.lines().any(|l| l.trim_start().starts_with("error")), "driver noise: {stderr}");
+    assert!(picture.is_file());
+}
