@@ -3,6 +3,7 @@
 mod common;
 
 use common::{TempDir, dentbend, text};
+use dentbend::gpu::GpuContext;
 use dentbend::io::read_npy_f32;
 
 fn dentmap(dir: &TempDir, backend: &str) -> Vec<(String, Vec<f32>)> {
@@ -33,11 +34,7 @@ fn dentmap(dir: &TempDir, backend: &str) -> Vec<(String, Vec<f32>)> {
 
 /// Same files, same shapes; values within 2e-5·d (the tolerance of tests/parity_pipeline.rs,
 /// where its reasons are given).
-#[test]
-fn gpu_and_cpu_backends_write_the_same_dent_map() {
-    if common::context().is_none() {
-        return;
-    }
+fn gpu_and_cpu_backends_write_the_same_dent_map(_: &'static GpuContext) {
     let dir = TempDir::new("backend");
     let (cpu, gpu) = (dentmap(&dir, "cpu"), dentmap(&dir, "gpu"));
     for ((name, c), (_, g)) in cpu.iter().zip(&gpu) {
@@ -49,10 +46,14 @@ fn gpu_and_cpu_backends_write_the_same_dent_map() {
     assert_eq!(json("cpu"), json("gpu"), "the recorded parameters and grids are the same");
 }
 
-#[test]
 fn an_unknown_backend_is_a_usage_error() {
     let output =
         dentbend(&["dentmap", "--projectile", "bunny", "--dent-distance", "1", "--backend", "cuda", "--out", "x"]);
     assert_eq!(output.status.code(), Some(2));
     assert!(text(&output.stderr).starts_with("error:"));
+}
+
+gpu_test_main! {
+    plain: [an_unknown_backend_is_a_usage_error],
+    gpu: [gpu_and_cpu_backends_write_the_same_dent_map],
 }

@@ -6,8 +6,8 @@ mod common;
 
 use common::cli::{dentbend, text};
 use common::temp::TempDir;
+use dentbend::gpu::GpuContext;
 
-#[test]
 fn a_plank_run_writes_the_skinned_plank_and_its_joint() {
     let dir = TempDir::new("run-plank");
     let out = dir.path("plank");
@@ -50,7 +50,6 @@ fn a_plank_run_writes_the_skinned_plank_and_its_joint() {
 
 /// `dentbend run scenes/bent_bar.toml`: a bending body from a scene file is written as its skinned
 /// mesh, and its plastic joints bend (the ball hits at about frame 4 of 20).
-#[test]
 fn a_scene_file_with_a_bending_body_runs() {
     let dir = TempDir::new("run-bent-bar");
     let out = dir.path("bent_bar");
@@ -94,33 +93,30 @@ fn a_scene_file_with_a_bending_body_runs() {
 /// every step (each step's `skinning_ms` positive), with `--backend cpu` on the CPU twin for the
 /// output frames only (each step's `skinning_ms` 0); the output frames' meshes are written
 /// either way.
-#[test]
-fn the_summary_says_where_skinning_ran() {
+fn the_summary_says_where_skinning_ran(context: Option<&'static GpuContext>) {
     let dir = TempDir::new("run-plank-skin");
-    let gpu = common::context().is_some();
-    for backend in if gpu { &["cpu", "gpu"][..] } else { &["cpu"][..] } {
-        let out = dir.path(backend);
-        let args =
-            ["run", "plank", "--size", "demo", "--frames", "3", "--every", "3", "--picture", "0,0", "--meshes", "all"];
-        let output = dentbend(&[&args[..], &["--backend", backend, "--out", out.to_str().unwrap()]].concat());
-        assert!(output.status.success(), "{backend}: {}", text(&output.stderr));
-        let summary: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-        assert_eq!(summary["skin_on"], *backend);
-        // The output frames' plank meshes, read back from the GPU or skinned on the CPU.
-        for frame in ["0000", "0003"] {
-            let plank = dentbend::mesh::load_obj(out.join(format!("meshes/plank_{frame}.obj"))).unwrap();
-            assert_eq!(plank.vertex_count(), dentbend::mesh::plank(4.0, 0.3, 0.1, 64).unwrap().vertex_count());
-        }
-        let steps = summary["steps"].as_array().unwrap();
-        assert_eq!(steps.len(), 3);
-        for step in steps {
-            let ms = step["skinning_ms"].as_f64().unwrap_or_else(|| panic!("{backend}: {step}"));
-            assert!(if *backend == "gpu" { ms > 0.0 && ms.is_finite() } else { ms == 0.0 }, "{backend}: {step}");
-        }
-        let mean = summary["ms_per_step"]["skinning_mean"].as_f64().unwrap();
-        assert!(mean.is_finite(), "{backend}: skinning_mean {mean}");
+    let backend = if context.is_some() { "gpu" } else { "cpu" };
+    let out = dir.path(backend);
+    let args =
+        ["run", "plank", "--size", "demo", "--frames", "3", "--every", "3", "--picture", "0,0", "--meshes", "all"];
+    let output = dentbend(&[&args[..], &["--backend", backend, "--out", out.to_str().unwrap()]].concat());
+    assert!(output.status.success(), "{backend}: {}", text(&output.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["skin_on"], backend);
+    // The output frames' plank meshes, read back from the GPU or skinned on the CPU.
+    for frame in ["0000", "0003"] {
+        let plank = dentbend::mesh::load_obj(out.join(format!("meshes/plank_{frame}.obj"))).unwrap();
+        assert_eq!(plank.vertex_count(), dentbend::mesh::plank(4.0, 0.3, 0.1, 64).unwrap().vertex_count());
     }
+    let steps = summary["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 3);
+    for step in steps {
+        let ms = step["skinning_ms"].as_f64().unwrap_or_else(|| panic!("{backend}: {step}"));
+        assert!(if backend == "gpu" { ms > 0.0 && ms.is_finite() } else { ms == 0.0 }, "{backend}: {step}");
+    }
+    let mean = summary["ms_per_step"]["skinning_mean"].as_f64().unwrap();
+    assert!(mean.is_finite(), "{backend}: skinning_mean {mean}");
 }
 
 /// `dentbend run arm` (Figure 15): the condensed armadillo is written as one skinned mesh (neither
@@ -128,7 +124,6 @@ fn the_summary_says_where_skinning_ran() {
 /// made joints and bends of exactly the four arm joints: the skeleton's joints are made in bone
 /// order, so with 12 torso bones in the demo they are the world joints 11–14 (the joints inside
 /// the torso are 0–10, the glue to the stand 15).
-#[test]
 fn an_arm_run_lists_the_bends_of_its_four_arm_joints() {
     let dir = TempDir::new("run-arm");
     let out = dir.path("arm");
@@ -152,4 +147,13 @@ fn an_arm_run_lists_the_bends_of_its_four_arm_joints() {
     joints.dedup();
     assert_eq!(joints, [11, 12, 13, 14], "{bends:?}");
     assert!(bends.iter().all(|b| b["angle"].as_f64().is_some_and(|a| a > 0.0) && b["frame"].as_u64().is_some()));
+}
+
+gpu_test_main! {
+    plain: [
+        a_plank_run_writes_the_skinned_plank_and_its_joint,
+        a_scene_file_with_a_bending_body_runs,
+        an_arm_run_lists_the_bends_of_its_four_arm_joints,
+    ],
+    both: [the_summary_says_where_skinning_ran],
 }

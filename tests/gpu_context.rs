@@ -3,7 +3,7 @@
 
 mod common;
 
-use dentbend::gpu::{Backend, Binding, GpuError, Kernel, buffers};
+use dentbend::gpu::{Backend, Binding, GpuContext, GpuError, Kernel, buffers};
 
 const DOUBLE: &str = "
 @group(0) @binding(0) var<storage, read_write> values: array<f32>;
@@ -12,9 +12,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x < arrayLength(&values) { values[id.x] = 2.0 * values[id.x]; }
 }";
 
-#[test]
-fn a_kernel_round_trips_data() {
-    let Some(context) = common::context() else { return };
+fn a_kernel_round_trips_data(context: &'static GpuContext) {
     eprintln!("adapter: {}", context.adapter_name());
     let kernel = Kernel::new(context, "double", DOUBLE, "main", &[Binding::ReadWrite]).unwrap();
     let input: Vec<f32> = (0..1000).map(|k| k as f32 * 0.5).collect();
@@ -28,19 +26,21 @@ fn a_kernel_round_trips_data() {
     assert!(output.iter().zip(&input).all(|(o, i)| *o == 2.0 * i));
 }
 
-#[test]
-fn a_broken_shader_is_a_validation_error() {
-    let Some(context) = common::context() else { return };
+fn a_broken_shader_is_a_validation_error(context: &'static GpuContext) {
     let broken = "@compute @workgroup_size(64) fn main() { let x: f32 = undefined_name; }";
     let error = Kernel::new(context, "broken", broken, "main", &[]).unwrap_err();
     assert!(matches!(error, GpuError::Validation { ref label, .. } if label == "broken"), "{error}");
 }
 
-#[test]
 fn backend_names_parse() {
     assert_eq!(Backend::parse("cpu").unwrap(), Backend::Cpu);
     assert_eq!(Backend::parse("GPU").unwrap(), Backend::Gpu);
     assert_eq!(Backend::parse("auto").unwrap(), Backend::Auto);
     assert!(matches!(Backend::parse("cuda"), Err(GpuError::BadBackend(_))));
     assert!(Backend::Cpu.context().unwrap().is_none());
+}
+
+gpu_test_main! {
+    plain: [backend_names_parse],
+    gpu: [a_kernel_round_trips_data, a_broken_shader_is_a_validation_error],
 }

@@ -10,13 +10,9 @@ use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter, GpuError};
 use dentbend::mesh::{self, TriMesh};
 use glam::Vec3;
 
-#[test]
-fn a_destroyed_device_gives_errors_and_leaves_the_meshes_alone() {
-    // Only to learn whether an adapter exists (and to fail in CI when none does); the device
-    // destroyed below is a private one, so other tests keep the shared context.
-    if common::context().is_none() {
-        return;
-    }
+fn a_destroyed_device_gives_errors_and_leaves_the_meshes_alone(_: &'static GpuContext) {
+    // The shared context is not the device destroyed below: a private one is, so other tests
+    // keep the shared context.
     let context = GpuContext::new().expect("a second device on the same adapter");
     let targets = vec![mesh::builtin("block").unwrap()];
     let ball = mesh::builtin("sphere").unwrap();
@@ -41,9 +37,8 @@ fn a_destroyed_device_gives_errors_and_leaves_the_meshes_alone() {
 /// The same on an application's device (`from_device`), where dentbend installs no device-lost
 /// callback and finds the loss with a probe mapping: a typed `DeviceLost` error, the resident
 /// copy and the caller's meshes unchanged.
-#[test]
-fn a_destroyed_application_device_gives_a_typed_error() {
-    let Some((device, queue)) = common::gpu::own_device(wgpu::Limits::downlevel_defaults()) else { return };
+fn a_destroyed_application_device_gives_a_typed_error(_: &'static GpuContext) {
+    let (device, queue) = common::gpu::own_device(wgpu::Limits::downlevel_defaults());
     let context = GpuContext::from_device(device, queue).unwrap();
     let targets = vec![mesh::builtin("block").unwrap()];
     let ball = mesh::builtin("sphere").unwrap();
@@ -75,4 +70,11 @@ fn head_on(ball: &TriMesh) -> DentJob<'_> {
         impact: Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -Vec3::Y },
         params: DentParams::new(0.2),
     }
+}
+
+gpu_test_main! {
+    gpu: [
+        a_destroyed_device_gives_errors_and_leaves_the_meshes_alone,
+        a_destroyed_application_device_gives_a_typed_error,
+    ],
 }

@@ -17,9 +17,10 @@ const _: fn() = || {
     owned::<GpuContext>();
 };
 
-fn application_context() -> Option<GpuContext> {
-    let (device, queue) = common::gpu::own_device(wgpu::Limits::downlevel_defaults())?;
-    Some(GpuContext::from_device(device, queue).expect("downlevel defaults meet dentbend's limits"))
+/// A context on a device the test made itself, as an application would.
+fn application_context() -> GpuContext {
+    let (device, queue) = common::gpu::own_device(wgpu::Limits::downlevel_defaults());
+    GpuContext::from_device(device, queue).expect("downlevel defaults meet dentbend's limits")
 }
 
 /// A ball above the block and one in front of the box (+z).
@@ -41,9 +42,8 @@ fn jobs(balls: &[TriMesh; 2]) -> Vec<DentJob<'_>> {
 /// Recorded into the application's encoder and submitted by it, the batch gives the CPU batch's
 /// vertices. Tolerance as tests/parity_pipeline.rs: the map's 2e-5·d error plus a few ulps of the
 /// coordinate per dent (tests/parity_displace.rs), with a factor 3 of margin.
-#[test]
-fn a_batch_recorded_into_the_applications_encoder_matches_the_cpu() {
-    let Some(context) = application_context() else { return };
+fn a_batch_recorded_into_the_applications_encoder_matches_the_cpu(_: &'static GpuContext) {
+    let context = application_context();
     assert!(!context.owns_device());
     let balls = balls();
     let mut cpu = vec![mesh::builtin("block").unwrap(), mesh::builtin("box").unwrap()];
@@ -68,9 +68,8 @@ fn a_batch_recorded_into_the_applications_encoder_matches_the_cpu() {
     }
 }
 
-#[test]
-fn resident_buffers_take_vertex_usage_on_request() {
-    let Some(context) = application_context() else { return };
+fn resident_buffers_take_vertex_usage_on_request(_: &'static GpuContext) {
+    let context = application_context();
     let targets = [mesh::builtin("block").unwrap()];
     let plain = GpuDenter::new(&context, &targets).unwrap();
     assert!(!plain.vertex_buffer().usage().contains(wgpu::BufferUsages::VERTEX));
@@ -83,10 +82,9 @@ fn resident_buffers_take_vertex_usage_on_request() {
 
 /// A device created with 2 storage buffers per stage (the kernels bind 4) is refused, naming the
 /// limit, and no context is made.
-#[test]
-fn a_device_short_of_a_needed_limit_is_refused_by_name() {
+fn a_device_short_of_a_needed_limit_is_refused_by_name(_: &'static GpuContext) {
     let limits = wgpu::Limits { max_storage_buffers_per_shader_stage: 2, ..wgpu::Limits::downlevel_defaults() };
-    let Some((device, queue)) = common::gpu::own_device(limits) else { return };
+    let (device, queue) = common::gpu::own_device(limits);
     let error = GpuContext::from_device(device, queue).unwrap_err();
     assert!(
         matches!(
@@ -100,9 +98,8 @@ fn a_device_short_of_a_needed_limit_is_refused_by_name() {
 
 /// The denter keeps its own handles: it outlives the context value it was made from and works on
 /// another thread.
-#[test]
-fn a_denter_outlives_its_context_value_and_crosses_threads() {
-    let Some(context) = application_context() else { return };
+fn a_denter_outlives_its_context_value_and_crosses_threads(_: &'static GpuContext) {
+    let context = application_context();
     let mut denter = GpuDenter::new(&context, &[mesh::builtin("block").unwrap()]).unwrap();
     drop(context);
     let moved = std::thread::spawn(move || {
@@ -117,11 +114,10 @@ fn a_denter_outlives_its_context_value_and_crosses_threads() {
 /// dentbend replaces neither of the application's device-wide callbacks: after a batch, the
 /// application's uncaptured-error handler still sees the application's own mistakes, and its
 /// device-lost callback still fires.
-#[test]
-fn the_applications_callbacks_stay_in_place() {
+fn the_applications_callbacks_stay_in_place(_: &'static GpuContext) {
     use std::sync::Arc;
     use std::sync::atomic::{AtomicUsize, Ordering};
-    let Some((device, queue)) = common::gpu::own_device(wgpu::Limits::downlevel_defaults()) else { return };
+    let (device, queue) = common::gpu::own_device(wgpu::Limits::downlevel_defaults());
     let (errors, lost) = (Arc::new(AtomicUsize::new(0)), Arc::new(AtomicUsize::new(0)));
     let seen = errors.clone();
     device.on_uncaptured_error(Arc::new(move |_| {
@@ -150,4 +146,14 @@ fn the_applications_callbacks_stay_in_place() {
     device.destroy();
     let _ = device.poll(wgpu::PollType::Poll);
     assert_eq!(lost.load(Ordering::SeqCst), 1, "the application's device-lost callback was replaced");
+}
+
+gpu_test_main! {
+    gpu: [
+        a_batch_recorded_into_the_applications_encoder_matches_the_cpu,
+        resident_buffers_take_vertex_usage_on_request,
+        a_device_short_of_a_needed_limit_is_refused_by_name,
+        a_denter_outlives_its_context_value_and_crosses_threads,
+        the_applications_callbacks_stay_in_place,
+    ],
 }

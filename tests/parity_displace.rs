@@ -270,9 +270,7 @@ fn grid_coords(g: &GridUniform, p: Vec3) -> (f64, f64) {
     (r.dot(Vec3::from_array(g.axis_x).as_dvec3()) / h + shift, r.dot(Vec3::from_array(g.axis_y).as_dvec3()) / h + shift)
 }
 
-#[test]
-fn a_sphere_dents_the_dense_bunny_like_the_cpu() {
-    let Some(context) = common::context() else { return };
+fn a_sphere_dents_the_dense_bunny_like_the_cpu(context: &'static GpuContext) {
     let bunny = mesh::builtin("bunny-dense").unwrap();
     let map = bunny_map(&bunny, 0.3, 1.0);
     let dent = Dent::from_map(0, &map, &Attenuation::Logistic);
@@ -280,9 +278,7 @@ fn a_sphere_dents_the_dense_bunny_like_the_cpu() {
     assert!(reports[0].moved > 100, "the dent must move a patch of the bunny");
 }
 
-#[test]
-fn every_falloff_on_a_block_matches_the_cpu() {
-    let Some(context) = common::context() else { return };
+fn every_falloff_on_a_block_matches_the_cpu(context: &'static GpuContext) {
     let block = mesh::builtin("block").unwrap();
     let map = block_map(0.0, &DentParams::new(0.3), &block);
     let attenuations = [
@@ -306,9 +302,7 @@ fn every_falloff_on_a_block_matches_the_cpu() {
     assert!(reports.iter().all(|r| r.moved > 100));
 }
 
-#[test]
-fn a_glancing_map_matches_the_cpu() {
-    let Some(context) = common::context() else { return };
+fn a_glancing_map_matches_the_cpu(context: &'static GpuContext) {
     let block = mesh::builtin("block-fine").unwrap();
     let params = DentParams { widen: 2.0, resolution: Resolution::Fixed(64), ..DentParams::new(0.25) };
     let map = block_map(60.0, &params, &block);
@@ -318,9 +312,7 @@ fn a_glancing_map_matches_the_cpu() {
     assert!(reports[0].moved > 100);
 }
 
-#[test]
-fn random_maps_at_several_resolutions_match_the_cpu_and_leave_off_map_vertices_alone() {
-    let Some(context) = common::context() else { return };
+fn random_maps_at_several_resolutions_match_the_cpu_and_leave_off_map_vertices_alone(context: &'static GpuContext) {
     let mut rng = SplitMix64::new(0x5eed_d15c);
     let mut falloffs_seen = [false; 4];
     for res in [1, 7, 64, 200] {
@@ -350,9 +342,7 @@ fn random_maps_at_several_resolutions_match_the_cpu_and_leave_off_map_vertices_a
     assert_eq!(falloffs_seen, [true; 4], "the seed must draw every falloff code");
 }
 
-#[test]
-fn a_batch_applies_dents_on_one_target_in_submission_order() {
-    let Some(context) = common::context() else { return };
+fn a_batch_applies_dents_on_one_target_in_submission_order(context: &'static GpuContext) {
     let mut rng = SplitMix64::new(42);
     let bunny = mesh::builtin("bunny-dense").unwrap();
     let block = mesh::builtin("block").unwrap();
@@ -395,7 +385,6 @@ fn a_batch_applies_dents_on_one_target_in_submission_order() {
     assert!(worst > 1e-3, "swapping the bunny's dents changed nothing ({worst})");
 }
 
-#[test]
 fn layers_hold_at_most_one_dent_per_target_in_submission_order() {
     let on = |vertex_offset: u32, vertex_count: u32| DisplaceParams { vertex_offset, vertex_count, ..plain_params() };
     // Targets A = 0..10, B = 10..30, C = 30..31; submission order A B A C A B.
@@ -406,9 +395,7 @@ fn layers_hold_at_most_one_dent_per_target_in_submission_order() {
     assert!(layers(&[]).unwrap().is_empty());
 }
 
-#[test]
-fn clear_moved_resets_the_flags_only() {
-    let Some(context) = common::context() else { return };
+fn clear_moved_resets_the_flags_only(context: &'static GpuContext) {
     let displace = Displace::new(context).unwrap();
     let vertices: Vec<[f32; 4]> = (0..1000).map(|k| [k as f32, -(k as f32), 0.5, 1.0]).collect();
     let positions = buffers::storage(context, "positions", &vertices);
@@ -440,4 +427,16 @@ fn plain_params() -> DisplaceParams {
         table_offset: 0,
         table_len: 0,
     }
+}
+
+gpu_test_main! {
+    plain: [layers_hold_at_most_one_dent_per_target_in_submission_order],
+    gpu: [
+        a_sphere_dents_the_dense_bunny_like_the_cpu,
+        every_falloff_on_a_block_matches_the_cpu,
+        a_glancing_map_matches_the_cpu,
+        random_maps_at_several_resolutions_match_the_cpu_and_leave_off_map_vertices_alone,
+        a_batch_applies_dents_on_one_target_in_submission_order,
+        clear_moved_resets_the_flags_only,
+    ],
 }

@@ -151,9 +151,7 @@ fn brute_is_cheap(params: &EnvelopeParams, profile: &[f32]) -> bool {
     sources * u64::from(params.res).pow(2) <= 50_000_000
 }
 
-#[test]
-fn random_profiles_match_the_cpu_twin() {
-    let Some(context) = common::context() else { return };
+fn random_profiles_match_the_cpu_twin(context: &'static GpuContext) {
     let kernels = kernels(context);
     let mut rng = SplitMix64::new(21);
     let mut worst = 0.0f32;
@@ -169,9 +167,7 @@ fn random_profiles_match_the_cpu_twin() {
     eprintln!("envelope_cols random: worst relative |ΔE| = {worst:e}");
 }
 
-#[test]
-fn both_passes_match_the_cpu_and_the_brute_force() {
-    let Some(context) = common::context() else { return };
+fn both_passes_match_the_cpu_and_the_brute_force(context: &'static GpuContext) {
     let kernels = kernels(context);
     let mut rng = SplitMix64::new(22);
     let mut worst = 0.0f32;
@@ -194,9 +190,7 @@ fn both_passes_match_the_cpu_and_the_brute_force() {
     eprintln!("envelope both passes random: worst relative |ΔE| vs CPU = {worst:e}");
 }
 
-#[test]
-fn all_zero_grids_give_zero() {
-    let Some(context) = common::context() else { return };
+fn all_zero_grids_give_zero(context: &'static GpuContext) {
     let kernels = kernels(context);
     let dents: Vec<_> =
         [1, 2, 17, 64].iter().map(|&res| (EnvelopeParams::new(res, 4.0), vec![0.0; (res * res) as usize])).collect();
@@ -205,11 +199,9 @@ fn all_zero_grids_give_zero() {
     }
 }
 
-#[test]
-fn empty_rows_and_columns_give_zero_exactly() {
+fn empty_rows_and_columns_give_zero_exactly(context: &'static GpuContext) {
     // Rows-pass output with whole rows at +∞, and columns where every row is +∞: those columns
     // are exactly 0, the others as on the CPU.
-    let Some(context) = common::context() else { return };
     let kernels = kernels(context);
     let res = 19u32;
     let n = res as usize;
@@ -234,9 +226,7 @@ fn empty_rows_and_columns_give_zero_exactly() {
     }
 }
 
-#[test]
-fn single_sources_ties_and_borders_match() {
-    let Some(context) = common::context() else { return };
+fn single_sources_ties_and_borders_match(context: &'static GpuContext) {
     let kernels = kernels(context);
     let res = 23u32;
     let n = res as usize;
@@ -273,9 +263,7 @@ fn single_sources_ties_and_borders_match() {
     eprintln!("envelope both passes structured: worst relative |ΔE| vs CPU = {worst:e}");
 }
 
-#[test]
-fn bunny_profiles_match_the_pipeline_and_the_brute_force() {
-    let Some(context) = common::context() else { return };
+fn bunny_profiles_match_the_pipeline_and_the_brute_force(context: &'static GpuContext) {
     let kernels = kernels(context);
     let bunny = mesh::builtin("bunny").unwrap();
     let mut dents = Vec::new();
@@ -299,9 +287,7 @@ fn bunny_profiles_match_the_pipeline_and_the_brute_force() {
     eprintln!("envelope both passes bunny: worst relative |ΔE| vs CPU = {worst:e}");
 }
 
-#[test]
-fn a_batch_equals_its_dents_run_one_by_one() {
-    let Some(context) = common::context() else { return };
+fn a_batch_equals_its_dents_run_one_by_one(context: &'static GpuContext) {
     let kernels = kernels(context);
     let mut rng = SplitMix64::new(23);
     let dents: Vec<_> = [64u32, 1, 200, 17, 2, 65, 7]
@@ -322,13 +308,24 @@ fn a_batch_equals_its_dents_run_one_by_one() {
     assert!(kernels.cols.run_batch(context, &[]).unwrap().is_empty());
 }
 
-#[test]
-fn the_largest_resolution_matches_the_cpu() {
+fn the_largest_resolution_matches_the_cpu(context: &'static GpuContext) {
     // MAX_RESOLUTION = 2048: the hull scratch and grids at their largest for one dent.
-    let Some(context) = common::context() else { return };
     let kernels = kernels(context);
     let mut rng = SplitMix64::new(24);
     let res = dentbend::dent::MAX_RESOLUTION;
     let dents = [(EnvelopeParams::new(res, 6.0), random_profile(&mut rng, res, 0.01, 1.0))];
     check_both(&kernels, context, &dents, |_, _| false, "2048");
+}
+
+gpu_test_main! {
+    gpu: [
+        random_profiles_match_the_cpu_twin,
+        both_passes_match_the_cpu_and_the_brute_force,
+        all_zero_grids_give_zero,
+        empty_rows_and_columns_give_zero_exactly,
+        single_sources_ties_and_borders_match,
+        bunny_profiles_match_the_pipeline_and_the_brute_force,
+        a_batch_equals_its_dents_run_one_by_one,
+        the_largest_resolution_matches_the_cpu,
+    ],
 }

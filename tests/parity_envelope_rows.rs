@@ -61,9 +61,7 @@ fn check_batch(kernel: &EnvelopeRows, context: &GpuContext, dents: &[(EnvelopePa
     worst
 }
 
-#[test]
-fn random_profiles_match_the_cpu_twin() {
-    let Some(context) = common::context() else { return };
+fn random_profiles_match_the_cpu_twin(context: &'static GpuContext) {
     let kernel = kernel(context);
     let mut rng = SplitMix64::new(11);
     let mut worst = 0.0f32;
@@ -80,10 +78,8 @@ fn random_profiles_match_the_cpu_twin() {
     eprintln!("envelope_rows random: worst relative |ΔV| = {worst:e}");
 }
 
-#[test]
-fn heights_far_from_one_match_the_cpu_twin() {
+fn heights_far_from_one_match_the_cpu_twin(context: &'static GpuContext) {
     // −ln P spans large positive (tiny P) and negative (huge P) offsets.
-    let Some(context) = common::context() else { return };
     let kernel = kernel(context);
     let mut rng = SplitMix64::new(12);
     let dents: Vec<_> = [1e-30, 1e-6, 1e-3, 1.0, 1e3, 1e6, 1e30]
@@ -95,11 +91,9 @@ fn heights_far_from_one_match_the_cpu_twin() {
     eprintln!("envelope_rows scaled: worst relative |ΔV| = {worst:e}");
 }
 
-#[test]
-fn binary_profiles_give_the_same_squared_distances() {
+fn binary_profiles_give_the_same_squared_distances(context: &'static GpuContext) {
     // P ∈ {0, 1}: every offset is −ln 1 = 0 and V = c·(distance to the nearest source in the
     // row)², so the hull logic alone decides each value. WGSL bounds log's error at 1 by 2⁻²¹.
-    let Some(context) = common::context() else { return };
     let kernel = kernel(context);
     let mut rng = SplitMix64::new(15);
     let dents: Vec<_> = RESOLUTIONS
@@ -123,9 +117,7 @@ fn binary_profiles_give_the_same_squared_distances() {
     eprintln!("envelope_rows binary profiles: bit for bit identical: {identical}");
 }
 
-#[test]
-fn all_zero_grids_give_infinity() {
-    let Some(context) = common::context() else { return };
+fn all_zero_grids_give_infinity(context: &'static GpuContext) {
     let kernel = kernel(context);
     let dents: Vec<_> =
         [1, 2, 17, 64].iter().map(|&res| (EnvelopeParams::new(res, 1.5), vec![0.0; (res * res) as usize])).collect();
@@ -136,11 +128,9 @@ fn all_zero_grids_give_infinity() {
     }
 }
 
-#[test]
-fn cells_that_are_not_sources_are_skipped() {
+fn cells_that_are_not_sources_are_skipped(context: &'static GpuContext) {
     // Zero, negative, NaN and ±∞ cells among sources as small as 1e-30 and as large as 3e38:
     // only 0 < P < ∞ is a source. (Subnormal P are left out: a GPU may flush them to zero.)
-    let Some(context) = common::context() else { return };
     let kernel = kernel(context);
     let res = 9u32;
     let specials = [0.0, -1.0, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.5, 1e-30, 3.0e38];
@@ -156,9 +146,7 @@ fn cells_that_are_not_sources_are_skipped() {
     check_batch(&kernel, context, &dents, "specials");
 }
 
-#[test]
-fn single_sources_ties_and_borders_match_the_cpu_twin() {
-    let Some(context) = common::context() else { return };
+fn single_sources_ties_and_borders_match_the_cpu_twin(context: &'static GpuContext) {
     let kernel = kernel(context);
     let res = 23u32;
     let n = res as usize;
@@ -224,19 +212,15 @@ fn bunny_profiles(resolutions: &[u32]) -> Vec<(EnvelopeParams, Vec<f32>)> {
     dents
 }
 
-#[test]
-fn bunny_profiles_match_the_cpu_twin() {
-    let Some(context) = common::context() else { return };
+fn bunny_profiles_match_the_cpu_twin(context: &'static GpuContext) {
     let kernel = kernel(context);
     let dents = bunny_profiles(&[17, 64, 200]);
     let worst = check_batch(&kernel, context, &dents, "bunny");
     eprintln!("envelope_rows bunny: worst relative |ΔV| = {worst:e}");
 }
 
-#[test]
-fn a_batch_equals_its_dents_run_one_by_one() {
+fn a_batch_equals_its_dents_run_one_by_one(context: &'static GpuContext) {
     // Offsets: each dent of a mixed batch sees only its own cells and parameters.
-    let Some(context) = common::context() else { return };
     let kernel = kernel(context);
     let mut rng = SplitMix64::new(14);
     let dents: Vec<_> = [64u32, 1, 200, 17, 2, 65, 7]
@@ -256,4 +240,17 @@ fn a_batch_equals_its_dents_run_one_by_one() {
         );
     }
     assert!(kernel.run_batch(context, &[]).unwrap().is_empty());
+}
+
+gpu_test_main! {
+    gpu: [
+        random_profiles_match_the_cpu_twin,
+        heights_far_from_one_match_the_cpu_twin,
+        binary_profiles_give_the_same_squared_distances,
+        all_zero_grids_give_infinity,
+        cells_that_are_not_sources_are_skipped,
+        single_sources_ties_and_borders_match_the_cpu_twin,
+        bunny_profiles_match_the_cpu_twin,
+        a_batch_equals_its_dents_run_one_by_one,
+    ],
 }

@@ -22,6 +22,7 @@ use common::SplitMix64;
 use dentbend::cpu::{GlanceParams, glance};
 use dentbend::dent::MAX_RESOLUTION;
 use dentbend::glam::Vec3;
+use dentbend::gpu::GpuContext;
 use dentbend::gpu::glance::GlanceKernel;
 use dentbend::{DentParams, Impact, Resolution, dent_map_stages, mesh};
 
@@ -66,7 +67,7 @@ fn frame_params(
 
 /// True on Mesa's lavapipe, which evaluates the shader's f32 arithmetic exactly as written.
 fn exact_arithmetic() -> bool {
-    common::context().is_some_and(|context| context.info.name.contains("llvmpipe"))
+    common::context().info.name.contains("llvmpipe")
 }
 
 /// Bound on |GPU − CPU| of each component of `dent` (see the file's comment): (Δ, height).
@@ -94,7 +95,7 @@ fn tolerance(dent: &Dent) -> (f32, f32) {
 
 /// Runs `dents` as one GPU batch and compares every cell with `cpu::glance`.
 fn check_batch(kernel: &GlanceKernel, what: &str, dents: &[Dent]) {
-    let context = common::context().expect("checked by the caller");
+    let context = common::context();
     let batch: Vec<(GlanceParams, &[f32])> = dents.iter().map(|d| (d.params, d.heights.as_slice())).collect();
     let gpu = kernel.run_batch(context, &batch).unwrap();
     assert_eq!(gpu.len(), dents.len());
@@ -141,9 +142,7 @@ fn random_frame(rng: &mut SplitMix64) -> (Vec3, Vec3) {
     (normal, tangent)
 }
 
-#[test]
-fn random_heights_and_frames_match_the_cpu_in_one_batch() {
-    let Some(context) = common::context() else { return };
+fn random_heights_and_frames_match_the_cpu_in_one_batch(context: &'static GpuContext) {
     let kernel = GlanceKernel::new(context).unwrap();
     let mut rng = SplitMix64::new(0x61a9ce);
     // (src_res, θ in degrees, widening in units of 1/half-extent): every size, angle and both
@@ -175,9 +174,7 @@ fn random_heights_and_frames_match_the_cpu_in_one_batch() {
     check_batch(&kernel, "random heights, batch of one", &dents[8..9]);
 }
 
-#[test]
-fn maps_reaching_past_the_heights_on_every_side_fade_to_zero_like_the_cpu() {
-    let Some(context) = common::context() else { return };
+fn maps_reaching_past_the_heights_on_every_side_fade_to_zero_like_the_cpu(context: &'static GpuContext) {
     let kernel = GlanceKernel::new(context).unwrap();
     let mut rng = SplitMix64::new(0xb0de);
     // Map grids not sized by the pipeline: wider than the stretched heights in both directions,
@@ -206,9 +203,7 @@ fn maps_reaching_past_the_heights_on_every_side_fade_to_zero_like_the_cpu() {
     check_batch(&kernel, "maps past the borders, batch of 5", &dents);
 }
 
-#[test]
-fn bunny_profiles_map_like_the_pipeline() {
-    let Some(context) = common::context() else { return };
+fn bunny_profiles_map_like_the_pipeline(context: &'static GpuContext) {
     let kernel = GlanceKernel::new(context).unwrap();
     let bunny = mesh::builtin("bunny").unwrap();
     let top = bunny.support_point(Vec3::Y);
@@ -242,4 +237,12 @@ fn bunny_profiles_map_like_the_pipeline() {
         dents.push(dent);
     }
     check_batch(&kernel, "bunny profiles, batch of 7", &dents);
+}
+
+gpu_test_main! {
+    gpu: [
+        random_heights_and_frames_match_the_cpu_in_one_batch,
+        maps_reaching_past_the_heights_on_every_side_fade_to_zero_like_the_cpu,
+        bunny_profiles_map_like_the_pipeline,
+    ],
 }

@@ -17,6 +17,7 @@ mod common;
 use common::SplitMix64;
 use dentbend::cpu::{HeatParams, heat, heat_step};
 use dentbend::glam::Vec3;
+use dentbend::gpu::GpuContext;
 use dentbend::gpu::heat::{HeatJob, HeatKernel};
 use dentbend::{DentParams, Impact, Resolution, dent_map_stages, mesh};
 
@@ -47,7 +48,7 @@ fn bumps(rng: &mut SplitMix64, res: u32, peak: f32) -> Vec<f32> {
 /// 0 on Mesa's lavapipe, which evaluates the shader's f32 arithmetic exactly as written (the
 /// parity is then bit for bit); 1 elsewhere, where the rounding bounds apply.
 fn rounding_slack() -> f32 {
-    let exact = common::context().is_some_and(|context| context.info.name.contains("llvmpipe"));
+    let exact = common::context().info.name.contains("llvmpipe");
     if exact { 0.0 } else { 1.0 }
 }
 
@@ -103,7 +104,7 @@ fn passes(jobs: &[HeatJob<'_>]) -> u32 {
 
 /// Runs `jobs` as one GPU batch and compares every dent with `cpu::heat`.
 fn check_batch(kernel: &HeatKernel, what: &str, jobs: &[HeatJob<'_>]) {
-    let context = common::context().expect("checked by the caller");
+    let context = common::context();
     let gpu = kernel.run_batch(context, jobs).unwrap();
     assert_eq!(gpu.len(), jobs.len());
     let mut worst = 0.0f32;
@@ -117,9 +118,7 @@ fn check_batch(kernel: &HeatKernel, what: &str, jobs: &[HeatJob<'_>]) {
     eprintln!("{what}: largest |GPU − CPU| {worst:e}");
 }
 
-#[test]
-fn single_steps_match_heat_step_bit_for_bit_or_within_fma_rounding() {
-    let Some(context) = common::context() else { return };
+fn single_steps_match_heat_step_bit_for_bit_or_within_fma_rounding(context: &'static GpuContext) {
     let kernel = HeatKernel::new(context).unwrap();
     let mut rng = SplitMix64::new(0x4ea7);
     // Plain and clamped steps of grids of mixed sign, twelve dents of six sizes in one dispatch.
@@ -149,9 +148,7 @@ fn single_steps_match_heat_step_bit_for_bit_or_within_fma_rounding() {
     compare("single step, batch of one", &got[0], &want, rounding_slack() * 4.0 * EPS);
 }
 
-#[test]
-fn whole_smoothing_matches_heat_with_per_dent_counts_in_one_batch() {
-    let Some(context) = common::context() else { return };
+fn whole_smoothing_matches_heat_with_per_dent_counts_in_one_batch(context: &'static GpuContext) {
     let kernel = HeatKernel::new(context).unwrap();
     let mut rng = SplitMix64::new(0x5300);
     let grids: Vec<Vec<f32>> = [1u32, 7, 64, 200, 33, 2, 64, 7]
@@ -195,9 +192,7 @@ fn whole_smoothing_matches_heat_with_per_dent_counts_in_one_batch() {
     check_batch(&kernel, "batch of one, even", &jobs[1..2]);
 }
 
-#[test]
-fn all_zero_grids_stay_zero_beside_others() {
-    let Some(context) = common::context() else { return };
+fn all_zero_grids_stay_zero_beside_others(context: &'static GpuContext) {
     let kernel = HeatKernel::new(context).unwrap();
     let mut rng = SplitMix64::new(7);
     let zeros = vec![0.0f32; 64 * 64];
@@ -212,9 +207,7 @@ fn all_zero_grids_stay_zero_beside_others() {
     check_batch(&kernel, "zeros beside a dent", &jobs);
 }
 
-#[test]
-fn bunny_envelopes_smooth_like_the_cpu() {
-    let Some(context) = common::context() else { return };
+fn bunny_envelopes_smooth_like_the_cpu(context: &'static GpuContext) {
     let kernel = HeatKernel::new(context).unwrap();
     let bunny = mesh::builtin("bunny").unwrap();
     let top = bunny.support_point(Vec3::Y);
@@ -258,4 +251,13 @@ fn bunny_envelopes_smooth_like_the_cpu() {
         assert_eq!(cpu_heat(job), stages.smoothed);
     }
     check_batch(&kernel, "bunny envelopes", &jobs);
+}
+
+gpu_test_main! {
+    gpu: [
+        single_steps_match_heat_step_bit_for_bit_or_within_fma_rounding,
+        whole_smoothing_matches_heat_with_per_dent_counts_in_one_batch,
+        all_zero_grids_stay_zero_beside_others,
+        bunny_envelopes_smooth_like_the_cpu,
+    ],
 }

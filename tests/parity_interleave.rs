@@ -61,9 +61,7 @@ fn check(context: &GpuContext, denter: &GpuDenter, offset: u64, stride: u64, lay
     assert!((0..bytes / 4).all(|w| written[w] || gpu[w] == old[w]), "a byte outside the fields changed");
 }
 
-#[test]
-fn an_interleaved_copy_matches_the_cpu_twin_byte_for_byte() {
-    let Some(context) = common::context() else { return };
+fn an_interleaved_copy_matches_the_cpu_twin_byte_for_byte(context: &'static GpuContext) {
     let targets = [mesh::builtin("sphere").unwrap(), mesh::builtin("bunny").unwrap()];
     let denter = GpuDenter::new(context, &targets).unwrap();
     // Offset 100 is not a multiple of the 256-byte storage offset alignment: the kernel binds
@@ -74,9 +72,7 @@ fn an_interleaved_copy_matches_the_cpu_twin_byte_for_byte() {
     check(context, &denter, 0, 28, VertexLayout { position: 16, normal: None });
 }
 
-#[test]
-fn bad_layouts_are_typed_errors_and_record_nothing() {
-    let Some(context) = common::context() else { return };
+fn bad_layouts_are_typed_errors_and_record_nothing(context: &'static GpuContext) {
     let denter = GpuDenter::new(context, &[mesh::builtin("block").unwrap()]).unwrap();
     let n = denter.read_positions(0).unwrap().len() as u64;
     let bytes = (n * 40 + 64) as usize;
@@ -104,4 +100,8 @@ fn bad_layouts_are_typed_errors_and_record_nothing() {
     context.queue.submit([encoder.finish()]);
     let after: Vec<u32> = buffers::read_back(context, &dst, bytes / 4).unwrap();
     assert_eq!(after, words(&pattern(bytes)), "a refused copy wrote to the destination");
+}
+
+gpu_test_main! {
+    gpu: [an_interleaved_copy_matches_the_cpu_twin_byte_for_byte, bad_layouts_are_typed_errors_and_record_nothing],
 }

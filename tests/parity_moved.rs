@@ -8,7 +8,7 @@ use common::sphere_at;
 use dentbend::cpu::{self, MovedParams};
 use dentbend::dent::{DentJob, DentParams, Impact, dent_batch};
 use dentbend::glam::Vec3;
-use dentbend::gpu::{GpuDenter, MovedVertices, buffers};
+use dentbend::gpu::{GpuContext, GpuDenter, MovedVertices, buffers};
 use dentbend::{TriMesh, mesh};
 
 fn drop_on_block(ball: &TriMesh, x: f32, d: f32) -> DentJob<'_> {
@@ -22,9 +22,7 @@ fn drop_on_block(ball: &TriMesh, x: f32, d: f32) -> DentJob<'_> {
 
 /// Tolerance as tests/parity_pipeline.rs: each dent moves a vertex by at most d with the map's
 /// 2e-5·d error, plus a few ulps of the coordinate (tests/parity_displace.rs), margin 3.
-#[test]
-fn the_moved_vertices_are_the_cpu_dents_moved_vertices() {
-    let Some(context) = common::context() else { return };
+fn the_moved_vertices_are_the_cpu_dents_moved_vertices(context: &'static GpuContext) {
     let ball = sphere_at(Vec3::new(0.0, 5.0, 0.0), 0.6);
     let original = vec![mesh::builtin("block").unwrap()];
     let jobs = [drop_on_block(&ball, 0.0, 0.2)];
@@ -54,9 +52,7 @@ fn the_moved_vertices_are_the_cpu_dents_moved_vertices() {
 
 /// A second batch reports only what it moved: exactly the vertices whose resident position
 /// changed between the two batches.
-#[test]
-fn only_the_last_batch_counts() {
-    let Some(context) = common::context() else { return };
+fn only_the_last_batch_counts(context: &'static GpuContext) {
     let (big, small) = (sphere_at(Vec3::new(0.0, 5.0, 0.0), 0.6), sphere_at(Vec3::new(1.0, 5.0, 0.0), 0.2));
     let mut denter = GpuDenter::new(context, &[mesh::builtin("block").unwrap()]).unwrap();
     denter.dent_batch(&[drop_on_block(&big, 0.0, 0.2)]).unwrap();
@@ -70,4 +66,8 @@ fn only_the_last_batch_counts() {
     assert_eq!(moved.indices, changed);
     assert_ne!(moved.indices, first_moved.indices);
     assert!(moved.indices.iter().zip(&moved.positions).all(|(v, p)| second[*v as usize] == *p));
+}
+
+gpu_test_main! {
+    gpu: [the_moved_vertices_are_the_cpu_dents_moved_vertices, only_the_last_batch_counts],
 }

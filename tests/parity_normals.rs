@@ -19,15 +19,15 @@ mod common;
 
 use common::SplitMix64;
 use dentbend::glam::{DVec3, Vec3};
+use dentbend::gpu::GpuContext;
 use dentbend::gpu::normals::{MAX_TARGETS_PER_DISPATCH, Normals, NormalsTarget, adjacency};
 use dentbend::{Attenuation, DentParams, Impact, TriMesh, cpu, dent_map, mesh};
 
 /// Allowed error per component, in units of ε·κ (see the module comment).
 const KAPPA_ULPS: f64 = 32.0;
 
-fn gpu_normals(targets: &[NormalsTarget<'_>]) -> Option<Vec<Vec<Vec3>>> {
-    let context = common::context()?;
-    Some(Normals::new(context).unwrap().run_batch(context, targets).unwrap())
+fn gpu_normals(context: &GpuContext, targets: &[NormalsTarget<'_>]) -> Vec<Vec<Vec3>> {
+    Normals::new(context).unwrap().run_batch(context, targets).unwrap()
 }
 
 fn all(mesh: &TriMesh) -> NormalsTarget<'_> {
@@ -76,11 +76,9 @@ fn check(what: &str, positions: &[Vec3], faces: &[[u32; 3]], gpu: &[Vec3], cpu: 
     worst
 }
 
-#[test]
-fn the_dense_bunny_matches_the_cpu_before_and_after_a_dent() {
-    let Some(_) = common::context() else { return };
+fn the_dense_bunny_matches_the_cpu_before_and_after_a_dent(context: &'static GpuContext) {
     let mut bunny = mesh::builtin("bunny-dense").unwrap();
-    let gpu = gpu_normals(&[all(&bunny)]).unwrap();
+    let gpu = gpu_normals(context, &[all(&bunny)]);
     check("bunny-dense", bunny.positions(), bunny.faces(), &gpu[0], bunny.normals());
 
     let point = bunny.support_point(Vec3::X);
@@ -88,13 +86,11 @@ fn the_dense_bunny_matches_the_cpu_before_and_after_a_dent() {
     let map = dent_map(&ball, &Impact::head_on(point, -Vec3::X), &DentParams::new(0.4), None).unwrap();
     let report = map.apply(&mut bunny, &Attenuation::Logistic).unwrap();
     assert!(report.moved_vertices > 100);
-    let gpu = gpu_normals(&[all(&bunny)]).unwrap();
+    let gpu = gpu_normals(context, &[all(&bunny)]);
     check("dented bunny-dense", bunny.positions(), bunny.faces(), &gpu[0], bunny.normals());
 }
 
-#[test]
-fn a_batch_of_meshes_of_every_size_matches_the_cpu() {
-    let Some(_) = common::context() else { return };
+fn a_batch_of_meshes_of_every_size_matches_the_cpu(context: &'static GpuContext) {
     let triangle = TriMesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]).unwrap();
     let meshes: Vec<TriMesh> = ["cylinder", "bunny", "sphere", "plank", "block", "bunny-dense"]
         .iter()
@@ -102,16 +98,14 @@ fn a_batch_of_meshes_of_every_size_matches_the_cpu() {
         .chain([triangle])
         .collect();
     let targets: Vec<NormalsTarget> = meshes.iter().map(all).collect();
-    let gpu = gpu_normals(&targets).unwrap();
+    let gpu = gpu_normals(context, &targets);
     for (k, mesh) in meshes.iter().enumerate() {
         check(&format!("mesh {k}"), mesh.positions(), mesh.faces(), &gpu[k], mesh.normals());
     }
     assert_eq!(gpu[6], vec![Vec3::Z; 3]);
 }
 
-#[test]
-fn isolated_vertices_and_degenerate_faces_give_exact_zeros() {
-    let Some(_) = common::context() else { return };
+fn isolated_vertices_and_degenerate_faces_give_exact_zeros(context: &'static GpuContext) {
     let positions = vec![
         Vec3::new(0.0, 0.0, 0.0),
         Vec3::new(1.0, 0.0, 0.0),
@@ -127,14 +121,12 @@ fn isolated_vertices_and_degenerate_faces_give_exact_zeros() {
     let cpu = degenerate.normals();
     // Vertices 0–2: faces +z, −z, −z sum to −z; the others get zero (exactly, on any GPU).
     assert_eq!(cpu[3..], [Vec3::ZERO; 5]);
-    let gpu = gpu_normals(&[all(&degenerate)]).unwrap();
+    let gpu = gpu_normals(context, &[all(&degenerate)]);
     check("degenerate", degenerate.positions(), degenerate.faces(), &gpu[0], cpu);
     assert_eq!(gpu[0][3..], [Vec3::ZERO; 5]);
 }
 
-#[test]
-fn more_targets_than_one_dispatch_takes() {
-    let Some(_) = common::context() else { return };
+fn more_targets_than_one_dispatch_takes(context: &'static GpuContext) {
     let mut rng = SplitMix64::new(7);
     // Random tetrahedra and fans; a few vertices of each may end up unused.
     let meshes: Vec<TriMesh> = (0..MAX_TARGETS_PER_DISPATCH + 37)
@@ -147,7 +139,7 @@ fn more_targets_than_one_dispatch_takes() {
         })
         .collect();
     let targets: Vec<NormalsTarget> = meshes.iter().map(all).collect();
-    let gpu = gpu_normals(&targets).unwrap();
+    let gpu = gpu_normals(context, &targets);
     let worst = meshes
         .iter()
         .enumerate()
@@ -156,9 +148,7 @@ fn more_targets_than_one_dispatch_takes() {
     eprintln!("random meshes: worst {worst:.3} of tolerance");
 }
 
-#[test]
-fn moved_only_refreshes_the_vertices_that_share_a_face_with_a_moved_one() {
-    let Some(_) = common::context() else { return };
+fn moved_only_refreshes_the_vertices_that_share_a_face_with_a_moved_one(context: &'static GpuContext) {
     let bunny = mesh::builtin("bunny-dense").unwrap();
     let point = bunny.support_point(Vec3::X);
     let ball = common::sphere_at(point + Vec3::X, 1.0);
@@ -176,7 +166,7 @@ fn moved_only_refreshes_the_vertices_that_share_a_face_with_a_moved_one() {
     }
     let stale = vec![Vec3::splat(9.0); moved.len()];
     let target = NormalsTarget { positions: dented.positions(), faces: dented.faces(), near: Some((&moved, &stale)) };
-    let gpu = gpu_normals(&[target]).unwrap().remove(0);
+    let gpu = gpu_normals(context, &[target]).remove(0);
     let expected: Vec<Vec3> =
         dented.normals().iter().zip(&affected).map(|(&n, &a)| if a { n } else { Vec3::splat(9.0) }).collect();
     let refreshed = affected.iter().filter(|&&a| a).count();
@@ -186,7 +176,6 @@ fn moved_only_refreshes_the_vertices_that_share_a_face_with_a_moved_one() {
     assert!(gpu.iter().zip(&affected).all(|(n, &a)| a || *n == Vec3::splat(9.0)));
 }
 
-#[test]
 fn adjacency_lists_each_vertex_faces_in_ascending_order() {
     // Faces 0: (0 1 2), 1: (2 1 3), 2: (3 3 0); vertex 4 is isolated.
     let block = adjacency(5, &[[0, 1, 2], [2, 1, 3], [3, 3, 0]]);
@@ -201,4 +190,15 @@ fn adjacency_lists_each_vertex_faces_in_ascending_order() {
     assert_eq!(block, expected);
     // No vertex: the block is its end offset alone.
     assert_eq!(adjacency(0, &[]), vec![1]);
+}
+
+gpu_test_main! {
+    plain: [adjacency_lists_each_vertex_faces_in_ascending_order],
+    gpu: [
+        the_dense_bunny_matches_the_cpu_before_and_after_a_dent,
+        a_batch_of_meshes_of_every_size_matches_the_cpu,
+        isolated_vertices_and_degenerate_faces_give_exact_zeros,
+        more_targets_than_one_dispatch_takes,
+        moved_only_refreshes_the_vertices_that_share_a_face_with_a_moved_one,
+    ],
 }

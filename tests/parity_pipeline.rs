@@ -7,7 +7,7 @@ mod common;
 use common::sphere_at;
 use dentbend::dent::{DentJob, dent_batch};
 use dentbend::glam::Vec3;
-use dentbend::gpu::{GpuBatchError, GpuDenter};
+use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter};
 use dentbend::{DentParams, Impact, Resolution, TriMesh, dent_map_stages, mesh};
 
 /// Largest |a − b| over two slices.
@@ -46,9 +46,7 @@ fn bunny_jobs(bunny: &TriMesh) -> Vec<DentJob<'_>> {
 /// only by the GPU's `log`/`exp` (≤ 3e-6 relative, tests/parity_envelope_*.rs), which the
 /// linear heat steps and the rescale to d carry through unchanged; glance adds its `exp` and
 /// bilinear weights (a few ulps). 2e-5·d bounds them all with margin.
-#[test]
-fn every_stage_matches_the_cpu_pipeline() {
-    let Some(context) = common::context() else { return };
+fn every_stage_matches_the_cpu_pipeline(context: &'static GpuContext) {
     let bunny = mesh::builtin("bunny").unwrap();
     let target = mesh::builtin("sphere").unwrap();
     let jobs = bunny_jobs(&bunny);
@@ -110,9 +108,7 @@ fn target_jobs<'a>(balls: &'a [TriMesh], targets: &[TriMesh]) -> Vec<DentJob<'a>
 /// Five dents over three targets (three on the block, overlapping, in order) give the CPU
 /// batch's vertices. Tolerance: each dent moves a vertex by at most d, with the map's 2e-5·d
 /// error from the stage test plus a few ulps of the coordinate per dent (tests/parity_displace.rs).
-#[test]
-fn a_gpu_batch_dents_targets_like_the_cpu_batch() {
-    let Some(context) = common::context() else { return };
+fn a_gpu_batch_dents_targets_like_the_cpu_batch(context: &'static GpuContext) {
     let balls = balls();
     let mut cpu = targets();
     let jobs = target_jobs(&balls, &cpu);
@@ -145,9 +141,7 @@ fn a_gpu_batch_dents_targets_like_the_cpu_batch() {
     assert_eq!(denter.vertex_range(1).end - denter.vertex_range(1).start, (cpu[1].vertex_count() * 16) as u64);
 }
 
-#[test]
-fn one_bad_dent_fails_the_gpu_batch_and_changes_nothing() {
-    let Some(context) = common::context() else { return };
+fn one_bad_dent_fails_the_gpu_batch_and_changes_nothing(context: &'static GpuContext) {
     let balls = balls();
     let original = targets();
     let mut jobs = target_jobs(&balls, &original);
@@ -158,4 +152,12 @@ fn one_bad_dent_fails_the_gpu_batch_and_changes_nothing() {
     for (t, target) in original.iter().enumerate() {
         assert_eq!(denter.read_positions(t).unwrap(), target.positions());
     }
+}
+
+gpu_test_main! {
+    gpu: [
+        every_stage_matches_the_cpu_pipeline,
+        a_gpu_batch_dents_targets_like_the_cpu_batch,
+        one_bad_dent_fails_the_gpu_batch_and_changes_nothing,
+    ],
 }

@@ -24,7 +24,7 @@ use common::skin_tolerance::{EPS, NORMAL_ULPS, POSITION_ULPS, blend_magnitude, c
 use dentbend::cpu::{self, SkinBone, SkinError, SkinInfluence, SkinParams, WEIGHT_SUM_TOLERANCE, skin_bones};
 use dentbend::glam::{Affine3A, DVec3, Quat, Vec3};
 use dentbend::gpu::skin::{MAX_BONES, Skin, SkinMesh, Skinned};
-use dentbend::gpu::{GpuError, buffers};
+use dentbend::gpu::{GpuContext, GpuError, buffers};
 use dentbend::mesh;
 
 /// A random pose: rotation about a random axis, translation within ±`reach`, and a non-uniform
@@ -148,9 +148,7 @@ fn blended_normal(bones: &[SkinBone], influence: &SkinInfluence, n: Vec3) -> DVe
 // ---------------------------------------------------------------------------------------------
 // GPU vs CPU
 
-#[test]
-fn the_bunny_skinned_on_the_gpu_matches_the_cpu_frame_after_frame() {
-    let Some(context) = common::context() else { return };
+fn the_bunny_skinned_on_the_gpu_matches_the_cpu_frame_after_frame(context: &'static GpuContext) {
     let bunny = mesh::builtin("bunny").unwrap();
     let (positions, normals) = (bunny.positions(), bunny.normals());
     let mut rng = SplitMix64::new(0x5c1e);
@@ -168,9 +166,7 @@ fn the_bunny_skinned_on_the_gpu_matches_the_cpu_frame_after_frame() {
     }
 }
 
-#[test]
-fn encode_leaves_the_skinned_mesh_in_gpu_buffers() {
-    let Some(context) = common::context() else { return };
+fn encode_leaves_the_skinned_mesh_in_gpu_buffers(context: &'static GpuContext) {
     let sphere = mesh::builtin("sphere").unwrap();
     let (positions, normals) = (sphere.positions(), sphere.normals());
     let mut rng = SplitMix64::new(7);
@@ -193,9 +189,7 @@ fn encode_leaves_the_skinned_mesh_in_gpu_buffers() {
     }
 }
 
-#[test]
-fn the_gpu_path_rejects_bad_input() {
-    let Some(context) = common::context() else { return };
+fn the_gpu_path_rejects_bad_input(context: &'static GpuContext) {
     let skin = Skin::new(context).unwrap();
     let p = [Vec3::ZERO, Vec3::X];
     let n = [Vec3::Z; 2];
@@ -230,7 +224,6 @@ fn the_gpu_path_rejects_bad_input() {
 // ---------------------------------------------------------------------------------------------
 // CPU properties
 
-#[test]
 fn identity_bones_give_back_the_rest_mesh_exactly() {
     let bunny = mesh::builtin("bunny").unwrap();
     let mut rng = SplitMix64::new(1);
@@ -242,7 +235,6 @@ fn identity_bones_give_back_the_rest_mesh_exactly() {
     assert_eq!(out.normals, renormalized);
 }
 
-#[test]
 fn a_single_bone_moves_its_vertices_rigidly() {
     let bunny = mesh::builtin("bunny").unwrap();
     let mut rng = SplitMix64::new(2);
@@ -265,7 +257,6 @@ fn a_single_bone_moves_its_vertices_rigidly() {
     }
 }
 
-#[test]
 fn blended_normals_are_unit_length() {
     let bunny = mesh::builtin("bunny").unwrap();
     let mut rng = SplitMix64::new(3);
@@ -284,7 +275,6 @@ fn plane(origin: Vec3, u: Vec3, v: Vec3, side: usize) -> (Vec<Vec3>, Vec<Vec3>) 
     (positions, vec![u.cross(v).normalize(); side * side])
 }
 
-#[test]
 fn a_non_uniform_scale_carries_normals_by_the_inverse_transpose() {
     // Guards the normal transform: the skinned normal stays perpendicular to the skinned grid's
     // edges, which the plain linear part A·n (checked to fail here) does not.
@@ -324,7 +314,6 @@ fn a_non_uniform_scale_carries_normals_by_the_inverse_transpose() {
     }
 }
 
-#[test]
 fn bad_input_is_rejected_and_leaves_the_outputs_untouched() {
     let bunny = mesh::builtin("bunny").unwrap();
     let (positions, normals) = (bunny.positions(), bunny.normals());
@@ -403,7 +392,6 @@ fn bad_input_is_rejected_and_leaves_the_outputs_untouched() {
     assert_eq!(cpu_skin(&[], &[], &[], &[]), Skinned::default());
 }
 
-#[test]
 fn skin_bones_are_current_poses_times_inverse_rest_poses() {
     let mut rng = SplitMix64::new(5);
     let rest: Vec<Affine3A> = (0..6).map(|_| random_pose(&mut rng, 3.0, 1.5)).collect();
@@ -423,4 +411,20 @@ fn skin_bones_are_current_poses_times_inverse_rest_poses() {
     let mut nan = current[..2].to_vec();
     nan[0].translation.x = f32::NAN;
     assert!(matches!(skin_bones(&rest[..2], &nan), Err(SkinError::NonFiniteBone { bone: 0 })));
+}
+
+gpu_test_main! {
+    plain: [
+        identity_bones_give_back_the_rest_mesh_exactly,
+        a_single_bone_moves_its_vertices_rigidly,
+        blended_normals_are_unit_length,
+        a_non_uniform_scale_carries_normals_by_the_inverse_transpose,
+        bad_input_is_rejected_and_leaves_the_outputs_untouched,
+        skin_bones_are_current_poses_times_inverse_rest_poses,
+    ],
+    gpu: [
+        the_bunny_skinned_on_the_gpu_matches_the_cpu_frame_after_frame,
+        encode_leaves_the_skinned_mesh_in_gpu_buffers,
+        the_gpu_path_rejects_bad_input,
+    ],
 }

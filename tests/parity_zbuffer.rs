@@ -58,10 +58,9 @@ impl Case {
     }
 }
 
-/// The compiled kernel and its context, or `None` when the test should skip.
-fn kernel() -> Option<(&'static GpuContext, Zbuffer)> {
-    let context = common::context()?;
-    Some((context, Zbuffer::new(context).expect("zbuffer kernel compiles")))
+/// The compiled kernel.
+fn kernel(context: &GpuContext) -> Zbuffer {
+    Zbuffer::new(context).expect("zbuffer kernel compiles")
 }
 
 /// The bunny seen along `dir`, d = 0.6 of its depth along the view, at `res`².
@@ -266,9 +265,8 @@ fn check_batch(zbuffer: &Zbuffer, context: &GpuContext, cases: &[Case]) -> Vec<V
 // Tests.
 
 /// The bunny (non-convex: ears, folds) from axis-aligned and oblique directions at 64² and 200².
-#[test]
-fn bunny_from_several_directions() {
-    let Some((context, zbuffer)) = kernel() else { return };
+fn bunny_from_several_directions(context: &'static GpuContext) {
+    let zbuffer = kernel(context);
     let dirs =
         [Vec3::Z, -Vec3::Y, Vec3::X, Vec3::new(1.0, 1.0, 1.0), Vec3::new(-1.0, -0.5, 2.0), Vec3::new(0.3, -1.0, -0.7)];
     for res in [64, 200] {
@@ -279,9 +277,8 @@ fn bunny_from_several_directions() {
 }
 
 /// A finely tessellated sphere from oblique directions, with shallow and deep dent distances.
-#[test]
-fn tessellated_sphere() {
-    let Some((context, zbuffer)) = kernel() else { return };
+fn tessellated_sphere(context: &'static GpuContext) {
+    let zbuffer = kernel(context);
     for (dir, d) in
         [(Vec3::new(1.0, 2.0, 3.0), 0.05), (Vec3::new(-0.2, 0.1, -1.0), 0.3), (Vec3::new(0.6, -0.8, 0.05), 0.75)]
     {
@@ -291,9 +288,8 @@ fn tessellated_sphere() {
 
 /// A needle (0.01 cell wide) and an edge-on triangle (its plane contains `axis_z`), each alone and
 /// under a rotated view: only edge and tip samples mark them.
-#[test]
-fn thin_and_edge_on_triangles() {
-    let Some((context, zbuffer)) = kernel() else { return };
+fn thin_and_edge_on_triangles(context: &'static GpuContext) {
+    let zbuffer = kernel(context);
     let d = 10.0f32;
     let (a, b) = ((5.2f32, 10.3f32), (50.7f32, 40.1f32));
     let dir = Vec3::new(b.0 - a.0, b.1 - a.1, 0.0).normalize();
@@ -327,9 +323,8 @@ fn thin_and_edge_on_triangles() {
 
 /// Random triangle soups (triangles of a few cells, slivers, and ones spanning the grid, partly
 /// off it and partly below z = 0) at 1², 7² and 64².
-#[test]
-fn random_triangle_soups() {
-    let Some((context, zbuffer)) = kernel() else { return };
+fn random_triangle_soups(context: &'static GpuContext) {
+    let zbuffer = kernel(context);
     for (seed, res, count) in [(1, 1, 20), (2, 7, 40), (3, 7, 3), (4, 64, 300), (5, 64, 2000)] {
         check_batch(&zbuffer, context, &[soup_case(seed, res, count)]);
     }
@@ -340,9 +335,8 @@ fn random_triangle_soups() {
 /// sloped one across a 500² grid (25 and 9 tiles of `centres`, more cells than lavapipe lets one
 /// invocation loop over), and invalid grids (zero cell size, zero d), which give all-zero
 /// profiles.
-#[test]
-fn bad_and_degenerate_input() {
-    let Some((context, zbuffer)) = kernel() else { return };
+fn bad_and_degenerate_input(context: &'static GpuContext) {
+    let zbuffer = kernel(context);
     let d = 1.0;
     let positions = vec![
         Vec3::new(1e30, 0.0, 0.0),
@@ -383,9 +377,8 @@ fn bad_and_degenerate_input() {
 
 /// Seven dents of different projectiles and resolutions (1² to 200²) in one dispatch: each
 /// matches its CPU twin, and equals the same dent run alone bit for bit (dents do not interact).
-#[test]
-fn a_batch_of_different_dents() {
-    let Some((context, zbuffer)) = kernel() else { return };
+fn a_batch_of_different_dents(context: &'static GpuContext) {
+    let zbuffer = kernel(context);
     let cases = [
         bunny_case(Vec3::new(-1.0, -0.5, 2.0), 200),
         soup_case(11, 1, 10),
@@ -407,9 +400,8 @@ fn a_batch_of_different_dents() {
 }
 
 /// An empty batch gives nothing; a dent with no triangles a zero profile.
-#[test]
-fn empty_input() {
-    let Some((context, zbuffer)) = kernel() else { return };
+fn empty_input(context: &'static GpuContext) {
+    let zbuffer = kernel(context);
     assert!(zbuffer.run_batch(context, &[]).unwrap().is_empty());
     let case = Case::new("no triangles", View::world_aligned(8, 1.0), vec![Vec3::ZERO], vec![]);
     let gpu = check_batch(&zbuffer, context, &[case]);
@@ -417,10 +409,22 @@ fn empty_input() {
 }
 
 /// A grid too large for one binding is an error before anything is allocated.
-#[test]
-fn oversized_batches_are_errors() {
-    let Some((context, zbuffer)) = kernel() else { return };
+fn oversized_batches_are_errors(context: &'static GpuContext) {
+    let zbuffer = kernel(context);
     let case = Case::new("huge grid", View::world_aligned(100_000, 1.0), vec![Vec3::ZERO; 3], vec![[0, 1, 2]]);
     let error = zbuffer.run_batch(context, &[case.dent()]).unwrap_err();
     assert!(matches!(error, dentbend::gpu::GpuError::OverLimit { .. }), "{error}");
+}
+
+gpu_test_main! {
+    gpu: [
+        bunny_from_several_directions,
+        tessellated_sphere,
+        thin_and_edge_on_triangles,
+        random_triangle_soups,
+        bad_and_degenerate_input,
+        a_batch_of_different_dents,
+        empty_input,
+        oversized_batches_are_errors,
+    ],
 }

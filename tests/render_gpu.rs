@@ -1,10 +1,11 @@
 //! The GPU renderer draws lit meshes where the CPU rasterizer does, shows dents as shading, tiles
-//! large pictures seamlessly and refuses the same bad requests. Skips without an adapter unless
-//! `DENTBEND_REQUIRE_GPU=1`.
+//! large pictures seamlessly and refuses the same bad requests. Without an adapter the GPU
+//! tests are reported as ignored (failed when `DENTBEND_REQUIRE_GPU=1`; tests/common/gpu.rs).
 
 mod common;
 
 use dentbend::glam::{Affine3A, Vec3};
+use dentbend::gpu::GpuContext;
 use dentbend::render::{Camera, GpuRenderer, RenderError, Renderer, Shaded, render};
 use dentbend::{DentParams, Impact, TriMesh, dent, mesh};
 use image::RgbImage;
@@ -12,9 +13,9 @@ use image::RgbImage;
 const COPPER: [f32; 3] = [0.8, 0.36, 0.16];
 const STEEL: [f32; 3] = [0.42, 0.48, 0.58];
 
-/// The GPU renderer, or `None` when the test should skip.
-fn renderer() -> Option<GpuRenderer<'static>> {
-    Some(GpuRenderer::new(common::context()?).expect("the render pipelines build"))
+/// The GPU renderer.
+fn renderer(context: &'static GpuContext) -> GpuRenderer<'static> {
+    GpuRenderer::new(context).expect("the render pipelines build")
 }
 
 /// Saves `picture` as `name` under `$DENTBEND_TEST_PICTURES` when that is set.
@@ -44,9 +45,8 @@ fn sphere_scene() -> (TriMesh, Camera) {
     (sphere, camera)
 }
 
-#[test]
-fn a_lit_sphere_stands_out_and_is_brighter_on_the_light_side() {
-    let Some(gpu) = renderer() else { return };
+fn a_lit_sphere_stands_out_and_is_brighter_on_the_light_side(context: &'static GpuContext) {
+    let gpu = renderer(context);
     let (sphere, camera) = sphere_scene();
     let (w, h) = (160, 160);
     let picture = gpu.render(&[Shaded { mesh: &sphere, colour: STEEL }], &camera, w, h).unwrap();
@@ -77,9 +77,8 @@ fn a_lit_sphere_stands_out_and_is_brighter_on_the_light_side() {
 /// supersamples at pixel-quarter centres, the GPU 4 MSAA sample positions with top-left fill
 /// rules), so pixels on the silhouette may land on either side of the threshold; the lighting
 /// differs too (world-fixed lights on the CPU, camera-relative on the GPU), hence masks only.
-#[test]
-fn gpu_and_cpu_pictures_cover_the_same_pixels() {
-    let Some(gpu) = renderer() else { return };
+fn gpu_and_cpu_pictures_cover_the_same_pixels(context: &'static GpuContext) {
+    let gpu = renderer(context);
     let mut bunny = mesh::builtin("bunny").unwrap();
     bunny.transform(Affine3A::from_rotation_y(0.6)).unwrap();
     let camera = Camera::framing(bunny.bounds(), Vec3::new(-0.3, -0.4, -1.0), Vec3::Y);
@@ -119,9 +118,8 @@ fn variance_around(picture: &RgbImage, camera: &Camera, point: Vec3, half: i32) 
     values.iter().map(|v| (v - mean).powi(2)).sum::<f32>() / values.len() as f32
 }
 
-#[test]
-fn a_dent_shows_as_shading() {
-    let Some(gpu) = renderer() else { return };
+fn a_dent_shows_as_shading(context: &'static GpuContext) {
+    let gpu = renderer(context);
     let (block, dented, camera) = dented_block();
     let far = Vec3::new(1.5, 0.5, 0.0);
     let untouched = |m: &TriMesh| m.positions().iter().filter(|p| p.distance(far) < 0.45).copied().collect::<Vec<_>>();
@@ -140,9 +138,8 @@ fn a_dent_shows_as_shading() {
 
 /// Tiles meet without seams: a picture drawn in 37-pixel tiles matches the one drawn in one pass
 /// up to pixels whose samples flip at f32 rounding of the cropped projection.
-#[test]
-fn tiled_pictures_match_single_pass_ones() {
-    let Some(gpu) = renderer() else { return };
+fn tiled_pictures_match_single_pass_ones(context: &'static GpuContext) {
+    let gpu = renderer(context);
     let (sphere, camera) = sphere_scene();
     let meshes = [Shaded { mesh: &sphere, colour: COPPER }];
     let whole = gpu.render(&meshes, &camera, 150, 100).unwrap();
@@ -153,9 +150,8 @@ fn tiled_pictures_match_single_pass_ones() {
     assert!(count <= 15, "{count} of 15,000 pixels differ");
 }
 
-#[test]
-fn an_empty_scene_is_the_background_gradient() {
-    let Some(gpu) = renderer() else { return };
+fn an_empty_scene_is_the_background_gradient(context: &'static GpuContext) {
+    let gpu = renderer(context);
     let (_, camera) = sphere_scene();
     let picture = gpu.render(&[], &camera, 40, 30).unwrap();
     for y in 0..30 {
@@ -165,9 +161,8 @@ fn an_empty_scene_is_the_background_gradient() {
     assert!(top > bottom && bottom > 230.0, "top {top}, bottom {bottom}");
 }
 
-#[test]
-fn bad_sizes_and_cameras_are_errors() {
-    let Some(gpu) = renderer() else { return };
+fn bad_sizes_and_cameras_are_errors(context: &'static GpuContext) {
+    let gpu = renderer(context);
     let (sphere, ok) = sphere_scene();
     let meshes = [Shaded { mesh: &sphere, colour: STEEL }];
     for (w, h) in [(0, 10), (10, 0), (100_000, 10), (10, u32::MAX)] {
@@ -191,15 +186,28 @@ fn bad_sizes_and_cameras_are_errors() {
     assert_eq!(gpu.render(&meshes, &ok, wide, 4).unwrap().dimensions(), (wide, 4));
 }
 
-#[test]
-fn renderer_picks_the_gpu_for_a_context_and_the_cpu_without() {
-    let cpu = Renderer::new(None).unwrap();
-    assert!(!cpu.is_gpu());
+/// Without a context the renderer is the CPU rasterizer (the same picture as `render`); with
+/// one it draws on the GPU.
+fn renderer_picks_the_gpu_for_a_context_and_the_cpu_without(context: Option<&'static GpuContext>) {
+    let renderer = Renderer::new(context).unwrap();
+    assert_eq!(renderer.is_gpu(), context.is_some());
     let (sphere, camera) = sphere_scene();
     let meshes = [Shaded { mesh: &sphere, colour: STEEL }];
-    assert_eq!(cpu.render(&meshes, &camera, 32, 24).unwrap(), render(&meshes, &camera, 32, 24).unwrap());
-    let Some(context) = common::context() else { return };
-    let gpu = Renderer::new(Some(context)).unwrap();
-    assert!(gpu.is_gpu());
-    assert_eq!(gpu.render(&meshes, &camera, 32, 24).unwrap().dimensions(), (32, 24));
+    let picture = renderer.render(&meshes, &camera, 32, 24).unwrap();
+    match context {
+        None => assert_eq!(picture, render(&meshes, &camera, 32, 24).unwrap()),
+        Some(_) => assert_eq!(picture.dimensions(), (32, 24)),
+    }
+}
+
+gpu_test_main! {
+    gpu: [
+        a_lit_sphere_stands_out_and_is_brighter_on_the_light_side,
+        gpu_and_cpu_pictures_cover_the_same_pixels,
+        a_dent_shows_as_shading,
+        tiled_pictures_match_single_pass_ones,
+        an_empty_scene_is_the_background_gradient,
+        bad_sizes_and_cameras_are_errors,
+    ],
+    both: [renderer_picks_the_gpu_for_a_context_and_the_cpu_without],
 }

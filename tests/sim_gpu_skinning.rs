@@ -141,9 +141,7 @@ fn run_both(name: &str, frames: usize, mut gpu: Simulation, mut cpu: Simulation)
 /// Figure 14's plank (demo size): the ball splits the plank's bone and dents it. Skinned every
 /// step on the GPU and on the CPU twin, the two agree at every frame, before and after the split
 /// and the dent, and the GPU skinner uploads the plank again when they change it.
-#[test]
-fn the_plank_skins_alike_on_the_gpu_and_the_cpu_through_its_split_and_dent() {
-    let Some(context) = common::context() else { return };
+fn the_plank_skins_alike_on_the_gpu_and_the_cpu_through_its_split_and_dent(context: &'static GpuContext) {
     let scene = load_sized("plank", SceneSize::Demo).unwrap();
     let gpu = Simulation::new(scene.world.clone(), None).unwrap().with_bending(scene.bending.clone());
     let gpu = gpu.skin_on(Some(context)).skin_every_step(true);
@@ -193,9 +191,7 @@ fn dent_only_scene() -> (World, Bending) {
 /// A dent alone (no split) changes a bending body's rest mesh: the GPU skinner uploads its group
 /// again and the three bars still agree with the CPU twin; without the new upload the GPU would
 /// skin the undented rest mesh, centimetres off where the dent is.
-#[test]
-fn a_dent_alone_uploads_the_rest_mesh_again_and_the_skins_agree() {
-    let Some(context) = common::context() else { return };
+fn a_dent_alone_uploads_the_rest_mesh_again_and_the_skins_agree(context: &'static GpuContext) {
     let (world, bending) = dent_only_scene();
     let rest_before = bending.bodies()[1].rest_mesh().clone();
     let gpu = Simulation::new(world.clone(), None).unwrap().with_bending(bending.clone());
@@ -221,9 +217,7 @@ fn a_dent_alone_uploads_the_rest_mesh_again_and_the_skins_agree() {
 /// when it is 0, nothing is uploaded until asked, and asking skins on demand (once per step).
 /// The GPU's meshes equal the CPU twin's within the tolerance, names and colours alike, and the
 /// CPU path's meshes are `Bending::skinned_meshes` exactly.
-#[test]
-fn skinning_is_timed_when_every_step_and_on_demand_otherwise() {
-    let Some(context) = common::context() else { return };
+fn skinning_is_timed_when_every_step_and_on_demand_otherwise(context: &'static GpuContext) {
     let (world, bending) = dent_only_scene();
     let mut every = Simulation::new(world.clone(), None).unwrap().with_bending(bending.clone()).skin_every_step(true);
     every = every.skin_on(Some(context));
@@ -264,33 +258,27 @@ fn skinning_is_timed_when_every_step_and_on_demand_otherwise() {
 /// A skinner handed a world without the bending bodies' sub-bodies, or asked for meshes of
 /// other bodies than it skinned, returns an error on both backends instead of panicking, and
 /// keeps no results from before a failed skin.
-#[test]
-fn a_skinner_refuses_a_foreign_world_and_stale_results() {
-    let gpu: Option<&'static GpuContext> = common::context();
+fn a_skinner_refuses_a_foreign_world_and_stale_results(context: Option<&'static GpuContext>) {
     let (world, bending) = dent_only_scene();
-    for context in [None, gpu] {
-        let backend = if context.is_some() { "GPU" } else { "CPU" };
-        let mut skinner = Skinner::new(context);
-        let empty = World::new(WorldSettings::default()).unwrap();
-        skinner.skin(&bending, &world).unwrap();
-        let error = skinner.skin(&bending, &empty).unwrap_err();
-        assert!(matches!(error, SimError::Invalid { .. }), "{backend}: {error}");
-        // No results left from before the failed skin.
-        let error = skinner.meshes(&bending).unwrap_err();
-        assert!(error.to_string().contains("skin again"), "{backend}: {error}");
-        skinner.skin(&bending, &world).unwrap();
-        assert_eq!(skinner.meshes(&bending).unwrap().len(), 3, "{backend}");
-        let error = skinner.meshes(&Bending::new()).unwrap_err();
-        assert!(error.to_string().contains("skin again"), "{backend}: {error}");
-    }
+    let backend = if context.is_some() { "GPU" } else { "CPU" };
+    let mut skinner = Skinner::new(context);
+    let empty = World::new(WorldSettings::default()).unwrap();
+    skinner.skin(&bending, &world).unwrap();
+    let error = skinner.skin(&bending, &empty).unwrap_err();
+    assert!(matches!(error, SimError::Invalid { .. }), "{backend}: {error}");
+    // No results left from before the failed skin.
+    let error = skinner.meshes(&bending).unwrap_err();
+    assert!(error.to_string().contains("skin again"), "{backend}: {error}");
+    skinner.skin(&bending, &world).unwrap();
+    assert_eq!(skinner.meshes(&bending).unwrap().len(), 3, "{backend}");
+    let error = skinner.meshes(&Bending::new()).unwrap_err();
+    assert!(error.to_string().contains("skin again"), "{backend}: {error}");
 }
 
 /// Figure 13's tetrahedra (demo size, 96 one-bone struts) on the GPU in groups of at most 1,000
 /// vertices: several groups, each of several struts; every strut's skin, read back or read from
 /// its range of its group's resident buffer, agrees with the CPU twin's.
-#[test]
-fn many_bodies_in_several_groups_skin_as_on_the_cpu() {
-    let Some(context) = common::context() else { return };
+fn many_bodies_in_several_groups_skin_as_on_the_cpu(context: &'static GpuContext) {
     let scene = load_sized("tetrahedra", SceneSize::Demo).unwrap();
     let mut sim = Simulation::new(scene.world, None).unwrap().with_bending(scene.bending);
     for _ in 0..3 {
@@ -318,4 +306,14 @@ fn many_bodies_in_several_groups_skin_as_on_the_cpu() {
         let resident: Vec<Vec3> = resident.iter().map(|v| v.truncate()).collect();
         assert_eq!(resident, skinned[k].positions, "{what}: resident buffer and read-back differ");
     }
+}
+
+gpu_test_main! {
+    gpu: [
+        the_plank_skins_alike_on_the_gpu_and_the_cpu_through_its_split_and_dent,
+        a_dent_alone_uploads_the_rest_mesh_again_and_the_skins_agree,
+        skinning_is_timed_when_every_step_and_on_demand_otherwise,
+        many_bodies_in_several_groups_skin_as_on_the_cpu,
+    ],
+    both: [a_skinner_refuses_a_foreign_world_and_stale_results],
 }

@@ -3,10 +3,15 @@
 
 mod displace;
 mod gpu;
+mod memory;
 mod scene;
 mod setup;
+mod soak;
+mod soak_target;
+mod surface_sample;
 mod table1;
 mod timing;
+mod triangle_quality;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -93,6 +98,24 @@ enum Command {
         #[arg(long, default_value_t = 0.5)]
         min_time: f64,
     },
+    /// Dent one target N times at seeded random points of its surface (a small ball, random
+    /// incidence) through the damage API on the CPU: errors, non-finite vertices, per-dent
+    /// times, triangle quality, volume and memory, first against last.
+    Soak {
+        /// Dents to make.
+        #[arg(long, default_value_t = 10_000)]
+        dents: usize,
+        /// Target: a built-in mesh name or a .obj/.ply/.gltf/.glb path.
+        #[arg(long, default_value = "block")]
+        target: String,
+        /// Seed of the random hits (the same seed gives the same hits).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Write the report as JSON: {"dents","errors","non_finite","median_ms","p99_ms","max_ms",
+        /// "min_triangle_quality":{"first","last"},"volume_change","peak_rss_mb":{"first","last"},..}.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -149,6 +172,11 @@ fn run(cli: Cli) -> Result<(), String> {
                 report.displace_s * 1e3,
                 report.apply_s * 1e3
             );
+            write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
+        }
+        Command::Soak { dents, target, seed, json } => {
+            let report = soak::run(&target, dents, seed)?;
+            print!("{}", soak::render(&report));
             write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
         }
     }

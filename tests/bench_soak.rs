@@ -1,0 +1,95 @@
+//! `dentbend-bench soak` end to end: the real binary dents the built-in block 50 times and its
+//! JSON report has every key with sane values; the same seed gives the same surface; bad input
+//! exits with code 2 and writes no report.
+
+mod common;
+
+use std::process::{Command, Output};
+
+use common::{TempDir, text};
+use serde_json::Value;
+
+/// Dents per run: enough for several dents on each face, quick in a debug build.
+const DENTS: u64 = 50;
+
+/// Runs `dentbend-bench` with `args`.
+fn bench(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dentbend-bench")).args(args).env_remove("RUST_LOG").output().unwrap()
+}
+
+/// The JSON report of a soak of the block with `seed`.
+fn soak(seed: u64) -> Value {
+    let dir = TempDir::new("soak");
+    let json = dir.path("soak.json");
+    let output =
+        bench(&["soak", "--dents", &DENTS.to_string(), "--seed", &seed.to_string(), "--json", json.to_str().unwrap()]);
+    assert!(output.status.success(), "soak failed: {}", text(&output.stderr));
+    serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap()
+}
+
+fn number(report: &Value, path: &[&str]) -> f64 {
+    let value = path.iter().fold(report, |v, key| &v[*key]);
+    value.as_f64().unwrap_or_else(|| panic!("{path:?} is not a number: {value}"))
+}
+
+#[test]
+fn soak_reports_every_key_without_failures() {
+    let r = soak(7);
+    assert_eq!(r["target"], "block");
+    assert_eq!(r["dents"].as_u64(), Some(DENTS));
+    assert_eq!(r["errors"].as_u64(), Some(0), "{}", r["error_messages"]);
+    assert_eq!(r["non_finite"].as_u64(), Some(0));
+    // Every hit is at most 30° off the inward normal, so its dent distance is at least
+    // cos 30° of the head-on one, never zero: every hit dents.
+    assert_eq!(r["dented"].as_u64(), Some(DENTS));
+
+    let (median, p99, max) = (number(&r, &["median_ms"]), number(&r, &["p99_ms"]), number(&r, &["max_ms"]));
+    assert!(0.0 < median && median <= p99 && p99 <= max, "median {median}, p99 {p99}, max {max}");
+
+    // The block is built of right isosceles triangles, quality √3/2 each. 50 small dents leave
+    // most of its 24,576 triangles untouched, so the worst cannot rise above √3/2; it must stay
+    // a proper triangle (q > 0).
+    let first = number(&r, &["min_triangle_quality", "first"]);
+    let last = number(&r, &["min_triangle_quality", "last"]);
+    assert!((first - 3f64.sqrt() / 2.0).abs() < 1e-6, "first {first}");
+    assert!(0.0 < last && last <= first, "last {last}");
+
+    // 4 × 1 × 4: 16 cubic units. Every dent pushes the surface inward, so the volume shrinks;
+    // one dent moves vertices at most its distance d deep, over a patch narrower than twice the
+    // ball's diameter (the ball's footprint, widened by σ = d/2 and 30° of glancing stretch), so
+    // it removes at most d·(4r)², and the 50 dents together at most 2.6 % of the volume.
+    assert!((number(&r, &["volume", "first"]) - 16.0).abs() < 1e-4);
+    let (d, radius) = (number(&r, &["dent_distance"]), number(&r, &["projectile_radius"]));
+    let bound = DENTS as f64 * d * (4.0 * radius).powi(2) / 16.0;
+    let change = number(&r, &["volume_change"]);
+    assert!(-bound < change && change < 0.0, "volume change {change}, bound {bound}");
+
+    if cfg!(target_os = "linux") {
+        let (first, last) = (number(&r, &["peak_rss_mb", "first"]), number(&r, &["peak_rss_mb", "last"]));
+        assert!(first > 0.0 && last > 0.0, "peak RSS {first} / {last} MiB");
+    } else {
+        assert!(r["peak_rss_mb"].is_null());
+    }
+}
+
+#[test]
+fn soak_is_seeded() {
+    let (a, b, other) = (soak(11), soak(11), soak(12));
+    for key in ["volume", "min_triangle_quality", "mean_triangle_quality"] {
+        assert_eq!(a[key]["last"], b[key]["last"], "{key} differs between two runs of one seed");
+    }
+    assert_ne!(a["volume"]["last"], other["volume"]["last"], "seeds 11 and 12 dented the same");
+}
+
+#[test]
+fn soak_refuses_bad_input_and_writes_nothing() {
+    let dir = TempDir::new("soak-bad");
+    let json = dir.path("soak.json");
+    for args in [["--dents", "0"], ["--target", "no-such-mesh.obj"]] {
+        let output = bench(&["soak", args[0], args[1], "--json", json.to_str().unwrap()]);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        let stderr = text(&output.stderr);
+        assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1, "{args:?}: {stderr}");
+        assert!(!json.exists(), "{args:?} wrote a report");
+    }
+}
