@@ -3,6 +3,8 @@
 
 mod displace;
 mod gpu;
+#[path = "../common/headless.rs"]
+mod headless;
 mod memory;
 mod scene;
 mod setup;
@@ -13,6 +15,7 @@ mod table1;
 mod timing;
 mod triangle_quality;
 
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
@@ -119,6 +122,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    headless::quiet_headless_vulkan();
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
@@ -189,7 +193,9 @@ fn seconds(value: f64) -> Result<Duration, String> {
 fn write_json(path: Option<PathBuf>, value: &serde_json::Value) -> Result<(), String> {
     let Some(path) = path else { return Ok(()) };
     let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
-    std::fs::write(&path, text + "\n").map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    // Whole or not at all: an earlier result survives a failed write.
+    dentbend::mesh::write_file_atomically(&path, |out| out.write_all((text + "\n").as_bytes()))
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     println!("wrote {}", path.display());
     Ok(())
 }
