@@ -118,7 +118,7 @@ fn rest_files_follow_the_picture_and_mesh_options_and_need_a_bending_body() {
 fn bodies_built_alike_share_one_set_of_rest_files_and_slashes_leave_file_names() {
     let dir = TempDir::new("run-rest-tetrahedra");
     let out = dir.path("tetrahedra");
-    let summary = run(&["tetrahedra", "--size", "demo", "--frames", "1", "--every", "1"], &out);
+    let summary = run(&["tetrahedra", "--size", "demo", "--frames", "1", "--every", "1", "--meshes", "all"], &out);
     let mut rest: Vec<&str> = strings(&summary["rest_pictures"]);
     rest.extend(strings(&summary["rest_meshes"]));
     rest.sort_unstable();
