@@ -80,7 +80,7 @@ pub fn load(spec: &str) -> Result<Scene, SceneError> {
 ///
 /// # Errors
 /// [`SceneError::UnknownScene`] when `spec` is neither a built-in name nor a `.toml` path or an
-/// existing file; otherwise as [`builtin_scene`] or [`load_scene`].
+/// existing file; otherwise as [`builtin_scene`] or [`load_scene`](super::load_scene).
 pub fn load_sized(spec: &str, size: SceneSize) -> Result<Scene, SceneError> {
     load_with(spec, &LoadOptions::sized(size))
 }
