@@ -92,3 +92,41 @@ fn png_bytes_give_the_dent_map_the_png_file_gives() {
         assert!(matches!(error, DentError::Image { .. }), "{name}: {error:?}");
     }
 }
+
+#[test]
+fn a_key_after_multibyte_text_is_a_scene_error_not_a_panic() {
+    // Found by the scene_toml target: a syntax error after `ʎ=` made the error locator slice the
+    // text inside the two-byte character while looking for the key before the `=`.
+    for text in ["ʎ=\nf", "name = \"x\"\nbodyʎ= [\n", "a = { ʎ= 1 }\n[[[", "\u{1}\u{0}jʎ = \"a\"stic\nf"] {
+        let error = dentbend::scene::parse_scene(text, std::path::Path::new("fuzz.toml")).unwrap_err();
+        assert!(matches!(error, dentbend::scene::SceneError::Invalid { .. }), "{text:?}: {error:?}");
+    }
+}
+
+#[test]
+fn parse_scene_with_meshes_asks_the_resolver_once_per_mesh_and_reads_nothing() {
+    let text = "[[body]]\nname = \"a\"\nmesh = \"ball\"\n[[body]]\nname = \"b\"\nmesh = \"ball\"\nposition = [3, 0, 0]\n\
+                [[body]]\nname = \"c\"\nmesh = \"../../etc/passwd\"\n";
+    let mut asked = Vec::new();
+    let mut resolve = |name: &str| {
+        asked.push(name.to_owned());
+        match name {
+            "ball" => mesh::icosphere(0.5, 1).map_err(|e| e.to_string()),
+            other => Err(format!("no mesh '{other}' here")),
+        }
+    };
+    let error =
+        dentbend::scene::parse_scene_with_meshes(text, std::path::Path::new("s.toml"), &mut resolve).unwrap_err();
+    assert_eq!(asked, ["ball", "../../etc/passwd"], "each distinct mesh spec is asked for once");
+    let message = error.to_string();
+    assert!(message.starts_with("s.toml:10:8: body \"c\": mesh:") && message.contains("no mesh"), "{message}");
+
+    let scene = dentbend::scene::parse_scene_with_meshes(
+        &text[..text.find("[[body]]\nname = \"c\"").unwrap()],
+        std::path::Path::new("s.toml"),
+        &mut |_: &str| mesh::icosphere(0.5, 1).map_err(|e| e.to_string()),
+    )
+    .unwrap();
+    assert_eq!(scene.world.bodies().len(), 2);
+    assert_eq!(scene.world.bodies()[0].mesh().face_count(), 80, "the resolver's mesh is used as given");
+}

@@ -32,3 +32,4 @@ pub fn fingerprint(mesh: &TriMesh) -> Vec<u32> {
 }
 
 pub mod dent_input;
+pub mod scene_meshes;

@@ -170,6 +170,9 @@ pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized};
 pub use bunny_bones::{BUNNY_EAR_HIT, BUNNY_FALLOFF, BUNNY_HEAD_HIT, BUNNY_JOINT, BUNNY_SCALE};
 pub use camera::Camera;
 pub use error::SceneError;
-pub use parse::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, parse_scene};
+pub use parse::{
+    DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, MeshResolver, load_scene, parse_scene,
+    parse_scene_with_meshes,
+};
 pub use tetrahedra::tetrahedra_grid;
 pub use types::{DEFAULT_FRAMES, FRAMING_ASPECT, Scene, SceneSize, fit_camera, framing_camera};
