@@ -63,14 +63,38 @@ impl DentMap {
         params: &DentParams,
     ) -> Result<Self, DentError> {
         let path = path.as_ref();
-        let image_error = |message: String| DentError::Image { path: path.to_path_buf(), message };
-        let image = crate::io::read_height_png(path).map_err(|e| image_error(e.to_string()))?;
+        let image = crate::io::read_height_png(path).map_err(|e| image_error(path, e.to_string()))?;
+        Self::from_height_image(&image, path, extent, impact, params)
+    }
+
+    #[cfg(feature = "io")]
+    /// [`from_png`](Self::from_png) for the bytes of a PNG held in memory (`io` feature); errors
+    /// name the path `<memory>`.
+    ///
+    /// # Errors
+    /// As [`from_png`](Self::from_png).
+    pub fn from_png_bytes(bytes: &[u8], extent: f32, impact: &Impact, params: &DentParams) -> Result<Self, DentError> {
+        let path = std::path::Path::new("<memory>");
+        let image = crate::io::decode_height_png(bytes).map_err(|e| image_error(path, e.to_string()))?;
+        Self::from_height_image(&image, path, extent, impact, params)
+    }
+
+    #[cfg(feature = "io")]
+    /// A decoded height picture, named `path` in errors, as in [`from_png`](Self::from_png).
+    fn from_height_image(
+        image: &crate::io::HeightImage,
+        path: &std::path::Path,
+        extent: f32,
+        impact: &Impact,
+        params: &DentParams,
+    ) -> Result<Self, DentError> {
         if image.width != image.height {
-            return Err(image_error(format!("is {}×{} pixels; dent maps must be square", image.width, image.height)));
+            let message = format!("is {}×{} pixels; dent maps must be square", image.width, image.height);
+            return Err(image_error(path, message));
         }
         let peak = image.values.iter().copied().fold(0.0, f32::max);
         if peak <= 0.0 {
-            return Err(image_error("is black everywhere: no dent to apply".into()));
+            return Err(image_error(path, "is black everywhere: no dent to apply".into()));
         }
         let scale = params.dent_distance / peak;
         let heights: Vec<f32> = image.values.iter().map(|v| v * scale).collect();
@@ -110,4 +134,10 @@ pub fn gaussian_heights(res: u32, extent: f32, sigma: f32, dent_distance: f32) -
             dent_distance * (-c * (x * x + y * y)).exp()
         })
         .collect()
+}
+
+#[cfg(feature = "io")]
+/// A [`DentError::Image`] about the picture at `path`.
+fn image_error(path: &std::path::Path, message: String) -> DentError {
+    DentError::Image { path: path.to_path_buf(), message }
 }

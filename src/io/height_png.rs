@@ -1,11 +1,15 @@
 //! Grayscale height maps as PNG: artist-painted dent maps in, 16-bit pictures of heights out.
 
+use std::io::{BufRead, Cursor, Seek};
 use std::path::Path;
 
-use image::{DynamicImage, ImageBuffer, ImageReader, Luma};
+use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Luma};
 
 use super::IoError;
 use super::heatmap::check_size;
+
+/// Path reported in errors from [`decode_height_png`].
+const MEMORY: &str = "<memory>";
 
 /// A grayscale picture read as heights in [0, 1], row-major with row 0 at the top.
 #[derive(Debug, Clone, PartialEq)]
@@ -31,6 +35,21 @@ pub fn read_height_png(path: impl AsRef<Path>) -> Result<HeightImage, IoError> {
     let path = path.as_ref();
     let reader = ImageReader::open(path).map_err(|e| IoError::io(path, e))?;
     let reader = reader.with_guessed_format().map_err(|e| IoError::io(path, e))?;
+    heights_of(reader, path)
+}
+
+/// [`read_height_png`] for the bytes of a PNG held in memory; errors name the path `<memory>`.
+///
+/// # Errors
+/// [`IoError::Image`] when the bytes are not a PNG or cannot be decoded.
+pub fn decode_height_png(bytes: &[u8]) -> Result<HeightImage, IoError> {
+    let path = Path::new(MEMORY);
+    let reader = ImageReader::with_format(Cursor::new(bytes), ImageFormat::Png);
+    heights_of(reader, path)
+}
+
+/// Decodes `reader`'s picture as heights in [0, 1]; `path` names it in errors.
+fn heights_of<R: BufRead + Seek>(reader: ImageReader<R>, path: &Path) -> Result<HeightImage, IoError> {
     let picture = reader.decode().map_err(|e| IoError::image(path, e))?;
     let (width, height) = (picture.width(), picture.height());
     let values = match picture {

@@ -16,8 +16,9 @@ use gltf::json::validation::Checked;
 /// The buffers of one glTF document, loaded on first use.
 pub(crate) struct Buffers<'a> {
     root: &'a Root,
-    /// Directory that relative buffer URIs are resolved against.
-    base: &'a Path,
+    /// Directory that relative buffer URIs are resolved against (`None`: in-memory input,
+    /// where they are refused).
+    base: Option<&'a Path>,
     /// The `.glb` BIN chunk, if any.
     bin: Option<&'a [u8]>,
     loaded: Vec<Option<Cow<'a, [u8]>>>,
@@ -41,9 +42,9 @@ impl<'d> Elements<'d> {
 }
 
 impl<'a> Buffers<'a> {
-    /// Buffers of `root`, with relative URIs resolved against `base` and `bin` as the buffer
-    /// without a URI (binary glTF).
-    pub(crate) fn new(root: &'a Root, base: &'a Path, bin: Option<&'a [u8]>) -> Self {
+    /// Buffers of `root`, with relative URIs resolved against `base` (refused when it is `None`)
+    /// and `bin` as the buffer without a URI (binary glTF).
+    pub(crate) fn new(root: &'a Root, base: Option<&'a Path>, bin: Option<&'a [u8]>) -> Self {
         Self { root, base, bin, loaded: vec![None; root.buffers.len()] }
     }
 
@@ -172,8 +173,9 @@ fn range(start: u64, length: u64) -> Option<std::ops::Range<usize>> {
     Some(start..start.checked_add(usize::try_from(length).ok()?)?)
 }
 
-/// The bytes a buffer URI refers to: a base64 `data:` URI or a path relative to `base`.
-fn read_uri(uri: &str, base: &Path) -> Result<Vec<u8>, String> {
+/// The bytes a buffer URI refers to: a base64 `data:` URI or a path relative to `base` (refused
+/// without one).
+fn read_uri(uri: &str, base: Option<&Path>) -> Result<Vec<u8>, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (_, payload) = rest.split_once(";base64,").ok_or("only base64 data: URIs are supported")?;
         return decode_base64(payload);
@@ -185,7 +187,11 @@ fn read_uri(uri: &str, base: &Path) -> Result<Vec<u8>, String> {
     if let Some(scheme) = scheme {
         return Err(format!("URI scheme '{scheme}:' is not supported (only data: URIs and relative paths)"));
     }
-    let path = super::confined::resolve_inside(base, &percent_decode(uri)?)?;
+    let relative = percent_decode(uri)?;
+    let Some(base) = base else {
+        return Err(format!("URI '{relative}' names a file, which glTF read from memory cannot refer to"));
+    };
+    let path = super::confined::resolve_inside(base, &relative)?;
     std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))
 }
 

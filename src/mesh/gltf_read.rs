@@ -14,6 +14,7 @@ use gltf::json::mesh::{Mode, Semantic};
 use gltf::json::validation::Checked;
 
 use super::gltf_access::Buffers;
+use super::obj::MEMORY;
 use super::{MeshError, TriMesh, glb};
 
 /// Required extensions that change how geometry is stored, which this reader cannot decode.
@@ -40,23 +41,38 @@ const GEOMETRY_EXTENSIONS: &[&str] =
 pub fn load_gltf(path: impl AsRef<Path>) -> Result<TriMesh, MeshError> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|source| MeshError::Io { path: path.to_path_buf(), source })?;
+    parse_gltf_named(&bytes, path, Some(path.parent().unwrap_or(Path::new(""))))
+}
+
+/// Parses the bytes of a `.gltf` or `.glb` file held in memory, as [`load_gltf`] reads a file,
+/// except that nothing is read from disk: buffers must be the `.glb` BIN chunk or base64 `data:`
+/// URIs, and a buffer naming a file is refused.
+///
+/// # Errors
+/// As [`load_gltf`], with [`MeshError::Parse`] for a buffer URI that names a file.
+pub fn parse_gltf(bytes: &[u8]) -> Result<TriMesh, MeshError> {
+    parse_gltf_named(bytes, Path::new(MEMORY), None)
+}
+
+/// [`parse_gltf`] with the path to name in errors and the folder that relative buffer URIs are
+/// resolved against (`None`: they are refused).
+fn parse_gltf_named(bytes: &[u8], path: &Path, folder: Option<&Path>) -> Result<TriMesh, MeshError> {
     let fail = |message: String| MeshError::Parse { path: path.to_path_buf(), format: "glTF", message };
     if bytes.is_empty() {
         return Err(fail("the file is empty".to_owned()));
     }
     let (json, bin) = if bytes.starts_with(b"glTF") {
-        let chunks = glb::split(&bytes).map_err(fail)?;
+        let chunks = glb::split(bytes).map_err(fail)?;
         (chunks.json, chunks.bin)
     } else {
-        (&bytes[..], None)
+        (bytes, None)
     };
     let root: Root = gltf::json::deserialize::from_slice(json).map_err(|e| fail(format!("invalid glTF JSON: {e}")))?;
     if let Some(ext) = root.extensions_required.iter().find(|e| GEOMETRY_EXTENSIONS.contains(&e.as_str())) {
         return Err(fail(format!("the file requires extension {ext}, which dentbend cannot decode")));
     }
-    let base = path.parent().unwrap_or(Path::new(""));
     let mut reader =
-        Reader { root: &root, buffers: Buffers::new(&root, base, bin), positions: Vec::new(), faces: Vec::new() };
+        Reader { root: &root, buffers: Buffers::new(&root, folder, bin), positions: Vec::new(), faces: Vec::new() };
     for (node, world) in scene_nodes(&root).map_err(fail)? {
         reader.add_node(node, world).map_err(|e| e.into_mesh_error(&fail))?;
     }

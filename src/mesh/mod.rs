@@ -28,7 +28,7 @@ pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb, save_glb_scene};
 pub use builtin::{BUILTIN_NAMES, builtin, load};
 pub use error::MeshError;
 #[cfg(feature = "io")]
-pub use gltf_read::load_gltf;
+pub use gltf_read::{load_gltf, parse_gltf};
 pub use mass::{MassProperties, mass_properties};
 pub use obj::{load_obj, parse_obj, save_obj};
 pub use ply::{load_ply, parse_ply};

@@ -173,8 +173,8 @@ pub use camera::Camera;
 pub use error::SceneError;
 pub use options::{DEFAULT_MAX_BODIES, DEFAULT_MAX_FILE_BYTES, LoadOptions, MeshPaths};
 pub use parse::{
-    DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, load_scene, load_scene_with, parse_scene,
-    parse_scene_with,
+    DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, MeshResolver, load_scene, load_scene_with,
+    parse_scene, parse_scene_with, parse_scene_with_meshes,
 };
 pub use tetrahedra::tetrahedra_grid;
 pub use types::{DEFAULT_FRAMES, FRAMING_ASPECT, Scene, SceneSize, fit_camera, framing_camera};

@@ -107,6 +107,31 @@ pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
 /// As [`parse_scene`]; also for a mesh path that leaves the scene file's folder while confined,
 /// and for more bodies than the limit.
 pub fn parse_scene_with(text: &str, origin: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+    build_scene(text, origin, options, None)
+}
+
+/// A mesh supplier for [`parse_scene_with_meshes`]: given a body's `mesh` string as written, its
+/// mesh, or a message saying why there is none.
+pub type MeshResolver<'r> = dyn FnMut(&str) -> Result<TriMesh, String> + 'r;
+
+/// Builds a scene as [`parse_scene`] does, except that every mesh the file names is asked of
+/// `resolve` (once per distinct `mesh` string) instead of being built in or read from disk: an
+/// application can supply meshes of its own, and nothing is read. `origin` is only printed in
+/// error messages.
+///
+/// # Errors
+/// As [`parse_scene`]; a message from `resolve` is reported on the body's `mesh` field.
+pub fn parse_scene_with_meshes(text: &str, origin: &Path, resolve: &mut MeshResolver<'_>) -> Result<Scene, SceneError> {
+    build_scene(text, origin, &LoadOptions::default(), Some(resolve))
+}
+
+/// [`parse_scene_with`], with meshes from `resolve` when it is given.
+fn build_scene<'r>(
+    text: &str,
+    origin: &Path,
+    options: &LoadOptions,
+    resolve: Option<&'r mut MeshResolver<'r>>,
+) -> Result<Scene, SceneError> {
     let src = Source::new(text, origin);
     if text.len() as u64 > options.max_file_bytes {
         return Err(src.error_at(
@@ -126,7 +151,7 @@ pub fn parse_scene_with(text: &str, origin: &Path, options: &LoadOptions) -> Res
     let mut world = World::new(settings).map_err(|e| world_error(&src, e))?;
 
     let folder = origin.parent().map(Path::to_path_buf).unwrap_or_default();
-    let mut meshes = MeshCache { folder, paths: options.mesh_paths, loaded: HashMap::new() };
+    let mut meshes = MeshCache { folder, paths: options.mesh_paths, loaded: HashMap::new(), resolve };
     let mut names: HashMap<&str, usize> = HashMap::new();
     let mut bending = Bending::new();
     for body in &file.bodies {
@@ -163,15 +188,17 @@ pub fn parse_scene_with(text: &str, origin: &Path, options: &LoadOptions) -> Res
 }
 
 /// Meshes by spec, loaded once each.
-pub(super) struct MeshCache {
+pub(super) struct MeshCache<'r> {
     /// The scene file's folder: relative mesh paths start here.
     folder: PathBuf,
     /// Whether mesh paths may leave `folder`.
     paths: MeshPaths,
     loaded: HashMap<String, TriMesh>,
+    /// The caller's mesh supplier, used instead of built-ins and files when given.
+    resolve: Option<&'r mut MeshResolver<'r>>,
 }
 
-impl MeshCache {
+impl MeshCache<'_> {
     /// The mesh for a built-in name or a path relative to the scene file.
     fn get(&mut self, src: &Source<'_>, body: &str, spec: &Spanned<String>) -> Result<TriMesh, SceneError> {
         let name = spec.get_ref();
@@ -179,7 +206,9 @@ impl MeshCache {
             return Ok(mesh.clone());
         }
         let fail = |message: String| src.error_at(spec.span(), Some(body), "mesh", message);
-        let mesh = if mesh::BUILTIN_NAMES.contains(&name.as_str()) {
+        let mesh = if let Some(resolve) = &mut self.resolve {
+            resolve(name).map_err(fail)?
+        } else if mesh::BUILTIN_NAMES.contains(&name.as_str()) {
             mesh::builtin(name).map_err(|e| fail(e.to_string()))?
         } else {
             let path = self.folder.join(name);
@@ -266,7 +295,7 @@ pub(super) fn positive(x: f32) -> bool {
 }
 
 /// One `[[body]]` → a body description, every value checked where it is written.
-pub(super) fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCache) -> Result<BodyDesc, SceneError> {
+pub(super) fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCache<'_>) -> Result<BodyDesc, SceneError> {
     let name = body.name.get_ref().as_str();
     let mut mesh = meshes.get(src, name, &body.mesh)?;
     if let Some(scale) = &body.scale {

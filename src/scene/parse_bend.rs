@@ -22,7 +22,7 @@ pub(super) fn bendable_desc(
     src: &Source<'_>,
     body: &BodyFile,
     bend: &Spanned<BendFile>,
-    meshes: &mut MeshCache,
+    meshes: &mut MeshCache<'_>,
 ) -> Result<BendableDesc, SceneError> {
     let name = body.name.get_ref().as_str();
     refuse_rigid_only_fields(src, body, name)?;

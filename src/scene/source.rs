@@ -245,8 +245,13 @@ fn skip_string(bytes: &[u8], start: usize) -> Option<usize> {
 /// The bare (possibly dotted) key that ends just before an `=` at the end of `text`.
 fn key_before(text: &str) -> Option<String> {
     let trimmed = text.trim_end_matches([' ', '\t']);
-    let start =
-        trimmed.rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')).map_or(0, |i| i + 1);
+    // The key starts after the last character that cannot be in a bare key (which may be
+    // several bytes long: a key may follow any UTF-8 text).
+    let start = trimmed
+        .char_indices()
+        .rev()
+        .find(|&(_, c)| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')))
+        .map_or(0, |(i, c)| i + c.len_utf8());
     let key = &trimmed[start..];
     (!key.is_empty()).then(|| key.to_owned())
 }
