@@ -5,6 +5,7 @@
 
 mod band;
 mod batches;
+mod damped_bends;
 mod elastic;
 mod groups;
 mod joint;

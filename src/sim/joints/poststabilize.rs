@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::solve::{self, Rows};
 use super::system::{self, Mobility, Motion};
-use super::{BendEvent, Joint, batches, plastic};
+use super::{BendEvent, Joint, batches, damped_bends, plastic};
 use crate::sim::{BodyKind, RigidBody, WorldSettings};
 
 /// Velocity error below which a joint holds, m/s and rad/s.
@@ -41,9 +41,9 @@ pub(crate) fn poststabilize(
 
 /// Makes the velocities `v` respect the joints to first order: zero relative anchor velocity
 /// across the held directions and, where rotation is locked, zero relative angular velocity (or,
-/// with `bending`, a bending plastic joint's damped rate). Also used on the contact
-/// pseudo-velocities. The rows are linear in the velocities, so one solve is exact. Groups are
-/// solved in parallel batches.
+/// with `bending`, a bending plastic joint's damped rate, as much of it as adds no energy: see
+/// `damped_bends`). Also used on the contact pseudo-velocities. The rows are linear in the
+/// velocities, so one solve is exact. Groups are solved in parallel batches.
 pub(crate) fn hold_velocities(
     joints: &mut [Joint],
     bodies: &[RigidBody],
@@ -53,8 +53,14 @@ pub(crate) fn hold_velocities(
 ) {
     let groups = solve::groups(joints, |k| system::joint_takes_impulses(&joints[k], mob), mob);
     batches::in_batches(joints, &groups, mob, v, |local, local_groups, v| {
-        let rows: Vec<Option<Rows>> = local.iter().map(|joint| velocity_rows(joint, bodies, mob, v, bending)).collect();
-        solve::solve_rows(local, local_groups, &rows, mob, v, false, 0.0);
+        let rows_at = |joints: &[Joint], v: &[Motion], bend: bool| -> Vec<Option<Rows>> {
+            joints.iter().map(|joint| velocity_rows(joint, bodies, mob, v, bend)).collect()
+        };
+        if bending && local.iter().any(Joint::is_bending) {
+            damped_bends::hold_bending(local, local_groups, rows_at, bodies, mob, v);
+        } else {
+            solve::solve_rows(local, local_groups, &rows_at(local, v, false), mob, v, false, 0.0);
+        }
         0
     });
 }
