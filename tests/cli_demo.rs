@@ -86,6 +86,10 @@ fn demo_writes_every_picture_and_mesh() {
     // Each picture comes with its caption and the command that made it.
     assert!(gallery.contains("Paper Figure 7") && gallery.contains("dentbend dentmap --projectile bunny"));
     assert!(gallery.contains("dentbend run rain --size demo"));
+    // A dent and the render of its mesh share one caption: both commands, then the picture.
+    let figure_2c = gallery.split("<h2>").find(|s| s.starts_with("Paper Figure 2c")).expect("Figure 2c caption");
+    assert!(figure_2c.contains("dentbend dent --target block-fine") && figure_2c.contains("dentbend render --mesh"));
+    assert!(figure_2c.contains("block_sphere.png"));
 }
 
 #[test]

@@ -23,7 +23,8 @@ pub struct DemoArgs {
 }
 
 /// The demo's steps: a caption for the gallery and a command line, where `{out}` is replaced by
-/// the output directory.
+/// the output directory. A step without a caption continues the one before (a render of the
+/// mesh that step made): the gallery shows both commands under the first one's caption.
 const STEPS: &[(&str, &str)] = &[
     (
         "Paper Figure 7: the bunny's Z-buffer profile, Gaussian envelope and smoothed dent map",
@@ -34,29 +35,26 @@ const STEPS: &[(&str, &str)] = &[
         "dent --target block-fine --projectile sphere --translate 0,1.5,0 --point 0,0.5,0 --normal 0,-1,0 \
          --dent-distance 0.3 --out {out}/block_sphere.obj",
     ),
-    ("Paper Figure 2c, drawn", "render --mesh {out}/block_sphere.obj --zoom 1.5 --out {out}/block_sphere.png"),
+    ("", "render --mesh {out}/block_sphere.obj --zoom 1.5 --out {out}/block_sphere.png"),
     (
         "Paper Figure 5: a bunny-shaped dent, the bunny dropped ears first",
         "dent --target block-fine --projectile bunny --scale 0.25 --rotate 180,0,0 --translate 0.35,2.95,0.1 \
          --point 0,0.5,0 --normal 0,-1,0 --dent-distance 0.6 --sigma 0.08 --out {out}/block_bunny.obj",
     ),
-    (
-        "Paper Figure 5, drawn",
-        "render --mesh {out}/block_bunny.obj --view -0.3,-1,-0.6 --zoom 1.8 --out {out}/block_bunny.png",
-    ),
+    ("", "render --mesh {out}/block_bunny.obj --view -0.3,-1,-0.6 --zoom 1.8 --out {out}/block_bunny.png"),
     (
         "Paper Figures 8–9: a glancing hit at 50°, sheared along the velocity and widened",
         "dent --target block-fine --projectile sphere --scale 0.6 --translate -0.46,1.09,0 --point 0,0.5,0 \
          --normal 0,-1,0 --velocity 0.766,-0.643,0 --dent-distance 0.3 --widen 3 --out {out}/block_glancing.obj",
     ),
-    ("Paper Figures 8–9, drawn", "render --mesh {out}/block_glancing.obj --zoom 1.5 --out {out}/block_glancing.png"),
+    ("", "render --mesh {out}/block_glancing.obj --zoom 1.5 --out {out}/block_glancing.png"),
     (
         "Paper Figure 1: two dentable balls dent each other symmetrically (Jacobi)",
         "dent --target sphere --projectile sphere --translate 0,2.05,0 --point 0,1,0 --normal 0,-1,0 \
          --dent-distance 0.3 --out {out}/pair_lower.obj --projectile-out {out}/pair_upper.obj",
     ),
     (
-        "Paper Figure 1, drawn",
+        "",
         "render --mesh {out}/pair_lower.obj --mesh {out}/pair_upper.obj --view 0,-0.35,-1 --size 640,800 \
          --out {out}/pair.png",
     ),
@@ -110,7 +108,7 @@ const STEPS: &[(&str, &str)] = &[
 pub fn run(args: &DemoArgs) -> Result<(String, Vec<String>), CliError> {
     std::fs::create_dir_all(&args.out).map_err(|source| CliError::CreateDir { path: args.out.clone(), source })?;
     let mut warnings = Vec::new();
-    let mut made = Vec::new();
+    let mut made: Vec<Step> = Vec::new();
     for &(caption, step) in STEPS {
         let mut line = step.replace("{out}", &display(&args.out));
         line = line.split_whitespace().collect::<Vec<_>>().join(" ");
@@ -125,7 +123,14 @@ pub fn run(args: &DemoArgs) -> Result<(String, Vec<String>), CliError> {
         println!("  {summary}");
         warnings.extend(step_warnings);
         let pictures = pictures_written(&line, &args.out, started);
-        made.push(Step { caption, command: format!("dentbend {line}"), pictures });
+        let command = format!("dentbend {line}");
+        match made.last_mut() {
+            Some(previous) if caption.is_empty() => {
+                previous.commands.push(command);
+                previous.pictures.extend(pictures);
+            }
+            _ => made.push(Step { caption, commands: vec![command], pictures }),
+        }
     }
     let gallery = write_gallery(&args.out, &made)?;
     Ok((format!("demo: {} steps → {} (gallery: {})", STEPS.len(), display(&args.out), display(&gallery)), warnings))
@@ -134,7 +139,8 @@ pub fn run(args: &DemoArgs) -> Result<(String, Vec<String>), CliError> {
 /// One step as the gallery shows it.
 struct Step {
     caption: &'static str,
-    command: String,
+    /// The command lines, in order.
+    commands: Vec<String>,
     /// PNG files the step wrote, relative to the demo's folder, `/`-separated.
     pictures: Vec<String>,
 }
@@ -169,7 +175,8 @@ fn write_gallery(out: &Path, steps: &[Step]) -> Result<PathBuf, CliError> {
          background:#f4f4f4;padding:4px}</style>\n<h1>dentbend demo</h1>\n",
     );
     for step in steps.iter().filter(|s| !s.pictures.is_empty()) {
-        html.push_str(&format!("<h2>{}</h2>\n<code>{}</code>\n", escape(step.caption), escape(&step.command)));
+        let commands = step.commands.iter().map(|c| escape(c)).collect::<Vec<_>>().join("\n");
+        html.push_str(&format!("<h2>{}</h2>\n<code>{commands}</code>\n", escape(step.caption)));
         for picture in &step.pictures {
             let name = escape(picture);
             html.push_str(&format!(
