@@ -130,3 +130,32 @@ fn parse_scene_with_meshes_asks_the_resolver_once_per_mesh_and_reads_nothing() {
     assert_eq!(scene.world.bodies().len(), 2);
     assert_eq!(scene.world.bodies()[0].mesh().face_count(), 80, "the resolver's mesh is used as given");
 }
+
+/// An 8-bit grey PNG of `side × side` black pixels but one white one, compressed by zlib.
+fn big_black_png(side: u32) -> Vec<u8> {
+    let mut png = Vec::new();
+    let encoder = image::codecs::png::PngEncoder::new(&mut png);
+    let mut pixels = vec![0u8; (side * side) as usize];
+    pixels[0] = 255;
+    image::ImageEncoder::write_image(encoder, &pixels, side, side, image::ExtendedColorType::L8).unwrap();
+    png
+}
+
+#[test]
+fn a_dent_map_picture_over_the_largest_grid_is_refused_before_decoding() {
+    // The dentmap_png target's memory peaked at 381 MB on inputs of at most 64 KB: a picture was
+    // decoded whole (within the image crate's 512 MiB budget) before it was found too big for a
+    // dent map. The header's size is now checked first.
+    let impact = Impact { point: Vec3::ZERO, normal: -Vec3::Y, relative_velocity: -Vec3::Y };
+    let params = DentParams::new(0.1);
+    let png = big_black_png(dentbend::dent::MAX_RESOLUTION + 1);
+    let error = DentMap::from_png_bytes(&png, 1.0, &impact, &params).unwrap_err();
+    assert!(error.to_string().contains("larger than 2048×2048 pixels"), "{error}");
+    let dir = TempDir::new("fuzz-big-png");
+    std::fs::write(dir.path("big.png"), &png).unwrap();
+    let error = DentMap::from_png(dir.path("big.png"), 1.0, &impact, &params).unwrap_err();
+    assert!(error.to_string().contains("larger than 2048×2048 pixels"), "{error}");
+    // A picture within the limit still reads.
+    let png = big_black_png(64);
+    assert_eq!(DentMap::from_png_bytes(&png, 1.0, &impact, &params).unwrap().dent_distance, 0.1);
+}
