@@ -159,3 +159,37 @@ fn a_dent_map_picture_over_the_largest_grid_is_refused_before_decoding() {
     let png = big_black_png(64);
     assert_eq!(DentMap::from_png_bytes(&png, 1.0, &impact, &params).unwrap().dent_distance, 0.1);
 }
+
+#[test]
+fn a_dent_of_huge_distance_reports_a_finite_displacement_or_is_refused() {
+    // Found by the dent_api target: a dent distance of 4.7e35 moved vertices by about 1e35 (still
+    // finite) and reported a max_displacement of inf, the f32 distance overflowing on the way.
+    let mut target = mesh::icosphere(0.3, 1).unwrap();
+    let mut projectile = mesh::builtin("sphere").unwrap();
+    let offset = Vec3::new(3.0 / 256.0, 16633.0 / 256.0, f32::from_bits(1_289_252));
+    projectile.transform(dentbend::glam::Affine3A::from_translation(offset)).unwrap();
+    let impact = Impact {
+        point: Vec3::new(10.0, f32::MIN_POSITIVE, 15973.0 / 256.0),
+        normal: Vec3::new(0.0, 42252.0 / 256.0, f32::MAX),
+        relative_velocity: Vec3::ZERO,
+    };
+    let params = DentParams {
+        resolution: dentbend::Resolution::Auto { min: 8, max: 48 },
+        heat_iters: 0,
+        clamp_iters: 32,
+        heat_rate: f32::MIN_POSITIVE,
+        min_cos: 234.0 / 256.0,
+        ..DentParams::new(f32::from_bits(2_058_848_511))
+    };
+    let before = bits(&target);
+    match dentbend::dent(&mut target, &projectile, &impact, &params) {
+        Ok(report) => {
+            assert!(report.max_displacement.is_finite(), "{report:?}");
+            assert!(target.positions().iter().all(|p| p.is_finite()));
+        }
+        Err(error) => {
+            assert!(matches!(error, DentError::InvalidParameter { name: "dent_distance", .. }), "{error:?}");
+            assert_eq!(bits(&target), before, "a refused dent leaves its target as it was");
+        }
+    }
+}
