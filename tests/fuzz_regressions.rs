@@ -130,3 +130,66 @@ fn parse_scene_with_meshes_asks_the_resolver_once_per_mesh_and_reads_nothing() {
     assert_eq!(scene.world.bodies().len(), 2);
     assert_eq!(scene.world.bodies()[0].mesh().face_count(), 80, "the resolver's mesh is used as given");
 }
+
+/// An 8-bit grey PNG of `side × side` black pixels but one white one, compressed by zlib.
+fn big_black_png(side: u32) -> Vec<u8> {
+    let mut png = Vec::new();
+    let encoder = image::codecs::png::PngEncoder::new(&mut png);
+    let mut pixels = vec![0u8; (side * side) as usize];
+    pixels[0] = 255;
+    image::ImageEncoder::write_image(encoder, &pixels, side, side, image::ExtendedColorType::L8).unwrap();
+    png
+}
+
+#[test]
+fn a_dent_map_picture_over_the_largest_grid_is_refused_before_decoding() {
+    // The dentmap_png target's memory peaked at 381 MB on inputs of at most 64 KB: a picture was
+    // decoded whole (within the image crate's 512 MiB budget) before it was found too big for a
+    // dent map. The header's size is now checked first.
+    let impact = Impact { point: Vec3::ZERO, normal: -Vec3::Y, relative_velocity: -Vec3::Y };
+    let params = DentParams::new(0.1);
+    let png = big_black_png(dentbend::dent::MAX_RESOLUTION + 1);
+    let error = DentMap::from_png_bytes(&png, 1.0, &impact, &params).unwrap_err();
+    assert!(error.to_string().contains("larger than 2048×2048 pixels"), "{error}");
+    let dir = TempDir::new("fuzz-big-png");
+    std::fs::write(dir.path("big.png"), &png).unwrap();
+    let error = DentMap::from_png(dir.path("big.png"), 1.0, &impact, &params).unwrap_err();
+    assert!(error.to_string().contains("larger than 2048×2048 pixels"), "{error}");
+    // A picture within the limit still reads.
+    let png = big_black_png(64);
+    assert_eq!(DentMap::from_png_bytes(&png, 1.0, &impact, &params).unwrap().dent_distance, 0.1);
+}
+
+#[test]
+fn a_dent_of_huge_distance_reports_a_finite_displacement_or_is_refused() {
+    // Found by the dent_api target: a dent distance of 4.7e35 moved vertices by about 1e35 (still
+    // finite) and reported a max_displacement of inf, the f32 distance overflowing on the way.
+    let mut target = mesh::icosphere(0.3, 1).unwrap();
+    let mut projectile = mesh::builtin("sphere").unwrap();
+    let offset = Vec3::new(3.0 / 256.0, 16633.0 / 256.0, f32::from_bits(1_289_252));
+    projectile.transform(dentbend::glam::Affine3A::from_translation(offset)).unwrap();
+    let impact = Impact {
+        point: Vec3::new(10.0, f32::MIN_POSITIVE, 15973.0 / 256.0),
+        normal: Vec3::new(0.0, 42252.0 / 256.0, f32::MAX),
+        relative_velocity: Vec3::ZERO,
+    };
+    let params = DentParams {
+        resolution: dentbend::Resolution::Auto { min: 8, max: 48 },
+        heat_iters: 0,
+        clamp_iters: 32,
+        heat_rate: f32::MIN_POSITIVE,
+        min_cos: 234.0 / 256.0,
+        ..DentParams::new(f32::from_bits(2_058_848_511))
+    };
+    let before = bits(&target);
+    match dentbend::dent(&mut target, &projectile, &impact, &params) {
+        Ok(report) => {
+            assert!(report.max_displacement.is_finite(), "{report:?}");
+            assert!(target.positions().iter().all(|p| p.is_finite()));
+        }
+        Err(error) => {
+            assert!(matches!(error, DentError::InvalidParameter { name: "dent_distance", .. }), "{error:?}");
+            assert_eq!(bits(&target), before, "a refused dent leaves its target as it was");
+        }
+    }
+}

@@ -54,8 +54,9 @@ impl DentMap {
     /// no dent. Pixel (row r, column c) is cell (r, c) of [`from_heights`](Self::from_heights).
     ///
     /// # Errors
-    /// [`DentError::Image`] for unreadable, non-square or all-black pictures; otherwise as
-    /// [`from_heights`](Self::from_heights).
+    /// [`DentError::Image`] for unreadable, non-square or all-black pictures and for pictures
+    /// wider than [`MAX_RESOLUTION`] pixels (refused from the header, before decoding);
+    /// otherwise as [`from_heights`](Self::from_heights).
     pub fn from_png(
         path: impl AsRef<std::path::Path>,
         extent: f32,
@@ -63,7 +64,7 @@ impl DentMap {
         params: &DentParams,
     ) -> Result<Self, DentError> {
         let path = path.as_ref();
-        let image = crate::io::read_height_png(path).map_err(|e| image_error(path, e.to_string()))?;
+        let image = crate::io::read_height_png_within(path, MAX_RESOLUTION).map_err(|e| read_error(path, e))?;
         Self::from_height_image(&image, path, extent, impact, params)
     }
 
@@ -75,7 +76,7 @@ impl DentMap {
     /// As [`from_png`](Self::from_png).
     pub fn from_png_bytes(bytes: &[u8], extent: f32, impact: &Impact, params: &DentParams) -> Result<Self, DentError> {
         let path = std::path::Path::new("<memory>");
-        let image = crate::io::decode_height_png(bytes).map_err(|e| image_error(path, e.to_string()))?;
+        let image = crate::io::decode_height_png_within(bytes, MAX_RESOLUTION).map_err(|e| read_error(path, e))?;
         Self::from_height_image(&image, path, extent, impact, params)
     }
 
@@ -140,4 +141,16 @@ pub fn gaussian_heights(res: u32, extent: f32, sigma: f32, dent_distance: f32) -
 /// A [`DentError::Image`] about the picture at `path`.
 fn image_error(path: &std::path::Path, message: String) -> DentError {
     DentError::Image { path: path.to_path_buf(), message }
+}
+
+#[cfg(feature = "io")]
+/// A picture that could not be read as a [`DentError::Image`]; one over the largest dent map
+/// ([`MAX_RESOLUTION`] pixels a side, refused from its header) says so.
+fn read_error(path: &std::path::Path, error: crate::io::IoError) -> DentError {
+    match error {
+        crate::io::IoError::Image { source: image::ImageError::Limits(_), .. } => {
+            image_error(path, format!("is larger than {MAX_RESOLUTION}×{MAX_RESOLUTION} pixels, the largest dent map"))
+        }
+        other => image_error(path, other.to_string()),
+    }
 }

@@ -75,8 +75,9 @@ impl DentMap {
     /// depth z below the plane moves by `a(z)·D̂(x, y)`; normals near the dent are refreshed.
     ///
     /// # Errors
-    /// [`DentError::InvalidParameter`] for a bad falloff or map, [`DentError::NonFiniteResult`]
-    /// if a vertex would leave finite space; `target` is unchanged then.
+    /// [`DentError::InvalidParameter`] for a bad falloff or map or a displacement too long to
+    /// measure in f32, [`DentError::NonFiniteResult`] if a vertex would leave finite space;
+    /// `target` is unchanged then.
     pub fn apply(&self, target: &mut TriMesh, attenuation: &Attenuation) -> Result<DisplaceReport, DentError> {
         Ok(self.displaced(target, attenuation)?.commit(target))
     }
@@ -107,7 +108,12 @@ impl DentMap {
         if let Some(index) = positions.iter().position(out_of_range) {
             return Err(DentError::NonFiniteResult { index });
         }
-        let max_displacement = positions.iter().zip(before).map(|(new, old)| new.distance(*old)).fold(0.0, f32::max);
+        // In f64: the distance between two finite f32 points can overflow f32 on the way.
+        let distance = |(new, old): (&Vec3, &Vec3)| (new.as_dvec3() - old.as_dvec3()).length();
+        let max_displacement = positions.iter().zip(before).map(distance).fold(0.0, f64::max) as f32;
+        if !max_displacement.is_finite() {
+            return Err(invalid("dent_distance", d, "moves a vertex farther than f32 can measure"));
+        }
         let mut warnings = Vec::new();
         let steepness = attenuation.max_steepness(d);
         if steepness > 1.0 + 1e-3 {

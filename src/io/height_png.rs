@@ -3,7 +3,7 @@
 use std::io::{BufRead, Cursor, Seek};
 use std::path::Path;
 
-use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Luma};
+use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Limits, Luma};
 
 use super::IoError;
 use super::heatmap::check_size;
@@ -35,7 +35,19 @@ pub fn read_height_png(path: impl AsRef<Path>) -> Result<HeightImage, IoError> {
     let path = path.as_ref();
     let reader = ImageReader::open(path).map_err(|e| IoError::io(path, e))?;
     let reader = reader.with_guessed_format().map_err(|e| IoError::io(path, e))?;
-    heights_of(reader, path)
+    heights_of(reader, path, None)
+}
+
+/// [`read_height_png`], refusing a picture wider or taller than `max_side` pixels from its
+/// header, before anything is decoded.
+///
+/// # Errors
+/// As [`read_height_png`]; [`IoError::Image`] holding an [`image::ImageError::Limits`] for a
+/// picture over `max_side`.
+pub(crate) fn read_height_png_within(path: &Path, max_side: u32) -> Result<HeightImage, IoError> {
+    let reader = ImageReader::open(path).map_err(|e| IoError::io(path, e))?;
+    let reader = reader.with_guessed_format().map_err(|e| IoError::io(path, e))?;
+    heights_of(reader, path, Some(max_side))
 }
 
 /// [`read_height_png`] for the bytes of a PNG held in memory; errors name the path `<memory>`.
@@ -45,11 +57,31 @@ pub fn read_height_png(path: impl AsRef<Path>) -> Result<HeightImage, IoError> {
 pub fn decode_height_png(bytes: &[u8]) -> Result<HeightImage, IoError> {
     let path = Path::new(MEMORY);
     let reader = ImageReader::with_format(Cursor::new(bytes), ImageFormat::Png);
-    heights_of(reader, path)
+    heights_of(reader, path, None)
 }
 
-/// Decodes `reader`'s picture as heights in [0, 1]; `path` names it in errors.
-fn heights_of<R: BufRead + Seek>(reader: ImageReader<R>, path: &Path) -> Result<HeightImage, IoError> {
+/// [`decode_height_png`] with the side limit of [`read_height_png_within`].
+///
+/// # Errors
+/// As [`read_height_png_within`].
+pub(crate) fn decode_height_png_within(bytes: &[u8], max_side: u32) -> Result<HeightImage, IoError> {
+    let reader = ImageReader::with_format(Cursor::new(bytes), ImageFormat::Png);
+    heights_of(reader, Path::new(MEMORY), Some(max_side))
+}
+
+/// Decodes `reader`'s picture as heights in [0, 1], refusing sides over `max_side` pixels when
+/// given; `path` names it in errors.
+fn heights_of<R: BufRead + Seek>(
+    mut reader: ImageReader<R>,
+    path: &Path,
+    max_side: Option<u32>,
+) -> Result<HeightImage, IoError> {
+    if let Some(max_side) = max_side {
+        let mut limits = Limits::default();
+        limits.max_image_width = Some(max_side);
+        limits.max_image_height = Some(max_side);
+        reader.limits(limits);
+    }
     let picture = reader.decode().map_err(|e| IoError::image(path, e))?;
     let (width, height) = (picture.width(), picture.height());
     let values = match picture {
