@@ -2,6 +2,7 @@
 //! primitives and the built-in meshes that work wherever a mesh path is accepted.
 
 mod builtin;
+#[cfg(feature = "io")]
 pub(crate) mod confined;
 mod error;
 #[cfg(feature = "io")]
