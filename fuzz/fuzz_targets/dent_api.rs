@@ -7,7 +7,7 @@ use dentbend::dent::{BodyState, DentSettings, Surface, decide_dent_distance};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh::TriMesh;
 use dentbend::{DentMap, Impact, dent, dent_pair};
-use dentbend_fuzz::dent_input::{Call, DentInput};
+use dentbend_fuzz::dent_input::{Call, DentInput, ParamsInput};
 use dentbend_fuzz::{assert_finite_mesh, fingerprint};
 use libfuzzer_sys::fuzz_target;
 
@@ -34,7 +34,7 @@ fuzz_target!(|input: DentInput| {
             Err(_) => assert_eq!(fingerprint(&target), before, "a failed dent changed its target"),
         },
         Call::DentPair { other } => {
-            let other_params = other.params();
+            let other_params = other.as_ref().map_or_else(|| params.clone(), ParamsInput::params);
             match dent_pair(&mut target, &mut projectile, &impact, &params, &other_params) {
                 Ok(_) => {
                     assert_finite_mesh(&target);

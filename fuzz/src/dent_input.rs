@@ -193,8 +193,9 @@ impl ParamsInput {
 pub enum Call {
     /// `dent(target, projectile, …)`.
     Dent,
-    /// `dent_pair(target, projectile, …)` with the projectile's own parameters.
-    DentPair { other: ParamsInput },
+    /// `dent_pair(target, projectile, …)` with the projectile's own parameters, or the target's
+    /// when `None` (the paper's Figure 1 case, and far likelier to succeed).
+    DentPair { other: Option<ParamsInput> },
     /// `DentMap::gaussian(width, …)` applied to the target.
     Gaussian { width: Num },
     /// `DentMap::from_heights` on a `res × res` grid (heights repeated to fill it) applied to
