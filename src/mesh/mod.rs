@@ -36,4 +36,5 @@ pub use ply::{load_ply, parse_ply};
 pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere};
 pub use save::{save, write_file_atomically};
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
+pub(crate) use trimesh::in_coordinate_range;
 pub use trimesh::{MAX_COORDINATE, TriMesh, validate};

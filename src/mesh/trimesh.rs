@@ -213,9 +213,14 @@ pub(crate) fn face_area_normal(positions: &[Vec3], face: &[u32; 3]) -> Vec3 {
 /// inside f32's 3.4·10³⁸, while a game world's coordinates rarely pass 10⁵.
 pub const MAX_COORDINATE: f32 = 1.0e6;
 
+/// Whether `p` is finite and within ±[`MAX_COORDINATE`] on every axis.
+pub(crate) fn in_coordinate_range(p: Vec3) -> bool {
+    p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
+}
+
 /// Every position finite and within ±[`MAX_COORDINATE`].
 fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
-    let bad = positions.iter().position(|p| !p.is_finite() || p.abs().max_element() > MAX_COORDINATE);
+    let bad = positions.iter().position(|&p| !in_coordinate_range(p));
     match bad {
         Some(index) if !positions[index].is_finite() => {
             Err(MeshError::NonFinite { index, position: positions[index].to_array() })
