@@ -1,5 +1,6 @@
 //! Triangle meshes: the [`TriMesh`] type, file input and output (OBJ, PLY, glTF), procedural
-//! primitives and the built-in meshes that work wherever a mesh path is accepted.
+//! primitives, the built-in meshes that work wherever a mesh path is accepted, and local
+//! refinement ([`refine`]).
 
 mod builtin;
 #[cfg(feature = "io")]
@@ -20,6 +21,7 @@ mod ply_header;
 mod ply_source;
 mod primitives;
 pub(crate) mod principal_axis;
+mod refine;
 mod save;
 mod subdivide;
 mod trimesh;
@@ -34,6 +36,8 @@ pub use mass::{MassProperties, mass_properties};
 pub use obj::{load_obj, parse_obj, save_obj};
 pub use ply::{load_ply, parse_ply};
 pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere};
+pub(crate) use refine::refine_parts;
+pub use refine::{Ball, OrientedBox, RefineError, RefineRegion, Refinement, SplitVertex, refine};
 pub use save::{save, write_file_atomically};
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 pub(crate) use trimesh::in_coordinate_range;

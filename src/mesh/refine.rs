@@ -1,0 +1,528 @@
+//! Local refinement: crack-free longest-edge bisection of the triangles that touch a region,
+//! until none of them has an edge longer than a given length.
+//!
+//! Each split halves one edge and every face on it at once (so no T-junction can appear, and a
+//! closed mesh stays closed); which edge is split follows Rivara's longest-edge propagation
+//! path, so triangles never get thinner than about half their starting angles. Refinement only
+//! APPENDS: existing vertex indices keep their meaning, a split face keeps its slot for one child
+//! and the other child is appended. The new vertices' provenance ([`Refinement`]) lets a caller
+//! carry its own per-vertex data (UVs, skin weights, colours) along
+//! ([`Refinement::interpolate`]).
+
+use std::collections::VecDeque;
+
+use glam::Vec3;
+
+use super::TriMesh;
+
+/// Where a mesh is refined: a triangle is refined while it touches the region.
+pub trait RefineRegion {
+    /// Whether the triangle with corners `triangle` (world units) touches the region; may be
+    /// conservative (say yes for a triangle just outside).
+    fn touches(&self, triangle: [Vec3; 3]) -> bool;
+}
+
+/// A solid ball, world units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ball {
+    /// Centre.
+    pub centre: Vec3,
+    /// Radius (≥ 0).
+    pub radius: f32,
+}
+
+impl RefineRegion for Ball {
+    fn touches(&self, triangle: [Vec3; 3]) -> bool {
+        distance_sq_to_triangle(self.centre, triangle) <= self.radius * self.radius
+    }
+}
+
+/// A solid box with orthonormal axes (a dent's footprint: two axes across the collision plane,
+/// one along the depth), world units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrientedBox {
+    /// Centre.
+    pub centre: Vec3,
+    /// Unit, mutually orthogonal axes.
+    pub axes: [Vec3; 3],
+    /// Half the side along each axis (≥ 0).
+    pub half_extents: Vec3,
+}
+
+impl RefineRegion for OrientedBox {
+    /// Exact separating-axis test (the box's 3 axes, the triangle's normal, and the 9 products
+    /// of a box axis with a triangle edge) in the box's coordinates.
+    fn touches(&self, triangle: [Vec3; 3]) -> bool {
+        let local = triangle.map(|p| {
+            let r = p - self.centre;
+            Vec3::new(r.dot(self.axes[0]), r.dot(self.axes[1]), r.dot(self.axes[2]))
+        });
+        let h = self.half_extents;
+        let separated = |axis: Vec3| {
+            if axis.length_squared() <= f32::EPSILON * f32::EPSILON {
+                return false; // a degenerate axis separates nothing
+            }
+            let [p0, p1, p2] = local.map(|p| p.dot(axis));
+            let reach = h.x * axis.x.abs() + h.y * axis.y.abs() + h.z * axis.z.abs();
+            p0.min(p1).min(p2) > reach || p0.max(p1).max(p2) < -reach
+        };
+        if [Vec3::X, Vec3::Y, Vec3::Z].into_iter().any(separated) {
+            return false;
+        }
+        let edges = [local[1] - local[0], local[2] - local[1], local[0] - local[2]];
+        if separated(edges[0].cross(edges[1])) {
+            return false;
+        }
+        !edges.iter().any(|&e| [Vec3::X, Vec3::Y, Vec3::Z].into_iter().any(|a| separated(a.cross(e))))
+    }
+}
+
+/// Where one new vertex came from: it lies at `(1 − fraction)·parents[0] + fraction·parents[1]`
+/// (both parents have smaller indices; either may itself be new).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SplitVertex {
+    /// The ends of the split edge.
+    pub parents: [u32; 2],
+    /// Where along the edge, in (0, 1) (bisection: 0.5).
+    pub fraction: f32,
+}
+
+/// What a refinement appended to a mesh that had `base_vertex_count` vertices and
+/// `base_face_count` faces. Empty when nothing was refined.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Refinement {
+    /// Vertices before refinement.
+    pub base_vertex_count: usize,
+    /// Faces before refinement.
+    pub base_face_count: usize,
+    /// Vertex `base_vertex_count + k` came from `vertices[k]`.
+    pub vertices: Vec<SplitVertex>,
+    /// Face `base_face_count + k` is a piece of the base face `face_parents[k]` (copy per-face
+    /// data from there); a split base face keeps its own slot for another piece.
+    pub face_parents: Vec<u32>,
+    /// Base faces whose slot now holds a smaller piece, ascending.
+    pub split_faces: Vec<u32>,
+}
+
+impl Refinement {
+    /// Whether nothing was refined (the mesh's faces are unchanged).
+    pub fn is_empty(&self) -> bool {
+        self.vertices.is_empty() && self.face_parents.is_empty()
+    }
+
+    /// Vertices added.
+    pub fn added_vertices(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// Triangles added.
+    pub fn added_faces(&self) -> usize {
+        self.face_parents.len()
+    }
+
+    /// `values` (one per base vertex; any entries past `base_vertex_count` are dropped) extended
+    /// with a value for every new vertex, `lerp(a, b, t)` blending its parents' values.
+    ///
+    /// # Errors
+    /// [`RefineError::AttributeCount`] when `values` has fewer than `base_vertex_count` entries.
+    ///
+    /// # Example
+    /// ```
+    /// use dentbend::{glam::{Vec2, Vec3}, mesh::{self, Ball}};
+    /// let quad = dentbend::TriMesh::new(
+    ///     vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+    ///     vec![[0, 1, 2], [0, 2, 3]],
+    /// )?;
+    /// let uvs = vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
+    /// let (fine, refinement) = mesh::refine(&quad, &Ball { centre: Vec3::ZERO, radius: 2.0 }, 0.5, 1000)?;
+    /// let fine_uvs = refinement.interpolate(&uvs, |a, b, t| a.lerp(*b, t))?;
+    /// assert_eq!(fine_uvs.len(), fine.vertex_count());
+    /// // Here UV = (x, y): every interpolated UV matches its vertex.
+    /// assert!(fine.positions().iter().zip(&fine_uvs).all(|(p, uv)| p.truncate().distance(*uv) < 1e-6));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn interpolate<T: Clone>(&self, values: &[T], lerp: impl Fn(&T, &T, f32) -> T) -> Result<Vec<T>, RefineError> {
+        if values.len() < self.base_vertex_count {
+            return Err(RefineError::AttributeCount { expected: self.base_vertex_count, actual: values.len() });
+        }
+        let mut out = Vec::with_capacity(self.base_vertex_count + self.vertices.len());
+        out.extend_from_slice(&values[..self.base_vertex_count]);
+        for s in &self.vertices {
+            let value = lerp(&out[s.parents[0] as usize], &out[s.parents[1] as usize], s.fraction);
+            out.push(value);
+        }
+        Ok(out)
+    }
+
+    /// Appends `later`, a refinement of the mesh this one produced, so that the result describes
+    /// both from this one's base.
+    ///
+    /// # Errors
+    /// [`RefineError::NotConsecutive`] when `later` did not start from this one's result.
+    pub fn extend(&mut self, later: Refinement) -> Result<(), RefineError> {
+        if later.is_empty() {
+            return Ok(());
+        }
+        if self.is_empty() && self.base_vertex_count == 0 && self.base_face_count == 0 {
+            *self = later;
+            return Ok(());
+        }
+        let (vertices, faces) =
+            (self.base_vertex_count + self.vertices.len(), self.base_face_count + self.face_parents.len());
+        if later.base_vertex_count != vertices || later.base_face_count != faces {
+            return Err(RefineError::NotConsecutive);
+        }
+        let root = |slot: u32| -> u32 {
+            let s = slot as usize;
+            if s < self.base_face_count { slot } else { self.face_parents[s - self.base_face_count] }
+        };
+        let parents: Vec<u32> = later.face_parents.iter().map(|&f| root(f)).collect();
+        let mut split: Vec<u32> =
+            later.split_faces.iter().copied().filter(|&f| (f as usize) < self.base_face_count).collect();
+        self.face_parents.extend(parents);
+        self.vertices.extend(later.vertices);
+        split.extend_from_slice(&self.split_faces);
+        split.sort_unstable();
+        split.dedup();
+        self.split_faces = split;
+        Ok(())
+    }
+}
+
+/// Why a refinement was refused; the mesh is unchanged then.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RefineError {
+    /// The longest edge allowed is not a positive finite length.
+    #[error("refine: max_edge = {0} must be finite and > 0")]
+    InvalidMaxEdge(f32),
+    /// Refining would add more triangles than allowed.
+    #[error("refine: more than {limit} new triangles would be needed (max_edge {max_edge})")]
+    TooManyTriangles {
+        /// The cap on new triangles.
+        limit: usize,
+        /// The edge length asked for, world units.
+        max_edge: f32,
+    },
+    /// An attribute array has fewer values than the base mesh has vertices.
+    #[error("refine: {actual} attribute values for {expected} base vertices")]
+    AttributeCount {
+        /// Base vertices.
+        expected: usize,
+        /// Values given.
+        actual: usize,
+    },
+    /// Two refinements joined by [`Refinement::extend`] do not follow each other.
+    #[error("refine: the later refinement does not start from the earlier one's result")]
+    NotConsecutive,
+}
+
+/// Refines `mesh` where it touches `region` until no touching triangle has an edge longer than
+/// `max_edge` (world units), adding at most `max_new_triangles` triangles. Returns the refined
+/// mesh and what was added (a copy of `mesh` and an empty [`Refinement`] when nothing was too
+/// long). Deterministic: the same input gives a bit-identical output.
+///
+/// Faces with a repeated vertex index (zero area) are never split themselves; an edge they share
+/// is split in the other faces only.
+///
+/// # Errors
+/// [`RefineError::InvalidMaxEdge`]; [`RefineError::TooManyTriangles`] when the cap would be passed
+/// (nothing is returned then: refine with a longer `max_edge` or a higher cap).
+pub fn refine(
+    mesh: &TriMesh,
+    region: &dyn RefineRegion,
+    max_edge: f32,
+    max_new_triangles: usize,
+) -> Result<(TriMesh, Refinement), RefineError> {
+    let mut positions = mesh.positions().to_vec();
+    let mut faces = mesh.faces().to_vec();
+    let refinement = refine_parts(&mut positions, &mut faces, region, max_edge, max_new_triangles)?;
+    if refinement.is_empty() {
+        return Ok((mesh.clone(), refinement));
+    }
+    Ok((TriMesh::from_valid(positions, faces), refinement))
+}
+
+/// [`refine`] on a mesh's parts, in place; `positions` and `faces` are unchanged on error (and
+/// untouched when nothing needs refining: one pass over the faces).
+pub(crate) fn refine_parts(
+    positions: &mut Vec<Vec3>,
+    faces: &mut Vec<[u32; 3]>,
+    region: &dyn RefineRegion,
+    max_edge: f32,
+    max_new_triangles: usize,
+) -> Result<Refinement, RefineError> {
+    if !(max_edge.is_finite() && max_edge > 0.0) {
+        return Err(RefineError::InvalidMaxEdge(max_edge));
+    }
+    let base = Refinement { base_vertex_count: positions.len(), base_face_count: faces.len(), ..Default::default() };
+    let mut refiner = Refiner {
+        positions,
+        faces,
+        max_edge_sq: max_edge * max_edge,
+        region,
+        adjacency: None,
+        log: base,
+        undo: Vec::new(),
+    };
+    let candidates: VecDeque<u32> = (0..refiner.faces.len() as u32).filter(|&f| refiner.needs(f)).collect();
+    if candidates.is_empty() {
+        return Ok(refiner.log);
+    }
+    refiner.adjacency = Some(Adjacency::new(refiner.positions.len(), &refiner.faces[..]));
+    match refiner.run(candidates, max_new_triangles) {
+        Ok(()) => {
+            let mut log = std::mem::take(&mut refiner.log);
+            log.split_faces.sort_unstable();
+            log.split_faces.dedup();
+            Ok(log)
+        }
+        Err(()) => {
+            refiner.roll_back();
+            Err(RefineError::TooManyTriangles { limit: max_new_triangles, max_edge })
+        }
+    }
+}
+
+/// Vertex → faces, for the base mesh in one packed array, and for vertices a split touched in a
+/// list of their own.
+struct Adjacency {
+    offsets: Vec<u32>,
+    packed: Vec<u32>,
+    edited: Vec<Option<Vec<u32>>>,
+}
+
+impl Adjacency {
+    fn new(vertex_count: usize, faces: &[[u32; 3]]) -> Self {
+        let mut offsets = vec![0u32; vertex_count + 1];
+        for f in faces {
+            for (k, &v) in f.iter().enumerate() {
+                if !f[..k].contains(&v) {
+                    offsets[v as usize + 1] += 1;
+                }
+            }
+        }
+        for v in 0..vertex_count {
+            offsets[v + 1] += offsets[v];
+        }
+        let mut fill = offsets.clone();
+        let mut packed = vec![0u32; offsets[vertex_count] as usize];
+        for (face, f) in faces.iter().enumerate() {
+            for (k, &v) in f.iter().enumerate() {
+                if !f[..k].contains(&v) {
+                    packed[fill[v as usize] as usize] = face as u32;
+                    fill[v as usize] += 1;
+                }
+            }
+        }
+        Self { offsets, packed, edited: (0..vertex_count).map(|_| None).collect() }
+    }
+
+    fn faces_of(&self, v: u32) -> &[u32] {
+        match self.edited.get(v as usize) {
+            Some(Some(list)) => list,
+            _ => {
+                let v = v as usize;
+                &self.packed[self.offsets[v] as usize..self.offsets[v + 1] as usize]
+            }
+        }
+    }
+
+    fn edit(&mut self, v: u32) -> &mut Vec<u32> {
+        let v = v as usize;
+        if self.edited.len() <= v {
+            self.edited.resize_with(v + 1, || Some(Vec::new()));
+        }
+        if self.edited[v].is_none() {
+            let base = self.packed[self.offsets[v] as usize..self.offsets[v + 1] as usize].to_vec();
+            self.edited[v] = Some(base);
+        }
+        self.edited[v].get_or_insert_with(Vec::new)
+    }
+}
+
+struct Refiner<'a> {
+    positions: &'a mut Vec<Vec3>,
+    faces: &'a mut Vec<[u32; 3]>,
+    max_edge_sq: f32,
+    region: &'a dyn RefineRegion,
+    adjacency: Option<Adjacency>,
+    log: Refinement,
+    /// Face slots overwritten, with their earlier value, in order.
+    undo: Vec<(u32, [u32; 3])>,
+}
+
+/// An undirected edge ordered by (squared length, low index, high index): a strict total order,
+/// so ties between equal lengths break the same way every run.
+#[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
+struct EdgeKey {
+    length_sq: f32,
+    lo: u32,
+    hi: u32,
+}
+
+impl Refiner<'_> {
+    fn corners(&self, f: u32) -> [Vec3; 3] {
+        self.faces[f as usize].map(|v| self.positions[v as usize])
+    }
+
+    fn degenerate(face: [u32; 3]) -> bool {
+        face[0] == face[1] || face[1] == face[2] || face[2] == face[0]
+    }
+
+    fn edge(&self, a: u32, b: u32) -> EdgeKey {
+        let length_sq = self.positions[a as usize].distance_squared(self.positions[b as usize]);
+        EdgeKey { length_sq, lo: a.min(b), hi: a.max(b) }
+    }
+
+    fn longest(&self, f: u32) -> EdgeKey {
+        let [a, b, c] = self.faces[f as usize];
+        let edges = [self.edge(a, b), self.edge(b, c), self.edge(c, a)];
+        let mut best = edges[0];
+        for e in &edges[1..] {
+            if e.partial_cmp(&best) == Some(std::cmp::Ordering::Greater) {
+                best = *e;
+            }
+        }
+        best
+    }
+
+    /// Whether face `f` touches the region with an edge longer than allowed.
+    fn needs(&self, f: u32) -> bool {
+        let face = self.faces[f as usize];
+        !Self::degenerate(face) && self.longest(f).length_sq > self.max_edge_sq && self.region.touches(self.corners(f))
+    }
+
+    /// Refines until no face in the queue needs it; `Err` when the cap is passed.
+    fn run(&mut self, mut queue: VecDeque<u32>, max_new_triangles: usize) -> Result<(), ()> {
+        let base_faces = self.log.base_face_count;
+        while let Some(f) = queue.pop_front() {
+            if !self.needs(f) {
+                continue;
+            }
+            let edge = self.terminal_edge(f);
+            let changed = self.split(edge);
+            if self.faces.len() - base_faces > max_new_triangles || self.positions.len() >= u32::MAX as usize {
+                return Err(());
+            }
+            queue.push_back(f);
+            queue.extend(changed);
+        }
+        Ok(())
+    }
+
+    /// The faces (non-degenerate) on edge `lo`–`hi`, ascending.
+    fn faces_on(&self, lo: u32, hi: u32) -> Vec<u32> {
+        let adjacency = self.adjacency.as_ref().expect("adjacency is built before splitting");
+        let mut on: Vec<u32> = adjacency
+            .faces_of(lo)
+            .iter()
+            .copied()
+            .filter(|&f| {
+                let face = self.faces[f as usize];
+                face.contains(&hi) && !Self::degenerate(face)
+            })
+            .collect();
+        on.sort_unstable();
+        on
+    }
+
+    /// The end of face `f`'s longest-edge propagation path: an edge that is the longest of every
+    /// face on it.
+    fn terminal_edge(&self, f: u32) -> EdgeKey {
+        let mut edge = self.longest(f);
+        loop {
+            let longer = self
+                .faces_on(edge.lo, edge.hi)
+                .into_iter()
+                .map(|n| self.longest(n))
+                .find(|e| e.partial_cmp(&edge) == Some(std::cmp::Ordering::Greater));
+            match longer {
+                Some(next) => edge = next,
+                None => return edge,
+            }
+        }
+    }
+
+    /// Bisects `edge` and every face on it; returns the faces changed or added.
+    fn split(&mut self, edge: EdgeKey) -> Vec<u32> {
+        let (lo, hi) = (edge.lo, edge.hi);
+        let on = self.faces_on(lo, hi);
+        let m = self.positions.len() as u32;
+        let (p, q) = (self.positions[lo as usize], self.positions[hi as usize]);
+        // Halving first cannot overflow, so finite ends give a finite midpoint.
+        self.positions.push(p * 0.5 + q * 0.5);
+        self.log.vertices.push(SplitVertex { parents: [lo, hi], fraction: 0.5 });
+        let mut changed = Vec::with_capacity(2 * on.len());
+        let mut middle = Vec::with_capacity(2 * on.len());
+        for slot in on {
+            let face = self.faces[slot as usize];
+            // k: the corner where the edge starts in this face's winding.
+            let k = (0..3).find(|&k| {
+                let (a, b) = (face[k], face[(k + 1) % 3]);
+                (a == lo && b == hi) || (a == hi && b == lo)
+            });
+            let Some(k) = k else { continue };
+            let (b, c) = (face[(k + 1) % 3], face[(k + 2) % 3]);
+            let mut kept = face;
+            kept[(k + 1) % 3] = m;
+            let mut added = face;
+            added[k] = m;
+            let new = self.faces.len() as u32;
+            self.undo.push((slot, face));
+            self.faces[slot as usize] = kept;
+            self.faces.push(added);
+            let s = slot as usize;
+            let root = if s < self.log.base_face_count {
+                self.log.split_faces.push(slot);
+                slot
+            } else {
+                self.log.face_parents[s - self.log.base_face_count]
+            };
+            self.log.face_parents.push(root);
+            let adjacency = self.adjacency.as_mut().expect("adjacency is built before splitting");
+            let list = adjacency.edit(b);
+            if let Some(at) = list.iter().position(|&x| x == slot) {
+                list.remove(at);
+            }
+            list.push(new);
+            adjacency.edit(c).push(new);
+            middle.extend([slot, new]);
+            changed.extend([slot, new]);
+        }
+        *self.adjacency.as_mut().expect("adjacency is built before splitting").edit(m) = middle;
+        changed
+    }
+
+    /// Undoes every split: the parts are as they were given.
+    fn roll_back(&mut self) {
+        for &(slot, face) in self.undo.iter().rev() {
+            self.faces[slot as usize] = face;
+        }
+        self.faces.truncate(self.log.base_face_count);
+        self.positions.truncate(self.log.base_vertex_count);
+    }
+}
+
+/// Squared distance from `p` to the solid triangle `t`: to its plane when `p` projects inside
+/// it, else to the nearest of its three sides.
+fn distance_sq_to_triangle(p: Vec3, t: [Vec3; 3]) -> f32 {
+    let normal = (t[1] - t[0]).cross(t[2] - t[0]);
+    let area_sq = normal.length_squared();
+    if area_sq > 0.0 {
+        // p projects inside when it lies on the inner side of every edge's plane.
+        let inside = (0..3).all(|k| (t[(k + 1) % 3] - t[k]).cross(p - t[k]).dot(normal) >= 0.0);
+        if inside {
+            let height = (p - t[0]).dot(normal);
+            return height * height / area_sq;
+        }
+    }
+    (0..3).map(|k| distance_sq_to_segment(p, t[k], t[(k + 1) % 3])).fold(f32::INFINITY, f32::min)
+}
+
+/// Squared distance from `p` to the segment `a`–`b`.
+fn distance_sq_to_segment(p: Vec3, a: Vec3, b: Vec3) -> f32 {
+    let ab = b - a;
+    let length_sq = ab.length_squared();
+    let t = if length_sq > 0.0 { ((p - a).dot(ab) / length_sq).clamp(0.0, 1.0) } else { 0.0 };
+    p.distance_squared(a + ab * t)
+}
