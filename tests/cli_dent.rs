@@ -240,3 +240,71 @@ fn help_documents_the_interface() {
         assert!(help.contains(flag), "help lacks {flag}");
     }
 }
+
+/// A 2 m cube of 12 triangles as an OBJ file.
+fn coarse_cube(path: &Path) {
+    let corners: Vec<Vec3> =
+        (0..8).map(|k| Vec3::new([-1., 1.][k & 1], [-1., 1.][(k >> 1) & 1], [-1., 1.][k >> 2])).collect();
+    // Two triangles per face, each wound outwards (checked by the volume below).
+    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let faces: Vec<[u32; 3]> = quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
+    let cube = dentbend::TriMesh::new(corners, faces).unwrap();
+    assert!((cube.volume() - 8.0).abs() < 1e-5);
+    dentbend::mesh::save_obj(&cube, path).unwrap();
+}
+
+#[test]
+fn refine_lets_a_coarse_cube_take_the_dent_and_says_how_much_it_added() {
+    let dir = TempDir::new("refine");
+    let cube = dir.path("cube.obj");
+    coarse_cube(&cube);
+    let run = |refine: &str, out: &Path| {
+        dentbend(&[
+            "dent",
+            "--target",
+            cube.to_str().unwrap(),
+            "--projectile",
+            "sphere",
+            "--scale",
+            "0.5",
+            "--translate",
+            "0,1.5,0",
+            "--point",
+            "0,1,0",
+            "--normal=0,-1,0",
+            "--dent-distance",
+            "0.1",
+            "--refine",
+            refine,
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    // Off: the 12 triangles take no dent (and the command says so).
+    let off = dir.path("off.obj");
+    let output = run("off", &off);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(text(&output.stderr).contains("moved no vertex"), "{}", text(&output.stderr));
+    assert_eq!(read_obj(&off).1, 12);
+
+    for refine in ["auto", "0.05"] {
+        let out = dir.path(&format!("{refine}.obj"));
+        let output = run(refine, &out);
+        let stdout = text(&output.stdout);
+        assert!(output.status.success(), "--refine {refine}: {}", text(&output.stderr));
+        let (vertices, faces) = read_obj(&out);
+        assert!(faces > 100, "--refine {refine}: {faces} faces");
+        let added = format!("refined first: +{} triangles, +{} vertices", faces - 12, vertices.len() - 8);
+        assert!(stdout.contains(&added), "--refine {refine}: {stdout}");
+        let deepest = vertices.iter().map(|p| 1.0 - p.y).fold(0.0f32, f32::max);
+        assert!((deepest - 0.1).abs() < 0.002, "--refine {refine}: deepest {deepest}");
+    }
+
+    for bad in ["-1", "nan", "sometimes"] {
+        let out = dir.path("bad.obj");
+        let output = run(bad, &out);
+        assert_eq!(output.status.code(), Some(2), "--refine {bad}");
+        assert!(text(&output.stderr).contains("--refine"), "--refine {bad}: {}", text(&output.stderr));
+        assert!(!out.exists());
+    }
+}

@@ -14,7 +14,7 @@
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::ArticulatedBody;
-use crate::dent::dent_batch;
+use crate::dent::{Refine, dent_batch};
 use crate::mesh::TriMesh;
 use crate::sim::{
     DecidedDent, DentSettings, DentSurface, DentTarget, RigidBody, SimError, World, dent_job, projectile_near_impact,
@@ -67,6 +67,10 @@ impl ArticulatedBody {
     /// the skinning uses, so skinning the result gives the dented mesh back (linear blend
     /// skinning is linear in the rest position).
     ///
+    /// The mesh is never refined here ([`Refine::Off`] whatever the settings say): skin weights,
+    /// bones and sub-bodies belong to the rest mesh's vertices, so a bending body keeps its
+    /// vertices and faces and takes the dent at its own resolution.
+    ///
     /// # Errors
     /// [`SimError::Invalid`] when the body is not dentable, `dents` is empty or hits another
     /// body, or `base` does not match the rest mesh; [`SimError::Dent`] from the dent pipeline;
@@ -118,7 +122,10 @@ impl ArticulatedBody {
             .iter()
             .map(|(k, mesh)| {
                 let d = &dents[*k].0;
-                dent_job(&target(d), d, d.dent_distance, mesh, 0)
+                let mut job = dent_job(&target(d), d, d.dent_distance, mesh, 0);
+                // Never refined: weights, bones and sub-bodies are per rest-mesh vertex.
+                job.params.refine = Refine::Off;
+                job
             })
             .collect();
         let mut dented = vec![skinned.clone()];

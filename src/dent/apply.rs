@@ -1,5 +1,6 @@
 //! Denting a target mesh: one projectile (`dent`), or two dentable bodies at once (`dent_pair`).
 
+use super::refine_target::{Footprint, refine_for_dents};
 use super::{DentError, DentParams, Impact, dent_map_stages};
 use crate::mesh::TriMesh;
 
@@ -23,6 +24,11 @@ pub struct DentReport {
     pub sigma: f32,
     /// Warnings raised while applying the map.
     pub warnings: Vec<String>,
+    /// Vertices the refine stage added to the target before this dent (appended after the
+    /// existing ones).
+    pub refined_vertices: usize,
+    /// Triangles the refine stage added to the target before this dent.
+    pub refined_triangles: usize,
 }
 
 /// Dents `target` where `projectile` hits it (paper Algorithm 1).
@@ -39,9 +45,11 @@ pub fn dent(
     params: &DentParams,
 ) -> Result<DentReport, DentError> {
     let stages = dent_map_stages(projectile, impact, params, Some(target.mean_edge_length()))?;
-    let pending = stages.map.displaced(target, &params.attenuation)?;
-    let displaced = pending.commit(target);
-    Ok(report(&stages, displaced))
+    let mut refined = refine_for_dents(target, &[footprint(&stages, params)]).map_err(|(_, e)| e)?;
+    let pending = stages.map.displaced_positions(refined.positions(target), &params.attenuation)?;
+    let mut out = report(&stages, refined.commit(target, pending));
+    refined.annotate(0, &mut out);
+    Ok(out)
 }
 
 /// Dents two dentable bodies against each other (paper Figure 1): both maps are computed from
@@ -73,10 +81,14 @@ pub fn dent_pair(
 ) -> Result<(DentReport, DentReport), DentError> {
     let stages_a = dent_map_stages(b, impact, params_a, Some(a.mean_edge_length()))?;
     let stages_b = dent_map_stages(a, &impact.reversed(), params_b, Some(b.mean_edge_length()))?;
-    let pending_a = stages_a.map.displaced(a, &params_a.attenuation)?;
-    let pending_b = stages_b.map.displaced(b, &params_b.attenuation)?;
-    let report_a = report(&stages_a, pending_a.commit(a));
-    let report_b = report(&stages_b, pending_b.commit(b));
+    let mut refined_a = refine_for_dents(a, &[footprint(&stages_a, params_a)]).map_err(|(_, e)| e)?;
+    let mut refined_b = refine_for_dents(b, &[footprint(&stages_b, params_b)]).map_err(|(_, e)| e)?;
+    let pending_a = stages_a.map.displaced_positions(refined_a.positions(a), &params_a.attenuation)?;
+    let pending_b = stages_b.map.displaced_positions(refined_b.positions(b), &params_b.attenuation)?;
+    let mut report_a = report(&stages_a, refined_a.commit(a, pending_a));
+    let mut report_b = report(&stages_b, refined_b.commit(b, pending_b));
+    refined_a.annotate(0, &mut report_a);
+    refined_b.annotate(0, &mut report_b);
     Ok((report_a, report_b))
 }
 
@@ -90,5 +102,12 @@ pub(crate) fn report(stages: &super::DentStages, displaced: super::DisplaceRepor
         cell_size: stages.zbuffer_grid.cell_size,
         sigma: stages.sigma,
         warnings: displaced.warnings,
+        refined_vertices: 0,
+        refined_triangles: 0,
     }
+}
+
+/// The refine stage's view of a dent whose map is `stages`.
+pub(crate) fn footprint<'p>(stages: &super::DentStages, params: &'p DentParams) -> Footprint<'p> {
+    Footprint { grid: stages.map.grid, sigma: stages.sigma, params }
 }

@@ -1,11 +1,13 @@
-//! Many dents at once on the CPU (all cores): maps in parallel, then each target's dents in
-//! submission order. The GPU batch (`gpu::GpuDenter`) follows the same rules.
+//! Many dents at once on the CPU (all cores): maps in parallel, then each target refined for
+//! all its dents (stage 1, `refine_target`) and dented in submission order. The GPU batch (`gpu::GpuDenter`) follows the same rules.
 
 use rayon::prelude::*;
 
-use super::map::PendingDisplacement;
+use glam::Vec3;
+
+use super::refine_target::{RefinedTarget, refine_for_dents};
 use super::{DentError, DentParams, DentReport, Impact, dent_map_stages};
-use crate::mesh::TriMesh;
+use crate::mesh::{Refinement, TriMesh};
 
 /// One dent of a batch: `projectile` hits `targets[target]` at `impact`.
 #[derive(Debug, Clone)]
@@ -31,8 +33,9 @@ pub struct BatchError {
     pub error: DentError,
 }
 
-/// One target's new positions and the report of each of its jobs (job index, report).
-type AppliedTarget = (usize, PendingDisplacement, Vec<(usize, super::DisplaceReport)>);
+/// One target after its jobs: refined faces (if any), new positions, moved flags, and the report of
+/// each of its jobs (job index, report).
+type AppliedTarget = (usize, RefinedTarget, Vec<Vec3>, Vec<bool>, Vec<(usize, super::DentReport)>);
 
 /// Dents `targets` by every job: dent maps are built in parallel from the undented meshes, then
 /// each target's dents are applied in submission order (a later dent moves the vertices an
@@ -44,14 +47,30 @@ pub fn dent_batch(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Result<Vec<D
     dent_batch_tracked(targets, jobs).map(|outcome| outcome.reports)
 }
 
-/// What a batch did: each job's report and, per target, the vertices that moved.
+/// What a batch did: each job's report and, per target, the vertices that moved and the
+/// triangles refinement added.
 #[derive(Debug, Clone, Default)]
 pub struct BatchOutcome {
     /// One report per job, in job order.
     pub reports: Vec<DentReport>,
     /// Per target (batch order), the indices of the vertices the batch moved, ascending; empty
-    /// for a target no job dented. A caller refits its own collider over these.
+    /// for a target no job dented. A caller refits its own collider over these — unless the
+    /// target was refined ([`topology_changed`](Self::topology_changed)): then they include
+    /// every new vertex, and the collider must be rebuilt.
     pub moved: Vec<Vec<u32>>,
+    /// Per target (batch order), what refinement appended to it (vertices with their parents,
+    /// to interpolate per-vertex data; faces with their parent face); empty when its faces
+    /// are unchanged, and for a target no job dented. May be shorter than the target list
+    /// (missing entries are empty).
+    pub refined: Vec<Refinement>,
+}
+
+impl BatchOutcome {
+    /// Whether target `t`'s faces changed (it was refined): rebuild its collider instead of
+    /// refitting it.
+    pub fn topology_changed(&self, t: usize) -> bool {
+        self.refined.get(t).is_some_and(|r| !r.is_empty())
+    }
 }
 
 /// As [`dent_batch`], also telling which vertices of each target moved.
@@ -72,7 +91,8 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
         })
         .collect::<Result<_, _>>()?;
 
-    // Each target's jobs in submission order, targets in parallel.
+    // Each target's jobs in submission order, targets in parallel: refined for all of them
+    // first (from the undented surface, as the maps are), then displaced in order.
     let applied: Vec<AppliedTarget> = (0..targets.len())
         .into_par_iter()
         .filter_map(|t| {
@@ -81,31 +101,43 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
         })
         .map(|(t, mine)| {
             let target = &targets[t];
-            let mut positions = target.positions().to_vec();
-            let mut moved = vec![false; positions.len()];
+            let dents: Vec<_> = mine.iter().map(|&j| super::apply::footprint(&stages[j], &jobs[j].params)).collect();
+            let refined = refine_for_dents(target, &dents).map_err(|(k, error)| BatchError { job: mine[k], error })?;
+            let mut positions = refined.positions(target).to_vec();
+            // New vertices count as moved: a caller's collider does not have them yet.
+            let mut moved: Vec<bool> = (0..positions.len()).map(|v| v >= target.vertex_count()).collect();
             let mut reports = Vec::with_capacity(mine.len());
-            for job in mine {
+            for (k, &job) in mine.iter().enumerate() {
                 let pending = stages[job]
                     .map
                     .displaced_positions(&positions, &jobs[job].params.attenuation)
                     .map_err(|error| BatchError { job, error })?;
                 moved.iter_mut().zip(&pending.moved).for_each(|(m, &p)| *m |= p);
                 positions = pending.positions;
-                reports.push((job, pending.report));
+                let mut report = super::apply::report(&stages[job], pending.report);
+                refined.annotate(k, &mut report);
+                reports.push((job, report));
             }
-            let report = super::DisplaceReport::default();
-            Ok((t, PendingDisplacement { positions, moved, report }, reports))
+            Ok((t, refined, positions, moved, reports))
         })
         .collect::<Result<_, BatchError>>()?;
 
     let mut out: Vec<Option<DentReport>> = vec![None; jobs.len()];
-    let mut moved = vec![Vec::new(); targets.len()];
-    for (t, pending, reports) in applied {
-        moved[t] = pending.moved.iter().enumerate().filter(|(_, m)| **m).map(|(v, _)| v as u32).collect();
-        pending.commit(&mut targets[t]);
-        for (job, displaced) in reports {
-            out[job] = Some(super::apply::report(&stages[job], displaced));
+    let mut moved_lists = vec![Vec::new(); targets.len()];
+    let mut refined_lists = vec![Refinement::default(); targets.len()];
+    for (t, mut refined, positions, moved, reports) in applied {
+        moved_lists[t] = moved.iter().enumerate().filter(|(_, m)| **m).map(|(v, _)| v as u32).collect();
+        refined.commit_positions(&mut targets[t], positions, &moved);
+        if !refined.refinement.is_empty() {
+            refined_lists[t] = std::mem::take(&mut refined.refinement);
+        }
+        for (job, report) in reports {
+            out[job] = Some(report);
         }
     }
-    Ok(BatchOutcome { reports: out.into_iter().map(|r| r.unwrap_or_default()).collect(), moved })
+    Ok(BatchOutcome {
+        reports: out.into_iter().map(|r| r.unwrap_or_default()).collect(),
+        moved: moved_lists,
+        refined: refined_lists,
+    })
 }

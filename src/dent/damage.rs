@@ -16,7 +16,7 @@ use super::{
     BatchError, BatchOutcome, BodyState, DentError, DentJob, DentParams, DentSettings, Impact, ProgressiveDents,
     Surface, dent_batch_tracked,
 };
-use crate::mesh::TriMesh;
+use crate::mesh::{Refinement, TriMesh};
 
 /// One contact a solver reported, as denting sees it from the target's side.
 #[derive(Debug, Clone, Copy)]
@@ -135,10 +135,20 @@ pub struct AppliedDent<K> {
 pub struct DentedTarget<K> {
     /// The body.
     pub key: K,
-    /// Its dented mesh (same vertices and faces, same coordinates as before).
+    /// Its dented mesh, same coordinates as before: the same vertices and faces, or, when
+    /// refined, those first and new ones appended ([`refinement`](Self::refinement)).
     pub mesh: TriMesh,
-    /// The vertices that moved, ascending: refit the collider over these.
+    /// The vertices that moved, ascending: refit the collider over these (when the faces are
+    /// unchanged; a refined target's list includes every new vertex).
     pub moved: Vec<u32>,
+    /// What refinement appended (new vertices with their parents, for the caller's per-vertex
+    /// data; new faces with their parent face), from the first `base_vertex_count` vertices of
+    /// the body's mesh; empty when nothing was refined.
+    pub refinement: Refinement,
+    /// Whether the faces differ from the body's mesh (it was refined, or a progressive dent
+    /// was rebuilt from a surface with other faces): rebuild the collider from
+    /// [`mesh`](Self::mesh) instead of refitting it.
+    pub topology_changed: bool,
 }
 
 /// The result of one step's hits, not yet applied to the caller's bodies.
@@ -211,14 +221,19 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
             } else {
                 self.progress.next(key, projectile, step, limits, || latest(&plan, key).unwrap_or(target.mesh).clone())
             };
-            let Some(mesh) = dent_one(&target, d, distance, &pre_dent)? else { continue };
-            // Rebuilt from the pre-dent surface: what moved is what differs from the surface now.
-            let moved = moved_vertices(latest(&plan, key).unwrap_or(target.mesh).positions(), mesh.positions());
+            let Some((mesh, refinement)) = dent_one(&target, d, distance, &pre_dent)? else { continue };
+            // Rebuilt from the pre-dent surface: what moved is what differs from the surface now
+            // (and every vertex past the shorter of the two).
+            let now = latest(&plan, key).unwrap_or(target.mesh);
+            let mut moved = moved_vertices(now.positions(), mesh.positions());
+            moved.extend(now.vertex_count().min(mesh.vertex_count()) as u32..mesh.vertex_count() as u32);
+            let topology_changed = now.faces() != mesh.faces();
             staged.record(key, projectile, pre_dent, distance, step);
             plan.dents.push(applied(&target, d, distance));
+            let dented = DentedTarget { key, mesh, moved, refinement, topology_changed };
             match plan.targets.iter_mut().find(|t| t.key == key) {
-                Some(t) => merge(t, mesh, moved),
-                None => plan.targets.push(DentedTarget { key, mesh, moved }),
+                Some(t) => merge(t, dented),
+                None => plan.targets.push(dented),
             }
         }
         self.progress.end_stale(step);
@@ -330,27 +345,32 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
         DamageError::Dent { hit: d.hit, target: format!("{:?}", d.data.target), error: e.error }
     })?;
     let dents = kept.iter().map(|d| applied(&view(targets, d), d, d.distance)).collect();
-    let dented = keys.into_iter().zip(meshes).zip(outcome.moved);
-    let targets = dented.map(|((key, mesh), moved)| DentedTarget { key, mesh, moved }).collect();
+    let changed: Vec<bool> = (0..keys.len()).map(|t| outcome.topology_changed(t)).collect();
+    let mut refined = outcome.refined.into_iter();
+    let dented = keys.into_iter().zip(meshes).zip(outcome.moved).zip(changed);
+    let targets = dented
+        .map(|(((key, mesh), moved), topology_changed)| {
+            let refinement = refined.next().unwrap_or_default();
+            DentedTarget { key, mesh, moved, refinement, topology_changed }
+        })
+        .collect();
     Ok(DamagePlan { dents, targets })
 }
 
-/// A progressive dent of `d`, `distance` m deep, rebuilt from `pre_dent`; `None` when no part
-/// of the projectile is near.
+/// A progressive dent of `d`, `distance` m deep, rebuilt from `pre_dent`, with what refinement
+/// appended to `pre_dent`; `None` when no part of the projectile is near.
 fn dent_one<K: std::fmt::Debug>(
     target: &TargetView<'_>,
     d: &Decided<'_, K>,
     distance: f32,
     pre_dent: &TriMesh,
-) -> Result<Option<TriMesh>, DamageError> {
+) -> Result<Option<(TriMesh, Refinement)>, DamageError> {
     let Some(projectile) = cropped(target, d, distance) else { return Ok(None) };
     let mut meshes = vec![pre_dent.clone()];
-    dent_batch_tracked(&mut meshes, &[job(target, d, distance, &projectile, 0)]).map_err(|e| DamageError::Dent {
-        hit: d.hit,
-        target: format!("{:?}", d.data.target),
-        error: e.error,
-    })?;
-    Ok(meshes.pop())
+    let outcome = dent_batch_tracked(&mut meshes, &[job(target, d, distance, &projectile, 0)])
+        .map_err(|e| DamageError::Dent { hit: d.hit, target: format!("{:?}", d.data.target), error: e.error })?;
+    let refinement = outcome.refined.into_iter().next().unwrap_or_default();
+    Ok(meshes.pop().map(|mesh| (mesh, refinement)))
 }
 
 /// The vertices whose position differs between `before` and `after` (bitwise), as indices, for a
@@ -369,10 +389,17 @@ fn latest<K: PartialEq>(plan: &DamagePlan<K>, key: K) -> Option<&TriMesh> {
     plan.targets.iter().find(|t| t.key == key).map(|t| &t.mesh)
 }
 
-/// `target` takes `mesh`, the union of both moved sets.
-fn merge<K>(target: &mut DentedTarget<K>, mesh: TriMesh, moved: Vec<u32>) {
-    target.mesh = mesh;
-    target.moved.extend(moved);
+/// `target` takes `later`'s mesh, the union of both moved sets; a refinement of `later` (from a
+/// base the target's refinement may not share) replaces the target's.
+fn merge<K>(target: &mut DentedTarget<K>, later: DentedTarget<K>) {
+    if !later.refinement.is_empty() {
+        target.refinement = later.refinement;
+    }
+    target.topology_changed |= later.topology_changed;
+    target.mesh = later.mesh;
+    target.moved.extend(later.moved);
     target.moved.sort_unstable();
     target.moved.dedup();
+    let count = target.mesh.vertex_count() as u32;
+    target.moved.retain(|&v| v < count);
 }

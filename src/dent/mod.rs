@@ -21,6 +21,7 @@ mod pipeline;
 mod plan;
 mod progressive;
 mod reach;
+mod refine_target;
 mod settings;
 mod target_set;
 
@@ -46,5 +47,9 @@ pub use pipeline::{DentStages, dent_map, dent_map_stages};
 pub use plan::{DentPlan, plan_dent};
 pub use progressive::ProgressiveDents;
 pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
+pub use refine_target::{
+    DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refine, RefinedTargets, auto_max_edge, footprint_box,
+    refine_targets,
+};
 pub use settings::DentSettings;
 pub use target_set::TargetSet;

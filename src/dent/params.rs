@@ -84,6 +84,9 @@ pub struct DentParams {
     pub widen: f32,
     /// Lower clamp of cos θ for glancing impacts, in [0.01, 1] (default 0.1, θ ≤ 84.3°).
     pub min_cos: f32,
+    /// Refinement of the target under the dent before it is displaced (default
+    /// [`Refine::Auto`](super::Refine::Auto): where the map needs it, capped).
+    pub refine: super::Refine,
 }
 
 impl DentParams {
@@ -99,6 +102,7 @@ impl DentParams {
             attenuation: Attenuation::Logistic,
             widen: 0.0,
             min_cos: 0.1,
+            refine: super::Refine::default(),
         }
     }
 
@@ -146,6 +150,7 @@ impl DentParams {
         if !(self.min_cos >= MIN_COS_FLOOR && self.min_cos <= 1.0) {
             return Err(invalid("min_cos", self.min_cos, "must be in [0.01, 1]"));
         }
+        self.refine.validate()?;
         validate_attenuation(&self.attenuation, d)
     }
 }

@@ -1,13 +1,17 @@
 //! Dents on the GPU for the world-free damage API: a [`DentBackend`] keyed by the caller's ids
 //! whose targets stay resident on the device ([`GpuDenter`]) between steps. A target whose mesh the GPU has not seen (a new dentable
 //! collider, or a mesh changed outside the backend) makes it upload every known target again;
-//! otherwise a batch uploads nothing but its jobs and reads back the dented targets.
+//! otherwise a batch uploads nothing but its jobs and reads back the dented targets. The refine
+//! stage runs on the host first ([`refine_targets`]); a target it refines is uploaded again
+//! (with every other, as for a changed mesh).
 
 use std::collections::HashMap;
 use std::hash::Hash;
 
 use super::{GpuBatchError, GpuContext, GpuDenter};
-use crate::dent::{BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentReport, moved_vertices};
+use crate::dent::{
+    BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentReport, moved_vertices, refine_targets,
+};
 use crate::mesh::TriMesh;
 
 /// Batches on a GPU, targets resident there, keyed by the caller's ids.
@@ -46,15 +50,17 @@ impl<K: Copy + Eq + Hash> GpuBackend<K> {
     /// # Errors
     /// [`DentError::Backend`] when the upload fails.
     pub fn make_resident(&mut self, keys: &[K], meshes: &[TriMesh]) -> Result<(), DentError> {
-        self.resident(keys, meshes).map(|_| ())
+        self.resident(keys, &meshes.iter().collect::<Vec<_>>()).map(|_| ())
     }
 
     /// Makes every target of the batch resident with its current mesh; the slot of each.
-    fn resident(&mut self, keys: &[K], meshes: &[TriMesh]) -> Result<Vec<usize>, DentError> {
+    fn resident(&mut self, keys: &[K], meshes: &[&TriMesh]) -> Result<Vec<usize>, DentError> {
+        // A mesh whose faces changed (refined) is resident again even if its positions match.
+        let same = |old: &TriMesh, new: &TriMesh| old.positions() == new.positions() && old.faces() == new.faces();
         let mut stale = self.denter.is_none();
-        for (key, mesh) in keys.iter().zip(meshes) {
+        for (key, &mesh) in keys.iter().zip(meshes) {
             match self.slots.get(key) {
-                Some(&slot) if self.meshes[slot].positions() == mesh.positions() => {}
+                Some(&slot) if same(&self.meshes[slot], mesh) => {}
                 Some(&slot) => {
                     self.meshes[slot] = mesh.clone();
                     stale = true;
@@ -82,7 +88,11 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         targets: &mut [TriMesh],
         jobs: &[DentJob<'_>],
     ) -> Result<BatchOutcome, BatchError> {
-        let slots = self.resident(keys, targets).map_err(|error| BatchError { job: 0, error })?;
+        // Stage 1 on the host: refine copies of the targets where their dents need it.
+        let refined = refine_targets(targets, jobs)?;
+        let current: Vec<&TriMesh> =
+            targets.iter().zip(&refined.meshes).map(|(old, new)| new.as_ref().unwrap_or(old)).collect();
+        let slots = self.resident(keys, &current).map_err(|error| BatchError { job: 0, error })?;
         let mut gpu_jobs = jobs.to_vec();
         for job in &mut gpu_jobs {
             job.target = slots[job.target];
@@ -103,12 +113,13 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         };
         let reports = infos
             .iter()
-            .map(|i| DentReport {
+            .zip(refined.reports)
+            .map(|(i, refine)| DentReport {
                 theta_deg: i.theta_deg,
                 resolution: i.resolution,
                 map_resolution: i.map_resolution,
                 cell_size: i.cell_size,
-                ..Default::default()
+                ..refine
             })
             .collect();
         let mut dented = Vec::with_capacity(targets.len());
@@ -123,10 +134,13 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         }
         let mut moved = Vec::with_capacity(targets.len());
         for ((mesh, new), &slot) in targets.iter_mut().zip(dented).zip(&slots) {
-            moved.push(moved_vertices(mesh.positions(), new.positions()));
+            // New vertices count as moved, as on the CPU.
+            let mut list = moved_vertices(mesh.positions(), new.positions());
+            list.extend(mesh.vertex_count() as u32..new.vertex_count() as u32);
+            moved.push(list);
             self.meshes[slot] = new.clone();
             *mesh = new;
         }
-        Ok(BatchOutcome { reports, moved })
+        Ok(BatchOutcome { reports, moved, refined: refined.refinements })
     }
 }

@@ -283,6 +283,18 @@ pub(crate) fn refine_parts(
     }
 }
 
+/// Whether any non-degenerate face of `positions`/`faces` that touches `region` has an edge
+/// longer than `max_edge` (what [`refine`] would split); one pass, nothing allocated.
+pub(crate) fn any_too_long(positions: &[Vec3], faces: &[[u32; 3]], region: &dyn RefineRegion, max_edge: f32) -> bool {
+    let max_sq = max_edge * max_edge;
+    faces.iter().any(|&f| {
+        let [a, b, c] = f.map(|v| positions[v as usize]);
+        let too_long =
+            a.distance_squared(b) > max_sq || b.distance_squared(c) > max_sq || c.distance_squared(a) > max_sq;
+        too_long && !Refiner::degenerate(f) && region.touches([a, b, c])
+    })
+}
+
 /// Vertex → faces, for the base mesh in one packed array, and for vertices a split touched in a
 /// list of their own.
 struct Adjacency {

@@ -103,6 +103,13 @@ pub fn gpu_dent(
             params: params.clone(),
         });
     }
+    // Stage 1 (refine) runs on the host; the GPU dents the refined meshes.
+    let refined = dentbend::dent::refine_targets(&meshes, &jobs).map_err(|e| CliError::Dent(e.error))?;
+    for (mesh, new) in meshes.iter_mut().zip(refined.meshes) {
+        if let Some(new) = new {
+            *mesh = new;
+        }
+    }
     let mut denter = GpuDenter::new(context, &meshes).map_err(gpu_error)?;
     let info = denter.dent_batch(&jobs).map_err(|e| match e {
         dentbend::gpu::GpuBatchError::Job(job) => CliError::Dent(job.error),
@@ -112,9 +119,8 @@ pub fn gpu_dent(
     if mutual {
         *projectile = denter.read_mesh(1).map_err(gpu_error)?;
     }
-    let moves: Vec<f32> =
-        target.positions().iter().zip(original_target.positions()).map(|(a, b)| a.distance(*b)).collect();
-    let mut warnings = Vec::new();
+    let moves: Vec<f32> = target.positions().iter().zip(meshes[0].positions()).map(|(a, b)| a.distance(*b)).collect();
+    let mut warnings = refined.reports[0].warnings.clone();
     let steepness = params.attenuation.max_steepness(params.dent_distance);
     if steepness > 1.0 + 1e-3 {
         warnings.push(format!(
@@ -130,6 +136,8 @@ pub fn gpu_dent(
         cell_size: info[0].cell_size,
         sigma: params.sigma_or_default(),
         warnings,
+        refined_vertices: refined.reports[0].refined_vertices,
+        refined_triangles: refined.reports[0].refined_triangles,
     })
 }
 

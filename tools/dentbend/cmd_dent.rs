@@ -4,12 +4,13 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
+use dentbend::dent::Refine;
 use dentbend::glam::Vec3;
 use dentbend::{Attenuation, Impact, MeshError, TriMesh, mesh};
 
 use crate::backend::{BackendOption, gpu_dent};
 use crate::error::{CliError, flag_error};
-use crate::options::{MapOptions, ProjectileOptions, load_mesh, nonzero, sig3};
+use crate::options::{MapOptions, ProjectileOptions, load_mesh, nonzero, parse_refine, sig3};
 use crate::output::require_extension;
 use crate::vector::parse_vec3;
 
@@ -69,6 +70,12 @@ pub struct DentArgs {
     #[arg(long, value_name = "SCALE", allow_negative_numbers = true)]
     pub falloff_scale: Option<f32>,
 
+    /// Refine the target's triangles under the dent first, so a coarse mesh takes the dent's
+    /// shape: auto (where the map needs finer triangles, at most 20,000 new ones), off, or a
+    /// maximum edge length, mesh units
+    #[arg(long, value_name = "auto|off|MAX_EDGE", default_value = "auto", value_parser = parse_refine, allow_negative_numbers = true)]
+    pub refine: Refine,
+
     /// Output OBJ file (not written if anything fails)
     #[arg(long, value_name = "OUT.obj")]
     pub out: PathBuf,
@@ -89,6 +96,7 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
         (Falloff::Logistic, None) => Attenuation::Logistic,
         (Falloff::None, None) => Attenuation::None,
     };
+    params.refine = args.refine;
     params.validate().map_err(flag_error)?;
     require_extension(&args.out, "--out", &["obj"])?;
     if let Some(path) = &args.projectile_out {
@@ -125,8 +133,12 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
             report
         }
     };
+    let refined = match report.refined_triangles {
+        0 => String::new(),
+        n => format!(", refined first: +{n} triangles, +{} vertices", report.refined_vertices),
+    };
     let summary = format!(
-        "dent: moved {} of {} vertices of {} by up to {} (θ = {:.1}°, {res}×{res} cells) → {}",
+        "dent: moved {} of {} vertices of {} by up to {} (θ = {:.1}°, {res}×{res} cells{refined}) → {}",
         report.moved_vertices,
         target.vertex_count(),
         args.target,

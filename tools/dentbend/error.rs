@@ -82,6 +82,7 @@ pub fn flag_error(error: DentError) -> CliError {
         "widen" => "--widen",
         "min_cos" => "--min-cos",
         "attenuation.scale" => "--falloff-scale",
+        "refine" => "--refine",
         _ => return CliError::Dent(error),
     };
     CliError::Usage(format!("{flag} {value} is out of range: it {reason}"))

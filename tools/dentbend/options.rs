@@ -2,6 +2,7 @@
 //! turn them into library values.
 
 use clap::Args;
+use dentbend::dent::Refine;
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::{DentParams, Resolution, TriMesh, mesh};
 
@@ -123,6 +124,19 @@ impl MapOptions {
         };
         params.validate().map_err(flag_error)?;
         Ok(params)
+    }
+}
+
+/// `--refine`: `auto`, `off`, or a maximum edge length (mesh units; its range is checked with
+/// the other parameters).
+pub fn parse_refine(text: &str) -> Result<Refine, String> {
+    match text {
+        "auto" => Ok(Refine::default()),
+        "off" => Ok(Refine::Off),
+        _ => text
+            .parse::<f32>()
+            .map(Refine::MaxEdge)
+            .map_err(|_| format!("expected auto, off or a maximum edge length, got {text:?}")),
     }
 }
 
