@@ -1,6 +1,6 @@
 //! Denting a target mesh: one projectile (`dent`), or two dentable bodies at once (`dent_pair`).
 
-use super::refine_target::{Footprint, refine_for_dents};
+use super::refine_target::{Footprint, RefinedTarget, refine_for_dents};
 use super::{DentError, DentParams, Impact, dent_map_stages};
 use crate::mesh::TriMesh;
 
@@ -48,7 +48,7 @@ pub fn dent(
     let mut refined = refine_for_dents(target, &[footprint(&stages, params)]).map_err(|(_, e)| e)?;
     let pending = stages.map.displaced_positions(refined.positions(target), &params.attenuation)?;
     let mut out = report(&stages, refined.commit(target, pending));
-    refined.annotate(0, &mut out);
+    note_refinement(&mut out, &refined, 0);
     Ok(out)
 }
 
@@ -87,8 +87,8 @@ pub fn dent_pair(
     let pending_b = stages_b.map.displaced_positions(refined_b.positions(b), &params_b.attenuation)?;
     let mut report_a = report(&stages_a, refined_a.commit(a, pending_a));
     let mut report_b = report(&stages_b, refined_b.commit(b, pending_b));
-    refined_a.annotate(0, &mut report_a);
-    refined_b.annotate(0, &mut report_b);
+    note_refinement(&mut report_a, &refined_a, 0);
+    note_refinement(&mut report_b, &refined_b, 0);
     Ok((report_a, report_b))
 }
 
@@ -105,6 +105,14 @@ pub(crate) fn report(stages: &super::DentStages, displaced: super::DisplaceRepor
         refined_vertices: 0,
         refined_triangles: 0,
     }
+}
+
+/// Adds dent `k`'s refinement counts and warning (from `refined`) to `report`.
+pub(crate) fn note_refinement(report: &mut DentReport, refined: &RefinedTarget, k: usize) {
+    let (vertices, faces, warning) = refined.added_by(k);
+    report.refined_vertices = vertices;
+    report.refined_triangles = faces;
+    report.warnings.extend(warning.map(str::to_owned));
 }
 
 /// The refine stage's view of a dent whose map is `stages`.

@@ -115,7 +115,7 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
                 moved.iter_mut().zip(&pending.moved).for_each(|(m, &p)| *m |= p);
                 positions = pending.positions;
                 let mut report = super::apply::report(&stages[job], pending.report);
-                refined.annotate(k, &mut report);
+                super::apply::note_refinement(&mut report, &refined, k);
                 reports.push((job, report));
             }
             Ok((t, refined, positions, moved, reports))

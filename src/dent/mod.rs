@@ -21,6 +21,8 @@ mod pipeline;
 mod plan;
 mod progressive;
 mod reach;
+mod refine_jobs;
+mod refine_setting;
 mod refine_target;
 mod settings;
 mod target_set;
@@ -47,9 +49,8 @@ pub use pipeline::{DentStages, dent_map, dent_map_stages};
 pub use plan::{DentPlan, plan_dent};
 pub use progressive::ProgressiveDents;
 pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
-pub use refine_target::{
-    DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refine, RefinedTargets, auto_max_edge, footprint_box,
-    refine_targets,
-};
+pub use refine_jobs::{RefinedTargets, refine_targets};
+pub use refine_setting::{DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refine};
+pub use refine_target::{auto_max_edge, footprint_box};
 pub use settings::DentSettings;
 pub use target_set::TargetSet;

@@ -12,64 +12,12 @@ use glam::Vec3;
 
 use super::error::invalid;
 use super::map::PendingDisplacement;
-use super::{BatchError, DentError, DentJob, DentParams, DentReport, Grid, plan_dent};
-use crate::mesh::{MAX_COORDINATE, OrientedBox, RefineError, Refinement, TriMesh, refine_parts};
-
-/// Whether, and how finely, the target is refined under a dent before it is displaced.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Refine {
-    /// Refine where the target's edges under the footprint are longer than the map resolves:
-    /// `max(2σ, 2 map cells)` ([`auto_max_edge`]). A dent that would need more than `max_new_triangles` new triangles
-    /// is refined with edges twice, four or eight times as long (the first that fits), or not at
-    /// all, with a warning in its report. The default, with
-    /// [`DEFAULT_MAX_NEW_TRIANGLES`].
-    Auto {
-        /// Most triangles one dent may add.
-        max_new_triangles: u32,
-    },
-    /// Never refine: the dent moves the target's vertices as they are.
-    Off,
-    /// Refine until no edge under the footprint is longer than this, world units (finite,
-    /// > 0). A dent that would need more than [`MAX_EDGE_NEW_TRIANGLES`] new triangles fails
-    /// with [`DentError::InvalidParameter`] and changes nothing.
-    MaxEdge(f32),
-}
-
-/// Triangles one dent may add under [`Refine::Auto`] by default: enough for a 1 m² footprint
-/// with 2.5 cm edges (a 12-triangle 2 m crate hit by a 1 m ball with d = 0.1 m adds about 700).
-pub const DEFAULT_MAX_NEW_TRIANGLES: u32 = 20_000;
-
-/// Triangles one dent may add under [`Refine::MaxEdge`].
-pub const MAX_EDGE_NEW_TRIANGLES: usize = 1_000_000;
-
-/// Times [`Refine::Auto`] doubles its edge length before it gives up on a dent.
-const AUTO_DOUBLINGS: u32 = 3;
+use super::refine_setting::{AUTO_DOUBLINGS, MAX_EDGE_NEW_TRIANGLES, Refine};
+use super::{DentError, DentParams, Grid};
+use crate::mesh::{OrientedBox, RefineError, Refinement, TriMesh, refine_parts};
 
 /// The falloff a(z) below which the footprint ends in depth.
 const FALLOFF_FLOOR: f32 = 0.01;
-
-impl Default for Refine {
-    /// `Auto { max_new_triangles: DEFAULT_MAX_NEW_TRIANGLES }`.
-    fn default() -> Self {
-        Self::Auto { max_new_triangles: DEFAULT_MAX_NEW_TRIANGLES }
-    }
-}
-
-impl Refine {
-    /// Checks the setting.
-    ///
-    /// # Errors
-    /// [`DentError::InvalidParameter`] for a `MaxEdge` that is NaN, infinite, ≤ 0 or above
-    /// [`MAX_COORDINATE`].
-    pub fn validate(&self) -> Result<(), DentError> {
-        match *self {
-            Self::MaxEdge(edge) if !(edge.is_finite() && edge > 0.0 && edge <= MAX_COORDINATE) => {
-                Err(invalid("refine", edge, "must be a finite edge length > 0 and at most 1e6"))
-            }
-            _ => Ok(()),
-        }
-    }
-}
 
 /// The edge length [`Refine::Auto`] refines to under a dent map on `grid` with Gaussian width
 /// `sigma`, world units: `max(2σ, 2 cells)`. The smoothed profile bends over about σ, so
@@ -137,13 +85,14 @@ impl RefinedTarget {
         self.parts.as_ref().map_or(target.positions(), |(p, _)| p)
     }
 
-    /// Adds dent `k`'s refinement counts and warning to its report.
-    pub(crate) fn annotate(&self, k: usize, report: &mut DentReport) {
-        if let Some(r) = self.per_dent.get(k) {
-            report.refined_vertices = r.added_vertices;
-            report.refined_triangles = r.added_faces;
-            report.warnings.extend(r.warning.iter().cloned());
-        }
+    /// Dent `k`'s vertices and triangles added, and its warning.
+    pub(crate) fn added_by(&self, k: usize) -> (usize, usize, Option<&str>) {
+        self.per_dent.get(k).map_or((0, 0, None), |r| (r.added_vertices, r.added_faces, r.warning.as_deref()))
+    }
+
+    /// Takes the refined parts (positions, faces), leaving the target as it was.
+    pub(crate) fn take_parts(&mut self) -> Option<(Vec<Vec3>, Vec<[u32; 3]>)> {
+        self.parts.take()
     }
 
     /// Writes `pending` (displaced from [`positions`](Self::positions)) into `target` with the
@@ -241,56 +190,6 @@ pub(crate) fn refine_for_dents(target: &TriMesh, dents: &[Footprint<'_>]) -> Res
             out.parts = None; // nothing was split after all
         }
         out.per_dent.push(done);
-    }
-    Ok(out)
-}
-
-/// What [`refine_targets`] did: per target, its refined mesh (`None` when left as it was) and
-/// what was appended; per job, a report with only its refinement counts and warnings filled in.
-#[derive(Debug, Clone, Default)]
-pub struct RefinedTargets {
-    /// Per target (batch order): the refined mesh, `None` when nothing was refined.
-    pub meshes: Vec<Option<TriMesh>>,
-    /// Per target: what refinement appended (empty when nothing).
-    pub refinements: Vec<Refinement>,
-    /// Per job: `refined_vertices`, `refined_triangles` and warnings.
-    pub reports: Vec<DentReport>,
-}
-
-/// The refine stage on its own, for backends that displace elsewhere (the GPU): plans every job
-/// (as [`plan_dent`] does, with the target's mean edge) and refines its target where it will
-/// land, each target's jobs in order, all from the targets as they are.
-///
-/// # Errors
-/// [`BatchError`] naming the first job (in job order) whose plan or refinement failed.
-pub fn refine_targets(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<RefinedTargets, BatchError> {
-    if let Some((job, bad)) = jobs.iter().enumerate().find(|(_, j)| j.target >= targets.len()) {
-        return Err(BatchError { job, error: invalid("target", bad.target, "must index the batch's target list") });
-    }
-    let mut plans = Vec::with_capacity(jobs.len());
-    for (job, j) in jobs.iter().enumerate() {
-        if matches!(j.params.refine, Refine::Off) {
-            plans.push(None);
-            continue;
-        }
-        let edge = targets[j.target].mean_edge_length();
-        let plan =
-            plan_dent(j.projectile, &j.impact, &j.params, Some(edge)).map_err(|error| BatchError { job, error })?;
-        plans.push(Some((plan.map_grid, plan.sigma)));
-    }
-    let mut out = RefinedTargets { reports: vec![DentReport::default(); jobs.len()], ..RefinedTargets::default() };
-    for (t, target) in targets.iter().enumerate() {
-        let mine: Vec<usize> = (0..jobs.len()).filter(|&j| jobs[j].target == t && plans[j].is_some()).collect();
-        let dents: Vec<Footprint<'_>> = mine
-            .iter()
-            .filter_map(|&j| plans[j].map(|(grid, sigma)| Footprint { grid, sigma, params: &jobs[j].params }))
-            .collect();
-        let mut done = refine_for_dents(target, &dents).map_err(|(k, error)| BatchError { job: mine[k], error })?;
-        for (k, &j) in mine.iter().enumerate() {
-            done.annotate(k, &mut out.reports[j]);
-        }
-        out.meshes.push(done.parts.take().map(|(positions, faces)| TriMesh::from_valid(positions, faces)));
-        out.refinements.push(done.refinement);
     }
     Ok(out)
 }
