@@ -74,8 +74,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             dent.target, dent.projectile, dent.dent_distance, dent.projectile_offset
         );
     }
+    // A target refined under its dent (a coarse mesh) has new vertices and faces: rebuild its
+    // collider; otherwise refit it over the moved vertices.
+    let rebuilt: Vec<u32> = plan.targets.iter().filter(|t| t.topology_changed).map(|t| t.key).collect();
     for (body, moved) in bodies.apply(plan.targets) {
-        println!("body {body}: refit the collider over {} moved vertices", moved.len());
+        if rebuilt.contains(&body) {
+            println!("body {body}: refined under the dent, rebuild its collider from the new mesh");
+        } else {
+            println!("body {body}: refit the collider over {} moved vertices", moved.len());
+        }
     }
     Ok(())
 }

@@ -95,8 +95,9 @@ impl<K: Copy + Eq + Hash> TargetSet<K> {
     }
 
     /// Takes a plan's new meshes ([`DamagePlan::targets`](super::DamagePlan::targets)) and returns each body's moved
-    /// vertices, for the caller's collider refits. Dents of bodies no longer in the set are
-    /// dropped.
+    /// vertices, for the caller's collider refits (rebuild instead where the plan's target says
+    /// [`topology_changed`](DentedTarget::topology_changed): it was refined). Dents of bodies no
+    /// longer in the set are dropped.
     pub fn apply(&mut self, dented: Vec<DentedTarget<K>>) -> Vec<(K, Vec<u32>)> {
         let mut moved = Vec::with_capacity(dented.len());
         for target in dented {

@@ -12,11 +12,12 @@
 use std::collections::VecDeque;
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::TriMesh;
 
 /// Where a mesh is refined: a triangle is refined while it touches the region.
-pub trait RefineRegion {
+pub trait RefineRegion: Sync {
     /// Whether the triangle with corners `triangle` (world units) touches the region; may be
     /// conservative (say yes for a triangle just outside).
     fn touches(&self, triangle: [Vec3; 3]) -> bool;
@@ -284,10 +285,11 @@ pub(crate) fn refine_parts(
 }
 
 /// Whether any non-degenerate face of `positions`/`faces` that touches `region` has an edge
-/// longer than `max_edge` (what [`refine`] would split); one pass, nothing allocated.
+/// longer than `max_edge` (what [`refine`] would split); one pass on all cores, nothing
+/// allocated.
 pub(crate) fn any_too_long(positions: &[Vec3], faces: &[[u32; 3]], region: &dyn RefineRegion, max_edge: f32) -> bool {
     let max_sq = max_edge * max_edge;
-    faces.iter().any(|&f| {
+    faces.par_iter().any(|&f| {
         let [a, b, c] = f.map(|v| positions[v as usize]);
         let too_long =
             a.distance_squared(b) > max_sq || b.distance_squared(c) > max_sq || c.distance_squared(a) > max_sq;

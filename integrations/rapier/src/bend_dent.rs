@@ -7,7 +7,7 @@
 //! new hull.
 
 use dentbend::bend::SubBodies;
-use dentbend::dent::{BodyState, Damage, DentBackend, DentSettings, Hit, Impact, Surface, TargetSet};
+use dentbend::dent::{BodyState, Damage, DentBackend, DentSettings, Hit, Impact, Refine, Surface, TargetSet};
 use dentbend::mesh::TriMesh;
 use glam::{Affine3A, Mat3, Vec3};
 use rapier3d::prelude::{ColliderHandle, SharedShape};
@@ -49,12 +49,15 @@ pub struct BendDentReport {
 }
 
 impl Bendable {
-    /// Makes the parent mesh dentable with `settings`.
+    /// Makes the parent mesh dentable with `settings` (never refined, whatever
+    /// `settings.params.refine` says: skin weights and pieces belong to its vertices).
     ///
     /// # Errors
     /// Invalid settings.
-    pub fn set_dentable(&mut self, settings: DentSettings) -> Result<(), AdapterError> {
+    pub fn set_dentable(&mut self, mut settings: DentSettings) -> Result<(), AdapterError> {
         settings.validate()?;
+        // Never refined: skin weights and pieces belong to the rest mesh's vertices.
+        settings.params.refine = Refine::Off;
         self.dent = Some(BendDent { settings, damage: Damage::new(), step: 0 });
         Ok(())
     }

@@ -14,7 +14,7 @@ use dentbend::mesh::TriMesh;
 use glam::{Affine3A, Vec3};
 use rapier3d::prelude::{ColliderHandle, ColliderSet, RigidBodySet};
 
-use crate::refit::{Refit, ShapeKind, prepare_refit, shape_kind};
+use crate::refit::{Refit, ShapeKind, prepare_refit, rebuild_trimesh, shape_kind};
 use crate::{AdapterError, BodyStates, Contact};
 
 /// What one [`Dentables::process`] call did.
@@ -159,7 +159,12 @@ impl Dentables {
         let mut refits = Vec::with_capacity(plan.targets.len());
         for t in &plan.targets {
             let collider = colliders.get(t.key).ok_or(AdapterError::UnknownCollider(t.key))?;
-            refits.push((t.key, prepare_refit(t.key, collider, self.kinds[&t.key], &t.mesh, &t.moved)?, t.moved.len()));
+            // A refined mesh has new vertices and faces: its tri-mesh collider is rebuilt.
+            let refit = match self.kinds[&t.key] {
+                ShapeKind::TriMesh if t.topology_changed => rebuild_trimesh(t.key, collider, &t.mesh)?,
+                kind => prepare_refit(t.key, collider, kind, &t.mesh, &t.moved)?,
+            };
+            refits.push((t.key, refit, t.moved.len()));
         }
         let refit_seconds = refit_start.elapsed().as_secs_f64();
 

@@ -124,6 +124,20 @@ impl Refit {
     }
 }
 
+/// A new tri-mesh shape for `collider` from `mesh` (same flags as its shape now), for a dent
+/// that refined the mesh ([`DentedTarget::topology_changed`](dentbend::dent::DentedTarget)):
+/// its vertices and faces changed, so the shape is rebuilt instead of refitted.
+///
+/// # Errors
+/// [`AdapterError::Refit`] when the collider is not a tri-mesh or parry refuses the mesh.
+pub fn rebuild_trimesh(handle: ColliderHandle, collider: &Collider, mesh: &TriMesh) -> Result<Refit, AdapterError> {
+    let bad = |reason: String| AdapterError::Refit { collider: handle, reason };
+    let shape = collider.shape().as_trimesh().ok_or_else(|| bad("shape is not a tri-mesh".into()))?;
+    SharedShape::trimesh_with_flags(mesh.positions().to_vec(), mesh.faces().to_vec(), shape.flags())
+        .map(Refit::Shape)
+        .map_err(|e| bad(format!("the refined mesh: {e}")))
+}
+
 /// Refits `collider` to `mesh` at once ([`prepare_refit`] then [`Refit::commit`]).
 ///
 /// # Errors
