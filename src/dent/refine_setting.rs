@@ -9,7 +9,7 @@ use crate::mesh::MAX_COORDINATE;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Refine {
     /// Refine where the target's edges under the footprint are longer than the map resolves:
-    /// `max(2σ, 2 map cells)` ([`auto_max_edge`]). A dent that would need more than `max_new_triangles` new triangles
+    /// `max(2σ, 2 map cells)` ([`auto_max_edge`](super::auto_max_edge)). A dent that would need more than `max_new_triangles` new triangles
     /// is refined with edges twice, four or eight times as long (the first that fits), or not at
     /// all, with a warning in its report. The default, with
     /// [`DEFAULT_MAX_NEW_TRIANGLES`].
@@ -19,9 +19,9 @@ pub enum Refine {
     },
     /// Never refine: the dent moves the target's vertices as they are.
     Off,
-    /// Refine until no edge under the footprint is longer than this, world units (finite,
-    /// > 0). A dent that would need more than [`MAX_EDGE_NEW_TRIANGLES`] new triangles fails
-    /// with [`DentError::InvalidParameter`] and changes nothing.
+    /// Refine until no edge under the footprint is longer than this, world units (finite and
+    /// positive). A dent that would need more than [`MAX_EDGE_NEW_TRIANGLES`] new triangles
+    /// fails with [`DentError::InvalidParameter`] and changes nothing.
     MaxEdge(f32),
 }
 
