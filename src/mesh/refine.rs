@@ -54,6 +54,12 @@ impl RefineRegion for OrientedBox {
     /// Exact separating-axis test (the box's 3 axes, the triangle's normal, and the 9 products
     /// of a box axis with a triangle edge) in the box's coordinates.
     fn touches(&self, triangle: [Vec3; 3]) -> bool {
+        // Bounding spheres first: most triangles of a large mesh are far from a small box.
+        let centroid = (triangle[0] + triangle[1] + triangle[2]) / 3.0;
+        let spread = triangle.iter().map(|p| p.distance_squared(centroid)).fold(0.0, f32::max).sqrt();
+        if centroid.distance(self.centre) > self.half_extents.length() + spread {
+            return false;
+        }
         let local = triangle.map(|p| {
             let r = p - self.centre;
             Vec3::new(r.dot(self.axes[0]), r.dot(self.axes[1]), r.dot(self.axes[2]))
