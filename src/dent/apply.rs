@@ -1,5 +1,6 @@
 //! Denting a target mesh: one projectile (`dent`), or two dentable bodies at once (`dent_pair`).
 
+use super::volume::restore_volume;
 use super::{DentError, DentParams, Impact, dent_map_stages};
 use crate::mesh::TriMesh;
 
@@ -23,6 +24,13 @@ pub struct DentReport {
     pub sigma: f32,
     /// Warnings raised while applying the map.
     pub warnings: Vec<String>,
+    /// Enclosed volume after the dent minus before, cubic world units, signed (after the rim of
+    /// [`VolumeMode::Preserve`](super::VolumeMode::Preserve) when asked); meaningful for a
+    /// closed target.
+    pub volume_change: f64,
+    /// The cavity: |volume change| the displacement alone made, before any rim, cubic world
+    /// units. With `Preserve`, `|volume_change| ≤ 0.02·cavity_volume`.
+    pub cavity_volume: f64,
 }
 
 /// Dents `target` where `projectile` hits it (paper Algorithm 1).
@@ -39,7 +47,8 @@ pub fn dent(
     params: &DentParams,
 ) -> Result<DentReport, DentError> {
     let stages = dent_map_stages(projectile, impact, params, Some(target.mean_edge_length()))?;
-    let pending = stages.map.displaced(target, &params.attenuation)?;
+    let mut pending = stages.map.displaced(target, &params.attenuation)?;
+    restore_volume(target.faces(), target.normals(), target.positions(), &mut pending, &stages.map, params.volume)?;
     let displaced = pending.commit(target);
     Ok(report(&stages, displaced))
 }
@@ -73,8 +82,10 @@ pub fn dent_pair(
 ) -> Result<(DentReport, DentReport), DentError> {
     let stages_a = dent_map_stages(b, impact, params_a, Some(a.mean_edge_length()))?;
     let stages_b = dent_map_stages(a, &impact.reversed(), params_b, Some(b.mean_edge_length()))?;
-    let pending_a = stages_a.map.displaced(a, &params_a.attenuation)?;
-    let pending_b = stages_b.map.displaced(b, &params_b.attenuation)?;
+    let mut pending_a = stages_a.map.displaced(a, &params_a.attenuation)?;
+    let mut pending_b = stages_b.map.displaced(b, &params_b.attenuation)?;
+    restore_volume(a.faces(), a.normals(), a.positions(), &mut pending_a, &stages_a.map, params_a.volume)?;
+    restore_volume(b.faces(), b.normals(), b.positions(), &mut pending_b, &stages_b.map, params_b.volume)?;
     let report_a = report(&stages_a, pending_a.commit(a));
     let report_b = report(&stages_b, pending_b.commit(b));
     Ok((report_a, report_b))
@@ -90,5 +101,7 @@ pub(crate) fn report(stages: &super::DentStages, displaced: super::DisplaceRepor
         cell_size: stages.zbuffer_grid.cell_size,
         sigma: stages.sigma,
         warnings: displaced.warnings,
+        volume_change: displaced.volume_change,
+        cavity_volume: displaced.cavity_volume,
     }
 }

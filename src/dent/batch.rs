@@ -4,6 +4,7 @@
 use rayon::prelude::*;
 
 use super::map::PendingDisplacement;
+use super::volume::restore_volume;
 use super::{DentError, DentParams, DentReport, Impact, dent_map_stages};
 use crate::mesh::TriMesh;
 
@@ -85,9 +86,13 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
             let mut moved = vec![false; positions.len()];
             let mut reports = Vec::with_capacity(mine.len());
             for job in mine {
-                let pending = stages[job]
-                    .map
-                    .displaced_positions(&positions, &jobs[job].params.attenuation)
+                let (map, params) = (&stages[job].map, &jobs[job].params);
+                let pending = map
+                    .displaced_positions(&positions, &params.attenuation)
+                    .and_then(|mut p| {
+                        let normals = target.normals();
+                        restore_volume(target.faces(), normals, &positions, &mut p, map, params.volume).map(|()| p)
+                    })
                     .map_err(|error| BatchError { job, error })?;
                 moved.iter_mut().zip(&pending.moved).for_each(|(m, &p)| *m |= p);
                 positions = pending.positions;

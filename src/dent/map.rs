@@ -30,6 +30,12 @@ pub struct DisplaceReport {
     pub max_displacement: f32,
     /// Human-readable warnings (a falloff steep enough to fold thin walls, paper Figure 2d).
     pub warnings: Vec<String>,
+    /// Enclosed volume after minus before, cubic world units, signed; measured by the dent
+    /// pipeline's volume stage (zero from [`DentMap::apply`], which does not measure it).
+    pub volume_change: f64,
+    /// Volume the displacement alone changed (|volume change| before any rim), cubic world
+    /// units; zero from [`DentMap::apply`].
+    pub cavity_volume: f64,
 }
 
 /// New positions computed for a mesh, not yet written into it.
@@ -122,8 +128,8 @@ impl DentMap {
             log::warn!("{message}");
             warnings.push(message);
         }
-        let report =
-            DisplaceReport { moved_vertices: moved.iter().filter(|&&m| m).count(), max_displacement, warnings };
+        let moved_vertices = moved.iter().filter(|&&m| m).count();
+        let report = DisplaceReport { moved_vertices, max_displacement, warnings, ..Default::default() };
         Ok(PendingDisplacement { positions, moved, report })
     }
 

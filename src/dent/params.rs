@@ -1,7 +1,7 @@
 //! Tuning knobs of the dent pipeline, with their defaults and units.
 
-use super::DentError;
 use super::error::invalid;
+use super::{DentError, VolumeMode};
 pub use crate::cpu::{Attenuation, FalloffFn};
 use crate::mesh::MAX_COORDINATE;
 
@@ -84,6 +84,9 @@ pub struct DentParams {
     pub widen: f32,
     /// Lower clamp of cos θ for glancing impacts, in [0.01, 1] (default 0.1, θ ≤ 84.3°).
     pub min_cos: f32,
+    /// Whether the dent's cavity is lost (default [`VolumeMode::Free`], the paper's behaviour)
+    /// or put back as a raised rim ([`VolumeMode::Preserve`]).
+    pub volume: VolumeMode,
 }
 
 impl DentParams {
@@ -99,6 +102,7 @@ impl DentParams {
             attenuation: Attenuation::Logistic,
             widen: 0.0,
             min_cos: 0.1,
+            volume: VolumeMode::Free,
         }
     }
 

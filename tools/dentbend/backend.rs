@@ -130,6 +130,7 @@ pub fn gpu_dent(
         cell_size: info[0].cell_size,
         sigma: params.sigma_or_default(),
         warnings,
+        ..Default::default()
     })
 }
 
