@@ -128,6 +128,12 @@ pub struct AppliedDent<K> {
     /// How far to move the projectile into the dent, world, m (zero unless the target's
     /// settings ask for it; only move dynamic projectiles).
     pub projectile_offset: Vec3,
+    /// Enclosed volume the dent changed, target mesh units³, signed (after the rim of
+    /// [`VolumeMode::Preserve`](super::VolumeMode::Preserve)); a progressive dent's is measured
+    /// from its pre-dent surface. Zero from a backend that does not measure it (the GPU).
+    pub volume_change: f64,
+    /// The dent's cavity (|volume change| before any rim), target mesh units³.
+    pub cavity_volume: f64,
 }
 
 /// A target's new surface.
@@ -211,11 +217,11 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
             } else {
                 self.progress.next(key, projectile, step, limits, || latest(&plan, key).unwrap_or(target.mesh).clone())
             };
-            let Some(mesh) = dent_one(&target, d, distance, &pre_dent)? else { continue };
+            let Some((mesh, report)) = dent_one(&target, d, distance, &pre_dent)? else { continue };
             // Rebuilt from the pre-dent surface: what moved is what differs from the surface now.
             let moved = moved_vertices(latest(&plan, key).unwrap_or(target.mesh).positions(), mesh.positions());
             staged.record(key, projectile, pre_dent, distance, step);
-            plan.dents.push(applied(&target, d, distance));
+            plan.dents.push(with_volume(applied(&target, d, distance), &report));
             match plan.targets.iter_mut().find(|t| t.key == key) {
                 Some(t) => merge(t, mesh, moved),
                 None => plan.targets.push(DentedTarget { key, mesh, moved }),
@@ -292,6 +298,8 @@ fn applied<K: Copy>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) 
         impact: d.data.impact,
         dent_distance: distance,
         projectile_offset: projectile_offset(target.settings, &d.data.impact, distance),
+        volume_change: 0.0,
+        cavity_volume: 0.0,
     }
 }
 
@@ -329,7 +337,11 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
         let d = &kept[e.job];
         DamageError::Dent { hit: d.hit, target: format!("{:?}", d.data.target), error: e.error }
     })?;
-    let dents = kept.iter().map(|d| applied(&view(targets, d), d, d.distance)).collect();
+    let dents = kept
+        .iter()
+        .zip(&outcome.reports)
+        .map(|(d, report)| with_volume(applied(&view(targets, d), d, d.distance), report))
+        .collect();
     let dented = keys.into_iter().zip(meshes).zip(outcome.moved);
     let targets = dented.map(|((key, mesh), moved)| DentedTarget { key, mesh, moved }).collect();
     Ok(DamagePlan { dents, targets })
@@ -342,15 +354,17 @@ fn dent_one<K: std::fmt::Debug>(
     d: &Decided<'_, K>,
     distance: f32,
     pre_dent: &TriMesh,
-) -> Result<Option<TriMesh>, DamageError> {
+) -> Result<Option<(TriMesh, super::DentReport)>, DamageError> {
     let Some(projectile) = cropped(target, d, distance) else { return Ok(None) };
     let mut meshes = vec![pre_dent.clone()];
-    dent_batch_tracked(&mut meshes, &[job(target, d, distance, &projectile, 0)]).map_err(|e| DamageError::Dent {
-        hit: d.hit,
-        target: format!("{:?}", d.data.target),
-        error: e.error,
-    })?;
-    Ok(meshes.pop())
+    let outcome = dent_batch_tracked(&mut meshes, &[job(target, d, distance, &projectile, 0)])
+        .map_err(|e| DamageError::Dent { hit: d.hit, target: format!("{:?}", d.data.target), error: e.error })?;
+    Ok(meshes.pop().zip(outcome.reports.into_iter().next()))
+}
+
+/// `dent` with the volume its batch report measured.
+fn with_volume<K>(dent: AppliedDent<K>, report: &super::DentReport) -> AppliedDent<K> {
+    AppliedDent { volume_change: report.volume_change, cavity_volume: report.cavity_volume, ..dent }
 }
 
 /// The vertices whose position differs between `before` and `after` (bitwise), as indices, for a

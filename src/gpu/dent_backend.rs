@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::hash::Hash;
 
 use super::{GpuBatchError, GpuContext, GpuDenter};
-use crate::dent::{BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentReport, moved_vertices};
+use crate::dent::{BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentReport, VolumeMode, moved_vertices};
 use crate::mesh::TriMesh;
 
 /// Batches on a GPU, targets resident there, keyed by the caller's ids.
@@ -103,11 +103,13 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         };
         let reports = infos
             .iter()
-            .map(|i| DentReport {
+            .zip(jobs)
+            .map(|(i, job)| DentReport {
                 theta_deg: i.theta_deg,
                 resolution: i.resolution,
                 map_resolution: i.map_resolution,
                 cell_size: i.cell_size,
+                warnings: volume_warning(job),
                 ..Default::default()
             })
             .collect();
@@ -129,4 +131,14 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         }
         Ok(BatchOutcome { reports, moved })
     }
+}
+
+/// The GPU kernels do not restore volume ([`VolumeMode::Preserve`] is a CPU stage): say so.
+fn volume_warning(job: &DentJob<'_>) -> Vec<String> {
+    if job.params.volume == VolumeMode::Preserve {
+        let message = "volume preservation runs on the CPU backend only: this GPU dent does not restore volume";
+        log::warn!("{message}");
+        return vec![message.to_owned()];
+    }
+    Vec::new()
 }
