@@ -24,6 +24,7 @@ mod reach;
 mod settings;
 mod target_set;
 mod volume;
+mod volume_mode;
 
 pub use apply::{DentReport, dent, dent_pair};
 pub use artist::gaussian_heights;
@@ -49,4 +50,4 @@ pub use progressive::ProgressiveDents;
 pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
 pub use settings::DentSettings;
 pub use target_set::TargetSet;
-pub use volume::VolumeMode;
+pub use volume_mode::VolumeMode;

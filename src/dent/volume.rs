@@ -9,20 +9,9 @@
 
 use glam::{DVec3, Vec3};
 
-use super::DentMap;
 use super::map::PendingDisplacement;
+use super::{DentMap, VolumeMode};
 use crate::mesh::in_coordinate_range;
-
-/// What a dent does to the body's volume.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum VolumeMode {
-    /// The paper's behaviour: the dent's cavity is lost from the body (a sheet thins).
-    #[default]
-    Free,
-    /// Raise a rim around the crater until the enclosed volume is back: within 2 % of the
-    /// cavity volume, usually far closer (a solid's material is pushed aside, not destroyed).
-    Preserve,
-}
 
 /// Width of the rim, in crater radii past the crater's edge.
 const RIM_WIDTH: f64 = 1.0;
