@@ -43,30 +43,41 @@ pub(crate) fn restore_volume(
         let [a, b, c] = f.map(|v| p[v as usize].as_dvec3() - origin);
         a.dot(b.cross(c)) / 6.0
     };
-    let dug: f64 = faces
-        .iter()
-        .filter(|f| f.iter().any(|&v| pending.moved[v as usize]))
-        .map(|f| tetra(&pending.positions, f) - tetra(before, f))
-        .sum();
+    let moved: Vec<u32> = (0..before.len() as u32).filter(|&v| pending.moved[v as usize]).collect();
+    let rim = match mode {
+        VolumeMode::Preserve => rim_weights(normals, before, pending, &moved, map),
+        VolumeMode::Free => None,
+    };
+    // One pass over the faces: those with a moved corner changed the volume, those with a rim
+    // corner will. Each vertex's place in `rim`, or NONE.
+    const NONE: u32 = u32::MAX;
+    let mut slot = vec![NONE; if rim.is_some() { before.len() } else { 0 }];
+    if let Some((rim, _)) = &rim {
+        rim.iter().enumerate().for_each(|(k, &(v, _))| slot[v as usize] = k as u32);
+    }
+    let in_rim = |v: u32| slot.get(v as usize).is_some_and(|&k| k != NONE);
+    let (mut dug, mut rim_faces) = (0.0, Vec::new());
+    for f in faces {
+        if f.iter().any(|&v| pending.moved[v as usize]) {
+            dug += tetra(&pending.positions, f) - tetra(before, f);
+        }
+        if f.iter().any(|&v| in_rim(v)) {
+            rim_faces.push(f);
+        }
+    }
     pending.report.cavity_volume = dug.abs();
     pending.report.volume_change = dug;
     if mode == VolumeMode::Free || dug == 0.0 {
         return Ok(());
     }
-
-    let Some((rim, crater)) = rim_weights(normals, before, pending, map) else {
+    let Some((rim, crater)) = rim else {
         warn(pending, "no surface around the dent to raise a rim on: its volume is not restored");
         return Ok(());
     };
-    // Each vertex's place in `rim`, or NONE.
-    const NONE: u32 = u32::MAX;
-    let mut slot = vec![NONE; before.len()];
-    rim.iter().enumerate().for_each(|(k, &(v, _))| slot[v as usize] = k as u32);
     let push = |v: u32| match slot[v as usize] {
         NONE => DVec3::ZERO,
         k => rim[k as usize].1,
     };
-    let rim_faces: Vec<&[u32; 3]> = faces.iter().filter(|f| f.iter().any(|&v| slot[v as usize] != NONE)).collect();
     let cubic = rim_faces.iter().fold([dug, 0.0, 0.0, 0.0], |mut k, f| {
         let [a, b, c] = f.map(|v| pending.positions[v as usize].as_dvec3() - origin);
         let [ua, ub, uc] = f.map(push);
@@ -96,12 +107,12 @@ pub(crate) fn restore_volume(
     for (&(v, _), &q) in rim.iter().zip(&old) {
         let i = v as usize;
         if pending.positions[i] != q {
+            pending.report.moved_vertices += usize::from(!pending.moved[i]);
             pending.moved[i] = true;
             let length = pending.positions[i].distance(before[i]);
             pending.report.max_displacement = pending.report.max_displacement.max(length);
         }
     }
-    pending.report.moved_vertices = pending.moved.iter().filter(|&&m| m).count();
     Ok(())
 }
 
@@ -116,34 +127,38 @@ fn rim_weights(
     normals: &[Vec3],
     before: &[Vec3],
     pending: &PendingDisplacement,
+    moved: &[u32],
     map: &DentMap,
 ) -> Option<(Vec<(u32, DVec3)>, f64)> {
-    let (centre, axis) = (map.grid.origin.as_dvec3(), map.grid.axis_z.as_dvec3());
+    let (centre, axis) = (map.grid.origin, map.grid.axis_z);
     let offsets = |p: Vec3| {
-        let r = p.as_dvec3() - centre;
-        let z = r.dot(axis);
-        ((r - z * axis).length(), z)
+        let r = (p - centre).as_dvec3();
+        let z = r.dot(axis.as_dvec3());
+        ((r - z * axis.as_dvec3()).length(), z)
     };
-    let shift = |v: usize| pending.positions[v].distance(before[v]);
-    let moved = || (0..before.len()).filter(|&v| pending.moved[v]);
-    let deepest = moved().map(shift).fold(0.0, f32::max);
-    let crater = moved()
-        .filter(|&v| shift(v) >= CRATER_FRACTION * deepest)
-        .map(|v| offsets(before[v]).0)
+    let shift = |v: u32| pending.positions[v as usize].distance(before[v as usize]);
+    let deepest = moved.iter().map(|&v| shift(v)).fold(0.0, f32::max);
+    let crater = moved
+        .iter()
+        .filter(|&&v| shift(v) >= CRATER_FRACTION * deepest)
+        .map(|&v| offsets(before[v as usize]).0)
         .fold(0.0, f64::max)
         .max(f64::from(map.grid.cell_size));
     let outer = (1.0 + RIM_WIDTH) * crater;
+    // A cheap f32 test first: the rim lies within the ball of radius √(outer² + crater²).
+    let reach = ((outer * outer + crater * crater).sqrt() * 1.001) as f32;
     let bump = |x: f64| (1.0 - x * x).max(0.0).powi(2);
-    let rim: Vec<(u32, DVec3)> = (0..before.len())
+    let rim: Vec<(u32, DVec3)> = (0..before.len() as u32)
+        .filter(|&v| before[v as usize].distance_squared(centre) < reach * reach)
         .filter_map(|v| {
-            let (r, z) = offsets(before[v]);
+            let (r, z) = offsets(before[v as usize]);
             if r >= outer || z.abs() >= crater {
                 return None;
             }
             let lip = 1.0 - f64::from(shift(v) / deepest.max(f32::MIN_POSITIVE)).min(1.0);
             let w = bump(r / outer) * bump(z / crater) * lip;
-            let n = normals.get(v)?.as_dvec3().try_normalize()?;
-            (w > 0.0).then_some((v as u32, w * n))
+            let n = normals.get(v as usize)?.as_dvec3().try_normalize()?;
+            (w > 0.0).then_some((v, w * n))
         })
         .collect();
     (!rim.is_empty()).then_some((rim, crater))
