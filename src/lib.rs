@@ -61,8 +61,8 @@ pub mod scene;
 pub mod sim;
 
 pub use dent::{
-    Attenuation, DentError, DentMap, DentParams, DentReport, Impact, Resolution, dent, dent_map, dent_map_stages,
-    dent_pair,
+    Attenuation, DentError, DentMap, DentParams, DentReport, Impact, Resolution, VolumeMode, dent, dent_map,
+    dent_map_stages, dent_pair,
 };
 pub use glam;
 pub use mesh::{MeshError, TriMesh};

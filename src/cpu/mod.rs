@@ -22,6 +22,7 @@ pub use displace::{displace, falloff_table};
 pub use envelope_cols::envelope_cols;
 pub use envelope_rows::envelope_rows;
 pub use glance::glance;
+pub(crate) use glance::glance_band;
 pub use heat::{heat, heat_step};
 pub use interleave::{InterleaveParams, NO_NORMAL, interleave};
 pub use layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff};

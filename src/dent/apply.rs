@@ -1,6 +1,8 @@
 //! Denting a target mesh: one projectile (`dent`), or two dentable bodies at once (`dent_pair`).
 
+use super::map::PendingDisplacement;
 use super::refine_target::{Footprint, RefinedTarget, refine_for_dents};
+use super::volume::restore_volume;
 use super::{DentError, DentParams, Impact, dent_map_stages};
 use crate::mesh::TriMesh;
 
@@ -29,6 +31,13 @@ pub struct DentReport {
     pub refined_vertices: usize,
     /// Triangles the refine stage added to the target before this dent.
     pub refined_triangles: usize,
+    /// Enclosed volume after the dent minus before, cubic world units, signed (after the rim of
+    /// [`VolumeMode::Preserve`](super::VolumeMode::Preserve) when asked); meaningful for a
+    /// closed target.
+    pub volume_change: f64,
+    /// The cavity: |volume change| the displacement alone made, before any rim, cubic world
+    /// units. With `Preserve`, `|volume_change| ≤ 0.02·cavity_volume`.
+    pub cavity_volume: f64,
 }
 
 /// Dents `target` where `projectile` hits it (paper Algorithm 1).
@@ -46,7 +55,7 @@ pub fn dent(
 ) -> Result<DentReport, DentError> {
     let stages = dent_map_stages(projectile, impact, params, Some(target.mean_edge_length()))?;
     let mut refined = refine_for_dents(target, &[footprint(&stages, params)]).map_err(|(_, e)| e)?;
-    let pending = stages.map.displaced_positions(refined.positions(target), &params.attenuation)?;
+    let pending = displace_and_keep_volume(&refined, target, &stages.map, params)?;
     let mut out = report(&stages, refined.commit(target, pending));
     note_refinement(&mut out, &refined, 0);
     Ok(out)
@@ -83,8 +92,8 @@ pub fn dent_pair(
     let stages_b = dent_map_stages(a, &impact.reversed(), params_b, Some(b.mean_edge_length()))?;
     let mut refined_a = refine_for_dents(a, &[footprint(&stages_a, params_a)]).map_err(|(_, e)| e)?;
     let mut refined_b = refine_for_dents(b, &[footprint(&stages_b, params_b)]).map_err(|(_, e)| e)?;
-    let pending_a = stages_a.map.displaced_positions(refined_a.positions(a), &params_a.attenuation)?;
-    let pending_b = stages_b.map.displaced_positions(refined_b.positions(b), &params_b.attenuation)?;
+    let pending_a = displace_and_keep_volume(&refined_a, a, &stages_a.map, params_a)?;
+    let pending_b = displace_and_keep_volume(&refined_b, b, &stages_b.map, params_b)?;
     let mut report_a = report(&stages_a, refined_a.commit(a, pending_a));
     let mut report_b = report(&stages_b, refined_b.commit(b, pending_b));
     note_refinement(&mut report_a, &refined_a, 0);
@@ -104,6 +113,8 @@ pub(crate) fn report(stages: &super::DentStages, displaced: super::DisplaceRepor
         warnings: displaced.warnings,
         refined_vertices: 0,
         refined_triangles: 0,
+        volume_change: displaced.volume_change,
+        cavity_volume: displaced.cavity_volume,
     }
 }
 
@@ -118,4 +129,20 @@ pub(crate) fn note_refinement(report: &mut DentReport, refined: &RefinedTarget, 
 /// The refine stage's view of a dent whose map is `stages`.
 pub(crate) fn footprint<'p>(stages: &super::DentStages, params: &'p DentParams) -> Footprint<'p> {
     Footprint { grid: stages.map.grid, sigma: stages.sigma, params }
+}
+
+/// Stages 2–3 of one dent on a target after its refine stage: displaces the surface to dent
+/// (refined, or the target's own) by `map` and, when `params` asks, puts the cavity's volume
+/// back; nothing is written yet.
+pub(crate) fn displace_and_keep_volume(
+    refined: &RefinedTarget,
+    target: &TriMesh,
+    map: &super::DentMap,
+    params: &DentParams,
+) -> Result<PendingDisplacement, DentError> {
+    let before = refined.positions(target);
+    let mut pending = map.displaced_positions(before, &params.attenuation)?;
+    let (faces, normals) = refined.surface(target);
+    restore_volume(faces, &normals, before, &mut pending, map, params.volume)?;
+    Ok(pending)
 }

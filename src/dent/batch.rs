@@ -6,6 +6,7 @@ use rayon::prelude::*;
 use glam::Vec3;
 
 use super::refine_target::{RefinedTarget, refine_for_dents};
+use super::volume::restore_volume;
 use super::{DentError, DentParams, DentReport, Impact, dent_map_stages};
 use crate::mesh::{Refinement, TriMesh};
 
@@ -107,10 +108,16 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
             // New vertices count as moved: a caller's collider does not have them yet.
             let mut moved: Vec<bool> = (0..positions.len()).map(|v| v >= target.vertex_count()).collect();
             let mut reports = Vec::with_capacity(mine.len());
+            // The rim pushes along the normals from before the batch (its size is solved, so the
+            // volume is exact; only the direction lags behind earlier dents of the batch).
+            let (faces, normals) = refined.surface(target);
             for (k, &job) in mine.iter().enumerate() {
-                let pending = stages[job]
-                    .map
-                    .displaced_positions(&positions, &jobs[job].params.attenuation)
+                let (map, params) = (&stages[job].map, &jobs[job].params);
+                let pending = map
+                    .displaced_positions(&positions, &params.attenuation)
+                    .and_then(|mut p| {
+                        restore_volume(faces, &normals, &positions, &mut p, map, params.volume).map(|()| p)
+                    })
                     .map_err(|error| BatchError { job, error })?;
                 moved.iter_mut().zip(&pending.moved).for_each(|(m, &p)| *m |= p);
                 positions = pending.positions;

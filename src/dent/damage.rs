@@ -128,6 +128,12 @@ pub struct AppliedDent<K> {
     /// How far to move the projectile into the dent, world, m (zero unless the target's
     /// settings ask for it; only move dynamic projectiles).
     pub projectile_offset: Vec3,
+    /// Enclosed volume the dent changed, target mesh units³, signed (after the rim of
+    /// [`VolumeMode::Preserve`](super::VolumeMode::Preserve)); a progressive dent's is measured
+    /// from its pre-dent surface. Zero from a backend that does not measure it (the GPU).
+    pub volume_change: f64,
+    /// The dent's cavity (|volume change| before any rim), target mesh units³.
+    pub cavity_volume: f64,
 }
 
 /// A target's new surface.
@@ -221,7 +227,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
             } else {
                 self.progress.next(key, projectile, step, limits, || latest(&plan, key).unwrap_or(target.mesh).clone())
             };
-            let Some((mesh, refinement)) = dent_one(&target, d, distance, &pre_dent)? else { continue };
+            let Some((mesh, refinement, report)) = dent_one(&target, d, distance, &pre_dent)? else { continue };
             // Rebuilt from the pre-dent surface: what moved is what differs from the surface now
             // (and every vertex past the shorter of the two).
             let now = latest(&plan, key).unwrap_or(target.mesh);
@@ -229,7 +235,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
             moved.extend(now.vertex_count().min(mesh.vertex_count()) as u32..mesh.vertex_count() as u32);
             let topology_changed = now.faces() != mesh.faces();
             staged.record(key, projectile, pre_dent, distance, step);
-            plan.dents.push(applied(&target, d, distance));
+            plan.dents.push(with_volume(applied(&target, d, distance), &report));
             let dented = DentedTarget { key, mesh, moved, refinement, topology_changed };
             match plan.targets.iter_mut().find(|t| t.key == key) {
                 Some(t) => merge(t, dented),
@@ -307,6 +313,8 @@ fn applied<K: Copy>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) 
         impact: d.data.impact,
         dent_distance: distance,
         projectile_offset: projectile_offset(target.settings, &d.data.impact, distance),
+        volume_change: 0.0,
+        cavity_volume: 0.0,
     }
 }
 
@@ -344,7 +352,11 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
         let d = &kept[e.job];
         DamageError::Dent { hit: d.hit, target: format!("{:?}", d.data.target), error: e.error }
     })?;
-    let dents = kept.iter().map(|d| applied(&view(targets, d), d, d.distance)).collect();
+    let dents = kept
+        .iter()
+        .zip(&outcome.reports)
+        .map(|(d, report)| with_volume(applied(&view(targets, d), d, d.distance), report))
+        .collect();
     let changed: Vec<bool> = (0..keys.len()).map(|t| outcome.topology_changed(t)).collect();
     let mut refined = outcome.refined.into_iter();
     let dented = keys.into_iter().zip(meshes).zip(outcome.moved).zip(changed);
@@ -364,13 +376,19 @@ fn dent_one<K: std::fmt::Debug>(
     d: &Decided<'_, K>,
     distance: f32,
     pre_dent: &TriMesh,
-) -> Result<Option<(TriMesh, Refinement)>, DamageError> {
+) -> Result<Option<(TriMesh, Refinement, super::DentReport)>, DamageError> {
     let Some(projectile) = cropped(target, d, distance) else { return Ok(None) };
     let mut meshes = vec![pre_dent.clone()];
     let outcome = dent_batch_tracked(&mut meshes, &[job(target, d, distance, &projectile, 0)])
         .map_err(|e| DamageError::Dent { hit: d.hit, target: format!("{:?}", d.data.target), error: e.error })?;
     let refinement = outcome.refined.into_iter().next().unwrap_or_default();
-    Ok(meshes.pop().map(|mesh| (mesh, refinement)))
+    let report = outcome.reports.into_iter().next().unwrap_or_default();
+    Ok(meshes.pop().map(|mesh| (mesh, refinement, report)))
+}
+
+/// `dent` with the volume its batch report measured.
+fn with_volume<K>(dent: AppliedDent<K>, report: &super::DentReport) -> AppliedDent<K> {
+    AppliedDent { volume_change: report.volume_change, cavity_volume: report.cavity_volume, ..dent }
 }
 
 /// The vertices whose position differs between `before` and `after` (bitwise), as indices, for a

@@ -30,6 +30,12 @@ pub struct DisplaceReport {
     pub max_displacement: f32,
     /// Human-readable warnings (a falloff steep enough to fold thin walls, paper Figure 2d).
     pub warnings: Vec<String>,
+    /// Enclosed volume after minus before, cubic world units, signed; measured by the dent
+    /// pipeline's volume stage (zero from [`DentMap::apply`], which does not measure it).
+    pub volume_change: f64,
+    /// Volume the displacement alone changed (|volume change| before any rim), cubic world
+    /// units; zero from [`DentMap::apply`].
+    pub cavity_volume: f64,
 }
 
 /// New positions computed for a mesh, not yet written into it.
@@ -79,6 +85,8 @@ impl DentMap {
     /// measure in f32, [`DentError::NonFiniteResult`] if a vertex would leave finite space;
     /// `target` is unchanged then.
     pub fn apply(&self, target: &mut TriMesh, attenuation: &Attenuation) -> Result<DisplaceReport, DentError> {
+        self.validate()?;
+        self.validate_cells()?;
         Ok(self.displaced(target, attenuation)?.commit(target))
     }
 
@@ -92,6 +100,8 @@ impl DentMap {
     }
 
     /// Computes the displaced copy of `before` (a target's vertex positions) without writing it.
+    /// The cells are not scanned for non-finite values (the pipeline checked the rows it wrote;
+    /// [`DentMap::apply`] checks a caller's map); a vertex moved out of range is still an error.
     pub(crate) fn displaced_positions(
         &self,
         before: &[Vec3],
@@ -118,8 +128,8 @@ impl DentMap {
             log::warn!("{message}");
             warnings.push(message);
         }
-        let report =
-            DisplaceReport { moved_vertices: moved.iter().filter(|&&m| m).count(), max_displacement, warnings };
+        let moved_vertices = moved.iter().filter(|&&m| m).count();
+        let report = DisplaceReport { moved_vertices, max_displacement, warnings, ..Default::default() };
         Ok(PendingDisplacement { positions, moved, report })
     }
 
@@ -156,6 +166,12 @@ impl DentMap {
         if !g.origin.is_finite() || !axes_ok {
             return Err(invalid("dent map grid", format!("{g:?}"), "needs a finite origin and unit axes"));
         }
+        Ok(())
+    }
+
+    /// Fails when a cell holds a non-finite value: `O(res²)`, which a steep glance's mostly empty
+    /// map makes the largest cost of applying it, so only maps from outside the pipeline pay it.
+    fn validate_cells(&self) -> Result<(), DentError> {
         if self.cells.iter().flatten().any(|v| !v.is_finite()) {
             return Err(invalid("dent map cells", "non-finite", "every displacement must be finite"));
         }

@@ -26,6 +26,8 @@ mod refine_setting;
 mod refine_target;
 mod settings;
 mod target_set;
+mod volume;
+mod volume_mode;
 
 pub use apply::{DentReport, dent, dent_pair};
 pub use artist::gaussian_heights;
@@ -54,3 +56,4 @@ pub use refine_setting::{DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refi
 pub use refine_target::{auto_max_edge, footprint_box};
 pub use settings::DentSettings;
 pub use target_set::TargetSet;
+pub use volume_mode::VolumeMode;

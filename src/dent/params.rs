@@ -1,7 +1,7 @@
 //! Tuning knobs of the dent pipeline, with their defaults and units.
 
-use super::DentError;
 use super::error::invalid;
+use super::{DentError, VolumeMode};
 pub use crate::cpu::{Attenuation, FalloffFn};
 use crate::mesh::MAX_COORDINATE;
 
@@ -87,6 +87,9 @@ pub struct DentParams {
     /// Refinement of the target under the dent before it is displaced (default
     /// [`Refine::Auto`](super::Refine::Auto): where the map needs it, capped).
     pub refine: super::Refine,
+    /// Whether the dent's cavity is lost (default [`VolumeMode::Free`], the paper's behaviour)
+    /// or put back as a raised rim ([`VolumeMode::Preserve`]).
+    pub volume: VolumeMode,
 }
 
 impl DentParams {
@@ -103,6 +106,7 @@ impl DentParams {
             widen: 0.0,
             min_cos: 0.1,
             refine: super::Refine::default(),
+            volume: VolumeMode::Free,
         }
     }
 

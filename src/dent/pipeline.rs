@@ -75,9 +75,12 @@ pub fn dent_map_stages(
         return Err(DentError::EmptyProfile);
     }
 
+    // Zeroed, then only the rows that can read a height are written (a steep glance's map is
+    // mostly empty rows: `cpu::glance_band`).
     let mut map_cells = vec![[0.0; 4]; plan.map_grid.cell_count()];
-    cpu::glance(&plan.glance, &smoothed, &mut map_cells);
-    if map_cells.iter().flatten().any(|v| !v.is_finite()) {
+    let band = cpu::glance_band(&plan.glance, &smoothed, &mut map_cells);
+    let width = plan.map_grid.res as usize;
+    if map_cells[band.start * width..band.end * width].iter().flatten().any(|v| !v.is_finite()) {
         return Err(super::error::invalid("dent_distance", d, "is too large for f32 arithmetic"));
     }
     let map = DentMap { grid: plan.map_grid, cells: map_cells, dent_distance: d };

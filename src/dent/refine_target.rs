@@ -8,6 +8,8 @@
 //! in front of the plane to the depth where the falloff drops below 1 %. Refinement only
 //! appends vertices and faces, so every other stage can keep using vertex indices.
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 
 use super::error::invalid;
@@ -83,6 +85,14 @@ impl RefinedTarget {
     /// The positions to displace: the refined ones, or `target`'s own.
     pub(crate) fn positions<'a>(&'a self, target: &'a TriMesh) -> &'a [Vec3] {
         self.parts.as_ref().map_or(target.positions(), |(p, _)| p)
+    }
+
+    /// The faces and vertex normals of the surface to displace: the refined ones, or `target`'s.
+    pub(crate) fn surface<'a>(&'a self, target: &'a TriMesh) -> (&'a [[u32; 3]], Cow<'a, [Vec3]>) {
+        match &self.parts {
+            None => (target.faces(), Cow::Borrowed(target.normals())),
+            Some((p, f)) => (f, Cow::Owned(TriMesh::from_valid(p.clone(), f.clone()).normals().to_vec())),
+        }
     }
 
     /// Dent `k`'s vertices and triangles added, and its warning.

@@ -10,7 +10,7 @@ use std::hash::Hash;
 
 use super::{GpuBatchError, GpuContext, GpuDenter};
 use crate::dent::{
-    BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentReport, moved_vertices, refine_targets,
+    BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentReport, VolumeMode, moved_vertices, refine_targets,
 };
 use crate::mesh::TriMesh;
 
@@ -114,11 +114,13 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         let reports = infos
             .iter()
             .zip(refined.reports)
-            .map(|(i, refine)| DentReport {
+            .zip(jobs)
+            .map(|((i, refine), job)| DentReport {
                 theta_deg: i.theta_deg,
                 resolution: i.resolution,
                 map_resolution: i.map_resolution,
                 cell_size: i.cell_size,
+                warnings: [refine.warnings.clone(), volume_warning(job)].concat(),
                 ..refine
             })
             .collect();
@@ -143,4 +145,14 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         }
         Ok(BatchOutcome { reports, moved, refined: refined.refinements })
     }
+}
+
+/// The GPU kernels do not restore volume ([`VolumeMode::Preserve`] is a CPU stage): say so.
+fn volume_warning(job: &DentJob<'_>) -> Vec<String> {
+    if job.params.volume == VolumeMode::Preserve {
+        let message = "volume preservation runs on the CPU backend only: this GPU dent does not restore volume";
+        log::warn!("{message}");
+        return vec![message.to_owned()];
+    }
+    Vec::new()
 }

@@ -101,6 +101,19 @@ pub(super) struct DentFile {
     pub min_cos: Option<Spanned<f32>>,
     /// 1/m.
     pub widen: Option<Spanned<f32>>,
+    /// What the body is made of: decides `preserve_volume` when that is not given.
+    pub material: Option<MaterialSpec>,
+    /// Raise a rim that keeps the volume (`VolumeMode::Preserve`).
+    pub preserve_volume: Option<bool>,
+}
+
+/// `material = "solid" | "sheet"`: a solid's dent pushes material aside (volume kept), a
+/// sheet's thins it (volume lost, the paper's behaviour).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(super) enum MaterialSpec {
+    Solid,
+    Sheet,
 }
 
 /// `attenuation = "logistic" | "linear" | "none"`.

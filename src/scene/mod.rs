@@ -65,6 +65,8 @@
 //! | `attenuation_scale` | with `"linear"`: depth where the dent has faded, in dent distances    | 1            |
 //! | `min_cos`           | lower clamp of cos θ for glancing hits, in [0.01, 1]                  | 0.1          |
 //! | `widen`             | widening t of glancing dents, 1/m                                     | 0            |
+//! | `material`          | `"solid"` (dents push material into a rim) or `"sheet"` (dents thin it) | none        |
+//! | `preserve_volume`   | raise a rim that keeps the volume; default true for `"solid"`         | false        |
 //!
 //! `[body.bend]` (optional; present = the body bends, paper §4: it is simulated as one rigid
 //! sub-body per bone, `<name>/bone<k>`, joined at the skeleton's joints, and drawn as its rest

@@ -9,12 +9,12 @@ use glam::{Affine3A, Quat, Vec3};
 use toml::Spanned;
 
 use super::Camera;
-use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, ResolutionSpec, SceneFile, Triple};
+use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, MaterialSpec, ResolutionSpec, SceneFile, Triple};
 use super::parse_bend::{add_error as bend_add_error, bendable_desc};
 use super::source::Source;
 use super::{DEFAULT_FRAMES, LoadOptions, MeshPaths, Scene, SceneError, framing_camera};
 use crate::coupling::Bending;
-use crate::dent::{Attenuation, DentError, MAX_SPEED, Resolution};
+use crate::dent::{Attenuation, DentError, MAX_SPEED, Resolution, VolumeMode};
 use crate::mesh::confined::resolve_inside;
 use crate::mesh::{self, MAX_COORDINATE, TriMesh};
 use crate::sim::{BodyDesc, DentSettings, MAX_ANGULAR_SPEED, SimError, SurfaceMaterial, World};
@@ -379,6 +379,12 @@ fn dent_settings(src: &Source<'_>, body: &str, dent: &Spanned<DentFile>) -> Resu
     params.heat_rate = value(&file.heat_rate, params.heat_rate);
     params.min_cos = value(&file.min_cos, params.min_cos);
     params.widen = value(&file.widen, params.widen);
+    // An explicit `preserve_volume` wins; otherwise a solid keeps its volume, and a sheet, or a
+    // body that does not say, loses it as in the paper.
+    let solid = file.material == Some(MaterialSpec::Solid);
+    if file.preserve_volume.unwrap_or(solid) {
+        params.volume = VolumeMode::Preserve;
+    }
     let attenuation = file.attenuation.as_ref().map(|a| *a.get_ref());
     if let Some(scale) = &file.attenuation_scale
         && attenuation != Some(AttenuationSpec::Linear)

@@ -133,6 +133,8 @@ impl DecidedDent {
             normal: self.impact.normal,
             relative_velocity: self.impact.relative_velocity,
             dent_distance,
+            volume_change: 0.0,
+            cavity_volume: 0.0,
         }
     }
 

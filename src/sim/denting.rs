@@ -31,6 +31,11 @@ pub struct DentRecord {
     pub relative_velocity: Vec3,
     /// Dent distance used, m (for progressive dents: the accumulated distance).
     pub dent_distance: f32,
+    /// Enclosed volume the dent changed, m³, signed (after any rim; zero where not measured:
+    /// GPU batches and bending bodies' dents).
+    pub volume_change: f64,
+    /// The dent's cavity (|volume change| before any rim), m³.
+    pub cavity_volume: f64,
 }
 
 /// Runs the dents of each step's collisions.
@@ -169,6 +174,8 @@ impl Denter {
                 normal: d.impact.normal,
                 relative_velocity: d.impact.relative_velocity,
                 dent_distance: d.dent_distance,
+                volume_change: d.volume_change,
+                cavity_volume: d.cavity_volume,
             })
             .collect();
         for target in plan.targets {

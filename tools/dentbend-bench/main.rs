@@ -2,6 +2,7 @@
 //! as JSON. Every kernel runs on one CPU thread.
 
 mod displace;
+mod glance;
 mod gpu;
 #[path = "../common/headless.rs"]
 mod headless;
@@ -101,6 +102,23 @@ enum Command {
         #[arg(long, default_value_t = 0.5)]
         min_time: f64,
     },
+    /// Head-on dents next to steep glancing ones (θ 60–84°) on one target, interleaved in one
+    /// run, soak-like hits: median, p99 and max per-dent wall time of each group.
+    Glance {
+        /// Dents per group.
+        #[arg(long, default_value_t = 500)]
+        dents: usize,
+        /// Target: a built-in mesh name or a .obj/.ply/.gltf/.glb path.
+        #[arg(long, default_value = "block-fine")]
+        target: String,
+        /// Seed of the random hits.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Write the report as JSON: {"head_on":{"median_ms","p99_ms","max_ms",..},"steep":{..},
+        /// "steep_p99_over_head_on_median",..}.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Dent one target N times at seeded random points of its surface (a small ball, random
     /// incidence) through the damage API on the CPU: errors, non-finite vertices, per-dent
     /// times, triangle quality, volume and memory, first against last.
@@ -176,6 +194,11 @@ fn run(cli: Cli) -> Result<(), String> {
                 report.displace_s * 1e3,
                 report.apply_s * 1e3
             );
+            write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
+        }
+        Command::Glance { dents, target, seed, json } => {
+            let report = glance::run(&target, dents, seed)?;
+            print!("{}", glance::render(&report));
             write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
         }
         Command::Soak { dents, target, seed, json } => {

@@ -240,7 +240,7 @@ fn checkpoint(dents: usize, mesh: &TriMesh) -> Checkpoint {
 }
 
 /// The `p`-quantile of ascending `sorted` (non-empty) by the nearest-rank rule.
-fn nearest_rank(sorted: &[f64], p: f64) -> f64 {
+pub fn nearest_rank(sorted: &[f64], p: f64) -> f64 {
     let rank = (p * sorted.len() as f64).ceil() as usize;
     sorted[rank.clamp(1, sorted.len()) - 1]
 }

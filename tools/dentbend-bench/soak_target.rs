@@ -7,7 +7,7 @@ use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Impact, S
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::{TriMesh, mesh};
 
-use crate::surface_sample::{Rng, direction_in_cone, sample_surface};
+use crate::surface_sample::{Rng, SurfacePoint, direction_in_cone, sample_surface};
 
 /// Projectile speed, m/s.
 pub const SPEED: f32 = 10.0;
@@ -61,6 +61,12 @@ impl SoakTarget {
     pub fn hit(&mut self, rng: &mut Rng, step: u64) -> Result<HitOutcome, String> {
         let at = sample_surface(self.mesh(), rng).ok_or("the target's surface has no area left")?;
         let velocity = SPEED * direction_in_cone(-at.normal, self.half_angle, rng);
+        Ok(self.hit_at(at, velocity, step))
+    }
+
+    /// Hits the current surface at `at`, the ball touching it there and moving at `velocity`
+    /// (m/s); `step` numbers the hit.
+    pub fn hit_at(&mut self, at: SurfacePoint, velocity: Vec3, step: u64) -> HitOutcome {
         let centre = at.point + self.radius * at.normal;
         let projectile_state = BodyState::moving(centre, velocity, Vec3::ZERO, 1.0, Mat3::IDENTITY);
         let projectile_surface = Surface { mesh: &self.ball, to_world: Affine3A::from_translation(centre) };
@@ -84,6 +90,6 @@ impl SoakTarget {
                 let moved = self.set.apply(plan.targets).iter().map(|(_, m)| m.len()).sum();
                 (made, moved)
             });
-        Ok(HitOutcome { elapsed: start.elapsed(), result })
+        HitOutcome { elapsed: start.elapsed(), result }
     }
 }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use dentbend::dent::Refine;
 use dentbend::glam::Vec3;
-use dentbend::{Attenuation, Impact, MeshError, TriMesh, mesh};
+use dentbend::{Attenuation, Impact, MeshError, TriMesh, VolumeMode, mesh};
 
 use crate::backend::{BackendOption, gpu_dent};
 use crate::error::{CliError, flag_error};
@@ -76,6 +76,11 @@ pub struct DentArgs {
     #[arg(long, value_name = "auto|off|MAX_EDGE", default_value = "auto", value_parser = parse_refine, allow_negative_numbers = true)]
     pub refine: Refine,
 
+    /// Keep the target's volume: raise a rim around the crater that puts back the volume the
+    /// dent takes (within 2 % of it; CPU backend only)
+    #[arg(long)]
+    pub preserve_volume: bool,
+
     /// Output OBJ file (not written if anything fails)
     #[arg(long, value_name = "OUT.obj")]
     pub out: PathBuf,
@@ -97,6 +102,9 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
         (Falloff::None, None) => Attenuation::None,
     };
     params.refine = args.refine;
+    if args.preserve_volume {
+        params.volume = VolumeMode::Preserve;
+    }
     params.validate().map_err(flag_error)?;
     require_extension(&args.out, "--out", &["obj"])?;
     if let Some(path) = &args.projectile_out {
@@ -113,6 +121,9 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
         return Err(CliError::Usage("--projectile-out must differ from --out".into()));
     }
     let gpu = args.backend.context()?;
+    if args.preserve_volume && gpu.is_some() {
+        return Err(CliError::Usage("--preserve-volume runs on the CPU: use --backend cpu".into()));
+    }
     let report = match &args.projectile_out {
         None => {
             let report = match gpu {
@@ -138,12 +149,14 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
         n => format!(", refined first: +{n} triangles, +{} vertices", report.refined_vertices),
     };
     let summary = format!(
-        "dent: moved {} of {} vertices of {} by up to {} (θ = {:.1}°, {res}×{res} cells{refined}) → {}",
+        "dent: moved {} of {} vertices of {} by up to {} (θ = {:.1}°, {res}×{res} cells{refined}, volume change {} of a {} cavity) → {}",
         report.moved_vertices,
         target.vertex_count(),
         args.target,
         sig3(report.max_displacement),
         report.theta_deg,
+        sig3(report.volume_change as f32),
+        sig3(report.cavity_volume as f32),
         args.out.display(),
         res = report.resolution,
     );

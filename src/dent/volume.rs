@@ -1,0 +1,215 @@
+//! Stage 3 of a dent: measure the volume the displacement changed and, when asked, put it back
+//! with a raised rim around the crater (DESIGN.md §4 "Volume").
+//!
+//! Only the triangles with a moved corner change the enclosed volume, so the change is summed
+//! over those alone (signed tetrahedra against the impact point, f64). To restore it, a ring of
+//! vertices around the crater moves out along its vertex normals by `s·w_i`: `w_i` is largest
+//! just outside the crater and fades to zero at twice its radius, and `s` solves
+//! `ΔV(s) = 0` exactly (`ΔV` is a cubic in `s`: each triangle's tetrahedron is).
+
+use glam::{DVec3, Vec3};
+
+use super::map::PendingDisplacement;
+use super::{DentMap, VolumeMode};
+use crate::mesh::in_coordinate_range;
+
+/// Width of the rim, in crater radii past the crater's edge.
+const RIM_WIDTH: f64 = 1.0;
+/// Vertices displaced by at least this fraction of the largest displacement form the crater
+/// whose radius sets the rim's.
+const CRATER_FRACTION: f32 = 0.1;
+/// Largest rim push tried, in crater radii: a cavity no rim that high can refill is left alone
+/// (with a warning) rather than grown into a spike.
+const MAX_PUSH_RADII: f64 = 4.0;
+
+/// Measures the volume change `pending` makes to a mesh of `faces` whose positions were
+/// `before`, and under [`VolumeMode::Preserve`] pushes a rim around `map`'s crater out along
+/// `normals` (the mesh's vertex normals before the dent) until it is undone. Writes the result
+/// into `pending.report`.
+///
+/// # Errors
+/// [`DentError::NonFiniteResult`](super::DentError::NonFiniteResult) when the rim would leave
+/// the coordinate range; `pending` is unchanged then.
+pub(crate) fn restore_volume(
+    faces: &[[u32; 3]],
+    normals: &[Vec3],
+    before: &[Vec3],
+    pending: &mut PendingDisplacement,
+    map: &DentMap,
+    mode: VolumeMode,
+) -> Result<(), super::DentError> {
+    let origin = map.grid.origin.as_dvec3();
+    let tetra = |p: &[Vec3], f: &[u32; 3]| {
+        let [a, b, c] = f.map(|v| p[v as usize].as_dvec3() - origin);
+        a.dot(b.cross(c)) / 6.0
+    };
+    let moved: Vec<u32> = (0..before.len() as u32).filter(|&v| pending.moved[v as usize]).collect();
+    let rim = match mode {
+        VolumeMode::Preserve => rim_weights(normals, before, pending, &moved, map),
+        VolumeMode::Free => None,
+    };
+    // One pass over the faces: those with a moved corner changed the volume, those with a rim
+    // corner will. Each vertex's place in `rim`, or NONE.
+    const NONE: u32 = u32::MAX;
+    let mut slot = vec![NONE; if rim.is_some() { before.len() } else { 0 }];
+    if let Some((rim, _)) = &rim {
+        rim.iter().enumerate().for_each(|(k, &(v, _))| slot[v as usize] = k as u32);
+    }
+    let in_rim = |v: u32| slot.get(v as usize).is_some_and(|&k| k != NONE);
+    let (mut dug, mut rim_faces) = (0.0, Vec::new());
+    for f in faces {
+        if f.iter().any(|&v| pending.moved[v as usize]) {
+            dug += tetra(&pending.positions, f) - tetra(before, f);
+        }
+        if f.iter().any(|&v| in_rim(v)) {
+            rim_faces.push(f);
+        }
+    }
+    pending.report.cavity_volume = dug.abs();
+    pending.report.volume_change = dug;
+    if mode == VolumeMode::Free || dug == 0.0 {
+        return Ok(());
+    }
+    let Some((rim, crater)) = rim else {
+        warn(pending, "no surface around the dent to raise a rim on: its volume is not restored");
+        return Ok(());
+    };
+    let push = |v: u32| match slot[v as usize] {
+        NONE => DVec3::ZERO,
+        k => rim[k as usize].1,
+    };
+    let cubic = rim_faces.iter().fold([dug, 0.0, 0.0, 0.0], |mut k, f| {
+        let [a, b, c] = f.map(|v| pending.positions[v as usize].as_dvec3() - origin);
+        let [ua, ub, uc] = f.map(push);
+        k[1] += (ua.dot(b.cross(c)) + a.dot(ub.cross(c)) + a.dot(b.cross(uc))) / 6.0;
+        k[2] += (ua.dot(ub.cross(c)) + ua.dot(b.cross(uc)) + a.dot(ub.cross(uc))) / 6.0;
+        k[3] += ua.dot(ub.cross(uc)) / 6.0;
+        k
+    });
+    let heaviest = rim.iter().map(|(_, u)| u.length()).fold(0.0, f64::max);
+    let Some(s) = root_toward(cubic, MAX_PUSH_RADII * crater / heaviest) else {
+        warn(pending, "no rim up to 4 crater radii high refills this dent: its volume is not restored");
+        return Ok(());
+    };
+
+    let old: Vec<Vec3> = rim.iter().map(|&(v, _)| pending.positions[v as usize]).collect();
+    let before_rim: f64 = rim_faces.iter().map(|f| tetra(&pending.positions, f)).sum();
+    for &(v, u) in &rim {
+        let p = (pending.positions[v as usize].as_dvec3() + s * u).as_vec3();
+        if !in_coordinate_range(p) {
+            rim.iter().zip(&old).for_each(|(&(w, _), &q)| pending.positions[w as usize] = q);
+            return Err(super::DentError::NonFiniteResult { index: v as usize });
+        }
+        pending.positions[v as usize] = p;
+    }
+    let after_rim: f64 = rim_faces.iter().map(|f| tetra(&pending.positions, f)).sum();
+    pending.report.volume_change = dug + (after_rim - before_rim);
+    for (&(v, _), &q) in rim.iter().zip(&old) {
+        let i = v as usize;
+        if pending.positions[i] != q {
+            pending.report.moved_vertices += usize::from(!pending.moved[i]);
+            pending.moved[i] = true;
+            let length = pending.positions[i].distance(before[i]);
+            pending.report.max_displacement = pending.report.max_displacement.max(length);
+        }
+    }
+    Ok(())
+}
+
+/// The rim: each vertex that may move and its push per unit `s` (weight × unit normal; `s` is
+/// in world units), with the crater radius `R`; `None` when no vertex qualifies.
+///
+/// A vertex at lateral distance `r` from the impact point (across the denting normal) and
+/// depth `z` along it gets `w = (1 − (r/R_out)²)² · (1 − (z/R)²)² · (1 − δ/δ_max)`: `R` is the
+/// crater's lateral radius, `R_out = (1 + RIM_WIDTH)·R`, `δ` the vertex's dent displacement.
+/// The last factor keeps the crater itself down, so the weight peaks on its lip.
+fn rim_weights(
+    normals: &[Vec3],
+    before: &[Vec3],
+    pending: &PendingDisplacement,
+    moved: &[u32],
+    map: &DentMap,
+) -> Option<(Vec<(u32, DVec3)>, f64)> {
+    let (centre, axis) = (map.grid.origin, map.grid.axis_z);
+    let offsets = |p: Vec3| {
+        let r = (p - centre).as_dvec3();
+        let z = r.dot(axis.as_dvec3());
+        ((r - z * axis.as_dvec3()).length(), z)
+    };
+    let shift = |v: u32| pending.positions[v as usize].distance(before[v as usize]);
+    let deepest = moved.iter().map(|&v| shift(v)).fold(0.0, f32::max);
+    let crater = moved
+        .iter()
+        .filter(|&&v| shift(v) >= CRATER_FRACTION * deepest)
+        .map(|&v| offsets(before[v as usize]).0)
+        .fold(0.0, f64::max)
+        .max(f64::from(map.grid.cell_size));
+    let outer = (1.0 + RIM_WIDTH) * crater;
+    // A cheap f32 test first: the rim lies within the ball of radius √(outer² + crater²).
+    let reach = ((outer * outer + crater * crater).sqrt() * 1.001) as f32;
+    let bump = |x: f64| (1.0 - x * x).max(0.0).powi(2);
+    let rim: Vec<(u32, DVec3)> = (0..before.len() as u32)
+        .filter(|&v| before[v as usize].distance_squared(centre) < reach * reach)
+        .filter_map(|v| {
+            let (r, z) = offsets(before[v as usize]);
+            if r >= outer || z.abs() >= crater {
+                return None;
+            }
+            let lip = 1.0 - f64::from(shift(v) / deepest.max(f32::MIN_POSITIVE)).min(1.0);
+            let w = bump(r / outer) * bump(z / crater) * lip;
+            let n = normals.get(v as usize)?.as_dvec3().try_normalize()?;
+            (w > 0.0).then_some((v, w * n))
+        })
+        .collect();
+    (!rim.is_empty()).then_some((rim, crater))
+}
+
+/// The root of `k₀ + k₁s + k₂s² + k₃s³` nearest zero on the side where the cubic starts toward
+/// zero (the sign of `−k₀/k₁`), with `|s| ≤ limit`; `None` if it has none there.
+fn root_toward(k: [f64; 4], limit: f64) -> Option<f64> {
+    let f = |s: f64| k[0] + s * (k[1] + s * (k[2] + s * k[3]));
+    if k[1] == 0.0 || !limit.is_finite() {
+        return None;
+    }
+    let direction = -(k[0] / k[1]).signum();
+    // Walk out from 0 until the sign flips; steps of a sixteenth of the linear guess, doubling,
+    // catch the nearest root of a cubic whose curvature bends it back before that guess.
+    let (mut lo, mut hi) = (0.0, (k[0] / k[1]).abs().min(limit) / 16.0);
+    while f(direction * hi).signum() == f(0.0).signum() {
+        if hi >= limit {
+            return None;
+        }
+        (lo, hi) = (hi, (2.0 * hi).min(limit));
+    }
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if f(direction * mid).signum() == f(0.0).signum() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(direction * hi)
+}
+
+fn warn(pending: &mut PendingDisplacement, message: &str) {
+    log::warn!("{message}");
+    pending.report.warnings.push(message.to_owned());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::root_toward;
+
+    /// The nearest root on the side the line points to: x³ − 6x² + 11x − 6 = (x−1)(x−2)(x−3)
+    /// seen from 0 has its nearest root at 1; a cubic with no root within the limit has none.
+    #[test]
+    fn finds_the_nearest_root() {
+        let s = root_toward([-6.0, 11.0, -6.0, 1.0], 10.0).unwrap();
+        assert!((s - 1.0).abs() < 1e-12, "{s}");
+        let s = root_toward([6.0, 11.0, 6.0, 1.0], 10.0).unwrap(); // (x+1)(x+2)(x+3)
+        assert!((s + 1.0).abs() < 1e-12, "{s}");
+        assert_eq!(root_toward([1.0, -1.0, 0.0, 0.0], 0.5), None);
+        assert_eq!(root_toward([1.0, 0.0, 1.0, 0.0], 5.0), None);
+    }
+}
