@@ -23,6 +23,7 @@ mod recorder;
 mod records;
 mod replay;
 
+pub use bytes::{base64_decode, base64_encode};
 pub use edit_codec::MAX_EDIT_ITEMS;
 pub use error::{RecordError, hex64};
 pub use file::{BodyDamage, DamageFile, FORMAT, MAX_BODIES, MAX_FILE_BYTES, MeshStamp, SceneRef, VERSION};
