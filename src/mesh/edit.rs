@@ -15,8 +15,11 @@ pub struct MeshEdit {
     pub base_vertices: u32,
     /// Face count of the mesh the edit applies to.
     pub base_faces: u32,
-    /// Existing vertices that moved: (index, new position), ascending indices.
-    pub moved: Vec<(u32, Vec3)>,
+    /// Existing vertices that moved: (index, steps), ascending indices. Each coordinate's new
+    /// f32 bits are its old bits plus the step (wrapping u32 arithmetic): exact, and for a
+    /// coordinate of one sign the step is the move in units in the last place, small for the
+    /// small moves of a dent (see [`step`](Self::step) and [`stepped`](Self::stepped)).
+    pub moved: Vec<(u32, [i32; 3])>,
     /// New vertices, numbered from `base_vertices` on.
     pub appended_vertices: Vec<Vec3>,
     /// Existing faces that were rewritten: (index, new vertex indices), ascending indices.
@@ -31,6 +34,18 @@ fn same_bits(a: Vec3, b: Vec3) -> bool {
 }
 
 impl MeshEdit {
+    /// The step from `old` to `new`: per coordinate, the difference of their f32 bits.
+    pub fn step(old: Vec3, new: Vec3) -> [i32; 3] {
+        let (o, n) = (old.to_array(), new.to_array());
+        [0, 1, 2].map(|k| n[k].to_bits().wrapping_sub(o[k].to_bits()) as i32)
+    }
+
+    /// `old` moved by `step` (exactly the position [`step`](Self::step) was taken to).
+    pub fn stepped(old: Vec3, step: [i32; 3]) -> Vec3 {
+        let o = old.to_array();
+        Vec3::from_array([0, 1, 2].map(|k| f32::from_bits(o[k].to_bits().wrapping_add(step[k] as u32))))
+    }
+
     /// The edit that turns `before` into `after`.
     ///
     /// # Errors
@@ -46,7 +61,8 @@ impl MeshEdit {
             )));
         }
         let (old, new) = (before.positions(), after.positions());
-        let moved = (0..nv).filter(|&v| !same_bits(old[v], new[v])).map(|v| (v as u32, new[v])).collect();
+        let moved =
+            (0..nv).filter(|&v| !same_bits(old[v], new[v])).map(|v| (v as u32, Self::step(old[v], new[v]))).collect();
         let (old_faces, new_faces) = (before.faces(), after.faces());
         let changed_faces =
             (0..nf).filter(|&f| old_faces[f] != new_faces[f]).map(|f| (f as u32, new_faces[f])).collect();
@@ -89,8 +105,8 @@ impl MeshEdit {
         ascending_below(self.changed_faces.iter().map(|c| c.0), self.base_faces, "changed face")?;
         let mut positions = Vec::with_capacity(mesh.vertex_count() + self.appended_vertices.len());
         positions.extend_from_slice(mesh.positions());
-        for &(v, p) in &self.moved {
-            positions[v as usize] = p;
+        for &(v, step) in &self.moved {
+            positions[v as usize] = Self::stepped(positions[v as usize], step);
         }
         positions.extend_from_slice(&self.appended_vertices);
         let mut faces = Vec::with_capacity(mesh.face_count() + self.appended_faces.len());

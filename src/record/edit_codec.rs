@@ -1,6 +1,8 @@
 //! The compact binary form of a [`MeshEdit`]: counts and indices as LEB128 varints, ascending
-//! indices delta-coded (a dent's moved vertices are mostly neighbours: one byte each), positions
-//! as the exact little-endian bits of their f32 coordinates.
+//! indices delta-coded (a dent's moved vertices are mostly neighbours: one byte each), moved
+//! coordinates as their steps in f32 bits, zigzag varints (a coordinate a dent's tail moves by
+//! a few ulps takes one byte, an unmoved one a zero byte), new vertices as the exact
+//! little-endian bits of their coordinates.
 
 use super::RecordError;
 use super::bytes::{ByteReader, ByteWriter};
@@ -14,7 +16,7 @@ pub fn write_edit(out: &mut ByteWriter, edit: &MeshEdit) {
     out.varint(u64::from(edit.base_vertices));
     out.varint(u64::from(edit.base_faces));
     write_ascending(out, edit.moved.iter().map(|m| m.0), edit.moved.len());
-    edit.moved.iter().for_each(|m| out.vec3(m.1));
+    edit.moved.iter().flat_map(|m| m.1).for_each(|step| out.varint(u64::from(zigzag(step))));
     out.varint(edit.appended_vertices.len() as u64);
     edit.appended_vertices.iter().for_each(|&p| out.vec3(p));
     write_ascending(out, edit.changed_faces.iter().map(|c| c.0), edit.changed_faces.len());
@@ -27,11 +29,11 @@ pub fn write_edit(out: &mut ByteWriter, edit: &MeshEdit) {
 pub fn read_edit(r: &mut ByteReader<'_>) -> Result<MeshEdit, RecordError> {
     let base_vertices = r.varint32("edit base vertex count")?;
     let base_faces = r.varint32("edit base face count")?;
-    // A moved vertex takes at least 1 index byte and 12 position bytes.
-    let moved_at = read_ascending(r, "moved vertices", 13)?;
+    // A moved vertex takes at least 1 index byte and 3 step bytes.
+    let moved_at = read_ascending(r, "moved vertices", 4)?;
     let mut moved = Vec::with_capacity(moved_at.len());
     for v in moved_at {
-        moved.push((v, r.vec3("moved vertex position")?));
+        moved.push((v, [read_step(r)?, read_step(r)?, read_step(r)?]));
     }
     let n = r.count("appended vertices", 12, MAX_EDIT_ITEMS)?;
     let mut appended_vertices = Vec::with_capacity(n);
@@ -49,6 +51,16 @@ pub fn read_edit(r: &mut ByteReader<'_>) -> Result<MeshEdit, RecordError> {
         appended_faces.push(read_face(r)?);
     }
     Ok(MeshEdit { base_vertices, base_faces, moved, appended_vertices, changed_faces, appended_faces })
+}
+
+/// `v` with its sign in the lowest bit: small magnitudes of either sign stay small.
+fn zigzag(v: i32) -> u32 {
+    ((v << 1) ^ (v >> 31)) as u32
+}
+
+fn read_step(r: &mut ByteReader<'_>) -> Result<i32, RecordError> {
+    let z = r.varint32("moved vertex step")?;
+    Ok(((z >> 1) as i32) ^ -((z & 1) as i32))
 }
 
 fn read_face(r: &mut ByteReader<'_>) -> Result<[u32; 3], RecordError> {
@@ -90,7 +102,7 @@ mod tests {
         let edit = MeshEdit {
             base_vertices: 10,
             base_faces: 4,
-            moved: vec![(0, Vec3::new(-0.0, 1.5, f32::MIN_POSITIVE)), (1, Vec3::ONE), (9, Vec3::X)],
+            moved: vec![(0, [0, -1, i32::MIN]), (1, [i32::MAX, 7, -300]), (9, [1, 0, 0])],
             appended_vertices: vec![Vec3::new(0.25, 0.5, 0.75)],
             changed_faces: vec![(3, [0, 1, 10])],
             appended_faces: vec![[1, 2, 10], [2, 0, 10]],
@@ -98,7 +110,9 @@ mod tests {
         let mut w = ByteWriter::default();
         write_edit(&mut w, &edit);
         let back = read_edit(&mut ByteReader::new(&w.bytes)).unwrap();
-        assert_eq!(back.moved[0].1.x.to_bits(), (-0.0f32).to_bits());
+        let minus_zero = MeshEdit::stepped(Vec3::ZERO, MeshEdit::step(Vec3::ZERO, Vec3::new(-0.0, 1.0, -1.0)));
+        assert_eq!(minus_zero.x.to_bits(), (-0.0f32).to_bits());
+        assert_eq!((minus_zero.y, minus_zero.z), (1.0, -1.0));
         assert_eq!(back, edit);
         for cut in 0..w.bytes.len() {
             assert!(read_edit(&mut ByteReader::new(&w.bytes[..cut])).is_err(), "cut at {cut}");
