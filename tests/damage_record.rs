@@ -294,8 +294,9 @@ fn a_fracture_record_is_kept_and_refused_on_replay_until_fracture_exists() {
         seed: 7,
         cells: 24,
         radius: 0.5,
-        origin: Vec3::new(0.0, 0.5, 0.0),
+        point: Vec3::new(0.0, 0.5, 0.0),
         normal: -Vec3::Y,
+        density: 2400.0,
         pieces: vec![4, 5, 6],
     }));
     let reread = DamageFile::from_json(&file.to_json().unwrap()).unwrap();

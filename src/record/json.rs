@@ -1,12 +1,12 @@
 //! The damage file on disk: a small JSON object (format, version, scene, one entry per body with
 //! its mesh stamps) whose bulk, each body's records, is one base64 string of little-endian
-//! binary (see [`write_records`]). Hashes are 16 hex digits.
+//! binary (see [`encode_records`]). Hashes are 16 hex digits.
 
 use serde::{Deserialize, Serialize};
 
 use super::bytes::{ByteReader, ByteWriter, base64_decode, base64_encode};
 use super::file::{FORMAT, MAX_BODIES, MAX_FILE_BYTES, VERSION};
-use super::records::{read_records, write_records};
+use super::records::{decode_records, encode_records};
 use super::{BodyDamage, DamageFile, MeshStamp, RecordError, SceneRef, hex64};
 
 #[derive(Serialize, Deserialize)]
@@ -80,8 +80,7 @@ impl DamageFile {
     pub fn to_json(&self) -> Result<Vec<u8>, RecordError> {
         let mut bodies = Vec::with_capacity(self.bodies.len());
         for b in &self.bodies {
-            let mut records = ByteWriter::default();
-            write_records(&mut records, &b.records)?;
+            let records = encode_records(&b.records)?;
             let pose = b.pose.map(|p| {
                 let mut w = ByteWriter::default();
                 w.affine(p);
@@ -93,7 +92,7 @@ impl DamageFile {
                 base: stamp_out(&b.base),
                 final_mesh: stamp_out(&b.final_mesh),
                 pose,
-                records: base64_encode(&records.bytes),
+                records: base64_encode(&records),
             });
         }
         let scene = self.scene.as_ref().map(|s| WireScene {
@@ -140,16 +139,7 @@ impl DamageFile {
         }
         let mut bodies = Vec::with_capacity(wire.bodies.len());
         for b in &wire.bodies {
-            let data = base64_decode(&b.records, "records")?;
-            let mut reader = ByteReader::new(&data);
-            let records = read_records(&mut reader)?;
-            if reader.remaining() != 0 {
-                return Err(RecordError::Malformed(format!(
-                    "body \"{}\": {} bytes after its records",
-                    b.name,
-                    reader.remaining()
-                )));
-            }
+            let records = decode_records(&base64_decode(&b.records, "records")?)?;
             let pose = match &b.pose {
                 None => None,
                 Some(text) => {

@@ -30,5 +30,6 @@ pub use file::{BodyDamage, DamageFile, FORMAT, MAX_BODIES, MAX_FILE_BYTES, MeshS
 pub use recorder::{DamageRecorder, RecordForms};
 pub use records::{
     BoneSplit, DamageRecord, DentBatch, FractureRecord, ImpactDent, JointBend, JointRest, MAX_RECORDS, ProjectileRef,
+    decode_records, encode_records,
 };
 pub use replay::{DentForm, Projectiles, replay_body};

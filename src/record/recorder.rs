@@ -89,8 +89,9 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> DamageRecorder<K> {
             let dents: Vec<&AppliedDent<K>> = plan.dents.iter().filter(|d| d.target == dented.key).collect();
             let edit = if self.forms.edits { Some(MeshEdit::between(view.mesh, &dented.mesh)?) } else { None };
             let impacts = if self.forms.impacts { impact_dents(targets, hits, &dents)? } else { Vec::new() };
-            let batch = DentBatch { dents: dents.len() as u32, impacts, edit, after: content_hash(&dented.mesh) };
-            staged.push((slot, batch, MeshStamp::of(&dented.mesh)));
+            let after = MeshStamp::of(&dented.mesh);
+            let batch = DentBatch { dents: dents.len() as u32, impacts, edit, after: after.hash };
+            staged.push((slot, batch, after));
         }
         for (slot, batch, after) in staged {
             let body = &mut self.bodies[slot].1;

@@ -91,21 +91,25 @@ pub struct BoneSplit {
     pub rest_position: Vec3,
 }
 
-/// A prescored fracture: the body broke along a pattern into new bodies.
+/// A prescored fracture: the body broke along a pattern into new bodies. The fields are those
+/// the fracture module rebuilds a fracture from (pattern cells, seed and radius; placement
+/// point and normal; density), plus when it happened and the pieces' ids.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FractureRecord {
     /// Step (1 = the first).
     pub frame: u64,
-    /// Seed of the pattern's cells.
-    pub seed: u64,
     /// Cells of the pattern.
     pub cells: u32,
+    /// Seed of the generator that places the cells.
+    pub seed: u64,
     /// Radius within which the body broke, m.
     pub radius: f32,
-    /// Pattern origin (the impact point), the body's own coordinates, m.
-    pub origin: Vec3,
-    /// Pattern axis (the impact normal), the body's own coordinates.
+    /// Where the pattern was placed (the impact point), the body's own coordinates, m.
+    pub point: Vec3,
+    /// The pattern's axis (the impact normal into the body), the body's own coordinates.
     pub normal: Vec3,
+    /// The body's density, kg/m³ (the pieces' mass properties).
+    pub density: f32,
     /// Ids (world indices) of the pieces that became bodies.
     pub pieces: Vec<u32>,
 }
@@ -133,11 +137,37 @@ pub enum DamageRecord {
     },
 }
 
+/// `records` as little-endian binary (the bytes a damage file carries in base64 per body; on
+/// their own, a compact network message: an impact dent is about 180 bytes).
+///
+/// # Errors
+/// [`RecordError::NotRecordable`] for a dent with a custom falloff.
+pub fn encode_records(records: &[DamageRecord]) -> Result<Vec<u8>, RecordError> {
+    let mut out = ByteWriter::default();
+    write_records(&mut out, records)?;
+    Ok(out.bytes)
+}
+
+/// Reads [`encode_records`]' bytes, every count checked against the bytes left before anything
+/// is allocated.
+///
+/// # Errors
+/// [`RecordError::Truncated`], [`RecordError::TooLarge`], [`RecordError::Malformed`] (also for
+/// bytes left over after the records).
+pub fn decode_records(bytes: &[u8]) -> Result<Vec<DamageRecord>, RecordError> {
+    let mut reader = ByteReader::new(bytes);
+    let records = read_records(&mut reader)?;
+    match reader.remaining() {
+        0 => Ok(records),
+        n => Err(RecordError::Malformed(format!("{n} bytes after the records"))),
+    }
+}
+
 /// Appends `records`.
 ///
 /// # Errors
 /// [`RecordError::NotRecordable`] for a dent with a custom falloff.
-pub fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), RecordError> {
+fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), RecordError> {
     out.varint(records.len() as u64);
     for record in records {
         match record {
@@ -178,11 +208,12 @@ pub fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(
             DamageRecord::Fracture(f) => {
                 out.u8(5);
                 out.varint(f.frame);
-                out.u64(f.seed);
                 out.varint(u64::from(f.cells));
+                out.u64(f.seed);
                 out.f32(f.radius);
-                out.vec3(f.origin);
+                out.vec3(f.point);
                 out.vec3(f.normal);
+                out.f32(f.density);
                 out.varint(f.pieces.len() as u64);
                 f.pieces.iter().for_each(|&p| out.varint(u64::from(p)));
             }
@@ -197,7 +228,7 @@ pub fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(
 }
 
 /// Reads [`write_records`]' bytes; every count is checked against the bytes left first.
-pub fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordError> {
+fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordError> {
     let n = r.count("records", 2, MAX_RECORDS)?;
     let mut out = Vec::with_capacity(n);
     for _ in 0..n {
@@ -230,14 +261,15 @@ pub fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordE
                 rest_position: r.vec3("split rest position")?,
             }),
             5 => {
-                let (frame, seed, cells) = (r.varint("fracture frame")?, r.u64("seed")?, r.varint32("cells")?);
-                let (radius, origin, normal) = (r.f32("radius")?, r.vec3("origin")?, r.vec3("normal")?);
+                let (frame, cells, seed) = (r.varint("fracture frame")?, r.varint32("cells")?, r.u64("seed")?);
+                let (radius, point, normal) = (r.f32("radius")?, r.vec3("point")?, r.vec3("normal")?);
+                let density = r.f32("density")?;
                 let k = r.count("fracture pieces", 1, MAX_RECORDS)?;
                 let mut pieces = Vec::with_capacity(k);
                 for _ in 0..k {
                     pieces.push(r.varint32("piece id")?);
                 }
-                DamageRecord::Fracture(FractureRecord { frame, seed, cells, radius, origin, normal, pieces })
+                DamageRecord::Fracture(FractureRecord { frame, cells, seed, radius, point, normal, density, pieces })
             }
             6 => DamageRecord::Skinned { edit: read_edit(r)?, after: r.u64("hash after skinning")? },
             t => return Err(RecordError::Malformed(format!("unknown record tag {t}"))),
