@@ -317,6 +317,7 @@ fn body_output(shown: &Shown, choice: MeshChoice) -> BodyOutput {
         triangles: shown.mesh.face_count(),
         own_files: choice == MeshChoice::All || (choice == MeshChoice::Dentable && shown.changes),
         in_frame_scene: choice == MeshChoice::Frame,
+        changes: shown.changes,
     }
 }
 
