@@ -286,6 +286,87 @@ fn absurd_counts_are_refused_before_allocating() {
 }
 
 #[test]
+fn a_client_replays_a_binary_impact_message_with_a_built_in_projectile() {
+    // A block dented by the built-in sphere, recorded as impacts naming it.
+    let mut set = TargetSet::new();
+    let block = mesh::builtin("block-fine").unwrap();
+    set.insert(TARGET, block.clone(), Affine3A::IDENTITY, DentSettings::new(1.0, 0.02, 0.1)).unwrap();
+    set.insert_rigid(BALL);
+    let ball = mesh::builtin("sphere").unwrap();
+    let mut recorder = DamageRecorder::new(RecordForms::IMPACTS);
+    recorder.track(TARGET, "block", &block);
+    recorder.name_projectile(&ball, "sphere").unwrap();
+    assert!(recorder.name_projectile(&ball, "block").is_err(), "the name must be the mesh's");
+    let state = BodyState::moving(Vec3::new(0.3, 1.5, 0.0), Vec3::new(1.0, -5.0, 0.0), Vec3::ZERO, 2.0, Mat3::IDENTITY);
+    let point = Vec3::new(0.3, 0.5, 0.0);
+    let hits = [Hit {
+        target: TARGET,
+        projectile: BALL,
+        impact: Impact::from_contact(point, -Vec3::Y, &BodyState::FIXED, &state).unwrap(),
+        target_state: BodyState::FIXED,
+        projectile_state: state,
+        projectile_surface: Surface { mesh: &ball, to_world: Affine3A::from_translation(state.center_of_mass) },
+    }];
+    let plan = Damage::new().plan(&set, &hits, 1, &mut CpuBackend).unwrap();
+    recorder.record(&set, &hits, &plan).unwrap();
+    set.apply(plan.targets);
+    let body = recorder.body(TARGET).unwrap();
+    // The message a server sends: the body's records as binary.
+    let message = dentbend::record::encode_records(&body.records).unwrap();
+    eprintln!("one impact dent: {} bytes of binary", message.len());
+    // Record count, tag, dent count, impact count (4); contact 36, two poses 96, hash 8, name 7,
+    // reach 4, flag 1 (152); every parameter (35); no-edit flag and result hash (9).
+    assert!(message.len() <= 200, "{} bytes", message.len());
+    let mut received = body.clone();
+    received.records = dentbend::record::decode_records(&message).unwrap();
+    // The client has the block and the built-in sphere; it is given no projectile mesh.
+    let replayed = replay_body(&received, &block, DentForm::Impacts, &Projectiles::new()).unwrap();
+    assert_bit_identical(&replayed, set.mesh(TARGET).unwrap(), "binary impact message");
+    assert!(matches!(
+        dentbend::record::decode_records(&message[..message.len() - 1]),
+        Err(RecordError::Truncated { .. })
+    ));
+}
+
+#[test]
+fn a_custom_falloff_cannot_be_recorded_as_an_impact_and_nothing_is_recorded() {
+    let mut settings = DentSettings::new(1.0, 0.02, 0.1);
+    settings.params.attenuation = dentbend::Attenuation::Custom(std::sync::Arc::new(|z: f32, d: f32| (-z / d).exp()));
+    let mut set = TargetSet::new();
+    let block = mesh::builtin("block").unwrap();
+    set.insert(TARGET, block.clone(), Affine3A::IDENTITY, settings).unwrap();
+    set.insert_rigid(BALL);
+    let ball = mesh::icosphere(0.25, 2).unwrap();
+    let state =
+        BodyState::moving(Vec3::new(0.0, 0.75, 0.0), Vec3::new(0.0, -5.0, 0.0), Vec3::ZERO, 1.0, Mat3::IDENTITY);
+    let hits = [Hit {
+        target: TARGET,
+        projectile: BALL,
+        impact: Impact::from_contact(Vec3::new(0.0, 0.5, 0.0), -Vec3::Y, &BodyState::FIXED, &state).unwrap(),
+        target_state: BodyState::FIXED,
+        projectile_state: state,
+        projectile_surface: Surface { mesh: &ball, to_world: Affine3A::from_translation(state.center_of_mass) },
+    }];
+    let plan = Damage::new().plan(&set, &hits, 1, &mut CpuBackend).unwrap();
+    assert_eq!(plan.dents.len(), 1);
+    let mut recorder = DamageRecorder::new(RecordForms::BOTH);
+    recorder.track(TARGET, "block", &block);
+    assert!(matches!(recorder.record(&set, &hits, &plan), Err(RecordError::NotRecordable(_))));
+    assert!(recorder.body(TARGET).unwrap().records.is_empty(), "a refused plan records nothing");
+    // As an edit it records, and replays exactly.
+    let mut edits = DamageRecorder::new(RecordForms::EDITS);
+    edits.track(TARGET, "block", &block);
+    edits.record(&set, &hits, &plan).unwrap();
+    set.apply(plan.targets);
+    let replayed = replay_body(edits.body(TARGET).unwrap(), &block, DentForm::Edits, &Projectiles::new()).unwrap();
+    assert_bit_identical(&replayed, set.mesh(TARGET).unwrap(), "custom falloff as an edit");
+    // The set's mesh changed outside the recorder: the next plan is refused.
+    set.apply(vec![dentbend::dent::DentedTarget { key: TARGET, mesh: block.clone(), moved: Vec::new() }]);
+    let plan = Damage::new().plan(&set, &hits, 2, &mut CpuBackend).unwrap();
+    assert!(matches!(edits.record(&set, &hits, &plan), Err(RecordError::Tampered { .. })));
+}
+
+#[test]
 fn a_fracture_record_is_kept_and_refused_on_replay_until_fracture_exists() {
     let d = small_damage();
     let mut file = d.file.clone();

@@ -7,7 +7,7 @@ use std::hash::Hash;
 
 use super::records::{DamageRecord, DentBatch, ImpactDent, ProjectileRef};
 use super::{BodyDamage, DamageFile, MeshStamp, RecordError, hex64};
-use crate::dent::{AppliedDent, DamagePlan, DentParams, DentTargets, Hit, projectile_reach};
+use crate::dent::{AppliedDent, Attenuation, DamagePlan, DentParams, DentTargets, Hit, projectile_reach};
 use crate::mesh::{MeshEdit, TriMesh, content_hash};
 
 /// Which forms of each dent batch the recorder keeps (at least one).
@@ -35,13 +35,32 @@ impl RecordForms {
 pub struct DamageRecorder<K> {
     forms: RecordForms,
     bodies: Vec<(K, BodyDamage)>,
+    /// Built-in names of projectile meshes, by content hash.
+    builtins: Vec<(u64, String)>,
 }
 
 impl<K: Copy + Eq + Hash + std::fmt::Debug> DamageRecorder<K> {
     /// No body tracked yet; `forms` with neither form set records edits.
     pub fn new(forms: RecordForms) -> Self {
         let forms = if forms.edits || forms.impacts { forms } else { RecordForms::EDITS };
-        Self { forms, bodies: Vec::new() }
+        Self { forms, bodies: Vec::new(), builtins: Vec::new() }
+    }
+
+    /// Impact records of a projectile whose mesh is `mesh` name it as the built-in `name` too
+    /// ([`mesh::builtin`](crate::mesh::builtin)), so that a replay finds it without being given
+    /// the mesh.
+    ///
+    /// # Errors
+    /// [`RecordError::NotRecordable`] when `name` is no built-in mesh or not this one.
+    pub fn name_projectile(&mut self, mesh: &TriMesh, name: &str) -> Result<(), RecordError> {
+        let hash = content_hash(mesh);
+        let builtin = crate::mesh::builtin(name).map_err(|e| RecordError::NotRecordable(format!("{name:?}: {e}")))?;
+        if content_hash(&builtin) != hash {
+            return Err(RecordError::NotRecordable(format!("the mesh named {name:?}: it is not the built-in one")));
+        }
+        self.builtins.retain(|(h, _)| *h != hash);
+        self.builtins.push((hash, name.to_owned()));
+        Ok(())
     }
 
     /// Starts (or restarts) recording body `key`, called `name` in the file, whose mesh is now
@@ -88,7 +107,8 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> DamageRecorder<K> {
             }
             let dents: Vec<&AppliedDent<K>> = plan.dents.iter().filter(|d| d.target == dented.key).collect();
             let edit = if self.forms.edits { Some(MeshEdit::between(view.mesh, &dented.mesh)?) } else { None };
-            let impacts = if self.forms.impacts { impact_dents(targets, hits, &dents)? } else { Vec::new() };
+            let impacts =
+                if self.forms.impacts { impact_dents(targets, hits, &dents, &self.builtins)? } else { Vec::new() };
             let after = MeshStamp::of(&dented.mesh);
             let batch = DentBatch { dents: dents.len() as u32, impacts, edit, after: after.hash };
             staged.push((slot, batch, after));
@@ -117,6 +137,7 @@ fn impact_dents<K: Copy + Eq + std::fmt::Debug, T: DentTargets<K>>(
     targets: &T,
     hits: &[Hit<'_, K>],
     dents: &[&AppliedDent<K>],
+    builtins: &[(u64, String)],
 ) -> Result<Vec<ImpactDent>, RecordError> {
     let mut used = vec![false; hits.len()];
     let mut out = Vec::with_capacity(dents.len());
@@ -133,14 +154,18 @@ fn impact_dents<K: Copy + Eq + std::fmt::Debug, T: DentTargets<K>>(
         used[k] = true;
         let hit = &hits[k];
         let view = targets.target(d.target).ok_or_else(|| RecordError::UnknownBody(format!("{:?}", d.target)))?;
+        if matches!(view.settings.params.attenuation, Attenuation::Custom(_)) {
+            return Err(RecordError::NotRecordable(format!(
+                "the dent of {:?}: a custom falloff function is not data (record edits instead)",
+                d.target
+            )));
+        }
+        let hash = content_hash(hit.projectile_surface.mesh);
+        let builtin = builtins.iter().find(|(h, _)| *h == hash).map(|(_, name)| name.clone());
         out.push(ImpactDent {
             impact: d.impact,
             target_to_world: view.to_world,
-            projectile: ProjectileRef {
-                hash: content_hash(hit.projectile_surface.mesh),
-                builtin: None,
-                to_world: hit.projectile_surface.to_world,
-            },
+            projectile: ProjectileRef { hash, builtin, to_world: hit.projectile_surface.to_world },
             reach: projectile_reach(view.settings, view.radius, d.dent_distance),
             params: DentParams { dent_distance: d.dent_distance, ..view.settings.params.clone() },
             progressive: view.settings.progressive,
