@@ -53,6 +53,7 @@ pub mod gpu;
 #[cfg(feature = "io")]
 pub mod io;
 pub mod mesh;
+pub mod record;
 #[cfg(feature = "render")]
 pub mod render;
 #[cfg(feature = "scene")]

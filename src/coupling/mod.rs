@@ -8,6 +8,7 @@ mod bendable;
 mod bending;
 mod condensation;
 mod contact_merge;
+mod damage_log;
 mod dent_coupling;
 #[cfg(feature = "gpu")]
 mod gpu_skinning;
@@ -24,6 +25,7 @@ pub use bendable::{BendableDesc, DynamicArticulation, SkeletonSpec};
 pub use bending::{BendRecord, Bending, JointRecord};
 pub use condensation::CondenseSettings;
 pub use contact_merge::merge_contacts;
+pub use damage_log::DamageLog;
 pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
 #[cfg(feature = "gpu")]
 pub use gpu_skinning::GpuSkinner;

@@ -5,6 +5,8 @@
 mod builtin;
 #[cfg(feature = "io")]
 pub(crate) mod confined;
+mod content_hash;
+mod edit;
 mod error;
 #[cfg(feature = "io")]
 mod glb;
@@ -29,6 +31,8 @@ mod trimesh;
 #[cfg(feature = "io")]
 pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb, save_glb_scene};
 pub use builtin::{BUILTIN_NAMES, builtin, load};
+pub use content_hash::{content_hash, fnv1a64, fnv1a64_start};
+pub use edit::MeshEdit;
 pub use error::MeshError;
 #[cfg(feature = "io")]
 pub use gltf_read::{load_gltf, parse_gltf};

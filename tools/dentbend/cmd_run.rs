@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use dentbend::coupling::{BendRecord, JointRecord};
-use dentbend::coupling::{Simulation, StepStats};
+use dentbend::coupling::{DamageLog, Simulation, StepStats};
 use dentbend::mesh::{GltfNode, TriMesh, save_glb_scene};
 use dentbend::render::{Renderer, Shaded};
 use dentbend::scene::{LoadOptions, MeshPaths, Scene, SceneSize, load_with};
@@ -16,6 +16,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
 use crate::backend::BackendOption;
+use crate::damage_output::{DamageSummary, write_damage};
 use crate::error::CliError;
 use crate::file_names::{check_distinct_stems, file_stem};
 use crate::output::{write_json, write_mesh, write_picture};
@@ -122,6 +123,8 @@ struct Summary<'a> {
     rest_pictures: &'a [String],
     /// The bending bodies' sub-body meshes at the start, relative to the output directory.
     rest_meshes: &'a [String],
+    /// `damage.json`: its size and bytes per dent.
+    damage: DamageSummary,
 }
 
 /// One joint of `summary.json`.
@@ -219,6 +222,7 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
     let rest = write_rest_files(&sim, &camera, renderer.as_ref(), args.picture, writes_meshes, &args.out)?;
     let progress = progress_bar(&name, frames);
     let mut log = StepLog::create(&args.out)?;
+    let mut damage = DamageLog::new(&sim);
     let mut written = 0usize;
     // Output frames need the shown bodies' world meshes only for files or pictures.
     let wanted = args.meshes != MeshChoice::None || renderer.is_some();
@@ -238,10 +242,12 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         }
         let (timing, _) = sim.step().map_err(|e| CliError::Usage(format!("frame {}: {e}", frame + 1)))?;
         log.push(&timing)?;
+        damage.after_step(&sim).map_err(|e| CliError::Usage(format!("frame {}: recording damage: {e}", frame + 1)))?;
         progress.set_message(format!("{} dents", sim.dents().len()));
         progress.inc(1);
     }
     progress.finish_and_clear();
+    let damage = write_damage(&damage, &mut sim, &args.scene, args.size, frames, &args.out)?;
     let ms = log.stats();
     let summary = Summary {
         scene: &name,
@@ -263,10 +269,11 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         bends: sim.bending().bends(),
         rest_pictures: &rest.pictures,
         rest_meshes: &rest.meshes,
+        damage,
     };
     write_json(&args.out.join("summary.json"), &summary)?;
     Ok(format!(
-        "run {name}: {frames} frames, {} dents, {} joints, {} plastic bends, {:.2} ms/step ({:.2} dynamics + {:.2} denting{}), {written} mesh files{} → {}",
+        "run {name}: {frames} frames, {} dents, {} joints, {} plastic bends, {:.2} ms/step ({:.2} dynamics + {:.2} denting{}), {written} mesh files{}, damage.json {} bytes ({}) → {}",
         sim.dents().len(),
         sim.bending().joints().len(),
         sim.bending().bends().len(),
@@ -281,6 +288,11 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         match rest.pictures.len() + rest.meshes.len() {
             0 => String::new(),
             n => format!(", {n} rest-state files"),
+        },
+        summary.damage.bytes,
+        match summary.damage.bytes_per_dent {
+            Some(b) => format!("{b:.0} bytes/dent"),
+            None => "no dents".to_owned(),
         },
         args.out.display()
     ))
@@ -305,6 +317,7 @@ fn body_output(shown: &Shown, choice: MeshChoice) -> BodyOutput {
         triangles: shown.mesh.face_count(),
         own_files: choice == MeshChoice::All || (choice == MeshChoice::Dentable && shown.changes),
         in_frame_scene: choice == MeshChoice::Frame,
+        changes: shown.changes,
     }
 }
 
@@ -321,11 +334,15 @@ fn bending_names(sim: &Simulation) -> impl Iterator<Item = &str> {
 }
 
 /// A body as shown: name, world mesh, colour, and whether its shape changes (dentable or bending).
-struct Shown {
-    name: String,
-    mesh: TriMesh,
-    colour: [f32; 3],
-    changes: bool,
+pub struct Shown {
+    /// The body's name.
+    pub name: String,
+    /// Its mesh, world coordinates.
+    pub mesh: TriMesh,
+    /// Its colour, linear RGB.
+    pub colour: [f32; 3],
+    /// Whether its shape changes (dentable or bending).
+    pub changes: bool,
 }
 
 /// Every body to show now, world coordinates: the world's bodies but the sub-bodies of bending
@@ -343,7 +360,7 @@ fn shown_meshes(sim: &mut Simulation) -> Result<Vec<Shown>, CliError> {
 /// Writes the output frame's meshes (world coordinates; a bending body's skinned mesh under its
 /// own name, its sub-bodies not at all): `meshes/frame_<frame>.glb` for `frame`, or
 /// `meshes/<body>_<frame>.obj` and `.glb` for `all` and `dentable`; returns the file count.
-fn write_meshes(shown: &[Shown], frame: u32, choice: MeshChoice, dir: &Path) -> Result<usize, CliError> {
+pub fn write_meshes(shown: &[Shown], frame: u32, choice: MeshChoice, dir: &Path) -> Result<usize, CliError> {
     match choice {
         MeshChoice::None => Ok(0),
         MeshChoice::Frame => {

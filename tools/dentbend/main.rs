@@ -7,7 +7,9 @@ mod cmd_demo;
 mod cmd_dent;
 mod cmd_dentmap;
 mod cmd_render;
+mod cmd_replay;
 mod cmd_run;
+mod damage_output;
 mod error;
 mod file_names;
 #[path = "../common/headless.rs"]
@@ -52,6 +54,8 @@ enum Command {
     Render(cmd_render::RenderArgs),
     /// Runs a scene (built-in name or .toml file) with denting in the loop: meshes, PNG frames, summary.json
     Run(cmd_run::RunArgs),
+    /// Rebuilds a run's final meshes from its damage.json and the scene's base meshes
+    Replay(cmd_replay::ReplayArgs),
     /// Makes the README's pictures and meshes (bunny dent map stages, dented blocks, a pair)
     Demo(cmd_demo::DemoArgs),
 }
@@ -63,6 +67,7 @@ fn execute(command: &Command) -> CommandResult {
         Command::Dent(args) => cmd_dent::run(args),
         Command::Render(args) => cmd_render::run(args).map(|summary| (summary, Vec::new())),
         Command::Run(args) => cmd_run::run(args).map(|summary| (summary, Vec::new())),
+        Command::Replay(args) => cmd_replay::run(args).map(|summary| (summary, Vec::new())),
         Command::Demo(args) => cmd_demo::run(args),
     }
 }

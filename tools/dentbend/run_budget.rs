@@ -24,6 +24,8 @@ pub struct BodyOutput {
     pub own_files: bool,
     /// Whether it is a node of the frame's `.glb` scene (`--meshes frame`).
     pub in_frame_scene: bool,
+    /// Whether its shape changes (dentable or bending): its damage goes into `damage.json`.
+    pub changes: bool,
 }
 
 /// What a run will write.
@@ -76,6 +78,13 @@ const PNG_BYTES_PER_PIXEL: f64 = 1.0;
 /// Bytes of one step's record in `summary.json` (pretty-printed: about 190).
 const STEP_RECORD_BYTES: u64 = 200;
 
+/// Bytes of `damage.json` per vertex of a body whose shape changes: one edit of the whole mesh
+/// (a delta-coded index and three zigzag steps, about 8 bytes, in base64). The file grows with
+/// the dents; a run whose dents move each vertex several times writes more.
+const DAMAGE_BYTES_PER_VERTEX: u64 = 12;
+/// Bytes of `damage.json` per body: name, mesh stamps, pose.
+const DAMAGE_BYTES_PER_BODY: u64 = 300;
+
 /// Estimates what a run of `shape` over `bodies` writes.
 pub fn estimate(shape: &RunShape, bodies: &[BodyOutput]) -> OutputEstimate {
     let mut per_frame_bytes = 0u64;
@@ -100,11 +109,17 @@ pub fn estimate(shape: &RunShape, bodies: &[BodyOutput]) -> OutputEstimate {
         per_frame_files += 1;
     }
     let output_frames = shape.output_frames();
+    let damage: u64 = bodies
+        .iter()
+        .map(|b| DAMAGE_BYTES_PER_BODY + if b.changes { DAMAGE_BYTES_PER_VERTEX * b.vertices as u64 } else { 0 })
+        .sum();
     OutputEstimate {
         bytes: per_frame_bytes
             .saturating_mul(output_frames)
-            .saturating_add(STEP_RECORD_BYTES.saturating_mul(u64::from(shape.frames))),
-        files: per_frame_files.saturating_mul(output_frames).saturating_add(1),
+            .saturating_add(STEP_RECORD_BYTES.saturating_mul(u64::from(shape.frames)))
+            .saturating_add(damage),
+        // summary.json and damage.json.
+        files: per_frame_files.saturating_mul(output_frames).saturating_add(2),
         output_frames,
     }
 }
@@ -154,7 +169,7 @@ mod tests {
     use super::*;
 
     fn body(triangles: usize, own_files: bool) -> BodyOutput {
-        BodyOutput { vertices: triangles / 2 + 2, triangles, own_files, in_frame_scene: !own_files }
+        BodyOutput { vertices: triangles / 2 + 2, triangles, own_files, in_frame_scene: !own_files, changes: false }
     }
 
     #[test]

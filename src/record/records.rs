@@ -1,0 +1,320 @@
+//! The records of one body's damage, in the order they happened, and their binary form (one
+//! tag byte, then the record's fields, little-endian).
+
+use glam::{Affine3A, Quat, Vec3};
+
+use super::RecordError;
+use super::bytes::{ByteReader, ByteWriter};
+use super::edit_codec::{read_edit, write_edit};
+use super::params_codec::{read_params, write_params};
+use crate::dent::{DentParams, Impact};
+use crate::mesh::MeshEdit;
+
+/// Most records of one body, and most dents of one batch.
+pub const MAX_RECORDS: u64 = 1 << 24;
+
+/// A projectile as an impact record names it: by its mesh's
+/// [`content_hash`](crate::mesh::content_hash) (and built-in name, when it is one) and its pose.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProjectileRef {
+    /// Content hash of the projectile's whole mesh, its own coordinates.
+    pub hash: u64,
+    /// Its [`mesh::builtin`](crate::mesh::builtin) name, when it is one.
+    pub builtin: Option<String>,
+    /// Its mesh → world transform at the contact.
+    pub to_world: Affine3A,
+}
+
+/// One dent as its impact and parameters: what a multiplayer client receives instead of a mesh.
+/// The replay recomputes it on the CPU (deterministic), cropping the projectile exactly as the
+/// damage API did.
+#[derive(Debug, Clone)]
+pub struct ImpactDent {
+    /// The contact, world coordinates, normal into the target.
+    pub impact: Impact,
+    /// The target's mesh → world transform at the contact.
+    pub target_to_world: Affine3A,
+    /// The projectile.
+    pub projectile: ProjectileRef,
+    /// The crop radius about the contact the projectile was cut to, m.
+    pub reach: f32,
+    /// Every dent parameter, `dent_distance` the distance decided.
+    pub params: DentParams,
+    /// Whether it deepened a progressive dent (rebuilt from a pre-dent surface; not replayable
+    /// from the impact alone).
+    pub progressive: bool,
+}
+
+/// Dents that changed a body together (one batch: maps from the same surface, applied in order).
+#[derive(Debug, Clone)]
+pub struct DentBatch {
+    /// How many dents the batch holds.
+    pub dents: u32,
+    /// The dents as impacts (empty when recorded as edits only).
+    pub impacts: Vec<ImpactDent>,
+    /// The batch's result as a mesh edit (`None` when recorded as impacts only).
+    pub edit: Option<MeshEdit>,
+    /// Content hash of the body's mesh after the batch.
+    pub after: u64,
+}
+
+/// A plastic bend of one joint during a step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointBend {
+    /// Step (1 = the first).
+    pub frame: u64,
+    /// Joint index in the world.
+    pub joint: u32,
+    /// Angle the joint's rest rotation turned by, rad.
+    pub angle: f32,
+}
+
+/// A joint's rest rotation at the end of the recording.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointRest {
+    /// Joint index in the world.
+    pub joint: u32,
+    /// The rest (target) relative rotation, child in parent.
+    pub rest: Quat,
+}
+
+/// A bone split where a fast hit landed (dynamic articulation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoneSplit {
+    /// Step (1 = the first).
+    pub frame: u64,
+    /// Index of the new joint in the world.
+    pub joint: u32,
+    /// Where, world, m.
+    pub position: Vec3,
+    /// Where in the body's rest frame, m.
+    pub rest_position: Vec3,
+}
+
+/// A prescored fracture: the body broke along a pattern into new bodies. The fields are those
+/// the fracture module rebuilds a fracture from (pattern cells, seed and radius; placement
+/// point and normal; density), plus when it happened and the pieces' ids.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FractureRecord {
+    /// Step (1 = the first).
+    pub frame: u64,
+    /// Cells of the pattern.
+    pub cells: u32,
+    /// Seed of the generator that places the cells.
+    pub seed: u64,
+    /// Radius within which the body broke, m.
+    pub radius: f32,
+    /// Where the pattern was placed (the impact point), the body's own coordinates, m.
+    pub point: Vec3,
+    /// The pattern's axis (the impact normal into the body), the body's own coordinates.
+    pub normal: Vec3,
+    /// The body's density, kg/m³ (the pieces' mass properties).
+    pub density: f32,
+    /// Ids (world indices) of the pieces that became bodies.
+    pub pieces: Vec<u32>,
+}
+
+/// One entry of a body's damage.
+#[derive(Debug, Clone)]
+pub enum DamageRecord {
+    /// Dents (tag 1).
+    Dents(DentBatch),
+    /// A plastic bend (tag 2).
+    Bend(JointBend),
+    /// A joint's final rest rotation (tag 3).
+    Rest(JointRest),
+    /// A bone split (tag 4).
+    Split(BoneSplit),
+    /// A fracture (tag 5).
+    Fracture(FractureRecord),
+    /// The final skinned (bent) surface as an edit of the mesh so far, with the hash after it
+    /// (tag 6): a bending body's mesh is rebuilt from this, not from its joints.
+    Skinned {
+        /// The edit.
+        edit: MeshEdit,
+        /// Content hash after it.
+        after: u64,
+    },
+}
+
+/// `records` as little-endian binary (the bytes a damage file carries in base64 per body; on
+/// their own, a compact network message: an impact dent is about 180 bytes).
+///
+/// # Errors
+/// [`RecordError::NotRecordable`] for a dent with a custom falloff.
+pub fn encode_records(records: &[DamageRecord]) -> Result<Vec<u8>, RecordError> {
+    let mut out = ByteWriter::default();
+    write_records(&mut out, records)?;
+    Ok(out.bytes)
+}
+
+/// Reads [`encode_records`]' bytes, every count checked against the bytes left before anything
+/// is allocated.
+///
+/// # Errors
+/// [`RecordError::Truncated`], [`RecordError::TooLarge`], [`RecordError::Malformed`] (also for
+/// bytes left over after the records).
+pub fn decode_records(bytes: &[u8]) -> Result<Vec<DamageRecord>, RecordError> {
+    let mut reader = ByteReader::new(bytes);
+    let records = read_records(&mut reader)?;
+    match reader.remaining() {
+        0 => Ok(records),
+        n => Err(RecordError::Malformed(format!("{n} bytes after the records"))),
+    }
+}
+
+/// Appends `records`.
+///
+/// # Errors
+/// [`RecordError::NotRecordable`] for a dent with a custom falloff.
+fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), RecordError> {
+    out.varint(records.len() as u64);
+    for record in records {
+        match record {
+            DamageRecord::Dents(b) => {
+                out.u8(1);
+                out.varint(u64::from(b.dents));
+                out.varint(b.impacts.len() as u64);
+                for d in &b.impacts {
+                    write_impact(out, d)?;
+                }
+                match &b.edit {
+                    None => out.u8(0),
+                    Some(edit) => {
+                        out.u8(1);
+                        write_edit(out, edit);
+                    }
+                }
+                out.u64(b.after);
+            }
+            DamageRecord::Bend(b) => {
+                out.u8(2);
+                out.varint(b.frame);
+                out.varint(u64::from(b.joint));
+                out.f32(b.angle);
+            }
+            DamageRecord::Rest(r) => {
+                out.u8(3);
+                out.varint(u64::from(r.joint));
+                out.quat(r.rest);
+            }
+            DamageRecord::Split(s) => {
+                out.u8(4);
+                out.varint(s.frame);
+                out.varint(u64::from(s.joint));
+                out.vec3(s.position);
+                out.vec3(s.rest_position);
+            }
+            DamageRecord::Fracture(f) => {
+                out.u8(5);
+                out.varint(f.frame);
+                out.varint(u64::from(f.cells));
+                out.u64(f.seed);
+                out.f32(f.radius);
+                out.vec3(f.point);
+                out.vec3(f.normal);
+                out.f32(f.density);
+                out.varint(f.pieces.len() as u64);
+                f.pieces.iter().for_each(|&p| out.varint(u64::from(p)));
+            }
+            DamageRecord::Skinned { edit, after } => {
+                out.u8(6);
+                write_edit(out, edit);
+                out.u64(*after);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Reads [`write_records`]' bytes; every count is checked against the bytes left first.
+fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordError> {
+    let n = r.count("records", 2, MAX_RECORDS)?;
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..n {
+        let record = match r.u8("record tag")? {
+            1 => {
+                let dents = r.varint32("batch dent count")?;
+                // An impact dent takes at least 150 bytes.
+                let k = r.count("impact dents", 150, MAX_RECORDS)?;
+                let mut impacts = Vec::with_capacity(k);
+                for _ in 0..k {
+                    impacts.push(read_impact(r)?);
+                }
+                let edit = match r.u8("edit flag")? {
+                    0 => None,
+                    1 => Some(read_edit(r)?),
+                    t => return Err(RecordError::Malformed(format!("edit flag {t}"))),
+                };
+                DamageRecord::Dents(DentBatch { dents, impacts, edit, after: r.u64("hash after the batch")? })
+            }
+            2 => DamageRecord::Bend(JointBend {
+                frame: r.varint("bend frame")?,
+                joint: r.varint32("bend joint")?,
+                angle: r.f32("bend angle")?,
+            }),
+            3 => DamageRecord::Rest(JointRest { joint: r.varint32("rest joint")?, rest: r.quat("rest rotation")? }),
+            4 => DamageRecord::Split(BoneSplit {
+                frame: r.varint("split frame")?,
+                joint: r.varint32("split joint")?,
+                position: r.vec3("split position")?,
+                rest_position: r.vec3("split rest position")?,
+            }),
+            5 => {
+                let (frame, cells, seed) = (r.varint("fracture frame")?, r.varint32("cells")?, r.u64("seed")?);
+                let (radius, point, normal) = (r.f32("radius")?, r.vec3("point")?, r.vec3("normal")?);
+                let density = r.f32("density")?;
+                let k = r.count("fracture pieces", 1, MAX_RECORDS)?;
+                let mut pieces = Vec::with_capacity(k);
+                for _ in 0..k {
+                    pieces.push(r.varint32("piece id")?);
+                }
+                DamageRecord::Fracture(FractureRecord { frame, cells, seed, radius, point, normal, density, pieces })
+            }
+            6 => DamageRecord::Skinned { edit: read_edit(r)?, after: r.u64("hash after skinning")? },
+            t => return Err(RecordError::Malformed(format!("unknown record tag {t}"))),
+        };
+        out.push(record);
+    }
+    Ok(out)
+}
+
+fn write_impact(out: &mut ByteWriter, d: &ImpactDent) -> Result<(), RecordError> {
+    out.vec3(d.impact.point);
+    out.vec3(d.impact.normal);
+    out.vec3(d.impact.relative_velocity);
+    out.affine(d.target_to_world);
+    out.u64(d.projectile.hash);
+    out.short_str(d.projectile.builtin.as_deref().unwrap_or(""));
+    out.affine(d.projectile.to_world);
+    out.f32(d.reach);
+    out.u8(u8::from(d.progressive));
+    write_params(out, &d.params)
+}
+
+fn read_impact(r: &mut ByteReader<'_>) -> Result<ImpactDent, RecordError> {
+    let impact = Impact {
+        point: r.vec3("impact point")?,
+        normal: r.vec3("impact normal")?,
+        relative_velocity: r.vec3("impact velocity")?,
+    };
+    let target_to_world = r.affine("target pose")?;
+    let hash = r.u64("projectile hash")?;
+    let builtin = Some(r.short_str("projectile name")?).filter(|s| !s.is_empty());
+    let to_world = r.affine("projectile pose")?;
+    let reach = r.f32("reach")?;
+    let progressive = match r.u8("progressive flag")? {
+        0 => false,
+        1 => true,
+        t => return Err(RecordError::Malformed(format!("progressive flag {t}"))),
+    };
+    let params = read_params(r)?;
+    Ok(ImpactDent {
+        impact,
+        target_to_world,
+        projectile: ProjectileRef { hash, builtin, to_world },
+        reach,
+        params,
+        progressive,
+    })
+}

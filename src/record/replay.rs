@@ -1,0 +1,184 @@
+//! Replaying a body's damage onto its base mesh: every record checked as it applies (each dent
+//! batch's result hash, then the final mesh's), on a copy, so a refused file changes nothing.
+
+use std::collections::HashMap;
+
+use super::records::{DamageRecord, DentBatch, ImpactDent, ProjectileRef};
+use super::{BodyDamage, MeshStamp, RecordError, hex64};
+use crate::dent::{DentJob, Surface, dent_batch_tracked, projectile_near_impact};
+use crate::mesh::{TriMesh, builtin, content_hash};
+
+/// Which form of a dent batch a replay uses when the file carries both.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DentForm {
+    /// The recorded mesh edits (exact whatever computed them, GPU included); impacts where a
+    /// batch has no edit.
+    #[default]
+    Edits,
+    /// Recompute every dent from its impact on the CPU; edits where a batch has no impacts.
+    Impacts,
+}
+
+/// The projectile meshes a replay of impact records may need, by content hash; built-in
+/// meshes named by a record are found by name.
+#[derive(Debug, Clone, Default)]
+pub struct Projectiles {
+    meshes: HashMap<u64, TriMesh>,
+}
+
+impl Projectiles {
+    /// None yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds `mesh` (its own coordinates, as the damage API saw it); returns its content hash.
+    pub fn insert(&mut self, mesh: TriMesh) -> u64 {
+        let hash = content_hash(&mesh);
+        self.meshes.insert(hash, mesh);
+        hash
+    }
+
+    /// The mesh `projectile` names, checked against its hash.
+    ///
+    /// # Errors
+    /// [`RecordError::MissingProjectile`].
+    pub fn resolve(&self, projectile: &ProjectileRef) -> Result<std::borrow::Cow<'_, TriMesh>, RecordError> {
+        if let Some(mesh) = self.meshes.get(&projectile.hash) {
+            return Ok(std::borrow::Cow::Borrowed(mesh));
+        }
+        let named = projectile.builtin.as_deref().and_then(|name| builtin(name).ok());
+        match named {
+            Some(mesh) if content_hash(&mesh) == projectile.hash => Ok(std::borrow::Cow::Owned(mesh)),
+            _ => Err(RecordError::MissingProjectile {
+                hash: hex64(projectile.hash),
+                builtin: projectile.builtin.clone(),
+            }),
+        }
+    }
+}
+
+/// `body`'s final mesh, rebuilt from `base` (its own coordinates, not posed): checks that `base`
+/// is the mesh the damage was recorded on, applies every record in order and checks each dent
+/// batch's result and the final mesh against their recorded hashes.
+///
+/// # Errors
+/// [`RecordError::BaseMismatch`], [`RecordError::Tampered`], [`RecordError::Unsupported`] (a
+/// fracture; a progressive dent as an impact), [`RecordError::MissingProjectile`]; `base` is not
+/// touched.
+pub fn replay_body(
+    body: &BodyDamage,
+    base: &TriMesh,
+    form: DentForm,
+    projectiles: &Projectiles,
+) -> Result<TriMesh, RecordError> {
+    let stamp = MeshStamp::of(base);
+    if stamp != body.base {
+        return Err(RecordError::BaseMismatch {
+            body: body.name.clone(),
+            expected: hex64(body.base.hash),
+            found: hex64(stamp.hash),
+        });
+    }
+    let tampered = |record: usize, reason: String| RecordError::Tampered { body: body.name.clone(), record, reason };
+    let mut mesh = base.clone();
+    for (k, record) in body.records.iter().enumerate() {
+        let after = match record {
+            DamageRecord::Dents(batch) => {
+                mesh = replay_batch(body, k, batch, &mesh, form, projectiles)?;
+                batch.after
+            }
+            DamageRecord::Skinned { edit, after } => {
+                mesh = edit.apply(&mesh).map_err(|e| tampered(k, format!("the skinned edit does not apply: {e}")))?;
+                *after
+            }
+            DamageRecord::Fracture(_) => {
+                return Err(RecordError::Unsupported {
+                    body: body.name.clone(),
+                    record: k,
+                    what: "a fracture (this build has no fracture module)".into(),
+                });
+            }
+            // Bends, rest rotations and splits are the joints' story; the mesh they give is
+            // the skinned record's.
+            DamageRecord::Bend(_) | DamageRecord::Rest(_) | DamageRecord::Split(_) => continue,
+        };
+        let found = content_hash(&mesh);
+        if found != after {
+            return Err(tampered(
+                k,
+                format!("the result hashes to {}, the record says {}", hex64(found), hex64(after)),
+            ));
+        }
+    }
+    let found = MeshStamp::of(&mesh);
+    if found != body.final_mesh {
+        return Err(tampered(
+            body.records.len(),
+            format!("the final mesh hashes to {}, the file says {}", hex64(found.hash), hex64(body.final_mesh.hash)),
+        ));
+    }
+    Ok(mesh)
+}
+
+/// One dent batch, in the form asked for (the other when the batch lacks it).
+fn replay_batch(
+    body: &BodyDamage,
+    record: usize,
+    batch: &DentBatch,
+    mesh: &TriMesh,
+    form: DentForm,
+    projectiles: &Projectiles,
+) -> Result<TriMesh, RecordError> {
+    let tampered = |reason: String| RecordError::Tampered { body: body.name.clone(), record, reason };
+    let has_impacts = !batch.impacts.is_empty();
+    let use_impacts = match (form, &batch.edit) {
+        (_, None) => true,
+        (DentForm::Impacts, Some(_)) => has_impacts,
+        (DentForm::Edits, Some(_)) => false,
+    };
+    if !use_impacts {
+        let edit = batch.edit.as_ref().expect("an edit");
+        return edit.apply(mesh).map_err(|e| tampered(format!("the dent edit does not apply: {e}")));
+    }
+    if batch.impacts.len() != batch.dents as usize {
+        return Err(tampered(format!("{} dents but {} impacts and no edit", batch.dents, batch.impacts.len())));
+    }
+    if batch.impacts.iter().any(|d| d.progressive) {
+        return Err(RecordError::Unsupported {
+            body: body.name.clone(),
+            record,
+            what: "a progressive dent from its impact (record edits for progressive bodies)".into(),
+        });
+    }
+    let cropped: Vec<TriMesh> = batch
+        .impacts
+        .iter()
+        .map(|d| {
+            crop(d, projectiles)
+                .and_then(|m| m.ok_or_else(|| tampered("a projectile lies nowhere near its impact".into())))
+        })
+        .collect::<Result<_, _>>()?;
+    let jobs: Vec<DentJob<'_>> = batch
+        .impacts
+        .iter()
+        .zip(&cropped)
+        .map(|(d, projectile)| DentJob {
+            target: 0,
+            projectile,
+            impact: d.impact.transformed(d.target_to_world.inverse()),
+            params: d.params.clone(),
+        })
+        .collect();
+    let mut meshes = vec![mesh.clone()];
+    dent_batch_tracked(&mut meshes, &jobs)
+        .map_err(|e| tampered(format!("dent {} does not apply: {}", e.job, e.error)))?;
+    Ok(meshes.pop().expect("one mesh"))
+}
+
+/// The projectile of `d`, cropped and in the target's coordinates as the damage API cropped it.
+fn crop(d: &ImpactDent, projectiles: &Projectiles) -> Result<Option<TriMesh>, RecordError> {
+    let mesh = projectiles.resolve(&d.projectile)?;
+    let surface = Surface { mesh: &mesh, to_world: d.projectile.to_world };
+    Ok(projectile_near_impact(&surface, d.impact.point, d.reach, d.target_to_world))
+}
