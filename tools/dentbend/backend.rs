@@ -138,6 +138,7 @@ pub fn gpu_dent(
         warnings,
         refined_vertices: refined.reports[0].refined_vertices,
         refined_triangles: refined.reports[0].refined_triangles,
+        ..Default::default()
     })
 }
 
