@@ -361,7 +361,13 @@ fn a_custom_falloff_cannot_be_recorded_as_an_impact_and_nothing_is_recorded() {
     let replayed = replay_body(edits.body(TARGET).unwrap(), &block, DentForm::Edits, &Projectiles::new()).unwrap();
     assert_bit_identical(&replayed, set.mesh(TARGET).unwrap(), "custom falloff as an edit");
     // The set's mesh changed outside the recorder: the next plan is refused.
-    set.apply(vec![dentbend::dent::DentedTarget { key: TARGET, mesh: block.clone(), moved: Vec::new() }]);
+    set.apply(vec![dentbend::dent::DentedTarget {
+        key: TARGET,
+        mesh: block.clone(),
+        moved: Vec::new(),
+        refinement: Default::default(),
+        topology_changed: false,
+    }]);
     let plan = Damage::new().plan(&set, &hits, 2, &mut CpuBackend).unwrap();
     assert!(matches!(edits.record(&set, &hits, &plan), Err(RecordError::Tampered { .. })));
 }

@@ -4,7 +4,7 @@
 
 use super::RecordError;
 use super::bytes::{ByteReader, ByteWriter};
-use crate::dent::{Attenuation, DentParams, Resolution};
+use crate::dent::{Attenuation, DentParams, Refine, Resolution, VolumeMode};
 
 /// Appends `params`.
 ///
@@ -21,6 +21,8 @@ pub fn write_params(out: &mut ByteWriter, params: &DentParams) -> Result<(), Rec
         attenuation,
         widen,
         min_cos,
+        refine,
+        volume,
     } = params;
     out.f32(*dent_distance);
     match sigma {
@@ -57,6 +59,21 @@ pub fn write_params(out: &mut ByteWriter, params: &DentParams) -> Result<(), Rec
     }
     out.f32(*widen);
     out.f32(*min_cos);
+    match refine {
+        Refine::Auto { max_new_triangles } => {
+            out.u8(0);
+            out.u32(*max_new_triangles);
+        }
+        Refine::Off => out.u8(1),
+        Refine::MaxEdge(edge) => {
+            out.u8(2);
+            out.f32(*edge);
+        }
+    }
+    out.u8(match volume {
+        VolumeMode::Free => 0,
+        VolumeMode::Preserve => 1,
+    });
     Ok(())
 }
 
@@ -84,6 +101,17 @@ pub fn read_params(r: &mut ByteReader<'_>) -> Result<DentParams, RecordError> {
     };
     let widen = r.f32("widen")?;
     let min_cos = r.f32("min cos")?;
+    let refine = match r.u8("refine kind")? {
+        0 => Refine::Auto { max_new_triangles: r.u32("refine cap")? },
+        1 => Refine::Off,
+        2 => Refine::MaxEdge(r.f32("refine edge")?),
+        t => return Err(RecordError::Malformed(format!("refine kind {t}"))),
+    };
+    let volume = match r.u8("volume mode")? {
+        0 => VolumeMode::Free,
+        1 => VolumeMode::Preserve,
+        t => return Err(RecordError::Malformed(format!("volume mode {t}"))),
+    };
     let params = DentParams {
         dent_distance,
         sigma,
@@ -94,6 +122,8 @@ pub fn read_params(r: &mut ByteReader<'_>) -> Result<DentParams, RecordError> {
         attenuation,
         widen,
         min_cos,
+        refine,
+        volume,
     };
     params.validate()?;
     Ok(params)
