@@ -9,6 +9,7 @@ mod bending;
 mod condensation;
 mod contact_merge;
 mod dent_coupling;
+mod fracture_step;
 #[cfg(feature = "gpu")]
 mod gpu_skinning;
 mod joint_override;
@@ -25,6 +26,7 @@ pub use bending::{BendRecord, Bending, JointRecord};
 pub use condensation::CondenseSettings;
 pub use contact_merge::merge_contacts;
 pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
+pub use fracture_step::{FractureEvent, Fracturer};
 #[cfg(feature = "gpu")]
 pub use gpu_skinning::GpuSkinner;
 pub use joint_override::JointOverride;

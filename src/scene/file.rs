@@ -8,6 +8,7 @@ use serde::de::{self, Deserializer, IgnoredAny, SeqAccess, Visitor};
 use toml::Spanned;
 
 use super::file_bend::BendFile;
+use super::file_fracture::FractureFile;
 use crate::sim::{BodyKind, ColliderKind, WorldSettings};
 
 /// The whole file.
@@ -71,6 +72,8 @@ pub(super) struct BodyFile {
     /// Linear RGB in [0, 1].
     pub color: Option<Spanned<Triple>>,
     pub dent: Option<Spanned<DentFile>>,
+    /// Present = the body breaks (prescored fracture).
+    pub fracture: Option<Spanned<FractureFile>>,
     /// Present = a bending body instead of a rigid one.
     pub bend: Option<Spanned<BendFile>>,
 }

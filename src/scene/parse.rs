@@ -352,6 +352,9 @@ pub(super) fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCach
     if let Some(dent) = &body.dent {
         desc.dent = Some(dent_settings(src, name, dent)?);
     }
+    if let Some(fracture) = &body.fracture {
+        desc.fracture = Some(super::file_fracture::fracture_settings(src, name, fracture, desc.density)?);
+    }
     Ok(desc)
 }
 

@@ -1,0 +1,169 @@
+//! Breaking a closed mesh along a placed pattern ([`break_body`]): the part of the body inside
+//! the pattern's bounding prism is cut out (every cut capped), split cell by cell into pieces,
+//! and the rest is the body minus that part, one closed mesh. Pieces keep whatever the mesh
+//! carries (a dent made first stays in them).
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use super::clip::{Face, Pool};
+use super::weld::{Soup, check_closed, components, to_trimesh, weld};
+use super::{FractureError, FracturePattern, PatternParams, Placement};
+use crate::dent::BodyState;
+use crate::mesh::{MassProperties, TriMesh, mass_properties};
+
+/// One piece that broke loose.
+#[derive(Debug, Clone)]
+pub struct Piece {
+    /// Its closed surface, in the broken body's mesh coordinates (not re-centred), m.
+    pub mesh: TriMesh,
+    /// Mass, centre of mass (in the mesh's coordinates), inertia about it and volume, at the
+    /// density [`break_body`] was given.
+    pub mass: MassProperties,
+    /// Index of the pattern cell it came from.
+    pub cell: usize,
+}
+
+impl Piece {
+    /// The velocity the piece leaves with when the body moved rigidly with `body`'s state
+    /// (world; its `center_of_mass` the body's): linear v + ω × r at the piece's centre, and
+    /// the body's angular velocity. `to_world` maps the mesh's coordinates to the world.
+    pub fn velocity(&self, body: &BodyState, to_world: glam::Affine3A) -> (Vec3, Vec3) {
+        let centre = to_world.transform_point3(self.mass.center);
+        (body.velocity_at(centre), body.angular_velocity)
+    }
+}
+
+/// What a fracture made.
+#[derive(Debug, Clone)]
+pub struct FractureOutcome {
+    /// The pieces, by cell then by connected part (a cell that cuts a body twice gives two).
+    pub pieces: Vec<Piece>,
+    /// The body minus the broken part, one closed mesh in the same coordinates; `None` when the
+    /// whole body lay inside the pattern.
+    pub rest: Option<TriMesh>,
+    /// The rest's mass properties at the same density (`None` with no rest).
+    pub rest_mass: Option<MassProperties>,
+    /// Volume of the body before, m³ (for the conservation check: pieces + rest).
+    pub volume_before: f32,
+}
+
+/// A fracture as data: everything that rebuilds it bit for bit from the same mesh
+/// ([`replay`]): the pattern's parameters (its seed included), where it was placed, the density.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FractureRecord {
+    /// The pattern (cells, seed, radius).
+    pub pattern: PatternParams,
+    /// Where it was placed, mesh coordinates.
+    pub placement: Placement,
+    /// Density of the body, kg/m³.
+    pub density: f32,
+}
+
+/// Rebuilds a recorded fracture on `mesh` (the body's mesh as it was when it broke): the same
+/// pieces and rest, bit for bit.
+///
+/// # Errors
+/// As [`FracturePattern::new`] and [`break_body`].
+pub fn replay(mesh: &TriMesh, record: &FractureRecord) -> Result<Option<FractureOutcome>, FractureError> {
+    let pattern = FracturePattern::new(record.pattern)?;
+    break_body(mesh, &pattern, &record.placement, record.density)
+}
+
+/// Breaks the closed `mesh` along `pattern` placed at `placement` (mesh coordinates): every
+/// cell's part of the body within the pattern's radius becomes a piece, the rest stays one
+/// body. Coincident vertices are welded first; every piece and the rest are closed (each edge
+/// shared by exactly two faces). Mass properties are at `density` (kg/m³). Returns `Ok(None)`
+/// when the pattern's prism misses the body. Deterministic: the same input gives the same
+/// output bit for bit.
+///
+/// # Errors
+/// [`FractureError::InvalidParameter`] for a density that is not finite and > 0,
+/// [`FractureError::InvalidPlacement`], [`FractureError::OpenMesh`] for a mesh that is not
+/// closed. Nothing is changed (the mesh is borrowed).
+pub fn break_body(
+    mesh: &TriMesh,
+    pattern: &FracturePattern,
+    placement: &Placement,
+    density: f32,
+) -> Result<Option<FractureOutcome>, FractureError> {
+    placement.validate()?;
+    if !(density.is_finite() && density > 0.0) {
+        return Err(super::error::invalid("density", density, "must be finite and > 0"));
+    }
+    let Soup { positions, faces } = weld(mesh);
+    check_closed(&faces)?;
+    let frame = placement.frame();
+    let (lo, hi) = mesh.bounds();
+    let size = f64::from((hi - lo).max_element()).max(pattern.radius());
+    // Planes keep 1e-6 of the size clear of every vertex, so that no cut point lands within
+    // f32 resolution (6e-8 relative) of a vertex it does not coincide with.
+    let tolerance = 1e-6 * size;
+    // Cut out the part inside the bounding prism; what each plane leaves outside is the rest's
+    // surface (its caps are inside the rest and dropped).
+    let mut pool = Pool { positions, ..Default::default() };
+    let mut inside: Vec<Face> = faces.into_iter().map(|v| Face { v, cap: false }).collect();
+    let mut outside: Vec<Face> = Vec::new();
+    for plane in frame.bound(pattern) {
+        let halves = pool.cut(&inside, plane, tolerance);
+        inside = halves.inside;
+        outside.extend(halves.outside.into_iter().filter(|f| !f.cap));
+    }
+    if inside.iter().all(|f| f.cap) {
+        return Ok(None);
+    }
+    let mut rest_faces = Vec::with_capacity(outside.len() + inside.len());
+    for face in outside {
+        pool.conform(face, &mut rest_faces);
+    }
+    rest_faces.extend(inside.iter().filter(|f| f.cap).map(|f| Face { v: [f.v[0], f.v[2], f.v[1]], cap: true }));
+    let rest_faces: Vec<[u32; 3]> = rest_faces.into_iter().map(|f| f.v).collect();
+    let volume_before = mesh.volume().abs();
+    let (rest, rest_mass) = if rest_faces.is_empty() {
+        (None, None)
+    } else {
+        let rest = to_trimesh(&pool.positions, &rest_faces)?;
+        let mass = mass_properties(&rest, density);
+        (Some(rest), mass)
+    };
+    let broken = Soup { positions: pool.positions, faces: inside.iter().map(|f| f.v).collect() };
+    let pieces = cut_cells(&broken, pattern, &frame, tolerance, density)?;
+    Ok(Some(FractureOutcome { pieces, rest, rest_mass, volume_before }))
+}
+
+/// The pieces of the broken part: each cell's share (cut by the cell's shared sides only: the
+/// part is inside the bounding prism already), split into connected parts.
+fn cut_cells(
+    broken: &Soup,
+    pattern: &FracturePattern,
+    frame: &super::placement::Frame,
+    tolerance: f64,
+    density: f32,
+) -> Result<Vec<Piece>, FractureError> {
+    let faces: Vec<Face> = broken.faces.iter().map(|&v| Face { v, cap: false }).collect();
+    let mut pieces = Vec::new();
+    for (k, cell) in pattern.cells().iter().enumerate() {
+        let mut pool = Pool { positions: broken.positions.clone(), ..Default::default() };
+        let mut part = faces.clone();
+        for side in cell.sides.iter().filter(|s| s.shared) {
+            part = pool.cut(&part, frame.side(side), tolerance).inside;
+            if part.is_empty() {
+                break;
+            }
+        }
+        let part: Vec<[u32; 3]> = part.into_iter().map(|f| f.v).collect();
+        for group in components(&part, pool.positions.len()) {
+            let mesh = to_trimesh(&pool.positions, &group)?;
+            if let Some(mass) = mass_properties(&mesh, density) {
+                pieces.push(Piece { mesh, mass, cell: k });
+            }
+        }
+    }
+    Ok(pieces)
+}
+
+/// Sum of the pieces' volumes and the rest's, m³.
+pub fn volume_after(outcome: &FractureOutcome) -> f64 {
+    let pieces: f64 = outcome.pieces.iter().map(|p| f64::from(p.mass.volume)).sum();
+    pieces + outcome.rest_mass.map_or(0.0, |m| f64::from(m.volume))
+}
