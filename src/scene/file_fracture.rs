@@ -56,12 +56,14 @@ pub(super) fn fracture_settings(
             },
             _ => ("", None),
         };
-        let message = match &error {
-            FractureError::InvalidParameter { value, reason, .. } => format!("{value} {reason}"),
-            other => other.to_string(),
+        let message = match (&error, &at) {
+            (FractureError::InvalidParameter { value, reason, .. }, Some(_)) => format!("{value} {reason}"),
+            (FractureError::InvalidParameter { reason, .. }, None) => (*reason).to_owned(),
+            (other, _) => other.to_string(),
         };
-        let field = format!("fracture.{field}");
-        src.error_at(at.unwrap_or_else(|| fracture.span()), Some(body), field.trim_end_matches('.'), message)
+        // A value the file does not give is the table's fault.
+        let field = if at.is_some() { format!("fracture.{field}") } else { "fracture".to_owned() };
+        src.error_at(at.unwrap_or_else(|| fracture.span()), Some(body), &field, message)
     };
     let mut settings =
         FractureSettings::new(params, value(&file.toughness), value(&file.dent_limit)).map_err(&error)?;

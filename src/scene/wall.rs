@@ -1,7 +1,7 @@
 //! Figure 3: a prescored wall dented over time by balls until it breaks.
 //!
 //! Three balls (radius 0.15 m, 20 kg) hit a static 3 × 2 × 0.2 m wall near the same spot at
-//! 8 m/s, half a second apart. Each makes a dent of d = 0.006·(8 − 1) = 4.2 cm (progressive:
+//! 8 m/s, half a second apart, without gravity. Each makes a dent of d = 0.006·(8 − 1) = 4.2 cm (progressive:
 //! while a ball presses on, its dent deepens from the surface before it); the wall breaks when
 //! its dents add up to more than [`WALL_DENT_LIMIT`], at the third ball: a pattern of 40
 //! Voronoi cells (finer near the hit) within 0.45 m of it breaks loose as dynamic pieces, which
@@ -9,7 +9,7 @@
 
 use glam::Vec3;
 
-use super::kit::{GRAVITY, ORANGE, STEEL, ball, dentable, finish, frames, launch, world};
+use super::kit::{ORANGE, STEEL, ball, dentable, finish, frames, launch, world};
 use super::{Scene, SceneSize};
 use crate::fracture::{FractureSettings, PatternParams};
 use crate::mesh;
@@ -22,19 +22,17 @@ pub const WALL_DENT_LIMIT: f32 = 0.1;
 
 /// Height of the wall's centre, m.
 const WALL_CENTRE_Y: f32 = 1.2;
-/// Where the balls hit the front face, relative to its centre (x, y), m: apart enough that a
-/// ball rebounding slowly misses the next one coming in.
-const HITS: [(f32, f32); 3] = [(-0.18, 0.0), (0.18, 0.02), (0.0, 0.12)];
+/// Where the balls hit the front face, relative to its centre (x, y), m: more than a ball's
+/// diameter apart, so that a ball rebounding slowly misses the next ones coming in.
+const HITS: [(f32, f32); 3] = [(-0.18, 0.0), (0.18, 0.02), (0.0, 0.3)];
 
 pub(super) fn wall(size: SceneSize) -> Result<Scene, SimError> {
     let cells = match size {
         SceneSize::Full => [60, 40, 2],
         SceneSize::Demo => [30, 20, 2],
     };
-    let mut world = world(GRAVITY)?;
-    let ground = mesh::subdivided_box(Vec3::new(8.0, 0.2, 8.0), [1, 1, 1])?;
-    let ground = BodyDesc::new("ground", ground).kind(BodyKind::Static).at(Vec3::new(0.0, -0.1, 0.0));
-    world.add(BodyDesc { collider: ColliderKind::Cuboid, color: super::kit::GROUND, ..ground })?;
+    // No gravity, so the balls fly straight and the pieces show where the last ball sent them.
+    let mut world = world(Vec3::ZERO)?;
 
     let mut dent = dentable(1.0, 0.006, 0.06, None);
     dent.progressive = true;
@@ -57,7 +55,7 @@ pub(super) fn wall(size: SceneSize) -> Result<Scene, SimError> {
     let volume = projectile.volume();
     for (k, (x, y)) in HITS.into_iter().enumerate() {
         let contact = Vec3::new(x, WALL_CENTRE_Y + y, 0.5 * WALL_SIZE.z + radius);
-        let (start, velocity) = launch(contact, Vec3::new(0.0, 0.0, -8.0), GRAVITY, 0.3 + 0.5 * k as f32);
+        let (start, velocity) = launch(contact, Vec3::new(0.0, 0.0, -8.0), Vec3::ZERO, 0.3 + 0.5 * k as f32);
         let desc = BodyDesc::new(format!("ball-{}", k + 1), projectile.clone())
             .at(start)
             .velocity(velocity)
