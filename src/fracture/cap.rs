@@ -116,8 +116,10 @@ fn bridge(polygon: &mut Vec<u32>, hole: &[u32], later: &[&Vec<u32>], at: &impl F
 
 /// Ear-clips the simple (possibly self-touching) counter-clockwise polygon into `out`. Every
 /// corner is removed by exactly one triangle, so the triangles' boundary is the polygon whatever
-/// the numerics; strictly convex ears holding no other corner are preferred, then flat ones,
-/// then the most convex corner.
+/// the numerics; strictly convex ears holding no reflex corner are preferred, then flat ones,
+/// then the most convex corner. Only reflex corners can lie inside an ear of a simple polygon,
+/// and flat ones on its diagonal, so only they are tested: O(n·r) for n corners, r of them
+/// reflex or flat.
 fn ear_clip(polygon: &[u32], at: &impl Fn(u32) -> DVec2, out: &mut Vec<[u32; 3]>) {
     let n = polygon.len();
     if n < 3 {
@@ -126,37 +128,42 @@ fn ear_clip(polygon: &[u32], at: &impl Fn(u32) -> DVec2, out: &mut Vec<[u32; 3]>
     let pts: Vec<DVec2> = polygon.iter().map(|&v| at(v)).collect();
     let mut next: Vec<usize> = (1..=n).map(|k| k % n).collect();
     let mut prev: Vec<usize> = (0..n).map(|k| (k + n - 1) % n).collect();
-    let mut left = n;
-    let mut i = 0;
+    let mut removed = vec![false; n];
     let scale = pts.iter().fold(0.0f64, |m, p| m.max(p.abs().max_element())).max(1e-300);
     let flat = 1e-12 * scale * scale;
-    let is_ear = |i: usize, prev: &[usize], next: &[usize], strict: bool| {
+    let turn = |k: usize, prev: &[usize], next: &[usize]| cross(pts[prev[k]], pts[k], pts[next[k]]);
+    // Corners that can block an ear: reflex ones, and flat ones (which may lie on a diagonal).
+    let mut reflex: Vec<bool> = (0..n).map(|k| turn(k, &prev, &next) <= flat).collect();
+    let mut reflex_list: Vec<usize> = (0..n).filter(|&k| reflex[k]).collect();
+    let is_ear = |i: usize,
+                  (prev, next): (&[usize], &[usize]),
+                  (reflex_list, reflex): (&[usize], &[bool]),
+                  removed: &[bool],
+                  strict: bool| {
         let (p, q) = (prev[i], next[i]);
-        let (a, b, c) = (pts[p], pts[i], pts[q]);
-        let area = cross(a, b, c);
+        let area = turn(i, prev, next);
         if if strict { area <= flat } else { area < -flat } {
             return false;
         }
-        let mut j = next[q];
-        while j != p {
+        let (a, b, c) = (pts[p], pts[i], pts[q]);
+        !reflex_list.iter().any(|&j| {
             let x = pts[j];
             let same = |k: usize| polygon[j] == polygon[k] || x == pts[k];
-            if !(same(p) || same(i) || same(q))
+            !removed[j]
+                && reflex[j]
+                && !(same(p) || same(i) || same(q))
                 && cross(a, b, x) >= 0.0
                 && cross(b, c, x) >= 0.0
                 && cross(c, a, x) >= 0.0
-            {
-                return false;
-            }
-            j = next[j];
-        }
-        true
+        })
     };
+    let mut left = n;
+    let mut i = 0;
     while left > 3 {
         let found = [true, false].into_iter().find_map(|strict| {
             let mut k = i;
             for _ in 0..left {
-                if is_ear(k, &prev, &next, strict) {
+                if is_ear(k, (&prev, &next), (&reflex_list, &reflex), &removed, strict) {
                     return Some(k);
                 }
                 k = next[k];
@@ -164,10 +171,9 @@ fn ear_clip(polygon: &[u32], at: &impl Fn(u32) -> DVec2, out: &mut Vec<[u32; 3]>
             None
         });
         let ear = found.unwrap_or_else(|| {
-            let mut best = i;
-            let mut k = i;
+            let (mut best, mut k) = (i, i);
             for _ in 0..left {
-                if cross(pts[prev[k]], pts[k], pts[next[k]]) > cross(pts[prev[best]], pts[best], pts[next[best]]) {
+                if turn(k, &prev, &next) > turn(best, &prev, &next) {
                     best = k;
                 }
                 k = next[k];
@@ -178,6 +184,14 @@ fn ear_clip(polygon: &[u32], at: &impl Fn(u32) -> DVec2, out: &mut Vec<[u32; 3]>
         out.push([polygon[p], polygon[ear], polygon[q]]);
         next[p] = q;
         prev[q] = p;
+        removed[ear] = true;
+        for k in [p, q] {
+            let now = turn(k, &prev, &next) <= flat;
+            if now && !reflex[k] {
+                reflex_list.push(k);
+            }
+            reflex[k] = now;
+        }
         left -= 1;
         i = q;
     }
@@ -210,7 +224,8 @@ mod tests {
         assert!(triangles.iter().all(|t| cross(at(t[0]), at(t[1]), at(t[2])) > 0.0));
     }
 
-    /// A comb (non-convex, 12 corners) is covered by 10 counter-clockwise triangles of its area.
+    /// A comb (non-convex, 12 corners, three corners on one line) is covered by 10 counter-clockwise
+/// triangles of its area (15 m² less two 1 × 2 notches), none of them flat.
     #[test]
     fn a_comb_is_covered_exactly() {
         let corners: Vec<DVec2> = [
@@ -234,7 +249,7 @@ mod tests {
         let triangles = triangulate(&[(0..12).collect()], &at);
         assert_eq!(triangles.len(), 10);
         let area: f64 = triangles.iter().map(|t| 0.5 * cross(at(t[0]), at(t[1]), at(t[2]))).sum();
-        assert!((area - 9.0).abs() < 1e-12, "{area}");
+        assert!((area - 11.0).abs() < 1e-12, "{area}");
         assert!(triangles.iter().all(|t| cross(at(t[0]), at(t[1]), at(t[2])) > 0.0));
     }
 }

@@ -45,12 +45,12 @@ impl Pool {
     /// vertex is on it and every crossing is clean.
     pub(crate) fn cut(&mut self, faces: &[Face], plane: Plane, tolerance: f64) -> Halves {
         let plane = self.clear_of_vertices(faces, plane, tolerance);
-        let side = |p: DVec3| plane.normal.dot(p) - plane.offset;
-        let mut signed: HashMap<u32, f64> = HashMap::new();
+        // Signed distances of the pool's vertices as of now (cut points are made on the plane).
+        let signed: Vec<f64> = self.positions.iter().map(|&p| plane.normal.dot(p) - plane.offset).collect();
         let mut halves = Halves::default();
         let mut cap_edges: Vec<(u32, u32)> = Vec::new();
         for face in faces {
-            let s = face.v.map(|v| *signed.entry(v).or_insert_with(|| side(self.positions[v as usize])));
+            let s = face.v.map(|v| signed[v as usize]);
             let inside = s.map(|x| x < 0.0);
             match inside.iter().filter(|&&b| b).count() {
                 3 => halves.inside.push(*face),

@@ -126,7 +126,7 @@ pub fn break_body(
         let mass = mass_properties(&rest, density);
         (Some(rest), mass)
     };
-    let broken = Soup { positions: pool.positions, faces: inside.iter().map(|f| f.v).collect() };
+    let broken = compact(&pool.positions, inside.iter().map(|f| f.v));
     let pieces = cut_cells(&broken, pattern, &frame, tolerance, density)?;
     Ok(Some(FractureOutcome { pieces, rest, rest_mass, volume_before }))
 }
@@ -160,6 +160,23 @@ fn cut_cells(
         }
     }
     Ok(pieces)
+}
+
+/// `faces` over their own vertices only (ids renumbered in order of first use).
+fn compact(positions: &[glam::DVec3], faces: impl Iterator<Item = [u32; 3]>) -> Soup {
+    let mut remap = vec![u32::MAX; positions.len()];
+    let mut soup = Soup::default();
+    for face in faces {
+        let face = face.map(|v| {
+            if remap[v as usize] == u32::MAX {
+                remap[v as usize] = soup.positions.len() as u32;
+                soup.positions.push(positions[v as usize]);
+            }
+            remap[v as usize]
+        });
+        soup.faces.push(face);
+    }
+    soup
 }
 
 /// Sum of the pieces' volumes and the rest's, m³.

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::FractureError;
 use super::clip::Plane;
-use super::pattern::{CellSide, FracturePattern};
+use super::pattern::{BOUND_SIDES, CellSide, FracturePattern};
 use crate::mesh::MAX_COORDINATE;
 
 /// An impact as the pattern is placed on it, in the mesh's coordinates.
@@ -64,7 +64,12 @@ impl Frame {
     /// The planes of the pattern's bounding prism: the 16-gon's sides and z = ±R.
     pub(crate) fn bound(&self, pattern: &FracturePattern) -> Vec<Plane> {
         let r = pattern.radius();
-        let mut planes: Vec<Plane> = pattern.bound().iter().map(|s| self.side(s)).collect();
+        // Side k's normal is at (k + 1)·22.5°. Opposite sides in pairs, the four square ones
+        // first: after four cuts what is left of the mesh is the pattern's square, so the later
+        // cuts (and their caps) are small.
+        const ORDER: [usize; BOUND_SIDES] = [15, 7, 3, 11, 1, 9, 5, 13, 0, 8, 4, 12, 2, 10, 6, 14];
+        let sides = pattern.bound();
+        let mut planes: Vec<Plane> = ORDER.iter().filter_map(|&k| sides.get(k)).map(|s| self.side(s)).collect();
         for normal in [self.z, -self.z] {
             planes.push(Plane { normal, offset: r + normal.dot(self.origin) });
         }

@@ -101,16 +101,17 @@ pub(crate) fn components(faces: &[[u32; 3]], vertex_count: usize) -> Vec<Vec<[u3
 /// # Errors
 /// [`FractureError::Mesh`] when there is no face (or a coordinate leaves the mesh range).
 pub(crate) fn to_trimesh(positions: &[DVec3], faces: &[[u32; 3]]) -> Result<TriMesh, FractureError> {
-    let mut remap: HashMap<u32, u32> = HashMap::with_capacity(faces.len());
+    let mut remap = vec![u32::MAX; positions.len()];
     let mut used = Vec::new();
     let faces: Vec<[u32; 3]> = faces
         .iter()
         .map(|f| {
             f.map(|v| {
-                *remap.entry(v).or_insert_with(|| {
+                if remap[v as usize] == u32::MAX {
+                    remap[v as usize] = used.len() as u32;
                     used.push(positions[v as usize].as_vec3());
-                    used.len() as u32 - 1
-                })
+                }
+                remap[v as usize]
             })
         })
         .collect();
