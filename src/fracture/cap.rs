@@ -118,8 +118,9 @@ fn bridge(polygon: &mut Vec<u32>, hole: &[u32], later: &[&Vec<u32>], at: &impl F
 /// corner is removed by exactly one triangle, so the triangles' boundary is the polygon whatever
 /// the numerics; strictly convex ears holding no reflex corner are preferred, then flat ones,
 /// then the most convex corner. Only reflex corners can lie inside an ear of a simple polygon,
-/// and flat ones on its diagonal, so only they are tested: O(n·r) for n corners, r of them
-/// reflex or flat.
+/// and flat ones on its diagonal, so only they are tested (a corner blocks when it is inside or
+/// on the diagonal, not when it lies on the ear's own sides' lines within rounding): O(n·r) for
+/// n corners, r of them reflex or flat.
 fn ear_clip(polygon: &[u32], at: &impl Fn(u32) -> DVec2, out: &mut Vec<[u32; 3]>) {
     let n = polygon.len();
     if n < 3 {
@@ -152,9 +153,9 @@ fn ear_clip(polygon: &[u32], at: &impl Fn(u32) -> DVec2, out: &mut Vec<[u32; 3]>
             !removed[j]
                 && reflex[j]
                 && !(same(p) || same(i) || same(q))
-                && cross(a, b, x) >= 0.0
-                && cross(b, c, x) >= 0.0
-                && cross(c, a, x) >= 0.0
+                && cross(a, b, x) > flat
+                && cross(b, c, x) > flat
+                && cross(c, a, x) >= -flat
         })
     };
     let mut left = n;
@@ -225,7 +226,7 @@ mod tests {
     }
 
     /// A comb (non-convex, 12 corners, three corners on one line) is covered by 10 counter-clockwise
-/// triangles of its area (15 m² less two 1 × 2 notches), none of them flat.
+    /// triangles of its area (15 m² less two 1 × 2 notches), none of them flat.
     #[test]
     fn a_comb_is_covered_exactly() {
         let corners: Vec<DVec2> = [

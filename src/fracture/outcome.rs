@@ -6,7 +6,7 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::clip::{Face, Pool};
+use super::clip::{Cap, Part, Pool};
 use super::weld::{Soup, check_closed, components, to_trimesh, weld};
 use super::{FractureError, FracturePattern, PatternParams, Placement};
 use crate::dent::BodyState;
@@ -100,24 +100,24 @@ pub fn break_body(
     // f32 resolution (6e-8 relative) of a vertex it does not coincide with.
     let tolerance = 1e-6 * size;
     // Cut out the part inside the bounding prism; what each plane leaves outside is the rest's
-    // surface (its caps are inside the rest and dropped).
+    // surface (the caps on its way are inside the rest and dropped).
     let mut pool = Pool { positions, ..Default::default() };
-    let mut inside: Vec<Face> = faces.into_iter().map(|v| Face { v, cap: false }).collect();
-    let mut outside: Vec<Face> = Vec::new();
+    let mut inside = Part { faces, caps: Vec::new() };
+    let mut outside: Vec<[u32; 3]> = Vec::new();
     for plane in frame.bound(pattern) {
-        let halves = pool.cut(&inside, plane, tolerance);
-        inside = halves.inside;
-        outside.extend(halves.outside.into_iter().filter(|f| !f.cap));
+        let (kept, out) = pool.cut(&inside, plane, tolerance);
+        inside = kept;
+        outside.extend(out);
     }
-    if inside.iter().all(|f| f.cap) {
+    if inside.faces.is_empty() {
         return Ok(None);
     }
-    let mut rest_faces = Vec::with_capacity(outside.len() + inside.len());
+    let caps = inside.cap_triangles(&pool);
+    let mut rest_faces = Vec::with_capacity(outside.len() + caps.len());
     for face in outside {
         pool.conform(face, &mut rest_faces);
     }
-    rest_faces.extend(inside.iter().filter(|f| f.cap).map(|f| Face { v: [f.v[0], f.v[2], f.v[1]], cap: true }));
-    let rest_faces: Vec<[u32; 3]> = rest_faces.into_iter().map(|f| f.v).collect();
+    rest_faces.extend(caps.iter().map(|f| [f[0], f[2], f[1]]));
     let volume_before = mesh.volume().abs();
     let (rest, rest_mass) = if rest_faces.is_empty() {
         (None, None)
@@ -126,33 +126,33 @@ pub fn break_body(
         let mass = mass_properties(&rest, density);
         (Some(rest), mass)
     };
-    let broken = compact(&pool.positions, inside.iter().map(|f| f.v));
-    let pieces = cut_cells(&broken, pattern, &frame, tolerance, density)?;
+    let (broken_pool, broken) = compact(&pool.positions, &inside);
+    let pieces = cut_cells(broken_pool, &broken, pattern, &frame, tolerance, density)?;
     Ok(Some(FractureOutcome { pieces, rest, rest_mass, volume_before }))
 }
 
 /// The pieces of the broken part: each cell's share (cut by the cell's shared sides only: the
 /// part is inside the bounding prism already), split into connected parts.
 fn cut_cells(
-    broken: &Soup,
+    base: Pool,
+    broken: &Part,
     pattern: &FracturePattern,
     frame: &super::placement::Frame,
     tolerance: f64,
     density: f32,
 ) -> Result<Vec<Piece>, FractureError> {
-    let faces: Vec<Face> = broken.faces.iter().map(|&v| Face { v, cap: false }).collect();
     let mut pieces = Vec::new();
     for (k, cell) in pattern.cells().iter().enumerate() {
-        let mut pool = Pool { positions: broken.positions.clone(), ..Default::default() };
-        let mut part = faces.clone();
+        let mut pool = base.clone();
+        let mut part = broken.clone();
         for side in cell.sides.iter().filter(|s| s.shared) {
-            part = pool.cut(&part, frame.side(side), tolerance).inside;
+            part = pool.cut(&part, frame.side(side), tolerance).0;
             if part.is_empty() {
                 break;
             }
         }
-        let part: Vec<[u32; 3]> = part.into_iter().map(|f| f.v).collect();
-        for group in components(&part, pool.positions.len()) {
+        let faces = part.triangulated(&pool);
+        for group in components(&faces, pool.positions.len()) {
             let mesh = to_trimesh(&pool.positions, &group)?;
             if let Some(mass) = mass_properties(&mesh, density) {
                 pieces.push(Piece { mesh, mass, cell: k });
@@ -162,21 +162,24 @@ fn cut_cells(
     Ok(pieces)
 }
 
-/// `faces` over their own vertices only (ids renumbered in order of first use).
-fn compact(positions: &[glam::DVec3], faces: impl Iterator<Item = [u32; 3]>) -> Soup {
+/// `part` over its own vertices only (ids renumbered in order of first use), in a fresh pool.
+fn compact(positions: &[glam::DVec3], part: &Part) -> (Pool, Part) {
     let mut remap = vec![u32::MAX; positions.len()];
-    let mut soup = Soup::default();
-    for face in faces {
-        let face = face.map(|v| {
-            if remap[v as usize] == u32::MAX {
-                remap[v as usize] = soup.positions.len() as u32;
-                soup.positions.push(positions[v as usize]);
-            }
-            remap[v as usize]
-        });
-        soup.faces.push(face);
-    }
-    soup
+    let mut pool = Pool::default();
+    let mut id = |v: u32| {
+        if remap[v as usize] == u32::MAX {
+            remap[v as usize] = pool.positions.len() as u32;
+            pool.positions.push(positions[v as usize]);
+        }
+        remap[v as usize]
+    };
+    let faces = part.faces.iter().map(|f| f.map(&mut id)).collect();
+    let caps = part
+        .caps
+        .iter()
+        .map(|c| Cap { plane: c.plane, edges: c.edges.iter().map(|&(a, b)| (id(a), id(b))).collect() })
+        .collect();
+    (pool, Part { faces, caps })
 }
 
 /// Sum of the pieces' volumes and the rest's, m³.
