@@ -78,8 +78,11 @@ impl Pool {
     /// crossing is clean.
     pub(crate) fn cut(&mut self, part: &Part, plane: Plane, tolerance: f64) -> (Part, Vec<[u32; 3]>) {
         let plane = self.clear_of_vertices(part, plane, tolerance);
-        // Signed distances of the pool's vertices as of now (cut points are made on the plane).
-        let signed: Vec<f64> = self.positions.iter().map(|&p| plane.normal.dot(p) - plane.offset).collect();
+        // Signed distances of the part's vertices (cut points are made on the plane).
+        let mut signed = vec![0.0f64; self.positions.len()];
+        for &v in part.faces.iter().flatten().chain(part.caps.iter().flat_map(|c| c.edges.iter().map(|e| &e.0))) {
+            signed[v as usize] = plane.normal.dot(self.positions[v as usize]) - plane.offset;
+        }
         let inside_of = |v: u32| signed[v as usize] < 0.0;
         let mut inside = Part::default();
         let mut outside = Vec::new();

@@ -4,6 +4,7 @@
 //! carries (a dent made first stays in them).
 
 use glam::Vec3;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::clip::{Cap, Part, Pool};
@@ -92,7 +93,7 @@ pub fn break_body(
         return Err(super::error::invalid("density", density, "must be finite and > 0"));
     }
     let Soup { positions, faces } = weld(mesh);
-    check_closed(&faces)?;
+    check_closed(&faces, positions.len())?;
     let frame = placement.frame();
     let (lo, hi) = mesh.bounds();
     let size = f64::from((hi - lo).max_element()).max(pattern.radius());
@@ -114,8 +115,17 @@ pub fn break_body(
     }
     let caps = inside.cap_triangles(&pool);
     let mut rest_faces = Vec::with_capacity(outside.len() + caps.len());
+    // Only a face with two corners on split edges can have a split edge.
+    let mut on_split = vec![false; pool.positions.len()];
+    for &(a, b) in pool.splits.keys() {
+        (on_split[a as usize], on_split[b as usize]) = (true, true);
+    }
     for face in outside {
-        pool.conform(face, &mut rest_faces);
+        if face.iter().filter(|&&v| on_split[v as usize]).count() >= 2 {
+            pool.conform(face, &mut rest_faces);
+        } else {
+            rest_faces.push(face);
+        }
     }
     rest_faces.extend(caps.iter().map(|f| [f[0], f[2], f[1]]));
     let volume_before = mesh.volume().abs();
@@ -141,23 +151,34 @@ fn cut_cells(
     tolerance: f64,
     density: f32,
 ) -> Result<Vec<Piece>, FractureError> {
+    // Cells are independent: cut them on all cores, collected in cell order (deterministic).
+    let per_cell: Vec<Result<Vec<Piece>, FractureError>> = pattern
+        .cells()
+        .par_iter()
+        .enumerate()
+        .map(|(k, cell)| {
+            let mut pool = base.clone();
+            let mut part = broken.clone();
+            for side in cell.sides.iter().filter(|s| s.shared) {
+                part = pool.cut(&part, frame.side(side), tolerance).0;
+                if part.is_empty() {
+                    break;
+                }
+            }
+            let faces = part.triangulated(&pool);
+            let mut pieces = Vec::new();
+            for group in components(&faces, pool.positions.len()) {
+                let mesh = to_trimesh(&pool.positions, &group)?;
+                if let Some(mass) = mass_properties(&mesh, density) {
+                    pieces.push(Piece { mesh, mass, cell: k });
+                }
+            }
+            Ok(pieces)
+        })
+        .collect();
     let mut pieces = Vec::new();
-    for (k, cell) in pattern.cells().iter().enumerate() {
-        let mut pool = base.clone();
-        let mut part = broken.clone();
-        for side in cell.sides.iter().filter(|s| s.shared) {
-            part = pool.cut(&part, frame.side(side), tolerance).0;
-            if part.is_empty() {
-                break;
-            }
-        }
-        let faces = part.triangulated(&pool);
-        for group in components(&faces, pool.positions.len()) {
-            let mesh = to_trimesh(&pool.positions, &group)?;
-            if let Some(mass) = mass_properties(&mesh, density) {
-                pieces.push(Piece { mesh, mass, cell: k });
-            }
-        }
+    for cell in per_cell {
+        pieces.extend(cell?);
     }
     Ok(pieces)
 }

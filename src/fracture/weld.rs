@@ -40,25 +40,32 @@ pub(crate) fn weld(mesh: &TriMesh) -> Soup {
     Soup { positions, faces }
 }
 
-/// Checks that every directed edge of `faces` is used once and its reverse once: a closed,
-/// consistently oriented surface.
+/// Checks that every directed edge of `faces` (over `vertex_count` vertices) is used once and
+/// its reverse once: a closed, consistently oriented surface. Linear time: each vertex's
+/// outgoing edges in one flat table.
 ///
 /// # Errors
-/// [`FractureError::OpenMesh`] naming the first offending edge (in face order).
-pub(crate) fn check_closed(faces: &[[u32; 3]]) -> Result<(), FractureError> {
-    let mut count: HashMap<(u32, u32), usize> = HashMap::with_capacity(3 * faces.len());
-    for f in faces {
-        for k in 0..3 {
-            *count.entry((f[k], f[(k + 1) % 3])).or_default() += 1;
-        }
+/// [`FractureError::OpenMesh`] naming an offending edge.
+pub(crate) fn check_closed(faces: &[[u32; 3]], vertex_count: usize) -> Result<(), FractureError> {
+    let edges = || faces.iter().flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])]);
+    let mut start = vec![0usize; vertex_count + 1];
+    for (a, _) in edges() {
+        start[a as usize + 1] += 1;
     }
-    for f in faces {
-        for k in 0..3 {
-            let (a, b) = (f[k], f[(k + 1) % 3]);
-            let forward = count[&(a, b)];
-            if forward != 1 || count.get(&(b, a)).copied().unwrap_or(0) != 1 {
-                return Err(FractureError::OpenMesh { a, b, count: forward });
-            }
+    for k in 0..vertex_count {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut out = vec![0u32; start[vertex_count]];
+    for (a, b) in edges() {
+        out[fill[a as usize]] = b;
+        fill[a as usize] += 1;
+    }
+    let from = |a: u32| &out[start[a as usize]..start[a as usize + 1]];
+    for (a, b) in edges() {
+        let forward = from(a).iter().filter(|&&x| x == b).count();
+        if forward != 1 || from(b).iter().filter(|&&x| x == a).count() != 1 {
+            return Err(FractureError::OpenMesh { a, b, count: forward });
         }
     }
     Ok(())
