@@ -198,7 +198,6 @@ fn apply(
     let body = world.bodies()[index].clone();
     let model = body.model_transform();
     let (_, orientation, origin) = model.to_scale_rotation_translation();
-    let origin = Vec3::from(origin);
     let shape = |mesh, name: String, kind, collider| BodyDesc {
         kind,
         position: origin,

@@ -8,7 +8,6 @@ use serde::de::{self, Deserializer, IgnoredAny, SeqAccess, Visitor};
 use toml::Spanned;
 
 use super::file_bend::BendFile;
-use super::file_fracture::FractureFile;
 use crate::sim::{BodyKind, ColliderKind, WorldSettings};
 
 /// The whole file.
@@ -104,6 +103,24 @@ pub(super) struct DentFile {
     pub min_cos: Option<Spanned<f32>>,
     /// 1/m.
     pub widen: Option<Spanned<f32>>,
+}
+
+/// `[body.fracture]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FractureFile {
+    /// Voronoi cells of the pattern.
+    pub cells: Option<Spanned<u32>>,
+    /// Seed of the pattern's generator.
+    pub seed: Option<Spanned<u64>>,
+    /// m.
+    pub radius: Spanned<f32>,
+    /// J.
+    pub toughness: Option<Spanned<f32>>,
+    /// m.
+    pub dent_limit: Option<Spanned<f32>>,
+    /// kg/m³ (pieces of a static or kinematic body).
+    pub density: Option<Spanned<f32>>,
 }
 
 /// `attenuation = "logistic" | "linear" | "none"`.

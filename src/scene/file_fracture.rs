@@ -1,42 +1,30 @@
 //! `[body.fracture]`: a breakable body's pattern and toughness, read and checked with the error
 //! placed on the field at fault.
 
-use serde::Deserialize;
+use std::ops::Range;
+
 use toml::Spanned;
 
-use super::SceneError;
-use super::source::Source;
+use super::file::FractureFile;
 use crate::fracture::{FractureError, FractureSettings, PatternParams};
 
 /// Cells of a pattern when `[body.fracture]` gives none.
 pub const DEFAULT_FRACTURE_CELLS: u32 = 32;
 
-/// `[body.fracture]`.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct FractureFile {
-    /// Voronoi cells of the pattern.
-    pub cells: Option<Spanned<u32>>,
-    /// Seed of the pattern's generator.
-    pub seed: Option<Spanned<u64>>,
-    /// m.
-    pub radius: Spanned<f32>,
-    /// J.
-    pub toughness: Option<Spanned<f32>>,
-    /// m.
-    pub dent_limit: Option<Spanned<f32>>,
-    /// kg/m³ (pieces of a static or kinematic body).
-    pub density: Option<Spanned<f32>>,
+/// A refused `[body.fracture]` value: the field (`fracture.<key>`, or `fracture` for the table),
+/// where it is written, and why.
+pub(super) struct FieldError {
+    pub field: String,
+    pub span: Range<usize>,
+    pub message: String,
 }
 
-/// `[body.fracture]` of body `body` → its settings (`density`: the body's, the default for its
-/// pieces), checked by [`FractureSettings::new`] with the error placed on the field it names.
+/// `[body.fracture]` → its settings (`density`: the body's, the default for its pieces),
+/// checked by [`FractureSettings::new`] with the error placed on the field it names.
 pub(super) fn fracture_settings(
-    src: &Source<'_>,
-    body: &str,
     fracture: &Spanned<FractureFile>,
     density: f32,
-) -> Result<FractureSettings, SceneError> {
+) -> Result<FractureSettings, FieldError> {
     let file = fracture.get_ref();
     let value = |v: &Option<Spanned<f32>>| v.as_ref().map(|v| *v.get_ref());
     let params = PatternParams {
@@ -63,7 +51,7 @@ pub(super) fn fracture_settings(
         };
         // A value the file does not give is the table's fault.
         let field = if at.is_some() { format!("fracture.{field}") } else { "fracture".to_owned() };
-        src.error_at(at.unwrap_or_else(|| fracture.span()), Some(body), &field, message)
+        FieldError { field, span: at.unwrap_or_else(|| fracture.span()), message }
     };
     let mut settings =
         FractureSettings::new(params, value(&file.toughness), value(&file.dent_limit)).map_err(&error)?;
