@@ -48,6 +48,7 @@ pub mod bend;
 pub mod coupling;
 pub mod cpu;
 pub mod dent;
+pub mod fracture;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 #[cfg(feature = "io")]

@@ -38,6 +38,8 @@ fn builtin_scenes_build_at_both_sizes() {
         ("bunny-bones", 1 + 2 + 4, 1 + 2 + 4),
         // A stand, a ball and the body's torso bones (20 full, 12 demo) and four arm bones.
         ("arm", 1 + 1 + 20 + 4, 1 + 1 + 12 + 4),
+        // The prescored wall and three balls.
+        ("wall", 1 + 3, 1 + 3),
     ];
     assert_eq!(BUILTIN_SCENES.len(), expected.len());
     for (name, full, demo) in expected {

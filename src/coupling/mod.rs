@@ -10,6 +10,7 @@ mod condensation;
 mod contact_merge;
 mod damage_log;
 mod dent_coupling;
+mod fracture_step;
 #[cfg(feature = "gpu")]
 mod gpu_skinning;
 mod joint_override;
@@ -27,6 +28,7 @@ pub use condensation::CondenseSettings;
 pub use contact_merge::merge_contacts;
 pub use damage_log::DamageLog;
 pub use dent_coupling::{BendDenter, StagedBendDents, dent_step, step_motions};
+pub use fracture_step::{FractureEvent, Fracturer};
 #[cfg(feature = "gpu")]
 pub use gpu_skinning::GpuSkinner;
 pub use joint_override::JointOverride;

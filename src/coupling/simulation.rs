@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::{BendDenter, Bending, Skinner, dent_step};
+use super::{BendDenter, Bending, FractureEvent, Fracturer, Skinner, dent_step, step_motions};
 use crate::cpu::Skinned;
 use crate::mesh::TriMesh;
 use crate::sim::{DentRecord, Denter, GpuDevice, SimError, StepReport, World};
@@ -29,6 +29,9 @@ pub struct StepTiming {
     pub events: usize,
     /// Dents made.
     pub dents: usize,
+    /// Bodies broken (prescored fracture, after the dents; timed in `denting_ms`).
+    #[serde(default)]
+    pub fractures: usize,
 }
 
 impl StepTiming {
@@ -45,6 +48,8 @@ pub struct Simulation {
     world: World,
     denter: Denter,
     dents: Vec<DentRecord>,
+    fracturer: Fracturer,
+    fractures: Vec<FractureEvent>,
     bending: Bending,
     bend_denter: BendDenter,
     skinner: Skinner,
@@ -65,6 +70,8 @@ impl Simulation {
             world,
             denter,
             dents: Vec::new(),
+            fracturer: Fracturer::new(),
+            fractures: Vec::new(),
             bending: Bending::default(),
             bend_denter: BendDenter::new(),
             skinner: Skinner::new(gpu),
@@ -158,13 +165,19 @@ impl Simulation {
         &self.dents
     }
 
+    /// Every fracture so far, in order.
+    pub fn fractures(&self) -> &[FractureEvent] {
+        &self.fractures
+    }
+
     /// Whether dents run on the GPU.
     pub fn dents_on_gpu(&self) -> bool {
         self.denter.on_gpu()
     }
 
     /// One step: dynamics, then the step's dents (bending bodies' included, see
-    /// [`dent_step`](crate::coupling::dent_step)), then, with
+    /// [`dent_step`](crate::coupling::dent_step)), then the fractures of breakable bodies (see
+    /// [`Fracturer::process`]), then, with
     /// [`skin_every_step`](Self::skin_every_step), skinning the bending bodies.
     ///
     /// # Errors
@@ -174,13 +187,25 @@ impl Simulation {
         self.skinned_at = None;
         // Model transforms before the step: dents land where the targets were hit.
         let before: Vec<_> = self.world.bodies().iter().map(|b| b.model_transform()).collect();
+        let breakable = self.world.bodies().iter().any(|b| b.fracture.is_some());
+        let velocities: Vec<_> = match breakable {
+            true => self.world.bodies().iter().map(|b| (b.linear_velocity, b.angular_velocity)).collect(),
+            false => Vec::new(),
+        };
         let started = Instant::now();
         let report = self.bending.step(&mut self.world)?;
         let dynamics_ms = started.elapsed().as_secs_f64() * 1e3;
         let step = self.world.steps();
         let started = Instant::now();
         let (bending, world, events) = (&mut self.bending, &mut self.world, &report.events);
+        let motions = if breakable { step_motions(bending, world, &before, step) } else { Vec::new() };
         let records = dent_step(&mut self.bend_denter, &mut self.denter, bending, world, events, step, &before)?;
+        let fractures = match breakable {
+            true => self.fracturer.process(world, events, &records, step, (&motions, &velocities))?,
+            false => Vec::new(),
+        };
+        let fracture_count = fractures.len();
+        self.fractures.extend(fractures);
         let denting_ms = started.elapsed().as_secs_f64() * 1e3;
         let dents = records.len();
         self.dents.extend(records);
@@ -190,7 +215,9 @@ impl Simulation {
             self.skin_now()?;
             skinning_ms = started.elapsed().as_secs_f64() * 1e3;
         }
-        let timing = StepTiming { step, dynamics_ms, denting_ms, skinning_ms, events: report.events.len(), dents };
+        let events = report.events.len();
+        let timing =
+            StepTiming { step, dynamics_ms, denting_ms, skinning_ms, events, dents, fractures: fracture_count };
         Ok((timing, report))
     }
 }

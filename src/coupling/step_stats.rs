@@ -176,7 +176,7 @@ mod tests {
     use super::*;
 
     fn timing(step: u64, dynamics_ms: f64, denting_ms: f64, dents: usize) -> StepTiming {
-        StepTiming { step, dynamics_ms, denting_ms, skinning_ms: 0.0, events: 0, dents }
+        StepTiming { step, dynamics_ms, denting_ms, skinning_ms: 0.0, events: 0, dents, fractures: 0 }
     }
 
     #[test]

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::{
     LoadOptions, Scene, SceneError, SceneSize, arm, bending_scenes, bunny_bones, figures, load_scene_with, rain,
-    tetrahedra,
+    tetrahedra, wall,
 };
 
 /// Names accepted by [`builtin_scene`], one per paper figure they reproduce:
@@ -22,6 +22,7 @@ use super::{
 /// | `bunny-bones` | 12     | a four-bone bunny (head bone poking out of the neck): head, ear bend  |
 /// | `tetrahedra`  | 13     | 400 tetrahedra of balls and struts fall on four frames and bend       |
 /// | `arm`         | 15     | a long many-boned body, condensed; a hit bends four joints of its arm |
+/// | `wall`        | 3      | balls dent a prescored wall one after another until it breaks         |
 pub const BUILTIN_SCENES: &[&str] = &[
     "pair",
     "ball-block",
@@ -34,6 +35,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "bunny-bones",
     "tetrahedra",
     "arm",
+    "wall",
 ];
 
 /// Builds the built-in scene `name` (see [`BUILTIN_SCENES`]) at `size`.
@@ -62,6 +64,7 @@ pub fn builtin_scene(name: &str, size: SceneSize) -> Result<Scene, SceneError> {
         "tetrahedra" => tetrahedra::tetrahedra,
         "bunny-bones" => bunny_bones::bunny_bones,
         "arm" => arm::arm,
+        "wall" => wall::wall,
         _ => return Err(SceneError::UnknownScene { name: name.into() }),
     };
     build(size).map_err(|source| SceneError::Builtin { scene: name.into(), source })

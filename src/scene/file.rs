@@ -71,6 +71,8 @@ pub(super) struct BodyFile {
     /// Linear RGB in [0, 1].
     pub color: Option<Spanned<Triple>>,
     pub dent: Option<Spanned<DentFile>>,
+    /// Present = the body breaks (prescored fracture).
+    pub fracture: Option<Spanned<FractureFile>>,
     /// Present = a bending body instead of a rigid one.
     pub bend: Option<Spanned<BendFile>>,
 }
@@ -114,6 +116,24 @@ pub(super) struct DentFile {
 pub(super) enum MaterialSpec {
     Solid,
     Sheet,
+}
+
+/// `[body.fracture]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FractureFile {
+    /// Voronoi cells of the pattern.
+    pub cells: Option<Spanned<u32>>,
+    /// Seed of the pattern's generator.
+    pub seed: Option<Spanned<u64>>,
+    /// m.
+    pub radius: Spanned<f32>,
+    /// J.
+    pub toughness: Option<Spanned<f32>>,
+    /// m.
+    pub dent_limit: Option<Spanned<f32>>,
+    /// kg/m³ (pieces of a static or kinematic body).
+    pub density: Option<Spanned<f32>>,
 }
 
 /// `attenuation = "logistic" | "linear" | "none"`.

@@ -68,6 +68,21 @@
 //! | `material`          | `"solid"` (dents push material into a rim) or `"sheet"` (dents thin it) | none        |
 //! | `preserve_volume`   | raise a rim that keeps the volume; default true for `"solid"`         | false        |
 //!
+//! `[body.fracture]` (optional; present = the body breaks, paper Figure 3: when one hit removes
+//! more than `toughness` of kinetic energy along the normal, or its dents add up to more than
+//! `dent_limit`, it breaks along a pattern of Voronoi cells, finer near the hit, placed at the
+//! hit and aligned with its normal: each cell within `radius` becomes a dynamic piece, the rest
+//! stays the body; see [`crate::fracture`]). Give `toughness`, `dent_limit` or both:
+//!
+//! | field        | meaning                                                                  | default       |
+//! |--------------|--------------------------------------------------------------------------|---------------|
+//! | `radius`     | radius of the broken region about the hit, m                             | required      |
+//! | `cells`      | Voronoi cells of the pattern, 1..=256                                    | 32            |
+//! | `seed`       | seed of the pattern (the same seed, the same pattern)                    | 0             |
+//! | `toughness`  | impact energy that breaks the body, J                                    | none          |
+//! | `dent_limit` | accumulated dent distance that breaks it, m                              | none          |
+//! | `density`    | density of the pieces of a static or kinematic body, kg/m³               | the body's    |
+//!
 //! `[body.bend]` (optional; present = the body bends, paper §4: it is simulated as one rigid
 //! sub-body per bone, `<name>/bone<k>`, joined at the skeleton's joints, and drawn as its rest
 //! mesh skinned to them). A bending body is dynamic, with the automatic collider and a
@@ -158,6 +173,7 @@ mod error;
 mod figures;
 mod file;
 mod file_bend;
+mod file_fracture;
 mod kit;
 mod options;
 mod parse;
@@ -166,6 +182,7 @@ mod rain;
 mod source;
 mod tetrahedra;
 mod types;
+mod wall;
 
 pub use arm::{ARM_BONES, ARM_JOINTS, ARM_LENGTH, ARM_TORSO_JOINT};
 pub use bending_scenes::{PLANK_DENT, PLANK_HIT, PLANK_SIZE, SPRING_JOINT};
@@ -173,6 +190,7 @@ pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized, load_with};
 pub use bunny_bones::{BUNNY_EAR_HIT, BUNNY_FALLOFF, BUNNY_HEAD_HIT, BUNNY_JOINT, BUNNY_SCALE};
 pub use camera::Camera;
 pub use error::SceneError;
+pub use file_fracture::DEFAULT_FRACTURE_CELLS;
 pub use options::{DEFAULT_MAX_BODIES, DEFAULT_MAX_FILE_BYTES, LoadOptions, MeshPaths};
 pub use parse::{
     DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, MeshResolver, load_scene, load_scene_with,
@@ -180,3 +198,4 @@ pub use parse::{
 };
 pub use tetrahedra::tetrahedra_grid;
 pub use types::{DEFAULT_FRAMES, FRAMING_ASPECT, Scene, SceneSize, fit_camera, framing_camera};
+pub use wall::{WALL_DENT_LIMIT, WALL_SIZE};

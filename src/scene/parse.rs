@@ -352,6 +352,10 @@ pub(super) fn body_desc(src: &Source<'_>, body: &BodyFile, meshes: &mut MeshCach
     if let Some(dent) = &body.dent {
         desc.dent = Some(dent_settings(src, name, dent)?);
     }
+    if let Some(fracture) = &body.fracture {
+        let settings = super::file_fracture::fracture_settings(fracture, desc.density);
+        desc.fracture = Some(settings.map_err(|e| src.error_at(e.span, Some(name), &e.field, e.message))?);
+    }
     Ok(desc)
 }
 

@@ -86,6 +86,10 @@ fn refuse_rigid_only_fields(src: &Source<'_>, body: &BodyFile, name: &str) -> Re
         let message = "a bending body cannot also dent ([body.dent] with [body.bend] is not supported)";
         return Err(src.error_at(dent.span(), Some(name), "dent", message));
     }
+    if let Some(fracture) = &body.fracture {
+        let message = "a bending body cannot also break ([body.fracture] with [body.bend] is not supported)";
+        return Err(src.error_at(fracture.span(), Some(name), "fracture", message));
+    }
     Ok(())
 }
 

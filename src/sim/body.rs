@@ -11,6 +11,7 @@ use super::error::invalid;
 use super::sleep::Activity;
 use super::{ColliderKind, DentSettings, MassProperties, SimError, VertexMap, mass_properties};
 use crate::dent::MAX_SPEED;
+use crate::fracture::FractureSettings;
 use crate::mesh::{MAX_COORDINATE, TriMesh};
 
 /// Fastest spin a body may start with, rad/s (10⁴: about 1600 turns a second).
@@ -74,6 +75,8 @@ pub struct BodyDesc {
     pub surface: SurfaceMaterial,
     /// How the body dents, or `None` for a body that keeps its shape.
     pub dent: Option<DentSettings>,
+    /// When and how the body breaks (prescored fracture), or `None` for a body that does not.
+    pub fracture: Option<FractureSettings>,
     /// Linear RGB colour for pictures.
     pub color: [f32; 3],
     /// Mass properties to use instead of the mesh's (dynamic bodies): a sub-body of a bending
@@ -97,6 +100,7 @@ impl BodyDesc {
             collider: ColliderKind::Auto,
             surface: SurfaceMaterial::default(),
             dent: None,
+            fracture: None,
             color: [0.7, 0.7, 0.72],
             mass_properties: None,
         }
@@ -129,6 +133,12 @@ impl BodyDesc {
     /// Builder: collider kind.
     pub fn collider(mut self, collider: ColliderKind) -> Self {
         self.collider = collider;
+        self
+    }
+
+    /// Builder: breaks as `settings` say (see [`crate::fracture`]).
+    pub fn breakable(mut self, settings: FractureSettings) -> Self {
+        self.fracture = Some(settings);
         self
     }
 
@@ -172,6 +182,9 @@ impl BodyDesc {
         if let Some(dent) = &self.dent {
             dent.validate().map_err(|error| SimError::Dent { body: self.name.clone(), error })?;
         }
+        if let Some(fracture) = &self.fracture {
+            fracture.validate().map_err(|error| SimError::Fracture { body: self.name.clone(), error })?;
+        }
         if !self.color.iter().all(|c| c.is_finite()) {
             return Err(invalid(field("color"), self.color, "must be finite"));
         }
@@ -207,6 +220,8 @@ pub struct RigidBody {
     pub surface: SurfaceMaterial,
     /// Denting behaviour, `None` when the body does not dent.
     pub dent: Option<DentSettings>,
+    /// Fracture behaviour, `None` when the body does not break.
+    pub fracture: Option<FractureSettings>,
     /// Linear RGB colour for pictures.
     pub color: [f32; 3],
     /// Mass, kg (∞ for static and kinematic bodies).
@@ -278,6 +293,7 @@ impl RigidBody {
             angular_velocity: if desc.kind == BodyKind::Static { Vec3::ZERO } else { desc.angular_velocity },
             surface: desc.surface,
             dent: desc.dent,
+            fracture: desc.fracture,
             color: desc.color,
             mass,
             inertia,

@@ -36,6 +36,15 @@ pub enum SimError {
         #[source]
         error: DentError,
     },
+    /// A body's fracture settings are out of range, or breaking it failed.
+    #[error("fracture of body \"{body}\": {error}")]
+    Fracture {
+        /// The body's name.
+        body: String,
+        /// What the fracture refused.
+        #[source]
+        error: crate::fracture::FractureError,
+    },
     /// The GPU dent batch failed.
     #[error("GPU denting: {0}")]
     Gpu(String),

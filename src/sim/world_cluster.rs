@@ -248,6 +248,7 @@ impl World {
             angular_velocity: inertia.inverse() * spin,
             surface: bodies[0].surface,
             dent: None,
+            fracture: None,
             color: bodies[0].color,
             mass,
             inertia: body_inertia,
@@ -278,6 +279,8 @@ fn unclusterable(body: &RigidBody) -> Option<&'static str> {
         Some("is a cluster's proxy")
     } else if body.dent.is_some() {
         Some("is dentable (its mesh changes) and cannot be condensed")
+    } else if body.fracture.is_some() {
+        Some("is breakable (its mesh changes) and cannot be condensed")
     } else if body.shape.as_composite_shape().is_some() {
         Some("has a composite collider (triangle mesh), which a cluster cannot hold")
     } else {

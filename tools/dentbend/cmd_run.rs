@@ -118,6 +118,9 @@ struct Summary<'a> {
     joints: Vec<JointEntry<'a>>,
     /// Plastic bends: frame, joint index, angle (rad).
     bends: &'a [BendRecord],
+    /// Fractures: frame, the body that broke, the pieces it broke into, and the record that
+    /// replays it.
+    fractures: Vec<FractureEntry<'a>>,
     /// Pictures of the bending bodies' rest state (skeleton, sub-bodies, level set), relative
     /// to the output directory.
     rest_pictures: &'a [String],
@@ -158,6 +161,15 @@ struct DentEntry<'a> {
     frame: u64,
     #[serde(flatten)]
     record: &'a DentRecord,
+}
+
+/// One fracture of `summary.json`.
+#[derive(Debug, Serialize)]
+struct FractureEntry<'a> {
+    /// Frame after which the body broke (1 = after the first step).
+    frame: u64,
+    #[serde(flatten)]
+    event: &'a dentbend::coupling::FractureEvent,
 }
 
 /// Runs the command; returns the summary line.
@@ -267,6 +279,7 @@ pub fn run(args: &RunArgs) -> Result<String, CliError> {
         dents: sim.dents().iter().map(|record| DentEntry { frame: record.step, record }).collect(),
         joints: sim.bending().joints().iter().map(JointEntry::from).collect(),
         bends: sim.bending().bends(),
+        fractures: sim.fractures().iter().map(|event| FractureEntry { frame: event.step, event }).collect(),
         rest_pictures: &rest.pictures,
         rest_meshes: &rest.meshes,
         damage,

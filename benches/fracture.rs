@@ -1,0 +1,37 @@
+//! Prescored fracture (issue 18: "fracturing a wall into ≤ 50 pieces ≤ 5 ms"): the figure-3
+//! wall (3 × 2 × 0.2 m, 10,400 triangles) broken at its centre by a 40-cell pattern of radius
+//! 0.45 m, and the same on the 3,674-triangle bunny. Single-threaded code; run with
+//! `cargo bench --bench fracture`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use dentbend::fracture::{FractureSettings, PatternParams, Placement, break_body};
+use dentbend::glam::Vec3;
+use dentbend::mesh;
+
+fn fracture(c: &mut Criterion) {
+    let wall = mesh::subdivided_box(Vec3::new(3.0, 2.0, 0.2), [60, 40, 2]).expect("wall");
+    let settings =
+        FractureSettings::new(PatternParams { cells: 40, seed: 3, radius: 0.45 }, Some(1.0), None).expect("settings");
+    let placement = Placement { point: Vec3::new(0.0, 0.0, 0.1), normal: -Vec3::Z };
+    let outcome = break_body(&wall, &settings.pattern, &placement, 2400.0).expect("break").expect("pieces");
+    eprintln!("wall: {} triangles → {} pieces", wall.face_count(), outcome.pieces.len());
+    assert!(outcome.pieces.len() <= 50);
+    let mut group = c.benchmark_group("fracture");
+    group.bench_function("wall_40_cells", |b| {
+        b.iter(|| break_body(&wall, &settings.pattern, &placement, 2400.0).expect("break"))
+    });
+    let bunny = mesh::builtin("bunny").expect("bunny");
+    let bunny_settings =
+        FractureSettings::new(PatternParams { cells: 24, seed: 11, radius: 2.5 }, Some(1.0), None).expect("settings");
+    let hit = Placement { point: Vec3::new(-1.0, 7.0, 0.5), normal: Vec3::new(0.3, -0.2, -1.0) };
+    group.bench_function("bunny_24_cells", |b| {
+        b.iter(|| break_body(&bunny, &bunny_settings.pattern, &hit, 1000.0).expect("break"))
+    });
+    group.bench_function("pattern_40_cells", |b| {
+        b.iter(|| dentbend::fracture::FracturePattern::new(PatternParams { cells: 40, seed: 3, radius: 0.45 }))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, fracture);
+criterion_main!(benches);

@@ -1,0 +1,25 @@
+//! Prescored fracture (paper Figure 3; after Su–Schroeder–Fedkiw 2009 and Müller–Chentanez–Kim
+//! 2013; DESIGN.md §4): a [`FracturePattern`] of convex Voronoi cells, finer near its origin, is
+//! computed once; when a hit passes a body's toughness ([`FractureSettings::breaks`]) the
+//! pattern is [placed](Placement) at the impact point along its normal and [`break_body`] cuts
+//! the body into closed pieces (one per cell within the radius, with mass properties) and one
+//! closed rest. Engine-neutral: meshes and body states in, meshes and velocities out
+//! ([`Piece::velocity`]); a [`FractureRecord`] [replays](replay) a fracture bit for bit. Dent
+//! first, then break, so the pieces keep the dent.
+
+mod cap;
+mod clip;
+mod error;
+mod outcome;
+mod pattern;
+mod placement;
+mod settings;
+mod tally;
+mod weld;
+
+pub use error::FractureError;
+pub use outcome::{FractureOutcome, FractureRecord, Piece, break_body, replay, volume_after};
+pub use pattern::{BOUND_SIDES, Cell, CellSide, FracturePattern, MAX_CELLS, PatternParams};
+pub use placement::Placement;
+pub use settings::{FractureCause, FractureSettings};
+pub use tally::DentTally;

@@ -1,0 +1,210 @@
+//! Breaking a closed mesh along a placed pattern ([`break_body`]): the part of the body inside
+//! the pattern's bounding prism is cut out (every cut capped), split cell by cell into pieces,
+//! and the rest is the body minus that part, one closed mesh. Pieces keep whatever the mesh
+//! carries (a dent made first stays in them).
+
+use glam::Vec3;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::clip::{Cap, Part, Pool};
+use super::weld::{Soup, check_closed, components, to_trimesh, weld};
+use super::{FractureError, FracturePattern, PatternParams, Placement};
+use crate::dent::BodyState;
+use crate::mesh::{MassProperties, TriMesh, mass_properties};
+
+/// One piece that broke loose.
+#[derive(Debug, Clone)]
+pub struct Piece {
+    /// Its closed surface, in the broken body's mesh coordinates (not re-centred), m.
+    pub mesh: TriMesh,
+    /// Mass, centre of mass (in the mesh's coordinates), inertia about it and volume, at the
+    /// density [`break_body`] was given.
+    pub mass: MassProperties,
+    /// Index of the pattern cell it came from.
+    pub cell: usize,
+}
+
+impl Piece {
+    /// The velocity the piece leaves with when the body moved rigidly with `body`'s state
+    /// (world; its `center_of_mass` the body's): linear v + ω × r at the piece's centre, and
+    /// the body's angular velocity. `to_world` maps the mesh's coordinates to the world.
+    pub fn velocity(&self, body: &BodyState, to_world: glam::Affine3A) -> (Vec3, Vec3) {
+        let centre = to_world.transform_point3(self.mass.center);
+        (body.velocity_at(centre), body.angular_velocity)
+    }
+}
+
+/// What a fracture made.
+#[derive(Debug, Clone)]
+pub struct FractureOutcome {
+    /// The pieces, by cell then by connected part (a cell that cuts a body twice gives two).
+    pub pieces: Vec<Piece>,
+    /// The body minus the broken part, one closed mesh in the same coordinates; `None` when the
+    /// whole body lay inside the pattern.
+    pub rest: Option<TriMesh>,
+    /// The rest's mass properties at the same density (`None` with no rest).
+    pub rest_mass: Option<MassProperties>,
+    /// Volume of the body before, m³ (for the conservation check: pieces + rest).
+    pub volume_before: f32,
+}
+
+/// A fracture as data: everything that rebuilds it bit for bit from the same mesh
+/// ([`replay`]): the pattern's parameters (its seed included), where it was placed, the density.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FractureRecord {
+    /// The pattern (cells, seed, radius).
+    pub pattern: PatternParams,
+    /// Where it was placed, mesh coordinates.
+    pub placement: Placement,
+    /// Density of the body, kg/m³.
+    pub density: f32,
+}
+
+/// Rebuilds a recorded fracture on `mesh` (the body's mesh as it was when it broke): the same
+/// pieces and rest, bit for bit.
+///
+/// # Errors
+/// As [`FracturePattern::new`] and [`break_body`].
+pub fn replay(mesh: &TriMesh, record: &FractureRecord) -> Result<Option<FractureOutcome>, FractureError> {
+    let pattern = FracturePattern::new(record.pattern)?;
+    break_body(mesh, &pattern, &record.placement, record.density)
+}
+
+/// Breaks the closed `mesh` along `pattern` placed at `placement` (mesh coordinates): every
+/// cell's part of the body within the pattern's radius becomes a piece, the rest stays one
+/// body. Coincident vertices are welded first; every piece and the rest are closed (each edge
+/// shared by exactly two faces). Mass properties are at `density` (kg/m³). Returns `Ok(None)`
+/// when the pattern's prism misses the body. Deterministic: the same input gives the same
+/// output bit for bit.
+///
+/// # Errors
+/// [`FractureError::InvalidParameter`] for a density that is not finite and > 0,
+/// [`FractureError::InvalidPlacement`], [`FractureError::OpenMesh`] for a mesh that is not
+/// closed. Nothing is changed (the mesh is borrowed).
+pub fn break_body(
+    mesh: &TriMesh,
+    pattern: &FracturePattern,
+    placement: &Placement,
+    density: f32,
+) -> Result<Option<FractureOutcome>, FractureError> {
+    placement.validate()?;
+    if !(density.is_finite() && density > 0.0) {
+        return Err(super::error::invalid("density", density, "must be finite and > 0"));
+    }
+    let Soup { positions, faces } = weld(mesh);
+    check_closed(&faces, positions.len())?;
+    let frame = placement.frame();
+    let (lo, hi) = mesh.bounds();
+    let size = f64::from((hi - lo).max_element()).max(pattern.radius());
+    // Planes keep 1e-6 of the size clear of every vertex, so that no cut point lands within
+    // f32 resolution (6e-8 relative) of a vertex it does not coincide with.
+    let tolerance = 1e-6 * size;
+    // Cut out the part inside the bounding prism; what each plane leaves outside is the rest's
+    // surface (the caps on its way are inside the rest and dropped).
+    let mut pool = Pool { positions, ..Default::default() };
+    let mut inside = Part { faces, caps: Vec::new() };
+    let mut outside: Vec<[u32; 3]> = Vec::new();
+    for plane in frame.bound(pattern) {
+        let (kept, out) = pool.cut(&inside, plane, tolerance);
+        inside = kept;
+        outside.extend(out);
+    }
+    if inside.faces.is_empty() {
+        return Ok(None);
+    }
+    let caps = inside.cap_triangles(&pool);
+    let mut rest_faces = Vec::with_capacity(outside.len() + caps.len());
+    // Only a face with two corners on split edges can have a split edge.
+    let mut on_split = vec![false; pool.positions.len()];
+    for &(a, b) in pool.splits.keys() {
+        (on_split[a as usize], on_split[b as usize]) = (true, true);
+    }
+    for face in outside {
+        if face.iter().filter(|&&v| on_split[v as usize]).count() >= 2 {
+            pool.conform(face, &mut rest_faces);
+        } else {
+            rest_faces.push(face);
+        }
+    }
+    rest_faces.extend(caps.iter().map(|f| [f[0], f[2], f[1]]));
+    let volume_before = mesh.volume().abs();
+    let (rest, rest_mass) = if rest_faces.is_empty() {
+        (None, None)
+    } else {
+        let rest = to_trimesh(&pool.positions, &rest_faces)?;
+        let mass = mass_properties(&rest, density);
+        (Some(rest), mass)
+    };
+    let (broken_pool, broken) = compact(&pool.positions, &inside);
+    let pieces = cut_cells(broken_pool, &broken, pattern, &frame, tolerance, density)?;
+    Ok(Some(FractureOutcome { pieces, rest, rest_mass, volume_before }))
+}
+
+/// The pieces of the broken part: each cell's share (cut by the cell's shared sides only: the
+/// part is inside the bounding prism already), split into connected parts.
+fn cut_cells(
+    base: Pool,
+    broken: &Part,
+    pattern: &FracturePattern,
+    frame: &super::placement::Frame,
+    tolerance: f64,
+    density: f32,
+) -> Result<Vec<Piece>, FractureError> {
+    // Cells are independent: cut them on all cores, collected in cell order (deterministic).
+    let per_cell: Vec<Result<Vec<Piece>, FractureError>> = pattern
+        .cells()
+        .par_iter()
+        .enumerate()
+        .map(|(k, cell)| {
+            let mut pool = base.clone();
+            let mut part = broken.clone();
+            for side in cell.sides.iter().filter(|s| s.shared) {
+                part = pool.cut(&part, frame.side(side), tolerance).0;
+                if part.is_empty() {
+                    break;
+                }
+            }
+            let faces = part.triangulated(&pool);
+            let mut pieces = Vec::new();
+            for group in components(&faces, pool.positions.len()) {
+                let mesh = to_trimesh(&pool.positions, &group)?;
+                if let Some(mass) = mass_properties(&mesh, density) {
+                    pieces.push(Piece { mesh, mass, cell: k });
+                }
+            }
+            Ok(pieces)
+        })
+        .collect();
+    let mut pieces = Vec::new();
+    for cell in per_cell {
+        pieces.extend(cell?);
+    }
+    Ok(pieces)
+}
+
+/// `part` over its own vertices only (ids renumbered in order of first use), in a fresh pool.
+fn compact(positions: &[glam::DVec3], part: &Part) -> (Pool, Part) {
+    let mut remap = vec![u32::MAX; positions.len()];
+    let mut pool = Pool::default();
+    let mut id = |v: u32| {
+        if remap[v as usize] == u32::MAX {
+            remap[v as usize] = pool.positions.len() as u32;
+            pool.positions.push(positions[v as usize]);
+        }
+        remap[v as usize]
+    };
+    let faces = part.faces.iter().map(|f| f.map(&mut id)).collect();
+    let caps = part
+        .caps
+        .iter()
+        .map(|c| Cap { plane: c.plane, edges: c.edges.iter().map(|&(a, b)| (id(a), id(b))).collect() })
+        .collect();
+    (pool, Part { faces, caps })
+}
+
+/// Sum of the pieces' volumes and the rest's, m³.
+pub fn volume_after(outcome: &FractureOutcome) -> f64 {
+    let pieces: f64 = outcome.pieces.iter().map(|p| f64::from(p.mass.volume)).sum();
+    pieces + outcome.rest_mass.map_or(0.0, |m| f64::from(m.volume))
+}

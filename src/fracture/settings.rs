@@ -1,0 +1,92 @@
+//! When a body breaks: its toughness (impact energy, J) and/or the dent it may accumulate (m),
+//! and the pattern it breaks along.
+
+use std::sync::Arc;
+
+use super::error::invalid;
+use super::{FractureError, FracturePattern, PatternParams};
+use crate::dent::{BodyState, Impact, normal_energy_lost};
+
+/// A breakable body's fracture behaviour.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FractureSettings {
+    /// The pattern, built once (shared, so copies of a body do not copy it).
+    pub pattern: Arc<FracturePattern>,
+    /// Breaks when one impact removes more than this kinetic energy along the normal, J
+    /// ([`normal_energy_lost`]); `None`: impacts alone never break it.
+    pub toughness: Option<f32>,
+    /// Breaks when its accumulated dent distance passes this, m; `None`: dents never break it.
+    pub dent_limit: Option<f32>,
+    /// Density of the pieces of a body that has no mass of its own (static or kinematic), kg/m³;
+    /// a dynamic body's pieces take its own density. Default 1000.
+    pub density: f32,
+}
+
+/// Why a body broke.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FractureCause {
+    /// An impact's energy passed the toughness.
+    Energy,
+    /// The accumulated dent passed the dent limit.
+    Dent,
+}
+
+impl FractureSettings {
+    /// Settings that break along the pattern of `params` when an impact's energy passes
+    /// `toughness` J or the accumulated dent passes `dent_limit` m (at least one given).
+    ///
+    /// # Errors
+    /// [`FractureError::InvalidParameter`] for a bad pattern field, a toughness or dent limit
+    /// that is NaN, infinite or negative, or neither given.
+    pub fn new(params: PatternParams, toughness: Option<f32>, dent_limit: Option<f32>) -> Result<Self, FractureError> {
+        let settings =
+            Self { pattern: Arc::new(FracturePattern::new(params)?), toughness, dent_limit, density: 1000.0 };
+        settings.validate()?;
+        Ok(settings)
+    }
+
+    /// Checks the toughness, dent limit and density (the pattern was checked when built).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn validate(&self) -> Result<(), FractureError> {
+        if let Some(t) = self.toughness
+            && !(t.is_finite() && t >= 0.0)
+        {
+            return Err(invalid("toughness", t, "J must be finite and >= 0"));
+        }
+        if let Some(d) = self.dent_limit
+            && !(d.is_finite() && d >= 0.0)
+        {
+            return Err(invalid("dent_limit", d, "m must be finite and >= 0"));
+        }
+        if !(self.density.is_finite() && self.density > 0.0 && self.density <= 1.0e6) {
+            return Err(invalid("density", self.density, "kg/m³ must be finite, > 0 and at most 1e6"));
+        }
+        if self.toughness.is_none() && self.dent_limit.is_none() {
+            return Err(invalid("toughness", "none", "give a toughness, a dent_limit or both"));
+        }
+        Ok(())
+    }
+
+    /// Whether a hit breaks the body, and why: the energy `impact` removes along the normal
+    /// between the two bodies' states passes the toughness, or `accumulated_dent` (m, dents
+    /// included of this hit) passes the dent limit. Energy wins when both do.
+    pub fn breaks(
+        &self,
+        impact: &Impact,
+        target: &BodyState,
+        projectile: &BodyState,
+        accumulated_dent: f32,
+    ) -> Option<FractureCause> {
+        let energy = normal_energy_lost(impact, target, projectile);
+        if self.toughness.is_some_and(|t| energy > t) {
+            Some(FractureCause::Energy)
+        } else if self.dent_limit.is_some_and(|d| accumulated_dent > d) {
+            Some(FractureCause::Dent)
+        } else {
+            None
+        }
+    }
+}

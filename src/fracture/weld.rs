@@ -1,0 +1,126 @@
+//! Indexed f64 meshes for cutting: welding a [`TriMesh`]'s coincident vertices, checking that it
+//! is closed, splitting it into connected parts, and turning the result back into a `TriMesh`.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use super::FractureError;
+use crate::mesh::TriMesh;
+
+/// Vertices (f64, the mesh's coordinates, m) and triangles, counter-clockwise from outside.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Soup {
+    pub positions: Vec<DVec3>,
+    pub faces: Vec<[u32; 3]>,
+}
+
+/// `mesh` with coincident vertices (bit-equal positions, −0 = +0) merged and the faces that
+/// collapse dropped.
+pub(crate) fn weld(mesh: &TriMesh) -> Soup {
+    let mut index: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.vertex_count());
+    let mut positions = Vec::with_capacity(mesh.vertex_count());
+    let remap: Vec<u32> = mesh
+        .positions()
+        .iter()
+        .map(|&p| {
+            let key = (p + glam::Vec3::ZERO).to_array().map(f32::to_bits);
+            *index.entry(key).or_insert_with(|| {
+                positions.push(p.as_dvec3());
+                positions.len() as u32 - 1
+            })
+        })
+        .collect();
+    let faces = mesh
+        .faces()
+        .iter()
+        .map(|f| f.map(|v| remap[v as usize]))
+        .filter(|[a, b, c]| a != b && b != c && c != a)
+        .collect();
+    Soup { positions, faces }
+}
+
+/// Checks that every directed edge of `faces` (over `vertex_count` vertices) is used once and
+/// its reverse once: a closed, consistently oriented surface. Linear time: each vertex's
+/// outgoing edges in one flat table.
+///
+/// # Errors
+/// [`FractureError::OpenMesh`] naming an offending edge.
+pub(crate) fn check_closed(faces: &[[u32; 3]], vertex_count: usize) -> Result<(), FractureError> {
+    let edges = || faces.iter().flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])]);
+    let mut start = vec![0usize; vertex_count + 1];
+    for (a, _) in edges() {
+        start[a as usize + 1] += 1;
+    }
+    for k in 0..vertex_count {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut out = vec![0u32; start[vertex_count]];
+    for (a, b) in edges() {
+        out[fill[a as usize]] = b;
+        fill[a as usize] += 1;
+    }
+    let from = |a: u32| &out[start[a as usize]..start[a as usize + 1]];
+    for (a, b) in edges() {
+        let forward = from(a).iter().filter(|&&x| x == b).count();
+        if forward != 1 || from(b).iter().filter(|&&x| x == a).count() != 1 {
+            return Err(FractureError::OpenMesh { a, b, count: forward });
+        }
+    }
+    Ok(())
+}
+
+/// The faces in groups joined by shared vertices, each group in face order, groups in order
+/// of their first face.
+pub(crate) fn components(faces: &[[u32; 3]], vertex_count: usize) -> Vec<Vec<[u32; 3]>> {
+    let mut parent: Vec<u32> = (0..vertex_count as u32).collect();
+    fn root(parent: &mut [u32], mut v: u32) -> u32 {
+        while parent[v as usize] != v {
+            parent[v as usize] = parent[parent[v as usize] as usize];
+            v = parent[v as usize];
+        }
+        v
+    }
+    for f in faces {
+        let r0 = root(&mut parent, f[0]);
+        for &v in &f[1..] {
+            let r = root(&mut parent, v);
+            parent[r as usize] = r0;
+        }
+    }
+    let mut group_of: HashMap<u32, usize> = HashMap::new();
+    let mut groups: Vec<Vec<[u32; 3]>> = Vec::new();
+    for f in faces {
+        let r = root(&mut parent, f[0]);
+        let k = *group_of.entry(r).or_insert_with(|| {
+            groups.push(Vec::new());
+            groups.len() - 1
+        });
+        groups[k].push(*f);
+    }
+    groups
+}
+
+/// A [`TriMesh`] of `faces` over `positions` with only the vertices they use, in order of
+/// first use.
+///
+/// # Errors
+/// [`FractureError::Mesh`] when there is no face (or a coordinate leaves the mesh range).
+pub(crate) fn to_trimesh(positions: &[DVec3], faces: &[[u32; 3]]) -> Result<TriMesh, FractureError> {
+    let mut remap = vec![u32::MAX; positions.len()];
+    let mut used = Vec::new();
+    let faces: Vec<[u32; 3]> = faces
+        .iter()
+        .map(|f| {
+            f.map(|v| {
+                if remap[v as usize] == u32::MAX {
+                    remap[v as usize] = used.len() as u32;
+                    used.push(positions[v as usize].as_vec3());
+                }
+                remap[v as usize]
+            })
+        })
+        .collect();
+    Ok(TriMesh::new(used, faces)?)
+}
