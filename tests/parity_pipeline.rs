@@ -5,7 +5,7 @@
 mod common;
 
 use common::sphere_at;
-use dentbend::dent::{DentJob, dent_batch};
+use dentbend::dent::{DentJob, Refine, dent_batch};
 use dentbend::glam::Vec3;
 use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter};
 use dentbend::{DentParams, Impact, Resolution, TriMesh, dent_map_stages, mesh};
@@ -94,7 +94,9 @@ fn target_jobs<'a>(balls: &'a [TriMesh], targets: &[TriMesh]) -> Vec<DentJob<'a>
         target,
         projectile: &balls[ball],
         impact: Impact { point, normal, relative_velocity: velocity },
-        params: DentParams::new(d),
+        // The kernels' parity: the CPU batch's host stages (refinement) stay off, as the
+        // GPU denter runs only the kernels.
+        params: DentParams { refine: Refine::Off, ..DentParams::new(d) },
     };
     vec![
         hit(0, Vec3::new(0.0, 0.5, 0.0), -Vec3::Y, -Vec3::Y, 0, 0.2),
