@@ -23,6 +23,9 @@ pub struct DentReport {
     pub sigma: f32,
     /// Warnings raised while applying the map.
     pub warnings: Vec<String>,
+    /// Fraction of the dent's displacement kept when the intersection guard scaled it back so
+    /// that no faces cross (`None`: not limited; see [`DentParams::guard_crossings`]).
+    pub limited_to: Option<f32>,
 }
 
 /// Dents `target` where `projectile` hits it (paper Algorithm 1).
@@ -39,7 +42,8 @@ pub fn dent(
     params: &DentParams,
 ) -> Result<DentReport, DentError> {
     let stages = dent_map_stages(projectile, impact, params, Some(target.mean_edge_length()))?;
-    let pending = stages.map.displaced(target, &params.attenuation)?;
+    let mut pending = stages.map.displaced(target, &params.attenuation)?;
+    guard(&mut pending, target, params);
     let displaced = pending.commit(target);
     Ok(report(&stages, displaced))
 }
@@ -73,11 +77,20 @@ pub fn dent_pair(
 ) -> Result<(DentReport, DentReport), DentError> {
     let stages_a = dent_map_stages(b, impact, params_a, Some(a.mean_edge_length()))?;
     let stages_b = dent_map_stages(a, &impact.reversed(), params_b, Some(b.mean_edge_length()))?;
-    let pending_a = stages_a.map.displaced(a, &params_a.attenuation)?;
-    let pending_b = stages_b.map.displaced(b, &params_b.attenuation)?;
+    let mut pending_a = stages_a.map.displaced(a, &params_a.attenuation)?;
+    let mut pending_b = stages_b.map.displaced(b, &params_b.attenuation)?;
+    guard(&mut pending_a, a, params_a);
+    guard(&mut pending_b, b, params_b);
     let report_a = report(&stages_a, pending_a.commit(a));
     let report_b = report(&stages_b, pending_b.commit(b));
     Ok((report_a, report_b))
+}
+
+/// The intersection guard, when `params` ask for it.
+fn guard(pending: &mut super::map::PendingDisplacement, target: &TriMesh, params: &DentParams) {
+    if params.guard_crossings {
+        super::guard::guard_crossings(pending, target.faces(), target.positions());
+    }
 }
 
 pub(crate) fn report(stages: &super::DentStages, displaced: super::DisplaceReport) -> DentReport {
@@ -90,5 +103,6 @@ pub(crate) fn report(stages: &super::DentStages, displaced: super::DisplaceRepor
         cell_size: stages.zbuffer_grid.cell_size,
         sigma: stages.sigma,
         warnings: displaced.warnings,
+        limited_to: displaced.limited_to,
     }
 }

@@ -85,10 +85,14 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
             let mut moved = vec![false; positions.len()];
             let mut reports = Vec::with_capacity(mine.len());
             for job in mine {
-                let pending = stages[job]
+                let params = &jobs[job].params;
+                let mut pending = stages[job]
                     .map
-                    .displaced_positions(&positions, &jobs[job].params.attenuation)
+                    .displaced_positions(&positions, target.faces(), &params.attenuation)
                     .map_err(|error| BatchError { job, error })?;
+                if params.guard_crossings {
+                    super::guard::guard_crossings(&mut pending, target.faces(), &positions);
+                }
                 moved.iter_mut().zip(&pending.moved).for_each(|(m, &p)| *m |= p);
                 positions = pending.positions;
                 reports.push((job, pending.report));

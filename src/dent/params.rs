@@ -84,6 +84,9 @@ pub struct DentParams {
     pub widen: f32,
     /// Lower clamp of cos θ for glancing impacts, in [0.01, 1] (default 0.1, θ ≤ 84.3°).
     pub min_cos: f32,
+    /// Scale a dent back so that it makes no faces of its target cross (default on; the report's
+    /// `limited_to` says when it did). The CPU paths (`dent`, `dent_pair`, batches) apply it.
+    pub guard_crossings: bool,
 }
 
 impl DentParams {
@@ -99,6 +102,7 @@ impl DentParams {
             attenuation: Attenuation::Logistic,
             widen: 0.0,
             min_cos: 0.1,
+            guard_crossings: true,
         }
     }
 

@@ -5,6 +5,7 @@ mod builtin;
 #[cfg(feature = "io")]
 pub(crate) mod confined;
 mod error;
+pub(crate) mod face_grid;
 #[cfg(feature = "io")]
 mod glb;
 #[cfg(feature = "io")]
@@ -21,7 +22,9 @@ mod ply_source;
 mod primitives;
 pub(crate) mod principal_axis;
 mod save;
+pub(crate) mod self_intersect;
 mod subdivide;
+mod tri_tri;
 mod trimesh;
 
 #[cfg(feature = "io")]

@@ -114,13 +114,7 @@ pub fn gpu_dent(
     }
     let moves: Vec<f32> =
         target.positions().iter().zip(original_target.positions()).map(|(a, b)| a.distance(*b)).collect();
-    let mut warnings = Vec::new();
-    let steepness = params.attenuation.max_steepness(params.dent_distance);
-    if steepness > 1.0 + 1e-3 {
-        warnings.push(format!(
-            "falloff is {steepness:.2}× steeper than 1 − z/d: walls thinner than about d can fold inside out (paper Figure 2d)"
-        ));
-    }
+    // The thickness-fitted falloff, its warning and the intersection guard run on the CPU path only.
     Ok(DentReport {
         moved_vertices: moves.iter().filter(|&&m| m > 0.0).count(),
         max_displacement: moves.iter().copied().fold(0.0, f32::max),
@@ -129,7 +123,8 @@ pub fn gpu_dent(
         map_resolution: info[0].map_resolution,
         cell_size: info[0].cell_size,
         sigma: params.sigma_or_default(),
-        warnings,
+        warnings: Vec::new(),
+        limited_to: None,
     })
 }
 

@@ -1,0 +1,93 @@
+//! The intersection guard, the last stage of a dent: if the dent makes faces around the moved
+//! vertices cross where they did not cross before it, the dent is scaled back (every moved
+//! vertex to `before + s·(after − before)`, the largest `s` found by bisection) until no new
+//! crossing is left. Crossings that were there before the dent are not its business.
+//!
+//! Cost: one pass over the faces to find those whose box, swept from before to after, meets
+//! the moved region, then the face-pair tests there (see [`TriMesh::self_intersections`]);
+//! the bisection runs only for a dent that does make faces cross.
+//!
+//! [`TriMesh::self_intersections`]: crate::mesh::TriMesh::self_intersections
+
+use std::collections::HashSet;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::map::PendingDisplacement;
+use crate::mesh::face_grid::{Aabb, overlapping_pairs};
+use crate::mesh::self_intersect::faces_cross;
+
+/// Bisection steps: the scale found is within 2⁻¹² of the largest crossing-free one.
+const BISECTION_STEPS: u32 = 12;
+
+/// Limits `pending` (computed from `before`, the positions of a mesh with `faces`) so that it
+/// makes no new pair of faces cross; records the scale kept and a warning in its report.
+pub(crate) fn guard_crossings(pending: &mut PendingDisplacement, faces: &[[u32; 3]], before: &[Vec3]) {
+    let Some(scale) = crossing_free_scale(faces, before, &pending.positions, &pending.moved) else {
+        return;
+    };
+    for ((p, &b), _) in pending.positions.iter_mut().zip(before).zip(&pending.moved).filter(|(_, m)| **m) {
+        *p = scaled(b, *p, scale);
+    }
+    let report = &mut pending.report;
+    report.max_displacement *= scale;
+    if scale == 0.0 {
+        report.moved_vertices = 0;
+    }
+    report.limited_to = Some(scale);
+    let message = format!(
+        "dent limited to {:.1} % of its displacement: any deeper, faces near it would cross (a fold through the body)",
+        100.0 * scale
+    );
+    log::warn!("{message}");
+    report.warnings.push(message);
+}
+
+/// `before + s·(after − before)`, exactly `after` at `s = 1`.
+fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
+    if s == 1.0 { after } else { before + (after - before) * s }
+}
+
+/// `None` when moving `before` to `after` makes no new face pair cross; otherwise the largest
+/// scale (to 2⁻¹²) of the displacement that makes none (0 at worst: nothing moves).
+fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<f32> {
+    let touches_moved = |f: &[u32; 3]| f.iter().any(|&v| moved[v as usize]);
+    let is_active: Vec<bool> = faces.iter().map(touches_moved).collect();
+    let active: Vec<u32> = (0..faces.len() as u32).filter(|&f| is_active[f as usize]).collect();
+    if active.is_empty() {
+        return None;
+    }
+    // Every scale's faces lie inside the box swept from before to after.
+    let boxes: Vec<Aabb> = faces
+        .iter()
+        .map(|f| Aabb::of(f.iter().flat_map(|&v| [before[v as usize], after[v as usize]])))
+        .collect();
+    let region = active.iter().fold(Aabb::EMPTY, |b, &f| b.union(boxes[f as usize]));
+    let others: Vec<u32> =
+        (0..faces.len() as u32).filter(|&f| is_active[f as usize] || boxes[f as usize].overlaps(&region)).collect();
+    let pairs = overlapping_pairs(&boxes, &active, &is_active, &others);
+
+    let crossing = |positions: &[Vec3], pairs: &[(u32, u32)]| -> Vec<(u32, u32)> {
+        pairs.par_iter().with_min_len(512).copied().filter(|&(a, b)| faces_cross(positions, faces, a, b)).collect()
+    };
+    let crossing_after = crossing(after, &pairs);
+    if crossing_after.is_empty() {
+        return None;
+    }
+    let crossed_before: HashSet<(u32, u32)> = crossing(before, &pairs).into_iter().collect();
+    if crossing_after.iter().all(|p| crossed_before.contains(p)) {
+        return None;
+    }
+    let watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
+    let mut positions = before.to_vec();
+    let (mut lo, mut hi) = (0.0f32, 1.0f32);
+    for _ in 0..BISECTION_STEPS {
+        let mid = 0.5 * (lo + hi);
+        for ((p, (&b, &a)), _) in positions.iter_mut().zip(before.iter().zip(after)).zip(moved).filter(|(_, m)| **m) {
+            *p = scaled(b, a, mid);
+        }
+        if crossing(&positions, &watched).is_empty() { lo = mid } else { hi = mid }
+    }
+    Some(lo)
+}
