@@ -22,16 +22,13 @@ fn moved(mut m: TriMesh, by: Vec3) -> TriMesh {
     m
 }
 
-/// A strip 1 wide along y whose centre line runs (0,0) → (2,0) → (1,1) → (1,−1) in the xz-plane:
-/// its last leg pierces its first. `n` segments per leg.
+/// A strip 1 wide along y whose centre line runs (0,0) → (2,0) → (1.1,1) → (1.1,−0.9) in the
+/// xz-plane: its last leg pierces its first (away from any vertex). `n` segments per leg.
 fn pierced_strip(n: u32) -> TriMesh {
-    let legs = [(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0)), (Vec3::new(2.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 1.0)), (
-        Vec3::new(1.0, 0.0, 1.0),
-        Vec3::new(1.0, 0.0, -1.0),
-    )];
+    let corners = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(1.1, 0.0, 1.0), Vec3::new(1.1, 0.0, -0.9)];
     let mut line = vec![Vec3::ZERO];
-    for (from, to) in legs {
-        line.extend((1..=n).map(|k| from.lerp(to, k as f32 / n as f32)));
+    for leg in corners.windows(2) {
+        line.extend((1..=n).map(|k| leg[0].lerp(leg[1], k as f32 / n as f32)));
     }
     let positions: Vec<Vec3> = line.iter().flat_map(|&p| [p - 0.5 * Vec3::Y, p + 0.5 * Vec3::Y]).collect();
     let faces = (0..line.len() as u32 - 1)
@@ -71,11 +68,11 @@ fn a_folded_sheet_crosses_itself_and_the_local_check_agrees() {
     let strip = pierced_strip(8);
     let pairs = strip.self_intersections();
     assert!(!pairs.is_empty());
-    // The crossing faces are those of the first leg around x = 1 and of the last leg around z = 0.
+    // The crossing faces are those of the first leg around x = 1.1 and of the last leg around z = 0.
     let centre = |f: u32| strip.faces()[f as usize].iter().map(|&v| strip.positions()[v as usize]).sum::<Vec3>() / 3.0;
     for &(i, j) in &pairs {
         let (a, b) = (centre(i), centre(j));
-        assert!((a.x - 1.0).abs() < 0.2 && a.z.abs() < 1e-6 && (b.x - 1.0).abs() < 1e-6 && b.z.abs() < 0.2, "{a} {b}");
+        assert!((a.x - 1.1).abs() < 0.25 && a.z.abs() < 1e-6 && (b.x - 1.1).abs() < 1e-6 && b.z.abs() < 0.25, "{a} {b}");
     }
     // Around the last leg's vertices the local check finds exactly the same pairs.
     let last_leg: Vec<u32> = (0..strip.vertex_count() as u32).filter(|&v| strip.positions()[v as usize].z < -0.01).collect();
@@ -176,7 +173,9 @@ fn measured_wall_thickness_is_the_plank_and_thick_targets_are_untouched() {
     let mut fitted = block.clone();
     let linear = Attenuation::Linear { scale: 1.0 };
     let report = map.apply(&mut fitted, &linear).unwrap();
-    assert!(report.warnings.is_empty() && report.wall_thickness.is_none(), "{report:?}");
+    // Measured (the falloff is steep enough to matter), found 1 thick, so left as it is.
+    let measured = report.wall_thickness.expect("measured");
+    assert!(report.warnings.is_empty() && (measured - 1.0).abs() < 1e-4, "{report:?}");
     let (kernel, table) = map.displace_params(&linear, block.vertex_count());
     let mut plain = block.positions().to_vec();
     let mut flags = vec![false; plain.len()];

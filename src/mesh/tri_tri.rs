@@ -1,6 +1,8 @@
 //! Whether two triangles cross: their relative interiors share a point (transversal crossings)
-//! or an area (coplanar overlap). Touching along an edge or at a vertex is not a crossing, so
-//! faces sharing a vertex or an edge are reported only when they overlap beyond it.
+//! or, coplanar and facing the same way, an area (a doubled surface). Touching along an edge or
+//! at a vertex is not a crossing, so faces sharing a vertex or an edge are reported only when
+//! they overlap beyond it; nor are coplanar faces facing opposite ways (two sheets back to back,
+//! or a fold flattened exactly onto itself: the limit of a fold, which crosses once pushed on).
 //!
 //! Arithmetic is f64 on the f32 inputs. Every side-of-plane and side-of-line decision uses a
 //! determinant whose sign is trusted only beyond Shewchuk's static rounding bound and counts as
@@ -70,11 +72,8 @@ pub(crate) fn triangles_cross(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
     let p_side = p.map(|v| orient3d(q[0], q[1], q[2], v));
     let q_signs = q_side.map(|s| s.0);
     let p_signs = p_side.map(|s| s.0);
-    if q_signs == [0; 3] {
-        return coplanar_overlap(p, q, np);
-    }
-    if p_signs == [0; 3] {
-        return coplanar_overlap(p, q, nq);
+    if q_signs == [0; 3] || p_signs == [0; 3] {
+        return np.dot(nq) > 0.0 && coplanar_overlap(p, q, if q_signs == [0; 3] { np } else { nq });
     }
     if !straddles(q_signs) || !straddles(p_signs) {
         return false;
@@ -118,7 +117,7 @@ fn chord(tri: [DVec3; 3], side: [(i8, f64); 3], direction: DVec3) -> (f64, f64) 
     (ends[0].min(ends[1]), ends[0].max(ends[1]))
 }
 
-/// Coplanar triangles cross when their interiors share an area: no edge line of either one has
+/// Coplanar triangles overlap when their interiors share an area: no edge line of either one has
 /// the other triangle entirely on its far closed side (separating axes through the edges).
 fn coplanar_overlap(p: [DVec3; 3], q: [DVec3; 3], normal: DVec3) -> bool {
     let drop = normal.abs().max_position();
@@ -180,8 +179,10 @@ mod tests {
         // Flat neighbour across the edge (1,0)-(0,1), and a bent one.
         assert!(!triangles_cross(a, tri([1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0])));
         assert!(!triangles_cross(a, tri([1.0, 0.0, 0.0], [1.0, 1.0, 0.7], [0.0, 1.0, 0.0])));
-        // Folded flat back onto `a`: coplanar overlap.
-        assert!(triangles_cross(a, tri([1.0, 0.0, 0.0], [0.2, 0.2, 0.0], [0.0, 1.0, 0.0])));
+        // Folded flat back onto `a`: the limit of a fold, touching (faces opposite ways).
+        assert!(!triangles_cross(a, tri([1.0, 0.0, 0.0], [0.2, 0.2, 0.0], [0.0, 1.0, 0.0])));
+        // Folded on past flat: faces sharing an edge, not coplanar, meet only along it.
+        assert!(!triangles_cross(a, tri([1.0, 0.0, 0.0], [0.2, 0.2, 0.1], [0.0, 1.0, 0.0])));
         // Sharing vertex 0 and pointing into `a` from below: crosses beyond the shared vertex.
         assert!(triangles_cross(a, tri([0.0, 0.0, 0.0], [0.6, 0.6, 0.3], [0.6, 0.6, -0.3])));
         // Sharing vertex 0 and pointing away: touches only there.
@@ -193,6 +194,8 @@ mod tests {
         let a = tri([0.0, 0.0, 1.0], [2.0, 0.0, 1.0], [0.0, 2.0, 1.0]);
         assert!(triangles_cross(a, tri([0.5, 0.5, 1.0], [3.0, 0.5, 1.0], [0.5, 3.0, 1.0])));
         assert!(triangles_cross(a, a));
+        // Facing the other way (back to back): touching.
+        assert!(!triangles_cross(a, tri([0.5, 0.5, 1.0], [0.5, 3.0, 1.0], [3.0, 0.5, 1.0])));
         // Touching corner to corner, and disjoint.
         assert!(!triangles_cross(a, tri([2.0, 0.0, 1.0], [3.0, 0.0, 1.0], [3.0, 1.0, 1.0])));
         assert!(!triangles_cross(a, tri([5.0, 5.0, 1.0], [6.0, 5.0, 1.0], [5.0, 6.0, 1.0])));
