@@ -5,8 +5,8 @@
 mod common;
 
 use common::SplitMix64;
-use dentbend::glam::{Affine3A, Quat, Vec3};
 use dentbend::dent::{DentJob, dent_batch};
+use dentbend::glam::{Affine3A, Quat, Vec3};
 use dentbend::{Attenuation, DentParams, Impact, Resolution, TriMesh, dent, mesh};
 
 /// `a` and `b` as one mesh (faces of `b` renumbered).
@@ -72,10 +72,14 @@ fn a_folded_sheet_crosses_itself_and_the_local_check_agrees() {
     let centre = |f: u32| strip.faces()[f as usize].iter().map(|&v| strip.positions()[v as usize]).sum::<Vec3>() / 3.0;
     for &(i, j) in &pairs {
         let (a, b) = (centre(i), centre(j));
-        assert!((a.x - 1.1).abs() < 0.25 && a.z.abs() < 1e-6 && (b.x - 1.1).abs() < 1e-6 && b.z.abs() < 0.25, "{a} {b}");
+        assert!(
+            (a.x - 1.1).abs() < 0.25 && a.z.abs() < 1e-6 && (b.x - 1.1).abs() < 1e-6 && b.z.abs() < 0.25,
+            "{a} {b}"
+        );
     }
     // Around the last leg's vertices the local check finds exactly the same pairs.
-    let last_leg: Vec<u32> = (0..strip.vertex_count() as u32).filter(|&v| strip.positions()[v as usize].z < -0.01).collect();
+    let last_leg: Vec<u32> =
+        (0..strip.vertex_count() as u32).filter(|&v| strip.positions()[v as usize].z < -0.01).collect();
     let mut near = strip.self_intersections_near(&last_leg);
     near.extend(strip.self_intersections_near(&(0..strip.vertex_count() as u32).collect::<Vec<_>>()));
     near.sort_unstable();
@@ -95,7 +99,9 @@ fn the_check_runs_on_a_hundred_thousand_triangles() {
     assert!(big.face_count() > 100_000);
     assert_eq!(big.self_intersections(), vec![]);
     // One vertex of the top face pushed down through the bottom: its fan now crosses the bottom.
-    let top = (0..big.vertex_count()).find(|&v| big.positions()[v].abs().cmplt(Vec3::new(0.02, 1.1, 0.02)).all() && big.positions()[v].y > 0.9).unwrap();
+    let top = (0..big.vertex_count())
+        .find(|&v| big.positions()[v].abs().cmplt(Vec3::new(0.02, 1.1, 0.02)).all() && big.positions()[v].y > 0.9)
+        .unwrap();
     let mut pushed = big.positions().to_vec();
     pushed[top].y = -1.5;
     let mut broken = big.clone();

@@ -3,9 +3,10 @@
 //! vertex to `before + s·(after − before)`, the largest `s` found by bisection) until no new
 //! crossing is left. Crossings that were there before the dent are not its business.
 //!
-//! Cost: one pass over the faces to find those whose box, swept from before to after, meets
-//! the moved region, then the face-pair tests there (see [`TriMesh::self_intersections`]);
-//! the bisection runs only for a dent that does make faces cross.
+//! Cost: one pass over the faces to find those whose box meets the moved region, then the
+//! face-pair tests there (see [`TriMesh::self_intersections`]); only for a dent that does make
+//! faces cross, the pairs whose boxes swept from before to after meet are tested again at each
+//! step of the bisection.
 //!
 //! [`TriMesh::self_intersections`]: crate::mesh::TriMesh::self_intersections
 
@@ -17,6 +18,13 @@ use rayon::prelude::*;
 use super::map::PendingDisplacement;
 use crate::mesh::face_grid::{Aabb, overlapping_pairs};
 use crate::mesh::self_intersect::faces_cross;
+
+/// Vertices that moved less than this fraction of the dent's largest displacement are taken as
+/// still by the guard's search (they are scaled with the rest): the tails of the smoothed map
+/// and of the falloff, which would otherwise double the faces to test. Moving under 10⁻³ of the
+/// dent, they fold only faces that were already within that of folding; the accumulated-dent
+/// tests check the result with the full [`TriMesh::self_intersections`].
+const NEGLIGIBLE_MOVE: f32 = 1e-3;
 
 /// Bisection steps: the scale found is within 2⁻¹² of the largest crossing-free one.
 const BISECTION_STEPS: u32 = 12;
@@ -52,34 +60,40 @@ fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
 /// `None` when moving `before` to `after` makes no new face pair cross; otherwise the largest
 /// scale (to 2⁻¹²) of the displacement that makes none (0 at worst: nothing moves).
 fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<f32> {
-    let touches_moved = |f: &[u32; 3]| f.iter().any(|&v| moved[v as usize]);
+    let longest = before.iter().zip(after).map(|(b, a)| b.distance_squared(*a)).fold(0.0, f32::max).sqrt();
+    let least = (NEGLIGIBLE_MOVE * longest).powi(2);
+    let moved_enough: Vec<bool> =
+        before.iter().zip(after).zip(moved).map(|((b, a), &m)| m && b.distance_squared(*a) > least).collect();
+    let touches_moved = |f: &[u32; 3]| f.iter().any(|&v| moved_enough[v as usize]);
     let is_active: Vec<bool> = faces.iter().map(touches_moved).collect();
     let active: Vec<u32> = (0..faces.len() as u32).filter(|&f| is_active[f as usize]).collect();
     if active.is_empty() {
         return None;
     }
-    // Every scale's faces lie inside the box swept from before to after.
-    let boxes: Vec<Aabb> = faces
-        .iter()
-        .map(|f| Aabb::of(f.iter().flat_map(|&v| [before[v as usize], after[v as usize]])))
-        .collect();
-    let region = active.iter().fold(Aabb::EMPTY, |b, &f| b.union(boxes[f as usize]));
-    let others: Vec<u32> =
-        (0..faces.len() as u32).filter(|&f| is_active[f as usize] || boxes[f as usize].overlaps(&region)).collect();
-    let pairs = overlapping_pairs(&boxes, &active, &is_active, &others);
-
+    let boxes_of = |f: &[u32; 3], positions: &[&[Vec3]]| {
+        Aabb::of(f.iter().flat_map(|&v| positions.iter().map(move |p| p[v as usize])))
+    };
+    let pairs_within = |positions: &[&[Vec3]]| {
+        let boxes: Vec<Aabb> = faces.par_iter().with_min_len(4096).map(|f| boxes_of(f, positions)).collect();
+        let region = active.iter().fold(Aabb::EMPTY, |b, &f| b.union(boxes[f as usize]));
+        let others: Vec<u32> =
+            (0..faces.len() as u32).filter(|&f| is_active[f as usize] || boxes[f as usize].overlaps(&region)).collect();
+        overlapping_pairs(&boxes, &active, &is_active, &others)
+    };
     let crossing = |positions: &[Vec3], pairs: &[(u32, u32)]| -> Vec<(u32, u32)> {
         pairs.par_iter().with_min_len(512).copied().filter(|&(a, b)| faces_cross(positions, faces, a, b)).collect()
     };
-    let crossing_after = crossing(after, &pairs);
+    let crossing_after = crossing(after, &pairs_within(&[after]));
     if crossing_after.is_empty() {
         return None;
     }
-    let crossed_before: HashSet<(u32, u32)> = crossing(before, &pairs).into_iter().collect();
+    // Every scale's faces lie inside the boxes swept from before to after.
+    let swept = pairs_within(&[before, after]);
+    let crossed_before: HashSet<(u32, u32)> = crossing(before, &swept).into_iter().collect();
     if crossing_after.iter().all(|p| crossed_before.contains(p)) {
         return None;
     }
-    let watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
+    let watched: Vec<(u32, u32)> = swept.into_iter().filter(|p| !crossed_before.contains(p)).collect();
     let mut positions = before.to_vec();
     let (mut lo, mut hi) = (0.0f32, 1.0f32);
     for _ in 0..BISECTION_STEPS {

@@ -55,7 +55,12 @@ impl Wall {
 }
 
 /// Fits `attenuation` to the body (`positions`, `faces`) under `map`; see the module docs.
-pub(crate) fn fit_falloff(map: &DentMap, positions: &[Vec3], faces: &[[u32; 3]], attenuation: &Attenuation) -> FittedFalloff {
+pub(crate) fn fit_falloff(
+    map: &DentMap,
+    positions: &[Vec3],
+    faces: &[[u32; 3]],
+    attenuation: &Attenuation,
+) -> FittedFalloff {
     let unchanged = |thickness| FittedFalloff { attenuation: attenuation.clone(), thickness, warning: None };
     let d = map.dent_distance;
     let axis = map.grid.axis_z;
@@ -179,7 +184,8 @@ fn measure_walls(
             let wa = (b2 - *at).perp_dot(c2 - *at);
             let wb = (c2 - *at).perp_dot(a2 - *at);
             let wc = (a2 - *at).perp_dot(b2 - *at);
-            let inside = if area > 0.0 { wa >= 0.0 && wb >= 0.0 && wc >= 0.0 } else { wa <= 0.0 && wb <= 0.0 && wc <= 0.0 };
+            let inside =
+                if area > 0.0 { wa >= 0.0 && wb >= 0.0 && wc >= 0.0 } else { wa <= 0.0 && wb <= 0.0 && wc <= 0.0 };
             if inside {
                 list.push(((wa * a.z + wb * b.z + wc * c.z) / area, entering));
             }

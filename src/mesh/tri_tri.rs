@@ -69,13 +69,19 @@ pub(crate) fn triangles_cross(p: [DVec3; 3], q: [DVec3; 3]) -> bool {
         return false;
     }
     let q_side = q.map(|v| orient3d(p[0], p[1], p[2], v));
-    let p_side = p.map(|v| orient3d(q[0], q[1], q[2], v));
     let q_signs = q_side.map(|s| s.0);
-    let p_signs = p_side.map(|s| s.0);
-    if q_signs == [0; 3] || p_signs == [0; 3] {
-        return np.dot(nq) > 0.0 && coplanar_overlap(p, q, if q_signs == [0; 3] { np } else { nq });
+    if q_signs == [0; 3] {
+        return np.dot(nq) > 0.0 && coplanar_overlap(p, q, np);
     }
-    if !straddles(q_signs) || !straddles(p_signs) {
+    if !straddles(q_signs) {
+        return false;
+    }
+    let p_side = p.map(|v| orient3d(q[0], q[1], q[2], v));
+    let p_signs = p_side.map(|s| s.0);
+    if p_signs == [0; 3] {
+        return np.dot(nq) > 0.0 && coplanar_overlap(p, q, nq);
+    }
+    if !straddles(p_signs) {
         return false;
     }
     let direction = np.cross(nq);
