@@ -19,13 +19,6 @@ use super::map::PendingDisplacement;
 use crate::mesh::face_grid::{Aabb, overlapping_pairs};
 use crate::mesh::self_intersect::faces_cross;
 
-/// Vertices that moved less than this fraction of the dent's largest displacement are taken as
-/// still by the guard's search (they are scaled with the rest): the tails of the smoothed map
-/// and of the falloff, which would otherwise double the faces to test. Moving under 10⁻³ of the
-/// dent, they fold only faces that were already within that of folding; the accumulated-dent
-/// tests check the result with the full [`TriMesh::self_intersections`].
-const NEGLIGIBLE_MOVE: f32 = 1e-3;
-
 /// Bisection steps: the scale found is within 2⁻¹² of the largest crossing-free one.
 const BISECTION_STEPS: u32 = 12;
 
@@ -60,11 +53,7 @@ fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
 /// `None` when moving `before` to `after` makes no new face pair cross; otherwise the largest
 /// scale (to 2⁻¹²) of the displacement that makes none (0 at worst: nothing moves).
 fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<f32> {
-    let longest = before.iter().zip(after).map(|(b, a)| b.distance_squared(*a)).fold(0.0, f32::max).sqrt();
-    let least = (NEGLIGIBLE_MOVE * longest).powi(2);
-    let moved_enough: Vec<bool> =
-        before.iter().zip(after).zip(moved).map(|((b, a), &m)| m && b.distance_squared(*a) > least).collect();
-    let touches_moved = |f: &[u32; 3]| f.iter().any(|&v| moved_enough[v as usize]);
+    let touches_moved = |f: &[u32; 3]| f.iter().any(|&v| moved[v as usize]);
     let is_active: Vec<bool> = faces.iter().map(touches_moved).collect();
     let active: Vec<u32> = (0..faces.len() as u32).filter(|&f| is_active[f as usize]).collect();
     if active.is_empty() {
