@@ -15,8 +15,8 @@ use std::collections::HashSet;
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::guard_pairs::{Reach, pairs_to_test};
 use super::map::PendingDisplacement;
-use crate::mesh::face_grid::{Aabb, overlapping_pairs};
 use crate::mesh::self_intersect::faces_cross;
 
 /// Bisection steps: the scale found is within 2⁻¹² of the largest crossing-free one.
@@ -53,36 +53,27 @@ fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
 /// `None` when moving `before` to `after` makes no new face pair cross; otherwise the largest
 /// scale (to 2⁻¹²) of the displacement that makes none (0 at worst: nothing moves).
 fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<f32> {
-    let touches_moved = |f: &[u32; 3]| f.iter().any(|&v| moved[v as usize]);
-    let is_active: Vec<bool> = faces.iter().map(touches_moved).collect();
-    let active: Vec<u32> = (0..faces.len() as u32).filter(|&f| is_active[f as usize]).collect();
-    if active.is_empty() {
-        return None;
-    }
-    let boxes_of = |f: &[u32; 3], positions: &[&[Vec3]]| {
-        Aabb::of(f.iter().flat_map(|&v| positions.iter().map(move |p| p[v as usize])))
-    };
-    let pairs_within = |positions: &[&[Vec3]]| {
-        let boxes: Vec<Aabb> = faces.par_iter().with_min_len(4096).map(|f| boxes_of(f, positions)).collect();
-        let region = active.iter().fold(Aabb::EMPTY, |b, &f| b.union(boxes[f as usize]));
-        let others: Vec<u32> =
-            (0..faces.len() as u32).filter(|&f| is_active[f as usize] || boxes[f as usize].overlaps(&region)).collect();
-        overlapping_pairs(&boxes, &active, &is_active, &others)
-    };
+    // The pairs that could cross after the dent and are not cleared by their relative motion.
+    let pairs = pairs_to_test(faces, before, after, moved, Reach::Full);
     let crossing = |positions: &[Vec3], pairs: &[(u32, u32)]| -> Vec<(u32, u32)> {
-        pairs.par_iter().with_min_len(512).copied().filter(|&(a, b)| faces_cross(positions, faces, a, b)).collect()
+        let crosses = |&&(a, b): &&(u32, u32)| faces_cross(positions, faces, a, b);
+        if pairs.len() < PARALLEL_TESTS {
+            pairs.iter().filter(crosses).copied().collect()
+        } else {
+            pairs.par_iter().with_min_len(PARALLEL_TESTS / 2).filter(crosses).copied().collect()
+        }
     };
-    let crossing_after = crossing(after, &pairs_within(&[after]));
+    let crossing_after = crossing(after, &pairs);
     if crossing_after.is_empty() {
         return None;
     }
-    // Every scale's faces lie inside the boxes swept from before to after.
-    let swept = pairs_within(&[before, after]);
-    let crossed_before: HashSet<(u32, u32)> = crossing(before, &swept).into_iter().collect();
+    // Those that could cross at any scale (a superset), less those that crossed before.
+    let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled);
+    let crossed_before: HashSet<(u32, u32)> = crossing(before, &pairs).into_iter().collect();
     if crossing_after.iter().all(|p| crossed_before.contains(p)) {
         return None;
     }
-    let watched: Vec<(u32, u32)> = swept.into_iter().filter(|p| !crossed_before.contains(p)).collect();
+    let watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
     let mut positions = before.to_vec();
     let (mut lo, mut hi) = (0.0f32, 1.0f32);
     for _ in 0..BISECTION_STEPS {
@@ -94,3 +85,6 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
     }
     Some(lo)
 }
+
+/// Below this many pair tests they run on one thread (waking the pool costs more).
+const PARALLEL_TESTS: usize = 4096;

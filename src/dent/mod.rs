@@ -14,6 +14,7 @@ mod energy;
 mod error;
 mod grid;
 mod guard;
+mod guard_pairs;
 mod impact;
 mod map;
 mod material;

@@ -31,13 +31,15 @@ impl Aabb {
 }
 
 /// Faces binned into the grid cells their boxes cover (compressed rows: `items[starts[c]..
-/// starts[c + 1]]` are the faces of cell `c`).
+/// starts[c + 1]]` are the faces of cell `c`, and `item_boxes` their boxes, stored alongside so
+/// that a query reads them in order).
 struct FaceGrid {
     origin: Vec3,
     inv_cell: f32,
     dims: [usize; 3],
     starts: Vec<u32>,
     items: Vec<u32>,
+    item_boxes: Vec<Aabb>,
 }
 
 /// At most this many grid cells per binned face, so memory stays linear in the face count.
@@ -58,7 +60,14 @@ impl FaceGrid {
             cell *= 1.5;
             dims = dims_for(cell);
         }
-        let mut grid = Self { origin: bounds.min, inv_cell: 1.0 / cell, dims, starts: Vec::new(), items: Vec::new() };
+        let mut grid = Self {
+            origin: bounds.min,
+            inv_cell: 1.0 / cell,
+            dims,
+            starts: Vec::new(),
+            items: Vec::new(),
+            item_boxes: Vec::new(),
+        };
         let mut counts = vec![0u32; dims[0] * dims[1] * dims[2] + 1];
         for &f in members {
             grid.for_cells(&boxes[f as usize], |c| counts[c] += 1);
@@ -71,14 +80,17 @@ impl FaceGrid {
         }
         let mut fill = counts.clone();
         let mut items = vec![0u32; total as usize];
+        let mut item_boxes = vec![Aabb::EMPTY; total as usize];
         for &f in members {
             grid.for_cells(&boxes[f as usize], |c| {
                 items[fill[c] as usize] = f;
+                item_boxes[fill[c] as usize] = boxes[f as usize];
                 fill[c] += 1;
             });
         }
         grid.starts = counts;
         grid.items = items;
+        grid.item_boxes = item_boxes;
         grid
     }
 
@@ -112,27 +124,33 @@ pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: &[u32], is_active: &[boo
         return Vec::new();
     }
     let grid = FaceGrid::new(boxes, others);
-    active
-        .par_iter()
-        .with_min_len(256)
-        .flat_map_iter(|&a| {
-            let box_a = boxes[a as usize];
-            let mut found = Vec::new();
-            grid.for_cells(&box_a, |cell| {
-                let range = grid.starts[cell] as usize..grid.starts[cell + 1] as usize;
-                for &c in &grid.items[range] {
-                    // A pair of two active faces is found from its smaller index only.
-                    if c == a || (c < a && is_active[c as usize]) {
-                        continue;
-                    }
-                    let box_c = boxes[c as usize];
-                    // Report the pair in one cell only: the one holding the overlap's low corner.
-                    if box_a.overlaps(&box_c) && grid.linear(grid.cell_of(box_a.min.max(box_c.min))) == cell {
-                        found.push((a, c));
-                    }
+    let visit = |found: &mut Vec<(u32, u32)>, a: u32| {
+        let box_a = boxes[a as usize];
+        grid.for_cells(&box_a, |cell| {
+            let range = grid.starts[cell] as usize..grid.starts[cell + 1] as usize;
+            for (&c, box_c) in grid.items[range.clone()].iter().zip(&grid.item_boxes[range]) {
+                // Report the pair in one cell only: the one holding the overlap's low corner;
+                // a pair of two active faces from its smaller index only.
+                if box_a.overlaps(box_c)
+                    && c != a
+                    && !(c < a && is_active[c as usize])
+                    && grid.linear(grid.cell_of(box_a.min.max(box_c.min))) == cell
+                {
+                    found.push((a, c));
                 }
-            });
-            found
-        })
-        .collect()
+            }
+        });
+    };
+    let run = |chunk: &[u32]| {
+        let mut found = Vec::with_capacity(8 * chunk.len());
+        chunk.iter().for_each(|&a| visit(&mut found, a));
+        found
+    };
+    if active.len() <= PARALLEL_QUERIES {
+        return run(active);
+    }
+    active.par_chunks(PARALLEL_QUERIES / 2).map(run).flatten_iter().collect()
 }
+
+/// Up to this many faces are queried on one thread (waking the pool costs more).
+const PARALLEL_QUERIES: usize = 4096;
