@@ -18,7 +18,7 @@
 //!   If a plane through `a` with normal `n` has `b, c` more than `|n|·R` above it and `d, e` more
 //!   than `|n|·R` below, then `n·(x_s − a_s) = n·(x − a) + s·n·(u_x − u_a)` keeps its sign at
 //!   every scale: the plane moved with `a` still separates the faces, which meet only at `a`.
-//!   `n` is the difference of the two faces' corner directions at `a`.
+//!   `n` is the difference of the two faces' corner directions at `a` (sums of unit arms).
 //! * **Sharing an edge** `ab` (third corners `c`, `d`). Two faces with a common edge cross only
 //!   folded flat onto each other, `c` and `d` on one side of the edge in a common plane; so they
 //!   cannot while some plane through the moved edge has `c_s` and `d_s` strictly on opposite
@@ -101,49 +101,80 @@ struct NearFaces {
 
 impl NearFaces {
     fn find(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool], reach: Reach) -> Self {
-        let touches_moved = |f: &[u32; 3]| moved[f[0] as usize] | moved[f[1] as usize] | moved[f[2] as usize];
-        let mut list: Vec<u32> = (0..faces.len() as u32).filter(|&f| touches_moved(&faces[f as usize])).collect();
-        let active = list.len();
+        // Where the moved faces lie, guessed first as the moved vertices' box widened by a
+        // twentieth of its size, so that one pass over the faces finds them and the unmoved faces that may meet
+        // them; only when a moved face reaches past the guess is the pass repeated with the box
+        // of the moved faces themselves.
+        let moved_box = before
+            .iter()
+            .zip(after)
+            .zip(moved)
+            .filter(|(_, m)| **m)
+            .fold(Aabb::EMPTY, |b, ((&p, &q), _)| b.union(Aabb::of([p, q])));
+        let widen = 0.05 * (moved_box.max - moved_box.min).max_element().max(0.0);
+        let mut guess = Aabb { min: moved_box.min - Vec3::splat(widen), max: moved_box.max + Vec3::splat(widen) };
         let box_before = |f: u32| Aabb::of(faces[f as usize].map(|v| before[v as usize]));
-        let mut boxes_before: Vec<Aabb> = list.iter().map(|&f| box_before(f)).collect();
         let box_after = |f: u32| Aabb::of(faces[f as usize].map(|v| after[v as usize]));
-        let mut reached: Vec<Aabb> = match reach {
-            Reach::Full => list.iter().map(|&f| box_after(f)).collect(),
-            Reach::Scaled => list.iter().zip(&boxes_before).map(|(&f, b)| b.union(box_after(f))).collect(),
-        };
-        let region = reached.iter().fold(Aabb::EMPTY, |r, b| r.union(*b));
-        if active > 0 {
-            // Unmoved faces whose box meets the region: out-codes per vertex, so a face all of
-            // whose corners lie beyond one side of the region is passed over at once.
-            let outcode = |p: Vec3| {
-                let below = p.cmplt(region.min).bitmask();
-                let above = p.cmpgt(region.max).bitmask();
-                (below | above << 3) as u8
+        loop {
+            let (mut list, maybe, inside) = sort_faces(faces, before, moved, &guess);
+            let active = list.len();
+            let mut boxes_before: Vec<Aabb> = list.iter().map(|&f| box_before(f)).collect();
+            let mut reached: Vec<Aabb> = match reach {
+                Reach::Full => list.iter().map(|&f| box_after(f)).collect(),
+                Reach::Scaled => list.iter().zip(&boxes_before).map(|(&f, b)| b.union(box_after(f))).collect(),
             };
-            let codes: Vec<u8> = before.iter().map(|&p| outcode(p)).collect();
-            for (f, face) in faces.iter().enumerate() {
-                let code = codes[face[0] as usize] & codes[face[1] as usize] & codes[face[2] as usize];
-                if code == 0 && !touches_moved(face) {
-                    let b = box_before(f as u32);
-                    if b.overlaps(&region) {
-                        list.push(f as u32);
-                        boxes_before.push(b);
-                        reached.push(b);
-                    }
+            let region = reached.iter().fold(Aabb::EMPTY, |r, b| r.union(*b));
+            if !inside {
+                guess = region;
+                continue;
+            }
+            for f in maybe {
+                let b = box_before(f);
+                if b.overlaps(&region) {
+                    list.push(f);
+                    boxes_before.push(b);
+                    reached.push(b);
                 }
             }
+            let extent = reached
+                .iter()
+                .chain(&boxes_before)
+                .fold(0.0f32, |m, b| m.max(b.min.abs().max_element()).max(b.max.abs().max_element()));
+            let displacement = list[..active]
+                .iter()
+                .flat_map(|&f| faces[f as usize])
+                .map(|v| (after[v as usize] - before[v as usize]).abs().max_element())
+                .fold(0.0f32, f32::max);
+            let scale = f64::from(extent) + f64::from(displacement);
+            return Self { faces: list, active, reached, before: boxes_before, scale };
         }
-        let extent = reached
-            .iter()
-            .chain(&boxes_before)
-            .fold(0.0f32, |m, b| m.max(b.min.abs().max_element()).max(b.max.abs().max_element()));
-        let displacement = list[..active]
-            .iter()
-            .flat_map(|&f| faces[f as usize])
-            .map(|v| (after[v as usize] - before[v as usize]).abs().max_element())
-            .fold(0.0f32, f32::max);
-        Self { faces: list, active, reached, before: boxes_before, scale: f64::from(extent) + f64::from(displacement) }
     }
+}
+
+/// One pass over the faces: those with a moved corner, the unmoved ones whose corners do not all
+/// lie beyond one side of `guess` (out-codes per vertex), and whether every moved face's
+/// corners lie inside `guess`.
+fn sort_faces(faces: &[[u32; 3]], before: &[Vec3], moved: &[bool], guess: &Aabb) -> (Vec<u32>, Vec<u32>, bool) {
+    const MOVED: u8 = 1 << 7;
+    let codes: Vec<u8> = before
+        .iter()
+        .zip(moved)
+        .map(|(&p, &m)| {
+            let outside = p.cmplt(guess.min).bitmask() | p.cmpgt(guess.max).bitmask() << 3;
+            outside as u8 | if m { MOVED } else { 0 }
+        })
+        .collect();
+    let (mut active, mut maybe, mut inside) = (Vec::new(), Vec::new(), true);
+    for (f, face) in faces.iter().enumerate() {
+        let [a, b, c] = face.map(|v| codes[v as usize]);
+        if (a | b | c) & MOVED != 0 {
+            active.push(f as u32);
+            inside &= (a | b | c) & !MOVED == 0;
+        } else if a & b & c == 0 {
+            maybe.push(f as u32);
+        }
+    }
+    (active, maybe, inside)
 }
 
 /// Euclidean distance between boxes.
@@ -216,7 +247,7 @@ impl Motion<'_> {
     /// The largest `|u_x − u_a|` over `others`, plus the slack.
     fn motion_about(&self, a: u32, others: &[u32]) -> f64 {
         let ua = self.displacement(a);
-        others.iter().map(|&x| (self.displacement(x) - ua).length()).fold(0.0, f64::max) + self.slack
+        others.iter().map(|&x| (self.displacement(x) - ua).length_squared()).fold(0.0, f64::max).sqrt() + self.slack
     }
 
     /// Faces `p` and `q` sharing only corner `p[i] = q[j]`: whether a plane through it keeps
@@ -231,9 +262,8 @@ impl Motion<'_> {
             return false;
         };
         let n = ub + uc - ud - ue;
-        let reach = n.length() * self.motion_about(a, &[b, c, d, e]);
-        let clear = [n.dot(arms[0]), n.dot(arms[1]), -n.dot(arms[2]), -n.dot(arms[3])];
-        clear.iter().all(|&h| h > reach)
+        let clear = n.dot(arms[0]).min(n.dot(arms[1])).min(-n.dot(arms[2])).min(-n.dot(arms[3]));
+        clear > 0.0 && clear > n.length() * self.motion_about(a, &[b, c, d, e])
     }
 
     /// Faces `(a, b, c)` and `(·, ·, d)` sharing the edge `ab`: whether `c` and `d` stay strictly
