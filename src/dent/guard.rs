@@ -3,10 +3,14 @@
 //! vertex to `before + s·(after − before)`, the largest `s` found by bisection) until no new
 //! crossing is left. Crossings that were there before the dent are not its business.
 //!
-//! Cost: one pass over the faces to find those whose box meets the moved region, then the
-//! face-pair tests there (see [`TriMesh::self_intersections`]); only for a dent that does make
-//! faces cross, the pairs whose boxes swept from before to after meet are tested again at each
-//! step of the bisection.
+//! Cost: one pass over the faces to find the moved ones and the unmoved ones near them, a grid
+//! over those for the pairs whose boxes after the dent overlap, and the exact test (see
+//! [`TriMesh::self_intersections`]) of the pairs that their vertices' relative motion cannot
+//! clear (`guard_pairs`: neighbours moving together need no test; this is sound for every
+//! scale, no motion is too small to matter). Only for a dent that does make faces cross, the
+//! pairs whose swept boxes meet are found and cleared the same way, and those left are tested at
+//! each step of the bisection. Measured on `block-fine` (`benches/self_intersections.rs`), a
+//! dent moving 2,700 faces leaves about 4,700 of 19,700 candidate pairs to test.
 //!
 //! [`TriMesh::self_intersections`]: crate::mesh::TriMesh::self_intersections
 

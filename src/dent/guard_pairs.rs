@@ -101,10 +101,11 @@ struct NearFaces {
 
 impl NearFaces {
     fn find(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool], reach: Reach) -> Self {
-        // Where the moved faces lie, guessed first as the moved vertices' box widened by a
-        // twentieth of its size, so that one pass over the faces finds them and the unmoved faces that may meet
-        // them; only when a moved face reaches past the guess is the pass repeated with the box
-        // of the moved faces themselves.
+        // Where the moved faces lie, guessed first as the moved vertices' box (before and
+        // after) widened by a twentieth of its size, so that one pass over the faces finds them
+        // and the unmoved faces that may meet them: when the guess holds every moved face's
+        // corners before, it holds the moved faces' boxes. Otherwise the pass is repeated with
+        // the box of the moved faces themselves.
         let moved_box = before
             .iter()
             .zip(after)
@@ -125,7 +126,8 @@ impl NearFaces {
             };
             let region = reached.iter().fold(Aabb::EMPTY, |r, b| r.union(*b));
             if !inside {
-                guess = region;
+                // Holds every moved face before and after: the next pass finds all inside.
+                guess = boxes_before.iter().fold(region, |r, b| r.union(*b));
                 continue;
             }
             for f in maybe {
@@ -341,5 +343,29 @@ mod tests {
         // Folded over onto the other face: d moves across the edge, further than its clearance.
         after[3] = Vec3::new(0.5, 0.5, 0.0);
         assert!(motion(&faces, &before, &after).may_cross(0, 1, 0.0));
+    }
+
+    #[test]
+    fn a_moved_face_reaching_past_the_moved_vertices_is_found_and_kept() {
+        // A large face at z = 0 and a small one above it whose first corner is pushed through it:
+        // the moved face's other corners lie well outside the moved vertex's box.
+        let before = vec![
+            Vec3::ZERO,
+            Vec3::new(10.0, 0.0, 0.0),
+            Vec3::new(0.0, 10.0, 0.0),
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(2.0, 1.0, 1.0),
+            Vec3::new(1.0, 2.0, 1.0),
+        ];
+        let faces = [[0, 1, 2], [3, 4, 5]];
+        let mut after = before.clone();
+        after[3].z = -1.0;
+        let moved = [false, false, false, true, false, false];
+        for reach in [Reach::Full, Reach::Scaled] {
+            assert_eq!(pairs_to_test(&faces, &before, &after, &moved, reach), vec![(0, 1)], "{reach:?}");
+        }
+        // Pushed only halfway down to the large face: cleared by the gap.
+        after[3].z = 0.6;
+        assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled), vec![]);
     }
 }
