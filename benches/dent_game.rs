@@ -18,7 +18,8 @@ fn dent_game(c: &mut Criterion) {
     let head_on = Vec3::new(0.0, -1.0, 0.0);
     let glancing = Vec3::new(60f32.to_radians().sin(), -60f32.to_radians().cos(), 0.0);
     // d = 0.06 m: 30 % of the ball's radius, the size of dent the soak benchmark makes.
-    let paper = DentParams { refine: Refine::Off, volume: VolumeMode::Free, guard_crossings: false, ..DentParams::new(0.06) };
+    let paper =
+        DentParams { refine: Refine::Off, volume: VolumeMode::Free, guard_crossings: false, ..DentParams::new(0.06) };
     let game = DentParams { volume: VolumeMode::Preserve, ..DentParams::new(0.06) };
     for (name, velocity) in [("head-on", head_on), ("glancing-60", glancing)] {
         let impact = Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: velocity };

@@ -110,9 +110,9 @@ fn projectile_from_a_file_with_linear_falloff() {
     let stderr = text(&output.stderr);
     assert!(output.status.success(), "dent failed: {stderr}");
     assert!(text(&output.stdout).contains("48×48 cells"), "{}", text(&output.stdout));
-    // A falloff twice as steep as 1 − z/d can fold thin walls: warned once.
-    assert_eq!(stderr.matches("warning: ").count(), 1, "{stderr}");
-    assert!(stderr.contains("fold"), "{stderr}");
+    // A falloff twice as steep as 1 − z/d, but on a block ten times thicker than the dent: no
+    // wall can fold, so nothing is warned (the warning reads the body, not the falloff).
+    assert_eq!(stderr.matches("warning: ").count(), 0, "{stderr}");
     assert_eq!(read_obj(&out).0.len(), dentbend::mesh::builtin("block").unwrap().vertex_count());
 }
 

@@ -315,9 +315,9 @@ fn a_client_replays_a_binary_impact_message_with_a_built_in_projectile() {
     let message = dentbend::record::encode_records(&body.records).unwrap();
     eprintln!("one impact dent: {} bytes of binary", message.len());
     // Record count, tag, dent count, impact count (4); contact 36, two poses 96, hash 8, name 7,
-    // reach 4, flag 1 (152); every parameter (41, with refinement 5 and volume mode 1); no-edit
+    // reach 4, flag 1 (152); every parameter (42, with refinement 5, volume mode 1 and guard flag 1); no-edit
     // flag and result hash (9).
-    assert!(message.len() <= 206, "{} bytes", message.len());
+    assert!(message.len() <= 207, "{} bytes", message.len());
     let mut received = body.clone();
     received.records = dentbend::record::decode_records(&message).unwrap();
     // The client has the block and the built-in sphere; it is given no projectile mesh.

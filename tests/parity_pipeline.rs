@@ -94,9 +94,9 @@ fn target_jobs<'a>(balls: &'a [TriMesh], targets: &[TriMesh]) -> Vec<DentJob<'a>
         target,
         projectile: &balls[ball],
         impact: Impact { point, normal, relative_velocity: velocity },
-        // The kernels' parity: the CPU batch's host stages (refinement) stay off, as the
-        // GPU denter runs only the kernels.
-        params: DentParams { refine: Refine::Off, ..DentParams::new(d) },
+        // The kernels' parity: the CPU batch's host stages (refinement, intersection guard) stay
+        // off, as the GPU denter runs only the kernels.
+        params: DentParams { refine: Refine::Off, guard_crossings: false, ..DentParams::new(d) },
     };
     vec![
         hit(0, Vec3::new(0.0, 0.5, 0.0), -Vec3::Y, -Vec3::Y, 0, 0.2),

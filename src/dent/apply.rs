@@ -38,6 +38,9 @@ pub struct DentReport {
     /// The cavity: |volume change| the displacement alone made, before any rim, cubic world
     /// units. With `Preserve`, `|volume_change| ≤ 0.02·cavity_volume`.
     pub cavity_volume: f64,
+    /// Fraction of the dent's displacement kept when the intersection guard scaled it back so
+    /// that no faces cross (`None`: not limited; see [`DentParams::guard_crossings`]).
+    pub limited_to: Option<f32>,
 }
 
 /// Dents `target` where `projectile` hits it (paper Algorithm 1).
@@ -55,7 +58,7 @@ pub fn dent(
 ) -> Result<DentReport, DentError> {
     let stages = dent_map_stages(projectile, impact, params, Some(target.mean_edge_length()))?;
     let mut refined = refine_for_dents(target, &[footprint(&stages, params)]).map_err(|(_, e)| e)?;
-    let pending = displace_and_keep_volume(&refined, target, &stages.map, params)?;
+    let pending = displace_keep_volume_and_guard(&refined, target, &stages.map, params)?;
     let mut out = report(&stages, refined.commit(target, pending));
     note_refinement(&mut out, &refined, 0);
     Ok(out)
@@ -92,8 +95,8 @@ pub fn dent_pair(
     let stages_b = dent_map_stages(a, &impact.reversed(), params_b, Some(b.mean_edge_length()))?;
     let mut refined_a = refine_for_dents(a, &[footprint(&stages_a, params_a)]).map_err(|(_, e)| e)?;
     let mut refined_b = refine_for_dents(b, &[footprint(&stages_b, params_b)]).map_err(|(_, e)| e)?;
-    let pending_a = displace_and_keep_volume(&refined_a, a, &stages_a.map, params_a)?;
-    let pending_b = displace_and_keep_volume(&refined_b, b, &stages_b.map, params_b)?;
+    let pending_a = displace_keep_volume_and_guard(&refined_a, a, &stages_a.map, params_a)?;
+    let pending_b = displace_keep_volume_and_guard(&refined_b, b, &stages_b.map, params_b)?;
     let mut report_a = report(&stages_a, refined_a.commit(a, pending_a));
     let mut report_b = report(&stages_b, refined_b.commit(b, pending_b));
     note_refinement(&mut report_a, &refined_a, 0);
@@ -115,6 +118,7 @@ pub(crate) fn report(stages: &super::DentStages, displaced: super::DisplaceRepor
         refined_triangles: 0,
         volume_change: displaced.volume_change,
         cavity_volume: displaced.cavity_volume,
+        limited_to: displaced.limited_to,
     }
 }
 
@@ -131,18 +135,22 @@ pub(crate) fn footprint<'p>(stages: &super::DentStages, params: &'p DentParams) 
     Footprint { grid: stages.map.grid, sigma: stages.sigma, params }
 }
 
-/// Stages 2–3 of one dent on a target after its refine stage: displaces the surface to dent
-/// (refined, or the target's own) by `map` and, when `params` asks, puts the cavity's volume
-/// back; nothing is written yet.
-pub(crate) fn displace_and_keep_volume(
+/// Stages 2–4 of one dent on a target after its refine stage: displaces the surface to dent
+/// (refined, or the target's own) by `map` with the falloff fitted to its thickness, puts the
+/// cavity's volume back when `params` asks, then scales the dent back if it would make faces
+/// cross (when `params.guard_crossings`); nothing is written yet.
+pub(crate) fn displace_keep_volume_and_guard(
     refined: &RefinedTarget,
     target: &TriMesh,
     map: &super::DentMap,
     params: &DentParams,
 ) -> Result<PendingDisplacement, DentError> {
     let before = refined.positions(target);
-    let mut pending = map.displaced_positions(before, &params.attenuation)?;
     let (faces, normals) = refined.surface(target);
+    let mut pending = map.displaced_positions(before, faces, &params.attenuation)?;
     restore_volume(faces, &normals, before, &mut pending, map, params.volume)?;
+    if params.guard_crossings {
+        super::guard::guard_crossings(&mut pending, faces, before);
+    }
     Ok(pending)
 }

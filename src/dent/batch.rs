@@ -113,12 +113,15 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
             let (faces, normals) = refined.surface(target);
             for (k, &job) in mine.iter().enumerate() {
                 let (map, params) = (&stages[job].map, &jobs[job].params);
-                let pending = map
-                    .displaced_positions(&positions, &params.attenuation)
+                let mut pending = map
+                    .displaced_positions(&positions, faces, &params.attenuation)
                     .and_then(|mut p| {
                         restore_volume(faces, &normals, &positions, &mut p, map, params.volume).map(|()| p)
                     })
                     .map_err(|error| BatchError { job, error })?;
+                if params.guard_crossings {
+                    super::guard::guard_crossings(&mut pending, faces, &positions);
+                }
                 moved.iter_mut().zip(&pending.moved).for_each(|(m, &p)| *m |= p);
                 positions = pending.positions;
                 let mut report = super::apply::report(&stages[job], pending.report);

@@ -28,7 +28,8 @@ pub struct DisplaceReport {
     pub moved_vertices: usize,
     /// Largest vertex displacement, world units.
     pub max_displacement: f32,
-    /// Human-readable warnings (a falloff steep enough to fold thin walls, paper Figure 2d).
+    /// Human-readable warnings (a falloff that would fold the wall under the dent, paper
+    /// Figure 2d, measured on the body; a dent the intersection guard limited).
     pub warnings: Vec<String>,
     /// Enclosed volume after minus before, cubic world units, signed; measured by the dent
     /// pipeline's volume stage (zero from [`DentMap::apply`], which does not measure it).
@@ -36,6 +37,12 @@ pub struct DisplaceReport {
     /// Volume the displacement alone changed (|volume change| before any rim), cubic world
     /// units; zero from [`DentMap::apply`].
     pub cavity_volume: f64,
+    /// Fraction of the displacement kept when the intersection guard scaled the dent back so
+    /// that no faces cross (`None`: not limited).
+    pub limited_to: Option<f32>,
+    /// Thinnest wall measured along the dent axis under the dent, world units (`None`: not
+    /// measured, because the falloff cannot fold any wall under this map, or no ray met the body).
+    pub wall_thickness: Option<f32>,
 }
 
 /// New positions computed for a mesh, not yet written into it.
@@ -79,6 +86,8 @@ impl DentMap {
 
     /// Applies the map to `target` with the falloff `attenuation` (paper §3.1): every vertex at
     /// depth z below the plane moves by `a(z)·D̂(x, y)`; normals near the dent are refreshed.
+    /// Where the target's wall under the dent is thin enough for the falloff to fold it, the
+    /// falloff is stretched in depth to keep half the wall, with a warning (see `thickness`).
     ///
     /// # Errors
     /// [`DentError::InvalidParameter`] for a bad falloff or map or a displacement too long to
@@ -96,21 +105,22 @@ impl DentMap {
         target: &TriMesh,
         attenuation: &Attenuation,
     ) -> Result<PendingDisplacement, DentError> {
-        self.displaced_positions(target.positions(), attenuation)
+        self.displaced_positions(target.positions(), target.faces(), attenuation)
     }
 
-    /// Computes the displaced copy of `before` (a target's vertex positions) without writing it.
-    /// The cells are not scanned for non-finite values (the pipeline checked the rows it wrote;
-    /// [`DentMap::apply`] checks a caller's map); a vertex moved out of range is still an error.
+    /// Computes the displaced copy of `before` (the vertex positions of a target with `faces`)
+    /// without writing it, with the falloff fitted to the target's thickness.
     pub(crate) fn displaced_positions(
         &self,
         before: &[Vec3],
+        faces: &[[u32; 3]],
         attenuation: &Attenuation,
     ) -> Result<PendingDisplacement, DentError> {
         self.validate()?;
         let d = self.dent_distance;
         super::params::validate_attenuation(attenuation, d)?;
-        let (params, table) = self.displace_params(attenuation, before.len());
+        let fitted = super::thickness::fit_falloff(self, before, faces, attenuation);
+        let (params, table) = self.displace_params(&fitted.attenuation, before.len());
         let mut positions = before.to_vec();
         let mut moved = vec![false; positions.len()];
         cpu::displace(&params, &self.cells, &table, &mut positions, &mut moved);
@@ -119,17 +129,10 @@ impl DentMap {
         }
         // Both ends lie within ±MAX_COORDINATE, so the distance (at most 2·√3·10⁶) is finite in f32.
         let max_displacement = positions.iter().zip(before).map(|(new, old)| new.distance(*old)).fold(0.0, f32::max);
-        let mut warnings = Vec::new();
-        let steepness = attenuation.max_steepness(d);
-        if steepness > 1.0 + 1e-3 {
-            let message = format!(
-                "falloff is {steepness:.2}× steeper than 1 − z/d: walls thinner than about d can fold inside out (paper Figure 2d)"
-            );
-            log::warn!("{message}");
-            warnings.push(message);
-        }
+        let (warnings, wall_thickness) = (fitted.warning.into_iter().collect(), fitted.thickness);
         let moved_vertices = moved.iter().filter(|&&m| m).count();
-        let report = DisplaceReport { moved_vertices, max_displacement, warnings, ..Default::default() };
+        let report =
+            DisplaceReport { moved_vertices, max_displacement, warnings, wall_thickness, ..Default::default() };
         Ok(PendingDisplacement { positions, moved, report })
     }
 

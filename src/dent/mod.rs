@@ -13,6 +13,8 @@ mod decide;
 mod energy;
 mod error;
 mod grid;
+mod guard;
+mod guard_pairs;
 mod impact;
 mod map;
 mod material;
@@ -26,6 +28,7 @@ mod refine_setting;
 mod refine_target;
 mod settings;
 mod target_set;
+mod thickness;
 mod volume;
 mod volume_mode;
 
@@ -56,4 +59,5 @@ pub use refine_setting::{DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refi
 pub use refine_target::{auto_max_edge, footprint_box};
 pub use settings::DentSettings;
 pub use target_set::TargetSet;
+pub use thickness::{FOLD_KEPT, MIN_WALL_KEPT};
 pub use volume_mode::VolumeMode;

@@ -90,6 +90,9 @@ pub struct DentParams {
     /// Whether the dent's cavity is lost (default [`VolumeMode::Free`], the paper's behaviour)
     /// or put back as a raised rim ([`VolumeMode::Preserve`]).
     pub volume: VolumeMode,
+    /// Scale a dent back so that it makes no faces of its target cross (default on; the report's
+    /// `limited_to` says when it did). The CPU paths (`dent`, `dent_pair`, batches) apply it.
+    pub guard_crossings: bool,
 }
 
 impl DentParams {
@@ -107,6 +110,7 @@ impl DentParams {
             min_cos: 0.1,
             refine: super::Refine::default(),
             volume: VolumeMode::Free,
+            guard_crossings: true,
         }
     }
 

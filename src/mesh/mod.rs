@@ -8,6 +8,7 @@ pub(crate) mod confined;
 mod content_hash;
 mod edit;
 mod error;
+pub(crate) mod face_grid;
 #[cfg(feature = "io")]
 mod glb;
 #[cfg(feature = "io")]
@@ -25,7 +26,9 @@ mod primitives;
 pub(crate) mod principal_axis;
 mod refine;
 mod save;
+pub(crate) mod self_intersect;
 mod subdivide;
+mod tri_tri;
 mod trimesh;
 
 #[cfg(feature = "io")]

@@ -23,6 +23,7 @@ pub fn write_params(out: &mut ByteWriter, params: &DentParams) -> Result<(), Rec
         min_cos,
         refine,
         volume,
+        guard_crossings,
     } = params;
     out.f32(*dent_distance);
     match sigma {
@@ -74,6 +75,7 @@ pub fn write_params(out: &mut ByteWriter, params: &DentParams) -> Result<(), Rec
         VolumeMode::Free => 0,
         VolumeMode::Preserve => 1,
     });
+    out.u8(u8::from(*guard_crossings));
     Ok(())
 }
 
@@ -112,6 +114,11 @@ pub fn read_params(r: &mut ByteReader<'_>) -> Result<DentParams, RecordError> {
         1 => VolumeMode::Preserve,
         t => return Err(RecordError::Malformed(format!("volume mode {t}"))),
     };
+    let guard_crossings = match r.u8("guard flag")? {
+        0 => false,
+        1 => true,
+        t => return Err(RecordError::Malformed(format!("guard flag {t}"))),
+    };
     let params = DentParams {
         dent_distance,
         sigma,
@@ -124,6 +131,7 @@ pub fn read_params(r: &mut ByteReader<'_>) -> Result<DentParams, RecordError> {
         min_cos,
         refine,
         volume,
+        guard_crossings,
     };
     params.validate()?;
     Ok(params)

@@ -1,0 +1,371 @@
+//! The face pairs that a dent's displacement could make cross: what the intersection guard must
+//! test exactly. Every other pair near the dent is cleared here, for every scale of the
+//! displacement at once, by a bound on how far its vertices move relative to each other.
+//!
+//! Vertex `i` moves from `b_i` by `u_i` (zero where it did not move); the guard tries the scaled
+//! displacements `b_i + s·u_i`, `0 < s ≤ 1`. A pair of faces, one of them moved, can meet at some
+//! scale only if the boxes the two faces sweep from before to after overlap; those pairs are
+//! found with a uniform grid. Each is then cleared when one of these holds before the dent
+//! (`R` below is the relative motion bound named, plus the slack described at the end):
+//!
+//! * **Apart** (no shared vertex). Let `r` bound `|u_i − u_j|` over the pair's six vertices (the
+//!   diagonal of their displacements' box does). A point of a face is a convex combination of its
+//!   corners and moves by the same combination of their `s·u_i`, so the vector between a point of
+//!   one face and a point of the other changes by a combination of the `s·(u_i − u_j)`: by at
+//!   most `r`. The faces' distance shrinks by at most `r`, and boxes more than `R` apart before
+//!   never let them meet.
+//! * **Sharing one vertex** `a` (other corners `b, c` and `d, e`). Let `r` bound `|u_x − u_a|`.
+//!   If a plane through `a` with normal `n` has `b, c` more than `|n|·R` above it and `d, e` more
+//!   than `|n|·R` below, then `n·(x_s − a_s) = n·(x − a) + s·n·(u_x − u_a)` keeps its sign at
+//!   every scale: the plane moved with `a` still separates the faces, which meet only at `a`.
+//!   `n` is the difference of the two faces' corner directions at `a` (sums of unit arms).
+//! * **Sharing an edge** `ab` (third corners `c`, `d`). Two faces with a common edge cross only
+//!   folded flat onto each other, `c` and `d` on one side of the edge in a common plane; so they
+//!   cannot while some plane through the moved edge has `c_s` and `d_s` strictly on opposite
+//!   sides. Take `n` perpendicular to `e = b − a` (to rounding: `|n·e|` is carried), with
+//!   `n·(c − a) > 0 > n·(d − a)`, and `r` bounding `|u_x − u_a|`. At scale `s` let
+//!   `E = b_s − a_s` (`|E − e| ≤ R`) and `C = c_s − a_s` (`|C − (c − a)| ≤ R`); the plane through
+//!   the moved edge with normal `n_s = n − (n·E/|E|²)·E` has
+//!   `n_s·C ≥ n·(c − a) − |n|·R − (|n·e| + |n|·R)·(|e| + R)·(|c − a| + R) / (|e| − R)²`,
+//!   and the same for `−n_s·D`; both positive clear the pair.
+//!
+//! Distances are computed in f64 from the f32 positions. `R` is the motion bound plus a slack of
+//! four f32 ulps of the largest coordinate and displacement near the dent, which covers the f64
+//! arithmetic and the rounding of the scaled positions `b + (a − b)·s` the guard writes (at most
+//! half an ulp of the displacement and of the result, per coordinate and vertex).
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+use crate::mesh::face_grid::{Aabb, overlapping_pairs};
+
+/// Which scales of the displacement the pairs are wanted for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Reach {
+    /// The full displacement only: pairs whose boxes after the dent overlap.
+    Full,
+    /// Every scale in `(0, 1]`: pairs whose boxes swept from before to after overlap. (A scaled
+    /// position `b + (a − b)·s`, `s < 1`, rounded, stays between `b` and `a`.)
+    Scaled,
+}
+
+/// Pairs `(f, g)` of faces (`f` moved) that moving `before` to `after` (with `moved` flagging
+/// the vertices that moved) could make cross at the scales `reach` names and that no bound in
+/// the module documentation clears: each pair once, as `(smaller, larger)` index.
+pub(crate) fn pairs_to_test(
+    faces: &[[u32; 3]],
+    before: &[Vec3],
+    after: &[Vec3],
+    moved: &[bool],
+    reach: Reach,
+) -> Vec<(u32, u32)> {
+    let near = NearFaces::find(faces, before, after, moved, reach);
+    if near.active == 0 {
+        return Vec::new();
+    }
+    let active: Vec<u32> = (0..near.active as u32).collect();
+    let everyone: Vec<u32> = (0..near.faces.len() as u32).collect();
+    let is_active: Vec<bool> = (0..near.faces.len()).map(|i| i < near.active).collect();
+    let candidates = overlapping_pairs(&near.reached, &active, &is_active, &everyone);
+    let slack = 4.0 * f64::from(f32::EPSILON) * near.scale;
+    let motion = Motion { faces, before, after, slack };
+    let keep = |&(i, j): &(u32, u32)| {
+        let (i, j) = (i as usize, j as usize);
+        let gap = near.before[i].distance(&near.before[j]);
+        let (f, g) = (near.faces[i], near.faces[j]);
+        motion.may_cross(f, g, gap).then_some((f.min(g), f.max(g)))
+    };
+    if candidates.len() < PARALLEL_PAIRS {
+        candidates.iter().filter_map(keep).collect()
+    } else {
+        candidates.par_iter().with_min_len(PARALLEL_PAIRS / 2).filter_map(keep).collect()
+    }
+}
+
+/// Below this many candidate pairs the clearing runs on one thread (waking the pool costs more).
+const PARALLEL_PAIRS: usize = 16_384;
+
+/// The faces near a dent, moved ones first, with their boxes.
+struct NearFaces {
+    /// Face indices: the `active` moved faces, then unmoved faces whose box meets theirs.
+    faces: Vec<u32>,
+    active: usize,
+    /// Boxes after the dent, or swept from before to after (see [`Reach`]); equal to `before`
+    /// for unmoved faces.
+    reached: Vec<Aabb>,
+    /// Boxes before the dent.
+    before: Vec<Aabb>,
+    /// Largest absolute coordinate or displacement component among these faces, world units.
+    scale: f64,
+}
+
+impl NearFaces {
+    fn find(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool], reach: Reach) -> Self {
+        // Where the moved faces lie, guessed first as the moved vertices' box (before and
+        // after) widened by a twentieth of its size, so that one pass over the faces finds them
+        // and the unmoved faces that may meet them: when the guess holds every moved face's
+        // corners before, it holds the moved faces' boxes. Otherwise the pass is repeated with
+        // the box of the moved faces themselves.
+        let moved_box = before
+            .iter()
+            .zip(after)
+            .zip(moved)
+            .filter(|(_, m)| **m)
+            .fold(Aabb::EMPTY, |b, ((&p, &q), _)| b.union(Aabb::of([p, q])));
+        let widen = 0.05 * (moved_box.max - moved_box.min).max_element().max(0.0);
+        let mut guess = Aabb { min: moved_box.min - Vec3::splat(widen), max: moved_box.max + Vec3::splat(widen) };
+        let box_before = |f: u32| Aabb::of(faces[f as usize].map(|v| before[v as usize]));
+        let box_after = |f: u32| Aabb::of(faces[f as usize].map(|v| after[v as usize]));
+        loop {
+            let (mut list, maybe, inside) = sort_faces(faces, before, moved, &guess);
+            let active = list.len();
+            let mut boxes_before: Vec<Aabb> = list.iter().map(|&f| box_before(f)).collect();
+            let mut reached: Vec<Aabb> = match reach {
+                Reach::Full => list.iter().map(|&f| box_after(f)).collect(),
+                Reach::Scaled => list.iter().zip(&boxes_before).map(|(&f, b)| b.union(box_after(f))).collect(),
+            };
+            let region = reached.iter().fold(Aabb::EMPTY, |r, b| r.union(*b));
+            if !inside {
+                // Holds every moved face before and after: the next pass finds all inside.
+                guess = boxes_before.iter().fold(region, |r, b| r.union(*b));
+                continue;
+            }
+            for f in maybe {
+                let b = box_before(f);
+                if b.overlaps(&region) {
+                    list.push(f);
+                    boxes_before.push(b);
+                    reached.push(b);
+                }
+            }
+            let extent = reached
+                .iter()
+                .chain(&boxes_before)
+                .fold(0.0f32, |m, b| m.max(b.min.abs().max_element()).max(b.max.abs().max_element()));
+            let displacement = list[..active]
+                .iter()
+                .flat_map(|&f| faces[f as usize])
+                .map(|v| (after[v as usize] - before[v as usize]).abs().max_element())
+                .fold(0.0f32, f32::max);
+            let scale = f64::from(extent) + f64::from(displacement);
+            return Self { faces: list, active, reached, before: boxes_before, scale };
+        }
+    }
+}
+
+/// One pass over the faces: those with a moved corner, the unmoved ones whose corners do not all
+/// lie beyond one side of `guess` (out-codes per vertex), and whether every moved face's
+/// corners lie inside `guess`.
+fn sort_faces(faces: &[[u32; 3]], before: &[Vec3], moved: &[bool], guess: &Aabb) -> (Vec<u32>, Vec<u32>, bool) {
+    const MOVED: u8 = 1 << 7;
+    let codes: Vec<u8> = before
+        .iter()
+        .zip(moved)
+        .map(|(&p, &m)| {
+            let outside = p.cmplt(guess.min).bitmask() | p.cmpgt(guess.max).bitmask() << 3;
+            outside as u8 | if m { MOVED } else { 0 }
+        })
+        .collect();
+    let (mut active, mut maybe, mut inside) = (Vec::new(), Vec::new(), true);
+    for (f, face) in faces.iter().enumerate() {
+        let [a, b, c] = face.map(|v| codes[v as usize]);
+        if (a | b | c) & MOVED != 0 {
+            active.push(f as u32);
+            inside &= (a | b | c) & !MOVED == 0;
+        } else if a & b & c == 0 {
+            maybe.push(f as u32);
+        }
+    }
+    (active, maybe, inside)
+}
+
+/// Euclidean distance between boxes.
+trait BoxGap {
+    fn distance(&self, other: &Self) -> f64;
+}
+
+impl BoxGap for Aabb {
+    fn distance(&self, other: &Self) -> f64 {
+        let gap = (other.min - self.max).max(self.min - other.max).max(Vec3::ZERO).as_dvec3();
+        gap.length()
+    }
+}
+
+/// One displacement: positions before and after, and the slack added to every motion bound.
+struct Motion<'a> {
+    faces: &'a [[u32; 3]],
+    before: &'a [Vec3],
+    after: &'a [Vec3],
+    slack: f64,
+}
+
+impl Motion<'_> {
+    fn position(&self, v: u32) -> DVec3 {
+        self.before[v as usize].as_dvec3()
+    }
+
+    fn displacement(&self, v: u32) -> DVec3 {
+        self.after[v as usize].as_dvec3() - self.before[v as usize].as_dvec3()
+    }
+
+    /// Whether faces `f` and `g`, whose boxes before lie `gap` apart, are not cleared.
+    fn may_cross(&self, f: u32, g: u32, gap: f64) -> bool {
+        let (p, q) = (self.faces[f as usize], self.faces[g as usize]);
+        let mut shared = [(0, 0); 2];
+        let mut count = 0;
+        for i in 0..3 {
+            for j in 0..3 {
+                if p[i] == q[j] {
+                    if count < 2 {
+                        shared[count] = (i, j);
+                    }
+                    count += 1;
+                }
+            }
+        }
+        match count {
+            0 => gap <= self.apart_motion(p, q) + self.slack,
+            1 => !self.wedges_stay_apart(p, q, shared[0].0, shared[0].1),
+            2 => {
+                let [(i, j), (k, l)] = shared;
+                !self.hinge_stays_open(p[i], p[k], p[3 - i - k], q[3 - j - l])
+            }
+            _ => true,
+        }
+    }
+
+    /// Diagonal of the box of the six corners' displacements: bounds every `|u_i − u_j|`.
+    fn apart_motion(&self, p: [u32; 3], q: [u32; 3]) -> f64 {
+        let mut lo = DVec3::INFINITY;
+        let mut hi = DVec3::NEG_INFINITY;
+        for v in p.into_iter().chain(q) {
+            let u = self.displacement(v);
+            lo = lo.min(u);
+            hi = hi.max(u);
+        }
+        (hi - lo).length()
+    }
+
+    /// The largest `|u_x − u_a|` over `others`, plus the slack.
+    fn motion_about(&self, a: u32, others: &[u32]) -> f64 {
+        let ua = self.displacement(a);
+        others.iter().map(|&x| (self.displacement(x) - ua).length_squared()).fold(0.0, f64::max).sqrt() + self.slack
+    }
+
+    /// Faces `p` and `q` sharing only corner `p[i] = q[j]`: whether a plane through it keeps
+    /// them apart at every scale (see the module documentation).
+    fn wedges_stay_apart(&self, p: [u32; 3], q: [u32; 3], i: usize, j: usize) -> bool {
+        let a = p[i];
+        let (b, c) = (p[(i + 1) % 3], p[(i + 2) % 3]);
+        let (d, e) = (q[(j + 1) % 3], q[(j + 2) % 3]);
+        let origin = self.position(a);
+        let arms = [b, c, d, e].map(|x| self.position(x) - origin);
+        let [Some(ub), Some(uc), Some(ud), Some(ue)] = arms.map(DVec3::try_normalize) else {
+            return false;
+        };
+        let n = ub + uc - ud - ue;
+        let clear = n.dot(arms[0]).min(n.dot(arms[1])).min(-n.dot(arms[2])).min(-n.dot(arms[3]));
+        clear > 0.0 && clear > n.length() * self.motion_about(a, &[b, c, d, e])
+    }
+
+    /// Faces `(a, b, c)` and `(·, ·, d)` sharing the edge `ab`: whether `c` and `d` stay strictly
+    /// on opposite sides of a plane through the moved edge at every scale (module documentation).
+    fn hinge_stays_open(&self, a: u32, b: u32, c: u32, d: u32) -> bool {
+        let origin = self.position(a);
+        let edge = self.position(b) - origin;
+        let (to_c, to_d) = (self.position(c) - origin, self.position(d) - origin);
+        let length_sq = edge.length_squared();
+        if length_sq == 0.0 {
+            return false;
+        }
+        let across = |x: DVec3| (x - edge * (x.dot(edge) / length_sq)).try_normalize();
+        let (Some(wc), Some(wd)) = (across(to_c), across(to_d)) else {
+            return false;
+        };
+        let n = wc - wd;
+        let norm = n.length();
+        let r = self.motion_about(a, &[b, c, d]);
+        let length = length_sq.sqrt();
+        if length <= r {
+            return false;
+        }
+        let tilt = (n.dot(edge).abs() + norm * r) * (length + r) / ((length - r) * (length - r));
+        let clear_c = n.dot(to_c) - norm * r - tilt * (to_c.length() + r);
+        let clear_d = -n.dot(to_d) - norm * r - tilt * (to_d.length() + r);
+        clear_c > 0.0 && clear_d > 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn motion<'a>(faces: &'a [[u32; 3]], before: &'a [Vec3], after: &'a [Vec3]) -> Motion<'a> {
+        Motion { faces, before, after, slack: 1e-9 }
+    }
+
+    #[test]
+    fn flat_neighbours_moving_together_are_cleared_and_a_fold_is_not() {
+        // A fan of four faces around the origin in the xy-plane.
+        // Face 4 shares the edge 1–2 with face 0; face 5 lies apart.
+        let far = [Vec3::new(3.0, 3.0, 0.0), Vec3::new(4.0, 3.0, 0.0), Vec3::new(3.0, 4.0, 0.0)];
+        let mut before = vec![Vec3::ZERO, Vec3::X, Vec3::Y, -Vec3::X, -Vec3::Y, Vec3::new(1.0, 1.0, 0.0)];
+        before.extend(far);
+        let faces = [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1], [1, 5, 2], [6, 7, 8]];
+        let shifted: Vec<Vec3> = before.iter().map(|&p| p + Vec3::new(0.3, -0.2, 0.5)).collect();
+        let m = motion(&faces, &before, &shifted);
+        // Sharing a vertex, an edge, nothing: all cleared under a common translation.
+        assert!(!m.may_cross(0, 2, 0.0));
+        assert!(!m.may_cross(0, 1, 0.0));
+        assert!(!m.may_cross(0, 4, 0.0));
+        // Vertex 4 lifted and swung over face 0 (a fold of face 2 onto face 0): not cleared.
+        let mut folded = before.clone();
+        folded[4] = Vec3::new(0.4, 0.4, 0.01);
+        let m = motion(&faces, &before, &folded);
+        assert!(m.may_cross(0, 2, 0.0));
+        assert!(m.may_cross(3, 2, 0.0));
+        // A far vertex of the apart pair moving further than the gap: not cleared.
+        let mut pushed = before.clone();
+        pushed[6] = Vec3::new(0.2, 0.2, 0.0);
+        // (the gap passed stands for the boxes' distance before, 1 here)
+        assert!(motion(&faces, &before, &pushed).may_cross(0, 5, 1.0));
+        assert!(!motion(&faces, &before, &before).may_cross(0, 5, 1.0));
+    }
+
+    #[test]
+    fn a_hinge_closing_by_less_than_its_clearance_is_cleared() {
+        // Two faces on the edge (0,0,0)–(1,0,0), opened flat; d rises by 0.1 (a small fold).
+        let before = vec![Vec3::ZERO, Vec3::X, Vec3::new(0.5, 1.0, 0.0), Vec3::new(0.5, -1.0, 0.0)];
+        let faces = [[0, 1, 2], [1, 0, 3]];
+        let mut after = before.clone();
+        after[3].z = 0.1;
+        assert!(!motion(&faces, &before, &after).may_cross(0, 1, 0.0));
+        // Folded over onto the other face: d moves across the edge, further than its clearance.
+        after[3] = Vec3::new(0.5, 0.5, 0.0);
+        assert!(motion(&faces, &before, &after).may_cross(0, 1, 0.0));
+    }
+
+    #[test]
+    fn a_moved_face_reaching_past_the_moved_vertices_is_found_and_kept() {
+        // A large face at z = 0 and a small one above it whose first corner is pushed through it:
+        // the moved face's other corners lie well outside the moved vertex's box.
+        let before = vec![
+            Vec3::ZERO,
+            Vec3::new(10.0, 0.0, 0.0),
+            Vec3::new(0.0, 10.0, 0.0),
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(2.0, 1.0, 1.0),
+            Vec3::new(1.0, 2.0, 1.0),
+        ];
+        let faces = [[0, 1, 2], [3, 4, 5]];
+        let mut after = before.clone();
+        after[3].z = -1.0;
+        let moved = [false, false, false, true, false, false];
+        for reach in [Reach::Full, Reach::Scaled] {
+            assert_eq!(pairs_to_test(&faces, &before, &after, &moved, reach), vec![(0, 1)], "{reach:?}");
+        }
+        // Pushed only halfway down to the large face: cleared by the gap.
+        after[3].z = 0.6;
+        assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled), vec![]);
+    }
+}
