@@ -260,8 +260,8 @@ fn apply(
         desc.mass_properties = Some(piece.mass);
         match world.add(desc) {
             Ok(k) => {
-                let shift = world.bodies()[k].model_offset;
-                names.push(FracturePiece { name, index: number as u32, shift });
+                let (shift, hash) = (world.bodies()[k].model_offset, content_hash(world.bodies()[k].mesh()));
+                names.push(FracturePiece { name, index: number as u32, shift, hash });
             }
             // A sliver whose hull or inertia cannot be built is left out (its volume is lost).
             Err(SimError::BadShape { reason, .. }) => log::debug!("{name}: left out: {reason}"),

@@ -105,6 +105,9 @@ pub struct FracturePiece {
     /// The translation that took the piece's mesh to the new body's coordinates (minus its
     /// centre of mass), m; zero: not moved.
     pub shift: Vec3,
+    /// Content hash of the piece's mesh, shifted (the new body's base): the rest alone does not
+    /// show the pattern's cells.
+    pub hash: u64,
 }
 
 /// A prescored fracture: the body broke along a pattern into its rest (the body's new mesh) and
@@ -236,6 +239,7 @@ fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), R
                     out.text(&piece.name);
                     out.varint(u64::from(piece.index));
                     out.vec3(piece.shift);
+                    out.u64(piece.hash);
                 }
                 out.u64(f.after);
             }
@@ -299,12 +303,13 @@ fn read_fracture(r: &mut ByteReader<'_>) -> Result<FractureRecord, RecordError> 
     let density = r.f32("density")?;
     let fracture = crate::fracture::FractureRecord { pattern, placement, density };
     let (to_model, rest_shift) = (r.vec3("to model")?, r.vec3("rest shift")?);
-    // A piece takes at least 14 bytes (an empty name, an index, a shift).
-    let k = r.count("fracture pieces", 14, MAX_RECORDS)?;
+    // A piece takes at least 22 bytes (an empty name, an index, a shift, a hash).
+    let k = r.count("fracture pieces", 22, MAX_RECORDS)?;
     let mut pieces = Vec::with_capacity(k);
     for _ in 0..k {
         let name = r.text("piece name", MAX_NAME_BYTES)?;
-        pieces.push(FracturePiece { name, index: r.varint32("piece index")?, shift: r.vec3("piece shift")? });
+        let (index, shift) = (r.varint32("piece index")?, r.vec3("piece shift")?);
+        pieces.push(FracturePiece { name, index, shift, hash: r.u64("piece hash")? });
     }
     Ok(FractureRecord { frame, fracture, to_model, rest_shift, pieces, after: r.u64("hash after the fracture")? })
 }

@@ -174,7 +174,17 @@ fn replay_fracture(
         let piece = outcome.pieces.get(p.index as usize).ok_or_else(|| {
             tampered(format!("piece \"{}\" is number {}; the fracture made {}", p.name, p.index, outcome.pieces.len()))
         })?;
-        pieces.push((p.name.clone(), shifted(piece.mesh.clone(), p.shift, "a piece's shift")?));
+        let mesh = shifted(piece.mesh.clone(), p.shift, "a piece's shift")?;
+        let found = content_hash(&mesh);
+        if found != p.hash {
+            return Err(tampered(format!(
+                "piece \"{}\" hashes to {}, the record says {}",
+                p.name,
+                hex64(found),
+                hex64(p.hash)
+            )));
+        }
+        pieces.push((p.name.clone(), mesh));
     }
     Ok((rest, pieces))
 }
