@@ -8,10 +8,10 @@
 mod common;
 
 use common::SplitMix64;
+use dentbend::coupling::{DamageLog, Simulation};
 use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Impact, Surface, TargetSet};
 use dentbend::glam::{Affine3A, Mat3, Quat, Vec3};
 use dentbend::mesh::{self, TriMesh, content_hash};
-use dentbend::coupling::{DamageLog, Simulation};
 use dentbend::record::{
     BodyDamage, DamageFile, DamageRecord, DamageRecorder, DentForm, Projectiles, RecordError, RecordForms, SceneRef,
     base64_decode, base64_encode, decode_records, encode_records, replay_body, replay_body_with_pieces,

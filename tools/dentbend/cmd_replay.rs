@@ -75,7 +75,8 @@ pub fn run(args: &ReplayArgs) -> Result<String, CliError> {
         projectiles.insert(b.mesh.clone());
     });
     let names: Vec<String> = bases.iter().map(|b| b.name.clone()).collect();
-    let mismatch = |listed: Vec<&str>| bad(&format!("lists bodies {listed:?}, the scene {} has {names:?}", recorded.spec));
+    let mismatch =
+        |listed: Vec<&str>| bad(&format!("lists bodies {listed:?}, the scene {} has {names:?}", recorded.spec));
     // The file lists the scene's bodies in order, with the pieces of fractures (made by a body
     // listed before them) among them: each body replays from its scene mesh or its piece mesh.
     let mut scene_bases = bases.into_iter().peekable();
@@ -89,9 +90,12 @@ pub fn run(args: &ReplayArgs) -> Result<String, CliError> {
         };
         let replayed = replay_body_with_pieces(body, &base.mesh, DentForm::Edits, &projectiles).map_err(|e| bad(&e))?;
         // As the simulation makes them: a piece is dynamic, in its parent's colour, and does not dent.
-        pieces.extend(replayed.pieces.into_iter().map(|(name, mesh)| {
-            (name.clone(), Base { name, mesh, colour: base.colour, changes: false })
-        }));
+        pieces.extend(
+            replayed
+                .pieces
+                .into_iter()
+                .map(|(name, mesh)| (name.clone(), Base { name, mesh, colour: base.colour, changes: false })),
+        );
         let mut mesh = replayed.mesh;
         if let Some(pose) = body.pose {
             mesh.transform(pose).map_err(|e| bad(&format!("body \"{}\": pose: {e}", body.name)))?;
