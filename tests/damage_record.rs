@@ -17,6 +17,7 @@ use dentbend::record::{
     base64_decode, base64_encode, decode_records, encode_records, replay_body, replay_body_with_pieces,
 };
 use dentbend::scene::{SceneSize, builtin_scene};
+use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, World};
 
 const TARGET: u32 = 1;
 const BALL: u32 = 2;
@@ -380,9 +381,13 @@ fn a_custom_falloff_cannot_be_recorded_as_an_impact_and_nothing_is_recorded() {
 /// simulation (its meshes are what the replay must give), the damage file read back from its
 /// JSON, and the scene's base meshes by name.
 fn recorded_wall(frames: u32) -> (Simulation, DamageFile, Vec<(String, TriMesh)>) {
-    let scene = builtin_scene("wall", SceneSize::Demo).unwrap();
-    let bases = scene.world.bodies().iter().map(|b| (b.name.clone(), b.mesh().clone())).collect();
-    let mut sim = Simulation::new(scene.world, None).unwrap();
+    recorded(builtin_scene("wall", SceneSize::Demo).unwrap().world, frames)
+}
+
+/// `world` run for `frames` steps and recorded, as [`recorded_wall`].
+fn recorded(world: World, frames: u32) -> (Simulation, DamageFile, Vec<(String, TriMesh)>) {
+    let bases = world.bodies().iter().map(|b| (b.name.clone(), b.mesh().clone())).collect();
+    let mut sim = Simulation::new(world, None).unwrap();
     let mut log = DamageLog::new(&sim);
     for _ in 0..frames {
         sim.step().unwrap();
@@ -391,6 +396,29 @@ fn recorded_wall(frames: u32) -> (Simulation, DamageFile, Vec<(String, TriMesh)>
     let scene = SceneRef { spec: "wall".into(), size: "demo".into(), file_hash: None, frame: u64::from(frames) };
     let file = log.finish(&mut sim, scene).unwrap();
     (sim, DamageFile::from_json(&file.to_json().unwrap()).unwrap(), bases)
+}
+
+/// Replays every body of `file` (pieces from the fracture that made them) and checks each
+/// against `sim`'s mesh and pose, bit for bit.
+fn assert_replays(sim: &Simulation, file: &DamageFile, bases: &[(String, TriMesh)]) {
+    let world = sim.world();
+    let projectiles = Projectiles::new();
+    let mut from_fractures: Vec<(String, TriMesh)> = Vec::new();
+    for body in &file.bodies {
+        let base = match bases.iter().find(|(n, _)| *n == body.name) {
+            Some((_, mesh)) => mesh.clone(),
+            None => {
+                let k = from_fractures.iter().position(|(n, _)| *n == body.name).expect("a piece replayed first");
+                from_fractures.swap_remove(k).1
+            }
+        };
+        let replayed = replay_body_with_pieces(body, &base, DentForm::Edits, &projectiles).unwrap();
+        from_fractures.extend(replayed.pieces);
+        let now = &world.bodies()[world.find(&body.name).unwrap()];
+        assert_bit_identical(&replayed.mesh, now.mesh(), &body.name);
+        assert_eq!(body.pose, Some(now.transform()), "{}", body.name);
+    }
+    assert!(from_fractures.is_empty(), "every piece is listed as a body");
 }
 
 /// The wall's record index of its fracture.
@@ -415,24 +443,35 @@ fn a_fracture_replays_bit_identically_with_its_pieces() {
     let world = sim.world();
     let names: Vec<&str> = world.bodies().iter().map(|b| b.name.as_str()).collect();
     assert_eq!(file.bodies.iter().map(|b| b.name.as_str()).collect::<Vec<_>>(), names);
-    let projectiles = Projectiles::new();
-    let mut from_fractures: Vec<(String, TriMesh)> = Vec::new();
-    for body in &file.bodies {
-        let base = match bases.iter().find(|(n, _)| *n == body.name) {
-            Some((_, mesh)) => mesh.clone(),
-            None => {
-                let k = from_fractures.iter().position(|(n, _)| *n == body.name).expect("a piece replayed first");
-                from_fractures.swap_remove(k).1
-            }
-        };
-        let replayed = replay_body_with_pieces(body, &base, DentForm::Edits, &projectiles).unwrap();
-        from_fractures.extend(replayed.pieces);
-        let now = world.bodies()[world.find(&body.name).unwrap()].mesh();
-        assert_bit_identical(&replayed.mesh, now, &body.name);
-        assert_eq!(body.pose, Some(world.bodies()[world.find(&body.name).unwrap()].transform()));
-    }
-    assert!(from_fractures.is_empty(), "every piece is listed as a body");
+    assert_replays(&sim, &file, &bases);
     assert!(f.pieces.len() >= 10, "{} pieces", f.pieces.len());
+}
+
+/// The wall made dynamic, its mesh off its centre of mass (so the body, its rest and its pieces
+/// each sit in coordinates of their own): the fracture's shifts are not zero and the replay
+/// still gives every mesh bit for bit.
+#[test]
+fn a_moving_body_breaks_and_replays_bit_identically() {
+    let mut world = builtin_scene("wall", SceneSize::Demo).unwrap().world;
+    let k = world.find("wall").unwrap();
+    let old = world.bodies()[k].clone();
+    let off = Vec3::new(0.31, -0.17, 0.0);
+    let mut mesh = mesh::subdivided_box(Vec3::new(3.0, 2.0, 0.2), [30, 20, 2]).unwrap();
+    mesh.transform(Affine3A::from_translation(off)).unwrap();
+    let mut desc = BodyDesc::new("wall", mesh)
+        .kind(BodyKind::Dynamic)
+        .at(old.transform().transform_point3(Vec3::ZERO) - off)
+        .collider(ColliderKind::ConvexHull);
+    (desc.dent, desc.fracture, desc.density, desc.surface) =
+        (old.dent.clone(), old.fracture.clone(), 2400.0, old.surface);
+    world.rebuild_body(k, desc).unwrap();
+    let (sim, file, bases) = recorded(world, 120);
+    assert_eq!(sim.fractures().len(), 1, "the moving wall breaks once");
+    let wall = file.body("wall").unwrap();
+    let DamageRecord::Fracture(f) = &wall.records[fracture_of(wall)] else { unreachable!() };
+    assert!(f.to_model != Vec3::ZERO && f.rest_shift != Vec3::ZERO, "{f:?}");
+    assert!(f.pieces.len() >= 10 && f.pieces.iter().all(|p| p.shift != Vec3::ZERO));
+    assert_replays(&sim, &file, &bases);
 }
 
 /// A fracture record altered in the file (another seed, a NaN density, a piece the fracture did
