@@ -82,6 +82,35 @@ fn a_bending_run_replays_to_a_byte_identical_frame() {
     assert_same_meshes(&a, &b, s["frames"].as_u64().unwrap() as u32);
 }
 
+/// Paper Figure 3's wall (demo size: it breaks at about frame 80 of 120): the replay rebuilds
+/// the wall's rest from its dents and fracture and each piece from the fracture, and writes the
+/// run's final files byte for byte, one per body and piece.
+#[test]
+fn a_fracturing_run_replays_to_byte_identical_meshes() {
+    let dir = TempDir::new("replay-wall");
+    let (a, b) = (dir.path("a"), dir.path("b"));
+    let run = ["run", "wall", "--size", "demo", "--picture", "0,0", "--meshes", "all", "--every", "1000", "--out"];
+    ok(&[&run[..], &[a.to_str().unwrap()]].concat());
+    let s = summary(&a);
+    let fractures = s["fractures"].as_array().unwrap();
+    assert_eq!(fractures.len(), 1, "the wall breaks once");
+    let pieces: Vec<&str> = fractures[0]["pieces"].as_array().unwrap().iter().map(|p| p.as_str().unwrap()).collect();
+    assert!(pieces.len() >= 10, "{} pieces", pieces.len());
+    ok(&["replay", a.join("damage.json").to_str().unwrap(), "--meshes", "all", "--out", b.to_str().unwrap()]);
+    let frame = s["frames"].as_u64().unwrap() as u32;
+    assert_same_meshes(&a, &b, frame);
+    // Every piece and the broken wall are among what was compared.
+    let names = frame_files(&b, frame);
+    for body in pieces.iter().map(|p| p.replace('/', "_")).chain(["wall".to_owned()]) {
+        assert!(names.contains(&format!("{body}_{frame:04}.obj")), "{body} not written: {names:?}");
+    }
+    // The default output (one glTF scene of the last frame) too.
+    let (c, d) = (dir.path("c"), dir.path("d"));
+    ok(&["run", "wall", "--size", "demo", "--picture", "0,0", "--out", c.to_str().unwrap()]);
+    ok(&["replay", c.join("damage.json").to_str().unwrap(), "--out", d.to_str().unwrap()]);
+    assert_same_meshes(&c, &d, frame);
+}
+
 /// Replays `damage` into `out`, expecting one error line containing `expected`, and nothing
 /// written.
 fn refused(damage: &Path, out: &Path, expected: &str) {

@@ -2,18 +2,22 @@
 //! applies (`record::DamageRecorder`), writes them as a damage file and replays them onto a
 //! fresh copy of the base mesh — bit-identical as mesh edits and as impacts (the multiplayer
 //! form), and refused with a typed error, changing nothing, when the file is truncated, of
-//! another version, from another mesh, tampered with or absurd.
+//! another version, from another mesh, tampered with or absurd. A simulation's fracture (scene
+//! `wall`) replays with its pieces bit for bit, and a tampered fracture record is refused.
 
 mod common;
 
 use common::SplitMix64;
+use dentbend::coupling::{DamageLog, Simulation};
 use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Impact, Surface, TargetSet};
 use dentbend::glam::{Affine3A, Mat3, Quat, Vec3};
 use dentbend::mesh::{self, TriMesh, content_hash};
 use dentbend::record::{
-    DamageFile, DamageRecord, DamageRecorder, DentForm, Projectiles, RecordError, RecordForms, base64_decode,
-    base64_encode, replay_body,
+    BodyDamage, DamageFile, DamageRecord, DamageRecorder, DentForm, Projectiles, RecordError, RecordForms, SceneRef,
+    base64_decode, base64_encode, decode_records, encode_records, replay_body, replay_body_with_pieces,
 };
+use dentbend::scene::{SceneSize, builtin_scene};
+use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, World};
 
 const TARGET: u32 = 1;
 const BALL: u32 = 2;
@@ -373,22 +377,134 @@ fn a_custom_falloff_cannot_be_recorded_as_an_impact_and_nothing_is_recorded() {
     assert!(matches!(edits.record(&set, &hits, &plan), Err(RecordError::Tampered { .. })));
 }
 
+/// The built-in scene `wall` (paper Figure 3) run for `frames` steps and recorded: the
+/// simulation (its meshes are what the replay must give), the damage file read back from its
+/// JSON, and the scene's base meshes by name.
+fn recorded_wall(frames: u32) -> (Simulation, DamageFile, Vec<(String, TriMesh)>) {
+    recorded(builtin_scene("wall", SceneSize::Demo).unwrap().world, frames)
+}
+
+/// `world` run for `frames` steps and recorded, as [`recorded_wall`].
+fn recorded(world: World, frames: u32) -> (Simulation, DamageFile, Vec<(String, TriMesh)>) {
+    let bases = world.bodies().iter().map(|b| (b.name.clone(), b.mesh().clone())).collect();
+    let mut sim = Simulation::new(world, None).unwrap();
+    let mut log = DamageLog::new(&sim);
+    for _ in 0..frames {
+        sim.step().unwrap();
+        log.after_step(&sim).unwrap();
+    }
+    let scene = SceneRef { spec: "wall".into(), size: "demo".into(), file_hash: None, frame: u64::from(frames) };
+    let file = log.finish(&mut sim, scene).unwrap();
+    (sim, DamageFile::from_json(&file.to_json().unwrap()).unwrap(), bases)
+}
+
+/// Replays every body of `file` (pieces from the fracture that made them) and checks each
+/// against `sim`'s mesh and pose, bit for bit.
+fn assert_replays(sim: &Simulation, file: &DamageFile, bases: &[(String, TriMesh)]) {
+    let world = sim.world();
+    let projectiles = Projectiles::new();
+    let mut from_fractures: Vec<(String, TriMesh)> = Vec::new();
+    for body in &file.bodies {
+        let base = match bases.iter().find(|(n, _)| *n == body.name) {
+            Some((_, mesh)) => mesh.clone(),
+            None => {
+                let k = from_fractures.iter().position(|(n, _)| *n == body.name).expect("a piece replayed first");
+                from_fractures.swap_remove(k).1
+            }
+        };
+        let replayed = replay_body_with_pieces(body, &base, DentForm::Edits, &projectiles).unwrap();
+        from_fractures.extend(replayed.pieces);
+        let now = &world.bodies()[world.find(&body.name).unwrap()];
+        assert_bit_identical(&replayed.mesh, now.mesh(), &body.name);
+        assert_eq!(body.pose, Some(now.transform()), "{}", body.name);
+    }
+    assert!(from_fractures.is_empty(), "every piece is listed as a body");
+}
+
+/// The wall's record index of its fracture.
+fn fracture_of(body: &BodyDamage) -> usize {
+    body.records.iter().position(|r| matches!(r, DamageRecord::Fracture(_))).expect("a fracture record")
+}
+
+/// The wall breaks into pieces at about frame 80 of 120 (tests/paper_fig03_wall.rs); its damage
+/// file lists the wall (dents, then the fracture), the balls and every piece as a body, and
+/// replaying it through the API gives every body's mesh bit for bit: the wall's rest from its
+/// scene mesh, each piece from the wall's fracture.
 #[test]
-fn a_fracture_record_is_kept_and_refused_on_replay_until_fracture_exists() {
-    let d = small_damage();
-    let mut file = d.file.clone();
-    file.bodies[0].records.push(DamageRecord::Fracture(dentbend::record::FractureRecord {
-        frame: 12,
-        seed: 7,
-        cells: 24,
-        radius: 0.5,
-        point: Vec3::new(0.0, 0.5, 0.0),
-        normal: -Vec3::Y,
-        density: 2400.0,
-        pieces: vec![4, 5, 6],
-    }));
-    let reread = DamageFile::from_json(&file.to_json().unwrap()).unwrap();
-    let DamageRecord::Fracture(f) = reread.bodies[0].records.last().unwrap() else { panic!("fracture kept") };
-    assert_eq!(f.pieces, [4, 5, 6]);
-    assert!(matches!(refused(&reread, &d.base, &d.projectiles), RecordError::Unsupported { .. }));
+fn a_fracture_replays_bit_identically_with_its_pieces() {
+    let (sim, file, bases) = recorded_wall(120);
+    let fractures = sim.fractures();
+    assert_eq!(fractures.len(), 1, "the wall breaks once");
+    let wall = file.body("wall").unwrap();
+    let DamageRecord::Fracture(f) = &wall.records[fracture_of(wall)] else { unreachable!() };
+    assert!(wall.dents() >= 3, "the wall's dents are recorded before its fracture");
+    assert_eq!(f.pieces.iter().map(|p| p.name.as_str()).collect::<Vec<_>>(), fractures[0].pieces);
+    // Listed as `run` lists them: the world's bodies in order, pieces included.
+    let world = sim.world();
+    let names: Vec<&str> = world.bodies().iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(file.bodies.iter().map(|b| b.name.as_str()).collect::<Vec<_>>(), names);
+    assert_replays(&sim, &file, &bases);
+    assert!(f.pieces.len() >= 10, "{} pieces", f.pieces.len());
+}
+
+/// The wall made dynamic, its mesh off its centre of mass (so the body, its rest and its pieces
+/// each sit in coordinates of their own): the fracture's shifts are not zero and the replay
+/// still gives every mesh bit for bit.
+#[test]
+fn a_moving_body_breaks_and_replays_bit_identically() {
+    let mut world = builtin_scene("wall", SceneSize::Demo).unwrap().world;
+    let k = world.find("wall").unwrap();
+    let old = world.bodies()[k].clone();
+    let off = Vec3::new(0.31, -0.17, 0.0);
+    let mut mesh = mesh::subdivided_box(Vec3::new(3.0, 2.0, 0.2), [30, 20, 2]).unwrap();
+    mesh.transform(Affine3A::from_translation(off)).unwrap();
+    let mut desc = BodyDesc::new("wall", mesh)
+        .kind(BodyKind::Dynamic)
+        .at(old.transform().transform_point3(Vec3::ZERO) - off)
+        .collider(ColliderKind::ConvexHull);
+    (desc.dent, desc.fracture, desc.density, desc.surface) =
+        (old.dent.clone(), old.fracture.clone(), 2400.0, old.surface);
+    world.rebuild_body(k, desc).unwrap();
+    let (sim, file, bases) = recorded(world, 120);
+    assert_eq!(sim.fractures().len(), 1, "the moving wall breaks once");
+    let wall = file.body("wall").unwrap();
+    let DamageRecord::Fracture(f) = &wall.records[fracture_of(wall)] else { unreachable!() };
+    assert!(f.to_model != Vec3::ZERO && f.rest_shift != Vec3::ZERO, "{f:?}");
+    assert!(f.pieces.len() >= 10 && f.pieces.iter().all(|p| p.shift != Vec3::ZERO));
+    assert_replays(&sim, &file, &bases);
+}
+
+/// A fracture record altered in the file (another seed, a NaN density, a piece the fracture did
+/// not make, another mesh it is applied to) is refused with a typed error, its base untouched.
+#[test]
+fn a_tampered_fracture_record_is_refused_and_changes_nothing() {
+    let (_, file, bases) = recorded_wall(120);
+    let base = &bases.iter().find(|(n, _)| n == "wall").unwrap().1;
+    let k = fracture_of(file.body("wall").unwrap());
+    let projectiles = Projectiles::new();
+    let altered = |change: &dyn Fn(&mut dentbend::record::FractureRecord)| {
+        let mut file = file.clone();
+        let wall = file.bodies.iter_mut().find(|b| b.name == "wall").unwrap();
+        let DamageRecord::Fracture(f) = &mut wall.records[k] else { unreachable!() };
+        change(f);
+        // Through the file's bytes, as a received file would come.
+        let file = DamageFile::from_json(&file.to_json().unwrap()).unwrap();
+        let wall = file.bodies.iter().position(|b| b.name == "wall").unwrap();
+        DamageFile { bodies: vec![file.bodies[wall].clone()], ..file }
+    };
+    let error = refused(&altered(&|f| f.fracture.pattern.seed += 1), base, &projectiles);
+    assert!(matches!(error, RecordError::Tampered { record, .. } if record == k), "{error}");
+    let error = refused(&altered(&|f| f.fracture.density = f32::NAN), base, &projectiles);
+    assert!(matches!(error, RecordError::Fracture { record, .. } if record == k), "{error}");
+    let error = refused(&altered(&|f| f.fracture.pattern.cells = 0), base, &projectiles);
+    assert!(matches!(error, RecordError::Fracture { .. }), "{error}");
+    let error = refused(&altered(&|f| f.pieces[0].index = 10_000), base, &projectiles);
+    assert!(matches!(error, RecordError::Tampered { record, .. } if record == k), "{error}");
+    let error = refused(&altered(&|f| f.to_model.x += 0.25), base, &projectiles);
+    assert!(matches!(error, RecordError::Tampered { .. }), "{error}");
+    // A truncated fracture record is refused as data.
+    let wall = file.body("wall").unwrap();
+    let bytes = encode_records(&wall.records[..=k]).unwrap();
+    let cut = decode_records(&bytes[..bytes.len() - 5]).unwrap_err();
+    assert!(matches!(cut, RecordError::Truncated { .. }), "{cut}");
 }

@@ -3,6 +3,10 @@
 //! step as mesh edits (exact on the CPU and the GPU alike), and each bending body's dents on
 //! its rest mesh, bends, rest rotations, splits and final skinned surface.
 //!
+//! A fracture is recorded on the body that broke (the dents of its step first, on the mesh it
+//! broke with), and each piece that became a body is listed as a body of its own, after the
+//! world bodies before it, its base the piece's mesh as the fracture made it.
+//!
 //! A bending body's final surface is recorded as a mesh edit of its rest mesh (every vertex,
 //! about 13 bytes each), not rebuilt from its joints: rebuilding it would need the skinning
 //! influences that splits recompute (32 bytes a vertex, more than the edit) or the whole
@@ -33,6 +37,8 @@ pub struct DamageLog {
     bodies: Vec<Logged>,
     /// Dent records of the simulation already seen.
     seen: usize,
+    /// Fractures of the simulation already seen.
+    fractures_seen: usize,
 }
 
 impl DamageLog {
@@ -53,42 +59,79 @@ impl DamageLog {
             damage: BodyDamage::new(b.name(), b.rest_mesh()),
             last: Some(b.rest_mesh().clone()),
         }));
-        Self { bodies, seen: sim.dents().len() }
+        Self { bodies, seen: sim.dents().len(), fractures_seen: sim.fractures().len() }
     }
 
-    /// Records the dents of the steps since the last call: one batch per body and step that
-    /// dented it (the step's dents on a body are one batch).
+    /// Records the dents and fractures of the steps since the last call: one batch per body and
+    /// step that dented it (the step's dents on a body are one batch), each fracture after the
+    /// dents of its step, and the pieces of each fracture as new bodies. Call it after every
+    /// step: a body's dents and fracture of one step are told apart by the fracture's
+    /// [`mesh_before`](super::FractureEvent::mesh_before).
     ///
     /// # Errors
-    /// [`RecordError::Mesh`] if a dented mesh lost vertices or faces (a bug).
+    /// [`RecordError::Mesh`] if a dented mesh lost vertices or faces (a bug);
+    /// [`RecordError::UnknownBody`] for a piece the world does not hold.
     pub fn after_step(&mut self, sim: &Simulation) -> Result<(), RecordError> {
         let fresh = &sim.dents()[self.seen..];
         self.seen = sim.dents().len();
-        if fresh.is_empty() {
+        let fractures = &sim.fractures()[self.fractures_seen..];
+        self.fractures_seen = sim.fractures().len();
+        if fresh.is_empty() && fractures.is_empty() {
             return Ok(());
         }
         let mut bending = sim.bending().bodies().iter();
+        let mut pieces = Vec::new();
         for logged in &mut self.bodies {
             let now = match logged.index {
                 Some(k) => sim.world().bodies()[k].mesh(),
                 None => bending.next().expect("one entry per bending body").rest_mesh(),
             };
-            let Some(last) = logged.last.as_mut() else { continue };
+            let broke: Vec<_> = fractures.iter().filter(|f| f.body == logged.damage.name).collect();
             let dents = fresh.iter().filter(|d| d.target == logged.damage.name).count() as u32;
-            if dents == 0 {
-                continue;
+            if let Some(last) = logged.last.as_mut()
+                && dents > 0
+            {
+                // The step's dents came before its fracture: they end on the mesh it broke with.
+                let dented = broke.first().map_or(now, |f| &*f.mesh_before);
+                let edit = MeshEdit::between(last, dented)?;
+                let after = content_hash(dented);
+                logged.damage.records.push(DamageRecord::Dents(DentBatch {
+                    dents,
+                    impacts: Vec::new(),
+                    edit: Some(edit),
+                    after,
+                }));
+                logged.damage.final_mesh = MeshStamp::of(dented);
+                *last = dented.clone();
             }
-            let edit = MeshEdit::between(last, now)?;
-            let after = content_hash(now);
-            logged.damage.records.push(DamageRecord::Dents(DentBatch {
-                dents,
-                impacts: Vec::new(),
-                edit: Some(edit),
-                after,
-            }));
-            logged.damage.final_mesh = MeshStamp::of(now);
-            *last = now.clone();
+            for fracture in broke {
+                logged.damage.records.push(DamageRecord::Fracture(fracture.damage.clone()));
+                pieces.extend(fracture.damage.pieces.iter().map(|p| p.name.clone()));
+            }
+            if fractures.iter().any(|f| f.body == logged.damage.name) {
+                logged.damage.final_mesh = MeshStamp::of(now);
+                if let Some(last) = logged.last.as_mut() {
+                    *last = now.clone();
+                }
+            }
         }
+        // Pieces are world bodies added last: listed after the world bodies, before the
+        // bending bodies.
+        let at = self.bodies.iter().position(|b| b.index.is_none()).unwrap_or(self.bodies.len());
+        let world = sim.world();
+        let added: Vec<Logged> = pieces
+            .into_iter()
+            .map(|name| {
+                let k = world.find(&name).ok_or_else(|| RecordError::UnknownBody(name.clone()))?;
+                let body = &world.bodies()[k];
+                Ok(Logged {
+                    index: Some(k),
+                    damage: BodyDamage::new(name, body.mesh()),
+                    last: body.dent.is_some().then(|| body.mesh().clone()),
+                })
+            })
+            .collect::<Result<_, RecordError>>()?;
+        self.bodies.splice(at..at, added);
         Ok(())
     }
 

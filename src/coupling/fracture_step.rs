@@ -14,6 +14,8 @@ use crate::dent::Impact;
 use crate::fracture::{
     DentTally, FractureCause, FractureOutcome, FractureRecord, FractureSettings, Placement, break_body,
 };
+use crate::mesh::{TriMesh, content_hash};
+use crate::record::FracturePiece;
 use crate::sim::{
     BodyDesc, BodyKind, ColliderKind, CollisionEvent, DentRecord, RigidBody, SimError, World, body_state,
 };
@@ -38,6 +40,13 @@ pub struct FractureEvent {
     /// The fracture as data, in the body's model coordinates (the coordinates its mesh was
     /// given in): [`crate::fracture::replay`] on the body's mesh then rebuilds it.
     pub record: FractureRecord,
+    /// The fracture as damage data (see [`crate::record::FractureRecord`]): how the body's
+    /// mesh, its rest and its pieces moved between body and model coordinates.
+    #[serde(skip)]
+    pub damage: crate::record::FractureRecord,
+    /// The body's mesh when it broke (its own coordinates, its dents of the step included).
+    #[serde(skip)]
+    pub mesh_before: std::sync::Arc<TriMesh>,
 }
 
 /// A hit that breaks its body.
@@ -141,9 +150,11 @@ impl Fracturer {
         let Some(settings) = body.fracture.clone() else { return Ok(None) };
         let fail = |error| SimError::Fracture { body: body.name.clone(), error };
         let to_model = body.model_transform().inverse();
+        let mesh_before = body.mesh.clone();
         let mut mesh = body.mesh().clone();
         // Body coordinates → model coordinates (the centre of mass is at the body origin).
-        mesh.transform(Affine3A::from_translation(-body.model_offset))?;
+        let to_model_shift = -body.model_offset;
+        mesh.transform(Affine3A::from_translation(to_model_shift))?;
         let placement = Placement {
             point: to_model.transform_point3(b.impact.point),
             normal: to_model.transform_vector3(b.impact.normal),
@@ -164,8 +175,18 @@ impl Fracturer {
         let projectile = world.bodies()[b.projectile].name.clone();
         let undo = world.record_edit(&[b.target]);
         match apply(world, b.target, outcome, &settings, density) {
-            Ok(pieces) => {
+            Ok(made) => {
                 give_way(world, b, &settings, velocities_before);
+                let rest = &world.bodies()[b.target];
+                let damage = crate::record::FractureRecord {
+                    frame: step,
+                    fracture: record,
+                    to_model: to_model_shift,
+                    rest_shift: rest.model_offset,
+                    pieces: made.clone(),
+                    after: content_hash(rest.mesh()),
+                };
+                let pieces = made.into_iter().map(|piece| piece.name).collect();
                 let event = FractureEvent {
                     step,
                     body: world.bodies()[b.target].name.clone(),
@@ -175,6 +196,8 @@ impl Fracturer {
                     accumulated_dent: b.accumulated,
                     pieces,
                     record,
+                    damage,
+                    mesh_before,
                 };
                 Ok(Some(event))
             }
@@ -187,14 +210,14 @@ impl Fracturer {
 }
 
 /// The world edits of a fracture of body `index`: its rest in place, a body per piece. Returns
-/// the pieces' names.
+/// each piece that became a body (name, index in the outcome, shift to its body coordinates).
 fn apply(
     world: &mut World,
     index: usize,
     outcome: FractureOutcome,
     settings: &FractureSettings,
     density: f32,
-) -> Result<Vec<String>, SimError> {
+) -> Result<Vec<FracturePiece>, SimError> {
     let body = world.bodies()[index].clone();
     let model = body.model_transform();
     let (_, orientation, origin) = model.to_scale_rotation_translation();
@@ -222,7 +245,7 @@ fn apply(
     }
     let mut names = Vec::with_capacity(outcome.pieces.len());
     let mut serial = 0usize;
-    for piece in outcome.pieces {
+    for (number, piece) in outcome.pieces.into_iter().enumerate() {
         let name = loop {
             let name = format!("{}/piece{serial}", body.name);
             serial += 1;
@@ -236,7 +259,10 @@ fn apply(
         desc.angular_velocity = body.angular_velocity;
         desc.mass_properties = Some(piece.mass);
         match world.add(desc) {
-            Ok(_) => names.push(name),
+            Ok(k) => {
+                let (shift, hash) = (world.bodies()[k].model_offset, content_hash(world.bodies()[k].mesh()));
+                names.push(FracturePiece { name, index: number as u32, shift, hash });
+            }
             // A sliver whose hull or inertia cannot be built is left out (its volume is lost).
             Err(SimError::BadShape { reason, .. }) => log::debug!("{name}: left out: {reason}"),
             Err(e) => return Err(e),

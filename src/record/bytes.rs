@@ -49,6 +49,11 @@ impl ByteWriter {
         }
         self.bytes.push(v as u8);
     }
+    /// A string of any length: its byte length as a varint, then its UTF-8 bytes.
+    pub fn text(&mut self, s: &str) {
+        self.varint(s.len() as u64);
+        self.bytes.extend_from_slice(s.as_bytes());
+    }
     /// A short string: its length (one byte, ≤ 255) and UTF-8 bytes; longer ones are cut at a
     /// character boundary.
     pub fn short_str(&mut self, s: &str) {
@@ -154,6 +159,13 @@ impl<'a> ByteReader<'a> {
             return Err(RecordError::Truncated { what, needed, available: self.remaining() });
         }
         Ok(n as usize)
+    }
+    /// A string (see [`ByteWriter::text`]) of at most `limit` bytes, its length checked
+    /// against the bytes left before it is read.
+    pub fn text(&mut self, what: &'static str, limit: u64) -> Result<String, RecordError> {
+        let n = self.count(what, 1, limit)?;
+        let bytes = self.take(n, what)?;
+        String::from_utf8(bytes.to_vec()).map_err(|_| RecordError::Malformed(format!("{what}: not UTF-8")))
     }
     /// A short string (see [`ByteWriter::short_str`]).
     pub fn short_str(&mut self, what: &'static str) -> Result<String, RecordError> {

@@ -59,8 +59,7 @@ pub enum RecordError {
         /// What did not match.
         reason: String,
     },
-    /// A record this build cannot replay (a fracture before the fracture module exists, a
-    /// progressive dent from its impact).
+    /// A record this build cannot replay (a progressive dent from its impact).
     #[error("body \"{body}\", record {record}: {what} cannot be replayed yet")]
     Unsupported {
         /// The body.
@@ -69,6 +68,18 @@ pub enum RecordError {
         record: usize,
         /// What it is.
         what: String,
+    },
+    /// A fracture record the fracture module refuses (a bad pattern, placement or density, or a
+    /// mesh that is not closed): the file was altered or belongs to another mesh.
+    #[error("body \"{body}\", record {record}: the fracture does not replay: {error}")]
+    Fracture {
+        /// The body.
+        body: String,
+        /// Index of the record.
+        record: usize,
+        /// What the fracture module said.
+        #[source]
+        error: crate::fracture::FractureError,
     },
     /// An impact record names a projectile mesh the replay was not given.
     #[error("no projectile mesh with content hash {hash} (built-in {builtin:?}) was given to the replay")]

@@ -29,7 +29,7 @@ pub use error::{RecordError, hex64};
 pub use file::{BodyDamage, DamageFile, FORMAT, MAX_BODIES, MAX_FILE_BYTES, MeshStamp, SceneRef, VERSION};
 pub use recorder::{DamageRecorder, RecordForms};
 pub use records::{
-    BoneSplit, DamageRecord, DentBatch, FractureRecord, ImpactDent, JointBend, JointRest, MAX_RECORDS, ProjectileRef,
-    decode_records, encode_records,
+    BoneSplit, DamageRecord, DentBatch, FracturePiece, FractureRecord, ImpactDent, JointBend, JointRest,
+    MAX_NAME_BYTES, MAX_RECORDS, ProjectileRef, decode_records, encode_records,
 };
-pub use replay::{DentForm, Projectiles, replay_body};
+pub use replay::{DentForm, Projectiles, Replayed, replay_body, replay_body_with_pieces};

@@ -91,27 +91,44 @@ pub struct BoneSplit {
     pub rest_position: Vec3,
 }
 
-/// A prescored fracture: the body broke along a pattern into new bodies. The fields are those
-/// the fracture module rebuilds a fracture from (pattern cells, seed and radius; placement
-/// point and normal; density), plus when it happened and the pieces' ids.
+/// Longest body name a record names, bytes.
+pub const MAX_NAME_BYTES: u64 = 4096;
+
+/// A piece of a [`FractureRecord`] that became a body of its own.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FracturePiece {
+    /// The new body's name (its own [`BodyDamage`](super::BodyDamage) in the file).
+    pub name: String,
+    /// Its index in the fracture's [`pieces`](crate::fracture::FractureOutcome::pieces) (slivers
+    /// that could not become bodies are skipped).
+    pub index: u32,
+    /// The translation that took the piece's mesh to the new body's coordinates (minus its
+    /// centre of mass), m; zero: not moved.
+    pub shift: Vec3,
+    /// Content hash of the piece's mesh, shifted (the new body's base): the rest alone does not
+    /// show the pattern's cells.
+    pub hash: u64,
+}
+
+/// A prescored fracture: the body broke along a pattern into its rest (the body's new mesh) and
+/// pieces that became bodies. [`replay_body`](super::replay_body) moves the mesh by
+/// [`to_model`](Self::to_model), rebuilds the fracture with [`crate::fracture::replay`], and
+/// moves the rest by [`rest_shift`](Self::rest_shift) and each piece by its own shift.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FractureRecord {
     /// Step (1 = the first).
     pub frame: u64,
-    /// Cells of the pattern.
-    pub cells: u32,
-    /// Seed of the generator that places the cells.
-    pub seed: u64,
-    /// Radius within which the body broke, m.
-    pub radius: f32,
-    /// Where the pattern was placed (the impact point), the body's own coordinates, m.
-    pub point: Vec3,
-    /// The pattern's axis (the impact normal into the body), the body's own coordinates.
-    pub normal: Vec3,
-    /// The body's density, kg/m³ (the pieces' mass properties).
-    pub density: f32,
-    /// Ids (world indices) of the pieces that became bodies.
-    pub pieces: Vec<u32>,
+    /// The fracture as the fracture module rebuilds it (pattern, placement, density), in the
+    /// coordinates [`to_model`](Self::to_model) takes the mesh to.
+    pub fracture: crate::fracture::FractureRecord,
+    /// The translation from the body's mesh coordinates to those it broke in, m.
+    pub to_model: Vec3,
+    /// The translation that took the rest to the body's new coordinates, m; zero: not moved.
+    pub rest_shift: Vec3,
+    /// The pieces that became bodies, in the order they were added.
+    pub pieces: Vec<FracturePiece>,
+    /// Content hash of the body's mesh after the fracture (the rest, shifted).
+    pub after: u64,
 }
 
 /// One entry of a body's damage.
@@ -208,14 +225,23 @@ fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), R
             DamageRecord::Fracture(f) => {
                 out.u8(5);
                 out.varint(f.frame);
-                out.varint(u64::from(f.cells));
-                out.u64(f.seed);
-                out.f32(f.radius);
-                out.vec3(f.point);
-                out.vec3(f.normal);
-                out.f32(f.density);
+                let crate::fracture::FractureRecord { pattern, placement, density } = &f.fracture;
+                out.varint(u64::from(pattern.cells));
+                out.u64(pattern.seed);
+                out.f32(pattern.radius);
+                out.vec3(placement.point);
+                out.vec3(placement.normal);
+                out.f32(*density);
+                out.vec3(f.to_model);
+                out.vec3(f.rest_shift);
                 out.varint(f.pieces.len() as u64);
-                f.pieces.iter().for_each(|&p| out.varint(u64::from(p)));
+                for piece in &f.pieces {
+                    out.text(&piece.name);
+                    out.varint(u64::from(piece.index));
+                    out.vec3(piece.shift);
+                    out.u64(piece.hash);
+                }
+                out.u64(f.after);
             }
             DamageRecord::Skinned { edit, after } => {
                 out.u8(6);
@@ -260,23 +286,32 @@ fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordError
                 position: r.vec3("split position")?,
                 rest_position: r.vec3("split rest position")?,
             }),
-            5 => {
-                let (frame, cells, seed) = (r.varint("fracture frame")?, r.varint32("cells")?, r.u64("seed")?);
-                let (radius, point, normal) = (r.f32("radius")?, r.vec3("point")?, r.vec3("normal")?);
-                let density = r.f32("density")?;
-                let k = r.count("fracture pieces", 1, MAX_RECORDS)?;
-                let mut pieces = Vec::with_capacity(k);
-                for _ in 0..k {
-                    pieces.push(r.varint32("piece id")?);
-                }
-                DamageRecord::Fracture(FractureRecord { frame, cells, seed, radius, point, normal, density, pieces })
-            }
+            5 => DamageRecord::Fracture(read_fracture(r)?),
             6 => DamageRecord::Skinned { edit: read_edit(r)?, after: r.u64("hash after skinning")? },
             t => return Err(RecordError::Malformed(format!("unknown record tag {t}"))),
         };
         out.push(record);
     }
     Ok(out)
+}
+
+fn read_fracture(r: &mut ByteReader<'_>) -> Result<FractureRecord, RecordError> {
+    use crate::fracture::{PatternParams, Placement};
+    let frame = r.varint("fracture frame")?;
+    let pattern = PatternParams { cells: r.varint32("cells")?, seed: r.u64("seed")?, radius: r.f32("radius")? };
+    let placement = Placement { point: r.vec3("fracture point")?, normal: r.vec3("fracture normal")? };
+    let density = r.f32("density")?;
+    let fracture = crate::fracture::FractureRecord { pattern, placement, density };
+    let (to_model, rest_shift) = (r.vec3("to model")?, r.vec3("rest shift")?);
+    // A piece takes at least 22 bytes (an empty name, an index, a shift, a hash).
+    let k = r.count("fracture pieces", 22, MAX_RECORDS)?;
+    let mut pieces = Vec::with_capacity(k);
+    for _ in 0..k {
+        let name = r.text("piece name", MAX_NAME_BYTES)?;
+        let (index, shift) = (r.varint32("piece index")?, r.vec3("piece shift")?);
+        pieces.push(FracturePiece { name, index, shift, hash: r.u64("piece hash")? });
+    }
+    Ok(FractureRecord { frame, fracture, to_model, rest_shift, pieces, after: r.u64("hash after the fracture")? })
 }
 
 fn write_impact(out: &mut ByteWriter, d: &ImpactDent) -> Result<(), RecordError> {

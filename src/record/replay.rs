@@ -3,7 +3,9 @@
 
 use std::collections::HashMap;
 
-use super::records::{DamageRecord, DentBatch, ImpactDent, ProjectileRef};
+use glam::{Affine3A, Vec3};
+
+use super::records::{DamageRecord, DentBatch, FractureRecord, ImpactDent, ProjectileRef};
 use super::{BodyDamage, MeshStamp, RecordError, hex64};
 use crate::dent::{DentJob, Surface, dent_batch_tracked, projectile_near_impact};
 use crate::mesh::{TriMesh, builtin, content_hash};
@@ -58,20 +60,45 @@ impl Projectiles {
     }
 }
 
+/// A body's replayed damage: its final mesh and the bodies its fractures made.
+#[derive(Debug, Clone)]
+pub struct Replayed {
+    /// The final mesh, the body's own coordinates.
+    pub mesh: TriMesh,
+    /// Each fracture's pieces that became bodies, in record order: name and mesh as the new
+    /// body started (its own coordinates), the base its own damage replays from.
+    pub pieces: Vec<(String, TriMesh)>,
+}
+
 /// `body`'s final mesh, rebuilt from `base` (its own coordinates, not posed): checks that `base`
 /// is the mesh the damage was recorded on, applies every record in order and checks each dent
-/// batch's result and the final mesh against their recorded hashes.
+/// batch's and fracture's result and the final mesh against their recorded hashes. The pieces
+/// of its fractures are dropped: see [`replay_body_with_pieces`].
 ///
 /// # Errors
-/// [`RecordError::BaseMismatch`], [`RecordError::Tampered`], [`RecordError::Unsupported`] (a
-/// fracture; a progressive dent as an impact), [`RecordError::MissingProjectile`]; `base` is not
-/// touched.
+/// As [`replay_body_with_pieces`].
 pub fn replay_body(
     body: &BodyDamage,
     base: &TriMesh,
     form: DentForm,
     projectiles: &Projectiles,
 ) -> Result<TriMesh, RecordError> {
+    replay_body_with_pieces(body, base, form, projectiles).map(|r| r.mesh)
+}
+
+/// As [`replay_body`], with the meshes of the pieces its fractures made, bit for bit those the
+/// recording started their bodies from.
+///
+/// # Errors
+/// [`RecordError::BaseMismatch`], [`RecordError::Tampered`], [`RecordError::Fracture`] (a
+/// fracture record the fracture module refuses), [`RecordError::Unsupported`] (a progressive
+/// dent as an impact), [`RecordError::MissingProjectile`]; `base` is not touched.
+pub fn replay_body_with_pieces(
+    body: &BodyDamage,
+    base: &TriMesh,
+    form: DentForm,
+    projectiles: &Projectiles,
+) -> Result<Replayed, RecordError> {
     let stamp = MeshStamp::of(base);
     if stamp != body.base {
         return Err(RecordError::BaseMismatch {
@@ -82,6 +109,7 @@ pub fn replay_body(
     }
     let tampered = |record: usize, reason: String| RecordError::Tampered { body: body.name.clone(), record, reason };
     let mut mesh = base.clone();
+    let mut pieces = Vec::new();
     for (k, record) in body.records.iter().enumerate() {
         let after = match record {
             DamageRecord::Dents(batch) => {
@@ -92,12 +120,11 @@ pub fn replay_body(
                 mesh = edit.apply(&mesh).map_err(|e| tampered(k, format!("the skinned edit does not apply: {e}")))?;
                 *after
             }
-            DamageRecord::Fracture(_) => {
-                return Err(RecordError::Unsupported {
-                    body: body.name.clone(),
-                    record: k,
-                    what: "a fracture (this build has no fracture module)".into(),
-                });
+            DamageRecord::Fracture(f) => {
+                let (rest, made) = replay_fracture(body, k, f, &mesh)?;
+                mesh = rest;
+                pieces.extend(made);
+                f.after
             }
             // Bends, rest rotations and splits are the joints' story; the mesh they give is
             // the skinned record's.
@@ -118,7 +145,48 @@ pub fn replay_body(
             format!("the final mesh hashes to {}, the file says {}", hex64(found.hash), hex64(body.final_mesh.hash)),
         ));
     }
-    Ok(mesh)
+    Ok(Replayed { mesh, pieces })
+}
+
+/// One fracture of `mesh` (the body's own coordinates): the rest in the body's new coordinates
+/// and the named pieces in theirs.
+fn replay_fracture(
+    body: &BodyDamage,
+    record: usize,
+    f: &FractureRecord,
+    mesh: &TriMesh,
+) -> Result<(TriMesh, Vec<(String, TriMesh)>), RecordError> {
+    let tampered = |reason: String| RecordError::Tampered { body: body.name.clone(), record, reason };
+    let moved = |mut mesh: TriMesh, by: Vec3, what: &str| {
+        mesh.transform(Affine3A::from_translation(by)).map(|()| mesh).map_err(|e| tampered(format!("{what}: {e}")))
+    };
+    // As the simulation: the body's mesh always moved to the coordinates it broke in; the rest
+    // and each piece moved to their bodies' coordinates only when their centre is not the origin.
+    let model = moved(mesh.clone(), f.to_model, "moving the mesh to the coordinates it broke in")?;
+    let outcome = crate::fracture::replay(&model, &f.fracture)
+        .map_err(|error| RecordError::Fracture { body: body.name.clone(), record, error })?
+        .ok_or_else(|| tampered("the fracture pattern misses the body".into()))?;
+    let rest = outcome.rest.ok_or_else(|| tampered("the fracture pattern takes the whole body".into()))?;
+    let shifted = |mesh: TriMesh, by: Vec3, what: &str| if by == Vec3::ZERO { Ok(mesh) } else { moved(mesh, by, what) };
+    let rest = shifted(rest, f.rest_shift, "the rest's shift")?;
+    let mut pieces = Vec::with_capacity(f.pieces.len());
+    for p in &f.pieces {
+        let piece = outcome.pieces.get(p.index as usize).ok_or_else(|| {
+            tampered(format!("piece \"{}\" is number {}; the fracture made {}", p.name, p.index, outcome.pieces.len()))
+        })?;
+        let mesh = shifted(piece.mesh.clone(), p.shift, "a piece's shift")?;
+        let found = content_hash(&mesh);
+        if found != p.hash {
+            return Err(tampered(format!(
+                "piece \"{}\" hashes to {}, the record says {}",
+                p.name,
+                hex64(found),
+                hex64(p.hash)
+            )));
+        }
+        pieces.push((p.name.clone(), mesh));
+    }
+    Ok((rest, pieces))
 }
 
 /// One dent batch, in the form asked for (the other when the batch lacks it).

@@ -1,5 +1,6 @@
 //! `dentbend replay DIR/damage.json --out DIR2`: rebuilds a run's final meshes from its damage
-//! file and the scene's base meshes, and writes them as `run` wrote its last frame's. Everything
+//! file and the scene's base meshes (the pieces of a fracture from the body that broke), and
+//! writes them as `run` wrote its last frame's. Everything
 //! is checked before anything is written: a file that is truncated, of another version, from
 //! another scene or mesh, or tampered with is refused and `--out` is not touched.
 
@@ -8,7 +9,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use dentbend::TriMesh;
-use dentbend::record::{DamageFile, DentForm, MAX_FILE_BYTES, Projectiles, hex64, replay_body};
+use dentbend::record::{DamageFile, DentForm, MAX_FILE_BYTES, Projectiles, hex64, replay_body_with_pieces};
 use dentbend::scene::{LoadOptions, MeshPaths, SceneSize, load_with};
 
 use crate::cmd_run::{MeshChoice, Shown, SizeChoice, write_meshes};
@@ -69,22 +70,40 @@ pub fn run(args: &ReplayArgs) -> Result<String, CliError> {
     }
     let scene = load_with(&recorded.spec, &options).map_err(|e| CliError::Usage(e.to_string()))?;
     let bases = base_meshes(&scene);
-    let names: Vec<&str> = bases.iter().map(|b| b.name.as_str()).collect();
-    let listed: Vec<&str> = file.bodies.iter().map(|b| b.name.as_str()).collect();
-    if names != listed {
-        return Err(bad(&format!("lists bodies {listed:?}, the scene {} has {names:?}", recorded.spec)));
-    }
     let mut projectiles = Projectiles::new();
     bases.iter().for_each(|b| {
         projectiles.insert(b.mesh.clone());
     });
-    let mut shown = Vec::with_capacity(bases.len());
-    for (body, base) in file.bodies.iter().zip(bases) {
-        let mut mesh = replay_body(body, &base.mesh, DentForm::Edits, &projectiles).map_err(|e| bad(&e))?;
+    let names: Vec<String> = bases.iter().map(|b| b.name.clone()).collect();
+    let mismatch =
+        |listed: Vec<&str>| bad(&format!("lists bodies {listed:?}, the scene {} has {names:?}", recorded.spec));
+    // The file lists the scene's bodies in order, with the pieces of fractures (made by a body
+    // listed before them) among them: each body replays from its scene mesh or its piece mesh.
+    let mut scene_bases = bases.into_iter().peekable();
+    let mut pieces: Vec<(String, Base)> = Vec::new();
+    let mut shown = Vec::with_capacity(file.bodies.len());
+    for body in &file.bodies {
+        let base = match pieces.iter().position(|(name, _)| *name == body.name) {
+            Some(k) => pieces.swap_remove(k).1,
+            None if scene_bases.peek().is_some_and(|b| b.name == body.name) => scene_bases.next().expect("peeked"),
+            None => return Err(mismatch(file.bodies.iter().map(|b| b.name.as_str()).collect())),
+        };
+        let replayed = replay_body_with_pieces(body, &base.mesh, DentForm::Edits, &projectiles).map_err(|e| bad(&e))?;
+        // As the simulation makes them: a piece is dynamic, in its parent's colour, and does not dent.
+        pieces.extend(
+            replayed
+                .pieces
+                .into_iter()
+                .map(|(name, mesh)| (name.clone(), Base { name, mesh, colour: base.colour, changes: false })),
+        );
+        let mut mesh = replayed.mesh;
         if let Some(pose) = body.pose {
             mesh.transform(pose).map_err(|e| bad(&format!("body \"{}\": pose: {e}", body.name)))?;
         }
         shown.push(Shown { name: base.name, mesh, colour: base.colour, changes: base.changes });
+    }
+    if scene_bases.peek().is_some() || !pieces.is_empty() {
+        return Err(mismatch(file.bodies.iter().map(|b| b.name.as_str()).collect()));
     }
     let meshes_dir = args.out.join("meshes");
     std::fs::create_dir_all(&meshes_dir).map_err(|source| CliError::CreateDir { path: meshes_dir.clone(), source })?;
