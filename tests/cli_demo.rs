@@ -34,6 +34,8 @@ fn demo_writes_every_picture_and_mesh() {
         "pair_lower.obj",
         "pair_upper.obj",
         "pair.png",
+        "crate.obj",
+        "crate.png",
         "gallery.html",
         "scenes/pair/summary.json",
         "scenes/pair/frames/0060.png",
@@ -50,6 +52,9 @@ fn demo_writes_every_picture_and_mesh() {
         "scenes/bunny-bones/summary.json",
         "scenes/tetrahedra/summary.json",
         "scenes/arm/summary.json",
+        "scenes/wall/summary.json",
+        "scenes/wall/damage.json",
+        "scenes/wall-replay/meshes/frame_0120.glb",
     ];
     for file in expected {
         let path = out.join(file);
@@ -60,7 +65,7 @@ fn demo_writes_every_picture_and_mesh() {
     assert_eq!(picture.dimensions(), (960, 640));
     // Every step is echoed as the command that reproduces it.
     let stdout = text(&output.stdout);
-    assert_eq!(stdout.lines().filter(|l| l.starts_with("$ dentbend ")).count(), 20, "{stdout}");
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("$ dentbend ")).count(), 24, "{stdout}");
     // How many entries a scene's summary lists under `key`.
     let listed = |scene: &str, key: &str| {
         let summary = std::fs::read_to_string(out.join("scenes").join(scene).join("summary.json")).unwrap();
@@ -79,6 +84,10 @@ fn demo_writes_every_picture_and_mesh() {
     for scene in ["plank", "tetrahedra", "arm"] {
         assert!(listed(scene, "bends") > 0, "{scene} did not bend");
     }
+    // The prescored wall breaks (Figure 3), and its replayed last frame is the run's, byte for byte.
+    assert!(listed("wall", "fractures") > 0, "the wall did not break");
+    let last = |dir: &str| std::fs::read(out.join("scenes").join(dir).join("meshes/frame_0120.glb")).unwrap();
+    assert!(last("wall") == last("wall-replay"), "the replayed wall differs from the run's");
     let gallery = std::fs::read_to_string(out.join("gallery.html")).unwrap();
     assert!(gallery.contains("scenes/rain/frames/0120.png") && gallery.contains("fig07_bunny/smoothed.png"));
     assert!(gallery.contains("scenes/plank/frames/0045.png"));

@@ -10,7 +10,8 @@ use std::sync::OnceLock;
 use arbitrary::Arbitrary;
 use dentbend::glam::Vec3;
 use dentbend::mesh::{self, TriMesh};
-use dentbend::{Attenuation, DentParams, Resolution};
+use dentbend::dent::Refine;
+use dentbend::{Attenuation, DentParams, Resolution, VolumeMode};
 
 /// Largest grid side the fuzzer lets through, cells.
 const MAX_FUZZ_RES: u32 = 48;
@@ -123,6 +124,15 @@ pub enum AttenuationInput {
     CustomExploding,
 }
 
+/// The refine stage's setting; valid edges are kept at or above 0.05 (a fine edge only costs
+/// time, up to the library's cap of a million new triangles).
+#[derive(Arbitrary, Debug, Clone, Copy)]
+pub enum RefineInput {
+    Auto(u16),
+    Off,
+    MaxEdge(Num),
+}
+
 /// Every field of [`DentParams`].
 #[derive(Arbitrary, Debug, Clone)]
 pub struct ParamsInput {
@@ -135,6 +145,9 @@ pub struct ParamsInput {
     pub attenuation: AttenuationInput,
     pub widen: Num,
     pub min_cos: Num,
+    pub refine: RefineInput,
+    pub preserve_volume: bool,
+    pub guard_crossings: bool,
 }
 
 /// `n` shrunk into 1..=`MAX_FUZZ_RES` when the library would accept it, else as is.
@@ -184,6 +197,16 @@ impl ParamsInput {
             attenuation,
             widen: self.widen.value(),
             min_cos: self.min_cos.value(),
+            refine: match self.refine {
+                RefineInput::Auto(cap) => Refine::Auto { max_new_triangles: u32::from(cap) },
+                RefineInput::Off => Refine::Off,
+                RefineInput::MaxEdge(edge) => {
+                    let edge = edge.value();
+                    Refine::MaxEdge(if edge.is_finite() && edge > 0.0 { edge.max(0.05) } else { edge })
+                }
+            },
+            volume: if self.preserve_volume { VolumeMode::Preserve } else { VolumeMode::Free },
+            guard_crossings: self.guard_crossings,
         }
     }
 }

@@ -1,8 +1,9 @@
 //! Denting a target mesh: one projectile (`dent`), or two dentable bodies at once (`dent_pair`).
 
+use super::guard::guard_crossings;
 use super::map::PendingDisplacement;
 use super::refine_target::{Footprint, RefinedTarget, refine_for_dents};
-use super::volume::restore_volume;
+use super::volume::{restore_volume, volume_change};
 use super::{DentError, DentParams, Impact, dent_map_stages};
 use crate::mesh::TriMesh;
 
@@ -136,9 +137,8 @@ pub(crate) fn footprint<'p>(stages: &super::DentStages, params: &'p DentParams) 
 }
 
 /// Stages 2–4 of one dent on a target after its refine stage: displaces the surface to dent
-/// (refined, or the target's own) by `map` with the falloff fitted to its thickness, puts the
-/// cavity's volume back when `params` asks, then scales the dent back if it would make faces
-/// cross (when `params.guard_crossings`); nothing is written yet.
+/// (refined, or the target's own) by `map` with the falloff fitted to its thickness, then
+/// [`guard_and_keep_volume`]; nothing is written yet.
 pub(crate) fn displace_keep_volume_and_guard(
     refined: &RefinedTarget,
     target: &TriMesh,
@@ -148,9 +148,34 @@ pub(crate) fn displace_keep_volume_and_guard(
     let before = refined.positions(target);
     let (faces, normals) = refined.surface(target);
     let mut pending = map.displaced_positions(before, faces, &params.attenuation)?;
-    restore_volume(faces, &normals, before, &mut pending, map, params.volume)?;
-    if params.guard_crossings {
-        super::guard::guard_crossings(&mut pending, faces, before);
-    }
+    guard_and_keep_volume(&mut pending, faces, &normals, before, map, params)?;
     Ok(pending)
+}
+
+/// Stages 3–4 of a dent displaced from `before` (a mesh of `faces` with vertex `normals`): the
+/// intersection guard scales the dent back if it would make faces cross (when
+/// `params.guard_crossings`); then the volume stage measures it and, under
+/// [`VolumeMode::Preserve`](super::VolumeMode::Preserve), raises the rim that puts the limited
+/// dent's cavity back; a rim that would make faces cross is scaled back by the guard too, and the
+/// reported volume change is measured again then.
+pub(crate) fn guard_and_keep_volume(
+    pending: &mut PendingDisplacement,
+    faces: &[[u32; 3]],
+    normals: &[glam::Vec3],
+    before: &[glam::Vec3],
+    map: &super::DentMap,
+    params: &DentParams,
+) -> Result<(), DentError> {
+    if params.guard_crossings {
+        guard_crossings(pending, faces, before);
+    }
+    restore_volume(faces, normals, before, pending, map, params.volume)?;
+    if params.guard_crossings && params.volume == super::VolumeMode::Preserve {
+        let limited = pending.report.limited_to;
+        guard_crossings(pending, faces, before);
+        if pending.report.limited_to != limited {
+            pending.report.volume_change = volume_change(faces, before, &pending.positions, &pending.moved);
+        }
+    }
+    Ok(())
 }

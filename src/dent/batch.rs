@@ -5,8 +5,8 @@ use rayon::prelude::*;
 
 use glam::Vec3;
 
+use super::apply::guard_and_keep_volume;
 use super::refine_target::{RefinedTarget, refine_for_dents};
-use super::volume::restore_volume;
 use super::{DentError, DentParams, DentReport, Impact, dent_map_stages};
 use crate::mesh::{Refinement, TriMesh};
 
@@ -113,15 +113,12 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
             let (faces, normals) = refined.surface(target);
             for (k, &job) in mine.iter().enumerate() {
                 let (map, params) = (&stages[job].map, &jobs[job].params);
-                let mut pending = map
+                let pending = map
                     .displaced_positions(&positions, faces, &params.attenuation)
                     .and_then(|mut p| {
-                        restore_volume(faces, &normals, &positions, &mut p, map, params.volume).map(|()| p)
+                        guard_and_keep_volume(&mut p, faces, &normals, &positions, map, params).map(|()| p)
                     })
                     .map_err(|error| BatchError { job, error })?;
-                if params.guard_crossings {
-                    super::guard::guard_crossings(&mut pending, faces, &positions);
-                }
                 moved.iter_mut().zip(&pending.moved).for_each(|(m, &p)| *m |= p);
                 positions = pending.positions;
                 let mut report = super::apply::report(&stages[job], pending.report);

@@ -4,6 +4,7 @@
 use glam::Vec3;
 
 use super::error::invalid;
+use super::thickness::{MapView, fit_falloff};
 use super::{Attenuation, DentError, Grid};
 use crate::cpu::{self, DisplaceParams};
 use crate::mesh::{TriMesh, in_coordinate_range};
@@ -119,7 +120,8 @@ impl DentMap {
         self.validate()?;
         let d = self.dent_distance;
         super::params::validate_attenuation(attenuation, d)?;
-        let fitted = super::thickness::fit_falloff(self, before, faces, attenuation);
+        let view = MapView { grid: self.grid, cells: &self.cells, dent_distance: self.dent_distance };
+        let fitted = fit_falloff(&view, before, faces, attenuation);
         let (params, table) = self.displace_params(&fitted.attenuation, before.len());
         let mut positions = before.to_vec();
         let mut moved = vec![false; positions.len()];

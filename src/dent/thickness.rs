@@ -12,7 +12,14 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
-use super::{Attenuation, DentMap};
+use super::{Attenuation, Grid};
+
+/// The parts of a dent map the fit reads (the map's grid, cells and dent distance, world units).
+pub(crate) struct MapView<'a> {
+    pub grid: Grid,
+    pub cells: &'a [[f32; 4]],
+    pub dent_distance: f32,
+}
 
 /// Least fraction of a wall's thickness along the dent axis that a dent leaves.
 pub const MIN_WALL_KEPT: f32 = 0.5;
@@ -56,7 +63,7 @@ impl Wall {
 
 /// Fits `attenuation` to the body (`positions`, `faces`) under `map`; see the module docs.
 pub(crate) fn fit_falloff(
-    map: &DentMap,
+    map: &MapView<'_>,
     positions: &[Vec3],
     faces: &[[u32; 3]],
     attenuation: &Attenuation,
@@ -129,7 +136,7 @@ fn stretched(attenuation: &Attenuation, stretch: f32) -> Attenuation {
 /// [`RAYS_PER_SIDE`]² cells and at the deepest cell: along each cell's ray (parallel to the axis), the front is where the
 /// ray enters the body nearest the collision plane and the back where it next leaves.
 fn measure_walls(
-    map: &DentMap,
+    map: &MapView<'_>,
     positions: &[Vec3],
     faces: &[[u32; 3]],
     least_push: f32,

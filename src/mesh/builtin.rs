@@ -18,7 +18,7 @@ const BUNNY_OBJ: &str = include_str!("../../assets/meshes/bunny.obj");
 
 /// Names accepted by [`builtin`] and [`load`]; see [`builtin`] for each one's size.
 pub const BUILTIN_NAMES: &[&str] =
-    &["bunny", "bunny-dense", "sphere", "uvsphere", "box", "block", "block-fine", "plank", "cylinder"];
+    &["bunny", "bunny-dense", "sphere", "uvsphere", "box", "block", "block-fine", "plank", "cylinder", "crate"];
 
 /// Builds a built-in mesh by name (world units; all but the bunny are closed and centred at the
 /// origin):
@@ -34,6 +34,7 @@ pub const BUILTIN_NAMES: &[&str] =
 /// | `block-fine`  | `block` with 112 × 8 × 112 cells (0.036 apart), for detailed dents     | 57,344    |
 /// | `plank`       | 8 (x) × 0.25 (y) × 0.5 (z), 128 cells along x (square cells)           | 6,272     |
 /// | `cylinder`    | radius 0.5, height 2 along y, 48 segments, 16 stacks, 8-ring caps      | 2,976     |
+/// | `crate`       | 2 × 2 × 2 cube with one cell per face: the low-poly game mesh          | 12        |
 ///
 /// # Errors
 /// [`MeshError::UnsupportedFormat`] for any other name (its message lists the valid ones).
@@ -54,6 +55,7 @@ pub fn builtin(name: &str) -> Result<TriMesh, MeshError> {
         "block-fine" => subdivided_box(Vec3::new(4.0, 1.0, 4.0), [112, 8, 112]),
         "plank" => plank(8.0, 0.5, 0.25, 128),
         "cylinder" => cylinder(0.5, 2.0, 48, 16),
+        "crate" => subdivided_box(Vec3::splat(2.0), [1; 3]),
         _ => Err(unsupported(name)),
     }
 }

@@ -49,6 +49,12 @@ const STEPS: &[(&str, &str)] = &[
     ),
     ("", "render --mesh {out}/block_glancing.obj --zoom 1.5 --out {out}/block_glancing.png"),
     (
+        "A 12-triangle crate takes a ball's dent: refined under the dent first, its volume kept by a rim",
+        "dent --target crate --projectile sphere --scale 0.5 --translate 0.3,1.5,0.2 --point 0.3,1,0.2 \
+         --normal 0,-1,0 --dent-distance 0.15 --preserve-volume --out {out}/crate.obj",
+    ),
+    ("", "render --mesh {out}/crate.obj --view -0.5,-1,-0.7 --zoom 1.2 --out {out}/crate.png"),
+    (
         "Paper Figure 1: two dentable balls dent each other symmetrically (Jacobi)",
         "dent --target sphere --projectile sphere --translate 0,2.05,0 --point 0,1,0 --normal 0,-1,0 \
          --dent-distance 0.3 --out {out}/pair_lower.obj --projectile-out {out}/pair_upper.obj",
@@ -101,6 +107,14 @@ const STEPS: &[(&str, &str)] = &[
     (
         "Scene `arm` (Figure 15): an arm bends at four joints after a hit",
         "run arm --size demo --out {out}/scenes/arm --every 30 --meshes dentable",
+    ),
+    (
+        "Scene `wall` (Figure 3): balls dent a prescored wall over time, then it breaks",
+        "run wall --size demo --out {out}/scenes/wall --every 20 --meshes frame",
+    ),
+    (
+        "The wall's damage replayed from its damage.json to the same meshes, byte for byte",
+        "replay {out}/scenes/wall/damage.json --out {out}/scenes/wall-replay",
     ),
 ];
 
