@@ -211,6 +211,11 @@ impl Motion<'_> {
     /// Whether faces `f` and `g`, whose boxes before lie `gap` apart, are not cleared.
     fn may_cross(&self, f: u32, g: u32, gap: f64) -> bool {
         let (p, q) = (self.faces[f as usize], self.faces[g as usize]);
+        let collapsed = |t: [u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+        if collapsed(p) || collapsed(q) {
+            // A face with a repeated corner has no area at any scale and crosses nothing.
+            return false;
+        }
         let mut shared = [(0, 0); 2];
         let mut count = 0;
         for i in 0..3 {
@@ -364,6 +369,10 @@ mod tests {
         for reach in [Reach::Full, Reach::Scaled] {
             assert_eq!(pairs_to_test(&faces, &before, &after, &moved, reach), vec![(0, 1)], "{reach:?}");
         }
+        // With a repeated corner the moved face has no area and crosses nothing.
+        let collapsed = [[0, 1, 2], [3, 3, 5]];
+        after[3].z = -1.0;
+        assert_eq!(pairs_to_test(&collapsed, &before, &after, &moved, Reach::Full), vec![]);
         // Pushed only halfway down to the large face: cleared by the gap.
         after[3].z = 0.6;
         assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled), vec![]);
