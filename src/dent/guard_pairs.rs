@@ -218,9 +218,9 @@ impl Motion<'_> {
         }
         let mut shared = [(0, 0); 2];
         let mut count = 0;
-        for i in 0..3 {
-            for j in 0..3 {
-                if p[i] == q[j] {
+        for (i, &corner) in p.iter().enumerate() {
+            for (j, &other) in q.iter().enumerate() {
+                if corner == other {
                     if count < 2 {
                         shared[count] = (i, j);
                     }
