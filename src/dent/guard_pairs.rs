@@ -71,7 +71,7 @@ pub(crate) fn pairs_to_test(
     let motion = Motion { faces, before, after, slack };
     let keep = |&(i, j): &(u32, u32)| {
         let (i, j) = (i as usize, j as usize);
-        let gap = near.before[i].distance(&near.before[j]);
+        let gap = || near.before[i].distance(&near.before[j]);
         let (f, g) = (near.faces[i], near.faces[j]);
         motion.may_cross(f, g, gap).then_some((f.min(g), f.max(g)))
     };
@@ -83,7 +83,7 @@ pub(crate) fn pairs_to_test(
 }
 
 /// Below this many candidate pairs the clearing runs on one thread (waking the pool costs more).
-const PARALLEL_PAIRS: usize = 16_384;
+const PARALLEL_PAIRS: usize = 4096;
 
 /// The faces near a dent, moved ones first, with their boxes.
 struct NearFaces {
@@ -208,14 +208,19 @@ impl Motion<'_> {
         self.after[v as usize].as_dvec3() - self.before[v as usize].as_dvec3()
     }
 
-    /// Whether faces `f` and `g`, whose boxes before lie `gap` apart, are not cleared.
-    fn may_cross(&self, f: u32, g: u32, gap: f64) -> bool {
+    /// Whether faces `f` and `g`, whose boxes before lie `gap()` apart, are not cleared.
+    fn may_cross(&self, f: u32, g: u32, gap: impl FnOnce() -> f64) -> bool {
         let (p, q) = (self.faces[f as usize], self.faces[g as usize]);
+        let collapsed = |t: [u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+        if collapsed(p) || collapsed(q) {
+            // A face with a repeated corner has no area at any scale and crosses nothing.
+            return false;
+        }
         let mut shared = [(0, 0); 2];
         let mut count = 0;
-        for i in 0..3 {
-            for j in 0..3 {
-                if p[i] == q[j] {
+        for (i, &corner) in p.iter().enumerate() {
+            for (j, &other) in q.iter().enumerate() {
+                if corner == other {
                     if count < 2 {
                         shared[count] = (i, j);
                     }
@@ -224,7 +229,7 @@ impl Motion<'_> {
             }
         }
         match count {
-            0 => gap <= self.apart_motion(p, q) + self.slack,
+            0 => gap() <= self.apart_motion(p, q) + self.slack,
             1 => !self.wedges_stay_apart(p, q, shared[0].0, shared[0].1),
             2 => {
                 let [(i, j), (k, l)] = shared;
@@ -315,21 +320,21 @@ mod tests {
         let shifted: Vec<Vec3> = before.iter().map(|&p| p + Vec3::new(0.3, -0.2, 0.5)).collect();
         let m = motion(&faces, &before, &shifted);
         // Sharing a vertex, an edge, nothing: all cleared under a common translation.
-        assert!(!m.may_cross(0, 2, 0.0));
-        assert!(!m.may_cross(0, 1, 0.0));
-        assert!(!m.may_cross(0, 4, 0.0));
+        assert!(!m.may_cross(0, 2, || 0.0));
+        assert!(!m.may_cross(0, 1, || 0.0));
+        assert!(!m.may_cross(0, 4, || 0.0));
         // Vertex 4 lifted and swung over face 0 (a fold of face 2 onto face 0): not cleared.
         let mut folded = before.clone();
         folded[4] = Vec3::new(0.4, 0.4, 0.01);
         let m = motion(&faces, &before, &folded);
-        assert!(m.may_cross(0, 2, 0.0));
-        assert!(m.may_cross(3, 2, 0.0));
+        assert!(m.may_cross(0, 2, || 0.0));
+        assert!(m.may_cross(3, 2, || 0.0));
         // A far vertex of the apart pair moving further than the gap: not cleared.
         let mut pushed = before.clone();
         pushed[6] = Vec3::new(0.2, 0.2, 0.0);
         // (the gap passed stands for the boxes' distance before, 1 here)
-        assert!(motion(&faces, &before, &pushed).may_cross(0, 5, 1.0));
-        assert!(!motion(&faces, &before, &before).may_cross(0, 5, 1.0));
+        assert!(motion(&faces, &before, &pushed).may_cross(0, 5, || 1.0));
+        assert!(!motion(&faces, &before, &before).may_cross(0, 5, || 1.0));
     }
 
     #[test]
@@ -339,10 +344,10 @@ mod tests {
         let faces = [[0, 1, 2], [1, 0, 3]];
         let mut after = before.clone();
         after[3].z = 0.1;
-        assert!(!motion(&faces, &before, &after).may_cross(0, 1, 0.0));
+        assert!(!motion(&faces, &before, &after).may_cross(0, 1, || 0.0));
         // Folded over onto the other face: d moves across the edge, further than its clearance.
         after[3] = Vec3::new(0.5, 0.5, 0.0);
-        assert!(motion(&faces, &before, &after).may_cross(0, 1, 0.0));
+        assert!(motion(&faces, &before, &after).may_cross(0, 1, || 0.0));
     }
 
     #[test]
@@ -364,6 +369,10 @@ mod tests {
         for reach in [Reach::Full, Reach::Scaled] {
             assert_eq!(pairs_to_test(&faces, &before, &after, &moved, reach), vec![(0, 1)], "{reach:?}");
         }
+        // With a repeated corner the moved face has no area and crosses nothing.
+        let collapsed = [[0, 1, 2], [3, 3, 5]];
+        after[3].z = -1.0;
+        assert_eq!(pairs_to_test(&collapsed, &before, &after, &moved, Reach::Full), vec![]);
         // Pushed only halfway down to the large face: cleared by the gap.
         after[3].z = 0.6;
         assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled), vec![]);

@@ -153,4 +153,4 @@ pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: &[u32], is_active: &[boo
 }
 
 /// Up to this many faces are queried on one thread (waking the pool costs more).
-const PARALLEL_QUERIES: usize = 4096;
+const PARALLEL_QUERIES: usize = 1024;
