@@ -197,6 +197,17 @@ fn warn(pending: &mut PendingDisplacement, message: &str) {
     pending.report.warnings.push(message.to_owned());
 }
 
+/// Enclosed volume of a mesh of `faces` at `after` minus at `before`, cubic world units, summed
+/// over the faces with a `moved` corner (the others change nothing), in f64.
+pub(crate) fn volume_change(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> f64 {
+    let origin = faces.first().map_or(DVec3::ZERO, |f| before[f[0] as usize].as_dvec3());
+    let tetra = |p: &[Vec3], f: &[u32; 3]| {
+        let [a, b, c] = f.map(|v| p[v as usize].as_dvec3() - origin);
+        a.dot(b.cross(c)) / 6.0
+    };
+    faces.iter().filter(|f| f.iter().any(|&v| moved[v as usize])).map(|f| tetra(after, f) - tetra(before, f)).sum()
+}
+
 #[cfg(test)]
 mod tests {
     use super::root_toward;
@@ -212,15 +223,4 @@ mod tests {
         assert_eq!(root_toward([1.0, -1.0, 0.0, 0.0], 0.5), None);
         assert_eq!(root_toward([1.0, 0.0, 1.0, 0.0], 5.0), None);
     }
-}
-
-/// Enclosed volume of a mesh of `faces` at `after` minus at `before`, cubic world units, summed
-/// over the faces with a `moved` corner (the others change nothing), in f64.
-pub(crate) fn volume_change(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> f64 {
-    let origin = faces.first().map_or(DVec3::ZERO, |f| before[f[0] as usize].as_dvec3());
-    let tetra = |p: &[Vec3], f: &[u32; 3]| {
-        let [a, b, c] = f.map(|v| p[v as usize].as_dvec3() - origin);
-        a.dot(b.cross(c)) / 6.0
-    };
-    faces.iter().filter(|f| f.iter().any(|&v| moved[v as usize])).map(|f| tetra(after, f) - tetra(before, f)).sum()
 }
