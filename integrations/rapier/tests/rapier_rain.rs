@@ -1,6 +1,6 @@
 //! What `rapier_rain` shows: balls raining on the bunny and a block dent both where they land
-//! and nowhere else, no deeper than the material allows, in place (same vertices, colliders
-//! refitted to the dented meshes), one dent per impact, nothing NaN.
+//! and nowhere else, no deeper than the material allows, colliders following the dented meshes
+//! (refitted in place, rebuilt where refinement added vertices), one dent per impact, nothing NaN.
 
 use dentbend::mesh::TriMesh;
 use dentbend_rapier::demo::rain::{BALL_RADIUS, Rain, RainSettings, ball_dent, target_dent};
@@ -31,8 +31,9 @@ fn balls_dent_the_bunny_and_the_block_where_they_land_and_nowhere_else() {
         let pose = to_affine(rain.world.colliders.get(target).unwrap().position());
         let before = &rain.initial[&target];
         let after = rain.adapter.dentables.mesh(target).unwrap();
-        assert_eq!(after.vertex_count(), before.vertex_count());
-        assert_eq!(after.faces(), before.faces());
+        // Refinement (on by default) may append vertices and faces under a dent on the coarse
+        // bunny; the original vertices keep their indices, so they are compared one to one.
+        assert!(after.vertex_count() >= before.vertex_count() && after.face_count() >= before.face_count());
         let moved = displacement(before, after);
         let mut moved_count = 0;
         for (v, &m) in moved.iter().enumerate() {
@@ -64,7 +65,7 @@ fn balls_dent_the_bunny_and_the_block_where_they_land_and_nowhere_else() {
         for d in &dents {
             assert!(d.dent_distance > 0.0 && d.dent_distance <= cap + 1e-6, "{d:?}");
         }
-        // The collider was refitted in place to the dented mesh.
+        // The collider was refitted (or, after a refinement, rebuilt) to the dented mesh.
         let shape = rain.world.colliders.get(target).unwrap().shape().as_trimesh().unwrap();
         assert_eq!(shape.vertices(), after.positions());
     }
