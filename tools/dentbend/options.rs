@@ -13,7 +13,7 @@ use crate::vector::parse_vec3;
 #[derive(Debug, Args)]
 pub struct ProjectileOptions {
     /// Projectile mesh: an .obj or .ply path, or a built-in name (bunny, bunny-dense, sphere,
-    /// uvsphere, box, block, block-fine, plank, cylinder)
+    /// uvsphere, box, block, block-fine, plank, cylinder, crate)
     #[arg(long, value_name = "MESH")]
     pub projectile: String,
 
