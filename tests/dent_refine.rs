@@ -6,6 +6,7 @@
 #[macro_use]
 mod common;
 
+use common::cube12 as cube;
 use dentbend::dent::{
     BodyState, CpuBackend, Damage, DentBackend, DentJob, DentSettings, Hit, Refine, Surface, TargetSet,
     dent_batch_tracked,
@@ -18,36 +19,6 @@ use dentbend::{DentError, DentParams, Impact};
 /// Ball radius, m, and dent distance d, m (σ = d/2 = 0.05).
 const RADIUS: f32 = 0.5;
 const D: f32 = 0.1;
-
-/// A 2 m cube centred at the origin (top face y = +1): 8 vertices, 12 triangles.
-fn cube() -> TriMesh {
-    let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
-    let positions = vec![
-        p(-1., -1., -1.),
-        p(1., -1., -1.),
-        p(1., 1., -1.),
-        p(-1., 1., -1.),
-        p(-1., -1., 1.),
-        p(1., -1., 1.),
-        p(1., 1., 1.),
-        p(-1., 1., 1.),
-    ];
-    let faces = vec![
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [3, 7, 6],
-        [3, 6, 2],
-        [0, 4, 7],
-        [0, 7, 3],
-        [1, 2, 6],
-        [1, 6, 5],
-    ];
-    TriMesh::new(positions, faces).unwrap()
-}
 
 /// The built-in sphere scaled to `RADIUS`, resting on the top face at (x, 1, z).
 fn ball_over(x: f32, z: f32) -> TriMesh {

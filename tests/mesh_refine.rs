@@ -1,41 +1,14 @@
 //! Local refinement (`mesh::refine`): crack-free, bounded, appending only, with exact
 //! provenance, idempotent and deterministic; on a 12-triangle cube and the dense bunny.
 
+mod common;
+
 use std::collections::HashMap;
 
+use common::cube12 as cube;
 use dentbend::TriMesh;
 use dentbend::glam::Vec3;
 use dentbend::mesh::{self, Ball, OrientedBox, RefineError, RefineRegion, Refinement};
-
-/// A 2 m cube centred at the origin: 8 vertices, 12 triangles, wound outwards.
-fn cube() -> TriMesh {
-    let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
-    let positions = vec![
-        p(-1., -1., -1.),
-        p(1., -1., -1.),
-        p(1., 1., -1.),
-        p(-1., 1., -1.),
-        p(-1., -1., 1.),
-        p(1., -1., 1.),
-        p(1., 1., 1.),
-        p(-1., 1., 1.),
-    ];
-    let faces = vec![
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [3, 7, 6],
-        [3, 6, 2],
-        [0, 4, 7],
-        [0, 7, 3],
-        [1, 2, 6],
-        [1, 6, 5],
-    ];
-    TriMesh::new(positions, faces).unwrap()
-}
 
 /// Faces per undirected edge.
 fn edge_counts(mesh: &TriMesh) -> HashMap<(u32, u32), usize> {

@@ -87,3 +87,34 @@ fn segment_hits_triangle(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
     let eps = 1e-9;
     u >= -eps && v >= -eps && u + v <= 1.0 + eps && t >= -eps && t <= 1.0 + eps
 }
+
+/// A 2 m cube centred at the origin (top face y = +1): 8 vertices, 12 triangles, wound outwards
+/// (the refine tests' low-poly target, with a fixed vertex and face order).
+pub fn cube12() -> TriMesh {
+    let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    let positions = vec![
+        p(-1., -1., -1.),
+        p(1., -1., -1.),
+        p(1., 1., -1.),
+        p(-1., 1., -1.),
+        p(-1., -1., 1.),
+        p(1., -1., 1.),
+        p(1., 1., 1.),
+        p(-1., 1., 1.),
+    ];
+    let faces = vec![
+        [0, 2, 1],
+        [0, 3, 2],
+        [4, 5, 6],
+        [4, 6, 7],
+        [0, 1, 5],
+        [0, 5, 4],
+        [3, 7, 6],
+        [3, 6, 2],
+        [0, 4, 7],
+        [0, 7, 3],
+        [1, 2, 6],
+        [1, 6, 5],
+    ];
+    TriMesh::new(positions, faces).unwrap()
+}
