@@ -452,19 +452,7 @@ fn a_fracture_replays_bit_identically_with_its_pieces() {
 /// still gives every mesh bit for bit.
 #[test]
 fn a_moving_body_breaks_and_replays_bit_identically() {
-    let mut world = builtin_scene("wall", SceneSize::Demo).unwrap().world;
-    let k = world.find("wall").unwrap();
-    let old = world.bodies()[k].clone();
-    let off = Vec3::new(0.31, -0.17, 0.0);
-    let mut mesh = mesh::subdivided_box(Vec3::new(3.0, 2.0, 0.2), [30, 20, 2]).unwrap();
-    mesh.transform(Affine3A::from_translation(off)).unwrap();
-    let mut desc = BodyDesc::new("wall", mesh)
-        .kind(BodyKind::Dynamic)
-        .at(old.transform().transform_point3(Vec3::ZERO) - off)
-        .collider(ColliderKind::ConvexHull);
-    (desc.dent, desc.fracture, desc.density, desc.surface) =
-        (old.dent.clone(), old.fracture.clone(), 2400.0, old.surface);
-    world.rebuild_body(k, desc).unwrap();
+    let world = common::walls::moving_wall();
     let (sim, file, bases) = recorded(world, 120);
     assert_eq!(sim.fractures().len(), 1, "the moving wall breaks once");
     let wall = file.body("wall").unwrap();

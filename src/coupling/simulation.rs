@@ -204,6 +204,13 @@ impl Simulation {
             true => self.fracturer.process(world, events, &records, step, (&motions, &velocities))?,
             false => Vec::new(),
         };
+        for fracture in &fractures {
+            // The rest replaced the body's mesh: a progressive dent under way on it restarts
+            // from the rest, not from the surface the body had before it broke.
+            if let Some(k) = world.find(&fracture.body) {
+                self.denter.forget(k);
+            }
+        }
         let fracture_count = fractures.len();
         self.fractures.extend(fractures);
         let denting_ms = started.elapsed().as_secs_f64() * 1e3;

@@ -97,6 +97,18 @@ impl Denter {
         })
     }
 
+    /// Forgets what the denter holds of body `key`: its progressive dents under way (their
+    /// pre-dent surfaces) and its resident GPU mesh. Call when something other than a dent
+    /// replaced the body's mesh (a fracture leaving its rest), or a contact under way would
+    /// rebuild its dent from the surface the body had before.
+    pub fn forget(&mut self, key: usize) {
+        self.damage.forget(key);
+        #[cfg(feature = "gpu")]
+        if let Some(gpu) = &mut self.gpu {
+            gpu.forget(key);
+        }
+    }
+
     /// Whether dents run on the GPU.
     pub fn on_gpu(&self) -> bool {
         #[cfg(feature = "gpu")]

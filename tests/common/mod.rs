@@ -9,6 +9,7 @@ pub mod rng;
 pub mod skin_tolerance;
 pub mod temp;
 pub mod view;
+pub mod walls;
 
 pub use cli::{dentbend, text};
 pub use geometry::{cube12, self_intersections, sphere_at, triangles_cross};
