@@ -192,6 +192,42 @@ fn a_fine_target_is_not_refined() {
     assert_eq!(block.faces(), before.faces());
 }
 
+/// The soak benchmark's dent (a 0.17 m ball, d = 1.7 cm, σ = 8.5 mm, so Auto refines edges
+/// over 8σ = 6.8 cm) on block-fine (3.6 cm cells, 5.1 cm diagonals): repeated dents, head-on
+/// or glancing, leave the mesh as it is. On a box with 15 cm cells the same dent refines, down
+/// to edges of 2σ.
+fn a_small_dent_refines_a_coarse_target_and_leaves_a_fine_one() {
+    let hit = |target: &mut TriMesh, top: f32, x: f32, velocity: Vec3| {
+        let mut ball = mesh::builtin("sphere").unwrap();
+        let centre = Vec3::new(x, top + 0.17, 0.0);
+        ball.transform(Affine3A::from_scale_rotation_translation(Vec3::splat(0.17), Default::default(), centre))
+            .unwrap();
+        let impact = Impact { point: Vec3::new(x, top, 0.0), normal: -Vec3::Y, relative_velocity: velocity };
+        dentbend::dent::dent(target, &ball, &impact, &DentParams::new(0.017)).unwrap()
+    };
+    let mut block = mesh::builtin("block-fine").unwrap();
+    let faces = block.face_count();
+    for (k, velocity) in [-Vec3::Y, Vec3::new(0.5, -1.0, 0.0), Vec3::new(2.0, -1.0, 0.0)].into_iter().enumerate() {
+        let report = hit(&mut block, 0.5, -1.0 + 0.6 * k as f32, velocity);
+        assert!(report.moved_vertices > 0 && report.refined_triangles == 0, "{report:?}");
+    }
+    assert_eq!(block.face_count(), faces);
+    let mut coarse = mesh::subdivided_box(Vec3::new(3.0, 1.0, 3.0), [20, 6, 20]).unwrap();
+    let faces = coarse.face_count();
+    let report = hit(&mut coarse, 0.5, 0.0, -Vec3::Y);
+    assert!(report.refined_triangles > 0 && coarse.face_count() == faces + report.refined_triangles);
+    let longest_under_dent = longest_edge_within(&coarse, Vec3::new(0.0, 0.5, 0.0), 0.05);
+    assert!(longest_under_dent <= 2.0 * 0.0085 + 1e-6, "{longest_under_dent}");
+}
+
+/// The longest edge with both ends within `radius` of `centre`.
+fn longest_edge_within(mesh: &TriMesh, centre: Vec3, radius: f32) -> f32 {
+    let p = mesh.positions();
+    let near = |v: u32| p[v as usize].distance(centre) <= radius;
+    let edges = mesh.faces().iter().flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])]);
+    edges.filter(|&(a, b)| near(a) && near(b)).map(|(a, b)| p[a as usize].distance(p[b as usize])).fold(0.0, f32::max)
+}
+
 fn a_pair_refines_both_coarse_bodies() {
     // The cube and a 20-triangle ball (an icosahedron) dent each other.
     let mut lower = cube();
@@ -318,6 +354,7 @@ gpu_test_main! {
         bad_refine_settings_are_typed_errors_and_change_nothing,
         the_automatic_cap_bounds_growth,
         a_fine_target_is_not_refined,
+        a_small_dent_refines_a_coarse_target_and_leaves_a_fine_one,
         a_pair_refines_both_coarse_bodies,
         a_batch_lists_new_vertices_as_moved_and_says_the_faces_changed,
         the_damage_api_refines_on_the_cpu,

@@ -56,7 +56,7 @@ pub use progressive::ProgressiveDents;
 pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
 pub use refine_jobs::{RefinedTargets, refine_targets};
 pub use refine_setting::{DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refine};
-pub use refine_target::{auto_max_edge, footprint_box};
+pub use refine_target::{AUTO_COARSENESS, auto_coarse_edge, auto_max_edge, footprint_box};
 pub use settings::DentSettings;
 pub use target_set::TargetSet;
 pub use thickness::{FOLD_KEPT, MIN_WALL_KEPT};
