@@ -17,7 +17,7 @@ use dentbend::record::{
     base64_decode, base64_encode, decode_records, encode_records, replay_body, replay_body_with_pieces,
 };
 use dentbend::scene::{SceneSize, builtin_scene};
-use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, World};
+use dentbend::sim::World;
 
 const TARGET: u32 = 1;
 const BALL: u32 = 2;

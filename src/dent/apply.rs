@@ -1,6 +1,6 @@
 //! Denting a target mesh: one projectile (`dent`), or two dentable bodies at once (`dent_pair`).
 
-use super::guard::guard_crossings;
+use super::guard::{guard_crossings, makes_new_crossings};
 use super::map::PendingDisplacement;
 use super::refine_target::{Footprint, RefinedTarget, refine_for_dents};
 use super::volume::{restore_volume, volume_change};
@@ -57,8 +57,10 @@ pub fn dent(
     impact: &Impact,
     params: &DentParams,
 ) -> Result<DentReport, DentError> {
-    let stages = dent_map_stages(projectile, impact, params, Some(target.mean_edge_length()))?;
-    let mut refined = refine_for_dents(target, &[footprint(&stages, params)]).map_err(|(_, e)| e)?;
+    let edges = target.edge_lengths();
+    let stages = dent_map_stages(projectile, impact, params, Some(edges.mean))?;
+    let mut refined =
+        refine_for_dents(target, &[footprint(&stages, params)], Some(edges.longest)).map_err(|(_, e)| e)?;
     let pending = displace_keep_volume_and_guard(&refined, target, &stages.map, params)?;
     let mut out = report(&stages, refined.commit(target, pending));
     note_refinement(&mut out, &refined, 0);
@@ -92,10 +94,13 @@ pub fn dent_pair(
     params_a: &DentParams,
     params_b: &DentParams,
 ) -> Result<(DentReport, DentReport), DentError> {
-    let stages_a = dent_map_stages(b, impact, params_a, Some(a.mean_edge_length()))?;
-    let stages_b = dent_map_stages(a, &impact.reversed(), params_b, Some(b.mean_edge_length()))?;
-    let mut refined_a = refine_for_dents(a, &[footprint(&stages_a, params_a)]).map_err(|(_, e)| e)?;
-    let mut refined_b = refine_for_dents(b, &[footprint(&stages_b, params_b)]).map_err(|(_, e)| e)?;
+    let (edges_a, edges_b) = (a.edge_lengths(), b.edge_lengths());
+    let stages_a = dent_map_stages(b, impact, params_a, Some(edges_a.mean))?;
+    let stages_b = dent_map_stages(a, &impact.reversed(), params_b, Some(edges_b.mean))?;
+    let mut refined_a =
+        refine_for_dents(a, &[footprint(&stages_a, params_a)], Some(edges_a.longest)).map_err(|(_, e)| e)?;
+    let mut refined_b =
+        refine_for_dents(b, &[footprint(&stages_b, params_b)], Some(edges_b.longest)).map_err(|(_, e)| e)?;
     let pending_a = displace_keep_volume_and_guard(&refined_a, a, &stages_a.map, params_a)?;
     let pending_b = displace_keep_volume_and_guard(&refined_b, b, &stages_b.map, params_b)?;
     let mut report_a = report(&stages_a, refined_a.commit(a, pending_a));
@@ -166,11 +171,21 @@ pub(crate) fn guard_and_keep_volume(
     map: &super::DentMap,
     params: &DentParams,
 ) -> Result<(), DentError> {
+    let preserve = params.volume == super::VolumeMode::Preserve;
+    if params.guard_crossings && preserve {
+        // Most dents make nothing cross: one guard pass over the dent and its rim together
+        // settles them. Otherwise the dent is limited first and its rim made for what is left.
+        let rim = restore_volume(faces, normals, before, pending, map, params.volume)?;
+        if !makes_new_crossings(pending, faces, before) {
+            return Ok(());
+        }
+        rim.undo(pending);
+    }
     if params.guard_crossings {
         guard_crossings(pending, faces, before);
     }
     restore_volume(faces, normals, before, pending, map, params.volume)?;
-    if params.guard_crossings && params.volume == super::VolumeMode::Preserve {
+    if params.guard_crossings && preserve {
         let limited = pending.report.limited_to;
         guard_crossings(pending, faces, before);
         if pending.report.limited_to != limited {

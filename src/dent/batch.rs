@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::apply::guard_and_keep_volume;
 use super::refine_target::{RefinedTarget, refine_for_dents};
 use super::{DentError, DentParams, DentReport, Impact, dent_map_stages};
-use crate::mesh::{Refinement, TriMesh};
+use crate::mesh::{EdgeLengths, Refinement, TriMesh};
 
 /// One dent of a batch: `projectile` hits `targets[target]` at `impact`.
 #[derive(Debug, Clone)]
@@ -83,11 +83,14 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
         let error = super::error::invalid("target", bad.target, "must index the batch's target list");
         return Err(BatchError { job, error });
     }
+    // Each target's edge lengths once: the mean sets automatic grids, the longest tells the
+    // refine stage whether any edge could be too coarse.
+    let edges: Vec<EdgeLengths> = targets.par_iter().map(TriMesh::edge_lengths).collect();
     let stages: Vec<_> = jobs
         .par_iter()
         .enumerate()
         .map(|(job, j)| {
-            let edge = targets[j.target].mean_edge_length();
+            let edge = edges[j.target].mean;
             dent_map_stages(j.projectile, &j.impact, &j.params, Some(edge)).map_err(|error| BatchError { job, error })
         })
         .collect::<Result<_, _>>()?;
@@ -103,7 +106,8 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
         .map(|(t, mine)| {
             let target = &targets[t];
             let dents: Vec<_> = mine.iter().map(|&j| super::apply::footprint(&stages[j], &jobs[j].params)).collect();
-            let refined = refine_for_dents(target, &dents).map_err(|(k, error)| BatchError { job: mine[k], error })?;
+            let refined = refine_for_dents(target, &dents, Some(edges[t].longest))
+                .map_err(|(k, error)| BatchError { job: mine[k], error })?;
             let mut positions = refined.positions(target).to_vec();
             // New vertices count as moved: a caller's collider does not have them yet.
             let mut moved: Vec<bool> = (0..positions.len()).map(|v| v >= target.vertex_count()).collect();

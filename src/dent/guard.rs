@@ -5,12 +5,12 @@
 //!
 //! Cost: one pass over the faces to find the moved ones and the unmoved ones near them, a grid
 //! over those for the pairs whose boxes after the dent overlap, and the exact test (see
-//! [`TriMesh::self_intersections`]) of the pairs that their vertices' relative motion cannot
-//! clear (`guard_pairs`: neighbours moving together need no test; this is sound for every
-//! scale, no motion is too small to matter). Only for a dent that does make faces cross, the
-//! pairs whose swept boxes meet are found and cleared the same way, and those left are tested at
-//! each step of the bisection. Measured on `block-fine` (`benches/self_intersections.rs`), a
-//! dent moving 2,700 faces leaves about 4,700 of 19,700 candidate pairs to test.
+//! [`TriMesh::self_intersections`]) of each such pair at the full displacement. Only for a dent
+//! that does make faces cross, the pairs whose swept boxes meet are found and those that their
+//! vertices' relative motion cannot clear (`guard_pairs`: neighbours moving together need no
+//! test; this is sound for every scale, no motion is too small to matter) are tested at each
+//! step of the bisection. A dent with a volume rim is checked once, dent and rim together; only
+//! when they cross is the dent limited first and its rim made again for what is left.
 //!
 //! [`TriMesh::self_intersections`]: crate::mesh::TriMesh::self_intersections
 
@@ -49,6 +49,27 @@ pub(crate) fn guard_crossings(pending: &mut PendingDisplacement, faces: &[[u32; 
     report.warnings.push(message);
 }
 
+/// Whether `pending` (computed from `before`, the positions of a mesh with `faces`) makes a
+/// pair of faces cross that did not cross before it: what [`guard_crossings`] would limit.
+pub(crate) fn makes_new_crossings(pending: &PendingDisplacement, faces: &[[u32; 3]], before: &[Vec3]) -> bool {
+    let pairs = pairs_to_test(faces, before, &pending.positions, &pending.moved, Reach::Full);
+    let after = crossing_pairs(faces, &pending.positions, &pairs);
+    !after.is_empty() && {
+        let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &after).into_iter().collect();
+        after.iter().any(|p| !crossed_before.contains(p))
+    }
+}
+
+/// The pairs of `pairs` whose faces cross at `positions`.
+fn crossing_pairs(faces: &[[u32; 3]], positions: &[Vec3], pairs: &[(u32, u32)]) -> Vec<(u32, u32)> {
+    let crosses = |&&(a, b): &&(u32, u32)| faces_cross(positions, faces, a, b);
+    if pairs.len() < PARALLEL_TESTS {
+        pairs.iter().filter(crosses).copied().collect()
+    } else {
+        pairs.par_iter().with_min_len(PARALLEL_TESTS / 2).filter(crosses).copied().collect()
+    }
+}
+
 /// `before + s·(after − before)`, exactly `after` at `s = 1`.
 fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
     if s == 1.0 { after } else { before + (after - before) * s }
@@ -59,14 +80,7 @@ fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
 fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<f32> {
     // The pairs that could cross after the dent and are not cleared by their relative motion.
     let pairs = pairs_to_test(faces, before, after, moved, Reach::Full);
-    let crossing = |positions: &[Vec3], pairs: &[(u32, u32)]| -> Vec<(u32, u32)> {
-        let crosses = |&&(a, b): &&(u32, u32)| faces_cross(positions, faces, a, b);
-        if pairs.len() < PARALLEL_TESTS {
-            pairs.iter().filter(crosses).copied().collect()
-        } else {
-            pairs.par_iter().with_min_len(PARALLEL_TESTS / 2).filter(crosses).copied().collect()
-        }
-    };
+    let crossing = |positions: &[Vec3], pairs: &[(u32, u32)]| crossing_pairs(faces, positions, pairs);
     let crossing_after = crossing(after, &pairs);
     if crossing_after.is_empty() {
         return None;

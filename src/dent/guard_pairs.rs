@@ -50,8 +50,10 @@ pub(crate) enum Reach {
 }
 
 /// Pairs `(f, g)` of faces (`f` moved) that moving `before` to `after` (with `moved` flagging
-/// the vertices that moved) could make cross at the scales `reach` names and that no bound in
-/// the module documentation clears: each pair once, as `(smaller, larger)` index.
+/// the vertices that moved) could make cross at the scales `reach` names: for
+/// [`Reach::Scaled`], those that no bound in the module documentation clears; for
+/// [`Reach::Full`], every pair whose boxes after the move overlap. Each pair once, as
+/// `(smaller, larger)` index.
 pub(crate) fn pairs_to_test(
     faces: &[[u32; 3]],
     before: &[Vec3],
@@ -67,13 +69,21 @@ pub(crate) fn pairs_to_test(
     let everyone: Vec<u32> = (0..near.faces.len() as u32).collect();
     let is_active: Vec<bool> = (0..near.faces.len()).map(|i| i < near.active).collect();
     let candidates = overlapping_pairs(&near.reached, &active, &is_active, &everyone);
+    let id = |(i, j): (u32, u32)| {
+        let (f, g) = (near.faces[i as usize], near.faces[j as usize]);
+        (f.min(g), f.max(g))
+    };
+    if reach == Reach::Full {
+        // Only the full displacement is asked about: the exact test of a pair at that one scale
+        // costs no more than clearing it for every scale, so every candidate is kept.
+        return candidates.into_iter().map(id).collect();
+    }
     let slack = 4.0 * f64::from(f32::EPSILON) * near.scale;
     let motion = Motion { faces, before, after, slack };
     let keep = |&(i, j): &(u32, u32)| {
-        let (i, j) = (i as usize, j as usize);
-        let gap = || near.before[i].distance(&near.before[j]);
-        let (f, g) = (near.faces[i], near.faces[j]);
-        motion.may_cross(f, g, gap).then_some((f.min(g), f.max(g)))
+        let gap = || near.before[i as usize].distance(&near.before[j as usize]);
+        let (f, g) = (near.faces[i as usize], near.faces[j as usize]);
+        motion.may_cross(f, g, gap).then(|| id((i, j)))
     };
     if candidates.len() < PARALLEL_PAIRS {
         candidates.iter().filter_map(keep).collect()
@@ -372,7 +382,7 @@ mod tests {
         // With a repeated corner the moved face has no area and crosses nothing.
         let collapsed = [[0, 1, 2], [3, 3, 5]];
         after[3].z = -1.0;
-        assert_eq!(pairs_to_test(&collapsed, &before, &after, &moved, Reach::Full), vec![]);
+        assert_eq!(pairs_to_test(&collapsed, &before, &after, &moved, Reach::Scaled), vec![]);
         // Pushed only halfway down to the large face: cleared by the gap.
         after[3].z = 0.6;
         assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled), vec![]);

@@ -48,7 +48,8 @@ pub fn refine_targets(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<Refin
             .iter()
             .filter_map(|&j| plans[j].map(|(grid, sigma)| Footprint { grid, sigma, params: &jobs[j].params }))
             .collect();
-        let mut done = refine_for_dents(target, &dents).map_err(|(k, error)| BatchError { job: mine[k], error })?;
+        let mut done =
+            refine_for_dents(target, &dents, None).map_err(|(k, error)| BatchError { job: mine[k], error })?;
         for (k, &j) in mine.iter().enumerate() {
             note_refinement(&mut out.reports[j], &done, k);
         }

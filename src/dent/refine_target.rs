@@ -146,7 +146,13 @@ impl RefinedTarget {
 
 /// The refine stage of `dents` (in order) on `target`, all from its surface as it is; `Err`
 /// names the dent (its index in `dents`) that failed, and nothing is changed then.
-pub(crate) fn refine_for_dents(target: &TriMesh, dents: &[Footprint<'_>]) -> Result<RefinedTarget, (usize, DentError)> {
+/// `longest_edge`, the target's longest edge when the caller knows it, lets a target with no
+/// edge too coarse for a dent skip the search for one.
+pub(crate) fn refine_for_dents(
+    target: &TriMesh,
+    dents: &[Footprint<'_>],
+    longest_edge: Option<f32>,
+) -> Result<RefinedTarget, (usize, DentError)> {
     let mut out = RefinedTarget {
         refinement: Refinement {
             base_vertex_count: target.vertex_count(),
@@ -171,6 +177,10 @@ pub(crate) fn refine_for_dents(target: &TriMesh, dents: &[Footprint<'_>]) -> Res
             ),
             Refine::MaxEdge(edge) => (edge, edge, MAX_EDGE_NEW_TRIANGLES, false),
         };
+        if out.parts.is_none() && longest_edge.is_some_and(|longest| longest <= trigger) {
+            out.per_dent.push(DentRefinement::default());
+            continue;
+        }
         let size = *size.get_or_insert_with(|| {
             let (lo, hi) = target.bounds();
             lo.distance(hi)

@@ -25,7 +25,7 @@ const MAX_PUSH_RADII: f64 = 4.0;
 /// Measures the volume change `pending` makes to a mesh of `faces` whose positions were
 /// `before`, and under [`VolumeMode::Preserve`] pushes a rim around `map`'s crater out along
 /// `normals` (the mesh's vertex normals before the dent) until it is undone. Writes the result
-/// into `pending.report`.
+/// into `pending.report`; returns how to put `pending` back as it was.
 ///
 /// # Errors
 /// [`DentError::NonFiniteResult`](super::DentError::NonFiniteResult) when the rim would leave
@@ -37,7 +37,8 @@ pub(crate) fn restore_volume(
     pending: &mut PendingDisplacement,
     map: &DentMap,
     mode: VolumeMode,
-) -> Result<(), super::DentError> {
+) -> Result<RimUndo, super::DentError> {
+    let mut undo = RimUndo { vertices: Vec::new(), report: pending.report.clone() };
     let origin = map.grid.origin.as_dvec3();
     let tetra = |p: &[Vec3], f: &[u32; 3]| {
         let [a, b, c] = f.map(|v| p[v as usize].as_dvec3() - origin);
@@ -68,11 +69,11 @@ pub(crate) fn restore_volume(
     pending.report.cavity_volume = dug.abs();
     pending.report.volume_change = dug;
     if mode == VolumeMode::Free || dug == 0.0 {
-        return Ok(());
+        return Ok(undo);
     }
     let Some((rim, crater)) = rim else {
         warn(pending, "no surface around the dent to raise a rim on: its volume is not restored");
-        return Ok(());
+        return Ok(undo);
     };
     let push = |v: u32| match slot[v as usize] {
         NONE => DVec3::ZERO,
@@ -89,7 +90,7 @@ pub(crate) fn restore_volume(
     let heaviest = rim.iter().map(|(_, u)| u.length()).fold(0.0, f64::max);
     let Some(s) = root_toward(cubic, MAX_PUSH_RADII * crater / heaviest) else {
         warn(pending, "no rim up to 4 crater radii high refills this dent: its volume is not restored");
-        return Ok(());
+        return Ok(undo);
     };
 
     let old: Vec<Vec3> = rim.iter().map(|&(v, _)| pending.positions[v as usize]).collect();
@@ -107,13 +108,32 @@ pub(crate) fn restore_volume(
     for (&(v, _), &q) in rim.iter().zip(&old) {
         let i = v as usize;
         if pending.positions[i] != q {
+            undo.vertices.push((v, q, pending.moved[i]));
             pending.report.moved_vertices += usize::from(!pending.moved[i]);
             pending.moved[i] = true;
             let length = pending.positions[i].distance(before[i]);
             pending.report.max_displacement = pending.report.max_displacement.max(length);
         }
     }
-    Ok(())
+    Ok(undo)
+}
+
+/// What [`restore_volume`] changed in a dent: the vertices its rim moved (with their positions
+/// and moved flags before) and the report before it, so the dent can be put back as it was.
+pub(crate) struct RimUndo {
+    vertices: Vec<(u32, Vec3, bool)>,
+    report: super::DisplaceReport,
+}
+
+impl RimUndo {
+    /// Puts `pending` back as it was before [`restore_volume`].
+    pub(crate) fn undo(self, pending: &mut PendingDisplacement) {
+        for (v, position, moved) in self.vertices {
+            pending.positions[v as usize] = position;
+            pending.moved[v as usize] = moved;
+        }
+        pending.report = self.report;
+    }
 }
 
 /// The rim: each vertex that may move and its push per unit `s` (weight × unit normal; `s` is

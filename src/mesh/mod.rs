@@ -48,4 +48,4 @@ pub(crate) use refine::{any_too_long, refine_parts};
 pub use save::{save, write_file_atomically};
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 pub(crate) use trimesh::in_coordinate_range;
-pub use trimesh::{MAX_COORDINATE, TriMesh, validate};
+pub use trimesh::{EdgeLengths, MAX_COORDINATE, TriMesh, validate};

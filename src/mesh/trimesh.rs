@@ -190,16 +190,28 @@ impl TriMesh {
 
     /// Mean length of the triangle edges, world units (shared edges count once per face).
     pub fn mean_edge_length(&self) -> f32 {
-        let total: f64 = self
-            .faces
-            .iter()
-            .map(|f| {
-                let [a, b, c] = f.map(|v| self.positions[v as usize]);
-                f64::from(a.distance(b) + b.distance(c) + c.distance(a))
-            })
-            .sum();
-        (total / (3 * self.faces.len()) as f64) as f32
+        self.edge_lengths().mean
     }
+
+    /// The mean (as [`mean_edge_length`](Self::mean_edge_length)) and the longest of the
+    /// faces' edge lengths, in one pass, mesh units.
+    pub fn edge_lengths(&self) -> EdgeLengths {
+        let (total, longest) = self.faces.iter().fold((0.0f64, 0.0f32), |(total, longest), f| {
+            let [a, b, c] = f.map(|v| self.positions[v as usize]);
+            let (ab, bc, ca) = (a.distance(b), b.distance(c), c.distance(a));
+            (total + f64::from(ab + bc + ca), longest.max(ab).max(bc).max(ca))
+        });
+        EdgeLengths { mean: (total / (3 * self.faces.len()) as f64) as f32, longest }
+    }
+}
+
+/// Edge length statistics of a mesh ([`TriMesh::edge_lengths`]), mesh units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeLengths {
+    /// Mean over the faces' edges (an edge shared by two faces counts twice).
+    pub mean: f32,
+    /// Longest edge.
+    pub longest: f32,
 }
 
 /// Cross product of two edges of `face`: its normal scaled by twice its area.
