@@ -253,7 +253,8 @@ const CROSSING_RETRIES: usize = 8;
 ///
 /// # Errors
 /// [`RefineError::InvalidMaxEdge`]; [`RefineError::TooManyTriangles`] when the cap would be passed
-/// (nothing is returned then: refine with a longer `max_edge` or a higher cap).
+/// (nothing is returned then: refine with a longer `max_edge` or a higher cap);
+/// [`RefineError::WouldCross`] when every refinement tried made faces cross.
 pub fn refine(
     mesh: &TriMesh,
     region: &dyn RefineRegion,
