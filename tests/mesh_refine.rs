@@ -37,7 +37,7 @@ fn corners(mesh: &TriMesh, f: usize) -> [Vec3; 3] {
 
 /// The checks every refinement must pass: appended only, exact provenance, no split edge left
 /// in any face (no T-junction), Euler characteristic and area kept, and no face that touches
-/// the region left with an edge over `max_edge`.
+/// the region left with an edge over `max_edge`, and no edge split that was not over it.
 fn check(before: &TriMesh, after: &TriMesh, r: &Refinement, region: &dyn RefineRegion, max_edge: f32) {
     assert_eq!(r.base_vertex_count, before.vertex_count());
     assert_eq!(r.base_face_count, before.face_count());
@@ -50,6 +50,9 @@ fn check(before: &TriMesh, after: &TriMesh, r: &Refinement, region: &dyn RefineR
         assert!((s.parents[0] as usize) < v && (s.parents[1] as usize) < v);
         assert_eq!(s.fraction, 0.5);
         assert_eq!(p[v], p[s.parents[0] as usize] * 0.5 + p[s.parents[1] as usize] * 0.5, "vertex {v}");
+        // Only edges too long are split: a surface already fine enough gains nothing.
+        let split = p[s.parents[0] as usize].distance(p[s.parents[1] as usize]);
+        assert!(split > max_edge, "vertex {v} halves an edge of {split}, not over {max_edge}");
     }
     let counts = edge_counts(after);
     for s in &r.vertices {

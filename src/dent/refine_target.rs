@@ -203,6 +203,7 @@ pub(crate) fn refine_for_dents(
                 Ok(refinement) => {
                     done.added_vertices = refinement.added_vertices();
                     done.added_faces = refinement.added_faces();
+                    done.warning = held_back_warning(refinement.held_back.len());
                     out.refinement.extend(refinement).map_err(|_| (k, invalid("refine", "chain", "internal")))?;
                     break;
                 }
@@ -219,6 +220,10 @@ pub(crate) fn refine_for_dents(
                     let reason = "needs more than 1,000,000 new triangles under this dent: use a longer edge";
                     return Err((k, invalid("refine", edge, reason)));
                 }
+                Err(RefineError::WouldCross) => {
+                    done.warning = held_back_warning(usize::MAX);
+                    break;
+                }
                 Err(e) => return Err((k, invalid("refine", e, "was refused"))),
             }
         }
@@ -230,4 +235,20 @@ pub(crate) fn refine_for_dents(
         out.per_dent.push(done);
     }
     Ok(out)
+}
+
+/// The warning for a refinement that left `faces` too-coarse faces unsplit (`usize::MAX`: all of
+/// them) because splitting them would have made faces cross; `None` for 0.
+fn held_back_warning(faces: usize) -> Option<String> {
+    let what = match faces {
+        0 => return None,
+        usize::MAX => "refinement skipped".to_owned(),
+        n => format!("{n} faces left unrefined"),
+    };
+    let message = format!(
+        "{what}: splitting them would make faces cross (the surface there is folded flat onto itself); the dent \
+         moves their vertices as they are"
+    );
+    log::warn!("{message}");
+    Some(message)
 }

@@ -25,6 +25,7 @@ mod ply_source;
 mod primitives;
 pub(crate) mod principal_axis;
 mod refine;
+mod refine_crossings;
 mod save;
 pub(crate) mod self_intersect;
 mod subdivide;

@@ -8,13 +8,18 @@
 //! and the other child is appended. The new vertices' provenance ([`Refinement`]) lets a caller
 //! carry its own per-vertex data (UVs, skin weights, colours) along
 //! ([`Refinement::interpolate`]).
+//!
+//! A refinement never makes faces cross that did not: where a rounded midpoint would (on a
+//! surface folded flat onto itself, see `refine_crossings`), the base faces involved are left
+//! unsplit ([`Refinement::held_back`]) and the refinement is run again without them.
 
-use std::collections::VecDeque;
+use std::collections::{HashMap, HashSet, VecDeque};
 
 use glam::Vec3;
 use rayon::prelude::*;
 
 use super::TriMesh;
+use super::refine_crossings::{Pieces, crossings_made};
 
 /// Where a mesh is refined: a triangle is refined while it touches the region.
 pub trait RefineRegion: Sync {
@@ -109,6 +114,9 @@ pub struct Refinement {
     pub face_parents: Vec<u32>,
     /// Base faces whose slot now holds a smaller piece, ascending.
     pub split_faces: Vec<u32>,
+    /// Base faces left unsplit, edges included, although too coarse: splitting them would have
+    /// made faces cross (rounded midpoints on a surface folded flat onto itself), ascending.
+    pub held_back: Vec<u32>,
 }
 
 impl Refinement {
@@ -167,7 +175,7 @@ impl Refinement {
     /// # Errors
     /// [`RefineError::NotConsecutive`] when `later` did not start from this one's result.
     pub fn extend(&mut self, later: Refinement) -> Result<(), RefineError> {
-        if later.is_empty() {
+        if later.is_empty() && later.held_back.is_empty() {
             return Ok(());
         }
         if self.is_empty() && self.base_vertex_count == 0 && self.base_face_count == 0 {
@@ -184,6 +192,11 @@ impl Refinement {
             if s < self.base_face_count { slot } else { self.face_parents[s - self.base_face_count] }
         };
         let parents: Vec<u32> = later.face_parents.iter().map(|&f| root(f)).collect();
+        let mut held_back: Vec<u32> = later.held_back.iter().map(|&f| root(f)).collect();
+        held_back.extend_from_slice(&self.held_back);
+        held_back.sort_unstable();
+        held_back.dedup();
+        self.held_back = held_back;
         let mut split: Vec<u32> =
             later.split_faces.iter().copied().filter(|&f| (f as usize) < self.base_face_count).collect();
         self.face_parents.extend(parents);
@@ -221,7 +234,14 @@ pub enum RefineError {
     /// Two refinements joined by [`Refinement::extend`] do not follow each other.
     #[error("refine: the later refinement does not start from the earlier one's result")]
     NotConsecutive,
+    /// Every way tried to split the region made faces cross (the surface there is folded flat
+    /// onto itself in many places); nothing was split.
+    #[error("refine: splitting here would make faces cross (a surface folded flat onto itself)")]
+    WouldCross,
 }
+
+/// Refinements tried, each holding back more base faces, before [`RefineError::WouldCross`].
+const CROSSING_RETRIES: usize = 8;
 
 /// Refines `mesh` where it touches `region` until no touching triangle has an edge longer than
 /// `max_edge` (world units), adding at most `max_new_triangles` triangles. Returns the refined
@@ -233,7 +253,8 @@ pub enum RefineError {
 ///
 /// # Errors
 /// [`RefineError::InvalidMaxEdge`]; [`RefineError::TooManyTriangles`] when the cap would be passed
-/// (nothing is returned then: refine with a longer `max_edge` or a higher cap).
+/// (nothing is returned then: refine with a longer `max_edge` or a higher cap);
+/// [`RefineError::WouldCross`] when every refinement tried made faces cross.
 pub fn refine(
     mesh: &TriMesh,
     region: &dyn RefineRegion,
@@ -261,6 +282,31 @@ pub(crate) fn refine_parts(
     if !(max_edge.is_finite() && max_edge > 0.0) {
         return Err(RefineError::InvalidMaxEdge(max_edge));
     }
+    let mut held_back = HashSet::new();
+    for _ in 0..CROSSING_RETRIES {
+        match refine_once(positions, faces, region, max_edge, max_new_triangles, &held_back)? {
+            Ok(mut log) => {
+                log.held_back = held_back.into_iter().collect();
+                log.held_back.sort_unstable();
+                return Ok(log);
+            }
+            Err(crossing) => held_back.extend(crossing),
+        }
+    }
+    Err(RefineError::WouldCross)
+}
+
+/// One refinement that splits no edge of the base faces `held_back`: `Ok(Ok(log))`, or
+/// `Ok(Err(faces))` (and the parts as they were) when it made faces cross, naming the base
+/// faces whose pieces did.
+fn refine_once(
+    positions: &mut Vec<Vec3>,
+    faces: &mut Vec<[u32; 3]>,
+    region: &dyn RefineRegion,
+    max_edge: f32,
+    max_new_triangles: usize,
+    held_back: &HashSet<u32>,
+) -> Result<Result<Refinement, Vec<u32>>, RefineError> {
     let base = Refinement { base_vertex_count: positions.len(), base_face_count: faces.len(), ..Default::default() };
     let mut refiner = Refiner {
         positions,
@@ -270,24 +316,27 @@ pub(crate) fn refine_parts(
         adjacency: None,
         log: base,
         undo: Vec::new(),
+        held_back,
     };
-    let candidates: VecDeque<u32> = (0..refiner.faces.len() as u32).filter(|&f| refiner.needs(f)).collect();
+    let candidates: VecDeque<u32> =
+        (0..refiner.faces.len() as u32).filter(|&f| !held_back.contains(&f) && refiner.needs(f)).collect();
     if candidates.is_empty() {
-        return Ok(refiner.log);
+        return Ok(Ok(refiner.log));
     }
     refiner.adjacency = Some(Adjacency::new(refiner.positions.len(), &refiner.faces[..]));
-    match refiner.run(candidates, max_new_triangles) {
-        Ok(()) => {
-            let mut log = std::mem::take(&mut refiner.log);
-            log.split_faces.sort_unstable();
-            log.split_faces.dedup();
-            Ok(log)
-        }
-        Err(()) => {
-            refiner.roll_back();
-            Err(RefineError::TooManyTriangles { limit: max_new_triangles, max_edge })
-        }
+    if refiner.run(candidates, max_new_triangles).is_err() {
+        refiner.roll_back();
+        return Err(RefineError::TooManyTriangles { limit: max_new_triangles, max_edge });
     }
+    let crossing = refiner.crossings_made();
+    if !crossing.is_empty() {
+        refiner.roll_back();
+        return Ok(Err(crossing));
+    }
+    let mut log = std::mem::take(&mut refiner.log);
+    log.split_faces.sort_unstable();
+    log.split_faces.dedup();
+    Ok(Ok(log))
 }
 
 /// Whether any non-degenerate face of `positions`/`faces` that touches `region` has an edge
@@ -369,6 +418,8 @@ struct Refiner<'a> {
     log: Refinement,
     /// Face slots overwritten, with their earlier value, in order.
     undo: Vec<(u32, [u32; 3])>,
+    /// Base faces none of whose edges may be split.
+    held_back: &'a HashSet<u32>,
 }
 
 /// An undirected edge ordered by (squared length, low index, high index): a strict total order,
@@ -420,6 +471,9 @@ impl Refiner<'_> {
                 continue;
             }
             let edge = self.terminal_edge(f);
+            if self.holds_back(edge) {
+                continue; // f stays as it is
+            }
             let changed = self.split(edge);
             if self.faces.len() - base_faces > max_new_triangles || self.positions.len() >= u32::MAX as usize {
                 return Err(());
@@ -444,6 +498,37 @@ impl Refiner<'_> {
             .collect();
         on.sort_unstable();
         on
+    }
+
+    /// The base face that face slot `f` is (a piece of).
+    fn root(&self, f: u32) -> u32 {
+        match (f as usize).checked_sub(self.log.base_face_count) {
+            Some(k) => self.log.face_parents[k],
+            None => f,
+        }
+    }
+
+    /// Whether `edge` lies on a piece of a held-back base face.
+    fn holds_back(&self, edge: EdgeKey) -> bool {
+        !self.held_back.is_empty()
+            && self.faces_on(edge.lo, edge.hi).into_iter().any(|f| self.held_back.contains(&self.root(f)))
+    }
+
+    /// The base faces whose pieces cross although they did not (see `refine_crossings`).
+    fn crossings_made(&self) -> Vec<u32> {
+        let mut originals = HashMap::new();
+        for &(slot, face) in &self.undo {
+            if (slot as usize) < self.log.base_face_count {
+                originals.entry(slot).or_insert(face);
+            }
+        }
+        let pieces = Pieces {
+            base_vertex_count: self.log.base_vertex_count,
+            base_face_count: self.log.base_face_count,
+            face_parents: &self.log.face_parents,
+            originals: &originals,
+        };
+        crossings_made(self.positions, self.faces, &pieces)
     }
 
     /// The end of face `f`'s longest-edge propagation path: an edge that is the longest of every

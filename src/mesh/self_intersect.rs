@@ -62,20 +62,43 @@ impl TriMesh {
 
     /// Crossing pairs with at least one face of `active` (no duplicates, unordered).
     fn crossing_pairs(&self, active: &[u32]) -> Vec<(u32, u32)> {
-        let positions = self.positions();
-        let boxes: Vec<Aabb> = self.faces().iter().map(|f| Aabb::of(f.map(|v| positions[v as usize]))).collect();
-        let mut is_active = vec![false; boxes.len()];
-        active.iter().for_each(|&f| is_active[f as usize] = true);
-        let region = active.iter().fold(Aabb::EMPTY, |b, &f| b.union(boxes[f as usize]));
-        let others: Vec<u32> =
-            (0..boxes.len() as u32).filter(|&f| is_active[f as usize] || boxes[f as usize].overlaps(&region)).collect();
-        let candidates = overlapping_pairs(&boxes, active, &is_active, &others);
-        candidates
-            .into_par_iter()
-            .with_min_len(1024)
-            .filter(|&(a, b)| faces_cross(positions, self.faces(), a, b))
-            .collect()
+        crossing_pairs_among(self.positions(), self.faces(), active)
     }
+}
+
+/// Pairs of crossing faces of a mesh with `positions` and `faces` with at least one face of
+/// `active` (no duplicates, unordered): one pass over the faces for those whose boxes reach the
+/// active faces' region, a grid over those, and the exact test of the pairs whose boxes overlap.
+pub(crate) fn crossing_pairs_among(positions: &[Vec3], faces: &[[u32; 3]], active: &[u32]) -> Vec<(u32, u32)> {
+    let face_box = |f: u32| Aabb::of(faces[f as usize].map(|v| positions[v as usize]));
+    let mut is_active = vec![false; faces.len()];
+    active.iter().for_each(|&f| is_active[f as usize] = true);
+    // Local numbering: the active faces first, then the others whose boxes meet their region.
+    let mut local: Vec<u32> = active.to_vec();
+    local.sort_unstable();
+    local.dedup();
+    let active_count = local.len();
+    let mut boxes: Vec<Aabb> = local.iter().map(|&f| face_box(f)).collect();
+    let region = boxes.iter().fold(Aabb::EMPTY, |r, b| r.union(*b));
+    for f in 0..faces.len() as u32 {
+        if !is_active[f as usize] {
+            let b = face_box(f);
+            if b.overlaps(&region) {
+                local.push(f);
+                boxes.push(b);
+            }
+        }
+    }
+    let local_active: Vec<u32> = (0..active_count as u32).collect();
+    let local_all: Vec<u32> = (0..local.len() as u32).collect();
+    let local_is_active: Vec<bool> = (0..local.len()).map(|i| i < active_count).collect();
+    let candidates = overlapping_pairs(&boxes, &local_active, &local_is_active, &local_all);
+    candidates
+        .into_par_iter()
+        .with_min_len(1024)
+        .map(|(a, b)| (local[a as usize], local[b as usize]))
+        .filter(|&(a, b)| faces_cross(positions, faces, a, b))
+        .collect()
 }
 
 /// Whether faces `a` and `b` of a mesh with `positions` cross.
