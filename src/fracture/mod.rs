@@ -14,6 +14,7 @@ mod outcome;
 mod pattern;
 mod placement;
 mod settings;
+mod split_table;
 mod tally;
 mod weld;
 

@@ -102,13 +102,13 @@ pub fn break_body(
     let tolerance = 1e-6 * size;
     // Cut out the part inside the bounding prism; what each plane leaves outside is the rest's
     // surface (the caps on its way are inside the rest and dropped).
-    let mut pool = Pool { positions, ..Default::default() };
+    let mut pool = Pool::new(positions);
     let mut inside = Part { faces, caps: Vec::new() };
+    let mut next = Part::default();
     let mut outside: Vec<[u32; 3]> = Vec::new();
     for plane in frame.bound(pattern) {
-        let (kept, out) = pool.cut(&inside, plane, tolerance);
-        inside = kept;
-        outside.extend(out);
+        pool.cut(&inside, plane, tolerance, &mut next, Some(&mut outside));
+        std::mem::swap(&mut inside, &mut next);
     }
     if inside.faces.is_empty() {
         return Ok(None);
@@ -117,7 +117,7 @@ pub fn break_body(
     let mut rest_faces = Vec::with_capacity(outside.len() + caps.len());
     // Only a face with two corners on split edges can have a split edge.
     let mut on_split = vec![false; pool.positions.len()];
-    for &(a, b) in pool.splits.keys() {
+    for (a, b) in pool.splits.edges() {
         (on_split[a as usize], on_split[b as usize]) = (true, true);
     }
     for face in outside {
@@ -128,23 +128,37 @@ pub fn break_body(
         }
     }
     rest_faces.extend(caps.iter().map(|f| [f[0], f[2], f[1]]));
-    let volume_before = mesh.volume().abs();
-    let (rest, rest_mass) = if rest_faces.is_empty() {
-        (None, None)
-    } else {
-        let rest = to_trimesh(&pool.positions, &rest_faces)?;
-        let mass = mass_properties(&rest, density);
-        (Some(rest), mass)
-    };
-    let (broken_pool, broken) = compact(&pool.positions, &inside);
-    let pieces = cut_cells(broken_pool, &broken, pattern, &frame, tolerance, density)?;
-    Ok(Some(FractureOutcome { pieces, rest, rest_mass, volume_before }))
+    let (broken_positions, broken) = compact(&pool.positions, &inside);
+    // The rest and the pieces are independent: build them side by side.
+    let (rest, pieces) = rayon::join(
+        || -> Result<_, FractureError> {
+            let volume_before = mesh.volume().abs();
+            if rest_faces.is_empty() {
+                return Ok((None, None, volume_before));
+            }
+            let rest = to_trimesh(&pool.positions, &rest_faces)?;
+            let mass = mass_properties(&rest, density);
+            Ok((Some(rest), mass, volume_before))
+        },
+        || cut_cells(&broken_positions, &broken, pattern, &frame, tolerance, density),
+    );
+    let (rest, rest_mass, volume_before) = rest?;
+    Ok(Some(FractureOutcome { pieces: pieces?, rest, rest_mass, volume_before }))
 }
 
-/// The pieces of the broken part: each cell's share (cut by the cell's shared sides only: the
-/// part is inside the bounding prism already), split into connected parts.
+/// What one thread reuses from cell to cell: the pool and two parts to cut back and forth.
+#[derive(Default)]
+struct Scratch {
+    pool: Pool,
+    part: Part,
+    next: Part,
+}
+
+/// The pieces of the broken part (over the vertices `base`): each cell's share (cut by the
+/// cell's shared sides only: the part is inside the bounding prism already), split into
+/// connected parts.
 fn cut_cells(
-    base: Pool,
+    base: &[glam::DVec3],
     broken: &Part,
     pattern: &FracturePattern,
     frame: &super::placement::Frame,
@@ -156,16 +170,23 @@ fn cut_cells(
         .cells()
         .par_iter()
         .enumerate()
-        .map(|(k, cell)| {
-            let mut pool = base.clone();
-            let mut part = broken.clone();
-            for side in cell.sides.iter().filter(|s| s.shared) {
-                part = pool.cut(&part, frame.side(side), tolerance).0;
+        .map_init(Scratch::default, |scratch, (k, cell)| {
+            let Scratch { pool, part, next } = scratch;
+            pool.reset(base);
+            let mut sides = cell.sides.iter().filter(|s| s.shared).map(|s| frame.side(s));
+            // The first cut reads the broken part itself; later ones what the last one kept.
+            match sides.next() {
+                Some(plane) => pool.cut(broken, plane, tolerance, part, None),
+                None => part.clone_from(broken),
+            }
+            for plane in sides {
                 if part.is_empty() {
                     break;
                 }
+                pool.cut(part, plane, tolerance, next, None);
+                std::mem::swap(part, next);
             }
-            let faces = part.triangulated(&pool);
+            let faces = part.triangulated(pool);
             let mut pieces = Vec::new();
             for group in components(&faces, pool.positions.len()) {
                 let mesh = to_trimesh(&pool.positions, &group)?;
@@ -183,14 +204,15 @@ fn cut_cells(
     Ok(pieces)
 }
 
-/// `part` over its own vertices only (ids renumbered in order of first use), in a fresh pool.
-fn compact(positions: &[glam::DVec3], part: &Part) -> (Pool, Part) {
+/// `part` over its own vertices only (ids renumbered in order of first use): those vertices
+/// and the renumbered part.
+fn compact(positions: &[glam::DVec3], part: &Part) -> (Vec<glam::DVec3>, Part) {
     let mut remap = vec![u32::MAX; positions.len()];
-    let mut pool = Pool::default();
+    let mut used = Vec::new();
     let mut id = |v: u32| {
         if remap[v as usize] == u32::MAX {
-            remap[v as usize] = pool.positions.len() as u32;
-            pool.positions.push(positions[v as usize]);
+            remap[v as usize] = used.len() as u32;
+            used.push(positions[v as usize]);
         }
         remap[v as usize]
     };
@@ -200,7 +222,7 @@ fn compact(positions: &[glam::DVec3], part: &Part) -> (Pool, Part) {
         .iter()
         .map(|c| Cap { plane: c.plane, edges: c.edges.iter().map(|&(a, b)| (id(a), id(b))).collect() })
         .collect();
-    (pool, Part { faces, caps })
+    (used, Part { faces, caps })
 }
 
 /// Sum of the pieces' volumes and the rest's, m³.

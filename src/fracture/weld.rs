@@ -1,8 +1,6 @@
 //! Indexed f64 meshes for cutting: welding a [`TriMesh`]'s coincident vertices, checking that it
 //! is closed, splitting it into connected parts, and turning the result back into a `TriMesh`.
 
-use std::collections::HashMap;
-
 use glam::DVec3;
 
 use super::FractureError;
@@ -16,21 +14,32 @@ pub(crate) struct Soup {
 }
 
 /// `mesh` with coincident vertices (bit-equal positions, −0 = +0) merged and the faces that
-/// collapse dropped.
+/// collapse dropped; vertices keep the order of their first copy. Without hashing: the copies
+/// of one position are neighbours once the vertices are sorted by position bits.
 pub(crate) fn weld(mesh: &TriMesh) -> Soup {
-    let mut index: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.vertex_count());
+    let key = |p: glam::Vec3| {
+        let [x, y, z] = (p + glam::Vec3::ZERO).to_array().map(f32::to_bits);
+        (u128::from(x) << 64) | (u128::from(y) << 32) | u128::from(z)
+    };
+    let mut order: Vec<(u128, u32)> = mesh.positions().iter().enumerate().map(|(i, &p)| (key(p), i as u32)).collect();
+    order.sort_unstable();
+    // Each vertex's first copy (the lowest index of its run).
+    let mut first = vec![0u32; order.len()];
+    for run in order.chunk_by(|a, b| a.0 == b.0) {
+        for &(_, i) in run {
+            first[i as usize] = run[0].1;
+        }
+    }
     let mut positions = Vec::with_capacity(mesh.vertex_count());
-    let remap: Vec<u32> = mesh
-        .positions()
-        .iter()
-        .map(|&p| {
-            let key = (p + glam::Vec3::ZERO).to_array().map(f32::to_bits);
-            *index.entry(key).or_insert_with(|| {
-                positions.push(p.as_dvec3());
-                positions.len() as u32 - 1
-            })
-        })
-        .collect();
+    let mut remap = vec![0u32; order.len()];
+    for (i, &p) in mesh.positions().iter().enumerate() {
+        remap[i] = if first[i] as usize == i {
+            positions.push(p.as_dvec3());
+            positions.len() as u32 - 1
+        } else {
+            remap[first[i] as usize]
+        };
+    }
     let faces = mesh
         .faces()
         .iter()
@@ -89,15 +98,16 @@ pub(crate) fn components(faces: &[[u32; 3]], vertex_count: usize) -> Vec<Vec<[u3
             parent[r as usize] = r0;
         }
     }
-    let mut group_of: HashMap<u32, usize> = HashMap::new();
+    // Group of each root, by root id (`u32::MAX`: none yet).
+    let mut group_of = vec![u32::MAX; vertex_count];
     let mut groups: Vec<Vec<[u32; 3]>> = Vec::new();
     for f in faces {
-        let r = root(&mut parent, f[0]);
-        let k = *group_of.entry(r).or_insert_with(|| {
+        let r = root(&mut parent, f[0]) as usize;
+        if group_of[r] == u32::MAX {
+            group_of[r] = groups.len() as u32;
             groups.push(Vec::new());
-            groups.len() - 1
-        });
-        groups[k].push(*f);
+        }
+        groups[group_of[r] as usize].push(*f);
     }
     groups
 }
