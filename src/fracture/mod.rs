@@ -8,6 +8,7 @@
 //! first, then break, so the pieces keep the dent.
 
 mod cap;
+mod cell_cut;
 mod clip;
 mod error;
 mod outcome;

@@ -7,6 +7,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::cell_cut::CellCutter;
 use super::clip::{Cap, Part, Pool};
 use super::weld::{Soup, check_closed, components, to_trimesh, weld};
 use super::{FractureError, FracturePattern, PatternParams, Placement};
@@ -146,14 +147,6 @@ pub fn break_body(
     Ok(Some(FractureOutcome { pieces: pieces?, rest, rest_mass, volume_before }))
 }
 
-/// What one thread reuses from cell to cell: the pool and two parts to cut back and forth.
-#[derive(Default)]
-struct Scratch {
-    pool: Pool,
-    part: Part,
-    next: Part,
-}
-
 /// The pieces of the broken part (over the vertices `base`): each cell's share (cut by the
 /// cell's shared sides only: the part is inside the bounding prism already), split into
 /// connected parts.
@@ -170,23 +163,9 @@ fn cut_cells(
         .cells()
         .par_iter()
         .enumerate()
-        .map_init(Scratch::default, |scratch, (k, cell)| {
-            let Scratch { pool, part, next } = scratch;
-            pool.reset(base);
-            let mut sides = cell.sides.iter().filter(|s| s.shared).map(|s| frame.side(s));
-            // The first cut reads the broken part itself; later ones what the last one kept.
-            match sides.next() {
-                Some(plane) => pool.cut(broken, plane, tolerance, part, None),
-                None => part.clone_from(broken),
-            }
-            for plane in sides {
-                if part.is_empty() {
-                    break;
-                }
-                pool.cut(part, plane, tolerance, next, None);
-                std::mem::swap(part, next);
-            }
-            let faces = part.triangulated(pool);
+        .map_init(CellCutter::default, |cutter, (k, cell)| {
+            let planes = cell.sides.iter().filter(|s| s.shared).map(|s| frame.side(s));
+            let (pool, faces) = cutter.cut(base, broken, planes, tolerance);
             let mut pieces = Vec::new();
             for group in components(&faces, pool.positions.len()) {
                 let mesh = to_trimesh(&pool.positions, &group)?;
