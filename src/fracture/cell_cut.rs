@@ -1,9 +1,10 @@
 //! One cell's share of the broken part: the part cut by the cell's shared sides in order.
-//! Most faces of the part lie far from a given cell, and the cuts would carry each of them
-//! through every plane it lies well inside of until one it lies well outside of drops it. Such
-//! a face is never split and never moves a plane (see [`Pool::cut`]: only vertices within a
-//! few hundred tolerances of a plane can), so it is dropped before the first cut, and the cuts
-//! make exactly what they would make from the whole part, bit for bit, with fewer faces.
+//! Most faces (and caps) of the part lie far from a given cell, and the cuts would carry each
+//! of them through every plane it lies well inside of until one it lies well outside of drops
+//! it. Such a face is never split and never moves a plane (see [`Pool::cut`]: only vertices
+//! within a few hundred tolerances of a plane can), so it is dropped before the first cut, and
+//! the cuts make exactly what they would make from the whole part, bit for bit, with fewer
+//! faces.
 
 use glam::DVec3;
 
@@ -51,24 +52,17 @@ impl CellCutter {
             return (&self.pool, broken.triangulated(&self.pool));
         }
         self.classify(base, tolerance);
-        let count = base.len();
-        let side = |plane: usize, v: u32| self.sides[plane * count + v as usize];
-        // The faces some cut touches: all but those well inside every plane before one they lie
-        // well outside of.
+        let (sides, count, planes) = (&self.sides[..], base.len(), self.planes.len());
         self.next.faces.clear();
-        self.next.faces.extend(broken.faces.iter().filter(|face| {
-            for plane in 0..self.planes.len() {
-                let corners = face.map(|v| side(plane, v));
-                if corners == [Side::Out; 3] {
-                    return false;
-                }
-                if corners != [Side::In; 3] {
-                    return true;
-                }
-            }
-            true
-        }));
-        self.next.caps.clone_from(&broken.caps);
+        self.next.faces.extend(broken.faces.iter().filter(|f| touched(sides, count, planes, f.iter().copied())));
+        self.next.caps.clear();
+        self.next.caps.extend(
+            broken
+                .caps
+                .iter()
+                .filter(|c| touched(sides, count, planes, c.edges.iter().flat_map(|e| [e.0, e.1])))
+                .cloned(),
+        );
         for &plane in &self.planes {
             self.pool.cut(&self.next, plane, tolerance, &mut self.part, None);
             std::mem::swap(&mut self.part, &mut self.next);
@@ -96,4 +90,28 @@ impl CellCutter {
             }));
         }
     }
+}
+
+/// Whether a cut by the planes of `sides` (`count` vertices a plane) touches a face or cap with
+/// these corners: not when they lie well inside every plane before one they all lie well outside
+/// of (that cut drops it whole, and the ones before carry it unchanged).
+fn touched(sides: &[Side], count: usize, planes: usize, corners: impl Iterator<Item = u32> + Clone) -> bool {
+    for plane in 0..planes {
+        let row = &sides[plane * count..(plane + 1) * count];
+        let (mut all_in, mut all_out) = (true, true);
+        for v in corners.clone() {
+            match row[v as usize] {
+                Side::In => all_out = false,
+                Side::Out => all_in = false,
+                Side::Near => return true,
+            }
+        }
+        if all_out {
+            return false;
+        }
+        if !all_in {
+            return true;
+        }
+    }
+    true
 }
