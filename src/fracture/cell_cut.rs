@@ -15,14 +15,6 @@ use super::clip::{Part, Plane, Pool};
 /// room to spare for rounding.
 const REACH: f64 = 1000.0;
 
-/// Where a vertex lies from a plane, beyond [`REACH`] or within it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Side {
-    In,
-    Near,
-    Out,
-}
-
 /// What one thread reuses from cell to cell.
 #[derive(Debug, Default)]
 pub(crate) struct CellCutter {
@@ -30,8 +22,8 @@ pub(crate) struct CellCutter {
     part: Part,
     next: Part,
     planes: Vec<Plane>,
-    /// The side of every vertex of the base from each plane, plane by plane.
-    sides: Vec<Side>,
+    /// Per base vertex, where the planes first leave it out of reach ([`fate`]).
+    fates: Vec<u16>,
 }
 
 impl CellCutter {
@@ -51,18 +43,25 @@ impl CellCutter {
         if self.planes.is_empty() {
             return (&self.pool, broken.triangulated(&self.pool));
         }
-        self.classify(base, tolerance);
-        let (sides, count, planes) = (&self.sides[..], base.len(), self.planes.len());
+        let reach = REACH * tolerance;
+        self.fates.clear();
+        self.fates.extend(base.iter().map(|&p| fate(&self.planes, p, reach)));
+        let fates = &self.fates;
+        // A face or cap is dropped untouched when all its corners have the same fate, and it is
+        // to lie well outside a plane (odd).
+        let untouched = |mut corners: std::slice::Iter<'_, u32>| {
+            let first = corners.next().map_or(1, |&v| fates[v as usize]);
+            first % 2 == 1 && corners.all(|&v| fates[v as usize] == first)
+        };
         self.next.faces.clear();
-        self.next.faces.extend(broken.faces.iter().filter(|f| touched(sides, count, planes, f.iter().copied())));
+        self.next.faces.extend(broken.faces.iter().filter(|f| !untouched(f.iter())));
         self.next.caps.clear();
-        self.next.caps.extend(
-            broken
-                .caps
-                .iter()
-                .filter(|c| touched(sides, count, planes, c.edges.iter().flat_map(|e| [e.0, e.1])))
-                .cloned(),
-        );
+        for cap in &broken.caps {
+            let corners: Vec<u32> = cap.edges.iter().flat_map(|e| [e.0, e.1]).collect();
+            if !untouched(corners.iter()) {
+                self.next.caps.push(cap.clone());
+            }
+        }
         for &plane in &self.planes {
             self.pool.cut(&self.next, plane, tolerance, &mut self.part, None);
             std::mem::swap(&mut self.part, &mut self.next);
@@ -72,46 +71,19 @@ impl CellCutter {
         }
         (&self.pool, self.next.triangulated(&self.pool))
     }
-
-    /// Fills `sides` for every base vertex and plane.
-    fn classify(&mut self, base: &[DVec3], tolerance: f64) {
-        let reach = REACH * tolerance;
-        self.sides.clear();
-        for plane in &self.planes {
-            self.sides.extend(base.iter().map(|&p| {
-                let distance = plane.normal.dot(p) - plane.offset;
-                if distance < -reach {
-                    Side::In
-                } else if distance > reach {
-                    Side::Out
-                } else {
-                    Side::Near
-                }
-            }));
-        }
-    }
 }
 
-/// Whether a cut by the planes of `sides` (`count` vertices a plane) touches a face or cap with
-/// these corners: not when they lie well inside every plane before one they all lie well outside
-/// of (that cut drops it whole, and the ones before carry it unchanged).
-fn touched(sides: &[Side], count: usize, planes: usize, corners: impl Iterator<Item = u32> + Clone) -> bool {
-    for plane in 0..planes {
-        let row = &sides[plane * count..(plane + 1) * count];
-        let (mut all_in, mut all_out) = (true, true);
-        for v in corners.clone() {
-            match row[v as usize] {
-                Side::In => all_out = false,
-                Side::Out => all_in = false,
-                Side::Near => return true,
-            }
-        }
-        if all_out {
-            return false;
-        }
-        if !all_in {
-            return true;
+/// Where `planes` (in order) first leave the point `p` out of [`REACH`] (`reach`, m) inside:
+/// 2·k when `p` lies within reach of plane k, 2·k + 1 when it lies well outside it, 2·n when
+/// it lies well inside all n. A face (or cap) whose corners all have the same odd fate 2·k + 1
+/// lies well inside every plane before k and well outside k: cut k drops it whole, and the
+/// cuts before carry it unchanged. Any other face is touched by some cut (or kept whole).
+fn fate(planes: &[Plane], p: DVec3, reach: f64) -> u16 {
+    for (k, plane) in planes.iter().enumerate() {
+        let distance = plane.normal.dot(p) - plane.offset;
+        if distance >= -reach {
+            return 2 * k as u16 + u16::from(distance > reach);
         }
     }
-    true
+    2 * planes.len() as u16
 }
