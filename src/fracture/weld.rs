@@ -51,30 +51,45 @@ pub(crate) fn weld(mesh: &TriMesh) -> Soup {
 
 /// Checks that every directed edge of `faces` (over `vertex_count` vertices) is used once and
 /// its reverse once: a closed, consistently oriented surface. Linear time: each vertex's
-/// outgoing edges in one flat table.
+/// outgoing edges in one flat table, checked vertex by vertex.
 ///
 /// # Errors
-/// [`FractureError::OpenMesh`] naming an offending edge.
+/// [`FractureError::OpenMesh`] naming the first offending edge in face order.
 pub(crate) fn check_closed(faces: &[[u32; 3]], vertex_count: usize) -> Result<(), FractureError> {
-    let edges = || faces.iter().flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])]);
-    let mut start = vec![0usize; vertex_count + 1];
-    for (a, _) in edges() {
-        start[a as usize + 1] += 1;
+    let mut start = vec![0u32; vertex_count + 1];
+    for face in faces {
+        for &a in face {
+            start[a as usize + 1] += 1;
+        }
     }
     for k in 0..vertex_count {
         start[k + 1] += start[k];
     }
     let mut fill = start.clone();
-    let mut out = vec![0u32; start[vertex_count]];
-    for (a, b) in edges() {
-        out[fill[a as usize]] = b;
-        fill[a as usize] += 1;
+    let mut out = vec![0u32; start[vertex_count] as usize];
+    for face in faces {
+        for k in 0..3 {
+            let (a, b) = (face[k] as usize, face[(k + 1) % 3]);
+            out[fill[a] as usize] = b;
+            fill[a] += 1;
+        }
     }
-    let from = |a: u32| &out[start[a as usize]..start[a as usize + 1]];
-    for (a, b) in edges() {
+    let from = |a: u32| &out[start[a as usize] as usize..start[a as usize + 1] as usize];
+    // Edge (a, b) used `forward` times, and its reverse.
+    let counts = |a: u32, b: u32| {
         let forward = from(a).iter().filter(|&&x| x == b).count();
-        if forward != 1 || from(b).iter().filter(|&&x| x == a).count() != 1 {
-            return Err(FractureError::OpenMesh { a, b, count: forward });
+        (forward, from(b).iter().filter(|&&x| x == a).count())
+    };
+    let closed = (0..vertex_count as u32).all(|a| from(a).iter().all(|&b| counts(a, b) == (1, 1)));
+    if !closed {
+        for face in faces {
+            for k in 0..3 {
+                let (a, b) = (face[k], face[(k + 1) % 3]);
+                let (forward, backward) = counts(a, b);
+                if (forward, backward) != (1, 1) {
+                    return Err(FractureError::OpenMesh { a, b, count: forward });
+                }
+            }
         }
     }
     Ok(())
