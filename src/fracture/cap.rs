@@ -53,6 +53,14 @@ pub(crate) fn loops(edges: &[(u32, u32)]) -> Vec<Vec<u32>> {
 /// loops, clockwise holes, seen in the 2D frame `at` maps ids into), each counter-clockwise.
 pub(crate) fn triangulate(loops: &[Vec<u32>], at: &impl Fn(u32) -> DVec2) -> Vec<[u32; 3]> {
     let points = |l: &Vec<u32>| l.iter().map(|&v| at(v)).collect::<Vec<_>>();
+    let mut triangles = Vec::new();
+    // The usual cap: one loop, no hole.
+    if let [only] = loops {
+        if shoelace(&points(only)) > 0.0 {
+            ear_clip(only, at, &mut triangles);
+        }
+        return triangles;
+    }
     let areas: Vec<f64> = loops.iter().map(|l| shoelace(&points(l))).collect();
     let outers: Vec<usize> = (0..loops.len()).filter(|&k| areas[k] > 0.0).collect();
     let mut holes_of: Vec<Vec<usize>> = vec![Vec::new(); loops.len()];
@@ -68,7 +76,6 @@ pub(crate) fn triangulate(loops: &[Vec<u32>], at: &impl Fn(u32) -> DVec2) -> Vec
             holes_of[o].push(hole);
         }
     }
-    let mut triangles = Vec::new();
     for &o in &outers {
         let mut polygon = loops[o].clone();
         let mut holes: Vec<&Vec<u32>> = holes_of[o].iter().map(|&h| &loops[h]).collect();
