@@ -4,23 +4,38 @@
 //! smallest outer loop that holds it, and the resulting simple polygons are ear-clipped. No
 //! vertex is added, so the cap shares every vertex with the cut it closes.
 
-use std::collections::HashMap;
-
 use glam::DVec2;
 
 use super::pattern::shoelace;
 
-/// Chains directed edges (each vertex with as many edges out as in) into closed loops.
+/// Chains directed edges (each vertex with as many edges out as in) into closed loops: from
+/// each edge's start in turn, following the latest-listed unused edge out of every vertex.
+/// Without hashing: the edges sorted by start (then listing order) give each start a run.
 pub(crate) fn loops(edges: &[(u32, u32)]) -> Vec<Vec<u32>> {
-    let mut out: HashMap<u32, Vec<u32>> = HashMap::with_capacity(edges.len());
-    for &(a, b) in edges {
-        out.entry(a).or_default().push(b);
+    let mut by_start: Vec<(u32, u32)> = edges.to_vec();
+    // Stable: within a start's run the edges keep their listing order.
+    by_start.sort_by_key(|&(a, _)| a);
+    // The run of each start, as (start, first, end); edges are taken from the end of a run.
+    let mut runs: Vec<(u32, usize, usize)> = Vec::new();
+    for (k, &(a, _)) in by_start.iter().enumerate() {
+        match runs.last_mut() {
+            Some(run) if run.0 == a => run.2 = k + 1,
+            _ => runs.push((a, k, k + 1)),
+        }
     }
+    let mut take = |at: u32| {
+        let r = runs.binary_search_by_key(&at, |run| run.0).ok()?;
+        let run = &mut runs[r];
+        (run.2 > run.1).then(|| {
+            run.2 -= 1;
+            by_start[run.2].1
+        })
+    };
     let mut result = Vec::new();
     for &(start, _) in edges {
         let mut chain = Vec::new();
         let mut at = start;
-        while let Some(next) = out.get_mut(&at).and_then(Vec::pop) {
+        while let Some(next) = take(at) {
             chain.push(at);
             at = next;
             if at == start {
@@ -38,6 +53,14 @@ pub(crate) fn loops(edges: &[(u32, u32)]) -> Vec<Vec<u32>> {
 /// loops, clockwise holes, seen in the 2D frame `at` maps ids into), each counter-clockwise.
 pub(crate) fn triangulate(loops: &[Vec<u32>], at: &impl Fn(u32) -> DVec2) -> Vec<[u32; 3]> {
     let points = |l: &Vec<u32>| l.iter().map(|&v| at(v)).collect::<Vec<_>>();
+    let mut triangles = Vec::new();
+    // The usual cap: one loop, no hole.
+    if let [only] = loops {
+        if shoelace(&points(only)) > 0.0 {
+            ear_clip(only, at, &mut triangles);
+        }
+        return triangles;
+    }
     let areas: Vec<f64> = loops.iter().map(|l| shoelace(&points(l))).collect();
     let outers: Vec<usize> = (0..loops.len()).filter(|&k| areas[k] > 0.0).collect();
     let mut holes_of: Vec<Vec<usize>> = vec![Vec::new(); loops.len()];
@@ -53,7 +76,6 @@ pub(crate) fn triangulate(loops: &[Vec<u32>], at: &impl Fn(u32) -> DVec2) -> Vec
             holes_of[o].push(hole);
         }
     }
-    let mut triangles = Vec::new();
     for &o in &outers {
         let mut polygon = loops[o].clone();
         let mut holes: Vec<&Vec<u32>> = holes_of[o].iter().map(|&h| &loops[h]).collect();

@@ -6,11 +6,10 @@
 //! bounds both caps. Vertices live in one growing pool, so every part cut from it shares vertex
 //! ids with its neighbours.
 
-use std::collections::HashMap;
-
 use glam::{DVec2, DVec3};
 
 use super::cap::{loops, triangulate};
+use super::split_table::SplitTable;
 
 /// A plane; the side kept by a cut is `normal`·x < `offset`. `normal` is unit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,11 +33,21 @@ pub(crate) struct Part {
     pub caps: Vec<Cap>,
 }
 
-/// The vertex pool and every edge split so far (unordered pair → the vertex between them).
+/// The vertex pool, every edge split so far, and scratch space that lets a cut measure the
+/// part's vertices against its plane without allocating (kept from cut to cut).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Pool {
     pub positions: Vec<DVec3>,
-    pub splits: HashMap<(u32, u32), u32>,
+    pub splits: SplitTable,
+    /// Per vertex: its signed distance to the current cut's plane, m, where `stamp` is `epoch`.
+    signed: Vec<f64>,
+    stamp: Vec<u32>,
+    /// Numbers the cuts, so that stale entries of `signed` need no clearing.
+    epoch: u32,
+    /// The vertices the current cut measured: the part's face corners and cap edge starts.
+    present: Vec<u32>,
+    /// Where a cap's boundary crosses the current plane (see [`Pool::cut`]).
+    crossings: Vec<(u32, bool)>,
 }
 
 impl Part {
@@ -72,27 +81,42 @@ impl Part {
 }
 
 impl Pool {
-    /// Cuts `part` by `plane`: the part inside (closed, with a new cap on the plane) and the
-    /// surface faces outside (no cap). The plane is moved along its normal by a few `tolerance`
-    /// (m) when a vertex lies within `tolerance` of it, so that no vertex is on it and every
-    /// crossing is clean.
-    pub(crate) fn cut(&mut self, part: &Part, plane: Plane, tolerance: f64) -> (Part, Vec<[u32; 3]>) {
-        let plane = self.clear_of_vertices(part, plane, tolerance);
-        // Signed distances of the part's vertices (cut points are made on the plane).
-        let mut signed = vec![0.0f64; self.positions.len()];
-        for &v in part.faces.iter().flatten().chain(part.caps.iter().flat_map(|c| c.edges.iter().map(|e| &e.0))) {
-            signed[v as usize] = plane.normal.dot(self.positions[v as usize]) - plane.offset;
-        }
+    /// A pool of `positions` with no split edge.
+    pub(crate) fn new(positions: Vec<DVec3>) -> Self {
+        Self { positions, ..Self::default() }
+    }
+
+    /// Starts over from `positions` with no split edge, keeping the memory.
+    pub(crate) fn reset(&mut self, positions: &[DVec3]) {
+        self.positions.clear();
+        self.positions.extend_from_slice(positions);
+        self.splits.clear();
+    }
+
+    /// Cuts `part` by `plane` into `inside` (cleared first): the part inside, closed, with a new
+    /// cap on the plane. The surface faces outside (no cap) are appended to `outside` when one is
+    /// given. The plane is moved along its normal by a few `tolerance` (m) when a vertex lies
+    /// within `tolerance` of it, so that no vertex is on it and every crossing is clean.
+    pub(crate) fn cut(
+        &mut self,
+        part: &Part,
+        plane: Plane,
+        tolerance: f64,
+        inside: &mut Part,
+        mut outside: Option<&mut Vec<[u32; 3]>>,
+    ) {
+        let plane = self.measure(part, plane, tolerance);
+        inside.faces.clear();
+        inside.caps.clear();
+        let signed = std::mem::take(&mut self.signed);
         let inside_of = |v: u32| signed[v as usize] < 0.0;
-        let mut inside = Part::default();
-        let mut outside = Vec::new();
         let mut new_cap: Vec<(u32, u32)> = Vec::new();
         for face in &part.faces {
             let flags = face.map(inside_of);
             let count = flags.iter().filter(|&&b| b).count();
             match count {
                 3 => inside.faces.push(*face),
-                0 => outside.push(*face),
+                0 => outside.iter_mut().for_each(|out| out.push(*face)),
                 _ => {
                     // Rotate so that corner 0 is the one alone on its side.
                     let lone = (0..3).find(|&k| flags[k] == (count == 1)).unwrap_or(0);
@@ -102,20 +126,21 @@ impl Pool {
                     let (alone, pair) = ([a, ab, ca], [[ab, b, c], [ab, c, ca]]);
                     if count == 1 {
                         inside.faces.push(alone);
-                        outside.extend(pair);
+                        outside.iter_mut().for_each(|out| out.extend(pair));
                         new_cap.push((ca, ab));
                     } else {
-                        outside.push(alone);
+                        outside.iter_mut().for_each(|out| out.push(alone));
                         inside.faces.extend(pair);
                         new_cap.push((ab, ca));
                     }
                 }
             }
         }
+        let mut crossings = std::mem::take(&mut self.crossings);
         for cap in &part.caps {
             let mut kept = Vec::with_capacity(cap.edges.len());
             // Where the boundary leaves (true) or enters (false) the inside half.
-            let mut crossings: Vec<(u32, bool)> = Vec::new();
+            crossings.clear();
             for &(a, b) in &cap.edges {
                 match (inside_of(a), inside_of(b)) {
                     (true, true) => kept.push((a, b)),
@@ -157,37 +182,79 @@ impl Pool {
         if !new_cap.is_empty() {
             inside.caps.push(Cap { plane, edges: new_cap });
         }
-        (inside, outside)
+        self.signed = signed;
+        self.crossings = crossings;
+    }
+
+    /// `plane`, shifted along its normal until no vertex of `part` is within `tolerance` of it
+    /// (at most 16 times), with `signed` then holding every vertex's signed distance to it: the
+    /// part's face corners and cap edge starts, and 0 for a cap edge end that is neither.
+    fn measure(&mut self, part: &Part, mut plane: Plane, tolerance: f64) -> Plane {
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.stamp.fill(0);
+            self.epoch = 1;
+        }
+        let count = self.positions.len();
+        if self.stamp.len() < count {
+            self.stamp.resize(count, 0);
+            self.signed.resize(count, 0.0);
+        }
+        self.present.clear();
+        let (epoch, normal) = (self.epoch, plane.normal);
+        let (stamp, signed, present, positions) =
+            (&mut self.stamp, &mut self.signed, &mut self.present, &self.positions);
+        let mut visit = |v: u32| {
+            if stamp[v as usize] != epoch {
+                stamp[v as usize] = epoch;
+                signed[v as usize] = normal.dot(positions[v as usize]);
+                present.push(v);
+            }
+        };
+        // Plain loops: a flattened, chained iterator costs several times more here.
+        for face in &part.faces {
+            for &v in face {
+                visit(v);
+            }
+        }
+        for cap in &part.caps {
+            for &(v, _) in &cap.edges {
+                visit(v);
+            }
+        }
+        // `signed` holds n·x here; the distance is n·x − offset, as the cut uses it below.
+        let near = |offset: f64| self.present.iter().any(|&v| (self.signed[v as usize] - offset).abs() <= tolerance);
+        for attempt in 1..=16 {
+            if !near(plane.offset) {
+                break;
+            }
+            plane.offset += 3.0 * tolerance * f64::from(attempt);
+        }
+        for &v in &self.present {
+            self.signed[v as usize] -= plane.offset;
+        }
+        for &(_, b) in part.caps.iter().flat_map(|c| &c.edges) {
+            if self.stamp[b as usize] != self.epoch {
+                self.stamp[b as usize] = self.epoch;
+                self.signed[b as usize] = 0.0;
+            }
+        }
+        plane
     }
 
     /// The vertex where edge (a, b) crosses the plane of `signed` (distances of opposite signs),
     /// made once per edge and computed from the lower id so both faces get the same.
     fn split(&mut self, a: u32, b: u32, signed: &[f64]) -> u32 {
         let (lo, hi) = (a.min(b), a.max(b));
-        if let Some(&v) = self.splits.get(&(lo, hi)) {
+        if let Some(v) = self.splits.get(lo, hi) {
             return v;
         }
         let (slo, shi) = (signed[lo as usize], signed[hi as usize]);
         let (p, q) = (self.positions[lo as usize], self.positions[hi as usize]);
         self.positions.push(p + (q - p) * (slo / (slo - shi)));
         let v = self.positions.len() as u32 - 1;
-        self.splits.insert((lo, hi), v);
+        self.splits.insert(lo, hi, v);
         v
-    }
-
-    /// `plane`, shifted along its normal until no vertex of `part` is within `tolerance` of it.
-    fn clear_of_vertices(&self, part: &Part, mut plane: Plane, tolerance: f64) -> Plane {
-        let near =
-            |plane: &Plane, v: u32| (plane.normal.dot(self.positions[v as usize]) - plane.offset).abs() <= tolerance;
-        for attempt in 1..=16 {
-            let faces = part.faces.iter().flatten();
-            let caps = part.caps.iter().flat_map(|c| c.edges.iter().map(|e| &e.0));
-            if !faces.chain(caps).any(|&v| near(&plane, v)) {
-                break;
-            }
-            plane.offset += 3.0 * tolerance * f64::from(attempt);
-        }
-        plane
     }
 
     /// `face` with every edge that was split since it was made subdivided at the split vertex
@@ -195,7 +262,7 @@ impl Pool {
     pub(crate) fn conform(&self, face: [u32; 3], out: &mut Vec<[u32; 3]>) {
         let [a, b, c] = face;
         for (k, (p, q)) in [(a, b), (b, c), (c, a)].into_iter().enumerate() {
-            if let Some(&m) = self.splits.get(&(p.min(q), p.max(q))) {
+            if let Some(m) = self.splits.get(p.min(q), p.max(q)) {
                 let r = face[(k + 2) % 3];
                 self.conform([p, m, r], out);
                 self.conform([m, q, r], out);

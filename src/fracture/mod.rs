@@ -8,12 +8,14 @@
 //! first, then break, so the pieces keep the dent.
 
 mod cap;
+mod cell_cut;
 mod clip;
 mod error;
 mod outcome;
 mod pattern;
 mod placement;
 mod settings;
+mod split_table;
 mod tally;
 mod weld;
 

@@ -7,6 +7,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::cell_cut::CellCutter;
 use super::clip::{Cap, Part, Pool};
 use super::weld::{Soup, check_closed, components, to_trimesh, weld};
 use super::{FractureError, FracturePattern, PatternParams, Placement};
@@ -93,7 +94,7 @@ pub fn break_body(
         return Err(super::error::invalid("density", density, "must be finite and > 0"));
     }
     let Soup { positions, faces } = weld(mesh);
-    check_closed(&faces, positions.len())?;
+    let vertex_count = positions.len();
     let frame = placement.frame();
     let (lo, hi) = mesh.bounds();
     let size = f64::from((hi - lo).max_element()).max(pattern.radius());
@@ -102,14 +103,15 @@ pub fn break_body(
     let tolerance = 1e-6 * size;
     // Cut out the part inside the bounding prism; what each plane leaves outside is the rest's
     // surface (the caps on its way are inside the rest and dropped).
-    let mut pool = Pool { positions, ..Default::default() };
-    let mut inside = Part { faces, caps: Vec::new() };
-    let mut outside: Vec<[u32; 3]> = Vec::new();
-    for plane in frame.bound(pattern) {
-        let (kept, out) = pool.cut(&inside, plane, tolerance);
-        inside = kept;
-        outside.extend(out);
-    }
+    // Checking that the mesh is closed and cutting take about as long: side by side, the cut
+    // thrown away when the mesh is open (cutting an open mesh is harmless).
+    let whole = Part { faces, caps: Vec::new() };
+    let mut pool = Pool::new(positions);
+    let (closed, (inside, outside)) = rayon::join(
+        || check_closed(&whole.faces, vertex_count),
+        || cut_out(&mut pool, &whole, frame.bound(pattern), tolerance),
+    );
+    closed?;
     if inside.faces.is_empty() {
         return Ok(None);
     }
@@ -117,7 +119,7 @@ pub fn break_body(
     let mut rest_faces = Vec::with_capacity(outside.len() + caps.len());
     // Only a face with two corners on split edges can have a split edge.
     let mut on_split = vec![false; pool.positions.len()];
-    for &(a, b) in pool.splits.keys() {
+    for (a, b) in pool.splits.edges() {
         (on_split[a as usize], on_split[b as usize]) = (true, true);
     }
     for face in outside {
@@ -128,23 +130,52 @@ pub fn break_body(
         }
     }
     rest_faces.extend(caps.iter().map(|f| [f[0], f[2], f[1]]));
-    let volume_before = mesh.volume().abs();
-    let (rest, rest_mass) = if rest_faces.is_empty() {
-        (None, None)
-    } else {
-        let rest = to_trimesh(&pool.positions, &rest_faces)?;
-        let mass = mass_properties(&rest, density);
-        (Some(rest), mass)
-    };
-    let (broken_pool, broken) = compact(&pool.positions, &inside);
-    let pieces = cut_cells(broken_pool, &broken, pattern, &frame, tolerance, density)?;
-    Ok(Some(FractureOutcome { pieces, rest, rest_mass, volume_before }))
+    let (broken_positions, broken) = compact(&pool.positions, &inside);
+    // The rest and the pieces are independent: build them side by side.
+    let (rest, pieces) = rayon::join(
+        || -> Result<_, FractureError> {
+            let volume_before = mesh.volume().abs();
+            if rest_faces.is_empty() {
+                return Ok((None, None, volume_before));
+            }
+            let rest = to_trimesh(&pool.positions, &rest_faces)?;
+            let mass = mass_properties(&rest, density);
+            Ok((Some(rest), mass, volume_before))
+        },
+        || cut_cells(&broken_positions, &broken, pattern, &frame, tolerance, density),
+    );
+    let (rest, rest_mass, volume_before) = rest?;
+    Ok(Some(FractureOutcome { pieces: pieces?, rest, rest_mass, volume_before }))
 }
 
-/// The pieces of the broken part: each cell's share (cut by the cell's shared sides only: the
-/// part is inside the bounding prism already), split into connected parts.
+/// Cuts `whole` by `planes` in turn: what is inside them all (closed, capped), and the surface
+/// faces each cut left outside, in order.
+fn cut_out(
+    pool: &mut Pool,
+    whole: &Part,
+    planes: impl IntoIterator<Item = super::clip::Plane>,
+    tolerance: f64,
+) -> (Part, Vec<[u32; 3]>) {
+    let (mut inside, mut next) = (Part::default(), Part::default());
+    let mut outside: Vec<[u32; 3]> = Vec::new();
+    let mut planes = planes.into_iter();
+    // The first cut reads the whole mesh itself.
+    match planes.next() {
+        Some(plane) => pool.cut(whole, plane, tolerance, &mut inside, Some(&mut outside)),
+        None => inside.clone_from(whole),
+    }
+    for plane in planes {
+        pool.cut(&inside, plane, tolerance, &mut next, Some(&mut outside));
+        std::mem::swap(&mut inside, &mut next);
+    }
+    (inside, outside)
+}
+
+/// The pieces of the broken part (over the vertices `base`): each cell's share (cut by the
+/// cell's shared sides only: the part is inside the bounding prism already), split into
+/// connected parts.
 fn cut_cells(
-    base: Pool,
+    base: &[glam::DVec3],
     broken: &Part,
     pattern: &FracturePattern,
     frame: &super::placement::Frame,
@@ -156,16 +187,9 @@ fn cut_cells(
         .cells()
         .par_iter()
         .enumerate()
-        .map(|(k, cell)| {
-            let mut pool = base.clone();
-            let mut part = broken.clone();
-            for side in cell.sides.iter().filter(|s| s.shared) {
-                part = pool.cut(&part, frame.side(side), tolerance).0;
-                if part.is_empty() {
-                    break;
-                }
-            }
-            let faces = part.triangulated(&pool);
+        .map_init(CellCutter::default, |cutter, (k, cell)| {
+            let planes = cell.sides.iter().filter(|s| s.shared).map(|s| frame.side(s));
+            let (pool, faces) = cutter.cut(base, broken, planes, tolerance);
             let mut pieces = Vec::new();
             for group in components(&faces, pool.positions.len()) {
                 let mesh = to_trimesh(&pool.positions, &group)?;
@@ -183,14 +207,15 @@ fn cut_cells(
     Ok(pieces)
 }
 
-/// `part` over its own vertices only (ids renumbered in order of first use), in a fresh pool.
-fn compact(positions: &[glam::DVec3], part: &Part) -> (Pool, Part) {
+/// `part` over its own vertices only (ids renumbered in order of first use): those vertices
+/// and the renumbered part.
+fn compact(positions: &[glam::DVec3], part: &Part) -> (Vec<glam::DVec3>, Part) {
     let mut remap = vec![u32::MAX; positions.len()];
-    let mut pool = Pool::default();
+    let mut used = Vec::new();
     let mut id = |v: u32| {
         if remap[v as usize] == u32::MAX {
-            remap[v as usize] = pool.positions.len() as u32;
-            pool.positions.push(positions[v as usize]);
+            remap[v as usize] = used.len() as u32;
+            used.push(positions[v as usize]);
         }
         remap[v as usize]
     };
@@ -200,7 +225,7 @@ fn compact(positions: &[glam::DVec3], part: &Part) -> (Pool, Part) {
         .iter()
         .map(|c| Cap { plane: c.plane, edges: c.edges.iter().map(|&(a, b)| (id(a), id(b))).collect() })
         .collect();
-    (pool, Part { faces, caps })
+    (used, Part { faces, caps })
 }
 
 /// Sum of the pieces' volumes and the rest's, m³.

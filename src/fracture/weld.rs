@@ -1,8 +1,6 @@
 //! Indexed f64 meshes for cutting: welding a [`TriMesh`]'s coincident vertices, checking that it
 //! is closed, splitting it into connected parts, and turning the result back into a `TriMesh`.
 
-use std::collections::HashMap;
-
 use glam::DVec3;
 
 use super::FractureError;
@@ -16,21 +14,32 @@ pub(crate) struct Soup {
 }
 
 /// `mesh` with coincident vertices (bit-equal positions, −0 = +0) merged and the faces that
-/// collapse dropped.
+/// collapse dropped; vertices keep the order of their first copy. Without hashing: the copies
+/// of one position are neighbours once the vertices are sorted by position bits.
 pub(crate) fn weld(mesh: &TriMesh) -> Soup {
-    let mut index: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.vertex_count());
+    let key = |p: glam::Vec3| {
+        let [x, y, z] = (p + glam::Vec3::ZERO).to_array().map(f32::to_bits);
+        (u128::from(x) << 64) | (u128::from(y) << 32) | u128::from(z)
+    };
+    let mut order: Vec<(u128, u32)> = mesh.positions().iter().enumerate().map(|(i, &p)| (key(p), i as u32)).collect();
+    order.sort_unstable();
+    // Each vertex's first copy (the lowest index of its run).
+    let mut first = vec![0u32; order.len()];
+    for run in order.chunk_by(|a, b| a.0 == b.0) {
+        for &(_, i) in run {
+            first[i as usize] = run[0].1;
+        }
+    }
     let mut positions = Vec::with_capacity(mesh.vertex_count());
-    let remap: Vec<u32> = mesh
-        .positions()
-        .iter()
-        .map(|&p| {
-            let key = (p + glam::Vec3::ZERO).to_array().map(f32::to_bits);
-            *index.entry(key).or_insert_with(|| {
-                positions.push(p.as_dvec3());
-                positions.len() as u32 - 1
-            })
-        })
-        .collect();
+    let mut remap = vec![0u32; order.len()];
+    for (i, &p) in mesh.positions().iter().enumerate() {
+        remap[i] = if first[i] as usize == i {
+            positions.push(p.as_dvec3());
+            positions.len() as u32 - 1
+        } else {
+            remap[first[i] as usize]
+        };
+    }
     let faces = mesh
         .faces()
         .iter()
@@ -42,30 +51,45 @@ pub(crate) fn weld(mesh: &TriMesh) -> Soup {
 
 /// Checks that every directed edge of `faces` (over `vertex_count` vertices) is used once and
 /// its reverse once: a closed, consistently oriented surface. Linear time: each vertex's
-/// outgoing edges in one flat table.
+/// outgoing edges in one flat table, checked vertex by vertex.
 ///
 /// # Errors
-/// [`FractureError::OpenMesh`] naming an offending edge.
+/// [`FractureError::OpenMesh`] naming the first offending edge in face order.
 pub(crate) fn check_closed(faces: &[[u32; 3]], vertex_count: usize) -> Result<(), FractureError> {
-    let edges = || faces.iter().flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])]);
-    let mut start = vec![0usize; vertex_count + 1];
-    for (a, _) in edges() {
-        start[a as usize + 1] += 1;
+    let mut start = vec![0u32; vertex_count + 1];
+    for face in faces {
+        for &a in face {
+            start[a as usize + 1] += 1;
+        }
     }
     for k in 0..vertex_count {
         start[k + 1] += start[k];
     }
     let mut fill = start.clone();
-    let mut out = vec![0u32; start[vertex_count]];
-    for (a, b) in edges() {
-        out[fill[a as usize]] = b;
-        fill[a as usize] += 1;
+    let mut out = vec![0u32; start[vertex_count] as usize];
+    for face in faces {
+        for k in 0..3 {
+            let (a, b) = (face[k] as usize, face[(k + 1) % 3]);
+            out[fill[a] as usize] = b;
+            fill[a] += 1;
+        }
     }
-    let from = |a: u32| &out[start[a as usize]..start[a as usize + 1]];
-    for (a, b) in edges() {
+    let from = |a: u32| &out[start[a as usize] as usize..start[a as usize + 1] as usize];
+    // Edge (a, b) used `forward` times, and its reverse.
+    let counts = |a: u32, b: u32| {
         let forward = from(a).iter().filter(|&&x| x == b).count();
-        if forward != 1 || from(b).iter().filter(|&&x| x == a).count() != 1 {
-            return Err(FractureError::OpenMesh { a, b, count: forward });
+        (forward, from(b).iter().filter(|&&x| x == a).count())
+    };
+    let closed = (0..vertex_count as u32).all(|a| from(a).iter().all(|&b| counts(a, b) == (1, 1)));
+    if !closed {
+        for face in faces {
+            for k in 0..3 {
+                let (a, b) = (face[k], face[(k + 1) % 3]);
+                let (forward, backward) = counts(a, b);
+                if (forward, backward) != (1, 1) {
+                    return Err(FractureError::OpenMesh { a, b, count: forward });
+                }
+            }
         }
     }
     Ok(())
@@ -89,15 +113,16 @@ pub(crate) fn components(faces: &[[u32; 3]], vertex_count: usize) -> Vec<Vec<[u3
             parent[r as usize] = r0;
         }
     }
-    let mut group_of: HashMap<u32, usize> = HashMap::new();
+    // Group of each root, by root id (`u32::MAX`: none yet).
+    let mut group_of = vec![u32::MAX; vertex_count];
     let mut groups: Vec<Vec<[u32; 3]>> = Vec::new();
     for f in faces {
-        let r = root(&mut parent, f[0]);
-        let k = *group_of.entry(r).or_insert_with(|| {
+        let r = root(&mut parent, f[0]) as usize;
+        if group_of[r] == u32::MAX {
+            group_of[r] = groups.len() as u32;
             groups.push(Vec::new());
-            groups.len() - 1
-        });
-        groups[k].push(*f);
+        }
+        groups[group_of[r] as usize].push(*f);
     }
     groups
 }
