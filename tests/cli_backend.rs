@@ -49,15 +49,7 @@ fn gpu_and_cpu_backends_write_the_same_dent_map(_: &'static GpuContext) {
 
 /// Enclosed volume of an OBJ file, f64.
 fn obj_volume(path: &std::path::Path) -> f64 {
-    let mesh = dentbend::mesh::load_obj(path).unwrap();
-    let p = mesh.positions();
-    mesh.faces()
-        .iter()
-        .map(|f| {
-            let [a, b, c] = f.map(|v| p[v as usize].as_dvec3());
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum()
+    common::enclosed_volume(&dentbend::mesh::load_obj(path).unwrap())
 }
 
 /// `dentbend dent` of the block by the sphere resting on its top, d = 0.2, on `backend` with
@@ -89,15 +81,7 @@ fn gpu_dent_preserves_volume_from_the_command_line(_: &'static GpuContext) {
     dent_block(&cpu, "cpu", &["--preserve-volume"]);
     assert!(free_line.contains("volume change -") && free_line.contains("cavity"), "{free_line}");
     assert!(kept_line.contains("cavity"), "{kept_line}");
-    let start = {
-        let block = dentbend::mesh::builtin("block").unwrap();
-        let p = block.positions();
-        let tetra = |f: &[u32; 3]| {
-            let [a, b, c] = f.map(|v| p[v as usize].as_dvec3());
-            a.dot(b.cross(c)) / 6.0
-        };
-        block.faces().iter().map(tetra).sum::<f64>()
-    };
+    let start = common::enclosed_volume(&dentbend::mesh::builtin("block").unwrap());
     let cavity = start - obj_volume(&free);
     assert!(cavity > 1e-3, "the dent takes volume: {cavity}");
     let change = obj_volume(&kept) - start;

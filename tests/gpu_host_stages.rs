@@ -15,20 +15,10 @@ use dentbend::gpu::{GpuBackend, GpuContext};
 use dentbend::mesh::{self, TriMesh};
 use dentbend::{Attenuation, DentParams, Impact, Resolution};
 
+use common::enclosed_volume as volume;
+
 /// Steps of the guard's bisection: its scale is found to 2⁻¹² (src/dent/guard.rs).
 const GUARD_STEP: f32 = 1.0 / 4096.0;
-
-/// Enclosed volume, f64 (the f32 sum of `TriMesh::volume` would blur a 2 % check on a small cavity).
-fn volume(mesh: &TriMesh) -> f64 {
-    let p = mesh.positions();
-    mesh.faces()
-        .iter()
-        .map(|f| {
-            let [a, b, c] = f.map(|v| p[v as usize].as_dvec3());
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum()
-}
 
 /// The same batch on the CPU and on the GPU: each side's targets and outcome.
 fn both(
@@ -178,6 +168,7 @@ fn preserve_keeps_the_volume_on_the_gpu(context: &'static GpuContext) {
     let r = &gpu_kept.reports[0];
     assert!(r.volume_change.abs() <= 0.02 * r.cavity_volume, "{r:?}");
     assert!(same_cavity(r.cavity_volume, cavity), "the rim's report names the same cavity: {r:?}");
+    assert!(same_cavity(r.cavity_volume, cpu_kept.reports[0].cavity_volume), "{:?}", cpu_kept.reports[0]);
     assert!(!r.warnings.iter().any(|w| w.contains("volume")), "no volume warning: {:?}", r.warnings);
     // The rim moved vertices the dent alone did not, as on the CPU.
     assert!(gpu_kept.moved[0].len() > gpu_free.moved[0].len());
