@@ -15,6 +15,8 @@ mod error;
 mod grid;
 mod guard;
 mod guard_pairs;
+#[cfg(feature = "gpu")]
+mod host_stages;
 mod impact;
 mod map;
 mod material;
@@ -46,6 +48,8 @@ pub use error::DentError;
 #[cfg(feature = "gpu")]
 pub(crate) use error::invalid;
 pub use grid::{DentFrame, Grid};
+#[cfg(feature = "gpu")]
+pub(crate) use host_stages::{HostFalloff, falloff_may_need_fit, finish_displaced, fit_to_target};
 pub use impact::{Impact, MAX_SPEED};
 pub use map::{DentMap, DisplaceReport};
 pub use material::DentMaterial;

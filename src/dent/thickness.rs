@@ -73,14 +73,7 @@ pub(crate) fn fit_falloff(
     let axis = map.grid.axis_z;
     let push = |cell: &[f32; 4]| Vec3::new(cell[0], cell[1], cell[2]).dot(axis).max(0.0);
     let deepest = map.cells.iter().map(push).fold(0.0, f32::max);
-    // Slope bound: no wall of any thickness loses more than deepest·max|a'| of its thickness.
-    let steepness = match attenuation {
-        Attenuation::None => 0.0,
-        Attenuation::Logistic => 0.5,
-        Attenuation::Linear { scale } => 1.0 / scale,
-        Attenuation::Custom(_) => attenuation.max_steepness(d),
-    };
-    if deepest * steepness / d <= 1.0 - MIN_WALL_KEPT {
+    if !may_fold(attenuation, deepest, d) {
         return unchanged(None);
     }
     let walls = measure_walls(map, positions, faces, deepest * MEASURED_PUSH, push);
@@ -103,6 +96,20 @@ pub(crate) fn fit_falloff(
         message
     });
     FittedFalloff { attenuation: stretched(attenuation, stretch), thickness: thinnest, warning }
+}
+
+/// Whether `attenuation` (for dent distance `d`) pushing by at most `deepest` along the axis
+/// could leave less than [`MIN_WALL_KEPT`] of some wall: if not, [`fit_falloff`] keeps it
+/// without measuring. Slope bound: no wall of any thickness loses more than `deepest·max|a'|`
+/// of its thickness.
+pub(crate) fn may_fold(attenuation: &Attenuation, deepest: f32, d: f32) -> bool {
+    let steepness = match attenuation {
+        Attenuation::None => 0.0,
+        Attenuation::Logistic => 0.5,
+        Attenuation::Linear { scale } => 1.0 / scale,
+        Attenuation::Custom(_) => attenuation.max_steepness(d),
+    };
+    deepest * steepness / d > 1.0 - MIN_WALL_KEPT
 }
 
 /// The least stretch `k ≥ 1` (to 0.1 %) with `kept(k) ≥ MIN_WALL_KEPT`; as `k` grows the falloff

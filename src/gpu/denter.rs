@@ -114,6 +114,13 @@ struct Kernels {
 /// [`vertex_buffer`](Self::vertex_buffer) (`vec4<f32>` per vertex, `w` = moved in the last
 /// batch) for a renderer to bind; [`read_positions`](Self::read_positions) copies them back.
 ///
+/// It runs the kernels only, the paper's dent: positions never come back to the host during a
+/// batch, so the host stages of [`DentParams`](crate::DentParams) do not run here. The falloff
+/// is not fitted to the target's thickness, `guard_crossings` is ignored (no dent is limited),
+/// [`VolumeMode::Preserve`](crate::dent::VolumeMode::Preserve) raises no rim, and
+/// `refine` is not applied (upload refined meshes yourself). [`GpuBackend`](super::GpuBackend)
+/// runs all of them around these kernels, at the cost of a read-back per dented target.
+///
 /// The denter holds its own clone of the [`GpuContext`] (no borrow), so it is `Send + Sync +
 /// 'static` and can live in an application's resources. [`record_batch`](Self::record_batch)
 /// records a batch into the caller's command encoder; [`dent_batch`](Self::dent_batch) records,

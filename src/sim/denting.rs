@@ -32,7 +32,7 @@ pub struct DentRecord {
     /// Dent distance used, m (for progressive dents: the accumulated distance).
     pub dent_distance: f32,
     /// Enclosed volume the dent changed, m³, signed (after any rim; zero where not measured:
-    /// GPU batches and bending bodies' dents).
+    /// bending bodies' dents).
     pub volume_change: f64,
     /// The dent's cavity (|volume change| before any rim), m³.
     pub cavity_volume: f64,

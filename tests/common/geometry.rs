@@ -10,6 +10,17 @@ pub fn sphere_at(centre: Vec3, radius: f32) -> TriMesh {
     s
 }
 
+/// Enclosed volume of a closed mesh in f64 (the library's `TriMesh::volume` sums in f32, too
+/// coarse to see a small difference of two large volumes).
+pub fn enclosed_volume(mesh: &TriMesh) -> f64 {
+    let p = mesh.positions();
+    let tetra = |f: &[u32; 3]| {
+        let [a, b, c] = f.map(|v| p[v as usize].as_dvec3());
+        a.dot(b.cross(c)) / 6.0
+    };
+    mesh.faces().iter().map(tetra).sum()
+}
+
 /// Pairs of faces that share no vertex and cross each other, among faces with at least one
 /// vertex flagged in `focus` against every face. Uses a uniform hash grid on face bounds.
 pub fn self_intersections(mesh: &TriMesh, focus: &[bool]) -> Vec<(usize, usize)> {

@@ -12,7 +12,7 @@ pub mod view;
 pub mod walls;
 
 pub use cli::{dentbend, text};
-pub use geometry::{cube12, self_intersections, sphere_at, triangles_cross};
+pub use geometry::{cube12, enclosed_volume, self_intersections, sphere_at, triangles_cross};
 pub use gpu::context;
 pub use rng::SplitMix64;
 pub use temp::TempDir;

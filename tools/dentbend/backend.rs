@@ -2,10 +2,10 @@
 //! pictures from the GPU renderer.
 
 use clap::{Args, ValueEnum};
-use dentbend::dent::{DentJob, DentStages, plan_dent};
-use dentbend::gpu::{Backend, GpuContext, GpuDenter};
+use dentbend::dent::{DentBackend, DentJob, DentStages, plan_dent};
+use dentbend::gpu::{Backend, GpuBackend, GpuContext, GpuDenter};
 use dentbend::render::Renderer;
-use dentbend::{DentParams, DentReport, Impact, TriMesh};
+use dentbend::{DentError, DentParams, DentReport, Impact, TriMesh};
 
 use crate::error::CliError;
 
@@ -81,7 +81,9 @@ pub fn gpu_stages(
     Ok(stages)
 }
 
-/// Dents `target` (and, with `mutual`, `projectile` by the undented target: Jacobi) on the GPU.
+/// Dents `target` (and, with `mutual`, `projectile` by the undented target: Jacobi) on the GPU,
+/// through [`GpuBackend`]: the kernels build the maps and displace, the host refines, fits the
+/// falloff, guards against crossings and keeps the volume, as `dent` and `dent_pair` do on the CPU.
 pub fn gpu_dent(
     context: &GpuContext,
     target: &mut TriMesh,
@@ -103,38 +105,18 @@ pub fn gpu_dent(
             params: params.clone(),
         });
     }
-    // Stage 1 (refine) runs on the host; the GPU dents the refined meshes.
-    let refined = dentbend::dent::refine_targets(&meshes, &jobs).map_err(|e| CliError::Dent(e.error))?;
-    for (mesh, new) in meshes.iter_mut().zip(refined.meshes) {
-        if let Some(new) = new {
-            *mesh = new;
-        }
-    }
-    let mut denter = GpuDenter::new(context, &meshes).map_err(gpu_error)?;
-    let info = denter.dent_batch(&jobs).map_err(|e| match e {
-        dentbend::gpu::GpuBatchError::Job(job) => CliError::Dent(job.error),
-        dentbend::gpu::GpuBatchError::Gpu(gpu) => gpu_error(gpu),
+    let keys: Vec<usize> = (0..meshes.len()).collect();
+    let mut backend = GpuBackend::new(context);
+    let outcome = backend.dent_batch(&keys, &mut meshes, &jobs).map_err(|e| match e.error {
+        DentError::Backend(gpu) => CliError::Usage(format!("GPU: {gpu}")),
+        error => CliError::Dent(error),
     })?;
-    *target = denter.read_mesh(0).map_err(gpu_error)?;
+    let mut meshes = meshes.into_iter();
+    *target = meshes.next().expect("the target is the batch's first mesh");
     if mutual {
-        *projectile = denter.read_mesh(1).map_err(gpu_error)?;
+        *projectile = meshes.next().expect("the projectile is the batch's second mesh");
     }
-    let moves: Vec<f32> = target.positions().iter().zip(meshes[0].positions()).map(|(a, b)| a.distance(*b)).collect();
-    // The thickness-fitted falloff, its warning and the intersection guard run on the CPU path only.
-    let warnings = refined.reports[0].warnings.clone();
-    Ok(DentReport {
-        moved_vertices: moves.iter().filter(|&&m| m > 0.0).count(),
-        max_displacement: moves.iter().copied().fold(0.0, f32::max),
-        theta_deg: info[0].theta_deg,
-        resolution: info[0].resolution,
-        map_resolution: info[0].map_resolution,
-        cell_size: info[0].cell_size,
-        sigma: params.sigma_or_default(),
-        warnings,
-        refined_vertices: refined.reports[0].refined_vertices,
-        refined_triangles: refined.reports[0].refined_triangles,
-        ..Default::default()
-    })
+    Ok(outcome.reports.into_iter().next().unwrap_or_default())
 }
 
 fn gpu_error(error: dentbend::gpu::GpuError) -> CliError {

@@ -77,7 +77,7 @@ pub struct DentArgs {
     pub refine: Refine,
 
     /// Keep the target's volume: raise a rim around the crater that puts back the volume the
-    /// dent takes (within 2 % of it; CPU backend only)
+    /// dent takes (within 2 % of it)
     #[arg(long)]
     pub preserve_volume: bool,
 
@@ -121,9 +121,6 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
         return Err(CliError::Usage("--projectile-out must differ from --out".into()));
     }
     let gpu = args.backend.context()?;
-    if args.preserve_volume && gpu.is_some() {
-        return Err(CliError::Usage("--preserve-volume runs on the CPU: use --backend cpu".into()));
-    }
     let report = match &args.projectile_out {
         None => {
             let report = match gpu {
