@@ -22,27 +22,37 @@ use crate::mesh::{OrientedBox, RefineError, Refinement, TriMesh, refine_parts};
 const FALLOFF_FLOOR: f32 = 0.01;
 
 /// The edge length [`Refine::Auto`] refines to under a dent map on `grid` with Gaussian width
-/// `sigma`, world units: `max(2σ, 2 cells)`. The smoothed profile bends over about σ, so
-/// vertices σ/√2 apart (the legs of bisected triangles with 2σ sides) follow it within a few
-/// percent of d; shorter edges add triangles the map cannot shape. Targets already that fine
-/// (the built-in `block` and `block-fine` under dents with σ ≥ 0.05 m) are left alone.
+/// `sigma`, world units: `max(2σ, 2 cells, width / 12)`. The smoothed profile bends over about
+/// σ, so vertices σ/√2 apart (the legs of bisected triangles with 2σ sides) follow it within a
+/// few percent of d; shorter edges add triangles the map cannot shape. Twelve edges across the
+/// map's width shape a shallow dent (whose σ = d/2 is tiny) as well as the eye can tell, without
+/// millimetre triangles.
 pub fn auto_max_edge(grid: &Grid, sigma: f32) -> f32 {
-    2.0 * sigma.max(grid.cell_size)
+    (2.0 * sigma.max(grid.cell_size)).max(grid.extent() / AUTO_EDGES_ACROSS_REFINED)
 }
 
+/// Edges across a dent map's width that [`Refine::Auto`] refines to at least.
+const AUTO_EDGES_ACROSS_REFINED: f32 = 12.0;
+
 /// The edge length above which [`Refine::Auto`] calls a target too coarse for a dent map on
-/// `grid` with Gaussian width `sigma`, world units: [`AUTO_COARSENESS`] times
-/// [`auto_max_edge`], `8·max(σ, cell)`. A target with no longer edge under the footprint takes
-/// the dent as it is, so that a body dented again and again does not keep growing (the built-in
-/// `block-fine`, 5.1 cm diagonals, takes a 1.7 cm dent with σ = 8.5 mm unrefined); a coarser
-/// one is refined to [`auto_max_edge`] everywhere under the footprint.
+/// `grid` with Gaussian width `sigma`, world units: the longer of [`AUTO_COARSENESS`] times
+/// [`auto_max_edge`] (`8·max(σ, cell)`) and a third of the map's width (the projectile's
+/// footprint with the Gaussian tails). A target with no longer edge under the footprint takes
+/// the dent as it is: it already spans the dent with three edges or more, and refining it for a
+/// shallow dent (σ = d/2 is small, so [`auto_max_edge`] is too) would only grow a body that is
+/// dented again and again. The built-in `block-fine` (5.1 cm diagonals) takes a 0.17 m ball's
+/// 1.7 cm dent (8σ = 6.8 cm, a 21 cm map) and its glancing ones unrefined; a coarser target is
+/// refined to [`auto_max_edge`] everywhere under the footprint.
 pub fn auto_coarse_edge(grid: &Grid, sigma: f32) -> f32 {
-    AUTO_COARSENESS * auto_max_edge(grid, sigma)
+    (AUTO_COARSENESS * auto_max_edge(grid, sigma)).max(grid.extent() / AUTO_EDGES_ACROSS)
 }
 
 /// How many times longer than [`auto_max_edge`] an edge under a dent must be for
-/// [`Refine::Auto`] to refine the target.
+/// [`Refine::Auto`] to refine the target (see [`auto_coarse_edge`]).
 pub const AUTO_COARSENESS: f32 = 4.0;
+
+/// Edges across a dent map's width that [`Refine::Auto`] takes as fine enough.
+const AUTO_EDGES_ACROSS: f32 = 3.0;
 
 /// The box of space whose vertices a dent map on `grid` moves with the falloff of `params`:
 /// the grid one cell wider, from one grid width in front of the collision plane to the depth
