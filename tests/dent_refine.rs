@@ -11,7 +11,7 @@ use dentbend::dent::{
     BodyState, CpuBackend, Damage, DentBackend, DentJob, DentSettings, Hit, Refine, Surface, TargetSet,
     dent_batch_tracked,
 };
-use dentbend::glam::{Affine3A, Mat3, Vec3};
+use dentbend::glam::{Affine3A, Mat3, Quat, Vec3};
 use dentbend::gpu::{GpuBackend, GpuContext};
 use dentbend::mesh::{self, TriMesh};
 use dentbend::{DentError, DentParams, Impact};
@@ -231,31 +231,30 @@ fn longest_edge_within(mesh: &TriMesh, centre: Vec3, radius: f32) -> f32 {
 }
 
 fn a_pair_refines_both_coarse_bodies() {
-    // Two 20-triangle balls (icosahedra, 0.53 m edges) dent each other tip to tip at (0, 1, 0):
-    // each map is about as wide as the other's tip region, far finer than their faces. (A flat
-    // face pressing on a tip makes a map as wide as the face: a third of it is longer than these
-    // edges, so Auto would take the icosahedron as fine enough for that dent.)
-    let tip_at = |direction: Vec3| {
-        let mut ball = mesh::icosphere(RADIUS, 0).unwrap();
-        let tip = ball.support_point(direction);
-        ball.transform(Affine3A::from_translation(Vec3::new(0.0, 1.0, 0.0) - tip)).unwrap();
-        ball
-    };
-    let (mut lower, mut upper) = (tip_at(Vec3::Y), tip_at(-Vec3::Y));
+    // Two 12-triangle crates dent each other: the upper one stands on a corner in the middle of
+    // the lower one's top face. Each dent lands inside a face or two of its body: the corner's
+    // map (a few tenths of a metre) on the lower face, the flat face's map (as wide as the face)
+    // on the upper corner, whose faces' diagonals are 2.8 m.
+    let mut lower = cube();
+    let mut upper = cube();
+    let corner_down = Quat::from_rotation_arc(Vec3::NEG_ONE.normalize(), -Vec3::Y);
+    upper.transform(Affine3A::from_quat(corner_down)).unwrap();
+    let tip = upper.support_point(-Vec3::Y);
+    upper.transform(Affine3A::from_translation(Vec3::new(0.0, 1.0, 0.0) - tip)).unwrap();
     let (lower_off, upper_off) = (lower.clone(), upper.clone());
     let impact = impact_at(0.0, 0.0);
     let params = DentParams::new(D);
     let (a, b) = dentbend::dent::dent_pair(&mut lower, &mut upper, &impact, &params, &params).unwrap();
     assert!(a.refined_triangles > 0 && b.refined_triangles > 0);
-    assert_eq!((lower.face_count(), upper.face_count()), (20 + a.refined_triangles, 20 + b.refined_triangles));
+    assert_eq!((lower.face_count(), upper.face_count()), (12 + a.refined_triangles, 12 + b.refined_triangles));
     assert!(closed(&lower) && closed(&upper));
     assert!((a.max_displacement - D).abs() < 0.02 * D);
     // Refinement only adds vertices: the old ones go exactly where they go without it.
     let (mut lower_off, mut upper_off) = (lower_off, upper_off);
     let off = DentParams { refine: Refine::Off, ..params };
     dentbend::dent::dent_pair(&mut lower_off, &mut upper_off, &impact, &off, &off).unwrap();
-    assert_eq!(&lower.positions()[..12], lower_off.positions());
-    assert_eq!(&upper.positions()[..12], upper_off.positions());
+    assert_eq!(&lower.positions()[..8], lower_off.positions());
+    assert_eq!(&upper.positions()[..8], upper_off.positions());
 }
 
 fn a_batch_lists_new_vertices_as_moved_and_says_the_faces_changed() {

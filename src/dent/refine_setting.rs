@@ -9,7 +9,7 @@ use crate::mesh::MAX_COORDINATE;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Refine {
     /// Where the target is too coarse for the dent (an edge under the footprint longer than 4×
-    /// what the map resolves and than a third of the map's width,
+    /// what the map resolves and than half the map's width,
     /// [`auto_coarse_edge`](super::auto_coarse_edge)), refine the footprint to the edges the
     /// map resolves: `max(2σ, 2 map cells)` ([`auto_max_edge`](super::auto_max_edge)). A target
     /// finer than that is left as it is, so repeated dents do not keep growing it. A dent

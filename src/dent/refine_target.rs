@@ -36,13 +36,12 @@ const AUTO_EDGES_ACROSS_REFINED: f32 = 12.0;
 
 /// The edge length above which [`Refine::Auto`] calls a target too coarse for a dent map on
 /// `grid` with Gaussian width `sigma`, world units: the longer of [`AUTO_COARSENESS`] times
-/// [`auto_max_edge`] (`8·max(σ, cell)`) and a third of the map's width (the projectile's
-/// footprint with the Gaussian tails). A target with no longer edge under the footprint takes
-/// the dent as it is: it already spans the dent with three edges or more, and refining it for a
-/// shallow dent (σ = d/2 is small, so [`auto_max_edge`] is too) would only grow a body that is
-/// dented again and again. The built-in `block-fine` (5.1 cm diagonals) takes a 0.17 m ball's
-/// 1.7 cm dent (8σ = 6.8 cm, a 21 cm map) and its glancing ones unrefined; a coarser target is
-/// refined to [`auto_max_edge`] everywhere under the footprint.
+/// [`auto_max_edge`] and half the map's width (the projectile's footprint with the Gaussian
+/// tails). A target with no longer edge under the footprint spans the dent with two edges or
+/// more and takes it as it is: refining it would grow a body that is dented again and again
+/// (the built-in `block`, 8.8 cm diagonals, and `block-fine` take the soak's 1.7 cm dents, whose
+/// maps are 21 cm wide, unrefined). A coarser target, where the dent would land inside a face or
+/// two (a low-poly crate), is refined to [`auto_max_edge`] everywhere under the footprint.
 pub fn auto_coarse_edge(grid: &Grid, sigma: f32) -> f32 {
     (AUTO_COARSENESS * auto_max_edge(grid, sigma)).max(grid.extent() / AUTO_EDGES_ACROSS)
 }
@@ -52,7 +51,7 @@ pub fn auto_coarse_edge(grid: &Grid, sigma: f32) -> f32 {
 pub const AUTO_COARSENESS: f32 = 4.0;
 
 /// Edges across a dent map's width that [`Refine::Auto`] takes as fine enough.
-const AUTO_EDGES_ACROSS: f32 = 3.0;
+const AUTO_EDGES_ACROSS: f32 = 2.0;
 
 /// The box of space whose vertices a dent map on `grid` moves with the falloff of `params`:
 /// the grid one cell wider, from one grid width in front of the collision plane to the depth
