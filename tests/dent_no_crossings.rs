@@ -339,7 +339,12 @@ struct PatchRun {
 /// glancing up to 60°, default refinement), each on one of the `patch` faces nearest to `centre`
 /// on the current surface, so that refined faces are dented again. After every dent, the faces
 /// around the vertices it moved or added are checked for crossings.
-fn accumulate_on_patch(mut target: TriMesh, centre: Vec3, patch: usize, dents: usize, seed: u64) -> PatchRun {
+fn accumulate_on_patch(
+    mut target: TriMesh,
+    centre: Vec3,
+    (patch, dents, seed): (usize, usize, u64),
+    refine: Refine,
+) -> PatchRun {
     const BALL: f32 = 0.15;
     let mut rng = SplitMix64::new(seed);
     let projectile = mesh::icosphere(BALL, 2).unwrap();
@@ -369,7 +374,7 @@ fn accumulate_on_patch(mut target: TriMesh, centre: Vec3, patch: usize, dents: u
         p.transform(Affine3A::from_translation(point - velocity * BALL)).unwrap();
         let impact = Impact { point, normal: -normal, relative_velocity: velocity };
         let before = target.clone();
-        let Ok(report) = dent(&mut target, &p, &impact, &DentParams::new(d)) else { continue };
+        let Ok(report) = dent(&mut target, &p, &impact, &DentParams { refine, ..DentParams::new(d) }) else { continue };
         applied += 1;
         refined_triangles += report.refined_triangles;
         held_back += usize::from(report.warnings.iter().any(|w| w.contains("folded flat")));
@@ -382,27 +387,33 @@ fn accumulate_on_patch(mut target: TriMesh, centre: Vec3, patch: usize, dents: u
 }
 
 /// Refinement and accumulated dents on block-fine, cheaply: 40 dents on the 400 faces nearest a
-/// top corner, where dents roll the edges over and stretch the side faces until the refine stage
-/// splits them. One dent (seed 12) lands on a patch that earlier dents folded flat onto itself
-/// (two faces back to back) and would refine across it: the f32 midpoints added there make
-/// crossing pairs that the guard would take as already there, so the refine stage holds those
-/// faces back. (Another seed, or another pipeline, may need a new seed to keep that case.)
+/// top corner, where dents roll the edges over and stretch the faces until the refine stage
+/// splits them; three seeds. In some runs a dent lands on a patch that earlier dents folded flat
+/// onto itself (two faces back to back) and would refine across it: the f32 midpoints added
+/// there make crossing pairs that the guard would take as already there, so the refine stage
+/// holds those faces back. Seeds 22, 29 and 30 each do so once under the current pipeline; the
+/// test asks for it at least once among them (another pipeline may need other seeds).
 #[test]
 fn refined_dents_piled_on_a_corner_of_block_fine_leave_no_crossings() {
     let block = mesh::builtin("block-fine").unwrap();
     let corner = block.support_point(Vec3::new(-1.0, 1.0, 0.0).normalize());
-    let run = accumulate_on_patch(block, corner, 400, 40, 12);
-    eprintln!(
-        "{} dents applied, {} triangles refined, {} held back; {} faces",
-        run.applied,
-        run.refined_triangles,
-        run.held_back,
-        run.dented.face_count()
-    );
-    assert!(run.applied >= 36, "only {} of 40 dents applied", run.applied);
-    // The scenario this test keeps: refinement under the dents, across a flat fold once.
-    assert!(run.refined_triangles > 0 && run.held_back >= 1, "{} {}", run.refined_triangles, run.held_back);
-    assert_eq!(run.dented.self_intersections(), vec![]);
-    let all = vec![true; run.dented.vertex_count()];
-    assert_eq!(common::self_intersections(&run.dented, &all), vec![]);
+    let mut held_back = 0;
+    for seed in [22, 29, 30] {
+        let run = accumulate_on_patch(block.clone(), corner, (400, 40, seed), Refine::default());
+        eprintln!(
+            "seed {seed}: {} dents applied, {} triangles refined, {} held back; {} faces",
+            run.applied,
+            run.refined_triangles,
+            run.held_back,
+            run.dented.face_count()
+        );
+        assert!(run.applied >= 36, "only {} of 40 dents applied", run.applied);
+        assert!(run.refined_triangles > 0, "seed {seed}: nothing refined");
+        assert_eq!(run.dented.self_intersections(), vec![]);
+        let all = vec![true; run.dented.vertex_count()];
+        assert_eq!(common::self_intersections(&run.dented, &all), vec![]);
+        held_back += run.held_back;
+    }
+    // The scenario this test keeps: refinement across a flat fold, at least once.
+    assert!(held_back >= 1, "no refinement was held back at a fold");
 }
