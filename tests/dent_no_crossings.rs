@@ -241,18 +241,7 @@ fn accumulate(
         let mut impacts = Vec::new();
         for _ in 0..batch.min(DENTS - done) {
             let f = rng.below(target.face_count() as u64) as usize;
-            let [a, b, c] = target.faces()[f].map(|v| target.positions()[v as usize]);
-            let normal = (b - a).cross(c - a).normalize_or_zero();
-            let (mut u, mut v) = (rng.next_f32(), rng.next_f32());
-            if u + v > 1.0 {
-                (u, v) = (1.0 - u, 1.0 - v);
-            }
-            let point = a + u * (b - a) + v * (c - a);
-            let tilt = rng.range_f32(0.0, 60f32.to_radians());
-            let spin = rng.range_f32(0.0, std::f32::consts::TAU);
-            let side = normal.any_orthonormal_vector();
-            let axis = Quat::from_axis_angle(normal, spin) * side;
-            let velocity = Quat::from_axis_angle(axis, tilt) * -normal;
+            let (point, normal, velocity) = random_hit(&target, f, &mut rng);
             let d = rng.range_f32(0.02, 0.3) * thickness;
             if normal == Vec3::ZERO {
                 continue;
@@ -355,17 +344,7 @@ fn accumulate_on_patch(
             (0..target.face_count()).map(|f| (centroid(f).distance(centre), f)).collect();
         nearest.select_nth_unstable_by(patch - 1, |a, b| a.0.total_cmp(&b.0));
         let f = nearest[rng.below(patch as u64) as usize].1;
-        let [a, b, c] = target.faces()[f].map(|v| target.positions()[v as usize]);
-        let normal = (b - a).cross(c - a).normalize_or_zero();
-        let (mut u, mut v) = (rng.next_f32(), rng.next_f32());
-        if u + v > 1.0 {
-            (u, v) = (1.0 - u, 1.0 - v);
-        }
-        let point = a + u * (b - a) + v * (c - a);
-        let tilt = rng.range_f32(0.0, 60f32.to_radians());
-        let spin = rng.range_f32(0.0, std::f32::consts::TAU);
-        let axis = Quat::from_axis_angle(normal, spin) * normal.any_orthonormal_vector();
-        let velocity = Quat::from_axis_angle(axis, tilt) * -normal;
+        let (point, normal, velocity) = random_hit(&target, f, &mut rng);
         let d = rng.range_f32(0.02, 0.3);
         if normal == Vec3::ZERO {
             continue;
@@ -384,6 +363,24 @@ fn accumulate_on_patch(
         assert_eq!(target.self_intersections_near(&changed), vec![], "crossings after dent {k}");
     }
     PatchRun { dented: target, applied, refined_triangles, held_back }
+}
+
+/// A hit on face `f` of `target`: a point drawn uniformly on the face, its unit normal (zero for
+/// a degenerate face), and a unit velocity within 60° of the inward normal, turned about it at
+/// random.
+fn random_hit(target: &TriMesh, f: usize, rng: &mut SplitMix64) -> (Vec3, Vec3, Vec3) {
+    let [a, b, c] = target.faces()[f].map(|v| target.positions()[v as usize]);
+    let normal = (b - a).cross(c - a).normalize_or_zero();
+    let (mut u, mut v) = (rng.next_f32(), rng.next_f32());
+    if u + v > 1.0 {
+        (u, v) = (1.0 - u, 1.0 - v);
+    }
+    let point = a + u * (b - a) + v * (c - a);
+    let tilt = rng.range_f32(0.0, 60f32.to_radians());
+    let spin = rng.range_f32(0.0, std::f32::consts::TAU);
+    let axis = Quat::from_axis_angle(normal, spin) * normal.any_orthonormal_vector();
+    let velocity = Quat::from_axis_angle(axis, tilt) * -normal;
+    (point, normal, velocity)
 }
 
 /// Refinement and accumulated dents on block-fine, cheaply: 40 dents on the 400 faces nearest a
