@@ -111,14 +111,26 @@ pub fn dent_pair(
 }
 
 pub(crate) fn report(stages: &super::DentStages, displaced: super::DisplaceReport) -> DentReport {
+    let grids = (&stages.zbuffer_grid, &stages.map.grid);
+    report_from(&stages.frame, grids, stages.sigma, displaced)
+}
+
+/// A dent's report from its frame, its Z-buffer and map grids, σ and what its displacement did
+/// (the refine counts left at zero for the caller to fill).
+pub(crate) fn report_from(
+    frame: &super::DentFrame,
+    (zbuffer_grid, map_grid): (&super::Grid, &super::Grid),
+    sigma: f32,
+    displaced: super::DisplaceReport,
+) -> DentReport {
     DentReport {
         moved_vertices: displaced.moved_vertices,
         max_displacement: displaced.max_displacement,
-        theta_deg: stages.frame.theta_deg(),
-        resolution: stages.zbuffer_grid.res,
-        map_resolution: stages.map.grid.res,
-        cell_size: stages.zbuffer_grid.cell_size,
-        sigma: stages.sigma,
+        theta_deg: frame.theta_deg(),
+        resolution: zbuffer_grid.res,
+        map_resolution: map_grid.res,
+        cell_size: zbuffer_grid.cell_size,
+        sigma,
         warnings: displaced.warnings,
         refined_vertices: 0,
         refined_triangles: 0,

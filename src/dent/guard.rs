@@ -78,16 +78,15 @@ fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
 /// `None` when moving `before` to `after` makes no new face pair cross; otherwise the largest
 /// scale (to 2⁻¹²) of the displacement that makes none (0 at worst: nothing moves).
 fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<f32> {
-    // The pairs that could cross after the dent and are not cleared by their relative motion.
+    // The pairs whose boxes after the dent overlap, tested at the full displacement.
     let pairs = pairs_to_test(faces, before, after, moved, Reach::Full);
-    let crossing = |positions: &[Vec3], pairs: &[(u32, u32)]| crossing_pairs(faces, positions, pairs);
-    let crossing_after = crossing(after, &pairs);
+    let crossing_after = crossing_pairs(faces, after, &pairs);
     if crossing_after.is_empty() {
         return None;
     }
     // Those that could cross at any scale (a superset), less those that crossed before.
     let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled);
-    let crossed_before: HashSet<(u32, u32)> = crossing(before, &pairs).into_iter().collect();
+    let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &pairs).into_iter().collect();
     if crossing_after.iter().all(|p| crossed_before.contains(p)) {
         return None;
     }
@@ -99,7 +98,7 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
         for ((p, (&b, &a)), _) in positions.iter_mut().zip(before.iter().zip(after)).zip(moved).filter(|(_, m)| **m) {
             *p = scaled(b, a, mid);
         }
-        if crossing(&positions, &watched).is_empty() { lo = mid } else { hi = mid }
+        if crossing_pairs(faces, &positions, &watched).is_empty() { lo = mid } else { hi = mid }
     }
     Some(lo)
 }

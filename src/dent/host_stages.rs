@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 
-use super::apply::guard_and_keep_volume;
+use super::apply::{guard_and_keep_volume, report_from};
 use super::map::PendingDisplacement;
 use super::thickness::{MapView, fit_falloff, may_fold};
 use super::{Attenuation, DentError, DentMap, DentParams, DentPlan, DentReport, DisplaceReport};
@@ -87,21 +87,6 @@ pub(crate) fn finish_displaced(
     // plan holds; the cells stay where the displacement ran.
     let map = DentMap { grid: plan.map_grid, cells: Vec::new(), dent_distance: plan.dent_distance };
     guard_and_keep_volume(&mut pending, faces, normals, before, &map, params)?;
-    let r = pending.report;
-    let report = DentReport {
-        moved_vertices: r.moved_vertices,
-        max_displacement: r.max_displacement,
-        theta_deg: plan.frame.theta_deg(),
-        resolution: plan.zbuffer_grid.res,
-        map_resolution: plan.map_grid.res,
-        cell_size: plan.zbuffer_grid.cell_size,
-        sigma: plan.sigma,
-        warnings: r.warnings,
-        refined_vertices: 0,
-        refined_triangles: 0,
-        volume_change: r.volume_change,
-        cavity_volume: r.cavity_volume,
-        limited_to: r.limited_to,
-    };
+    let report = report_from(&plan.frame, (&plan.zbuffer_grid, &plan.map_grid), plan.sigma, pending.report);
     Ok(HostDent { positions: pending.positions, moved: pending.moved, report })
 }
