@@ -282,21 +282,23 @@ fn accumulate(
 #[test]
 fn a_thousand_dents_on_block_fine_leave_no_crossings() {
     let (dented, limited) = accumulate(mesh::builtin("block-fine").unwrap(), 1.0, 0.15, 1, 18, Refine::Off);
-    let pairs = dented.self_intersections();
     eprintln!("block-fine: {limited} of 1000 dents limited; volume {}", dented.volume());
-    assert_eq!(pairs, vec![]);
-    // An independent check (segment–triangle tests, counting touches) agrees.
-    let all = vec![true; dented.vertex_count()];
-    assert_eq!(common::self_intersections(&dented, &all), vec![]);
+    assert_no_crossings(&dented);
+}
+
+/// No face pair of `mesh` crosses, by `TriMesh::self_intersections` and by an independent check
+/// (segment–triangle tests, counting touches).
+fn assert_no_crossings(mesh: &TriMesh) {
+    assert_eq!(mesh.self_intersections(), vec![]);
+    let all = vec![true; mesh.vertex_count()];
+    assert_eq!(common::self_intersections(mesh, &all), vec![]);
 }
 
 #[test]
 fn a_thousand_dents_on_the_plank_leave_no_crossings() {
     let (dented, limited) = accumulate(mesh::builtin("plank").unwrap(), 0.25, 0.05, 10, 1818, Refine::default());
     eprintln!("plank: {limited} of 1000 dents limited; volume {}", dented.volume());
-    assert_eq!(dented.self_intersections(), vec![]);
-    let all = vec![true; dented.vertex_count()];
-    assert_eq!(common::self_intersections(&dented, &all), vec![]);
+    assert_no_crossings(&dented);
 }
 
 /// The full property with refinement on (the default): 1,000 dents on block-fine, 0 crossings.
@@ -308,9 +310,7 @@ fn a_thousand_dents_on_the_plank_leave_no_crossings() {
 fn a_thousand_refined_dents_on_block_fine_leave_no_crossings() {
     let (dented, _) = accumulate(mesh::builtin("block-fine").unwrap(), 1.0, 0.15, 1, 18, Refine::default());
     eprintln!("block-fine, refined: {} faces after 1000 dents", dented.face_count());
-    assert_eq!(dented.self_intersections(), vec![]);
-    let all = vec![true; dented.vertex_count()];
-    assert_eq!(common::self_intersections(&dented, &all), vec![]);
+    assert_no_crossings(&dented);
 }
 
 /// What [`accumulate_on_patch`] did.
@@ -406,9 +406,7 @@ fn refined_dents_piled_on_a_corner_of_block_fine_leave_no_crossings() {
         );
         assert!(run.applied >= 36, "only {} of 40 dents applied", run.applied);
         assert!(run.refined_triangles > 0, "seed {seed}: nothing refined");
-        assert_eq!(run.dented.self_intersections(), vec![]);
-        let all = vec![true; run.dented.vertex_count()];
-        assert_eq!(common::self_intersections(&run.dented, &all), vec![]);
+        assert_no_crossings(&run.dented);
         held_back += run.held_back;
     }
     // The scenario this test keeps: refinement across a flat fold, at least once.
