@@ -302,8 +302,9 @@ fn a_thousand_dents_on_the_plank_leave_no_crossings() {
 }
 
 /// The full property with refinement on (the default): 1,000 dents on block-fine, 0 crossings.
-/// Refinement grows the block from 57,344 to about 293,000 faces. Ignored only for its time
-/// (several minutes in release); the non-ignored test below runs the same mechanism on a patch.
+/// Refinement grows the block from 57,344 to 105,008 faces. Ignored only for its time (about a
+/// minute in release on an idle 2-core VM, several on a loaded one); the non-ignored test below
+/// runs the same mechanism on a patch.
 /// `cargo test --release --test dent_no_crossings -- --ignored`.
 #[test]
 #[ignore = "slow: 1,000 refined dents on block-fine take minutes"]
