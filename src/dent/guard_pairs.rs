@@ -37,7 +37,9 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
+use crate::mesh::cover_mask::CoverMask;
 use crate::mesh::face_grid::{Aabb, overlapping_pairs};
+use crate::mesh::umbrella::{certified_umbrellas, corners_of, share_certified_vertex};
 
 /// Which scales of the displacement the pairs are wanted for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,18 +67,21 @@ pub(crate) fn pairs_to_test(
     if near.active == 0 {
         return Vec::new();
     }
-    let active: Vec<u32> = (0..near.active as u32).collect();
-    let everyone: Vec<u32> = (0..near.faces.len() as u32).collect();
-    let is_active: Vec<bool> = (0..near.faces.len()).map(|i| i < near.active).collect();
-    let candidates = overlapping_pairs(&near.reached, &active, &is_active, &everyone);
+    let candidates = overlapping_pairs(&near.reached, near.active);
     let id = |(i, j): (u32, u32)| {
         let (f, g) = (near.faces[i as usize], near.faces[j as usize]);
         (f.min(g), f.max(g))
     };
     if reach == Reach::Full {
-        // Only the full displacement is asked about: the exact test of a pair at that one scale
-        // costs no more than clearing it for every scale, so every candidate is kept.
-        return candidates.into_iter().map(id).collect();
+        // Only the full displacement is asked about: every candidate is kept but those sharing
+        // a vertex whose umbrella is certified after the move (they only touch).
+        let vertices = corners_of(faces, &near.faces[..near.active], after.len());
+        let certified = certified_umbrellas(after, faces, &near.faces, &vertices);
+        let keep = |&(i, j): &(u32, u32)| {
+            let (f, g) = (near.faces[i as usize], near.faces[j as usize]);
+            (!share_certified_vertex(faces, &certified, f, g)).then(|| id((i, j)))
+        };
+        return candidates.iter().filter_map(keep).collect();
     }
     let slack = 4.0 * f64::from(f32::EPSILON) * near.scale;
     let motion = Motion { faces, before, after, slack };
@@ -103,9 +108,10 @@ struct NearFaces {
     /// Boxes after the dent, or swept from before to after (see [`Reach`]); equal to `before`
     /// for unmoved faces.
     reached: Vec<Aabb>,
-    /// Boxes before the dent.
+    /// Boxes before the dent ([`Reach::Scaled`] only; empty for [`Reach::Full`]).
     before: Vec<Aabb>,
-    /// Largest absolute coordinate or displacement component among these faces, world units.
+    /// Largest absolute coordinate or displacement component among these faces, world units
+    /// ([`Reach::Scaled`] only; zero for [`Reach::Full`]).
     scale: f64,
 }
 
@@ -129,24 +135,32 @@ impl NearFaces {
         loop {
             let (mut list, maybe, inside) = sort_faces(faces, before, moved, &guess);
             let active = list.len();
-            let mut boxes_before: Vec<Aabb> = list.iter().map(|&f| box_before(f)).collect();
-            let mut reached: Vec<Aabb> = match reach {
-                Reach::Full => list.iter().map(|&f| box_after(f)).collect(),
-                Reach::Scaled => list.iter().zip(&boxes_before).map(|(&f, b)| b.union(box_after(f))).collect(),
-            };
-            let region = reached.iter().fold(Aabb::EMPTY, |r, b| r.union(*b));
+            // Boxes before are needed for the swept boxes, the bounds and a second pass only.
+            let scaled = reach == Reach::Scaled;
+            let mut boxes_before: Vec<Aabb> =
+                if scaled || !inside { list.iter().map(|&f| box_before(f)).collect() } else { Vec::new() };
+            let mut reached: Vec<Aabb> = list.iter().map(|&f| box_after(f)).collect();
+            if scaled {
+                reached.iter_mut().zip(&boxes_before).for_each(|(r, b)| *r = r.union(*b));
+            }
             if !inside {
                 // Holds every moved face before and after: the next pass finds all inside.
-                guess = boxes_before.iter().fold(region, |r, b| r.union(*b));
+                guess = reached.iter().chain(&boxes_before).fold(Aabb::EMPTY, |r, b| r.union(*b));
                 continue;
             }
+            let mask = CoverMask::new(&reached);
             for f in maybe {
                 let b = box_before(f);
-                if b.overlaps(&region) {
+                if mask.may_overlap(&b) {
                     list.push(f);
-                    boxes_before.push(b);
                     reached.push(b);
+                    if scaled {
+                        boxes_before.push(b);
+                    }
                 }
+            }
+            if !scaled {
+                return Self { faces: list, active, reached, before: boxes_before, scale: 0.0 };
             }
             let extent = reached
                 .iter()

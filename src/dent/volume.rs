@@ -50,19 +50,25 @@ pub(crate) fn restore_volume(
         VolumeMode::Free => None,
     };
     // One pass over the faces: those with a moved corner changed the volume, those with a rim
-    // corner will. Each vertex's place in `rim`, or NONE.
+    // corner will. Each vertex's flags, and its place in `rim` (or NONE).
     const NONE: u32 = u32::MAX;
+    const MOVED: u8 = 1;
+    const RIM: u8 = 2;
+    let mut flags: Vec<u8> = pending.moved.iter().map(|&m| if m { MOVED } else { 0 }).collect();
     let mut slot = vec![NONE; if rim.is_some() { before.len() } else { 0 }];
     if let Some((rim, _)) = &rim {
-        rim.iter().enumerate().for_each(|(k, &(v, _))| slot[v as usize] = k as u32);
+        for (k, &(v, _)) in rim.iter().enumerate() {
+            slot[v as usize] = k as u32;
+            flags[v as usize] |= RIM;
+        }
     }
-    let in_rim = |v: u32| slot.get(v as usize).is_some_and(|&k| k != NONE);
     let (mut dug, mut rim_faces) = (0.0, Vec::new());
     for f in faces {
-        if f.iter().any(|&v| pending.moved[v as usize]) {
+        let code = flags[f[0] as usize] | flags[f[1] as usize] | flags[f[2] as usize];
+        if code & MOVED != 0 {
             dug += tetra(&pending.positions, f) - tetra(before, f);
         }
-        if f.iter().any(|&v| in_rim(v)) {
+        if code & RIM != 0 {
             rim_faces.push(f);
         }
     }

@@ -1,5 +1,11 @@
-//! Broad phase for face-against-face tests: a uniform grid over triangle bounding boxes that
-//! lists each pair of faces whose boxes overlap once.
+//! Broad phase for face-against-face tests: a loose uniform grid over triangle bounding boxes
+//! that lists each pair of faces whose boxes overlap once.
+//!
+//! Each box is binned once, in the cell of its low corner; a query for a box visits the cells
+//! from its low corner less the largest binned box's size to its high corner, which hold every
+//! binned box that can overlap it. Boxes much larger than the typical one (a long sliver, a big
+//! face beside fine ones) are kept in a short list that every query scans, so that they do not
+//! make the cells coarse.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -28,34 +34,41 @@ impl Aabb {
     pub(crate) fn overlaps(&self, other: &Self) -> bool {
         self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
     }
+
+    fn extent(&self) -> Vec3 {
+        (self.max - self.min).max(Vec3::ZERO)
+    }
 }
 
-/// Faces binned into the grid cells their boxes cover (compressed rows: `items[starts[c]..
-/// starts[c + 1]]` are the faces of cell `c`, and `item_boxes` their boxes, stored alongside so
-/// that a query reads them in order).
-struct FaceGrid {
+/// Cell side in mean box sizes: a box up to this size is binned, a larger one listed apart.
+const CELL_IN_MEAN_BOXES: f32 = 2.0;
+/// At most this many grid cells per binned box, so memory stays linear in the box count.
+const CELLS_PER_BOX: usize = 2;
+
+/// Boxes binned by the cell of their low corner (compressed rows: `items[starts[c]..
+/// starts[c + 1]]` are the boxes of cell `c`, `item_boxes` their boxes in the same order), and
+/// the boxes too large for a cell.
+struct LooseGrid {
     origin: Vec3,
     inv_cell: f32,
     dims: [usize; 3],
+    /// Largest extent of a binned box on each axis.
+    reach: Vec3,
     starts: Vec<u32>,
     items: Vec<u32>,
     item_boxes: Vec<Aabb>,
+    large: Vec<u32>,
 }
 
-/// At most this many grid cells per binned face, so memory stays linear in the face count.
-const CELLS_PER_FACE: usize = 4;
-
-impl FaceGrid {
-    /// Bins `members` (indices into `boxes`), with cells about one mean box across.
-    fn new(boxes: &[Aabb], members: &[u32]) -> Self {
-        let bounds = members.iter().fold(Aabb::EMPTY, |b, &f| b.union(boxes[f as usize]));
-        let extent = (bounds.max - bounds.min).max(Vec3::ZERO);
-        let mean = members.iter().map(|&f| (boxes[f as usize].max - boxes[f as usize].min).max_element()).sum::<f32>()
-            / members.len().max(1) as f32;
-        let mut cell = mean.max(extent.max_element() * 1e-6).max(f32::MIN_POSITIVE);
+impl LooseGrid {
+    fn new(boxes: &[Aabb]) -> Self {
+        let bounds = boxes.iter().fold(Aabb::EMPTY, |b, x| b.union(*x));
+        let extent = bounds.extent();
+        let mean = boxes.iter().map(|b| b.extent().max_element()).sum::<f32>() / boxes.len().max(1) as f32;
+        let mut cell = (CELL_IN_MEAN_BOXES * mean).max(extent.max_element() * 1e-6).max(f32::MIN_POSITIVE);
         let dims_for = |cell: f32| extent.to_array().map(|e| ((e / cell) as usize).saturating_add(1));
         let mut dims = dims_for(cell);
-        let budget = CELLS_PER_FACE * members.len().max(1);
+        let budget = CELLS_PER_BOX * boxes.len().max(1);
         while dims.iter().try_fold(1usize, |acc, &d| acc.checked_mul(d)).is_none_or(|n| n > budget) {
             cell *= 1.5;
             dims = dims_for(cell);
@@ -64,13 +77,24 @@ impl FaceGrid {
             origin: bounds.min,
             inv_cell: 1.0 / cell,
             dims,
+            reach: Vec3::ZERO,
             starts: Vec::new(),
             items: Vec::new(),
             item_boxes: Vec::new(),
+            large: Vec::new(),
         };
+        let mut cell_of_box = vec![u32::MAX; boxes.len()];
         let mut counts = vec![0u32; dims[0] * dims[1] * dims[2] + 1];
-        for &f in members {
-            grid.for_cells(&boxes[f as usize], |c| counts[c] += 1);
+        for (k, b) in boxes.iter().enumerate() {
+            let size = b.extent();
+            if size.max_element() > cell {
+                grid.large.push(k as u32);
+                continue;
+            }
+            grid.reach = grid.reach.max(size);
+            let c = grid.linear(grid.cell_of(b.min));
+            cell_of_box[k] = c as u32;
+            counts[c] += 1;
         }
         let mut total = 0;
         for count in counts.iter_mut() {
@@ -81,12 +105,11 @@ impl FaceGrid {
         let mut fill = counts.clone();
         let mut items = vec![0u32; total as usize];
         let mut item_boxes = vec![Aabb::EMPTY; total as usize];
-        for &f in members {
-            grid.for_cells(&boxes[f as usize], |c| {
-                items[fill[c] as usize] = f;
-                item_boxes[fill[c] as usize] = boxes[f as usize];
-                fill[c] += 1;
-            });
+        for (k, &c) in cell_of_box.iter().enumerate().filter(|(_, c)| **c != u32::MAX) {
+            let slot = fill[c as usize] as usize;
+            items[slot] = k as u32;
+            item_boxes[slot] = boxes[k];
+            fill[c as usize] += 1;
         }
         grid.starts = counts;
         grid.items = items;
@@ -94,7 +117,7 @@ impl FaceGrid {
         grid
     }
 
-    /// Cell coordinates of a point, clamped into the grid.
+    /// Cell coordinates of a point, clamped into the grid (monotone in each coordinate).
     fn cell_of(&self, p: Vec3) -> [usize; 3] {
         let r = (p - self.origin) * self.inv_cell;
         [0, 1, 2].map(|a| (r[a].max(0.0) as usize).min(self.dims[a] - 1))
@@ -104,53 +127,111 @@ impl FaceGrid {
         (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
     }
 
-    fn for_cells(&self, b: &Aabb, mut visit: impl FnMut(usize)) {
-        let (lo, hi) = (self.cell_of(b.min), self.cell_of(b.max));
+    /// Calls `visit(k, box)` for every binned box that may overlap `b` (a superset), and every
+    /// large one.
+    fn for_candidates(&self, b: &Aabb, mut visit: impl FnMut(u32, &Aabb)) {
+        // A binned box overlapping `b` has its low corner in [b.min − reach, b.max].
+        let (lo, hi) = (self.cell_of(b.min - self.reach), self.cell_of(b.max));
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
-                for x in lo[0]..=hi[0] {
-                    visit(self.linear([x, y, z]));
+                let row = self.linear([0, y, z]);
+                let range = self.starts[row + lo[0]] as usize..self.starts[row + hi[0] + 1] as usize;
+                for (&k, item) in self.items[range.clone()].iter().zip(&self.item_boxes[range]) {
+                    visit(k, item);
                 }
             }
         }
+        // (The large list is short: scanned whole by the caller's own loop.)
     }
 }
 
-/// Every pair `(a, c)` of a face `a` of `active` and a face `c` of `others` (indices into
-/// `boxes`) whose boxes overlap, `a ≠ c`, each unordered pair once; `is_active[f]` flags the
-/// faces of `active`. Pairs come back in no particular order.
-pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: &[u32], is_active: &[bool], others: &[u32]) -> Vec<(u32, u32)> {
-    if active.is_empty() || others.is_empty() {
+/// Every pair `(a, c)` of boxes with `a < active` (an active box) and any `c ≠ a` whose boxes
+/// overlap (closed), each unordered pair once. Pairs come back in no particular order.
+pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: usize) -> Vec<(u32, u32)> {
+    let active = active.min(boxes.len());
+    if active == 0 || boxes.len() < 2 {
         return Vec::new();
     }
-    let grid = FaceGrid::new(boxes, others);
+    let grid = LooseGrid::new(boxes);
+    // A pair of two active boxes is reported from its smaller index only.
+    let wanted = |a: u32, c: u32| c != a && (c as usize >= active || c > a);
     let visit = |found: &mut Vec<(u32, u32)>, a: u32| {
         let box_a = boxes[a as usize];
-        grid.for_cells(&box_a, |cell| {
-            let range = grid.starts[cell] as usize..grid.starts[cell + 1] as usize;
-            for (&c, box_c) in grid.items[range.clone()].iter().zip(&grid.item_boxes[range]) {
-                // Report the pair in one cell only: the one holding the overlap's low corner;
-                // a pair of two active faces from its smaller index only.
-                if box_a.overlaps(box_c)
-                    && c != a
-                    && !(c < a && is_active[c as usize])
-                    && grid.linear(grid.cell_of(box_a.min.max(box_c.min))) == cell
-                {
-                    found.push((a, c));
-                }
+        grid.for_candidates(&box_a, |c, box_c| {
+            if box_a.overlaps(box_c) && wanted(a, c) {
+                found.push((a, c));
             }
         });
+        for &c in &grid.large {
+            if wanted(a, c) && box_a.overlaps(&boxes[c as usize]) {
+                found.push((a, c));
+            }
+        }
     };
-    let run = |chunk: &[u32]| {
-        let mut found = Vec::with_capacity(8 * chunk.len());
-        chunk.iter().for_each(|&a| visit(&mut found, a));
+    let run = |range: std::ops::Range<u32>| {
+        let mut found = Vec::with_capacity(8 * range.len());
+        range.for_each(|a| visit(&mut found, a));
         found
     };
-    if active.len() <= PARALLEL_QUERIES {
-        return run(active);
+    if active <= PARALLEL_QUERIES {
+        return run(0..active as u32);
     }
-    active.par_chunks(PARALLEL_QUERIES / 2).map(run).flatten_iter().collect()
+    let chunk = PARALLEL_QUERIES / 2;
+    (0..active.div_ceil(chunk))
+        .into_par_iter()
+        .map(|k| run((k * chunk) as u32..((k + 1) * chunk).min(active) as u32))
+        .flatten_iter()
+        .collect()
 }
 
-/// Up to this many faces are queried on one thread (waking the pool costs more).
+/// Up to this many boxes are queried on one thread (waking the pool costs more).
 const PARALLEL_QUERIES: usize = 1024;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every overlapping pair with an active box, once, against the all-pairs answer, on random
+    /// boxes of mixed sizes (some far larger than the rest) and on touching boxes.
+    #[test]
+    fn finds_every_overlapping_pair_once() {
+        let mut seed = 7u32;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        for round in 0..6 {
+            let n = 300 + 200 * round;
+            let boxes: Vec<Aabb> = (0..n)
+                .map(|k| {
+                    let size = if k % 37 == 0 { 3.0 } else { 0.02 + 0.2 * next() };
+                    let min = Vec3::new(next(), next() * 0.3, next()) * 5.0;
+                    Aabb { min, max: min + Vec3::new(next(), next(), next()) * size }
+                })
+                .collect();
+            let active = n / 3;
+            let mut found = overlapping_pairs(&boxes, active);
+            let count = found.len();
+            found.iter_mut().for_each(|p| *p = (p.0.min(p.1), p.0.max(p.1)));
+            found.sort_unstable();
+            found.dedup();
+            assert_eq!(found.len(), count, "a pair reported twice");
+            let mut expected = Vec::new();
+            for a in 0..n as u32 {
+                for c in a + 1..n as u32 {
+                    if ((a as usize) < active || (c as usize) < active)
+                        && boxes[a as usize].overlaps(&boxes[c as usize])
+                    {
+                        expected.push((a, c));
+                    }
+                }
+            }
+            assert_eq!(found, expected, "round {round}");
+        }
+        // Boxes that only touch (a shared face of two grid cells) overlap.
+        let boxes = [Aabb { min: Vec3::ZERO, max: Vec3::ONE }, Aabb { min: Vec3::X, max: Vec3::new(2.0, 1.0, 1.0) }];
+        assert_eq!(overlapping_pairs(&boxes, 1), vec![(0, 1)]);
+    }
+}

@@ -6,6 +6,7 @@ mod builtin;
 #[cfg(feature = "io")]
 pub(crate) mod confined;
 mod content_hash;
+pub(crate) mod cover_mask;
 mod edit;
 mod error;
 pub(crate) mod face_grid;
@@ -29,8 +30,9 @@ mod refine_crossings;
 mod save;
 pub(crate) mod self_intersect;
 mod subdivide;
-mod tri_tri;
+pub(crate) mod tri_tri;
 mod trimesh;
+pub(crate) mod umbrella;
 
 #[cfg(feature = "io")]
 pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb, save_glb_scene};

@@ -89,10 +89,7 @@ pub(crate) fn crossing_pairs_among(positions: &[Vec3], faces: &[[u32; 3]], activ
             }
         }
     }
-    let local_active: Vec<u32> = (0..active_count as u32).collect();
-    let local_all: Vec<u32> = (0..local.len() as u32).collect();
-    let local_is_active: Vec<bool> = (0..local.len()).map(|i| i < active_count).collect();
-    let candidates = overlapping_pairs(&boxes, &local_active, &local_is_active, &local_all);
+    let candidates = overlapping_pairs(&boxes, active_count);
     candidates
         .into_par_iter()
         .with_min_len(1024)
