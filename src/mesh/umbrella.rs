@@ -105,31 +105,27 @@ fn fan_is_embedded(positions: &[Vec3], faces: &[[u32; 3]], a: u32, fan: &[u32]) 
     }
     let rim = &rim[..fan.len()];
     // Put the rim in cycle order: each edge starts where the previous one ends, once around.
-    let mut order = [0u32; MAX_FAN + 1];
-    order[0] = rim[0].0;
+    let count = rim.len();
+    let mut ring = [0u32; MAX_FAN];
+    ring[0] = rim[0].0;
     let mut current = rim[0];
-    for step in 1..=rim.len() {
-        order[step] = current.1;
-        if step == rim.len() {
-            break;
-        }
+    for slot in ring.iter_mut().take(count).skip(1) {
+        *slot = current.1;
         let mut next = rim.iter().filter(|e| e.0 == current.1);
         match (next.next(), next.next()) {
             (Some(&e), None) => current = e,
             _ => return false,
         }
     }
-    if order[rim.len()] != order[0] {
-        return false;
-    }
-    // Every rim vertex once: a chain that returned early would repeat one.
-    let ring = &order[..rim.len()];
-    if ring.iter().enumerate().any(|(i, v)| ring[..i].contains(v)) {
+    let ring = &ring[..count];
+    // Closed, and every rim vertex once: a chain that closed early would repeat one.
+    if current.1 != ring[0] || ring.iter().enumerate().any(|(i, v)| ring[..i].contains(v)) {
         return false;
     }
     let origin = positions[a as usize].as_dvec3();
-    let arm = |k: usize| positions[ring[k % ring.len()] as usize].as_dvec3() - origin;
-    let arms: Vec<DVec3> = (0..ring.len()).map(arm).collect();
+    let mut arms = [DVec3::ZERO; MAX_FAN];
+    arms.iter_mut().zip(ring).for_each(|(arm, &v)| *arm = positions[v as usize].as_dvec3() - origin);
+    let arms = &arms[..count];
     let normal = (0..arms.len()).map(|k| arms[k].cross(arms[(k + 1) % arms.len()])).sum::<DVec3>();
     let Some(n) = normal.try_normalize() else {
         return false;
