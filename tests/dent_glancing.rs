@@ -125,9 +125,13 @@ fn grazing_angles_are_clamped_to_min_cos() {
     let stages = dent_map_stages(&ball, &impact, &params(0.0), None).unwrap();
     let expected = 0.1f32.acos().to_degrees();
     assert!((stages.frame.theta_deg() - expected).abs() < 1e-3, "θ {}", stages.frame.theta_deg());
-    // A 10× stretch: 960 cells of the profile's size, under the 2048 cap.
-    assert!((stages.map.grid.res as i64 - 10 * stages.zbuffer_grid.res as i64).abs() <= 1);
-    assert!(stages.map.grid.res <= dentbend::dent::MAX_RESOLUTION);
+    // A 10× stretch of the profile's extent, on at most GLANCE_STRETCH_CAP·res cells (at least
+    // GLANCE_RESOLUTION_FLOOR): the cells grow rather than their count past that.
+    let (z, m) = (&stages.zbuffer_grid, &stages.map.grid);
+    let cap = (dentbend::dent::GLANCE_STRETCH_CAP * z.res).max(dentbend::dent::GLANCE_RESOLUTION_FLOOR);
+    assert_eq!(m.res, (10 * z.res).min(cap).min(dentbend::dent::MAX_RESOLUTION), "profile {} cells", z.res);
+    let stretch = m.extent() / z.extent();
+    assert!((stretch - 10.0).abs() < 1e-3, "the map covers {stretch}× the profile");
 }
 
 /// A ball resting on the plane, touching it at the contact point the solver reports, dents the

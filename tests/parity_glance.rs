@@ -20,7 +20,7 @@ mod common;
 
 use common::SplitMix64;
 use dentbend::cpu::{GlanceParams, glance};
-use dentbend::dent::MAX_RESOLUTION;
+use dentbend::dent::{GLANCE_RESOLUTION_FLOOR, GLANCE_STRETCH_CAP, MAX_RESOLUTION};
 use dentbend::glam::Vec3;
 use dentbend::gpu::GpuContext;
 use dentbend::gpu::glance::GlanceKernel;
@@ -47,7 +47,10 @@ fn frame_params(
     tangent: Vec3,
 ) -> GlanceParams {
     let stretch = 1.0 / cos_theta;
-    let dst_res = ((src_res as f32 * stretch).ceil() as u32).clamp(src_res, MAX_RESOLUTION.max(src_res));
+    // The pipeline's rule (`plan::map_grid`): the heights' cell size kept along the stretch, up
+    // to GLANCE_STRETCH_CAP·res cells (at least GLANCE_RESOLUTION_FLOOR, at most MAX_RESOLUTION).
+    let cap = (GLANCE_STRETCH_CAP * src_res).max(GLANCE_RESOLUTION_FLOOR).min(MAX_RESOLUTION);
+    let dst_res = ((src_res as f32 * stretch).ceil() as u32).clamp(src_res, cap.max(src_res));
     let dst_cell_size = src_cell_size * src_res as f32 * stretch / dst_res as f32;
     GlanceParams {
         src_res,

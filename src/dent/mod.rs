@@ -55,7 +55,7 @@ pub use map::{DentMap, DisplaceReport};
 pub use material::DentMaterial;
 pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, MIN_COS_FLOOR, Resolution};
 pub use pipeline::{DentStages, dent_map, dent_map_stages};
-pub use plan::{DentPlan, plan_dent};
+pub use plan::{DentPlan, GLANCE_RESOLUTION_FLOOR, GLANCE_STRETCH_CAP, plan_dent};
 pub use progressive::ProgressiveDents;
 pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
 pub use refine_jobs::{RefinedTargets, refine_targets};
