@@ -195,13 +195,7 @@ mod tests {
     /// boxes of mixed sizes (some far larger than the rest) and on touching boxes.
     #[test]
     fn finds_every_overlapping_pair_once() {
-        let mut seed = 7u32;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32
-        };
+        let mut next = crate::mesh::test_rng::unit_floats(7);
         for round in 0..6 {
             let n = 300 + 200 * round;
             let boxes: Vec<Aabb> = (0..n)

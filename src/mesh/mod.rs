@@ -52,3 +52,6 @@ pub use save::{save, write_file_atomically};
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 pub(crate) use trimesh::in_coordinate_range;
 pub use trimesh::{EdgeLengths, MAX_COORDINATE, TriMesh, validate};
+
+#[cfg(test)]
+mod test_rng;

@@ -213,13 +213,8 @@ mod tests {
     /// fans, smooth and crumpled.
     #[test]
     fn no_certified_fan_has_crossing_faces() {
-        let mut seed = 11u32;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32 - 0.5
-        };
+        let mut unit = crate::mesh::test_rng::unit_floats(11);
+        let mut next = || unit() - 0.5;
         let (mut checked, mut crossing_seen) = (0, 0);
         for round in 0..4000 {
             let n = 3 + round % 9;
