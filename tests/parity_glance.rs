@@ -49,7 +49,7 @@ fn frame_params(
     let stretch = 1.0 / cos_theta;
     // The pipeline's rule (`plan::map_grid`): the heights' cell size kept along the stretch, up
     // to GLANCE_STRETCH_CAP·res cells (at least GLANCE_RESOLUTION_FLOOR, at most MAX_RESOLUTION).
-    let cap = (GLANCE_STRETCH_CAP * src_res).max(GLANCE_RESOLUTION_FLOOR).min(MAX_RESOLUTION);
+    let cap = (GLANCE_STRETCH_CAP * src_res).clamp(GLANCE_RESOLUTION_FLOOR, MAX_RESOLUTION);
     let dst_res = ((src_res as f32 * stretch).ceil() as u32).clamp(src_res, cap.max(src_res));
     let dst_cell_size = src_cell_size * src_res as f32 * stretch / dst_res as f32;
     GlanceParams {

@@ -115,7 +115,7 @@ pub const GLANCE_RESOLUTION_FLOOR: u32 = 256;
 pub(crate) fn map_grid(heights_grid: &Grid, point: Vec3, frame: &DentFrame) -> Grid {
     let res = heights_grid.res;
     let stretch = 1.0 / frame.cos_theta;
-    let cap = (GLANCE_STRETCH_CAP * res).max(GLANCE_RESOLUTION_FLOOR).min(MAX_RESOLUTION);
+    let cap = (GLANCE_STRETCH_CAP * res).clamp(GLANCE_RESOLUTION_FLOOR, MAX_RESOLUTION);
     let dst_res = ((res as f32 * stretch).ceil() as u32).clamp(res, cap.max(res));
     let cell_size = heights_grid.extent() * stretch / dst_res as f32;
     let (axis_x, axis_y, axis_z) = frame.plane_axes();
