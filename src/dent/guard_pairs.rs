@@ -39,7 +39,7 @@ use rayon::prelude::*;
 
 use crate::mesh::cover_mask::CoverMask;
 use crate::mesh::face_grid::{Aabb, overlapping_pairs};
-use crate::mesh::umbrella::{certified_umbrellas, corners_of, share_certified_vertex};
+use crate::mesh::umbrella::{certified_umbrellas, share_certified_vertex};
 
 /// Which scales of the displacement the pairs are wanted for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -75,8 +75,7 @@ pub(crate) fn pairs_to_test(
     if reach == Reach::Full {
         // Only the full displacement is asked about: every candidate is kept but those sharing
         // a vertex whose umbrella is certified after the move (they only touch).
-        let vertices = corners_of(faces, &near.faces[..near.active], after.len());
-        let certified = certified_umbrellas(after, faces, &near.faces, &vertices);
+        let certified = certified_umbrellas(after, faces, &near.faces, &near.faces[..near.active]);
         let keep = |&(i, j): &(u32, u32)| {
             let (f, g) = (near.faces[i as usize], near.faces[j as usize]);
             (!share_certified_vertex(faces, &certified, f, g)).then(|| id((i, j)))

@@ -4,7 +4,8 @@
 //! Only the triangles with a moved corner change the enclosed volume, so the change is summed
 //! over those alone (signed tetrahedra against the impact point, f64). To restore it, a ring of
 //! vertices around the crater moves out along its vertex normals by `s·w_i`: `w_i` is largest
-//! just outside the crater and fades to zero at twice its radius, and `s` solves
+//! just outside the crater and fades to zero at twice its extent (an ellipse that follows a
+//! glancing crater's length), and `s` solves
 //! `ΔV(s) = 0` exactly (`ΔV` is a cubic in `s`: each triangle's tetrahedron is).
 
 use glam::{DVec3, Vec3};
@@ -13,7 +14,7 @@ use super::map::PendingDisplacement;
 use super::{DentMap, VolumeMode};
 use crate::mesh::in_coordinate_range;
 
-/// Width of the rim, in crater radii past the crater's edge.
+/// Width of the rim past the crater's edge, in crater half-extents (on each of the map's axes).
 const RIM_WIDTH: f64 = 1.0;
 /// Vertices displaced by at least this fraction of the largest displacement form the crater
 /// whose radius sets the rim's.
@@ -143,12 +144,17 @@ impl RimUndo {
 }
 
 /// The rim: each vertex that may move and its push per unit `s` (weight × unit normal; `s` is
-/// in world units), with the crater radius `R`; `None` when no vertex qualifies.
+/// in world units), with the crater's longest half-extent `R`; `None` when no vertex qualifies.
 ///
-/// A vertex at lateral distance `r` from the impact point (across the denting normal) and
-/// depth `z` along it gets `w = (1 − (r/R_out)²)² · (1 − (z/R)²)² · (1 − δ/δ_max)`: `R` is the
-/// crater's lateral radius, `R_out = (1 + RIM_WIDTH)·R`, `δ` the vertex's dent displacement.
-/// The last factor keeps the crater itself down, so the weight peaks on its lip.
+/// The crater (the vertices displaced by at least [`CRATER_FRACTION`] of the deepest) spans
+/// `±a` and `±b` along the map's two axes on the collision plane (each at least a cell); the
+/// ellipse with those half-axes, grown until it holds every crater vertex, is its outline:
+/// long along the slide of a glancing hit, round under a head-on one. A vertex at
+/// `(x, y)` on those axes and depth `z` along the denting normal gets
+/// `w = (1 − (ρ/ρ_out)²)² · (1 − (z/R)²)² · (1 − δ/δ_max)` with `ρ = √((x/a)² + (y/b)²)`,
+/// `ρ_out = 1 + RIM_WIDTH`, `R = max(a, b)` and `δ` the vertex's dent displacement: the rim
+/// follows the crater's outline at a width proportional to its extent on each axis, and the
+/// last factor keeps the crater itself down, so the weight peaks on its lip.
 fn rim_weights(
     normals: &[Vec3],
     before: &[Vec3],
@@ -156,33 +162,41 @@ fn rim_weights(
     moved: &[u32],
     map: &DentMap,
 ) -> Option<(Vec<(u32, DVec3)>, f64)> {
-    let (centre, axis) = (map.grid.origin, map.grid.axis_z);
+    let centre = map.grid.origin;
+    let axes = [map.grid.axis_x, map.grid.axis_y, map.grid.axis_z].map(Vec3::as_dvec3);
     let offsets = |p: Vec3| {
         let r = (p - centre).as_dvec3();
-        let z = r.dot(axis.as_dvec3());
-        ((r - z * axis.as_dvec3()).length(), z)
+        axes.map(|a| r.dot(a))
     };
     let shift = |v: u32| pending.positions[v as usize].distance(before[v as usize]);
     let deepest = moved.iter().map(|&v| shift(v)).fold(0.0, f32::max);
-    let crater = moved
+    let cell = f64::from(map.grid.cell_size);
+    let crater_offsets: Vec<[f64; 3]> = moved
         .iter()
         .filter(|&&v| shift(v) >= CRATER_FRACTION * deepest)
-        .map(|&v| offsets(before[v as usize]).0)
-        .fold(0.0, f64::max)
-        .max(f64::from(map.grid.cell_size));
-    let outer = (1.0 + RIM_WIDTH) * crater;
-    // A cheap f32 test first: the rim lies within the ball of radius √(outer² + crater²).
-    let reach = ((outer * outer + crater * crater).sqrt() * 1.001) as f32;
+        .map(|&v| offsets(before[v as usize]))
+        .collect();
+    let (half_x, half_y) =
+        crater_offsets.iter().fold((cell, cell), |(a, b), [x, y, _]| (a.max(x.abs()), b.max(y.abs())));
+    // Grown to hold every crater vertex (a round crater gets the circle through its farthest).
+    let grow =
+        crater_offsets.iter().map(|[x, y, _]| ((x / half_x).powi(2) + (y / half_y).powi(2)).sqrt()).fold(1.0, f64::max);
+    let (half_x, half_y) = (half_x * grow, half_y * grow);
+    let crater = half_x.max(half_y);
+    let outer = 1.0 + RIM_WIDTH;
+    // A cheap f32 test first: the rim lies within the ball of radius √((outer·R)² + R²).
+    let reach = (crater * (outer * outer + 1.0).sqrt() * 1.001) as f32;
     let bump = |x: f64| (1.0 - x * x).max(0.0).powi(2);
     let rim: Vec<(u32, DVec3)> = (0..before.len() as u32)
         .filter(|&v| before[v as usize].distance_squared(centre) < reach * reach)
         .filter_map(|v| {
-            let (r, z) = offsets(before[v as usize]);
-            if r >= outer || z.abs() >= crater {
+            let [x, y, z] = offsets(before[v as usize]);
+            let rho = ((x / half_x).powi(2) + (y / half_y).powi(2)).sqrt();
+            if rho >= outer || z.abs() >= crater {
                 return None;
             }
             let lip = 1.0 - f64::from(shift(v) / deepest.max(f32::MIN_POSITIVE)).min(1.0);
-            let w = bump(r / outer) * bump(z / crater) * lip;
+            let w = bump(rho / outer) * bump(z / crater) * lip;
             let n = normals.get(v as usize)?.as_dvec3().try_normalize()?;
             (w > 0.0).then_some((v, w * n))
         })

@@ -16,6 +16,7 @@
 //! [`triangles_cross`]: super::tri_tri::triangles_cross
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 /// A face counts as wound about `n` when `(b − a)×(c − a)·n̂ > ORIENTATION_MARGIN·|b − a|·|c − a|`
 /// (its plane tilts less than about 89.99994° from the projection plane).
@@ -27,58 +28,66 @@ const REFERENCE_MARGIN: f64 = 1e-9;
 /// handle them).
 const MAX_FAN: usize = 32;
 
-/// Flags, one per vertex of `positions`, for the vertices of `vertices` whose umbrellas are
-/// certified (module documentation). `around` must list every face of `faces` that uses one of
-/// `vertices` (it may list others).
-pub(crate) fn certified_umbrellas(
-    positions: &[Vec3],
-    faces: &[[u32; 3]],
-    around: &[u32],
-    vertices: &[u32],
-) -> Vec<bool> {
-    // Faces around each vertex, compressed rows over all vertices.
-    let mut starts = vec![0u32; positions.len() + 1];
-    for &f in around {
-        faces[f as usize].iter().for_each(|&v| starts[v as usize + 1] += 1);
-    }
-    for v in 0..positions.len() {
-        starts[v + 1] += starts[v];
-    }
-    let mut fill = starts.clone();
-    let mut fans = vec![0u32; starts[positions.len()] as usize];
-    for &f in around {
+/// Flags, one per vertex of `positions`, for the corners of the faces `chosen` whose umbrellas
+/// are certified (module documentation). `around` must list every face of `faces` that uses
+/// one of those corners (it may list others).
+pub(crate) fn certified_umbrellas(positions: &[Vec3], faces: &[[u32; 3]], around: &[u32], chosen: &[u32]) -> Vec<bool> {
+    // The corners, numbered locally in the order met.
+    const NONE: u32 = u32::MAX;
+    let mut local = vec![NONE; positions.len()];
+    let mut corners = Vec::with_capacity(chosen.len());
+    for &f in chosen {
         for &v in &faces[f as usize] {
-            fans[fill[v as usize] as usize] = f;
-            fill[v as usize] += 1;
+            if local[v as usize] == NONE {
+                local[v as usize] = corners.len() as u32;
+                corners.push(v);
+            }
         }
     }
-    let mut certified = vec![false; positions.len()];
-    for &a in vertices {
-        let fan = &fans[starts[a as usize] as usize..starts[a as usize + 1] as usize];
-        certified[a as usize] = fan_is_embedded(positions, faces, a, fan);
+    // Faces around each corner, compressed rows.
+    let mut starts = vec![0u32; corners.len() + 1];
+    for &f in around {
+        for &v in &faces[f as usize] {
+            if let Some(&k) = local.get(v as usize).filter(|&&k| k != NONE) {
+                starts[k as usize + 1] += 1;
+            }
+        }
     }
+    for k in 0..corners.len() {
+        starts[k + 1] += starts[k];
+    }
+    let mut fill = starts.clone();
+    let mut fans = vec![0u32; starts[corners.len()] as usize];
+    for &f in around {
+        for &v in &faces[f as usize] {
+            if let Some(&k) = local.get(v as usize).filter(|&&k| k != NONE) {
+                fans[fill[k as usize] as usize] = f;
+                fill[k as usize] += 1;
+            }
+        }
+    }
+    let check = |k: usize| {
+        let fan = &fans[starts[k] as usize..starts[k + 1] as usize];
+        fan_is_embedded(positions, faces, corners[k], fan)
+    };
+    let verdicts: Vec<bool> = if corners.len() < PARALLEL_FANS {
+        (0..corners.len()).map(check).collect()
+    } else {
+        (0..corners.len()).into_par_iter().with_min_len(PARALLEL_FANS / 2).map(check).collect()
+    };
+    let mut certified = vec![false; positions.len()];
+    corners.iter().zip(verdicts).for_each(|(&v, ok)| certified[v as usize] = ok);
     certified
 }
+
+/// Below this many umbrellas they are checked on one thread (waking the pool costs more).
+const PARALLEL_FANS: usize = 1024;
 
 /// Whether faces `f` and `g` share a vertex flagged in `certified` (by
 /// [`certified_umbrellas`]): then they touch there and do not cross.
 pub(crate) fn share_certified_vertex(faces: &[[u32; 3]], certified: &[bool], f: u32, g: u32) -> bool {
     let q = faces[g as usize];
     faces[f as usize].iter().any(|v| q.contains(v) && certified[*v as usize])
-}
-
-/// The vertices of `faces` listed in `chosen`, each once.
-pub(crate) fn corners_of(faces: &[[u32; 3]], chosen: &[u32], vertex_count: usize) -> Vec<u32> {
-    let mut seen = vec![false; vertex_count];
-    let mut out = Vec::with_capacity(chosen.len());
-    for &f in chosen {
-        for &v in &faces[f as usize] {
-            if !std::mem::replace(&mut seen[v as usize], true) {
-                out.push(v);
-            }
-        }
-    }
-    out
 }
 
 /// Whether the faces `fan` (all the faces around `a`) form a closed fan whose projection is
@@ -179,7 +188,7 @@ mod tests {
 
     fn certified(positions: &[Vec3], faces: &[[u32; 3]]) -> bool {
         let around: Vec<u32> = (0..faces.len() as u32).collect();
-        certified_umbrellas(positions, faces, &around, &[0])[0]
+        certified_umbrellas(positions, faces, &around, &around)[0]
     }
 
     #[test]
