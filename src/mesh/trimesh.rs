@@ -152,12 +152,20 @@ impl TriMesh {
     /// on ties): a projectile's most advanced point along its velocity. Vertices no face uses
     /// are not part of the surface and are ignored.
     pub fn support_point(&self, direction: Vec3) -> Vec3 {
-        let first = self.positions[self.faces[0][0] as usize];
-        self.faces
-            .iter()
-            .flatten()
-            .map(|&v| self.positions[v as usize])
-            .fold(first, |best, p| if p.dot(direction) > best.dot(direction) { p } else { best })
+        // One dot product per corner, the first of equal maxima kept (a plain loop: the
+        // flattened iterator chain compiled to several times the work).
+        let mut best = self.positions[self.faces[0][0] as usize];
+        let mut best_dot = best.dot(direction);
+        for face in &self.faces {
+            for &v in face {
+                let p = self.positions[v as usize];
+                let d = p.dot(direction);
+                if d > best_dot {
+                    (best, best_dot) = (p, d);
+                }
+            }
+        }
+        best
     }
 
     /// Signed enclosed volume (divergence theorem), cubic world units; positive for a closed mesh
@@ -196,11 +204,21 @@ impl TriMesh {
     /// The mean (as [`mean_edge_length`](Self::mean_edge_length)) and the longest of the
     /// faces' edge lengths, in one pass, mesh units.
     pub fn edge_lengths(&self) -> EdgeLengths {
-        let (total, longest) = self.faces.iter().fold((0.0f64, 0.0f32), |(total, longest), f| {
-            let [a, b, c] = f.map(|v| self.positions[v as usize]);
-            let (ab, bc, ca) = (a.distance(b), b.distance(c), c.distance(a));
-            (total + f64::from(ab + bc + ca), longest.max(ab).max(bc).max(ca))
-        });
+        // Faces in blocks: each block's sum in f32 lanes (the f64 total is added once a block),
+        // so the additions do not wait on one another face after face.
+        const BLOCK: usize = 64;
+        let (mut total, mut longest) = (0.0f64, 0.0f32);
+        for block in self.faces.chunks(BLOCK) {
+            let (mut sum, mut most) = (Vec3::ZERO, Vec3::ZERO);
+            for f in block {
+                let [a, b, c] = f.map(|v| self.positions[v as usize]);
+                let lengths = Vec3::new(a.distance(b), b.distance(c), c.distance(a));
+                sum += lengths;
+                most = most.max(lengths);
+            }
+            total += f64::from(sum.x) + f64::from(sum.y) + f64::from(sum.z);
+            longest = longest.max(most.max_element());
+        }
         EdgeLengths { mean: (total / (3 * self.faces.len()) as f64) as f32, longest }
     }
 }
