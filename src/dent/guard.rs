@@ -5,7 +5,9 @@
 //!
 //! Cost: one pass over the faces to find the moved ones and the unmoved ones near them, a grid
 //! over those for the pairs whose boxes after the dent overlap, and the exact test (see
-//! [`TriMesh::self_intersections`]) of each such pair at the full displacement. Only for a dent
+//! [`TriMesh::self_intersections`]) of each such pair at the full displacement, less the pairs
+//! of neighbours around a vertex whose umbrella is certified embedded (`mesh::umbrella`: most
+//! of them, on a smooth dent). Only for a dent
 //! that does make faces cross, the pairs whose swept boxes meet are found and those that their
 //! vertices' relative motion cannot clear (`guard_pairs`: neighbours moving together need no
 //! test; this is sound for every scale, no motion is too small to matter) are tested at each

@@ -44,7 +44,8 @@ use crate::mesh::umbrella::{certified_umbrellas, share_certified_vertex};
 /// Which scales of the displacement the pairs are wanted for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Reach {
-    /// The full displacement only: pairs whose boxes after the dent overlap.
+    /// The full displacement only: pairs whose boxes after the dent overlap (less those an
+    /// umbrella certificate clears).
     Full,
     /// Every scale in `(0, 1]`: pairs whose boxes swept from before to after overlap. (A scaled
     /// position `b + (a − b)·s`, `s < 1`, rounded, stays between `b` and `a`.)
@@ -54,7 +55,8 @@ pub(crate) enum Reach {
 /// Pairs `(f, g)` of faces (`f` moved) that moving `before` to `after` (with `moved` flagging
 /// the vertices that moved) could make cross at the scales `reach` names: for
 /// [`Reach::Scaled`], those that no bound in the module documentation clears; for
-/// [`Reach::Full`], every pair whose boxes after the move overlap. Each pair once, as
+/// [`Reach::Full`], every pair whose boxes after the move overlap but those sharing a vertex
+/// whose umbrella is certified after the move (see `mesh::umbrella`). Each pair once, as
 /// `(smaller, larger)` index.
 pub(crate) fn pairs_to_test(
     faces: &[[u32; 3]],
