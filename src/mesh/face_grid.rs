@@ -130,8 +130,11 @@ impl LooseGrid {
     /// Calls `visit(k, box)` for every binned box that may overlap `b` (a superset), and every
     /// large one.
     fn for_candidates(&self, b: &Aabb, mut visit: impl FnMut(u32, &Aabb)) {
-        // A binned box overlapping `b` has its low corner in [b.min − reach, b.max].
-        let (lo, hi) = (self.cell_of(b.min - self.reach), self.cell_of(b.max));
+        // A binned box overlapping `b` has its low corner in [b.min − reach, b.max]. The reach is
+        // widened by a few ulps of the magnitudes involved, so that neither the rounding of
+        // `b.min − reach` nor that of the binned boxes' extents can leave a corner just outside.
+        let margin = (b.min.abs() + self.reach) * (4.0 * f32::EPSILON);
+        let (lo, hi) = (self.cell_of(b.min - self.reach - margin), self.cell_of(b.max));
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
                 let row = self.linear([0, y, z]);
