@@ -106,4 +106,4 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
 }
 
 /// Below this many pair tests they run on one thread (waking the pool costs more).
-const PARALLEL_TESTS: usize = 4096;
+const PARALLEL_TESTS: usize = 16384;

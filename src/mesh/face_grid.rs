@@ -187,8 +187,9 @@ pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: usize) -> Vec<(u32, u32)
         .collect()
 }
 
-/// Up to this many boxes are queried on one thread (waking the pool costs more).
-const PARALLEL_QUERIES: usize = 1024;
+/// Up to this many boxes are queried on one thread (waking the pool costs more: on a 2-core VM
+/// the 1,800 queries of a 60° dent took 0.52 ms split over two threads and 0.34 ms on one).
+const PARALLEL_QUERIES: usize = 8192;
 
 #[cfg(test)]
 mod tests {

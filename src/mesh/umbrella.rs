@@ -81,7 +81,7 @@ pub(crate) fn certified_umbrellas(positions: &[Vec3], faces: &[[u32; 3]], around
 }
 
 /// Below this many umbrellas they are checked on one thread (waking the pool costs more).
-const PARALLEL_FANS: usize = 1024;
+const PARALLEL_FANS: usize = 4096;
 
 /// Whether faces `f` and `g` share a vertex flagged in `certified` (by
 /// [`certified_umbrellas`]): then they touch there and do not cross.
