@@ -65,6 +65,11 @@ pub(crate) fn pairs_to_test(
     moved: &[bool],
     reach: Reach,
 ) -> Vec<(u32, u32)> {
+    // The near set's completeness (every face around a corner of a moved face) rests on this.
+    debug_assert!(
+        before.iter().zip(after).zip(moved).all(|((b, a), &m)| m || b == a),
+        "a vertex not flagged as moved changed position"
+    );
     let near = NearFaces::find(faces, before, after, moved, reach);
     if near.active == 0 {
         return Vec::new();

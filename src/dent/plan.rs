@@ -99,14 +99,16 @@ pub fn plan_dent(
 
 /// A glancing map keeps the heights' cell size along its 1/cos θ stretch up to this many times
 /// the heights' resolution (or [`GLANCE_RESOLUTION_FLOOR`] cells, whichever is more); past it
-/// its cells grow. The stretch only samples the projectile's smooth sweep more finely, while
-/// the cell count (and the time of every stage over the map) grows as 1/cos²θ: at θ = 84° a
+/// its cells grow (they are square, so across the slide too: at the cap an 84° map's cell is
+/// 2.4 heights cells wide). The cell count, and the time of every stage over the map, grows as
+/// 1/cos²θ without the cap: at θ = 84° a
 /// 72-cell heights grid would give a 689² map; 288² is 5.7× fewer cells and moved no vertex by
 /// more than 1.7 % of the dent's depth on `block` (0.4 % on `block-fine` and `plank`; soak-size
 /// dents at 70–84°).
 pub const GLANCE_STRETCH_CAP: u32 = 4;
 /// The fewest cells a side of a glancing map may be capped to (see [`GLANCE_STRETCH_CAP`]).
 pub const GLANCE_RESOLUTION_FLOOR: u32 = 256;
+const _: () = assert!(GLANCE_RESOLUTION_FLOOR <= MAX_RESOLUTION, "the cap's clamp needs floor ≤ ceiling");
 
 /// The dent-map grid for heights on `heights_grid`: on the collision plane through `point`,
 /// keeping the heights' cell size over the 1/cos θ stretch (side `res/cos θ` cells), up to

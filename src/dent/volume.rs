@@ -144,12 +144,14 @@ impl RimUndo {
 }
 
 /// The rim: each vertex that may move and its push per unit `s` (weight × unit normal; `s` is
-/// in world units), with the crater's longest half-extent `R`; `None` when no vertex qualifies.
+/// in world units), with the crater's longest half-extent `R` (its radius when round; the rim's
+/// height limit counts in it); `None` when no vertex qualifies.
 ///
 /// The crater (the vertices displaced by at least [`CRATER_FRACTION`] of the deepest) spans
 /// `±a` and `±b` along the map's two axes on the collision plane (each at least a cell); the
 /// ellipse with those half-axes, grown until it holds every crater vertex, is its outline:
-/// long along the slide of a glancing hit, round under a head-on one. A vertex at
+/// long along the slide of a glancing hit, close to round under a head-on one (a circle when the
+/// crater reaches equally far along both axes). A vertex at
 /// `(x, y)` on those axes and depth `z` along the denting normal gets
 /// `w = (1 − (ρ/ρ_out)²)² · (1 − (z/R)²)² · (1 − δ/δ_max)` with `ρ = √((x/a)² + (y/b)²)`,
 /// `ρ_out = 1 + RIM_WIDTH`, `R = max(a, b)` and `δ` the vertex's dent displacement: the rim

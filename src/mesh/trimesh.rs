@@ -1,6 +1,6 @@
 //! The indexed triangle mesh type shared by every stage of the crate.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use super::MeshError;
 
@@ -204,22 +204,17 @@ impl TriMesh {
     /// The mean (as [`mean_edge_length`](Self::mean_edge_length)) and the longest of the
     /// faces' edge lengths, in one pass, mesh units.
     pub fn edge_lengths(&self) -> EdgeLengths {
-        // Faces in blocks: each block's sum in f32 lanes (the f64 total is added once a block),
-        // so the additions do not wait on one another face after face.
-        const BLOCK: usize = 64;
-        let (mut total, mut longest) = (0.0f64, 0.0f32);
-        for block in self.faces.chunks(BLOCK) {
-            let (mut sum, mut most) = (Vec3::ZERO, Vec3::ZERO);
-            for f in block {
-                let [a, b, c] = f.map(|v| self.positions[v as usize]);
-                let lengths = Vec3::new(a.distance(b), b.distance(c), c.distance(a));
-                sum += lengths;
-                most = most.max(lengths);
-            }
-            total += f64::from(sum.x) + f64::from(sum.y) + f64::from(sum.z);
-            longest = longest.max(most.max_element());
+        // Three f64 sums and three maxima, one per edge of a face, kept apart so that no face
+        // waits on the previous one's additions (a single chain of maxima was most of the time).
+        let (mut sum, mut most) = (DVec3::ZERO, Vec3::ZERO);
+        for f in &self.faces {
+            let [a, b, c] = f.map(|v| self.positions[v as usize]);
+            let lengths = Vec3::new(a.distance(b), b.distance(c), c.distance(a));
+            sum += lengths.as_dvec3();
+            most = most.max(lengths);
         }
-        EdgeLengths { mean: (total / (3 * self.faces.len()) as f64) as f32, longest }
+        let total = sum.x + sum.y + sum.z;
+        EdgeLengths { mean: (total / (3 * self.faces.len()) as f64) as f32, longest: most.max_element() }
     }
 }
 

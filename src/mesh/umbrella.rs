@@ -213,9 +213,15 @@ mod tests {
         let mut folded = ring(6, 1.0, |_| 0.0);
         folded[2] = Vec3::new(0.9, 0.01, -0.3);
         assert!(!certified(&folded, &fan_faces(6)));
-        // An open fan (a boundary vertex) and a fan with a face missing from `around`.
+        // An open fan (a boundary vertex), and a closed fan with one face missing from `around`.
         let open: Vec<[u32; 3]> = fan_faces(6).into_iter().take(5).collect();
         assert!(!certified(&ring(6, 1.0, |_| 0.0), &open));
+        let flat = ring(6, 1.0, |_| 0.0);
+        let all = fan_faces(6);
+        let listed: Vec<u32> = (0..5).collect();
+        assert!(!certified_umbrellas(&flat, &all, &listed, &listed)[0]);
+        let every: Vec<u32> = (0..6).collect();
+        assert!(certified_umbrellas(&flat, &all, &every, &listed)[0]);
     }
 
     /// Wherever a vertex is certified, no two faces around it cross by the exact test: random
