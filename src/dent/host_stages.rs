@@ -8,18 +8,8 @@ use glam::Vec3;
 
 use super::apply::{guard_and_keep_volume, report_from};
 use super::map::PendingDisplacement;
-use super::thickness::{MapView, fit_falloff, may_fold};
-use super::{Attenuation, DentError, DentMap, DentParams, DentPlan, DentReport, DisplaceReport};
-use crate::mesh::in_coordinate_range;
-
-/// A dent's falloff fitted to its target on the host: the caller's, or it stretched in depth.
-#[derive(Debug, Clone)]
-pub(crate) struct HostFalloff {
-    /// The falloff to displace with.
-    pub(crate) attenuation: Attenuation,
-    warning: Option<String>,
-    thickness: Option<f32>,
-}
+use super::thickness::{FittedFalloff, MapView, fit_falloff, may_fold};
+use super::{Attenuation, DentError, DentMap, DentParams, DentPlan, DentReport};
 
 /// A dent after its host stages: the target's new positions, which vertices moved, and the
 /// report (the refine counts left at zero for the caller to fill).
@@ -47,10 +37,9 @@ pub(crate) fn fit_to_target(
     positions: &[Vec3],
     faces: &[[u32; 3]],
     attenuation: &Attenuation,
-) -> HostFalloff {
+) -> FittedFalloff {
     let view = MapView { grid: map.grid, cells: &map.cells, dent_distance: map.dent_distance };
-    let fitted = fit_falloff(&view, positions, faces, attenuation);
-    HostFalloff { attenuation: fitted.attenuation, warning: fitted.warning, thickness: fitted.thickness }
+    fit_falloff(&view, positions, faces, attenuation)
 }
 
 /// The stages after the displacement of a dent planned as `plan` with `params`, displaced
@@ -67,22 +56,10 @@ pub(crate) fn finish_displaced(
     normals: &[Vec3],
     plan: &DentPlan,
     params: &DentParams,
-    fitted: Option<HostFalloff>,
+    fitted: Option<FittedFalloff>,
 ) -> Result<HostDent, DentError> {
-    if let Some(index) = after.iter().position(|&p| !in_coordinate_range(p)) {
-        return Err(DentError::NonFiniteResult { index });
-    }
     let moved: Vec<bool> = after.iter().zip(before).map(|(a, b)| a != b).collect();
-    let max_displacement = after.iter().zip(before).map(|(a, b)| a.distance(*b)).fold(0.0, f32::max);
-    let (warning, wall_thickness) = fitted.map_or((None, None), |f| (f.warning, f.thickness));
-    let report = DisplaceReport {
-        moved_vertices: moved.iter().filter(|&&m| m).count(),
-        max_displacement,
-        warnings: warning.into_iter().collect(),
-        wall_thickness,
-        ..DisplaceReport::default()
-    };
-    let mut pending = PendingDisplacement { positions: after, moved, report };
+    let mut pending = PendingDisplacement::checked(before, after, moved, fitted)?;
     // The guard and volume stages read only the map's grid (its frame and cell size), which the
     // plan holds; the cells stay where the displacement ran.
     let map = DentMap { grid: plan.map_grid, cells: Vec::new(), dent_distance: plan.dent_distance };

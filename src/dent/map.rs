@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::error::invalid;
-use super::thickness::{MapView, fit_falloff};
+use super::thickness::{FittedFalloff, MapView, fit_falloff};
 use super::{Attenuation, DentError, Grid};
 use crate::cpu::{self, DisplaceParams};
 use crate::mesh::{TriMesh, in_coordinate_range};
@@ -54,6 +54,32 @@ pub(crate) struct PendingDisplacement {
 }
 
 impl PendingDisplacement {
+    /// The displacement of `before` to `positions` (`moved` flags the vertices whose position
+    /// changed) made with the falloff `fitted` (`None`: the caller's, not measured), with its
+    /// report: vertices moved, the largest displacement, the wall measured and the thin-wall
+    /// warning.
+    ///
+    /// # Errors
+    /// [`DentError::NonFiniteResult`] if a position left the coordinate range.
+    pub(crate) fn checked(
+        before: &[Vec3],
+        positions: Vec<Vec3>,
+        moved: Vec<bool>,
+        fitted: Option<FittedFalloff>,
+    ) -> Result<Self, DentError> {
+        if let Some(index) = positions.iter().position(|&p| !in_coordinate_range(p)) {
+            return Err(DentError::NonFiniteResult { index });
+        }
+        // Both ends lie within ±MAX_COORDINATE, so the distance (at most 2·√3·10⁶) is finite in f32.
+        let max_displacement = positions.iter().zip(before).map(|(new, old)| new.distance(*old)).fold(0.0, f32::max);
+        let (warning, wall_thickness) = fitted.map_or((None, None), |f| (f.warning, f.thickness));
+        let moved_vertices = moved.iter().filter(|&&m| m).count();
+        let warnings = warning.into_iter().collect();
+        let report =
+            DisplaceReport { moved_vertices, max_displacement, warnings, wall_thickness, ..Default::default() };
+        Ok(Self { positions, moved, report })
+    }
+
     /// Writes the positions into `target` (the mesh they were computed from) and refreshes the
     /// normals around the moved vertices.
     pub(crate) fn commit(self, target: &mut TriMesh) -> DisplaceReport {
@@ -126,16 +152,7 @@ impl DentMap {
         let mut positions = before.to_vec();
         let mut moved = vec![false; positions.len()];
         cpu::displace(&params, &self.cells, &table, &mut positions, &mut moved);
-        if let Some(index) = positions.iter().position(|&p| !in_coordinate_range(p)) {
-            return Err(DentError::NonFiniteResult { index });
-        }
-        // Both ends lie within ±MAX_COORDINATE, so the distance (at most 2·√3·10⁶) is finite in f32.
-        let max_displacement = positions.iter().zip(before).map(|(new, old)| new.distance(*old)).fold(0.0, f32::max);
-        let (warnings, wall_thickness) = (fitted.warning.into_iter().collect(), fitted.thickness);
-        let moved_vertices = moved.iter().filter(|&&m| m).count();
-        let report =
-            DisplaceReport { moved_vertices, max_displacement, warnings, wall_thickness, ..Default::default() };
-        Ok(PendingDisplacement { positions, moved, report })
+        PendingDisplacement::checked(before, positions, moved, Some(fitted))
     }
 
     /// The [`cpu::displace`] inputs that apply this map with `attenuation` to `vertex_count`

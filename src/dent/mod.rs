@@ -49,7 +49,7 @@ pub use error::DentError;
 pub(crate) use error::invalid;
 pub use grid::{DentFrame, Grid};
 #[cfg(feature = "gpu")]
-pub(crate) use host_stages::{HostFalloff, falloff_may_need_fit, finish_displaced, fit_to_target};
+pub(crate) use host_stages::{falloff_may_need_fit, finish_displaced, fit_to_target};
 pub use impact::{Impact, MAX_SPEED};
 pub use map::{DentMap, DisplaceReport};
 pub use material::DentMaterial;
@@ -59,9 +59,11 @@ pub use plan::{DentPlan, GLANCE_RESOLUTION_FLOOR, GLANCE_STRETCH_CAP, plan_dent}
 pub use progressive::ProgressiveDents;
 pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
 pub use refine_jobs::{RefinedTargets, refine_targets};
+pub(crate) use refine_jobs::{plan_jobs, refine_planned};
 pub use refine_setting::{DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refine};
 pub use refine_target::{AUTO_COARSENESS, auto_coarse_edge, auto_max_edge, footprint_box};
 pub use settings::DentSettings;
 pub use target_set::TargetSet;
+pub(crate) use thickness::FittedFalloff;
 pub use thickness::{FOLD_KEPT, MIN_WALL_KEPT};
 pub use volume_mode::VolumeMode;

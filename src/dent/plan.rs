@@ -168,9 +168,8 @@ fn zbuffer_grid(
     let res = match params.resolution {
         Resolution::Fixed(n) => n,
         Resolution::Auto { min, max } => {
-            let edge = target_edge
-                .filter(|e| *e > 0.0)
-                .map_or(projectile.mean_edge_length(), |t| t.min(projectile.mean_edge_length()));
+            let own = projectile.mean_edge_length();
+            let edge = target_edge.filter(|e| *e > 0.0).map_or(own, |t| t.min(own));
             let cell = (edge / CELLS_PER_EDGE).min(sigma);
             let wanted = (2.0 * half / cell.max(f32::MIN_POSITIVE)).ceil();
             (wanted.min(max as f32) as u32).clamp(min, max)

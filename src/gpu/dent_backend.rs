@@ -6,9 +6,10 @@
 //! The same [`DentParams`](crate::DentParams) give the same dent as on the CPU
 //! ([`dent_batch_tracked`](crate::dent::dent_batch_tracked)): the GPU kernels build the maps and
 //! displace, and the host runs every other stage with the CPU pipeline's functions, in its order.
-//! - Refine first ([`refine_targets`]); a target it refines is uploaded again (with every other,
-//!   as for a changed mesh). Each job is planned on the host from the target as given (the CPU
-//!   batch's automatic resolution) and sent with that grid side fixed.
+//! - Each job is planned on the host from the target as given (the CPU batch's automatic
+//!   resolution) and sent with that grid side fixed; the refine stage
+//!   ([`refine_targets`](crate::dent::refine_targets)'s, from those plans) runs first, and a
+//!   target it refines is uploaded again (with every other, as for a changed mesh).
 //! - A falloff steep enough to fold a wall under its map (not the default logistic one) is fitted
 //!   to the target's thickness before the kernels displace with it: its map is built on the GPU
 //!   and read back first, so such a dent builds its map twice.
@@ -23,12 +24,11 @@ use std::collections::HashMap;
 use std::hash::Hash;
 
 use glam::Vec3;
-use rayon::prelude::*;
 
 use super::{GpuBatchError, GpuContext, GpuDenter};
 use crate::dent::{
-    BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentPlan, HostFalloff, Resolution, falloff_may_need_fit,
-    finish_displaced, fit_to_target, plan_dent, refine_targets,
+    BatchError, BatchOutcome, DentBackend, DentError, DentJob, DentPlan, FittedFalloff, Refine, Resolution,
+    falloff_may_need_fit, finish_displaced, fit_to_target, plan_jobs, refine_planned,
 };
 use crate::mesh::TriMesh;
 
@@ -106,9 +106,12 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         targets: &mut [TriMesh],
         jobs: &[DentJob<'_>],
     ) -> Result<BatchOutcome, BatchError> {
-        // Stage 1 on the host: refine copies of the targets where their dents need it.
-        let refined = refine_targets(targets, jobs)?;
-        let plans = plan_jobs(targets, jobs)?;
+        // Stage 1 on the host: plan every job, then refine copies of the targets where their
+        // dents need it.
+        let (edges, plans) = plan_jobs(targets, jobs)?;
+        let refining: Vec<Option<&DentPlan>> =
+            plans.iter().zip(jobs).map(|(plan, job)| (job.params.refine != Refine::Off).then_some(plan)).collect();
+        let refined = refine_planned(targets, &edges, jobs, &refining)?;
         let current: Vec<&TriMesh> =
             targets.iter().zip(&refined.meshes).map(|(old, new)| new.as_ref().unwrap_or(old)).collect();
         let slots = self.resident(keys, &current).map_err(|error| BatchError { job: 0, error })?;
@@ -123,25 +126,23 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
             }
         };
         // Each target's mesh, built before any is written so that a failure changes none.
-        let mut meshes = Vec::with_capacity(targets.len());
-        for (t, state) in states.iter().enumerate() {
-            let mesh = match state {
-                None => None,
-                Some(state) => {
-                    let mesh = TriMesh::new(state.positions.clone(), current[t].faces().to_vec()).map_err(|e| {
-                        self.denter = None;
-                        let job = jobs.iter().position(|j| j.target == t).unwrap_or(0);
-                        BatchError { job, error: DentError::Backend(format!("read back mesh: {e}")) }
-                    })?;
-                    Some(mesh)
-                }
+        let mut built = Vec::with_capacity(targets.len());
+        for (t, state) in states.into_iter().enumerate() {
+            let Some(TargetState { positions, moved }) = state else {
+                built.push(None);
+                continue;
             };
-            meshes.push(mesh);
+            let mesh = TriMesh::new(positions, current[t].faces().to_vec()).map_err(|e| {
+                self.denter = None;
+                let job = jobs.iter().position(|j| j.target == t).unwrap_or(0);
+                BatchError { job, error: DentError::Backend(format!("read back mesh: {e}")) }
+            })?;
+            built.push(Some((mesh, moved)));
         }
         let mut moved = vec![Vec::new(); targets.len()];
-        for (t, (mesh, state)) in meshes.into_iter().zip(states).enumerate() {
-            let (Some(mesh), Some(state)) = (mesh, state) else { continue };
-            moved[t] = state.moved.iter().enumerate().filter(|(_, m)| **m).map(|(v, _)| v as u32).collect();
+        for (t, done) in built.into_iter().enumerate() {
+            let Some((mesh, flags)) = done else { continue };
+            moved[t] = flags.iter().enumerate().filter(|(_, m)| **m).map(|(v, _)| v as u32).collect();
             self.meshes[slots[t]] = mesh.clone();
             targets[t] = mesh;
         }
@@ -191,7 +192,7 @@ impl<K: Copy + Eq + Hash> GpuBackend<K> {
         let mut reports = vec![crate::DentReport::default(); jobs.len()];
         for round in rounds(jobs, current.len()) {
             // The falloffs, fitted on the host where they could fold a wall.
-            let mut fitted: Vec<Option<HostFalloff>> = vec![None; round.len()];
+            let mut fitted: Vec<Option<FittedFalloff>> = vec![None; round.len()];
             let to_fit: Vec<usize> =
                 (0..round.len()).filter(|&k| falloff_may_need_fit(&plans[round[k]], &jobs[round[k]].params)).collect();
             if !to_fit.is_empty() {
@@ -244,18 +245,6 @@ impl<K: Copy + Eq + Hash> GpuBackend<K> {
         }
         Ok((states, reports))
     }
-}
-
-/// Every job planned on the host as the CPU batch plans it: from the target as given (its mean
-/// edge sets the automatic resolution).
-fn plan_jobs(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<Vec<DentPlan>, BatchError> {
-    jobs.par_iter()
-        .enumerate()
-        .map(|(job, j)| {
-            let edge = targets[j.target].mean_edge_length();
-            plan_dent(j.projectile, &j.impact, &j.params, Some(edge)).map_err(|error| BatchError { job, error })
-        })
-        .collect()
 }
 
 /// The jobs in rounds: round `r` holds the `r`-th job of every target, in job order, so no
