@@ -3,11 +3,13 @@
 //! vertex to `before + s·(after − before)`, the largest `s` found by bisection) until no new
 //! crossing is left. Crossings that were there before the dent are not its business.
 //!
-//! Cost: one pass over the faces to find the moved ones and the unmoved ones near them, a grid
-//! over those for the pairs whose boxes after the dent overlap, and the exact test (see
-//! [`TriMesh::self_intersections`]) of each such pair at the full displacement, less the pairs
-//! of neighbours around a vertex whose umbrella is certified embedded (`mesh::umbrella`: most
-//! of them, on a smooth dent). Only for a dent
+//! Cost: one pass over the faces to find the moved ones and the unmoved ones near them, a check
+//! of whether the moved faces' patches are height fields after the dent (`mesh::height_field`:
+//! a crater and its rim on a surface seen from one side are; then no two faces of a patch
+//! cross, and its pairs are never listed), a grid for the other pairs whose boxes after the
+//! dent overlap, and the exact test (see [`TriMesh::self_intersections`]) of each such pair at
+//! the full displacement, less the pairs of neighbours around a vertex whose umbrella is
+//! certified embedded (`mesh::umbrella`). Only for a dent
 //! that does make faces cross, the pairs whose swept boxes meet are found and those that their
 //! vertices' relative motion cannot clear (`guard_pairs`: neighbours moving together need no
 //! test; this is sound for every scale, no motion is too small to matter) are tested at each

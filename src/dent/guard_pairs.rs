@@ -38,14 +38,15 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use crate::mesh::cover_mask::CoverMask;
-use crate::mesh::face_grid::{Aabb, overlapping_pairs};
+use crate::mesh::face_grid::{Aabb, overlapping_pairs, pairs_between};
+use crate::mesh::height_field::{UNCERTIFIED, certified_patches};
 use crate::mesh::umbrella::{certified_umbrellas, share_certified_vertex};
 
 /// Which scales of the displacement the pairs are wanted for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Reach {
-    /// The full displacement only: pairs whose boxes after the dent overlap (less those an
-    /// umbrella certificate clears).
+    /// The full displacement only: pairs whose boxes after the dent overlap (less those a
+    /// height-field or umbrella certificate clears).
     Full,
     /// Every scale in `(0, 1]`: pairs whose boxes swept from before to after overlap. (A scaled
     /// position `b + (a − b)·s`, `s < 1`, rounded, stays between `b` and `a`.)
@@ -55,9 +56,10 @@ pub(crate) enum Reach {
 /// Pairs `(f, g)` of faces (`f` moved) that moving `before` to `after` (with `moved` flagging
 /// the vertices that moved) could make cross at the scales `reach` names: for
 /// [`Reach::Scaled`], those that no bound in the module documentation clears; for
-/// [`Reach::Full`], every pair whose boxes after the move overlap but those sharing a vertex
-/// whose umbrella is certified after the move (see `mesh::umbrella`). Each pair once, as
-/// `(smaller, larger)` index.
+/// [`Reach::Full`], every pair whose boxes after the move overlap but those within a patch
+/// certified a height field after the move (see `mesh::height_field`) and those sharing a
+/// vertex whose umbrella is certified after the move (see `mesh::umbrella`). Each pair once,
+/// as `(smaller, larger)` index.
 pub(crate) fn pairs_to_test(
     faces: &[[u32; 3]],
     before: &[Vec3],
@@ -74,21 +76,14 @@ pub(crate) fn pairs_to_test(
     if near.active == 0 {
         return Vec::new();
     }
+    if reach == Reach::Full {
+        return full_reach_pairs(faces, after, &near);
+    }
     let candidates = overlapping_pairs(&near.reached, near.active);
     let id = |(i, j): (u32, u32)| {
         let (f, g) = (near.faces[i as usize], near.faces[j as usize]);
         (f.min(g), f.max(g))
     };
-    if reach == Reach::Full {
-        // Only the full displacement is asked about: every candidate is kept but those sharing
-        // a vertex whose umbrella is certified after the move (they only touch).
-        let certified = certified_umbrellas(after, faces, &near.faces, &near.faces[..near.active]);
-        let keep = |&(i, j): &(u32, u32)| {
-            let (f, g) = (near.faces[i as usize], near.faces[j as usize]);
-            (!share_certified_vertex(faces, &certified, f, g)).then(|| id((i, j)))
-        };
-        return candidates.iter().filter_map(keep).collect();
-    }
     let slack = 4.0 * f64::from(f32::EPSILON) * near.scale;
     let motion = Motion { faces, before, after, slack };
     let keep = |&(i, j): &(u32, u32)| {
@@ -101,6 +96,49 @@ pub(crate) fn pairs_to_test(
     } else {
         candidates.par_iter().with_min_len(PARALLEL_PAIRS / 2).filter_map(keep).collect()
     }
+}
+
+/// The pairs for [`Reach::Full`]: those whose boxes after the move overlap, less the pairs
+/// within a patch of moved faces certified a height field after the move
+/// (`mesh::height_field`: none of its faces cross; its pairs are not even enumerated) and those
+/// sharing a vertex whose umbrella is certified after the move (`mesh::umbrella`: they only
+/// touch).
+fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces) -> Vec<(u32, u32)> {
+    let labels = certified_patches(after, faces, &near.faces[..near.active]);
+    // Indices into `near`: the certified patches' faces, and the rest (moved ones first).
+    let (patches, mut rest): (Vec<u32>, Vec<u32>) =
+        (0..near.active as u32).partition(|&k| labels[k as usize] != UNCERTIFIED);
+    let rest_active = rest.len();
+    rest.extend(near.active as u32..near.faces.len() as u32);
+    let boxes = |indices: &[u32]| indices.iter().map(|&k| near.reached[k as usize]).collect::<Vec<_>>();
+    let rest_boxes = boxes(&rest);
+    let mut candidates: Vec<(u32, u32)> = overlapping_pairs(&rest_boxes, rest_active)
+        .into_iter()
+        .map(|(i, j)| (rest[i as usize], rest[j as usize]))
+        .collect();
+    // Every patch face against the rest; and against the faces of the other patches, each
+    // such pair found once from its face in the patch numbered higher.
+    let label = |k: u32| labels.get(k as usize).copied().unwrap_or(UNCERTIFIED);
+    let queries: Vec<u32> = rest.iter().copied().chain(patches.iter().copied().filter(|&k| label(k) > 0)).collect();
+    let query_boxes = boxes(&queries);
+    candidates.extend(pairs_between(&boxes(&patches), &query_boxes).into_iter().filter_map(|(i, j)| {
+        let (k, q) = (patches[i as usize], queries[j as usize]);
+        (label(q) == UNCERTIFIED || label(k) < label(q)).then_some((k, q))
+    }));
+    let face = |k: u32| near.faces[k as usize];
+    let shared: Vec<u32> = candidates
+        .iter()
+        .flat_map(|&(i, j)| {
+            let q = faces[face(j) as usize];
+            faces[face(i) as usize].into_iter().filter(move |v| q.contains(v))
+        })
+        .collect();
+    let certified = certified_umbrellas(after, faces, &near.faces, &shared);
+    let keep = |&(i, j): &(u32, u32)| {
+        let (f, g) = (face(i), face(j));
+        (!share_certified_vertex(faces, &certified, f, g)).then_some((f.min(g), f.max(g)))
+    };
+    candidates.iter().filter_map(keep).collect()
 }
 
 /// Below this many candidate pairs the clearing runs on one thread (waking the pool costs more).
@@ -406,5 +444,46 @@ mod tests {
         // Pushed only halfway down to the large face: cleared by the gap.
         after[3].z = 0.6;
         assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled), vec![]);
+    }
+
+    /// Two parallel sheets 0.1 apart, the upper one's middle pushed down 0.3 through the lower
+    /// one by a smooth bump (and, second, the lower one's pushed up as much): the moved faces
+    /// of each sheet form a certified height field, so their pairs are skipped, and the
+    /// crossings are found between them and the unmoved sheet below (or the other patch).
+    #[test]
+    fn certified_patches_pushed_through_a_sheet_or_each_other_are_caught() {
+        use crate::mesh::height_field::certified_patches;
+        use crate::mesh::self_intersect::{crossing_pairs_among, faces_cross};
+        use crate::mesh::test_support::sheet;
+        for lower_rises in [false, true] {
+            let (upper, mut faces) = sheet(12, |_, _| 0.0);
+            let (lower, lower_faces) = sheet(12, |_, _| -0.1);
+            let (offset, upper_faces) = (upper.len() as u32, faces.len());
+            faces.extend(lower_faces.iter().map(|f| f.map(|v| v + offset)));
+            let before: Vec<Vec3> = upper.iter().chain(&lower).copied().collect();
+            let bump = |p: Vec3| 0.3 * (1.0 - ((p.x - 0.5).powi(2) + (p.z - 0.5).powi(2)) / 0.09).max(0.0).powi(2);
+            let after: Vec<Vec3> = before
+                .iter()
+                .enumerate()
+                .map(|(v, &p)| match v < upper.len() {
+                    true => p - Vec3::Y * bump(p),
+                    false if lower_rises => p + Vec3::Y * bump(p),
+                    false => p,
+                })
+                .collect();
+            let moved: Vec<bool> = before.iter().zip(&after).map(|(b, a)| b != a).collect();
+            let active: Vec<u32> =
+                (0..faces.len() as u32).filter(|&f| faces[f as usize].iter().any(|&v| moved[v as usize])).collect();
+            let labels = certified_patches(&after, &faces, &active);
+            let expected = |f: u32| if (f as usize) < upper_faces { 0 } else { 1 };
+            assert!(active.iter().zip(&labels).all(|(&f, &l)| l == expected(f)), "the height-field path is taken");
+            let pairs = pairs_to_test(&faces, &before, &after, &moved, Reach::Full);
+            let crossing: Vec<(u32, u32)> =
+                pairs.iter().copied().filter(|&(f, g)| faces_cross(&after, &faces, f, g)).collect();
+            assert!(crossing.iter().all(|&(f, g)| (f as usize) < upper_faces && g as usize >= upper_faces));
+            // Every crossing pair is among those listed (the all-pairs check agrees).
+            let every = crossing_pairs_among(&after, &faces, &active);
+            assert!(!every.is_empty() && every.iter().all(|&(f, g)| crossing.contains(&(f.min(g), f.max(g)))));
+        }
     }
 }

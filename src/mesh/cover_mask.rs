@@ -82,7 +82,7 @@ mod tests {
         assert!(mask.may_overlap(&cube(Vec3::splat(0.1), 0.5)));
         assert!(mask.may_overlap(&cube(Vec3::splat(9.95), 0.01)));
         // Sound for random boxes: whenever a box overlaps a cover, the mask says it may.
-        let mut next = crate::mesh::test_rng::unit_floats(1);
+        let mut next = crate::mesh::test_support::unit_floats(1);
         let covers: Vec<Aabb> =
             (0..40).map(|_| cube(Vec3::new(next(), next(), next()) * 3.0, 0.05 + 0.2 * next())).collect();
         let mask = CoverMask::new(&covers);

@@ -171,18 +171,46 @@ pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: usize) -> Vec<(u32, u32)
             }
         }
     };
-    let run = |range: std::ops::Range<u32>| {
+    queried_in_chunks(active, |range| {
         let mut found = Vec::with_capacity(8 * range.len());
         range.for_each(|a| visit(&mut found, a));
         found
-    };
-    if active <= PARALLEL_QUERIES {
-        return run(0..active as u32);
+    })
+}
+
+/// Every pair `(l, r)` of a box of `left` and a box of `right` that overlap (closed), each
+/// once, in no particular order. `left` is binned and `right` queried: the larger set should
+/// go left.
+pub(crate) fn pairs_between(left: &[Aabb], right: &[Aabb]) -> Vec<(u32, u32)> {
+    if left.is_empty() || right.is_empty() {
+        return Vec::new();
+    }
+    let grid = LooseGrid::new(left);
+    queried_in_chunks(right.len(), |range| {
+        let mut found = Vec::new();
+        for r in range {
+            let box_r = right[r as usize];
+            grid.for_candidates(&box_r, |l, box_l| {
+                if box_r.overlaps(box_l) {
+                    found.push((l, r));
+                }
+            });
+            found.extend(grid.large.iter().filter(|&&l| box_r.overlaps(&left[l as usize])).map(|&l| (l, r)));
+        }
+        found
+    })
+}
+
+/// `query(range)` over `0..count`, on one thread up to [`PARALLEL_QUERIES`], in chunks on the
+/// pool beyond; the results concatenated.
+fn queried_in_chunks(count: usize, query: impl Fn(std::ops::Range<u32>) -> Vec<(u32, u32)> + Sync) -> Vec<(u32, u32)> {
+    if count <= PARALLEL_QUERIES {
+        return query(0..count as u32);
     }
     let chunk = PARALLEL_QUERIES / 2;
-    (0..active.div_ceil(chunk))
+    (0..count.div_ceil(chunk))
         .into_par_iter()
-        .map(|k| run((k * chunk) as u32..((k + 1) * chunk).min(active) as u32))
+        .map(|k| query((k * chunk) as u32..((k + 1) * chunk).min(count) as u32))
         .flatten_iter()
         .collect()
 }
@@ -199,7 +227,7 @@ mod tests {
     /// boxes of mixed sizes (some far larger than the rest) and on touching boxes.
     #[test]
     fn finds_every_overlapping_pair_once() {
-        let mut next = crate::mesh::test_rng::unit_floats(7);
+        let mut next = crate::mesh::test_support::unit_floats(7);
         for round in 0..6 {
             let n = 300 + 200 * round;
             let boxes: Vec<Aabb> = (0..n)
@@ -227,6 +255,16 @@ mod tests {
                 }
             }
             assert_eq!(found, expected, "round {round}");
+            // Between the active boxes and the others: the same pairs less those of two active.
+            let (left, right) = boxes.split_at(active);
+            let mut between: Vec<(u32, u32)> =
+                pairs_between(left, right).into_iter().map(|(l, r)| (l, r + active as u32)).collect();
+            let between_count = between.len();
+            between.sort_unstable();
+            between.dedup();
+            assert_eq!(between.len(), between_count, "a pair reported twice");
+            expected.retain(|&(_, c)| c as usize >= active);
+            assert_eq!(between, expected, "round {round}, between");
         }
         // Boxes that only touch (a shared face of two grid cells) overlap.
         let boxes = [Aabb { min: Vec3::ZERO, max: Vec3::ONE }, Aabb { min: Vec3::X, max: Vec3::new(2.0, 1.0, 1.0) }];

@@ -18,6 +18,7 @@ mod gltf;
 mod gltf_access;
 #[cfg(feature = "io")]
 mod gltf_read;
+pub(crate) mod height_field;
 mod mass;
 mod obj;
 mod ply;
@@ -54,4 +55,4 @@ pub(crate) use trimesh::in_coordinate_range;
 pub use trimesh::{EdgeLengths, MAX_COORDINATE, TriMesh, validate};
 
 #[cfg(test)]
-mod test_rng;
+pub(crate) mod test_support;

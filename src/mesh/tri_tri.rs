@@ -40,7 +40,7 @@ fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> (i8, f64) {
 
 /// Sign of the 2D orientation of `c` relative to the directed line `a → b` (counter-clockwise
 /// positive), zero within rounding.
-fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+pub(super) fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
     let left = (a[0] - c[0]) * (b[1] - c[1]);
     let right = (a[1] - c[1]) * (b[0] - c[0]);
     certain_sign(left - right, ORIENT2D_BOUND * (left.abs() + right.abs()))

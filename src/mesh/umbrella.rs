@@ -28,22 +28,26 @@ const REFERENCE_MARGIN: f64 = 1e-9;
 /// handle them).
 const MAX_FAN: usize = 32;
 
-/// Flags, one per vertex of `positions`, for the corners of the faces `chosen` whose umbrellas
-/// are certified (module documentation). `around` must list every face of `faces` that uses
-/// one of those corners (it may list others).
-pub(crate) fn certified_umbrellas(positions: &[Vec3], faces: &[[u32; 3]], around: &[u32], chosen: &[u32]) -> Vec<bool> {
+/// Flags, one per vertex of `positions`, for the vertices `corners` (repeats allowed) whose
+/// umbrellas are certified (module documentation). `around` must list every face of `faces`
+/// that uses one of them (it may list others).
+pub(crate) fn certified_umbrellas(
+    positions: &[Vec3],
+    faces: &[[u32; 3]],
+    around: &[u32],
+    corners: &[u32],
+) -> Vec<bool> {
     // The corners, numbered locally in the order met.
     const NONE: u32 = u32::MAX;
     let mut local = vec![NONE; positions.len()];
-    let mut corners = Vec::with_capacity(chosen.len());
-    for &f in chosen {
-        for &v in &faces[f as usize] {
-            if local[v as usize] == NONE {
-                local[v as usize] = corners.len() as u32;
-                corners.push(v);
-            }
+    let mut unique = Vec::with_capacity(corners.len());
+    for &v in corners {
+        if local[v as usize] == NONE {
+            local[v as usize] = unique.len() as u32;
+            unique.push(v);
         }
     }
+    let corners = unique;
     // Faces around each corner, compressed rows.
     let mut starts = vec![0u32; corners.len() + 1];
     for &f in around {
@@ -188,7 +192,7 @@ mod tests {
 
     fn certified(positions: &[Vec3], faces: &[[u32; 3]]) -> bool {
         let around: Vec<u32> = (0..faces.len() as u32).collect();
-        certified_umbrellas(positions, faces, &around, &around)[0]
+        certified_umbrellas(positions, faces, &around, &[0])[0]
     }
 
     #[test]
@@ -219,16 +223,16 @@ mod tests {
         let flat = ring(6, 1.0, |_| 0.0);
         let all = fan_faces(6);
         let listed: Vec<u32> = (0..5).collect();
-        assert!(!certified_umbrellas(&flat, &all, &listed, &listed)[0]);
+        assert!(!certified_umbrellas(&flat, &all, &listed, &[0])[0]);
         let every: Vec<u32> = (0..6).collect();
-        assert!(certified_umbrellas(&flat, &all, &every, &listed)[0]);
+        assert!(certified_umbrellas(&flat, &all, &every, &[0])[0]);
     }
 
     /// Wherever a vertex is certified, no two faces around it cross by the exact test: random
     /// fans, smooth and crumpled.
     #[test]
     fn no_certified_fan_has_crossing_faces() {
-        let mut unit = crate::mesh::test_rng::unit_floats(11);
+        let mut unit = crate::mesh::test_support::unit_floats(11);
         let mut next = || unit() - 0.5;
         let (mut checked, mut crossing_seen) = (0, 0);
         for round in 0..4000 {
