@@ -187,8 +187,8 @@ pub(crate) fn guard_and_keep_volume(
     if params.guard_crossings && preserve {
         // Most dents make nothing cross: one guard pass over the dent and its rim together
         // settles them. Otherwise the dent is limited first and its rim made for what is left.
-        let rim = restore_volume(faces, normals, before, pending, map, params.volume)?;
-        if !makes_new_crossings(pending, faces, before) {
+        let (rim, sorted) = restore_volume(faces, normals, before, pending, map, params.volume, true)?;
+        if !makes_new_crossings(pending, faces, before, sorted) {
             return Ok(());
         }
         rim.undo(pending);
@@ -196,7 +196,7 @@ pub(crate) fn guard_and_keep_volume(
     if params.guard_crossings {
         guard_crossings(pending, faces, before);
     }
-    restore_volume(faces, normals, before, pending, map, params.volume)?;
+    restore_volume(faces, normals, before, pending, map, params.volume, false)?;
     if params.guard_crossings && preserve {
         let limited = pending.report.limited_to;
         guard_crossings(pending, faces, before);

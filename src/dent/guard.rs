@@ -25,6 +25,7 @@ use rayon::prelude::*;
 
 use super::guard_pairs::{Reach, pairs_to_test};
 use super::map::PendingDisplacement;
+use crate::mesh::face_sort::FaceSort;
 use crate::mesh::self_intersect::faces_cross;
 
 /// Bisection steps: the scale found is within 2⁻¹² of the largest crossing-free one.
@@ -55,8 +56,14 @@ pub(crate) fn guard_crossings(pending: &mut PendingDisplacement, faces: &[[u32; 
 
 /// Whether `pending` (computed from `before`, the positions of a mesh with `faces`) makes a
 /// pair of faces cross that did not cross before it: what [`guard_crossings`] would limit.
-pub(crate) fn makes_new_crossings(pending: &PendingDisplacement, faces: &[[u32; 3]], before: &[Vec3]) -> bool {
-    let pairs = pairs_to_test(faces, before, &pending.positions, &pending.moved, Reach::Full);
+/// `presorted`: a sort of the faces made beforehand, as `guard_pairs::pairs_to_test` takes.
+pub(crate) fn makes_new_crossings(
+    pending: &PendingDisplacement,
+    faces: &[[u32; 3]],
+    before: &[Vec3],
+    presorted: Option<FaceSort>,
+) -> bool {
+    let pairs = pairs_to_test(faces, before, &pending.positions, &pending.moved, Reach::Full, presorted);
     let after = crossing_pairs(faces, &pending.positions, &pairs);
     !after.is_empty() && {
         let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &after).into_iter().collect();
@@ -83,13 +90,13 @@ fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
 /// scale (to 2⁻¹²) of the displacement that makes none (0 at worst: nothing moves).
 fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<f32> {
     // The pairs whose boxes after the dent overlap, tested at the full displacement.
-    let pairs = pairs_to_test(faces, before, after, moved, Reach::Full);
+    let pairs = pairs_to_test(faces, before, after, moved, Reach::Full, None);
     let crossing_after = crossing_pairs(faces, after, &pairs);
     if crossing_after.is_empty() {
         return None;
     }
     // Those that could cross at any scale (a superset), less those that crossed before.
-    let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled);
+    let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled, None);
     let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &pairs).into_iter().collect();
     if crossing_after.iter().all(|p| crossed_before.contains(p)) {
         return None;

@@ -39,6 +39,7 @@ use rayon::prelude::*;
 
 use crate::mesh::cover_mask::CoverMask;
 use crate::mesh::face_grid::{Aabb, overlapping_pairs, pairs_between};
+use crate::mesh::face_sort::{FaceSort, MARK_A, out_code};
 use crate::mesh::height_field::{UNCERTIFIED, certified_patches};
 use crate::mesh::umbrella::{certified_umbrellas, share_certified_vertex};
 
@@ -59,20 +60,23 @@ pub(crate) enum Reach {
 /// [`Reach::Full`], every pair whose boxes after the move overlap but those within a patch
 /// certified a height field after the move (see `mesh::height_field`) and those sharing a
 /// vertex whose umbrella is certified after the move (see `mesh::umbrella`). Each pair once,
-/// as `(smaller, larger)` index.
+/// as `(smaller, larger)` index. `presorted`, when given, is a sort of the faces made
+/// beforehand (for example in the volume stage's pass) whose marked faces include every face
+/// with a moved corner; it saves a pass over the faces when its region holds the moved vertices.
 pub(crate) fn pairs_to_test(
     faces: &[[u32; 3]],
     before: &[Vec3],
     after: &[Vec3],
     moved: &[bool],
     reach: Reach,
+    presorted: Option<FaceSort>,
 ) -> Vec<(u32, u32)> {
     // The near set's completeness (every face around a corner of a moved face) rests on this.
     debug_assert!(
         before.iter().zip(after).zip(moved).all(|((b, a), &m)| m || b == a),
         "a vertex not flagged as moved changed position"
     );
-    let near = NearFaces::find(faces, before, after, moved, reach);
+    let near = NearFaces::find(faces, before, after, moved, reach, presorted);
     if near.active == 0 {
         return Vec::new();
     }
@@ -160,7 +164,14 @@ struct NearFaces {
 }
 
 impl NearFaces {
-    fn find(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool], reach: Reach) -> Self {
+    fn find(
+        faces: &[[u32; 3]],
+        before: &[Vec3],
+        after: &[Vec3],
+        moved: &[bool],
+        reach: Reach,
+        presorted: Option<FaceSort>,
+    ) -> Self {
         // Where the moved faces lie, guessed first as the moved vertices' box (before and
         // after) widened by a twentieth of its size, so that one pass over the faces finds them
         // and the unmoved faces that may meet them: when the guess holds every moved face's
@@ -176,8 +187,12 @@ impl NearFaces {
         let mut guess = Aabb { min: moved_box.min - Vec3::splat(widen), max: moved_box.max + Vec3::splat(widen) };
         let box_before = |f: u32| Aabb::of(faces[f as usize].map(|v| before[v as usize]));
         let box_after = |f: u32| Aabb::of(faces[f as usize].map(|v| after[v as usize]));
+        // A sort made beforehand serves when its region holds the moved vertices (its marked
+        // faces' corners are checked as for any sort).
+        let mut presorted = presorted.filter(|sort| sort.region.contains(&moved_box));
         loop {
-            let (mut list, maybe, inside) = sort_faces(faces, before, moved, &guess);
+            let sort = presorted.take().unwrap_or_else(|| sort_faces(faces, before, moved, guess));
+            let (mut list, maybe, inside) = (sort.marked, sort.maybe, sort.inside);
             let active = list.len();
             // Boxes before are needed for the swept boxes, the bounds and a second pass only.
             let scaled = reach == Reach::Scaled;
@@ -221,30 +236,12 @@ impl NearFaces {
     }
 }
 
-/// One pass over the faces: those with a moved corner, the unmoved ones whose corners do not all
-/// lie beyond one side of `guess` (out-codes per vertex), and whether every moved face's
-/// corners lie inside `guess`.
-fn sort_faces(faces: &[[u32; 3]], before: &[Vec3], moved: &[bool], guess: &Aabb) -> (Vec<u32>, Vec<u32>, bool) {
-    const MOVED: u8 = 1 << 7;
-    let codes: Vec<u8> = before
-        .iter()
-        .zip(moved)
-        .map(|(&p, &m)| {
-            let outside = p.cmplt(guess.min).bitmask() | p.cmpgt(guess.max).bitmask() << 3;
-            outside as u8 | if m { MOVED } else { 0 }
-        })
-        .collect();
-    let (mut active, mut maybe, mut inside) = (Vec::new(), Vec::new(), true);
-    for (f, face) in faces.iter().enumerate() {
-        let [a, b, c] = face.map(|v| codes[v as usize]);
-        if (a | b | c) & MOVED != 0 {
-            active.push(f as u32);
-            inside &= (a | b | c) & !MOVED == 0;
-        } else if a & b & c == 0 {
-            maybe.push(f as u32);
-        }
-    }
-    (active, maybe, inside)
+/// One pass over the faces: those with a moved corner (marked), the unmoved ones that may reach
+/// into `guess`, and whether every moved face's corners lie inside it.
+fn sort_faces(faces: &[[u32; 3]], before: &[Vec3], moved: &[bool], guess: Aabb) -> FaceSort {
+    let codes: Vec<u8> =
+        before.iter().zip(moved).map(|(&p, &m)| out_code(p, &guess) | if m { MARK_A } else { 0 }).collect();
+    FaceSort::new(faces, &codes, Some(guess))
 }
 
 /// Euclidean distance between boxes.
@@ -435,15 +432,23 @@ mod tests {
         after[3].z = -1.0;
         let moved = [false, false, false, true, false, false];
         for reach in [Reach::Full, Reach::Scaled] {
-            assert_eq!(pairs_to_test(&faces, &before, &after, &moved, reach), vec![(0, 1)], "{reach:?}");
+            assert_eq!(pairs_to_test(&faces, &before, &after, &moved, reach, None), vec![(0, 1)], "{reach:?}");
         }
         // With a repeated corner the moved face has no area and crosses nothing.
         let collapsed = [[0, 1, 2], [3, 3, 5]];
         after[3].z = -1.0;
-        assert_eq!(pairs_to_test(&collapsed, &before, &after, &moved, Reach::Scaled), vec![]);
+        assert_eq!(pairs_to_test(&collapsed, &before, &after, &moved, Reach::Scaled, None), vec![]);
+        // A sort made beforehand around where the moved vertex was (say, before a rim rose) does
+        // not hold where it went: it is not used, and the pair is still found.
+        let region = Aabb { min: Vec3::splat(0.9), max: Vec3::splat(2.1) };
+        let codes: Vec<u8> =
+            before.iter().zip(&moved).map(|(&p, &m)| out_code(p, &region) | if m { MARK_A } else { 0 }).collect();
+        let stale = FaceSort::new(&faces, &codes, Some(region));
+        assert_eq!((&stale.marked[..], &stale.maybe[..]), (&[1][..], &[][..]), "face 0 lies outside");
+        assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Full, Some(stale)), vec![(0, 1)]);
         // Pushed only halfway down to the large face: cleared by the gap.
         after[3].z = 0.6;
-        assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled), vec![]);
+        assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled, None), vec![]);
     }
 
     /// Two parallel sheets 0.1 apart, the upper one's middle pushed down 0.3 through the lower
@@ -477,7 +482,7 @@ mod tests {
             let labels = certified_patches(&after, &faces, &active);
             let expected = |f: u32| if (f as usize) < upper_faces { 0 } else { 1 };
             assert!(active.iter().zip(&labels).all(|(&f, &l)| l == expected(f)), "the height-field path is taken");
-            let pairs = pairs_to_test(&faces, &before, &after, &moved, Reach::Full);
+            let pairs = pairs_to_test(&faces, &before, &after, &moved, Reach::Full, None);
             let crossing: Vec<(u32, u32)> =
                 pairs.iter().copied().filter(|&(f, g)| faces_cross(&after, &faces, f, g)).collect();
             assert!(crossing.iter().all(|&(f, g)| (f as usize) < upper_faces && g as usize >= upper_faces));

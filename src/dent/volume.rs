@@ -12,6 +12,8 @@ use glam::{DVec3, Vec3};
 
 use super::map::PendingDisplacement;
 use super::{DentMap, VolumeMode};
+use crate::mesh::face_grid::Aabb;
+use crate::mesh::face_sort::{FaceSort, MARK_A, MARK_B, out_code};
 use crate::mesh::in_coordinate_range;
 
 /// Width of the rim past the crater's edge, in crater half-extents (on each of the map's axes).
@@ -26,7 +28,10 @@ const MAX_PUSH_RADII: f64 = 4.0;
 /// Measures the volume change `pending` makes to a mesh of `faces` whose positions were
 /// `before`, and under [`VolumeMode::Preserve`] pushes a rim around `map`'s crater out along
 /// `normals` (the mesh's vertex normals before the dent) until it is undone. Writes the result
-/// into `pending.report`; returns how to put `pending` back as it was.
+/// into `pending.report`; returns how to put `pending` back as it was and, when `sort_for_guard`,
+/// the faces sorted on the way for the intersection guard (marked: those with a corner the dent
+/// or the rim may move; region: around the moved vertices and the rim, see
+/// `guard_pairs::pairs_to_test`).
 ///
 /// # Errors
 /// [`DentError::NonFiniteResult`](super::DentError::NonFiniteResult) when the rim would leave
@@ -38,7 +43,8 @@ pub(crate) fn restore_volume(
     pending: &mut PendingDisplacement,
     map: &DentMap,
     mode: VolumeMode,
-) -> Result<RimUndo, super::DentError> {
+    sort_for_guard: bool,
+) -> Result<(RimUndo, Option<FaceSort>), super::DentError> {
     let mut undo = RimUndo { vertices: Vec::new(), report: pending.report.clone() };
     let origin = map.grid.origin.as_dvec3();
     let tetra = |p: &[Vec3], f: &[u32; 3]| {
@@ -50,37 +56,43 @@ pub(crate) fn restore_volume(
         VolumeMode::Preserve => rim_weights(normals, before, pending, &moved, map),
         VolumeMode::Free => None,
     };
-    // One pass over the faces: those with a moved corner changed the volume, those with a rim
-    // corner will. Each vertex's flags, and its place in `rim` (or NONE).
+    // One pass over the faces: those with a moved corner (mark A) changed the volume, those with
+    // a rim corner (mark B) will; sorted for the guard on the way when asked. Each vertex's
+    // place in `rim`, or NONE.
     const NONE: u32 = u32::MAX;
-    const MOVED: u8 = 1;
-    const RIM: u8 = 2;
-    let mut flags: Vec<u8> = pending.moved.iter().map(|&m| if m { MOVED } else { 0 }).collect();
+    let mut codes: Vec<u8> = pending.moved.iter().map(|&m| if m { MARK_A } else { 0 }).collect();
     let mut slot = vec![NONE; if rim.is_some() { before.len() } else { 0 }];
     if let Some((rim, _)) = &rim {
         for (k, &(v, _)) in rim.iter().enumerate() {
             slot[v as usize] = k as u32;
-            flags[v as usize] |= RIM;
+            codes[v as usize] |= MARK_B;
         }
     }
+    let region =
+        sort_for_guard.then(|| guard_region(before, &pending.positions, &moved, rim.as_ref().map(|r| &r.0[..])));
+    if let Some(region) = &region {
+        codes.iter_mut().zip(before).for_each(|(c, &p)| *c |= out_code(p, region));
+    }
+    let sort = FaceSort::new(faces, &codes, region);
     let (mut dug, mut rim_faces) = (0.0, Vec::new());
-    for f in faces {
-        let code = flags[f[0] as usize] | flags[f[1] as usize] | flags[f[2] as usize];
-        if code & MOVED != 0 {
+    for f in sort.marked.iter().map(|&f| &faces[f as usize]) {
+        let code = f.iter().fold(0, |c, &v| c | codes[v as usize]);
+        if code & MARK_A != 0 {
             dug += tetra(&pending.positions, f) - tetra(before, f);
         }
-        if code & RIM != 0 {
+        if code & MARK_B != 0 {
             rim_faces.push(f);
         }
     }
+    let sorted = region.is_some().then_some(sort);
     pending.report.cavity_volume = dug.abs();
     pending.report.volume_change = dug;
     if mode == VolumeMode::Free || dug == 0.0 {
-        return Ok(undo);
+        return Ok((undo, sorted));
     }
     let Some((rim, crater)) = rim else {
         warn(pending, "no surface around the dent to raise a rim on: its volume is not restored");
-        return Ok(undo);
+        return Ok((undo, sorted));
     };
     let push = |v: u32| match slot[v as usize] {
         NONE => DVec3::ZERO,
@@ -97,7 +109,7 @@ pub(crate) fn restore_volume(
     let heaviest = rim.iter().map(|(_, u)| u.length()).fold(0.0, f64::max);
     let Some(s) = root_toward(cubic, MAX_PUSH_RADII * crater / heaviest) else {
         warn(pending, "no rim up to 4 crater radii high refills this dent: its volume is not restored");
-        return Ok(undo);
+        return Ok((undo, sorted));
     };
 
     let old: Vec<Vec3> = rim.iter().map(|&(v, _)| pending.positions[v as usize]).collect();
@@ -122,7 +134,19 @@ pub(crate) fn restore_volume(
             pending.report.max_displacement = pending.report.max_displacement.max(length);
         }
     }
-    Ok(undo)
+    Ok((undo, sorted))
+}
+
+/// Where the guard should sort the faces around: the box of the moved vertices (before and
+/// after) and of the rim's vertices (before), widened by a twentieth of its size on every side
+/// so that it also holds the rim once raised (a rim higher than that only costs the guard a
+/// pass of its own).
+fn guard_region(before: &[Vec3], after: &[Vec3], moved: &[u32], rim: Option<&[(u32, DVec3)]>) -> Aabb {
+    let dent = moved.iter().map(|&v| v as usize).flat_map(|v| [before[v], after[v]]);
+    let raised = rim.unwrap_or_default().iter().map(|&(v, _)| before[v as usize]);
+    let region = Aabb::of(dent.chain(raised));
+    let widen = Vec3::splat(0.05 * (region.max - region.min).max_element().max(0.0));
+    Aabb { min: region.min - widen, max: region.max + widen }
 }
 
 /// What [`restore_volume`] changed in a dent: the vertices its rim moved (with their positions

@@ -10,6 +10,7 @@ pub(crate) mod cover_mask;
 mod edit;
 mod error;
 pub(crate) mod face_grid;
+pub(crate) mod face_sort;
 #[cfg(feature = "io")]
 mod glb;
 #[cfg(feature = "io")]
