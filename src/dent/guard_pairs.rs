@@ -103,15 +103,19 @@ pub(crate) fn pairs_to_test(
 }
 
 /// The pairs for [`Reach::Full`]: those whose boxes after the move overlap, less the pairs
-/// within a patch of moved faces certified a height field after the move
-/// (`mesh::height_field`: none of its faces cross; its pairs are not even enumerated) and those
-/// sharing a vertex whose umbrella is certified after the move (`mesh::umbrella`: they only
-/// touch).
+/// within a patch of moved faces certified a height field after the move, with its ring of
+/// unmoved faces where that is certified too (`mesh::height_field`: none of its faces cross;
+/// its pairs are not even enumerated), and those sharing a vertex whose umbrella is certified
+/// after the move (`mesh::umbrella`: they only touch).
 fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces) -> Vec<(u32, u32)> {
-    let labels = certified_patches(after, faces, &near.faces[..near.active]);
-    // Indices into `near`: the certified patches' faces, and the rest (moved ones first).
-    let (patches, mut rest): (Vec<u32>, Vec<u32>) =
-        (0..near.active as u32).partition(|&k| labels[k as usize] != UNCERTIFIED);
+    let (moved_labels, ring_labels) =
+        certified_patches(after, faces, &near.faces[..near.active], &near.faces[near.active..]);
+    let label = |k: u32| match (k as usize).checked_sub(near.active) {
+        None => moved_labels[k as usize],
+        Some(unmoved) => ring_labels[unmoved],
+    };
+    // Indices into `near`: the certified patches' moved faces, and the rest (moved ones first).
+    let (patches, mut rest): (Vec<u32>, Vec<u32>) = (0..near.active as u32).partition(|&k| label(k) != UNCERTIFIED);
     let rest_active = rest.len();
     rest.extend(near.active as u32..near.faces.len() as u32);
     let boxes = |indices: &[u32]| indices.iter().map(|&k| near.reached[k as usize]).collect::<Vec<_>>();
@@ -120,14 +124,36 @@ fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces) -> Vec
         .into_iter()
         .map(|(i, j)| (rest[i as usize], rest[j as usize]))
         .collect();
-    // Every patch face against the rest; and against the faces of the other patches, each
-    // such pair found once from its face in the patch numbered higher.
-    let label = |k: u32| labels.get(k as usize).copied().unwrap_or(UNCERTIFIED);
-    let queries: Vec<u32> = rest.iter().copied().chain(patches.iter().copied().filter(|&k| label(k) > 0)).collect();
+    // Every patch face against the rest but its own ring; and against the moved faces of the
+    // other patches, each such pair found once from its face in the patch numbered higher.
+    // A face is queried only if its box meets a patch it may cross (the box of its moved faces).
+    let mut patch_boxes: Vec<Aabb> = Vec::new();
+    for &k in &patches {
+        let l = label(k) as usize;
+        if l >= patch_boxes.len() {
+            patch_boxes.resize(l + 1, Aabb::EMPTY);
+        }
+        patch_boxes[l] = patch_boxes[l].union(near.reached[k as usize]);
+    }
+    let may_meet = |q: u32| {
+        let (own, b) = (label(q), near.reached[q as usize]);
+        let crossable = |l: usize| match own {
+            UNCERTIFIED => true,
+            own if (q as usize) < near.active => l < own as usize,
+            own => l != own as usize,
+        };
+        patch_boxes.iter().enumerate().any(|(l, p)| crossable(l) && p.overlaps(&b))
+    };
+    let queries: Vec<u32> = rest.iter().chain(&patches).copied().filter(|&q| may_meet(q)).collect();
     let query_boxes = boxes(&queries);
     candidates.extend(pairs_between(&boxes(&patches), &query_boxes).into_iter().filter_map(|(i, j)| {
         let (k, q) = (patches[i as usize], queries[j as usize]);
-        (label(q) == UNCERTIFIED || label(k) < label(q)).then_some((k, q))
+        let wanted = match label(q) {
+            UNCERTIFIED => true,
+            other if (q as usize) < near.active => label(k) < other,
+            ring => ring != label(k),
+        };
+        wanted.then_some((k, q))
     }));
     let face = |k: u32| near.faces[k as usize];
     let shared: Vec<u32> = candidates
@@ -451,37 +477,39 @@ mod tests {
         assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled, None), vec![]);
     }
 
-    /// Two parallel sheets 0.1 apart, the upper one's middle pushed down 0.3 through the lower
-    /// one by a smooth bump (and, second, the lower one's pushed up as much): the moved faces
-    /// of each sheet form a certified height field, so their pairs are skipped, and the
-    /// crossings are found between them and the unmoved sheet below (or the other patch).
+    /// Two parallel sheets 0.1 apart, the upper one's middle pushed down through the lower one
+    /// by a smooth bump; second, the lower one's pushed up as much; third, the upper one
+    /// dented a little and the lower one raised in a wider bump through the upper one's dent
+    /// and the ring around it. The moved faces of each sheet form a certified height field
+    /// (with their ring of unmoved faces), so their pairs are skipped, and every crossing is
+    /// found between them and the other sheet's faces.
     #[test]
     fn certified_patches_pushed_through_a_sheet_or_each_other_are_caught() {
-        use crate::mesh::height_field::certified_patches;
         use crate::mesh::self_intersect::{crossing_pairs_among, faces_cross};
         use crate::mesh::test_support::sheet;
-        for lower_rises in [false, true] {
+        // (upper bump depth and squared radius, lower bump height and squared radius)
+        for (down, upper_r2, up, lower_r2) in [(0.3, 0.09, 0.0, 1.0), (0.3, 0.09, 0.3, 0.09), (0.05, 0.04, 0.3, 0.2)] {
             let (upper, mut faces) = sheet(12, |_, _| 0.0);
             let (lower, lower_faces) = sheet(12, |_, _| -0.1);
             let (offset, upper_faces) = (upper.len() as u32, faces.len());
             faces.extend(lower_faces.iter().map(|f| f.map(|v| v + offset)));
             let before: Vec<Vec3> = upper.iter().chain(&lower).copied().collect();
-            let bump = |p: Vec3| 0.3 * (1.0 - ((p.x - 0.5).powi(2) + (p.z - 0.5).powi(2)) / 0.09).max(0.0).powi(2);
+            let bump = |p: Vec3, r2: f32| (1.0 - ((p.x - 0.5).powi(2) + (p.z - 0.5).powi(2)) / r2).max(0.0).powi(2);
             let after: Vec<Vec3> = before
                 .iter()
                 .enumerate()
                 .map(|(v, &p)| match v < upper.len() {
-                    true => p - Vec3::Y * bump(p),
-                    false if lower_rises => p + Vec3::Y * bump(p),
-                    false => p,
+                    true => p - Vec3::Y * down * bump(p, upper_r2),
+                    false => p + Vec3::Y * up * bump(p, lower_r2),
                 })
                 .collect();
             let moved: Vec<bool> = before.iter().zip(&after).map(|(b, a)| b != a).collect();
             let active: Vec<u32> =
                 (0..faces.len() as u32).filter(|&f| faces[f as usize].iter().any(|&v| moved[v as usize])).collect();
-            let labels = certified_patches(&after, &faces, &active);
-            let expected = |f: u32| if (f as usize) < upper_faces { 0 } else { 1 };
-            assert!(active.iter().zip(&labels).all(|(&f, &l)| l == expected(f)), "the height-field path is taken");
+            let unmoved: Vec<u32> = (0..faces.len() as u32).filter(|f| !active.contains(f)).collect();
+            let (labels, ring) = certified_patches(&after, &faces, &active, &unmoved);
+            assert!(labels.iter().all(|&l| l != UNCERTIFIED), "the height-field path is taken");
+            assert!(ring.iter().filter(|&&l| l != UNCERTIFIED).count() >= 40, "with the rings");
             let pairs = pairs_to_test(&faces, &before, &after, &moved, Reach::Full, None);
             let crossing: Vec<(u32, u32)> =
                 pairs.iter().copied().filter(|&(f, g)| faces_cross(&after, &faces, f, g)).collect();

@@ -36,26 +36,51 @@ const MIN_PATCH_FACES: usize = 16;
 /// At most this many patches are tried, the largest first.
 const MAX_PATCHES: usize = 8;
 
-/// Labels, in the order of `candidates` (faces of `faces` at `positions`): for the faces of
-/// each of their connected patches (faces joined through a shared vertex) that is certified
-/// (module documentation), the patch's number, 0 for the largest, counting up as the
-/// patches shrink; [`UNCERTIFIED`] for the others. Only the [`MAX_PATCHES`] largest patches
-/// of at least [`MIN_PATCH_FACES`] faces are tried.
-pub(crate) fn certified_patches(positions: &[Vec3], faces: &[[u32; 3]], candidates: &[u32]) -> Vec<u32> {
-    let local = LocalVertices::new(positions.len(), faces, candidates);
-    let roots = local.patch_roots(faces, candidates);
-    let mut sizes = vec![0usize; local.vertices.len()];
+/// Labels for the faces `candidates` and `around` (faces of `faces` at `positions`): the
+/// candidates' connected patches (faces joined through a shared vertex) that are certified
+/// (module documentation) are numbered, 0 for the largest, counting up as the patches shrink,
+/// and their faces get that number; the others [`UNCERTIFIED`]. Only the [`MAX_PATCHES`]
+/// largest patches of at least [`MIN_PATCH_FACES`] faces are tried. Each is tried first
+/// together with its ring, the faces of `around` that share a vertex with it (then those get
+/// its number too: no pair of the patch and its ring crosses either), and alone if that fails.
+pub(crate) fn certified_patches(
+    positions: &[Vec3],
+    faces: &[[u32; 3]],
+    candidates: &[u32],
+    around: &[u32],
+) -> (Vec<u32>, Vec<u32>) {
+    let mut local = LocalVertices::new(positions.len(), faces, candidates);
+    let vertex_roots = local.patch_roots(faces, candidates);
+    let root_of = |f: u32| vertex_roots[local.of(faces[f as usize][0])];
+    let roots: Vec<u32> = candidates.iter().map(|&f| root_of(f)).collect();
+    // The patch each face of `around` touches first, if any; then their other corners numbered.
+    let ring_roots: Vec<u32> = around
+        .iter()
+        .map(|&f| {
+            let touching = faces[f as usize].into_iter().map(|v| local.number[v as usize]).find(|&k| k != NONE);
+            touching.map_or(NONE, |k| vertex_roots[k as usize])
+        })
+        .collect();
+    let ring: Vec<u32> = around.iter().zip(&ring_roots).filter(|(_, r)| **r != NONE).map(|(&f, _)| f).collect();
+    local.extend(faces, &ring);
+    let mut sizes = vec![0usize; vertex_roots.len()];
     roots.iter().for_each(|&r| sizes[r as usize] += 1);
     let mut tried: Vec<u32> = (0..sizes.len() as u32).filter(|&r| sizes[r as usize] >= MIN_PATCH_FACES).collect();
     tried.sort_unstable_by_key(|&r| std::cmp::Reverse(sizes[r as usize]));
     tried.truncate(MAX_PATCHES);
-    let mut labels = vec![UNCERTIFIED; candidates.len()];
+    let mut labels = (vec![UNCERTIFIED; candidates.len()], vec![UNCERTIFIED; around.len()]);
     let mut next_label = 0;
     for root in tried {
         let members: Vec<usize> = (0..candidates.len()).filter(|&k| roots[k] == root).collect();
+        let ring_members: Vec<usize> = (0..around.len()).filter(|&k| ring_roots[k] == root).collect();
         let patch: Vec<u32> = members.iter().map(|&k| candidates[k]).collect();
-        if is_embedded(positions, faces, &patch, &local) {
-            members.iter().for_each(|&k| labels[k] = next_label);
+        let with_ring: Vec<u32> = patch.iter().copied().chain(ring_members.iter().map(|&k| around[k])).collect();
+        let ring_too = !ring_members.is_empty() && is_embedded(positions, faces, &with_ring, &local);
+        if ring_too || is_embedded(positions, faces, &patch, &local) {
+            members.iter().for_each(|&k| labels.0[k] = next_label);
+            if ring_too {
+                ring_members.iter().for_each(|&k| labels.1[k] = next_label);
+            }
             next_label += 1;
         }
     }
@@ -75,25 +100,29 @@ struct LocalVertices {
 
 impl LocalVertices {
     fn new(vertex_count: usize, faces: &[[u32; 3]], chosen: &[u32]) -> Self {
-        let mut number = vec![NONE; vertex_count];
-        let mut vertices = Vec::with_capacity(chosen.len());
+        let mut local = Self { number: vec![NONE; vertex_count], vertices: Vec::with_capacity(chosen.len()) };
+        local.extend(faces, chosen);
+        local
+    }
+
+    /// Numbers the corners of `chosen` not numbered yet.
+    fn extend(&mut self, faces: &[[u32; 3]], chosen: &[u32]) {
         for &f in chosen {
             for v in faces[f as usize] {
-                if number[v as usize] == NONE {
-                    number[v as usize] = vertices.len() as u32;
-                    vertices.push(v);
+                if self.number[v as usize] == NONE {
+                    self.number[v as usize] = self.vertices.len() as u32;
+                    self.vertices.push(v);
                 }
             }
         }
-        Self { number, vertices }
     }
 
     fn of(&self, v: u32) -> usize {
         self.number[v as usize] as usize
     }
 
-    /// For each face of `chosen` (whose vertices are numbered), a local vertex that stands for
-    /// its connected patch.
+    /// For each numbered vertex, one that stands for its connected patch among the faces
+    /// `chosen` (whose corners are all numbered).
     fn patch_roots(&self, faces: &[[u32; 3]], chosen: &[u32]) -> Vec<u32> {
         let mut parent: Vec<u32> = (0..self.vertices.len() as u32).collect();
         fn root(parent: &mut [u32], mut x: u32) -> u32 {
@@ -111,7 +140,7 @@ impl LocalVertices {
                 parent[ra.max(ro) as usize] = ra.min(ro);
             }
         }
-        chosen.iter().map(|&f| root(&mut parent, self.number[faces[f as usize][0] as usize])).collect()
+        (0..parent.len() as u32).map(|x| root(&mut parent, x)).collect()
     }
 }
 
@@ -252,7 +281,7 @@ mod tests {
 
     /// Whether each of `chosen` lies in a certified patch.
     fn certified_patch(positions: &[Vec3], faces: &[[u32; 3]], chosen: &[u32]) -> Vec<bool> {
-        certified_patches(positions, faces, chosen).into_iter().map(|l| l != UNCERTIFIED).collect()
+        certified_patches(positions, faces, chosen, &[]).0.into_iter().map(|l| l != UNCERTIFIED).collect()
     }
 
     #[test]
@@ -372,6 +401,32 @@ mod tests {
         assert!(certified_patch(&positions, &faces, &all(&faces)).iter().all(|&f| !f));
     }
 
+    /// A dented middle of a sheet is certified with the flat faces around it; with one of those
+    /// turned over it is certified alone.
+    #[test]
+    fn a_patch_takes_its_ring_when_the_ring_is_certified_too() {
+        let (mut positions, faces) =
+            sheet(8, |x, z| 0.2 * (1.0 - ((x - 0.5).powi(2) + (z - 0.5).powi(2)) / 0.04).max(0.0));
+        let raised = |f: &[u32; 3]| f.iter().any(|&v| positions[v as usize].y > 0.0);
+        let patch: Vec<u32> = (0..faces.len() as u32).filter(|&f| raised(&faces[f as usize])).collect();
+        let others: Vec<u32> = (0..faces.len() as u32).filter(|f| !patch.contains(f)).collect();
+        let touches = |f: u32| faces[f as usize].iter().any(|v| patch.iter().any(|&g| faces[g as usize].contains(v)));
+        let (labels, ring) = certified_patches(&positions, &faces, &patch, &others);
+        assert!(labels.iter().all(|&l| l == 0));
+        assert!(others.iter().zip(&ring).all(|(&f, &l)| (l == 0) == touches(f)), "the ring is the faces touching");
+        // A vertex of the ring, away from the patch, pushed across its neighbours.
+        let far = (0..positions.len()).find(|&v| {
+            let p = positions[v];
+            (p.x - 0.5).abs() < 0.3
+                && (p.z - 0.5).abs() < 0.3
+                && p.y == 0.0
+                && !patch.iter().any(|&g| faces[g as usize].contains(&(v as u32)))
+        });
+        positions[far.expect("a ring vertex off the patch")].x += 0.3;
+        let (labels, ring) = certified_patches(&positions, &faces, &patch, &others);
+        assert!(labels.iter().all(|&l| l == 0) && ring.iter().all(|&l| l == UNCERTIFIED));
+    }
+
     #[test]
     fn patches_are_numbered_largest_first_and_small_ones_left_out() {
         let (positions, faces) = sheet(8, |_, _| 0.0);
@@ -381,7 +436,7 @@ mod tests {
             rows.flat_map(move |i| columns.clone().flat_map(move |j| [16 * i + 2 * j, 16 * i + 2 * j + 1]))
         };
         let chosen: Vec<u32> = quads(0..1, 0..1).chain(quads(2..4, 0..6)).chain(quads(5..8, 0..8)).collect();
-        let labels = certified_patches(&positions, &faces, &chosen);
+        let (labels, _) = certified_patches(&positions, &faces, &chosen, &[]);
         assert_eq!(labels[..2], [UNCERTIFIED; 2]);
         assert!(labels[2..26].iter().all(|&l| l == 1));
         assert!(labels[26..].iter().all(|&l| l == 0));
