@@ -198,26 +198,35 @@ impl NearFaces {
         reach: Reach,
         presorted: Option<FaceSort>,
     ) -> Self {
-        // Where the moved faces lie, guessed first as the moved vertices' box (before and
-        // after) widened by a twentieth of its size, so that one pass over the faces finds them
-        // and the unmoved faces that may meet them: when the guess holds every moved face's
-        // corners before, it holds the moved faces' boxes. Otherwise the pass is repeated with
-        // the box of the moved faces themselves.
-        let moved_box = before
-            .iter()
-            .zip(after)
-            .zip(moved)
-            .filter(|(_, m)| **m)
-            .fold(Aabb::EMPTY, |b, ((&p, &q), _)| b.union(Aabb::of([p, q])));
-        let widen = 0.05 * (moved_box.max - moved_box.min).max_element().max(0.0);
-        let mut guess = Aabb { min: moved_box.min - Vec3::splat(widen), max: moved_box.max + Vec3::splat(widen) };
+        // A sort made beforehand serves when its marked faces' corners lie in its region after
+        // the move too (before, its `inside` says), and then needs no second pass.
+        let mut presorted = presorted.filter(|sort| {
+            let corners = sort.marked.iter().flat_map(|&f| faces[f as usize]);
+            sort.inside && corners.into_iter().all(|v| out_code(after[v as usize], &sort.region) == 0)
+        });
+        // Otherwise where the moved faces lie is guessed first as the moved vertices' box
+        // (before and after) widened by a twentieth of its size, so that one pass over the faces
+        // finds them and the unmoved faces that may meet them: when the guess holds every moved
+        // face's corners before, it holds the moved faces' boxes. Otherwise the pass is repeated
+        // with the box of the moved faces themselves.
+        let first_guess = || {
+            let moved_box = before
+                .iter()
+                .zip(after)
+                .zip(moved)
+                .filter(|(_, m)| **m)
+                .fold(Aabb::EMPTY, |b, ((&p, &q), _)| b.union(Aabb::of([p, q])));
+            let widen = Vec3::splat(0.05 * (moved_box.max - moved_box.min).max_element().max(0.0));
+            Aabb { min: moved_box.min - widen, max: moved_box.max + widen }
+        };
+        let mut guess = None;
         let box_before = |f: u32| Aabb::of(faces[f as usize].map(|v| before[v as usize]));
         let box_after = |f: u32| Aabb::of(faces[f as usize].map(|v| after[v as usize]));
-        // A sort made beforehand serves when its region holds the moved vertices (its marked
-        // faces' corners are checked as for any sort).
-        let mut presorted = presorted.filter(|sort| sort.region.contains(&moved_box));
         loop {
-            let sort = presorted.take().unwrap_or_else(|| sort_faces(faces, before, moved, guess));
+            let sort = match presorted.take() {
+                Some(sort) => sort,
+                None => sort_faces(faces, before, moved, *guess.get_or_insert_with(first_guess)),
+            };
             let (mut list, maybe, inside) = (sort.marked, sort.maybe, sort.inside);
             let active = list.len();
             // Boxes before are needed for the swept boxes, the bounds and a second pass only.
@@ -230,7 +239,7 @@ impl NearFaces {
             }
             if !inside {
                 // Holds every moved face before and after: the next pass finds all inside.
-                guess = reached.iter().chain(&boxes_before).fold(Aabb::EMPTY, |r, b| r.union(*b));
+                guess = Some(reached.iter().chain(&boxes_before).fold(Aabb::EMPTY, |r, b| r.union(*b)));
                 continue;
             }
             let mask = CoverMask::new(&reached);

@@ -8,7 +8,7 @@
 //! glancing crater's length), and `s` solves
 //! `ΔV(s) = 0` exactly (`ΔV` is a cubic in `s`: each triangle's tetrahedron is).
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec3A};
 
 use super::map::PendingDisplacement;
 use super::{DentMap, VolumeMode};
@@ -98,14 +98,17 @@ pub(crate) fn restore_volume(
         NONE => DVec3::ZERO,
         k => rim[k as usize].1,
     };
-    let cubic = rim_faces.iter().fold([dug, 0.0, 0.0, 0.0], |mut k, f| {
+    // The rim faces' volume now, and the cubic's other coefficients.
+    let [before_rim, k1, k2, k3] = rim_faces.iter().fold([0.0; 4], |mut k, f| {
         let [a, b, c] = f.map(|v| pending.positions[v as usize].as_dvec3() - origin);
         let [ua, ub, uc] = f.map(push);
+        k[0] += a.dot(b.cross(c)) / 6.0;
         k[1] += (ua.dot(b.cross(c)) + a.dot(ub.cross(c)) + a.dot(b.cross(uc))) / 6.0;
         k[2] += (ua.dot(ub.cross(c)) + ua.dot(b.cross(uc)) + a.dot(ub.cross(uc))) / 6.0;
         k[3] += ua.dot(ub.cross(uc)) / 6.0;
         k
     });
+    let cubic = [dug, k1, k2, k3];
     let heaviest = rim.iter().map(|(_, u)| u.length()).fold(0.0, f64::max);
     let Some(s) = root_toward(cubic, MAX_PUSH_RADII * crater / heaviest) else {
         warn(pending, "no rim up to 4 crater radii high refills this dent: its volume is not restored");
@@ -113,7 +116,6 @@ pub(crate) fn restore_volume(
     };
 
     let old: Vec<Vec3> = rim.iter().map(|&(v, _)| pending.positions[v as usize]).collect();
-    let before_rim: f64 = rim_faces.iter().map(|f| tetra(&pending.positions, f)).sum();
     for &(v, u) in &rim {
         let p = (pending.positions[v as usize].as_dvec3() + s * u).as_vec3();
         if !in_coordinate_range(p) {
@@ -213,9 +215,11 @@ fn rim_weights(
     // A cheap f32 test first: the rim lies within the ball of radius √((outer·R)² + R²).
     let reach = (crater * (outer * outer + 1.0).sqrt() * 1.001) as f32;
     let bump = |x: f64| (1.0 - x * x).max(0.0).powi(2);
+    let centre_lanes = Vec3A::from(centre);
     let rim: Vec<(u32, DVec3)> = (0..before.len() as u32)
-        .filter(|&v| before[v as usize].distance_squared(centre) < reach * reach)
-        .filter_map(|v| {
+        .zip(before)
+        .filter(|(_, p)| Vec3A::from(**p).distance_squared(centre_lanes) < reach * reach)
+        .filter_map(|(v, _)| {
             let [x, y, z] = offsets(before[v as usize]);
             let rho = ((x / half_x).powi(2) + (y / half_y).powi(2)).sqrt();
             if rho >= outer || z.abs() >= crater {

@@ -30,11 +30,6 @@ impl Aabb {
         Self { min: self.min.min(other.min), max: self.max.max(other.max) }
     }
 
-    /// Whether `other` lies within this box (closed; the empty box lies in none).
-    pub(crate) fn contains(&self, other: &Self) -> bool {
-        self.min.cmple(other.min).all() && other.max.cmple(self.max).all()
-    }
-
     /// Closed overlap: boxes that only touch overlap (coplanar faces in an axis plane do).
     pub(crate) fn overlaps(&self, other: &Self) -> bool {
         self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
