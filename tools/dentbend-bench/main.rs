@@ -11,6 +11,7 @@ mod scene;
 mod setup;
 mod soak;
 mod soak_target;
+mod stages;
 mod surface_sample;
 mod table1;
 mod timing;
@@ -119,6 +120,20 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// What refinement, volume preservation and the intersection guard add to one dent: the
+    /// `dent_game` benchmark's dent (a 0.25 m ball, d = 0.06 m, head-on and at 60°) as the paper
+    /// makes it and with every stage on, interleaved dent by dent: medians and their ratio.
+    Stages {
+        /// Timed dents per setting and impact.
+        #[arg(long, default_value_t = 400)]
+        dents: usize,
+        /// Target: a built-in mesh name or a .obj/.ply/.gltf/.glb path (hit on the middle of its top).
+        #[arg(long, default_value = "block-fine")]
+        target: String,
+        /// Write the report as JSON: {"target","dents","threads","rows":[{"impact","paper_ms","game_ms","ratio"}]}.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Dent one target N times at seeded random points of its surface (a small ball, random
     /// incidence) through the damage API on the CPU: errors, non-finite vertices, per-dent
     /// times, triangle quality, volume and memory, first against last.
@@ -199,6 +214,11 @@ fn run(cli: Cli) -> Result<(), String> {
         Command::Glance { dents, target, seed, json } => {
             let report = glance::run(&target, dents, seed)?;
             print!("{}", glance::render(&report));
+            write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
+        }
+        Command::Stages { dents, target, json } => {
+            let report = stages::run(&target, dents)?;
+            print!("{}", stages::render(&report));
             write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
         }
         Command::Soak { dents, target, seed, json } => {
