@@ -3,7 +3,8 @@
 //! vertex to `before + s·(after − before)`, the largest `s` found by bisection) until no new
 //! crossing is left. Crossings that were there before the dent are not its business.
 //!
-//! Cost: one pass over the faces to find the moved ones and the unmoved ones near them, a check
+//! Cost: one pass over the faces to find the moved ones and the unmoved ones near them (the
+//! volume stage's own pass, when it ran and its region holds them), a check
 //! of whether the moved faces' patches are height fields after the dent (`mesh::height_field`:
 //! a crater and its rim on a surface seen from one side are; then no two faces of a patch
 //! cross, and its pairs are never listed), a grid for the other pairs whose boxes after the

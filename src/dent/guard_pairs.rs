@@ -54,7 +54,7 @@ pub(crate) enum Reach {
     Scaled,
 }
 
-/// Pairs `(f, g)` of faces (`f` moved) that moving `before` to `after` (with `moved` flagging
+/// Pairs `(f, g)` of faces (`f` moved, or marked in `presorted`) that moving `before` to `after` (with `moved` flagging
 /// the vertices that moved) could make cross at the scales `reach` names: for
 /// [`Reach::Scaled`], those that no bound in the module documentation clears; for
 /// [`Reach::Full`], every pair whose boxes after the move overlap but those within a patch
@@ -62,7 +62,8 @@ pub(crate) enum Reach {
 /// vertex whose umbrella is certified after the move (see `mesh::umbrella`). Each pair once,
 /// as `(smaller, larger)` index. `presorted`, when given, is a sort of the faces made
 /// beforehand (for example in the volume stage's pass) whose marked faces include every face
-/// with a moved corner; it saves a pass over the faces when its region holds the moved vertices.
+/// with a moved corner (they may include unmoved ones); it saves a pass over the faces when
+/// every marked face's corners lie in its region before and after the move.
 pub(crate) fn pairs_to_test(
     faces: &[[u32; 3]],
     before: &[Vec3],
@@ -176,7 +177,8 @@ const PARALLEL_PAIRS: usize = 4096;
 
 /// The faces near a dent, moved ones first, with their boxes.
 struct NearFaces {
-    /// Face indices: the `active` moved faces, then unmoved faces whose box meets theirs.
+    /// Face indices: the `active` moved faces (with a presort: its marked faces, which may
+    /// include unmoved ones), then unmoved faces whose box meets theirs.
     faces: Vec<u32>,
     active: usize,
     /// Boxes after the dent, or swept from before to after (see [`Reach`]); equal to `before`
@@ -204,6 +206,14 @@ impl NearFaces {
             let corners = sort.marked.iter().flat_map(|&f| faces[f as usize]);
             sort.inside && corners.into_iter().all(|v| out_code(after[v as usize], &sort.region) == 0)
         });
+        debug_assert!(
+            presorted.as_ref().is_none_or(|sort| {
+                let mut marked = vec![false; faces.len()];
+                sort.marked.iter().for_each(|&f| marked[f as usize] = true);
+                faces.iter().zip(&marked).all(|(face, &m)| m || face.iter().all(|&v| !moved[v as usize]))
+            }),
+            "a presort left out a face with a moved corner"
+        );
         // Otherwise where the moved faces lie is guessed first as the moved vertices' box
         // (before and after) widened by a twentieth of its size, so that one pass over the faces
         // finds them and the unmoved faces that may meet them: when the guess holds every moved
@@ -494,6 +504,7 @@ mod tests {
     /// found between them and the other sheet's faces.
     #[test]
     fn certified_patches_pushed_through_a_sheet_or_each_other_are_caught() {
+        use crate::mesh::face_sort::MARK_B;
         use crate::mesh::self_intersect::{crossing_pairs_among, faces_cross};
         use crate::mesh::test_support::sheet;
         // (upper bump depth and squared radius, lower bump height and squared radius)
@@ -526,6 +537,33 @@ mod tests {
             // Every crossing pair is among those listed (the all-pairs check agrees).
             let every = crossing_pairs_among(&after, &faces, &active);
             assert!(!every.is_empty() && every.iter().all(|&(f, g)| crossing.contains(&(f.min(g), f.max(g)))));
+            // A presort whose marks take in more than moved (a rim-like ring of unmoved upper
+            // vertices, as the volume stage marks them) is accepted and lists the same crossings.
+            let region = Aabb::of(before.iter().chain(&after).map(|&p| p * 1.01));
+            let codes: Vec<u8> = before
+                .iter()
+                .enumerate()
+                .map(|(v, &p)| {
+                    let rim = v < upper.len() && bump(p, upper_r2 * 1.5) > 0.0;
+                    out_code(p, &region)
+                        | if moved[v] {
+                            MARK_A
+                        } else if rim {
+                            MARK_B
+                        } else {
+                            0
+                        }
+                })
+                .collect();
+            let sort = FaceSort::new(&faces, &codes, Some(region));
+            assert!(sort.marked.len() > active.len());
+            let presorted = pairs_to_test(&faces, &before, &after, &moved, Reach::Full, Some(sort));
+            let mut found: Vec<(u32, u32)> =
+                presorted.into_iter().filter(|&(f, g)| faces_cross(&after, &faces, f, g)).collect();
+            let mut expected = crossing.clone();
+            found.sort_unstable();
+            expected.sort_unstable();
+            assert_eq!(found, expected);
         }
     }
 }

@@ -3,8 +3,9 @@
 //! its pairs one by one.
 //!
 //! Project the patch along the coordinate axis `e` nearest its summed area normal (dropping a
-//! coordinate: the projected points are the f32 inputs themselves, so every sign below is
-//! trusted by Shewchuk's static bound). The patch is certified when
+//! coordinate, so the projected corners are f32 inputs; the signs below are trusted by
+//! Shewchuk's static bound, which holds for any f64 operands, the f64 centroid included, and
+//! an uncertain sign refuses the patch). The patch is certified when
 //!
 //! 1. every face projects wound counter-clockwise seen from `+e`, and
 //! 2. its boundary (the edges its faces do not pair off, counted with direction: a chain that
@@ -15,13 +16,11 @@
 //! inside it and never about those outside. For a point `y` off the projected edges, the
 //! faces whose projections hold `y` (each counted +1 by 1) number the loop's winding about `y`
 //! (the boundary of a sum of faces winds about `y` as often as they cover it): 0 or 1. So the
-//! projected faces have disjoint interiors, and two faces can meet only over a line between
-//! their projections, on an edge of each. That edge, if inside the patch, has its neighbour
-//! face covering the far side, which the other face also covers near the meeting point
-//! unless it is that neighbour; if on the loop, nothing beyond it is covered at all (the loop
-//! passes each point once). So two faces of a certified patch meet only at a vertex or along
-//! an edge they share: they touch and do not cross, which is what [`triangles_cross`]
-//! decides too.
+//! projected faces have disjoint interiors. Each face projects one-to-one, its relative
+//! interior onto its projection's interior; two faces that cross (their relative interiors
+//! share a point, or they overlap in an area) would have projections whose interiors overlap.
+//! So two faces of a certified patch meet only where their boundaries do: they touch and do
+//! not cross, which is what [`triangles_cross`] decides too.
 //!
 //! [`triangles_cross`]: super::tri_tri::triangles_cross
 
@@ -327,8 +326,9 @@ mod tests {
             let inside = |p: Vec3| ((p.x - cx) / rx).powi(2) + ((p.z - cz) / rz).powi(2) < 1.0;
             let chosen: Vec<u32> =
                 (0..faces.len() as u32).filter(|&f| inside(positions[faces[f as usize][0] as usize])).collect();
-            let flags = certified_patch(&positions, &faces, &chosen);
-            let patch: Vec<u32> = chosen.iter().zip(&flags).filter(|(_, c)| **c).map(|(&f, _)| f).collect();
+            // The faces of the largest patch, if it is certified (each patch's promise is its own).
+            let (labels, _) = certified_patches(&positions, &faces, &chosen, &[]);
+            let patch: Vec<u32> = chosen.iter().zip(&labels).filter(|(_, l)| **l == 0).map(|(&f, _)| f).collect();
             if patch.is_empty() {
                 refused += 1;
                 continue;
@@ -356,9 +356,10 @@ mod tests {
     }
 
     /// A ramp that climbs around two turns: every face is wound counter-clockwise seen from
-    /// above, but its projection covers the plane twice (the boundary goes around twice). It
-    /// does not cross itself in space, yet the certificate must refuse it: its proof would not
-    /// hold.
+    /// above, but its projection covers the plane twice. It does not cross itself in space, yet
+    /// the certificate must refuse it: its proof would not hold. (Its boundary turns clockwise
+    /// about the centre along the inner edge; the fan below is the case the turn count alone
+    /// refuses.)
     #[test]
     fn a_sheet_wound_twice_is_refused() {
         // An annulus of `k` sectors over two turns, rising with the angle.
