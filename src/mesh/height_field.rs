@@ -26,6 +26,7 @@
 
 use glam::{DVec3, Vec3};
 
+use super::local_vertices::LocalVertices;
 use super::tri_tri::orient2d;
 
 const NONE: u32 = u32::MAX;
@@ -48,20 +49,21 @@ pub(crate) fn certified_patches(
     candidates: &[u32],
     around: &[u32],
 ) -> (Vec<u32>, Vec<u32>) {
-    let mut local = LocalVertices::new(positions.len(), faces, candidates);
-    let vertex_roots = local.patch_roots(faces, candidates);
+    let mut local = LocalVertices::new(positions.len());
+    local.add_corners(faces, candidates);
+    let vertex_roots = patch_roots(&local, faces, candidates);
     let root_of = |f: u32| vertex_roots[local.of(faces[f as usize][0])];
     let roots: Vec<u32> = candidates.iter().map(|&f| root_of(f)).collect();
     // The patch each face of `around` touches first, if any; then their other corners numbered.
     let ring_roots: Vec<u32> = around
         .iter()
         .map(|&f| {
-            let touching = faces[f as usize].into_iter().map(|v| local.number[v as usize]).find(|&k| k != NONE);
-            touching.map_or(NONE, |k| vertex_roots[k as usize])
+            let touching = faces[f as usize].into_iter().find_map(|v| local.get(v));
+            touching.map_or(NONE, |k| vertex_roots[k])
         })
         .collect();
     let ring: Vec<u32> = around.iter().zip(&ring_roots).filter(|(_, r)| **r != NONE).map(|(&f, _)| f).collect();
-    local.extend(faces, &ring);
+    local.add_corners(faces, &ring);
     let mut sizes = vec![0usize; vertex_roots.len()];
     roots.iter().for_each(|&r| sizes[r as usize] += 1);
     let mut tried: Vec<u32> = (0..sizes.len() as u32).filter(|&r| sizes[r as usize] >= MIN_PATCH_FACES).collect();
@@ -89,58 +91,26 @@ pub(crate) fn certified_patches(
 /// The label of a face in no certified patch.
 pub(crate) const UNCERTIFIED: u32 = u32::MAX;
 
-/// The vertices of some faces, numbered locally in the order met.
-struct LocalVertices {
-    /// Local number of each mesh vertex, or [`NONE`].
-    number: Vec<u32>,
-    /// Mesh vertex of each local number.
-    vertices: Vec<u32>,
-}
-
-impl LocalVertices {
-    fn new(vertex_count: usize, faces: &[[u32; 3]], chosen: &[u32]) -> Self {
-        let mut local = Self { number: vec![NONE; vertex_count], vertices: Vec::with_capacity(chosen.len()) };
-        local.extend(faces, chosen);
-        local
+/// For each numbered vertex, one that stands for its connected patch among the faces
+/// `chosen` (whose corners are all numbered).
+fn patch_roots(local: &LocalVertices, faces: &[[u32; 3]], chosen: &[u32]) -> Vec<u32> {
+    let mut parent: Vec<u32> = (0..local.len() as u32).collect();
+    fn root(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            let up = parent[parent[x as usize] as usize];
+            parent[x as usize] = up;
+            x = up;
+        }
+        x
     }
-
-    /// Numbers the corners of `chosen` not numbered yet.
-    fn extend(&mut self, faces: &[[u32; 3]], chosen: &[u32]) {
-        for &f in chosen {
-            for v in faces[f as usize] {
-                if self.number[v as usize] == NONE {
-                    self.number[v as usize] = self.vertices.len() as u32;
-                    self.vertices.push(v);
-                }
-            }
+    for &f in chosen {
+        let [a, b, c] = faces[f as usize].map(|v| local.of(v) as u32);
+        for other in [b, c] {
+            let (ra, ro) = (root(&mut parent, a), root(&mut parent, other));
+            parent[ra.max(ro) as usize] = ra.min(ro);
         }
     }
-
-    fn of(&self, v: u32) -> usize {
-        self.number[v as usize] as usize
-    }
-
-    /// For each numbered vertex, one that stands for its connected patch among the faces
-    /// `chosen` (whose corners are all numbered).
-    fn patch_roots(&self, faces: &[[u32; 3]], chosen: &[u32]) -> Vec<u32> {
-        let mut parent: Vec<u32> = (0..self.vertices.len() as u32).collect();
-        fn root(parent: &mut [u32], mut x: u32) -> u32 {
-            while parent[x as usize] != x {
-                let up = parent[parent[x as usize] as usize];
-                parent[x as usize] = up;
-                x = up;
-            }
-            x
-        }
-        for &f in chosen {
-            let [a, b, c] = faces[f as usize].map(|v| self.number[v as usize]);
-            for other in [b, c] {
-                let (ra, ro) = (root(&mut parent, a), root(&mut parent, other));
-                parent[ra.max(ro) as usize] = ra.min(ro);
-            }
-        }
-        (0..parent.len() as u32).map(|x| root(&mut parent, x)).collect()
-    }
+    (0..parent.len() as u32).map(|x| root(&mut parent, x)).collect()
 }
 
 /// Whether the faces `patch` are certified embedded (conditions 1 and 2 of the module
@@ -200,7 +170,7 @@ fn is_embedded(positions: &[Vec3], faces: &[[u32; 3]], patch: &[u32], local: &Lo
 fn boundary_edges(faces: &[[u32; 3]], patch: &[u32], local: &LocalVertices) -> Option<Vec<(u32, u32)>> {
     // Every directed edge filed under its smaller end (compressed rows), with +1 when it runs
     // from the smaller end and −1 otherwise.
-    let mut starts = vec![0u32; local.vertices.len() + 1];
+    let mut starts = vec![0u32; local.len() + 1];
     let edges = |f: u32| {
         let [a, b, c] = faces[f as usize];
         [(a, b), (b, c), (c, a)]
@@ -210,7 +180,7 @@ fn boundary_edges(faces: &[[u32; 3]], patch: &[u32], local: &LocalVertices) -> O
             starts[local.of(a.min(b)) + 1] += 1;
         }
     }
-    for k in 0..local.vertices.len() {
+    for k in 0..local.len() {
         starts[k + 1] += starts[k];
     }
     let mut fill = starts.clone();
@@ -245,7 +215,7 @@ fn single_loop(edges: &[(u32, u32)], local: &LocalVertices) -> Option<Vec<u32>> 
     if edges.len() < 3 {
         return None;
     }
-    let mut next = vec![NONE; local.vertices.len()];
+    let mut next = vec![NONE; local.len()];
     for &(a, b) in edges {
         let slot = &mut next[local.of(a)];
         if *slot != NONE {

@@ -20,6 +20,7 @@ mod gltf_access;
 #[cfg(feature = "io")]
 mod gltf_read;
 pub(crate) mod height_field;
+pub(crate) mod local_vertices;
 mod mass;
 mod obj;
 mod ply;

@@ -18,6 +18,8 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
+use super::local_vertices::LocalVertices;
+
 /// A face counts as wound about `n` when `(b − a)×(c − a)·n̂ > ORIENTATION_MARGIN·|b − a|·|c − a|`
 /// (its plane tilts less than about 89.99994° from the projection plane).
 const ORIENTATION_MARGIN: f64 = 1e-6;
@@ -38,22 +40,15 @@ pub(crate) fn certified_umbrellas(
     corners: &[u32],
 ) -> Vec<bool> {
     // The corners, numbered locally in the order met.
-    const NONE: u32 = u32::MAX;
-    let mut local = vec![NONE; positions.len()];
-    let mut unique = Vec::with_capacity(corners.len());
-    for &v in corners {
-        if local[v as usize] == NONE {
-            local[v as usize] = unique.len() as u32;
-            unique.push(v);
-        }
-    }
-    let corners = unique;
+    let mut local = LocalVertices::new(positions.len());
+    corners.iter().for_each(|&v| local.add(v));
+    let corners = &local.vertices;
     // Faces around each corner, compressed rows.
     let mut starts = vec![0u32; corners.len() + 1];
     for &f in around {
         for &v in &faces[f as usize] {
-            if let Some(&k) = local.get(v as usize).filter(|&&k| k != NONE) {
-                starts[k as usize + 1] += 1;
+            if let Some(k) = local.get(v) {
+                starts[k + 1] += 1;
             }
         }
     }
@@ -64,9 +59,9 @@ pub(crate) fn certified_umbrellas(
     let mut fans = vec![0u32; starts[corners.len()] as usize];
     for &f in around {
         for &v in &faces[f as usize] {
-            if let Some(&k) = local.get(v as usize).filter(|&&k| k != NONE) {
-                fans[fill[k as usize] as usize] = f;
-                fill[k as usize] += 1;
+            if let Some(k) = local.get(v) {
+                fans[fill[k] as usize] = f;
+                fill[k] += 1;
             }
         }
     }
