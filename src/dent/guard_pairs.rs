@@ -54,8 +54,9 @@ pub(crate) enum Reach {
     Scaled,
 }
 
-/// Pairs `(f, g)` of faces (`f` moved, or marked in `presorted`) that moving `before` to `after` (with `moved` flagging
-/// the vertices that moved) could make cross at the scales `reach` names: for
+/// Pairs `(f, g)` of faces (`f` moved, or marked in `presorted`) that moving `before` to
+/// `after` (with `moved` flagging the vertices that moved) could make cross at the scales
+/// `reach` names: for
 /// [`Reach::Scaled`], those that no bound in the module documentation clears; for
 /// [`Reach::Full`], every pair whose boxes after the move overlap but those within a patch
 /// certified a height field after the move (see `mesh::height_field`) and those sharing a
@@ -136,25 +137,23 @@ fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces) -> Vec
         }
         patch_boxes[l] = patch_boxes[l].union(near.reached[k as usize]);
     }
+    // Whether face `q`'s pairs with patch `l`'s faces are wanted from this side: an uncertified
+    // face's all are; a ring face's but with its own patch; a patch's moved face's with the
+    // patches numbered lower only (the others find it).
+    let wanted = |q: u32, l: u32| match label(q) {
+        UNCERTIFIED => true,
+        own if (q as usize) < near.active => l < own,
+        ring => l != ring,
+    };
     let may_meet = |q: u32| {
-        let (own, b) = (label(q), near.reached[q as usize]);
-        let crossable = |l: usize| match own {
-            UNCERTIFIED => true,
-            own if (q as usize) < near.active => l < own as usize,
-            own => l != own as usize,
-        };
-        patch_boxes.iter().enumerate().any(|(l, p)| crossable(l) && p.overlaps(&b))
+        let b = near.reached[q as usize];
+        patch_boxes.iter().zip(0..).any(|(p, l)| wanted(q, l) && p.overlaps(&b))
     };
     let queries: Vec<u32> = rest.iter().chain(&patches).copied().filter(|&q| may_meet(q)).collect();
     let query_boxes = boxes(&queries);
     candidates.extend(pairs_between(&boxes(&patches), &query_boxes).into_iter().filter_map(|(i, j)| {
         let (k, q) = (patches[i as usize], queries[j as usize]);
-        let wanted = match label(q) {
-            UNCERTIFIED => true,
-            other if (q as usize) < near.active => label(k) < other,
-            ring => ring != label(k),
-        };
-        wanted.then_some((k, q))
+        wanted(q, label(k)).then_some((k, q))
     }));
     let face = |k: u32| near.faces[k as usize];
     let shared: Vec<u32> = candidates
@@ -485,10 +484,7 @@ mod tests {
         assert_eq!(pairs_to_test(&collapsed, &before, &after, &moved, Reach::Scaled, None), vec![]);
         // A sort made beforehand around where the moved vertex was (say, before a rim rose) does
         // not hold where it went: it is not used, and the pair is still found.
-        let region = Aabb { min: Vec3::splat(0.9), max: Vec3::splat(2.1) };
-        let codes: Vec<u8> =
-            before.iter().zip(&moved).map(|(&p, &m)| out_code(p, &region) | if m { MARK_A } else { 0 }).collect();
-        let stale = FaceSort::new(&faces, &codes, Some(region));
+        let stale = sort_faces(&faces, &before, &moved, Aabb { min: Vec3::splat(0.9), max: Vec3::splat(2.1) });
         assert_eq!((&stale.marked[..], &stale.maybe[..]), (&[1][..], &[][..]), "face 0 lies outside");
         assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Full, Some(stale)), vec![(0, 1)]);
         // Pushed only halfway down to the large face: cleared by the gap.

@@ -47,7 +47,7 @@ const CELLS_PER_BOX: usize = 2;
 
 /// Boxes binned by the cell of their low corner (compressed rows: `items[starts[c]..
 /// starts[c + 1]]` are the boxes of cell `c`, `item_boxes` their boxes in the same order), and
-/// the boxes too large for a cell.
+/// the boxes too large for a cell, with their boxes.
 struct LooseGrid {
     origin: Vec3,
     inv_cell: f32,
@@ -57,7 +57,7 @@ struct LooseGrid {
     starts: Vec<u32>,
     items: Vec<u32>,
     item_boxes: Vec<Aabb>,
-    large: Vec<u32>,
+    large: Vec<(u32, Aabb)>,
 }
 
 impl LooseGrid {
@@ -88,7 +88,7 @@ impl LooseGrid {
         for (k, b) in boxes.iter().enumerate() {
             let size = b.extent();
             if size.max_element() > cell {
-                grid.large.push(k as u32);
+                grid.large.push((k as u32, *b));
                 continue;
             }
             grid.reach = grid.reach.max(size);
@@ -127,8 +127,8 @@ impl LooseGrid {
         (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
     }
 
-    /// Calls `visit(k, box)` for every binned box that may overlap `b` (a superset), and every
-    /// large one.
+    /// Calls `visit(k, box)` for every binned box that may overlap `b` (a superset), then for
+    /// every large one (the large list is short: it is scanned whole).
     fn for_candidates(&self, b: &Aabb, mut visit: impl FnMut(u32, &Aabb)) {
         // A binned box overlapping `b` has its low corner in [b.min − reach, b.max]. The reach is
         // widened by a few ulps of the magnitudes involved, so that neither the rounding of
@@ -144,7 +144,7 @@ impl LooseGrid {
                 }
             }
         }
-        // (The large list is short: scanned whole by the caller's own loop.)
+        self.large.iter().for_each(|(k, item)| visit(*k, item));
     }
 }
 
@@ -165,11 +165,6 @@ pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: usize) -> Vec<(u32, u32)
                 found.push((a, c));
             }
         });
-        for &c in &grid.large {
-            if wanted(a, c) && box_a.overlaps(&boxes[c as usize]) {
-                found.push((a, c));
-            }
-        }
     };
     queried_in_chunks(active, |range| {
         let mut found = Vec::with_capacity(8 * range.len());
@@ -195,7 +190,6 @@ pub(crate) fn pairs_between(left: &[Aabb], right: &[Aabb]) -> Vec<(u32, u32)> {
                     found.push((l, r));
                 }
             });
-            found.extend(grid.large.iter().filter(|&&l| box_r.overlaps(&left[l as usize])).map(|&l| (l, r)));
         }
         found
     })

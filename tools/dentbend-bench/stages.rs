@@ -88,8 +88,7 @@ pub fn run(target: &str, dents: usize) -> Result<Report, String> {
 /// The middle of the top of `body` (its box's centre on x and z, its highest point's height),
 /// and the built-in sphere scaled to [`BALL_RADIUS`] resting on it.
 fn ball_on_top(body: &TriMesh) -> Result<(Vec3, TriMesh), String> {
-    let (low, high) =
-        body.positions().iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &p| (l.min(p), h.max(p)));
+    let (low, high) = body.bounds();
     let point = Vec3::new(0.5 * (low.x + high.x), high.y, 0.5 * (low.z + high.z));
     let mut ball = mesh::builtin("sphere").map_err(|e| e.to_string())?;
     let placement = Affine3A::from_scale_rotation_translation(
