@@ -64,3 +64,14 @@ fn a_bad_scene_is_one_error_line_and_writes_nothing() {
     let stderr = text(&output.stderr);
     assert!(stderr.contains("bad.toml") && stderr.contains("velocity") && stderr.contains(":5"), "{stderr}");
 }
+
+/// `dentbend run --help` names every built-in scene (the list is written out in its text).
+#[test]
+fn the_help_names_every_built_in_scene() {
+    let output = dentbend(&["run", "--help"]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let help = text(&output.stdout);
+    for name in dentbend::scene::BUILTIN_SCENES {
+        assert!(help.contains(name), "`run --help` does not name the built-in scene {name}");
+    }
+}

@@ -42,7 +42,7 @@ pub enum MeshChoice {
 #[derive(Debug, Args)]
 pub struct RunArgs {
     /// A built-in scene (pair, ball-block, bunny-block, glancing, resolution, rain, plank, spring,
-    /// bunny-bones, tetrahedra, arm) or a scene file (.toml)
+    /// bunny-bones, tetrahedra, arm, wall) or a scene file (.toml)
     pub scene: String,
 
     /// Frames to run (one world step each, ≥ 1) [default: the scene's]
