@@ -68,6 +68,47 @@ fn only_the_last_batch_counts(context: &'static GpuContext) {
     assert!(moved.indices.iter().zip(&moved.positions).all(|(v, p)| second[*v as usize] == *p));
 }
 
+/// The non-blocking read-back (recorded into the caller's encoder with the batch, mapped after
+/// the caller's submission, polled) returns exactly what the blocking one does, once, having read
+/// 4 bytes of count and 16 per moved vertex; an undented target reads its count only.
+fn the_frame_loop_read_back_equals_the_blocking_one(context: &'static GpuContext) {
+    let ball = sphere_at(Vec3::new(0.0, 5.0, 0.0), 0.6);
+    let targets = [mesh::builtin("block").unwrap(), mesh::builtin("block").unwrap()];
+    let mut denter = GpuDenter::new(context, &targets).unwrap();
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    denter.record_batch(&mut encoder, &[drop_on_block(&ball, 0.0, 0.2)]).unwrap();
+    let mut dented = denter.record_moved(&mut encoder, 0).unwrap();
+    let mut untouched = denter.record_moved(&mut encoder, 1).unwrap();
+    // Not submitted yet: polling finds nothing and reads nothing.
+    assert_eq!(dented.poll().unwrap(), None);
+    context.queue.submit([encoder.finish()]);
+    dented.submitted();
+    untouched.submitted();
+
+    let (mut got, mut empty) = (None, None);
+    for _ in 0..100 {
+        got = got.or(dented.poll().unwrap());
+        empty = empty.or(untouched.poll().unwrap());
+        if got.is_some() && empty.is_some() {
+            break;
+        }
+        context.wait().unwrap();
+    }
+    let got = got.expect("the read-back never finished");
+    assert_eq!(got, denter.read_moved(0).unwrap());
+    assert!(!got.indices.is_empty(), "the dent moved nothing");
+    assert_eq!(dented.bytes_read(), 4 + 16 * got.indices.len() as u64);
+    assert_eq!(empty, Some(MovedVertices::default()));
+    assert_eq!(untouched.bytes_read(), 4);
+    // Handed out once.
+    assert!(dented.is_done());
+    assert_eq!(dented.poll().unwrap(), None);
+}
+
 gpu_test_main! {
-    gpu: [the_moved_vertices_are_the_cpu_dents_moved_vertices, only_the_last_batch_counts],
+    gpu: [
+        the_moved_vertices_are_the_cpu_dents_moved_vertices,
+        only_the_last_batch_counts,
+        the_frame_loop_read_back_equals_the_blocking_one,
+    ],
 }

@@ -30,6 +30,6 @@ pub use error::GpuError;
 pub use interleave::{InterleaveError, VertexLayout};
 pub use kernel::{Binding, Kernel, SHARED_WGSL};
 pub use limits::{REQUIRED_LIMITS, RequiredLimit, check_limits};
-pub use moved::MovedVertices;
+pub use moved::{MovedVertices, PendingMoved};
 pub use recorder::KernelTimes;
 pub use shaders::{SHADERS, shader_source};

@@ -5,6 +5,9 @@
 //! The kernel appends through an atomic counter, so slots come in no fixed order; the host sorts
 //! them by vertex index, which makes the result equal to the CPU twin's.
 
+use std::ops::Range;
+use std::sync::mpsc::{Receiver, TryRecvError};
+
 use glam::Vec3;
 
 use super::{Binding, GpuContext, GpuError, Kernel, buffers};
@@ -63,26 +66,13 @@ impl Moved {
         params: MovedParams,
         positions: &wgpu::Buffer,
     ) -> Result<MovedVertices, GpuError> {
-        let groups = params.vertex_count.div_ceil(WORKGROUP);
-        let limit = context.limits.max_compute_workgroups_per_dimension;
-        if groups > limit {
-            let what = "moved workgroups (vertices / WORKGROUP)".into();
-            return Err(GpuError::OverLimit { what, needed: groups.into(), limit: limit.into() });
-        }
-        if groups == 0 {
-            return Ok(MovedVertices::default());
-        }
-        let list_bytes = u64::from(params.vertex_count) * 16;
-        buffers::check_binding_size(context, "moved list", list_bytes)?;
-        let list = buffers::storage_zeroed(context, "moved list", list_bytes);
-        let used = buffers::storage_zeroed(context, "moved count", 4);
-        context
+        let Some(groups) = check(context, params)? else { return Ok(MovedVertices::default()) };
+        let (list, used) = context
             .scoped("moved", || {
                 let mut encoder = context.device.create_command_encoder(&Default::default());
-                let uniform = buffers::uniform(context, "moved params", &params);
-                let bind = self.kernel.bind(context, &[&uniform, positions, &list, &used]);
-                self.kernel.dispatch(&mut encoder, &bind, [groups, 1, 1]);
+                let lists = self.encode(context, &mut encoder, params, groups, positions);
                 context.queue.submit([encoder.finish()]);
+                lists
             })
             .map_err(|e| context.lost_or(e))?;
         let count: Vec<u32> = buffers::read_back(context, &used, 1)?;
@@ -90,4 +80,207 @@ impl Moved {
         let slots: Vec<[u32; 4]> = buffers::read_back(context, &list, count)?;
         Ok(MovedVertices::from_slots(slots))
     }
+
+    /// Records the compaction into `encoder`, then copies its count and list into a staging
+    /// buffer that [`PendingMoved`] maps once the caller has submitted `encoder`.
+    ///
+    /// # Errors
+    /// As [`run`](Self::run).
+    pub fn record(
+        &self,
+        context: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        params: MovedParams,
+        positions: &wgpu::Buffer,
+    ) -> Result<PendingMoved, GpuError> {
+        let Some(groups) = check(context, params)? else { return Ok(PendingMoved::empty(context)) };
+        let list_bytes = u64::from(params.vertex_count) * SLOT_BYTES;
+        let staging = context.scoped("moved read-back", || {
+            let (list, used) = self.encode(context, encoder, params, groups, positions);
+            let staging = context.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("moved read-back"),
+                size: LIST_AT + list_bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            encoder.copy_buffer_to_buffer(&used, 0, &staging, 0, 4);
+            encoder.copy_buffer_to_buffer(&list, 0, &staging, LIST_AT, list_bytes);
+            staging
+        })?;
+        Ok(PendingMoved {
+            context: context.clone(),
+            staging: Some(staging),
+            capacity: params.vertex_count,
+            state: ReadState::Recorded,
+            bytes_read: 0,
+        })
+    }
+
+    /// Records the kernel over `groups` workgroups; the list and count buffers it fills.
+    fn encode(
+        &self,
+        context: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        params: MovedParams,
+        groups: u32,
+        positions: &wgpu::Buffer,
+    ) -> (wgpu::Buffer, wgpu::Buffer) {
+        let list = buffers::storage_zeroed(context, "moved list", u64::from(params.vertex_count) * SLOT_BYTES);
+        let used = buffers::storage_zeroed(context, "moved count", 4);
+        let uniform = buffers::uniform(context, "moved params", &params);
+        let bind = self.kernel.bind(context, &[&uniform, positions, &list, &used]);
+        self.kernel.dispatch(encoder, &bind, [groups, 1, 1]);
+        (list, used)
+    }
+}
+
+/// Bytes of one compacted slot: the vertex index and three f32.
+const SLOT_BYTES: u64 = 16;
+
+/// Where the list starts in a [`PendingMoved`] staging buffer (after the count, aligned for
+/// mapping).
+const LIST_AT: u64 = 16;
+
+/// The kernel's workgroup count for `params`, checked against the device's limits; `None` for an
+/// empty target.
+fn check(context: &GpuContext, params: MovedParams) -> Result<Option<u32>, GpuError> {
+    let groups = params.vertex_count.div_ceil(WORKGROUP);
+    let limit = context.limits.max_compute_workgroups_per_dimension;
+    if groups > limit {
+        let what = "moved workgroups (vertices / WORKGROUP)".into();
+        return Err(GpuError::OverLimit { what, needed: groups.into(), limit: limit.into() });
+    }
+    buffers::check_binding_size(context, "moved list", u64::from(params.vertex_count) * SLOT_BYTES)?;
+    Ok((groups > 0).then_some(groups))
+}
+
+/// Where a [`PendingMoved`] stands.
+#[derive(Debug)]
+enum ReadState {
+    /// Recorded; waiting for the caller to submit and call [`PendingMoved::submitted`].
+    Recorded,
+    /// The count is being mapped.
+    Count(Receiver<Result<(), wgpu::BufferAsyncError>>),
+    /// The list's first `count` slots are being mapped.
+    List(Receiver<Result<(), wgpu::BufferAsyncError>>, u32),
+    /// Read (or nothing to read); the result was handed out once.
+    Done(Option<MovedVertices>),
+}
+
+/// A read-back of the vertices one batch moved that never blocks, for a renderer's frame loop:
+/// [`GpuDenter::record_moved`](super::GpuDenter::record_moved) records it into the caller's
+/// encoder; after submitting that encoder call [`submitted`](Self::submitted), then
+/// [`poll`](Self::poll) once a frame until it returns the vertices. Reads 4 bytes (the count),
+/// then 16 per moved vertex ([`bytes_read`](Self::bytes_read)), two frames or more after the
+/// submission.
+#[derive(Debug)]
+pub struct PendingMoved {
+    context: GpuContext,
+    staging: Option<wgpu::Buffer>,
+    capacity: u32,
+    state: ReadState,
+    bytes_read: u64,
+}
+
+impl PendingMoved {
+    /// A read-back of an empty target: done, with no vertex.
+    fn empty(context: &GpuContext) -> Self {
+        let state = ReadState::Done(Some(MovedVertices::default()));
+        Self { context: context.clone(), staging: None, capacity: 0, state, bytes_read: 0 }
+    }
+
+    /// Starts mapping the count; call once, after submitting the encoder it was recorded into.
+    pub fn submitted(&mut self) {
+        if let (ReadState::Recorded, Some(staging)) = (&self.state, &self.staging) {
+            self.state = ReadState::Count(map(staging, 0..8));
+        }
+    }
+
+    /// Advances without blocking: `Ok(None)` while the GPU has not finished, then the moved
+    /// vertices (ascending index order, as [`GpuDenter::read_moved`](super::GpuDenter::read_moved)
+    /// returns them) exactly once; `Ok(None)` again after that.
+    ///
+    /// # Errors
+    /// [`GpuError::Wait`] when a mapping failed (a device lost or destroyed buffer);
+    /// [`GpuError::DeviceLost`]. The read-back is over then.
+    pub fn poll(&mut self) -> Result<Option<MovedVertices>, GpuError> {
+        // Runs the callbacks of finished work without waiting.
+        let _ = self.context.device.poll(wgpu::PollType::Poll);
+        loop {
+            let Some(staging) = &self.staging else { break };
+            let next = match &self.state {
+                ReadState::Count(receiver) => match mapped(receiver)? {
+                    false => return Ok(None),
+                    true => {
+                        let count = read_words(staging, 0..8)?[0].min(self.capacity);
+                        self.bytes_read += 4;
+                        if count == 0 {
+                            ReadState::Done(Some(MovedVertices::default()))
+                        } else {
+                            let end = LIST_AT + u64::from(count) * SLOT_BYTES;
+                            ReadState::List(map(staging, LIST_AT..end), count)
+                        }
+                    }
+                },
+                ReadState::List(receiver, count) => match mapped(receiver)? {
+                    false => return Ok(None),
+                    true => {
+                        let end = LIST_AT + u64::from(*count) * SLOT_BYTES;
+                        let words = read_words(staging, LIST_AT..end)?;
+                        self.bytes_read += end - LIST_AT;
+                        let slots = words.chunks_exact(4).map(|s| [s[0], s[1], s[2], s[3]]).collect();
+                        ReadState::Done(Some(MovedVertices::from_slots(slots)))
+                    }
+                },
+                ReadState::Recorded | ReadState::Done(_) => break,
+            };
+            self.state = next;
+        }
+        match &mut self.state {
+            ReadState::Done(result) => {
+                self.staging = None;
+                Ok(result.take())
+            }
+            _ => Ok(None),
+        }
+    }
+
+    /// Whether the vertices have been handed out (or the target was empty).
+    pub fn is_done(&self) -> bool {
+        matches!(self.state, ReadState::Done(_))
+    }
+
+    /// Bytes read back from the device so far: 4 for the count, 16 per moved vertex.
+    pub fn bytes_read(&self) -> u64 {
+        self.bytes_read
+    }
+}
+
+/// Starts mapping `range` of `staging` for reading; the receiver gets the outcome.
+fn map(staging: &wgpu::Buffer, range: Range<u64>) -> Receiver<Result<(), wgpu::BufferAsyncError>> {
+    let (sender, receiver) = std::sync::mpsc::channel();
+    staging.slice(range).map_async(wgpu::MapMode::Read, move |result| {
+        let _ = sender.send(result);
+    });
+    receiver
+}
+
+/// Whether the mapping `receiver` reports on is done (`false`: still pending).
+fn mapped(receiver: &Receiver<Result<(), wgpu::BufferAsyncError>>) -> Result<bool, GpuError> {
+    match receiver.try_recv() {
+        Ok(Ok(())) => Ok(true),
+        Ok(Err(e)) => Err(GpuError::Wait(e.to_string())),
+        Err(TryRecvError::Empty) => Ok(false),
+        Err(TryRecvError::Disconnected) => Err(GpuError::Wait("the mapping was dropped".into())),
+    }
+}
+
+/// The u32 words of the mapped `range` of `staging`, which is unmapped afterwards.
+fn read_words(staging: &wgpu::Buffer, range: Range<u64>) -> Result<Vec<u32>, GpuError> {
+    let words = match staging.slice(range).get_mapped_range() {
+        Ok(view) => Ok(bytemuck::cast_slice::<u8, u32>(&view).to_vec()),
+        Err(e) => Err(GpuError::Wait(e.to_string())),
+    };
+    staging.unmap();
+    words
 }

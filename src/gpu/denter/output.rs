@@ -5,7 +5,7 @@ use super::GpuDenter;
 use crate::cpu::MovedParams;
 use crate::gpu::GpuError;
 use crate::gpu::interleave::{InterleaveError, VertexLayout, plan};
-use crate::gpu::moved::MovedVertices;
+use crate::gpu::moved::{MovedVertices, PendingMoved};
 
 impl GpuDenter {
     /// Records a copy of target `target`'s current positions and unit normals into `dst` (the
@@ -50,13 +50,31 @@ impl GpuDenter {
     /// # Errors
     /// [`GpuError::OverLimit`] for an unknown target; device errors.
     pub fn read_moved(&self, target: usize) -> Result<MovedVertices, GpuError> {
+        let params = self.moved_params(target)?;
+        self.context.check_alive()?;
+        self.kernels.moved.run(&self.context, params, &self.positions)
+    }
+
+    /// [`read_moved`](Self::read_moved) without blocking, for a frame loop: records the
+    /// compaction of target `target`'s moved vertices into the caller's `encoder` (after the
+    /// batch recorded there); submit it, call [`PendingMoved::submitted`], then
+    /// [`PendingMoved::poll`] each frame. The vertices are those the batch just before the
+    /// compaction moved.
+    ///
+    /// # Errors
+    /// As [`read_moved`](Self::read_moved); nothing is recorded then.
+    pub fn record_moved(&self, encoder: &mut wgpu::CommandEncoder, target: usize) -> Result<PendingMoved, GpuError> {
+        let params = self.moved_params(target)?;
+        self.context.check_flag()?;
+        self.kernels.moved.record(&self.context, encoder, params, &self.positions)
+    }
+
+    /// The `moved` kernel's parameters for target `target`.
+    fn moved_params(&self, target: usize) -> Result<MovedParams, GpuError> {
         let Some(resident) = self.targets.get(target) else {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
         let vertices = &resident.vertices;
-        let params =
-            MovedParams { vertex_offset: vertices.start, vertex_count: vertices.end - vertices.start, _pad: [0; 2] };
-        self.context.check_alive()?;
-        self.kernels.moved.run(&self.context, params, &self.positions)
+        Ok(MovedParams { vertex_offset: vertices.start, vertex_count: vertices.end - vertices.start, _pad: [0; 2] })
     }
 }
