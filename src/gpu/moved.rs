@@ -6,7 +6,7 @@
 //! them by vertex index, which makes the result equal to the CPU twin's.
 
 use std::ops::Range;
-use std::sync::mpsc::{Receiver, TryRecvError};
+use std::sync::{Arc, OnceLock};
 
 use glam::Vec3;
 
@@ -160,9 +160,9 @@ enum ReadState {
     /// Recorded; waiting for the caller to submit and call [`PendingMoved::submitted`].
     Recorded,
     /// The count is being mapped.
-    Count(Receiver<Result<(), wgpu::BufferAsyncError>>),
+    Count(Mapping),
     /// The list's first `count` slots are being mapped.
-    List(Receiver<Result<(), wgpu::BufferAsyncError>>, u32),
+    List(Mapping, u32),
     /// Read (or nothing to read); the result was handed out once.
     Done(Option<MovedVertices>),
 }
@@ -256,22 +256,26 @@ impl PendingMoved {
     }
 }
 
-/// Starts mapping `range` of `staging` for reading; the receiver gets the outcome.
-fn map(staging: &wgpu::Buffer, range: Range<u64>) -> Receiver<Result<(), wgpu::BufferAsyncError>> {
-    let (sender, receiver) = std::sync::mpsc::channel();
+/// A mapping's outcome, set by wgpu's callback (shareable, so a read-back can live in a
+/// multi-threaded engine's resources).
+type Mapping = Arc<OnceLock<Result<(), wgpu::BufferAsyncError>>>;
+
+/// Starts mapping `range` of `staging` for reading.
+fn map(staging: &wgpu::Buffer, range: Range<u64>) -> Mapping {
+    let outcome = Mapping::default();
+    let set = outcome.clone();
     staging.slice(range).map_async(wgpu::MapMode::Read, move |result| {
-        let _ = sender.send(result);
+        let _ = set.set(result);
     });
-    receiver
+    outcome
 }
 
-/// Whether the mapping `receiver` reports on is done (`false`: still pending).
-fn mapped(receiver: &Receiver<Result<(), wgpu::BufferAsyncError>>) -> Result<bool, GpuError> {
-    match receiver.try_recv() {
-        Ok(Ok(())) => Ok(true),
-        Ok(Err(e)) => Err(GpuError::Wait(e.to_string())),
-        Err(TryRecvError::Empty) => Ok(false),
-        Err(TryRecvError::Disconnected) => Err(GpuError::Wait("the mapping was dropped".into())),
+/// Whether `mapping` is done (`false`: still pending).
+fn mapped(mapping: &Mapping) -> Result<bool, GpuError> {
+    match mapping.get() {
+        Some(Ok(())) => Ok(true),
+        Some(Err(e)) => Err(GpuError::Wait(e.to_string())),
+        None => Ok(false),
     }
 }
 

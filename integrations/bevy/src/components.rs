@@ -1,0 +1,48 @@
+//! The components a game puts on its entities.
+
+use bevy::prelude::*;
+use dentbend::dent::{DentParams, DentSettings, Refine, VolumeMode};
+
+/// An entity whose mesh ([`Mesh3d`]) dents where things hit it. Its mesh becomes its own (the
+/// plug-in gives it a private copy, so other entities sharing the asset stay undented), in the
+/// entity's own coordinates, m.
+///
+/// On the GPU path the dent runs on Bevy's device and lands straight in Bevy's vertex buffer;
+/// settings that need the host stages (refinement, volume preservation, the intersection guard,
+/// progressive dents) put the body on the CPU path, which updates the mesh asset.
+#[derive(Component, Debug, Clone)]
+pub struct Dentable {
+    /// How it dents (material, shape of the dent, projectile handling).
+    pub settings: DentSettings,
+}
+
+impl Dentable {
+    /// Dents faster than `threshold` m/s, `gain` m deep per m/s above it, at most `cap` m; the
+    /// paper's dent (the GPU kernels alone: no refinement, no volume rim, no guard).
+    pub fn new(threshold: f32, gain: f32, cap: f32) -> Self {
+        let mut settings = DentSettings::new(threshold, gain, cap);
+        settings.params = kernel_params(cap);
+        Self { settings }
+    }
+
+    /// Any settings (host stages too; see the type's doc for which path they take).
+    pub fn with_settings(settings: DentSettings) -> Self {
+        Self { settings }
+    }
+
+    /// Whether the GPU kernels alone make this body's dents (the GPU path can serve it).
+    pub fn kernels_only(&self) -> bool {
+        let p = &self.settings.params;
+        p.refine == Refine::Off && p.volume == VolumeMode::Free && !p.guard_crossings && !self.settings.progressive
+    }
+}
+
+/// The paper's dent of depth `dent_distance` m: every kernel stage, no host stage.
+pub fn kernel_params(dent_distance: f32) -> DentParams {
+    DentParams { refine: Refine::Off, volume: VolumeMode::Free, guard_crossings: false, ..DentParams::new(dent_distance) }
+}
+
+/// An entity that dents what it hits without denting itself (a ball, a hammer): its surface is
+/// its [`Mesh3d`] in its own coordinates.
+#[derive(Component, Debug, Clone, Copy, Default)]
+pub struct DentProjectile;

@@ -1,0 +1,10 @@
+//! The scenes of the examples, tests and benchmarks: balls raining on a dentable block and the
+//! bunny (bevy_rapier3d contacts), rendered headless into PNG files or windowed.
+
+mod capture;
+mod rain;
+mod summary;
+
+pub use capture::{Capture, CapturePlugin, Captured, FrameClock};
+pub use rain::{RainPlugin, RainSettings, Target, headless_app};
+pub use summary::Summary;

@@ -1,0 +1,192 @@
+//! Balls rain on a dentable block and the bunny.
+
+use bevy::app::ScheduleRunnerPlugin;
+use bevy::core_pipeline::tonemapping::Tonemapping;
+use bevy::prelude::*;
+use bevy::window::ExitCondition;
+use bevy_rapier3d::prelude::*;
+use dentbend::TriMesh;
+use dentbend::glam::Vec3 as DVec3;
+use dentbend::mesh;
+
+use crate::{DentProjectile, Dentable, DentbendPlugin, bevy_mesh};
+
+/// The rain.
+#[derive(Resource, Debug, Clone)]
+pub struct RainSettings {
+    /// Balls spawned per frame (a fraction spreads them over frames).
+    pub balls_per_frame: f32,
+    /// Ball radius, m.
+    pub ball_radius: f32,
+    /// Downward speed at spawn, m/s (they fall 3 m more).
+    pub speed: f32,
+    /// Whether the block and the bunny dent (off: the same rain, no dent, for a baseline).
+    pub dents: bool,
+    /// Seed of the spawn positions.
+    pub seed: u64,
+}
+
+impl Default for RainSettings {
+    fn default() -> Self {
+        Self { balls_per_frame: 0.5, ball_radius: 0.12, speed: 6.0, dents: true, seed: 7 }
+    }
+}
+
+/// Marks the dentable bodies of the scene.
+#[derive(Component, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// The 4 × 1 × 4 m block the rain falls on.
+    Block,
+    /// The bunny sitting on it.
+    Bunny,
+}
+
+/// A ball and the frame it was spawned.
+#[derive(Component)]
+struct Ball(u32);
+
+/// The scene: light, camera (rendering to whatever [`RenderTarget`] the app inserts as a
+/// resource, else the window), block, bunny, and the rain spawner.
+pub struct RainPlugin;
+
+impl Plugin for RainPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_resource::<RainSettings>()
+            .insert_resource(TimestepMode::Fixed { dt: 1.0 / 60.0, substeps: 1 })
+            .add_systems(Startup, setup)
+            .add_systems(Update, (spawn_balls, despawn_balls));
+    }
+}
+
+/// A windowless app with everything the rain needs: Bevy's renderer without a window, run by a
+/// loop runner, bevy_rapier3d, dentbend (`gpu`: the GPU path when the device allows), the scene.
+pub fn headless_app(gpu: bool) -> App {
+    let mut app = App::new();
+    let window = WindowPlugin { primary_window: None, exit_condition: ExitCondition::DontExit, ..default() };
+    let plugins = DefaultPlugins.set(window);
+    #[cfg(feature = "window")]
+    let plugins = plugins.disable::<bevy::winit::WinitPlugin>();
+    app.add_plugins(plugins)
+        .add_plugins(ScheduleRunnerPlugin::run_loop(std::time::Duration::ZERO))
+        .add_plugins(RapierPhysicsPlugin::<NoUserData>::default())
+        .add_plugins(DentbendPlugin { gpu })
+        .add_plugins(RainPlugin);
+    app
+}
+
+fn setup(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+    settings: Res<RainSettings>,
+    target: Option<Res<crate::demo::Capture>>,
+) {
+    commands.insert_resource(GlobalAmbientLight { brightness: 400.0, ..default() });
+    commands.spawn((
+        DirectionalLight { illuminance: 9000.0, shadow_maps_enabled: false, ..default() },
+        Transform::from_xyz(3.0, 8.0, 5.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    let mut camera = commands.spawn((
+        Camera3d::default(),
+        Tonemapping::Reinhard,
+        Transform::from_xyz(0.0, 3.2, 5.2).looking_at(Vec3::new(0.0, 0.2, 0.0), Vec3::Y),
+    ));
+    if let Some(capture) = target {
+        camera.insert(capture.target());
+    }
+
+    let block = mesh::subdivided_box(DVec3::new(4.0, 1.0, 4.0), [64, 8, 64]).expect("a valid box");
+    spawn_target(&mut commands, &mut meshes, &mut materials, &settings, Target::Block, &block, Vec3::new(0.0, -0.5, 0.0));
+    let bunny = unit_bunny();
+    spawn_target(&mut commands, &mut meshes, &mut materials, &settings, Target::Bunny, &bunny, Vec3::new(1.1, 0.0, -0.6));
+}
+
+/// The built-in bunny, 1 m tall, standing on y = 0 with its foot centred on the origin.
+fn unit_bunny() -> TriMesh {
+    let bunny = mesh::builtin("bunny").expect("the built-in bunny");
+    let (lo, hi) = bunny.bounds();
+    let scale = 1.0 / (hi.y - lo.y);
+    let foot = DVec3::new(0.5 * (lo.x + hi.x), lo.y, 0.5 * (lo.z + hi.z));
+    let positions = bunny.positions().iter().map(|p| (*p - foot) * scale).collect();
+    TriMesh::new(positions, bunny.faces().to_vec()).expect("a scaled bunny")
+}
+
+fn spawn_target(
+    commands: &mut Commands,
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<StandardMaterial>,
+    settings: &RainSettings,
+    kind: Target,
+    tri: &TriMesh,
+    at: Vec3,
+) {
+    let color = match kind {
+        Target::Block => Color::srgb(0.55, 0.6, 0.7),
+        Target::Bunny => Color::srgb(0.85, 0.7, 0.5),
+    };
+    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec()).expect("a valid tri-mesh");
+    let mut entity = commands.spawn((
+        kind,
+        Mesh3d(meshes.add(bevy_mesh(tri))),
+        MeshMaterial3d(materials.add(StandardMaterial { base_color: color, perceptual_roughness: 0.6, ..default() })),
+        Transform::from_translation(at),
+        RigidBody::Fixed,
+        collider,
+    ));
+    if settings.dents {
+        // 2 m/s threshold, 5 mm per m/s above it, at most 4 cm.
+        entity.insert(Dentable::new(2.0, 0.005, 0.04));
+    }
+}
+
+/// A deterministic stream of numbers in [0, 1) (SplitMix64).
+fn unit(state: &mut u64) -> f32 {
+    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+}
+
+fn spawn_balls(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+    settings: Res<RainSettings>,
+    mut state: Local<Option<(u64, f32, u32, Handle<Mesh>, Handle<StandardMaterial>)>>,
+) {
+    let (rng, owed, frame, mesh, material) = state.get_or_insert_with(|| {
+        let ball = mesh::icosphere(settings.ball_radius, 2).expect("a valid sphere");
+        let material = StandardMaterial { base_color: Color::srgb(0.8, 0.2, 0.15), ..default() };
+        (settings.seed, 0.0, 0, meshes.add(bevy_mesh(&ball)), materials.add(material))
+    });
+    *frame += 1;
+    *owed += settings.balls_per_frame;
+    while *owed >= 1.0 {
+        *owed -= 1.0;
+        let x = -1.8 + 3.6 * unit(rng);
+        let z = -1.8 + 3.6 * unit(rng);
+        commands.spawn((
+            Ball(*frame),
+            DentProjectile,
+            Mesh3d(mesh.clone()),
+            MeshMaterial3d(material.clone()),
+            Transform::from_xyz(x, 3.0, z),
+            RigidBody::Dynamic,
+            Collider::ball(settings.ball_radius),
+            ColliderMassProperties::Density(7800.0),
+            Restitution::coefficient(0.3),
+            Velocity::linear(Vec3::new(0.0, -settings.speed, 0.0)),
+        ));
+    }
+}
+
+/// Balls leave after three seconds or when they fall off the block.
+fn despawn_balls(mut commands: Commands, balls: Query<(Entity, &Ball, &Transform)>, mut frame: Local<u32>) {
+    *frame += 1;
+    for (entity, ball, transform) in &balls {
+        if *frame > ball.0 + 180 || transform.translation.y < -3.0 {
+            commands.entity(entity).despawn();
+        }
+    }
+}

@@ -1,0 +1,34 @@
+//! Messages the plug-in writes.
+
+use bevy::prelude::*;
+use dentbend::dent::Impact;
+
+use crate::DentPath;
+
+/// A dent was decided and made (on the GPU path: recorded for this frame's batch).
+#[derive(Message, Debug, Clone, Copy)]
+pub struct DentApplied {
+    /// The dented entity.
+    pub target: Entity,
+    /// What hit it.
+    pub projectile: Entity,
+    /// The impact, world coordinates at the start of the step.
+    pub impact: Impact,
+    /// How deep the dent is, m.
+    pub dent_distance: f32,
+    /// Where it was computed.
+    pub path: DentPath,
+}
+
+/// A dentable entity's main-world mesh ([`DentWorld::mesh`](crate::DentWorld::mesh)) changed: the
+/// vertices listed moved (on the GPU path, once their read-back arrives). A physics adapter
+/// refits the entity's collider from it.
+#[derive(Message, Debug, Clone)]
+pub struct MeshDented {
+    /// The dented entity.
+    pub entity: Entity,
+    /// Vertices that moved, ascending (every vertex past the old count when refined).
+    pub moved: Vec<u32>,
+    /// Whether the faces changed (a refining dent on the CPU path): rebuild, do not refit.
+    pub topology_changed: bool,
+}

@@ -1,0 +1,160 @@
+//! dentbend for Bevy 0.20: rigid bodies that keep their dents (SCA 2014, *Efficient Denting and
+//! Bending of Rigid Bodies*), computed on Bevy's own GPU device and written straight into Bevy's
+//! vertex buffers.
+//!
+//! Add [`DentbendPlugin`], give dentable entities a [`Dentable`] (with their [`Mesh3d`]) and
+//! the things that hit them a [`DentProjectile`]. Contacts come from bevy_rapier3d (feature
+//! `rapier`, on by default) or from any source that writes [`DentContact`] messages; each step
+//! the plug-in decides every dent through dentbend's world-free damage API.
+//!
+//! - **GPU path** (chosen when Bevy's device runs dentbend's kernels): the dentable meshes stay
+//!   resident on Bevy's device; each frame's dents are recorded as one batch in the render world
+//!   and the dented positions and normals are written into each mesh's slot of Bevy's mesh
+//!   allocator slab (its offset and stride). Nothing is read back for rendering. The vertices a
+//!   batch moved are read back asynchronously for the physics colliders
+//!   ([`DentStats::collider_readback_bytes`]).
+//! - **CPU path** (no usable device, [`DentbendPlugin::cpu_only`], or settings that need the
+//!   host stages): dents are made on all cores and the mesh asset is updated.
+//!
+//! Units: metres, seconds, kilograms; a dentable's mesh is in its entity's own coordinates, and
+//! dentable entities have unit scale.
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use bevy_dentbend::{DentProjectile, Dentable, DentbendPlugin};
+//!
+//! fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>) {
+//!     // 2 m/s threshold, 1 cm per m/s above it, at most 5 cm.
+//!     commands.spawn((Mesh3d(meshes.add(Cuboid::new(2.0, 0.5, 2.0).mesh().build())), Dentable::new(2.0, 0.01, 0.05)));
+//!     commands.spawn((Mesh3d(meshes.add(Sphere::new(0.1).mesh().ico(2).unwrap())), DentProjectile));
+//! }
+//! App::new().add_plugins((DefaultPlugins, DentbendPlugin::default())).add_systems(Startup, setup).run();
+//! ```
+
+mod backend;
+mod components;
+mod contact;
+mod decide;
+mod events;
+mod link;
+#[cfg(feature = "rapier")]
+pub mod demo;
+mod mesh_data;
+#[cfg(feature = "rapier")]
+mod rapier;
+mod register;
+mod render;
+mod stats;
+mod world;
+
+use bevy::prelude::*;
+use bevy::render::mesh::allocator::MeshAllocatorSettings;
+use bevy::render::render_resource::BufferUsages;
+use bevy::render::{Render, RenderApp, RenderStartup, RenderSystems};
+
+pub use components::{DentProjectile, Dentable, kernel_params};
+pub use contact::{DentBody, DentContact};
+pub use events::{DentApplied, MeshDented};
+pub use link::GpuStatus;
+pub use mesh_data::{MeshDataError, SlabLayout, bevy_mesh, slab_layout, tri_mesh};
+pub use register::{DentRefused, DentRegistered};
+pub use stats::{DentPath, DentStats};
+pub use world::DentWorld;
+
+pub use dentbend;
+
+/// The plug-in's system sets in `PostUpdate`, in order.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DentSystems {
+    /// New bodies registered, removed ones forgotten.
+    Register,
+    /// Contacts turned into dents.
+    Decide,
+    /// Dents applied to what depends on the meshes (colliders).
+    Apply,
+}
+
+/// Dents (and, with the `rapier` feature, contacts from bevy_rapier3d) for a Bevy app.
+#[derive(Debug, Clone, Copy)]
+pub struct DentbendPlugin {
+    /// Let dents run on Bevy's GPU device when it can (default); `false` keeps every body on
+    /// the CPU path.
+    pub gpu: bool,
+}
+
+impl Default for DentbendPlugin {
+    fn default() -> Self {
+        Self { gpu: true }
+    }
+}
+
+impl DentbendPlugin {
+    /// Every dent on the CPU, updating mesh assets.
+    pub fn cpu_only() -> Self {
+        Self { gpu: false }
+    }
+}
+
+/// The GPU's status, readable by the application.
+#[derive(Resource, Clone)]
+pub struct DentGpu(link::MainLink);
+
+impl DentGpu {
+    /// Whether dents run on Bevy's device (and its name), not yet known, or not (why).
+    pub fn status(&self) -> GpuStatus {
+        self.0.status()
+    }
+}
+
+impl Plugin for DentbendPlugin {
+    fn build(&self, app: &mut App) {
+        let (main, render) = link::link();
+        if !self.gpu {
+            render.set_status(GpuStatus::Unavailable("DentbendPlugin::cpu_only".into()));
+        }
+        app.init_resource::<DentWorld>()
+            .init_resource::<DentStats>()
+            .insert_resource(DentGpu(main.clone()))
+            .insert_resource(main)
+            .add_message::<DentContact>()
+            .add_message::<DentApplied>()
+            .add_message::<MeshDented>()
+            .configure_sets(PostUpdate, (DentSystems::Register, DentSystems::Decide, DentSystems::Apply).chain())
+            .add_systems(
+                PostUpdate,
+                (
+                    register::forget_removed,
+                    register::register_dentables,
+                    register::register_projectiles,
+                    register::promote_to_gpu,
+                )
+                    .chain()
+                    .in_set(DentSystems::Register),
+            )
+            .add_systems(
+                PostUpdate,
+                (decide::receive_from_render, decide::decide_dents).chain().in_set(DentSystems::Decide),
+            );
+        #[cfg(feature = "rapier")]
+        rapier::build(app);
+        match app.get_sub_app_mut(RenderApp) {
+            Some(render_app) => {
+                render_app
+                    .insert_resource(render)
+                    .init_resource::<render::ResidentDents>()
+                    .add_systems(RenderStartup, render::start_on_bevys_device)
+                    .add_systems(Render, render::make_dents.in_set(RenderSystems::PrepareResources));
+            }
+            None => render.set_status(GpuStatus::Unavailable("the app has no render world".into())),
+        }
+    }
+
+    fn finish(&self, app: &mut App) {
+        // The dent kernels write into Bevy's vertex slabs, which need STORAGE usage.
+        if let Some(render_app) = app.get_sub_app_mut(RenderApp)
+            && let Some(mut settings) = render_app.world_mut().get_resource_mut::<MeshAllocatorSettings>()
+        {
+            settings.extra_buffer_usages |= BufferUsages::STORAGE;
+        }
+    }
+}

@@ -1,0 +1,43 @@
+//! Dentable entities' `Collider`s follow their dented meshes.
+
+use bevy::prelude::*;
+use bevy_rapier3d::prelude::Collider;
+use bevy_rapier3d::rapier::prelude::SharedShape;
+use dentbend::TriMesh;
+use dentbend_rapier::dentbend::sim::refit_shared_trimesh;
+
+use crate::{DentWorld, MeshDented};
+
+/// Refits (tri-mesh with the same vertices), rebuilds (refined tri-mesh, or another vertex
+/// numbering) or re-hulls (convex) each dented entity's collider.
+pub(crate) fn refit_colliders(
+    mut dented: MessageReader<MeshDented>,
+    world: Res<DentWorld>,
+    mut colliders: Query<&mut Collider>,
+) {
+    for d in dented.read() {
+        let (Some(mesh), Ok(mut collider)) = (world.mesh(d.entity), colliders.get_mut(d.entity)) else { continue };
+        match refitted(&collider.raw, mesh, d) {
+            Ok(shape) => *collider = Collider::from(shape),
+            Err(reason) => warn!("bevy_dentbend: {}'s collider keeps its shape: {reason}", d.entity),
+        }
+    }
+}
+
+/// The shape `raw` becomes after dent `d` left `mesh`.
+fn refitted(raw: &SharedShape, mesh: &TriMesh, d: &MeshDented) -> Result<SharedShape, String> {
+    if let Some(trimesh) = raw.as_trimesh() {
+        if !d.topology_changed && trimesh.vertices().len() == mesh.vertex_count() {
+            let mut shape = raw.clone();
+            let positions: Vec<Vec3> = d.moved.iter().filter_map(|&v| mesh.positions().get(v as usize).copied()).collect();
+            refit_shared_trimesh(&mut shape, &d.moved, &positions).map_err(|e| e.to_string())?;
+            return Ok(shape);
+        }
+        return SharedShape::trimesh_with_flags(mesh.positions().to_vec(), mesh.faces().to_vec(), trimesh.flags())
+            .map_err(|e| format!("the dented tri-mesh was refused: {e}"));
+    }
+    if raw.as_convex_polyhedron().is_some() {
+        return SharedShape::convex_hull(mesh.positions()).ok_or_else(|| "no convex hull of the dented mesh".into());
+    }
+    Err("only tri-mesh and convex colliders follow their dents".into())
+}

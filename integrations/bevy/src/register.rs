@@ -1,0 +1,121 @@
+//! Registers dentable bodies and projectiles as their meshes become available, moves bodies to
+//! the GPU path once Bevy's device is ready, and forgets despawned ones.
+
+use bevy::prelude::*;
+
+use crate::link::{GpuStatus, MainLink, ToRender};
+use crate::mesh_data::{ensure_normals, private_copy, slab_layout, tri_mesh};
+use crate::world::BodyInfo;
+use crate::{DentPath, DentProjectile, DentWorld, Dentable};
+
+/// Marks an entity the plug-in has registered.
+#[derive(Component, Debug, Clone, Copy)]
+pub struct DentRegistered;
+
+/// Marks an entity the plug-in refused, with the reason (also logged once).
+#[derive(Component, Debug, Clone)]
+pub struct DentRefused(pub String);
+
+type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
+
+/// Registers each new dentable body once its mesh asset is loaded: a private copy of the mesh
+/// (normals added when missing), its triangles for the damage API, its vertex layout for the
+/// GPU path.
+pub(crate) fn register_dentables(
+    mut commands: Commands,
+    mut world: ResMut<DentWorld>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    new: Query<(Entity, &Dentable, &Mesh3d, &GlobalTransform), Unregistered>,
+) {
+    for (entity, dentable, mesh3d, transform) in &new {
+        let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
+        let mut copy = private_copy(mesh);
+        let prepared = ensure_normals(&mut copy).and_then(|added| {
+            if added {
+                info!("bevy_dentbend: {entity}'s mesh had no normals; smooth normals were added");
+            }
+            Ok((tri_mesh(&copy)?, slab_layout(&copy)?))
+        });
+        let (tri, _layout) = match prepared {
+            Ok(done) => done,
+            Err(e) => {
+                refuse(&mut commands, entity, format!("its mesh cannot dent: {e}"));
+                continue;
+            }
+        };
+        let handle = meshes.add(copy);
+        let info = BodyInfo { mesh: handle.clone(), path: DentPath::Cpu, kernels_only: dentable.kernels_only() };
+        let settings = dentable.settings.clone();
+        match world.insert_dentable(entity, tri, transform.affine(), settings, info) {
+            Ok(()) => {
+                commands.entity(entity).insert((Mesh3d(handle), DentRegistered));
+            }
+            Err(e) => refuse(&mut commands, entity, format!("its dent settings are invalid: {e}")),
+        }
+    }
+}
+
+/// Registers each new projectile once its mesh asset is loaded.
+pub(crate) fn register_projectiles(
+    mut commands: Commands,
+    mut world: ResMut<DentWorld>,
+    meshes: Res<Assets<Mesh>>,
+    new: Query<(Entity, &Mesh3d), (With<DentProjectile>, Without<Dentable>, Unregistered)>,
+) {
+    for (entity, mesh3d) in &new {
+        let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
+        match tri_mesh(mesh) {
+            Ok(tri) => {
+                world.insert_projectile(entity, tri);
+                commands.entity(entity).insert(DentRegistered);
+            }
+            Err(e) => refuse(&mut commands, entity, format!("its mesh cannot dent others: {e}")),
+        }
+    }
+}
+
+fn refuse(commands: &mut Commands, entity: Entity, reason: String) {
+    warn!("bevy_dentbend: {entity} is left out: {reason}");
+    commands.entity(entity).insert(DentRefused(reason));
+}
+
+/// Moves every CPU-path body whose dents the kernels alone make to the GPU path once Bevy's
+/// device is ready (its mesh as it is now becomes resident).
+pub(crate) fn promote_to_gpu(mut world: ResMut<DentWorld>, link: Res<MainLink>, meshes: Res<Assets<Mesh>>) {
+    if !matches!(link.status(), GpuStatus::Ready(_)) {
+        return;
+    }
+    let ready: Vec<(Entity, Handle<Mesh>)> = world
+        .bodies
+        .iter()
+        .filter(|(_, b)| b.path == DentPath::Cpu && b.kernels_only)
+        .map(|(e, b)| (*e, b.mesh.clone()))
+        .collect();
+    for (entity, handle) in ready {
+        let (Some(mesh), Some(tri)) = (meshes.get(&handle), world.mesh(entity)) else { continue };
+        let layout = match slab_layout(mesh) {
+            Ok(layout) => layout,
+            Err(e) => {
+                warn!("bevy_dentbend: {entity} stays on the CPU path: {e}");
+                world.bodies.get_mut(&entity).map(|b| b.kernels_only = false);
+                continue;
+            }
+        };
+        link.send(ToRender::Register { entity, asset: handle.id(), mesh: tri.clone(), layout });
+        world.set_path(entity, DentPath::Gpu);
+    }
+}
+
+/// Forgets bodies that were despawned or lost their component.
+pub(crate) fn forget_removed(
+    mut world: ResMut<DentWorld>,
+    link: Res<MainLink>,
+    mut dentables: RemovedComponents<Dentable>,
+    mut projectiles: RemovedComponents<DentProjectile>,
+) {
+    for entity in dentables.read().chain(projectiles.read()) {
+        if world.remove(entity) {
+            link.send(ToRender::Forget(entity));
+        }
+    }
+}

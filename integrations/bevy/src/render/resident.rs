@@ -1,0 +1,221 @@
+//! The dentable meshes resident on Bevy's device, the dents waiting for the next batch, and the
+//! collider read-backs under way.
+
+use bevy::prelude::*;
+use bevy::render::mesh::allocator::MeshAllocator;
+use bevy::render::render_resource::BufferId;
+use dentbend::TriMesh;
+use dentbend::dent::DentJob;
+use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter, PendingMoved};
+
+use crate::link::{GpuJob, RenderLink, ToMain, ToRender};
+use crate::mesh_data::SlabLayout;
+
+/// One resident target, in slot order.
+struct Target {
+    entity: Entity,
+    asset: AssetId<Mesh>,
+    /// The target as the GPU holds it (updated from the read-backs), to upload it again when
+    /// the set of targets changes.
+    mirror: TriMesh,
+    layout: SlabLayout,
+    /// Its dents must be written into Bevy's vertex buffer (dented, or Bevy uploaded the asset
+    /// again).
+    copy_needed: bool,
+    /// Where they were last written (slab buffer, first vertex).
+    copied_at: Option<(BufferId, u32)>,
+}
+
+/// Render-world state of the GPU path.
+#[derive(Resource, Default)]
+pub(crate) struct ResidentDents {
+    context: Option<GpuContext>,
+    denter: Option<GpuDenter>,
+    targets: Vec<Target>,
+    /// The targets changed since the denter was built.
+    stale: bool,
+    jobs: Vec<GpuJob>,
+    reads: Vec<(Entity, PendingMoved)>,
+}
+
+/// What one frame recorded.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Recorded {
+    pub dents: u64,
+    pub copies: u64,
+}
+
+impl ResidentDents {
+    /// Runs on `context` from now on.
+    pub fn start(&mut self, context: GpuContext) {
+        self.context = Some(context);
+    }
+
+    /// Whether the GPU path runs.
+    pub fn is_running(&self) -> bool {
+        self.context.is_some()
+    }
+
+    /// Takes the main world's messages.
+    pub fn take(&mut self, messages: Vec<ToRender>) {
+        for message in messages {
+            match message {
+                ToRender::Register { entity, asset, mesh, layout } => {
+                    self.forget(entity);
+                    let target = Target { entity, asset, mirror: mesh, layout, copy_needed: false, copied_at: None };
+                    self.targets.push(target);
+                    self.stale = true;
+                }
+                ToRender::Forget(entity) => self.forget(entity),
+                ToRender::Dent(job) => self.jobs.push(job),
+            }
+        }
+    }
+
+    fn forget(&mut self, entity: Entity) {
+        if let Some(slot) = self.targets.iter().position(|t| t.entity == entity) {
+            self.targets.remove(slot);
+            self.stale = true;
+        }
+    }
+
+    /// Marks the targets whose asset Bevy uploaded again (their dents must be written again).
+    pub fn uploaded_again(&mut self, assets: impl Iterator<Item = AssetId<Mesh>>) {
+        for asset in assets {
+            for t in self.targets.iter_mut().filter(|t| t.asset == asset) {
+                t.copy_needed = true;
+            }
+        }
+    }
+
+    /// Advances the collider read-backs; sends each finished one to the main world.
+    pub fn poll_reads(&mut self, link: &RenderLink) {
+        let mut i = 0;
+        while i < self.reads.len() {
+            let (entity, read) = &mut self.reads[i];
+            let entity = *entity;
+            match read.poll() {
+                Ok(None) if !read.is_done() => {
+                    i += 1;
+                    continue;
+                }
+                Ok(None) => {}
+                Ok(Some(moved)) => {
+                    if let Some(t) = self.targets.iter_mut().find(|t| t.entity == entity) {
+                        let mut positions = t.mirror.positions().to_vec();
+                        for (&v, &p) in moved.indices.iter().zip(&moved.positions) {
+                            if let Some(slot) = positions.get_mut(v as usize) {
+                                *slot = p;
+                            }
+                        }
+                        if let Err(e) = t.mirror.set_positions(positions) {
+                            error!("bevy_dentbend: a dented mesh read back unusable ({e})");
+                        }
+                    }
+                    link.send(ToMain::Moved { entity, moved, bytes: read.bytes_read() });
+                }
+                Err(e) => error!("bevy_dentbend: the collider read-back of {entity} failed ({e}); its collider keeps its shape"),
+            }
+            self.reads.swap_remove(i);
+        }
+    }
+
+    /// Uploads the targets again when they changed and no read-back is under way (so every
+    /// mirror holds the dents the GPU made).
+    pub fn rebuild_if_stale(&mut self) {
+        let Some(context) = &self.context else { return };
+        if !self.stale || !self.reads.is_empty() {
+            return;
+        }
+        self.stale = false;
+        self.denter = None;
+        if self.targets.is_empty() {
+            return;
+        }
+        let meshes: Vec<TriMesh> = self.targets.iter().map(|t| t.mirror.clone()).collect();
+        match GpuDenter::new(context, &meshes) {
+            Ok(denter) => self.denter = Some(denter),
+            Err(e) => error!("bevy_dentbend: the dentable meshes could not be made resident ({e}); GPU dents wait"),
+        }
+    }
+
+    /// Records this frame's dents, writes dented targets into Bevy's vertex slabs and records
+    /// their collider read-backs, in one submission on Bevy's queue. Dents wait while the
+    /// targets are being uploaded again.
+    pub fn record(&mut self, allocator: &MeshAllocator, link: &RenderLink) -> Recorded {
+        let (Some(context), Some(denter)) = (&self.context, &mut self.denter) else { return Recorded::default() };
+        if self.stale {
+            return Recorded::default();
+        }
+        let mut encoder = context.device.create_command_encoder(&Default::default());
+        let mut jobs = std::mem::take(&mut self.jobs);
+        let slots: Vec<Option<usize>> =
+            jobs.iter().map(|j| self.targets.iter().position(|t| t.entity == j.target)).collect();
+        let gone = slots.iter().filter(|s| s.is_none()).count();
+        if gone > 0 {
+            debug!("bevy_dentbend: {gone} dent(s) on despawned bodies skipped");
+            link.send(ToMain::Dropped { dents: gone as u64 });
+        }
+        let mut kept: Vec<(usize, GpuJob)> = slots.into_iter().zip(jobs.drain(..)).filter_map(|(s, j)| Some((s?, j))).collect();
+        // An invalid dent is found before anything is recorded: drop it and record the rest.
+        let dents = loop {
+            let batch: Vec<DentJob<'_>> = kept
+                .iter()
+                .map(|(slot, j)| DentJob { target: *slot, projectile: &j.projectile, impact: j.impact, params: j.params.clone() })
+                .collect();
+            match denter.record_batch(&mut encoder, &batch) {
+                Ok(_) => break kept.len() as u64,
+                Err(GpuBatchError::Job(bad)) => {
+                    let entity = kept[bad.job].1.target;
+                    warn!("bevy_dentbend: a dent on {entity} was refused ({}); the others go on", bad.error);
+                    link.send(ToMain::Dropped { dents: 1 });
+                    kept.remove(bad.job);
+                }
+                Err(GpuBatchError::Gpu(e)) => {
+                    error!("bevy_dentbend: a dent batch failed on the GPU ({e}); {} dent(s) dropped", kept.len());
+                    link.send(ToMain::Dropped { dents: kept.len() as u64 });
+                    return Recorded::default();
+                }
+            }
+        };
+        let mut dented: Vec<usize> = kept.iter().map(|(slot, _)| *slot).collect();
+        dented.sort_unstable();
+        dented.dedup();
+        for &slot in &dented {
+            self.targets[slot].copy_needed = true;
+        }
+        let mut copies = 0;
+        for (slot, t) in self.targets.iter_mut().enumerate() {
+            let Some(slice) = allocator.mesh_vertex_slice(&t.asset) else { continue };
+            let at = (slice.buffer.id(), slice.range.start);
+            if !t.copy_needed && t.copied_at.is_none_or(|c| c == at) {
+                t.copied_at.get_or_insert(at);
+                continue;
+            }
+            let offset = u64::from(slice.range.start) * t.layout.stride;
+            match denter.copy_target_into(&mut encoder, slot, &slice.buffer, offset, t.layout.stride, t.layout.fields) {
+                Ok(()) => {
+                    (t.copy_needed, t.copied_at) = (false, Some(at));
+                    copies += 1;
+                }
+                Err(e) => error!("bevy_dentbend: the dents of {} could not be written into Bevy's vertex buffer ({e})", t.entity),
+            }
+        }
+        let mut reads = Vec::with_capacity(dented.len());
+        for &slot in &dented {
+            match denter.record_moved(&mut encoder, slot) {
+                Ok(read) => reads.push((self.targets[slot].entity, read)),
+                Err(e) => error!("bevy_dentbend: the collider read-back of {} was refused ({e})", self.targets[slot].entity),
+            }
+        }
+        context.queue.submit([encoder.finish()]);
+        for (entity, mut read) in reads {
+            read.submitted();
+            self.reads.push((entity, read));
+        }
+        if dents > 0 {
+            link.send(ToMain::Batch { dents });
+        }
+        Recorded { dents, copies }
+    }
+}

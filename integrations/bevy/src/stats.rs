@@ -1,0 +1,30 @@
+//! What the plug-in has done, for games, tests and benchmarks.
+
+use bevy::prelude::*;
+
+/// Running totals since the app started.
+#[derive(Resource, Debug, Clone, Default, PartialEq, Eq)]
+pub struct DentStats {
+    /// Dents made (both paths).
+    pub dents: u64,
+    /// Dents made on the GPU path.
+    pub gpu_dents: u64,
+    /// Bytes read back from the GPU to render dented meshes: 0 on the GPU path by design.
+    pub render_readback_bytes: u64,
+    /// Bytes read back for the physics colliders (4 per dented target and batch, 16 per moved
+    /// vertex), asynchronously.
+    pub collider_readback_bytes: u64,
+    /// Dent batches recorded on the GPU.
+    pub gpu_batches: u64,
+    /// Contacts that could not dent (unknown or despawned bodies, bad values), logged.
+    pub rejected_contacts: u64,
+}
+
+/// Which path a dentable body's dents take.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DentPath {
+    /// Dented on Bevy's GPU device, written into Bevy's vertex buffer.
+    Gpu,
+    /// Dented on the CPU, written into the mesh asset (Bevy uploads it again).
+    Cpu,
+}

@@ -1,0 +1,123 @@
+//! The main world's dentbend state: every dentable body's mesh (its own coordinates, m), pose,
+//! settings and path, the projectiles' surfaces, and the progressive dents under way.
+
+use std::collections::{HashMap, HashSet};
+
+use bevy::prelude::*;
+use dentbend::TriMesh;
+use dentbend::dent::{Damage, DentSettings, DentedTarget, TargetSet};
+use dentbend::glam::Affine3A;
+
+use crate::DentPath;
+
+/// One dentable body.
+#[derive(Debug, Clone)]
+pub(crate) struct BodyInfo {
+    /// Its private mesh asset.
+    pub mesh: Handle<Mesh>,
+    pub path: DentPath,
+    /// Whether the GPU kernels alone make its dents.
+    pub kernels_only: bool,
+}
+
+/// Every body the plug-in knows, by entity.
+#[derive(Resource, Default)]
+pub struct DentWorld {
+    pub(crate) targets: TargetSet<Entity>,
+    pub(crate) damage: Damage<Entity>,
+    pub(crate) surfaces: HashMap<Entity, TriMesh>,
+    pub(crate) bodies: HashMap<Entity, BodyInfo>,
+    /// Bodies on the GPU path (the keys the split backend queues).
+    pub(crate) on_gpu: HashSet<Entity>,
+    pub(crate) step: u64,
+}
+
+impl DentWorld {
+    /// Dentable `entity`'s mesh as the main world knows it (its own coordinates, m). On the GPU
+    /// path it follows the GPU a few frames behind (as the collider read-backs arrive).
+    pub fn mesh(&self, entity: Entity) -> Option<&TriMesh> {
+        self.targets.mesh(entity)
+    }
+
+    /// The path `entity`'s dents take; `None` when it is not a registered dentable body.
+    pub fn path(&self, entity: Entity) -> Option<DentPath> {
+        self.bodies.get(&entity).map(|b| b.path)
+    }
+
+    /// The dentable bodies registered so far.
+    pub fn dentables(&self) -> impl Iterator<Item = Entity> + '_ {
+        self.bodies.keys().copied()
+    }
+
+    /// The surface `entity` dents others with (its dentable mesh, or its projectile mesh).
+    pub(crate) fn surface(&self, entity: Entity) -> Option<&TriMesh> {
+        self.targets.mesh(entity).or_else(|| self.surfaces.get(&entity))
+    }
+
+    /// Adds dentable `entity`.
+    pub(crate) fn insert_dentable(
+        &mut self,
+        entity: Entity,
+        mesh: TriMesh,
+        pose: Affine3A,
+        settings: DentSettings,
+        info: BodyInfo,
+    ) -> Result<(), dentbend::DentError> {
+        self.targets.insert(entity, mesh, pose, settings)?;
+        self.surfaces.remove(&entity);
+        self.set_path(entity, info.path);
+        self.bodies.insert(entity, info);
+        Ok(())
+    }
+
+    /// Adds projectile `entity` with surface `mesh`.
+    pub(crate) fn insert_projectile(&mut self, entity: Entity, mesh: TriMesh) {
+        self.targets.insert_rigid(entity);
+        self.surfaces.insert(entity, mesh);
+    }
+
+    /// Forgets `entity`; whether it was on the GPU path.
+    pub(crate) fn remove(&mut self, entity: Entity) -> bool {
+        self.targets.remove(entity);
+        self.surfaces.remove(&entity);
+        self.damage.forget(entity);
+        self.bodies.remove(&entity);
+        self.on_gpu.remove(&entity)
+    }
+
+    pub(crate) fn set_path(&mut self, entity: Entity, path: DentPath) {
+        if let Some(body) = self.bodies.get_mut(&entity) {
+            body.path = path;
+        }
+        match path {
+            DentPath::Gpu => self.on_gpu.insert(entity),
+            DentPath::Cpu => self.on_gpu.remove(&entity),
+        };
+    }
+
+    /// Moves the vertices `indices` of `entity`'s mesh to `positions` (its own coordinates);
+    /// `false` when it is unknown or the mesh refuses them.
+    pub(crate) fn move_vertices(&mut self, entity: Entity, indices: &[u32], positions: &[Vec3]) -> bool {
+        let Some(mesh) = self.targets.mesh(entity) else { return false };
+        let mut moved = mesh.positions().to_vec();
+        for (&v, &p) in indices.iter().zip(positions) {
+            match moved.get_mut(v as usize) {
+                Some(slot) => *slot = p,
+                None => return false,
+            }
+        }
+        let mut mesh = mesh.clone();
+        if mesh.set_positions(moved).is_err() {
+            return false;
+        }
+        let dented = DentedTarget {
+            key: entity,
+            mesh,
+            moved: indices.to_vec(),
+            refinement: Default::default(),
+            topology_changed: false,
+        };
+        self.targets.apply(vec![dented]);
+        true
+    }
+}
