@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use bevy::prelude::*;
-use bevy_dentbend::demo::{CapturePlugin, Captured, FrameClock, RainSettings, Summary, headless_app};
+use bevy_dentbend::demo::{CapturePlugin, Captured, FrameClock, RainPlugin, RainSettings, Summary, headless_app};
 use bevy_dentbend::{DentGpu, DentStats};
 
 struct Args {
@@ -79,6 +79,7 @@ fn main() -> ExitCode {
     }
     let mut app = headless_app(args.gpu);
     app.insert_resource(RainSettings { dents: args.dents, balls_per_frame: args.balls_per_frame, ..default() })
+        .add_plugins(RainPlugin)
         .add_plugins(CapturePlugin { size: args.size, out: Some(args.out.clone()), keep: false })
         .insert_resource(Run { frames: args.frames, out: args.out.clone(), dents: args.dents })
         .add_systems(Last, finish);
@@ -105,12 +106,12 @@ fn finish(
     mut capture: ResMut<bevy_dentbend::demo::Capture>,
     mut exit: MessageWriter<AppExit>,
 ) {
-    if clock.frame < run.frames {
+    if clock.frame <= run.frames {
         return;
     }
     capture.enabled = false;
     let drained = captured.all_done();
-    if !drained && clock.frame < run.frames + DRAIN_FRAMES {
+    if !drained && clock.frame <= run.frames + DRAIN_FRAMES {
         return;
     }
     let mut timed = clock.clone();
@@ -128,7 +129,7 @@ fn finish(
         }
     }
     if !drained {
-        eprintln!("headless_rain: {} frame(s) were not captured in time", clock.frame.saturating_sub(captured.done()));
+        eprintln!("headless_rain: {} frame(s) were not captured in time", run.frames.saturating_sub(captured.done()));
         exit.write(AppExit::from_code(1));
         return;
     }

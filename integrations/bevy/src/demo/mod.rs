@@ -5,6 +5,6 @@ mod capture;
 mod rain;
 mod summary;
 
-pub use capture::{Capture, CapturePlugin, Captured, FrameClock};
+pub use capture::{Capture, CapturePlugin, Captured, Frame, FrameClock};
 pub use rain::{RainPlugin, RainSettings, Target, headless_app};
 pub use summary::Summary;

@@ -58,8 +58,9 @@ impl Plugin for RainPlugin {
     }
 }
 
-/// A windowless app with everything the rain needs: Bevy's renderer without a window, run by a
-/// loop runner, bevy_rapier3d, dentbend (`gpu`: the GPU path when the device allows), the scene.
+/// A windowless app: Bevy's renderer without a window, run by a loop runner, bevy_rapier3d with
+/// a fixed 1/60 s step, and dentbend (`gpu`: the GPU path when the device allows). Add
+/// [`RainPlugin`] for the rain, and a [`CapturePlugin`](super::CapturePlugin) for pictures.
 pub fn headless_app(gpu: bool) -> App {
     let mut app = App::new();
     let window = WindowPlugin { primary_window: None, exit_condition: ExitCondition::DontExit, ..default() };
@@ -70,7 +71,7 @@ pub fn headless_app(gpu: bool) -> App {
         .add_plugins(ScheduleRunnerPlugin::run_loop(std::time::Duration::ZERO))
         .add_plugins(RapierPhysicsPlugin::<NoUserData>::default())
         .add_plugins(DentbendPlugin { gpu })
-        .add_plugins(RainPlugin);
+        .insert_resource(TimestepMode::Fixed { dt: 1.0 / 60.0, substeps: 1 });
     app
 }
 
@@ -84,7 +85,8 @@ fn setup(
     commands.insert_resource(GlobalAmbientLight { brightness: 400.0, ..default() });
     commands.spawn((
         DirectionalLight { illuminance: 9000.0, shadow_maps_enabled: false, ..default() },
-        Transform::from_xyz(3.0, 8.0, 5.0).looking_at(Vec3::ZERO, Vec3::Y),
+        // Low and from the side, so dents on the top face shade.
+        Transform::from_xyz(6.0, 2.0, 1.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));
     let mut camera = commands.spawn((
         Camera3d::default(),
@@ -134,8 +136,8 @@ fn spawn_target(
         collider,
     ));
     if settings.dents {
-        // 2 m/s threshold, 5 mm per m/s above it, at most 4 cm.
-        entity.insert(Dentable::new(2.0, 0.005, 0.04));
+        // 2 m/s threshold, 8 mm per m/s above it, at most 6 cm.
+        entity.insert(Dentable::new(2.0, 0.008, 0.06));
     }
 }
 

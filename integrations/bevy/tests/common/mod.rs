@@ -1,0 +1,231 @@
+//! Shared by the plug-in's tests: a libtest-mimic runner that runs Bevy apps one at a time and
+//! skips them without a GPU adapter (unless `DENTBEND_REQUIRE_GPU=1`), and a scripted scene:
+//! a dentable slab under a camera, a hidden ball, and dents made through the contact hook.
+
+#![allow(dead_code)]
+
+pub mod slab;
+
+use std::process::ExitCode;
+
+use bevy::core_pipeline::tonemapping::Tonemapping;
+use bevy::prelude::*;
+use bevy_dentbend::demo::{Capture, CapturePlugin, Captured, Frame, headless_app};
+use bevy_dentbend::dentbend::dent::BodyState;
+use bevy_dentbend::dentbend::glam::{Affine3A, Mat3};
+use bevy_dentbend::dentbend::{TriMesh, mesh};
+use bevy_dentbend::{DentBody, DentContact, DentGpu, DentPath, DentStats, DentWorld, Dentable, DentProjectile, GpuStatus};
+use libtest_mimic::{Arguments, Failed, Trial};
+
+/// Runs `tests` one at a time (each builds a Bevy app with a renderer).
+pub fn run(tests: Vec<(&'static str, fn())>) -> ExitCode {
+    let mut args = Arguments::from_args();
+    args.test_threads = Some(1);
+    let adapter = bevy_dentbend::dentbend::gpu::GpuContext::new().err().map(|e| e.to_string());
+    let required = std::env::var("DENTBEND_REQUIRE_GPU").as_deref() == Ok("1");
+    let trials = tests
+        .into_iter()
+        .map(|(name, body)| match (&adapter, required) {
+            (None, _) => Trial::test(name, move || {
+                body();
+                Ok(())
+            }),
+            (Some(why), true) => {
+                let why = why.clone();
+                Trial::test(name, move || Err(Failed::from(format!("no GPU adapter ({why}) and DENTBEND_REQUIRE_GPU=1"))))
+            }
+            (Some(why), false) => Trial::test(name, || Ok(())).with_ignored_flag(true).with_kind(format!("no GPU: {why}")),
+        })
+        .collect();
+    libtest_mimic::run(&args, trials).exit_code()
+}
+
+/// Frame size of the scripted scene, pixels.
+pub const SIZE: UVec2 = UVec2::new(320, 240);
+/// Half extents of the slab, m (its top face at y = 0).
+pub const SLAB: Vec3 = Vec3::new(1.0, 0.1, 1.0);
+/// Radius of the hidden ball, m.
+pub const BALL: f32 = 0.25;
+
+/// The scripted scene.
+pub struct Scene {
+    pub app: App,
+    pub slab: Entity,
+    pub ball: Entity,
+    pub camera: Entity,
+    /// Reads what Bevy's vertex slab holds.
+    pub probe: slab::SlabProbe,
+    /// The slab as spawned.
+    pub slab_mesh: TriMesh,
+}
+
+/// The slab: 2 × 0.2 × 2 m, 48 × 2 × 48 cells, with UVs (so its vertices carry an attribute the
+/// dents must not touch).
+pub fn slab_mesh() -> TriMesh {
+    mesh::subdivided_box(2.0 * SLAB, [48, 2, 48]).expect("a valid box")
+}
+
+/// A Bevy mesh of `tri` with UVs from x and z.
+pub fn with_uvs(tri: &TriMesh) -> Mesh {
+    let uvs: Vec<[f32; 2]> = tri.positions().iter().map(|p| [p.x * 0.5 + 0.5, p.z * 0.5 + 0.5]).collect();
+    bevy_dentbend::bevy_mesh(tri).with_inserted_attribute(Mesh::ATTRIBUTE_UV_0, uvs)
+}
+
+/// The scene on the GPU path (`gpu`) or the CPU path, with frames kept in memory when `capture`.
+pub fn scene(gpu: bool, capture: bool) -> Scene {
+    let mut app = headless_app(gpu);
+    if capture {
+        app.add_plugins(CapturePlugin { size: SIZE, out: None, keep: true });
+    }
+    let slab_mesh = slab_mesh();
+    let world = app.world_mut();
+    let slab_asset = world.resource_mut::<Assets<Mesh>>().add(with_uvs(&slab_mesh));
+    let ball_asset = world.resource_mut::<Assets<Mesh>>().add(bevy_dentbend::bevy_mesh(&ball_mesh()));
+    let grey = world.resource_mut::<Assets<StandardMaterial>>().add(StandardMaterial {
+        base_color: Color::srgb(0.6, 0.6, 0.65),
+        perceptual_roughness: 0.5,
+        ..default()
+    });
+    let slab = world
+        .spawn((
+            Mesh3d(slab_asset),
+            MeshMaterial3d(grey.clone()),
+            Transform::from_xyz(0.0, -SLAB.y, 0.0),
+            // 1 m/s threshold, 1 cm per m/s above it, at most 8 cm.
+            Dentable::new(1.0, 0.01, 0.08),
+        ))
+        .id();
+    let ball = world.spawn((Mesh3d(ball_asset), MeshMaterial3d(grey), Transform::default(), Visibility::Hidden, DentProjectile)).id();
+    world.spawn((
+        DirectionalLight { illuminance: 8000.0, shadow_maps_enabled: false, ..default() },
+        Transform::from_xyz(4.0, 1.5, 0.5).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    let mut camera = world.spawn((
+        Camera3d::default(),
+        Tonemapping::Reinhard,
+        Transform::from_xyz(0.0, 2.2, 2.2).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    if capture {
+        let target = camera.world().resource::<Capture>().target();
+        camera.insert(target);
+    }
+    let camera = camera.id();
+    let probe = slab::SlabProbe::install(&mut app);
+    app.finish();
+    app.cleanup();
+    let mut scene = Scene { app, slab, ball, camera, probe, slab_mesh };
+    scene.stop_capturing();
+    scene
+}
+
+/// The hidden ball's mesh (its own coordinates).
+pub fn ball_mesh() -> TriMesh {
+    mesh::icosphere(BALL, 3).expect("a valid sphere")
+}
+
+impl Scene {
+    /// Runs `n` frames.
+    pub fn frames(&mut self, n: u32) {
+        for _ in 0..n {
+            self.app.update();
+        }
+    }
+
+    /// Runs frames until `done` holds (at most `limit`); panics naming `what` otherwise.
+    pub fn until(&mut self, what: &str, limit: u32, done: impl Fn(&World) -> bool) {
+        for _ in 0..limit {
+            if done(self.app.world()) {
+                return;
+            }
+            self.app.update();
+        }
+        assert!(done(self.app.world()), "{what}: not after {limit} frames");
+    }
+
+    /// Runs frames until the slab is registered on the expected path (the GPU one when `gpu`).
+    pub fn warm_up(&mut self, gpu: bool) {
+        let slab = self.slab;
+        let path = if gpu { DentPath::Gpu } else { DentPath::Cpu };
+        self.until("the slab registered", 200, |w| w.resource::<DentWorld>().path(slab) == Some(path));
+        if gpu {
+            let status = self.app.world().resource::<DentGpu>().status();
+            assert!(matches!(status, GpuStatus::Ready(_)), "GPU path expected, status {status:?}");
+        }
+        // A few frames for the mesh upload and the pipelines.
+        self.frames(4);
+    }
+
+    fn stop_capturing(&mut self) {
+        if let Some(mut capture) = self.app.world_mut().get_resource_mut::<Capture>() {
+            capture.enabled = false;
+        }
+    }
+
+    /// Renders frames until one more frame has been captured; that frame.
+    pub fn capture(&mut self) -> Frame {
+        let before = self.app.world().resource::<Captured>().done();
+        self.app.world_mut().resource_mut::<Capture>().enabled = true;
+        self.app.update();
+        self.stop_capturing();
+        self.until("a frame captured", 200, |w| w.resource::<Captured>().done() > before);
+        self.app.world().resource::<Captured>().frames().pop().expect("a kept frame")
+    }
+
+    /// Captures frames until two in a row are identical (pipelines compiled, meshes uploaded,
+    /// nothing changing); that frame.
+    pub fn capture_settled(&mut self) -> Frame {
+        let mut last = self.capture();
+        for _ in 0..60 {
+            let next = self.capture();
+            if next.rgba == last.rgba {
+                return next;
+            }
+            last = next;
+        }
+        panic!("the frame never settled");
+    }
+
+    /// Writes a contact of the hidden ball falling at `speed` m/s on the slab's top face at
+    /// (x, z), through the contact hook.
+    pub fn hit(&mut self, x: f32, z: f32, speed: f32) {
+        let point = Vec3::new(x, 0.0, z);
+        let centre = point + Vec3::Y * BALL;
+        let inertia = Mat3::from_diagonal(Vec3::splat(1.0 / (0.4 * 10.0 * BALL * BALL)));
+        let ball_state = BodyState::moving(centre, -speed * Vec3::Y, Vec3::ZERO, 10.0, inertia);
+        let contact = DentContact {
+            a: DentBody { entity: self.slab, pose: Affine3A::from_translation(Vec3::new(0.0, -SLAB.y, 0.0)), state: BodyState::FIXED },
+            b: DentBody { entity: self.ball, pose: Affine3A::from_translation(centre), state: ball_state },
+            point,
+            normal: Vec3::Y,
+            started: true,
+        };
+        self.app.world_mut().write_message(contact);
+    }
+
+    /// The plug-in's totals.
+    pub fn stats(&self) -> DentStats {
+        self.app.world().resource::<DentStats>().clone()
+    }
+
+    /// The slab's mesh as the main world knows it.
+    pub fn slab_now(&self) -> TriMesh {
+        self.app.world().resource::<DentWorld>().mesh(self.slab).expect("the slab is dentable").clone()
+    }
+
+    /// The positions of the slab's Bevy mesh asset (its private copy).
+    pub fn slab_asset_positions(&self) -> Vec<Vec3> {
+        let handle = &self.app.world().get::<Mesh3d>(self.slab).expect("a mesh").0;
+        let mesh = self.app.world().resource::<Assets<Mesh>>().get(handle).expect("the asset");
+        match mesh.attribute(Mesh::ATTRIBUTE_POSITION) {
+            Some(bevy::mesh::VertexAttributeValues::Float32x3(p)) => p.iter().map(|p| Vec3::from_array(*p)).collect(),
+            _ => panic!("the slab's asset lost its positions"),
+        }
+    }
+
+    /// Where world point `p` appears in the frame, pixels.
+    pub fn project(&mut self, p: Vec3) -> Vec2 {
+        let mut query = self.app.world_mut().query::<(&Camera, &GlobalTransform)>();
+        let (camera, transform) = query.get(self.app.world(), self.camera).expect("the camera");
+        camera.world_to_viewport(transform, p).expect("a visible point")
+    }
+}
