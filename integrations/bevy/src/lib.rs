@@ -120,6 +120,8 @@ impl Plugin for DentbendPlugin {
             .add_message::<DentApplied>()
             .add_message::<MeshDented>()
             .configure_sets(PostUpdate, (DentSystems::Register, DentSystems::Decide, DentSystems::Apply).chain())
+            // Registration reads each body's global transform (its pose, its scale).
+            .configure_sets(PostUpdate, DentSystems::Register.after(TransformSystems::Propagate))
             .add_systems(
                 PostUpdate,
                 (

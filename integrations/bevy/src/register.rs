@@ -18,6 +18,10 @@ pub struct DentRefused(pub String);
 
 type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
 
+/// How far from 1 a dentable entity's scale may be (dents are sized in metres in the mesh's own
+/// coordinates, which a scale would stretch).
+const UNIT_SCALE_TOLERANCE: f32 = 1e-4;
+
 /// Registers each new dentable body once its mesh asset is loaded: a private copy of the mesh
 /// (normals added when missing), its triangles for the damage API, its vertex layout for the
 /// GPU path.
@@ -28,6 +32,11 @@ pub(crate) fn register_dentables(
     new: Query<(Entity, &Dentable, &Mesh3d, &GlobalTransform), Unregistered>,
 ) {
     for (entity, dentable, mesh3d, transform) in &new {
+        let scale = transform.to_scale_rotation_translation().0;
+        if (scale - Vec3::ONE).abs().max_element() > UNIT_SCALE_TOLERANCE {
+            refuse(&mut commands, entity, format!("it is scaled by {scale} (bake the scale into its mesh)"));
+            continue;
+        }
         let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
         let mut copy = private_copy(mesh);
         let prepared = ensure_normals(&mut copy).and_then(|added| {

@@ -6,5 +6,5 @@ mod rain;
 mod summary;
 
 pub use capture::{Capture, CapturePlugin, Captured, Frame, FrameClock};
-pub use rain::{RainPlugin, RainSettings, Target, headless_app};
+pub use rain::{RainPlugin, RainSettings, Target, headless_app, headless_app_with};
 pub use summary::Summary;

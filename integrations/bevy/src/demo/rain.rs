@@ -3,6 +3,7 @@
 use bevy::app::ScheduleRunnerPlugin;
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
+use bevy::render::RenderPlugin;
 use bevy::window::ExitCondition;
 use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
@@ -62,9 +63,18 @@ impl Plugin for RainPlugin {
 /// a fixed 1/60 s step, and dentbend (`gpu`: the GPU path when the device allows). Add
 /// [`RainPlugin`] for the rain, and a [`CapturePlugin`](super::CapturePlugin) for pictures.
 pub fn headless_app(gpu: bool) -> App {
+    headless_app_with(gpu, RenderPlugin::default())
+}
+
+/// [`headless_app`] with Bevy's `render` plug-in configured (device limits, backends).
+pub fn headless_app_with(gpu: bool, render: RenderPlugin) -> App {
     let mut app = App::new();
     let window = WindowPlugin { primary_window: None, exit_condition: ExitCondition::DontExit, ..default() };
-    let plugins = DefaultPlugins.set(window);
+    let mut plugins = DefaultPlugins.set(window).set(render);
+    if bevy::log::tracing::dispatcher::has_been_set() {
+        // A second app in one process (tests): the first one's log subscriber stays.
+        plugins = plugins.disable::<bevy::log::LogPlugin>();
+    }
     #[cfg(feature = "window")]
     let plugins = plugins.disable::<bevy::winit::WinitPlugin>();
     app.add_plugins(plugins)

@@ -10,7 +10,8 @@ use std::process::ExitCode;
 
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
-use bevy_dentbend::demo::{Capture, CapturePlugin, Captured, Frame, headless_app};
+use bevy::render::RenderPlugin;
+use bevy_dentbend::demo::{Capture, CapturePlugin, Captured, Frame, headless_app, headless_app_with};
 use bevy_dentbend::dentbend::dent::BodyState;
 use bevy_dentbend::dentbend::glam::{Affine3A, Mat3};
 use bevy_dentbend::dentbend::{TriMesh, mesh};
@@ -46,6 +47,8 @@ pub const SIZE: UVec2 = UVec2::new(320, 240);
 pub const SLAB: Vec3 = Vec3::new(1.0, 0.1, 1.0);
 /// Radius of the hidden ball, m.
 pub const BALL: f32 = 0.25;
+/// A ball speed that dents the slab, m/s (threshold 1 m/s).
+pub const SPEED_OK: f32 = 5.0;
 
 /// The scripted scene.
 pub struct Scene {
@@ -73,7 +76,15 @@ pub fn with_uvs(tri: &TriMesh) -> Mesh {
 
 /// The scene on the GPU path (`gpu`) or the CPU path, with frames kept in memory when `capture`.
 pub fn scene(gpu: bool, capture: bool) -> Scene {
-    let mut app = headless_app(gpu);
+    scene_with(gpu, capture, None)
+}
+
+/// [`scene`] with Bevy's render plug-in configured.
+pub fn scene_with(gpu: bool, capture: bool, render: Option<RenderPlugin>) -> Scene {
+    let mut app = match render {
+        Some(render) => headless_app_with(gpu, render),
+        None => headless_app(gpu),
+    };
     if capture {
         app.add_plugins(CapturePlugin { size: SIZE, out: None, keep: true });
     }
@@ -124,6 +135,17 @@ pub fn ball_mesh() -> TriMesh {
 }
 
 impl Scene {
+    /// The slab and the ball (no camera, no material) in `app`, which needs no renderer.
+    pub fn around(mut app: App) -> Scene {
+        let slab_mesh = slab_mesh();
+        let world = app.world_mut();
+        let slab_asset = world.resource_mut::<Assets<Mesh>>().add(with_uvs(&slab_mesh));
+        let ball_asset = world.resource_mut::<Assets<Mesh>>().add(bevy_dentbend::bevy_mesh(&ball_mesh()));
+        let slab = world.spawn((Mesh3d(slab_asset), Transform::from_xyz(0.0, -SLAB.y, 0.0), Dentable::new(1.0, 0.01, 0.08))).id();
+        let ball = world.spawn((Mesh3d(ball_asset), Transform::default(), DentProjectile)).id();
+        Scene { app, slab, ball, camera: Entity::PLACEHOLDER, probe: slab::SlabProbe::default(), slab_mesh }
+    }
+
     /// Runs `n` frames.
     pub fn frames(&mut self, n: u32) {
         for _ in 0..n {
