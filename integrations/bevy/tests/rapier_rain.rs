@@ -1,2 +1,98 @@
-//! Placeholder replaced below.
-fn main() {}
+//! bevy_rapier3d end to end: balls fall on dentable bodies, Rapier's impacts dent them on the GPU
+//! path, the bodies' `Collider`s (and Rapier's own colliders) take the dented vertices from the
+//! collider read-back, and a ball at rest dents nothing more.
+
+mod common;
+
+use std::process::ExitCode;
+
+use bevy::prelude::*;
+use bevy_dentbend::demo::{RainPlugin, RainSettings, Target, headless_app};
+use bevy_dentbend::{DentPath, DentStats, DentWorld};
+use bevy_rapier3d::plugin::context::RapierContextColliders;
+use bevy_rapier3d::prelude::*;
+
+/// Runs the rain for `frames` frames; the app.
+fn rain(settings: RainSettings, frames: u32) -> App {
+    let mut app = headless_app(true);
+    app.insert_resource(settings).add_plugins(RainPlugin);
+    app.finish();
+    app.cleanup();
+    for _ in 0..frames {
+        app.update();
+    }
+    app
+}
+
+/// The vertices of `entity`'s tri-mesh collider, from the Bevy component and from Rapier.
+fn collider_vertices(app: &mut App, entity: Entity) -> (Vec<Vec3>, Vec<Vec3>) {
+    let component = app.world().get::<Collider>(entity).expect("a collider");
+    let ours = component.raw.as_trimesh().expect("a tri-mesh").vertices().to_vec();
+    let mut q = app.world_mut().query::<&RapierContextColliders>();
+    let colliders = q.single(app.world()).expect("one Rapier context");
+    let handle = colliders.entity2collider().get(&entity).copied().expect("a Rapier collider");
+    let theirs = colliders.colliders.get(handle).unwrap().shape().as_trimesh().unwrap().vertices().to_vec();
+    (ours, theirs)
+}
+
+/// Raining balls dent the block on the GPU path; after the read-backs, the block's collider (the
+/// component and Rapier's copy) has exactly the main world's dented vertices.
+fn impacts_dent_and_colliders_follow() {
+    let mut app = rain(RainSettings { balls_per_frame: 0.25, ..default() }, 150);
+    let stats = app.world().resource::<DentStats>().clone();
+    assert!(stats.gpu_dents >= 3, "only {} GPU dents from 37 balls", stats.gpu_dents);
+    assert_eq!(stats.gpu_dents, stats.dents, "every dent on the GPU path");
+    assert_eq!(stats.render_readback_bytes, 0);
+    let mut q = app.world_mut().query::<(Entity, &Target)>();
+    let block = q.iter(app.world()).find(|(_, t)| **t == Target::Block).map(|(e, _)| e).expect("the block");
+    assert_eq!(app.world().resource::<DentWorld>().path(block), Some(DentPath::Gpu));
+    // Stop the rain and let the read-backs and refits land.
+    app.world_mut().resource_mut::<RainSettings>().balls_per_frame = 0.0;
+    for _ in 0..10 {
+        app.update();
+    }
+    let mesh = app.world().resource::<DentWorld>().mesh(block).expect("the block").clone();
+    let (ours, theirs) = collider_vertices(&mut app, block);
+    assert_eq!(ours, mesh.positions(), "the Collider component is not the dented mesh");
+    assert_eq!(theirs, mesh.positions(), "Rapier's collider is not the dented mesh");
+}
+
+/// One ball dropped on the block: it dents where it lands and bounces; over the next two seconds,
+/// resting (or rolling slowly in its dent), it makes no further dent and is not launched: it
+/// stays on the block below 0.5 m/s, a quarter of the 2 m/s dent threshold.
+fn a_ball_at_rest_dents_no_more() {
+    let mut app = rain(RainSettings { balls_per_frame: 0.0, ..default() }, 5);
+    let sphere = app.world_mut().resource_mut::<Assets<Mesh>>().add(Sphere::new(0.12).mesh().ico(2).unwrap());
+    let ball = app
+        .world_mut()
+        .spawn((
+            bevy_dentbend::DentProjectile,
+            Mesh3d(sphere),
+            Transform::from_xyz(-1.0, 1.0, 0.5),
+            RigidBody::Dynamic,
+            Collider::ball(0.12),
+            ColliderMassProperties::Density(7800.0),
+            Restitution::coefficient(0.2),
+            Velocity::linear(Vec3::new(0.0, -6.0, 0.0)),
+        ))
+        .id();
+    for _ in 0..120 {
+        app.update();
+    }
+    let settled = app.world().resource::<DentStats>().dents;
+    assert!(settled >= 1, "the ball never dented the block");
+    for _ in 0..120 {
+        app.update();
+    }
+    assert_eq!(app.world().resource::<DentStats>().dents, settled, "a ball at rest kept denting");
+    let v = app.world().get::<Velocity>(ball).expect("the ball").linear.length();
+    let y = app.world().get::<Transform>(ball).expect("the ball").translation.y;
+    assert!(v < 0.5 && (0.0..0.3).contains(&y), "the ball was launched ({v} m/s at y = {y} m)");
+}
+
+fn main() -> ExitCode {
+    common::run(vec![
+        ("impacts_dent_and_colliders_follow", impacts_dent_and_colliders_follow),
+        ("a_ball_at_rest_dents_no_more", a_ball_at_rest_dents_no_more),
+    ])
+}
