@@ -206,8 +206,7 @@ impl PendingMoved {
     pub fn poll(&mut self) -> Result<Option<MovedVertices>, GpuError> {
         // Runs the callbacks of finished work without waiting.
         let _ = self.context.device.poll(wgpu::PollType::Poll);
-        loop {
-            let Some(staging) = &self.staging else { break };
+        while let Some(staging) = &self.staging {
             let next = match &self.state {
                 ReadState::Count(receiver) => match mapped(receiver)? {
                     false => return Ok(None),

@@ -45,7 +45,8 @@ fn parse() -> Result<Args, String> {
                 args.size = UVec2::new(parse(w)?, parse(h)?);
             }
             "--balls-per-frame" => {
-                args.balls_per_frame = value("--balls-per-frame")?.parse().map_err(|e| format!("--balls-per-frame: {e}"))?;
+                args.balls_per_frame =
+                    value("--balls-per-frame")?.parse().map_err(|e| format!("--balls-per-frame: {e}"))?;
             }
             "--help" | "-h" => {
                 return Err("usage: headless_rain [--frames N] [--out DIR] [--cpu] [--no-dents] [--size WxH] [--balls-per-frame F]".into());

@@ -40,10 +40,8 @@ impl DentBackend<Entity> for SplitBackend<'_> {
         };
         if !cpu_jobs.is_empty() {
             let mut cpu_meshes: Vec<TriMesh> = on_cpu.iter().map(|&t| meshes[t].clone()).collect();
-            let batch: Vec<DentJob<'_>> = cpu_jobs
-                .iter()
-                .map(|&j| DentJob { target: cpu_slot[&jobs[j].target], ..jobs[j].clone() })
-                .collect();
+            let batch: Vec<DentJob<'_>> =
+                cpu_jobs.iter().map(|&j| DentJob { target: cpu_slot[&jobs[j].target], ..jobs[j].clone() }).collect();
             let done = dent_batch_tracked(&mut cpu_meshes, &batch)
                 .map_err(|e| BatchError { job: cpu_jobs[e.job], error: e.error })?;
             for (k, report) in done.reports.into_iter().enumerate() {

@@ -39,7 +39,12 @@ impl Dentable {
 
 /// The paper's dent of depth `dent_distance` m: every kernel stage, no host stage.
 pub fn kernel_params(dent_distance: f32) -> DentParams {
-    DentParams { refine: Refine::Off, volume: VolumeMode::Free, guard_crossings: false, ..DentParams::new(dent_distance) }
+    DentParams {
+        refine: Refine::Off,
+        volume: VolumeMode::Free,
+        guard_crossings: false,
+        ..DentParams::new(dent_distance)
+    }
 }
 
 /// An entity that dents what it hits without denting itself (a ball, a hammer): its surface is

@@ -83,7 +83,8 @@ pub(crate) fn decide_dents(
         if path == DentPath::Cpu {
             stats.dents += 1;
         }
-        let (target, projectile, impact, dent_distance) = (dent.target, dent.projectile, dent.impact, dent.dent_distance);
+        let (target, projectile, impact, dent_distance) =
+            (dent.target, dent.projectile, dent.impact, dent.dent_distance);
         applied.write(DentApplied { target, projectile, impact, dent_distance, path });
     }
     let cpu_targets: Vec<_> = plan.targets.into_iter().filter(|t| !world.on_gpu.contains(&t.key)).collect();

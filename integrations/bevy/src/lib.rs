@@ -35,10 +35,10 @@ mod backend;
 mod components;
 mod contact;
 mod decide;
-mod events;
-mod link;
 #[cfg(feature = "rapier")]
 pub mod demo;
+mod events;
+mod link;
 mod mesh_data;
 #[cfg(feature = "rapier")]
 mod rapier;

@@ -18,6 +18,9 @@ pub struct DentRefused(pub String);
 
 type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
 
+/// Projectiles (that do not dent themselves) not registered yet.
+type NewProjectile = (With<DentProjectile>, Without<Dentable>, Unregistered);
+
 /// How far from 1 a dentable entity's scale may be (dents are sized in metres in the mesh's own
 /// coordinates, which a scale would stretch).
 const UNIT_SCALE_TOLERANCE: f32 = 1e-4;
@@ -69,7 +72,7 @@ pub(crate) fn register_projectiles(
     mut commands: Commands,
     mut world: ResMut<DentWorld>,
     meshes: Res<Assets<Mesh>>,
-    new: Query<(Entity, &Mesh3d), (With<DentProjectile>, Without<Dentable>, Unregistered)>,
+    new: Query<(Entity, &Mesh3d), NewProjectile>,
 ) {
     for (entity, mesh3d) in &new {
         let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
@@ -106,7 +109,9 @@ pub(crate) fn promote_to_gpu(mut world: ResMut<DentWorld>, link: Res<MainLink>, 
             Ok(layout) => layout,
             Err(e) => {
                 warn!("bevy_dentbend: {entity} stays on the CPU path: {e}");
-                world.bodies.get_mut(&entity).map(|b| b.kernels_only = false);
+                if let Some(body) = world.bodies.get_mut(&entity) {
+                    body.kernels_only = false;
+                }
                 continue;
             }
         };

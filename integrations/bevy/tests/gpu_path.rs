@@ -25,7 +25,11 @@ fn moved(before: &TriMesh, after: &TriMesh) -> Vec<usize> {
 /// Per pixel, whether any channel differs between `a` and `b` by more than `by` (of 255).
 fn differs(a: &Frame, b: &Frame, by: u8) -> Vec<bool> {
     assert_eq!(a.size, b.size);
-    a.rgba.chunks_exact(4).zip(b.rgba.chunks_exact(4)).map(|(p, q)| p.iter().zip(q).any(|(x, y)| x.abs_diff(*y) > by)).collect()
+    a.rgba
+        .chunks_exact(4)
+        .zip(b.rgba.chunks_exact(4))
+        .map(|(p, q)| p.iter().zip(q).any(|(x, y)| x.abs_diff(*y) > by))
+        .collect()
 }
 
 /// The frame before and after one dent differ where the dent is and nowhere far from it:
@@ -49,7 +53,10 @@ fn the_frame_changes_at_the_dent_and_nowhere_far(gpu: bool) {
     let moved = moved(&s.slab_mesh, &now);
     assert!(moved.len() > 20, "the dent moved only {} vertices", moved.len());
     let impact = Vec3::new(HIT.0, 0.0, HIT.1);
-    let reach = moved.iter().map(|&v| (s.slab_mesh.positions()[v] - Vec3::new(0.0, 0.1, 0.0)).distance(impact)).fold(0.0, f32::max)
+    let reach = moved
+        .iter()
+        .map(|&v| (s.slab_mesh.positions()[v] - Vec3::new(0.0, 0.1, 0.0)).distance(impact))
+        .fold(0.0, f32::max)
         + 2.0 * 2.0 / 48.0;
     let centre = s.project(impact);
     let radius = (0..32)
@@ -116,7 +123,8 @@ fn the_slab_holds_the_dent_at_bevys_offset_and_stride() {
     s.until("the read-backs", 60, |w| w.resource::<bevy_dentbend::DentStats>().collider_readback_bytes > 0);
     s.frames(2);
     let handle = s.app.world().get::<Mesh3d>(s.slab).expect("a mesh").0.clone();
-    let layout = slab_layout(s.app.world().resource::<Assets<Mesh>>().get(&handle).expect("the asset")).expect("a layout");
+    let layout =
+        slab_layout(s.app.world().resource::<Assets<Mesh>>().get(&handle).expect("the asset")).expect("a layout");
     assert_eq!(layout.stride, 32, "position, normal, UV");
     s.probe.request(handle.id(), layout.stride);
     s.frames(2);
@@ -128,13 +136,13 @@ fn the_slab_holds_the_dent_at_bevys_offset_and_stride() {
     let Some(bevy::mesh::VertexAttributeValues::Float32x2(uvs)) = original.attribute(Mesh::ATTRIBUTE_UV_0) else {
         panic!("UVs")
     };
-    for v in 0..now.vertex_count() {
+    for (v, uv) in uvs.iter().enumerate() {
         let p = Vec3::new(f(v, 0), f(v, 4), f(v, 8));
         assert_eq!(p, now.positions()[v], "vertex {v}: position in the slab");
         let n = Vec3::new(f(v, 12), f(v, 16), f(v, 20));
         assert!((n.length() - 1.0).abs() < 1e-5, "vertex {v}: normal {n} is not unit");
         assert!((n - now.normals()[v]).abs().max_element() < 1e-3, "vertex {v}: normal {n} vs {}", now.normals()[v]);
-        assert_eq!([f(v, 24), f(v, 28)], uvs[v], "vertex {v}: UV touched");
+        assert_eq!([f(v, 24), f(v, 28)], *uv, "vertex {v}: UV touched");
     }
     assert!(moved(&s.slab_mesh, &now).len() > 40, "two dents expected");
 }

@@ -108,7 +108,8 @@ fn a_body_despawned_mid_batch() {
     let mut s = scene(true, false);
     s.warm_up(true);
     // A second dentable to hit after the first is gone.
-    let other = spawn(&mut s, common::with_uvs(&common::slab_mesh()), Dentable::new(1.0, 0.01, 0.08), Transform::default());
+    let other =
+        spawn(&mut s, common::with_uvs(&common::slab_mesh()), Dentable::new(1.0, 0.01, 0.08), Transform::default());
     s.until("the second slab on the GPU", 60, |w| w.resource::<DentWorld>().path(other) == Some(DentPath::Gpu));
     s.hit(0.0, 0.0, SPEED_OK);
     // Run the main world's update only up to the decision, then despawn: run PostUpdate by hand.
@@ -126,10 +127,17 @@ fn a_body_despawned_mid_batch() {
 /// compute) puts every body on the CPU path, which still dents and updates the asset.
 fn a_device_without_the_limits_takes_the_cpu_path() {
     let settings = WgpuSettings { constrained_limits: Some(WgpuLimits::downlevel_webgl2_defaults()), ..default() };
-    let mut s = common::scene_with(true, false, Some(RenderPlugin { render_creation: RenderCreation::Automatic(Box::new(settings)), ..default() }));
+    let mut s = common::scene_with(
+        true,
+        false,
+        Some(RenderPlugin { render_creation: RenderCreation::Automatic(Box::new(settings)), ..default() }),
+    );
     s.warm_up(false);
     let status = s.app.world().resource::<bevy_dentbend::DentGpu>().status();
-    assert!(matches!(&status, GpuStatus::Unavailable(why) if why.contains("max_storage_buffers_per_shader_stage")), "{status:?}");
+    assert!(
+        matches!(&status, GpuStatus::Unavailable(why) if why.contains("max_storage_buffers_per_shader_stage")),
+        "{status:?}"
+    );
     s.hit(0.0, 0.0, SPEED_OK);
     s.until("a CPU dent", 30, |w| w.resource::<DentStats>().dents == 1);
     assert_ne!(s.slab_asset_positions(), s.slab_mesh.positions());

@@ -46,8 +46,8 @@ pub enum Target {
 #[derive(Component)]
 struct Ball(u32);
 
-/// The scene: light, camera (rendering to whatever [`RenderTarget`] the app inserts as a
-/// resource, else the window), block, bunny, and the rain spawner.
+/// The scene: light, camera (rendering into the [`Capture`](super::Capture) image when the app has
+/// one, else into the window), block, bunny, and the rain spawner.
 pub struct RainPlugin;
 
 impl Plugin for RainPlugin {
@@ -108,9 +108,25 @@ fn setup(
     }
 
     let block = mesh::subdivided_box(DVec3::new(4.0, 1.0, 4.0), [64, 8, 64]).expect("a valid box");
-    spawn_target(&mut commands, &mut meshes, &mut materials, &settings, Target::Block, &block, Vec3::new(0.0, -0.5, 0.0));
+    spawn_target(
+        &mut commands,
+        &mut meshes,
+        &mut materials,
+        &settings,
+        Target::Block,
+        &block,
+        Vec3::new(0.0, -0.5, 0.0),
+    );
     let bunny = unit_bunny();
-    spawn_target(&mut commands, &mut meshes, &mut materials, &settings, Target::Bunny, &bunny, Vec3::new(1.1, 0.0, -0.6));
+    spawn_target(
+        &mut commands,
+        &mut meshes,
+        &mut materials,
+        &settings,
+        Target::Bunny,
+        &bunny,
+        Vec3::new(1.1, 0.0, -0.6),
+    );
 }
 
 /// The built-in bunny, 1 m tall, standing on y = 0 with its foot centred on the origin.
@@ -160,17 +176,32 @@ fn unit(state: &mut u64) -> f32 {
     ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
 }
 
+/// The spawner's state: random stream, balls owed, frame, the balls' mesh and material.
+struct Spawner {
+    rng: u64,
+    owed: f32,
+    frame: u32,
+    mesh: Handle<Mesh>,
+    material: Handle<StandardMaterial>,
+}
+
 fn spawn_balls(
     mut commands: Commands,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
     settings: Res<RainSettings>,
-    mut state: Local<Option<(u64, f32, u32, Handle<Mesh>, Handle<StandardMaterial>)>>,
+    mut state: Local<Option<Spawner>>,
 ) {
-    let (rng, owed, frame, mesh, material) = state.get_or_insert_with(|| {
+    let Spawner { rng, owed, frame, mesh, material } = state.get_or_insert_with(|| {
         let ball = mesh::icosphere(settings.ball_radius, 2).expect("a valid sphere");
         let material = StandardMaterial { base_color: Color::srgb(0.8, 0.2, 0.15), ..default() };
-        (settings.seed, 0.0, 0, meshes.add(bevy_mesh(&ball)), materials.add(material))
+        Spawner {
+            rng: settings.seed,
+            owed: 0.0,
+            frame: 0,
+            mesh: meshes.add(bevy_mesh(&ball)),
+            material: materials.add(material),
+        }
     });
     *frame += 1;
     *owed += settings.balls_per_frame;

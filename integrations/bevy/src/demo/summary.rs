@@ -26,7 +26,14 @@ impl Summary {
     /// From a run's clock and totals.
     pub fn new(clock: &FrameClock, stats: &DentStats, gpu: GpuStatus, dents_enabled: bool, capture: u64) -> Self {
         let frame_ms_median = clock.median_ms();
-        Self { frames: clock.frame, stats: stats.clone(), frame_ms_median, gpu, dents_enabled, capture_readback_bytes: capture }
+        Self {
+            frames: clock.frame,
+            stats: stats.clone(),
+            frame_ms_median,
+            gpu,
+            dents_enabled,
+            capture_readback_bytes: capture,
+        }
     }
 
     /// As JSON: `frames`, `dents`, `gpu_dents`, `render_readback_bytes`,

@@ -66,11 +66,14 @@ pub(crate) fn install_collector(
     }
 }
 
+/// Dentable colliders whose force events are not on yet.
+type NewDentableCollider = (With<Dentable>, With<Collider>, Without<ForceEventsOn>);
+
 /// Dentable colliders report every push (0 N threshold), so the first step of each impact is
 /// seen.
 pub(crate) fn enable_force_events(
     mut commands: Commands,
-    new: Query<(Entity, Option<&ActiveEvents>), (With<Dentable>, With<Collider>, Without<ForceEventsOn>)>,
+    new: Query<(Entity, Option<&ActiveEvents>), NewDentableCollider>,
 ) {
     for (entity, events) in &new {
         let events = events.copied().unwrap_or_default() | ActiveEvents::CONTACT_FORCE_EVENTS;

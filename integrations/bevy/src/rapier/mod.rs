@@ -26,9 +26,6 @@ pub(crate) fn build(app: &mut App) {
                 .after(PhysicsSet::SyncBackend)
                 .before(PhysicsSet::StepSimulation),
         )
-        .add_systems(
-            PostUpdate,
-            contacts::send_contacts.after(PhysicsSet::StepSimulation).before(DentSystems::Decide),
-        )
+        .add_systems(PostUpdate, contacts::send_contacts.after(PhysicsSet::StepSimulation).before(DentSystems::Decide))
         .add_systems(PostUpdate, refit::refit_colliders.in_set(DentSystems::Apply));
 }

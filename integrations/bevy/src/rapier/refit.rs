@@ -29,7 +29,8 @@ fn refitted(raw: &SharedShape, mesh: &TriMesh, d: &MeshDented) -> Result<SharedS
     if let Some(trimesh) = raw.as_trimesh() {
         if !d.topology_changed && trimesh.vertices().len() == mesh.vertex_count() {
             let mut shape = raw.clone();
-            let positions: Vec<Vec3> = d.moved.iter().filter_map(|&v| mesh.positions().get(v as usize).copied()).collect();
+            let positions: Vec<Vec3> =
+                d.moved.iter().filter_map(|&v| mesh.positions().get(v as usize).copied()).collect();
             refit_shared_trimesh(&mut shape, &d.moved, &positions).map_err(|e| e.to_string())?;
             return Ok(shape);
         }

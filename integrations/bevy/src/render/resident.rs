@@ -114,7 +114,9 @@ impl ResidentDents {
                     }
                     link.send(ToMain::Moved { entity, moved, bytes: read.bytes_read() });
                 }
-                Err(e) => error!("bevy_dentbend: the collider read-back of {entity} failed ({e}); its collider keeps its shape"),
+                Err(e) => error!(
+                    "bevy_dentbend: the collider read-back of {entity} failed ({e}); its collider keeps its shape"
+                ),
             }
             self.reads.swap_remove(i);
         }
@@ -156,12 +158,18 @@ impl ResidentDents {
             debug!("bevy_dentbend: {gone} dent(s) on despawned bodies skipped");
             link.send(ToMain::Dropped { dents: gone as u64 });
         }
-        let mut kept: Vec<(usize, GpuJob)> = slots.into_iter().zip(jobs.drain(..)).filter_map(|(s, j)| Some((s?, j))).collect();
+        let mut kept: Vec<(usize, GpuJob)> =
+            slots.into_iter().zip(jobs.drain(..)).filter_map(|(s, j)| Some((s?, j))).collect();
         // An invalid dent is found before anything is recorded: drop it and record the rest.
         let dents = loop {
             let batch: Vec<DentJob<'_>> = kept
                 .iter()
-                .map(|(slot, j)| DentJob { target: *slot, projectile: &j.projectile, impact: j.impact, params: j.params.clone() })
+                .map(|(slot, j)| DentJob {
+                    target: *slot,
+                    projectile: &j.projectile,
+                    impact: j.impact,
+                    params: j.params.clone(),
+                })
                 .collect();
             match denter.record_batch(&mut encoder, &batch) {
                 Ok(_) => break kept.len() as u64,
@@ -193,19 +201,24 @@ impl ResidentDents {
                 continue;
             }
             let offset = u64::from(slice.range.start) * t.layout.stride;
-            match denter.copy_target_into(&mut encoder, slot, &slice.buffer, offset, t.layout.stride, t.layout.fields) {
+            match denter.copy_target_into(&mut encoder, slot, slice.buffer, offset, t.layout.stride, t.layout.fields) {
                 Ok(()) => {
                     (t.copy_needed, t.copied_at) = (false, Some(at));
                     copies += 1;
                 }
-                Err(e) => error!("bevy_dentbend: the dents of {} could not be written into Bevy's vertex buffer ({e})", t.entity),
+                Err(e) => error!(
+                    "bevy_dentbend: the dents of {} could not be written into Bevy's vertex buffer ({e})",
+                    t.entity
+                ),
             }
         }
         let mut reads = Vec::with_capacity(dented.len());
         for &slot in &dented {
             match denter.record_moved(&mut encoder, slot) {
                 Ok(read) => reads.push((self.targets[slot].entity, read)),
-                Err(e) => error!("bevy_dentbend: the collider read-back of {} was refused ({e})", self.targets[slot].entity),
+                Err(e) => {
+                    error!("bevy_dentbend: the collider read-back of {} was refused ({e})", self.targets[slot].entity)
+                }
             }
         }
         context.queue.submit([encoder.finish()]);

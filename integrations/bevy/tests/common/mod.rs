@@ -15,7 +15,9 @@ use bevy_dentbend::demo::{Capture, CapturePlugin, Captured, Frame, headless_app,
 use bevy_dentbend::dentbend::dent::BodyState;
 use bevy_dentbend::dentbend::glam::{Affine3A, Mat3};
 use bevy_dentbend::dentbend::{TriMesh, mesh};
-use bevy_dentbend::{DentBody, DentContact, DentGpu, DentPath, DentStats, DentWorld, Dentable, DentProjectile, GpuStatus};
+use bevy_dentbend::{
+    DentBody, DentContact, DentGpu, DentPath, DentProjectile, DentStats, DentWorld, Dentable, GpuStatus,
+};
 use libtest_mimic::{Arguments, Failed, Trial};
 
 /// Runs `tests` one at a time (each builds a Bevy app with a renderer).
@@ -33,9 +35,13 @@ pub fn run(tests: Vec<(&'static str, fn())>) -> ExitCode {
             }),
             (Some(why), true) => {
                 let why = why.clone();
-                Trial::test(name, move || Err(Failed::from(format!("no GPU adapter ({why}) and DENTBEND_REQUIRE_GPU=1"))))
+                Trial::test(name, move || {
+                    Err(Failed::from(format!("no GPU adapter ({why}) and DENTBEND_REQUIRE_GPU=1")))
+                })
             }
-            (Some(why), false) => Trial::test(name, || Ok(())).with_ignored_flag(true).with_kind(format!("no GPU: {why}")),
+            (Some(why), false) => {
+                Trial::test(name, || Ok(())).with_ignored_flag(true).with_kind(format!("no GPU: {why}"))
+            }
         })
         .collect();
     libtest_mimic::run(&args, trials).exit_code()
@@ -106,7 +112,9 @@ pub fn scene_with(gpu: bool, capture: bool, render: Option<RenderPlugin>) -> Sce
             Dentable::new(1.0, 0.01, 0.08),
         ))
         .id();
-    let ball = world.spawn((Mesh3d(ball_asset), MeshMaterial3d(grey), Transform::default(), Visibility::Hidden, DentProjectile)).id();
+    let ball = world
+        .spawn((Mesh3d(ball_asset), MeshMaterial3d(grey), Transform::default(), Visibility::Hidden, DentProjectile))
+        .id();
     world.spawn((
         DirectionalLight { illuminance: 8000.0, shadow_maps_enabled: false, ..default() },
         Transform::from_xyz(4.0, 1.5, 0.5).looking_at(Vec3::ZERO, Vec3::Y),
@@ -141,7 +149,9 @@ impl Scene {
         let world = app.world_mut();
         let slab_asset = world.resource_mut::<Assets<Mesh>>().add(with_uvs(&slab_mesh));
         let ball_asset = world.resource_mut::<Assets<Mesh>>().add(bevy_dentbend::bevy_mesh(&ball_mesh()));
-        let slab = world.spawn((Mesh3d(slab_asset), Transform::from_xyz(0.0, -SLAB.y, 0.0), Dentable::new(1.0, 0.01, 0.08))).id();
+        let slab = world
+            .spawn((Mesh3d(slab_asset), Transform::from_xyz(0.0, -SLAB.y, 0.0), Dentable::new(1.0, 0.01, 0.08)))
+            .id();
         let ball = world.spawn((Mesh3d(ball_asset), Transform::default(), DentProjectile)).id();
         Scene { app, slab, ball, camera: Entity::PLACEHOLDER, probe: slab::SlabProbe::default(), slab_mesh }
     }
@@ -215,7 +225,11 @@ impl Scene {
         let inertia = Mat3::from_diagonal(Vec3::splat(1.0 / (0.4 * 10.0 * BALL * BALL)));
         let ball_state = BodyState::moving(centre, -speed * Vec3::Y, Vec3::ZERO, 10.0, inertia);
         let contact = DentContact {
-            a: DentBody { entity: self.slab, pose: Affine3A::from_translation(Vec3::new(0.0, -SLAB.y, 0.0)), state: BodyState::FIXED },
+            a: DentBody {
+                entity: self.slab,
+                pose: Affine3A::from_translation(Vec3::new(0.0, -SLAB.y, 0.0)),
+                state: BodyState::FIXED,
+            },
             b: DentBody { entity: self.ball, pose: Affine3A::from_translation(centre), state: ball_state },
             point,
             normal: Vec3::Y,

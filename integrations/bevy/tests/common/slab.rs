@@ -5,14 +5,17 @@ use std::sync::{Arc, Mutex};
 
 use bevy::prelude::*;
 use bevy::render::mesh::allocator::MeshAllocator;
+use bevy::render::render_resource::{BufferDescriptor, BufferUsages, MapMode, PollType};
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::{Render, RenderApp, RenderSystems};
-use bevy::render::render_resource::{BufferDescriptor, BufferUsages, MapMode, PollType};
+
+/// A mesh asset and its vertex stride, bytes.
+type Request = (AssetId<Mesh>, u64);
 
 /// Asks the render world for the slab bytes of a mesh; shared by both worlds.
 #[derive(Resource, Clone, Default)]
 pub struct SlabProbe {
-    request: Arc<Mutex<Option<(AssetId<Mesh>, u64)>>>,
+    request: Arc<Mutex<Option<Request>>>,
     bytes: Arc<Mutex<Option<Vec<u8>>>>,
 }
 
@@ -21,7 +24,9 @@ impl SlabProbe {
     pub fn install(app: &mut App) -> Self {
         let probe = Self::default();
         app.insert_resource(probe.clone());
-        app.sub_app_mut(RenderApp).insert_resource(probe.clone()).add_systems(Render, read.in_set(RenderSystems::Cleanup));
+        app.sub_app_mut(RenderApp)
+            .insert_resource(probe.clone())
+            .add_systems(Render, read.in_set(RenderSystems::Cleanup));
         probe
     }
 
@@ -48,7 +53,7 @@ fn read(probe: Res<SlabProbe>, allocator: Res<MeshAllocator>, device: Res<Render
         mapped_at_creation: false,
     });
     let mut encoder = device.wgpu_device().create_command_encoder(&Default::default());
-    encoder.copy_buffer_to_buffer(&slice.buffer, u64::from(slice.range.start) * stride, &staging, 0, size);
+    encoder.copy_buffer_to_buffer(slice.buffer, u64::from(slice.range.start) * stride, &staging, 0, size);
     queue.submit([encoder.finish()]);
     staging.slice(..).map_async(MapMode::Read, |_| {});
     device.wgpu_device().poll(PollType::wait_indefinitely()).expect("the device");
