@@ -32,6 +32,8 @@
 //! ```
 
 mod backend;
+#[cfg(feature = "rapier")]
+mod bend;
 mod components;
 mod contact;
 mod decide;
@@ -52,8 +54,12 @@ use bevy::render::mesh::allocator::MeshAllocatorSettings;
 use bevy::render::render_resource::BufferUsages;
 use bevy::render::{Render, RenderApp, RenderStartup, RenderSystems};
 
+#[cfg(feature = "rapier")]
+pub use bend::{BendPiece, Bendable, Bends};
 pub use components::{DentProjectile, Dentable, kernel_params};
 pub use contact::{DentBody, DentContact};
+#[cfg(feature = "rapier")]
+pub use dentbend_rapier::{BendSettings, JointKind};
 pub use events::{DentApplied, MeshDented};
 pub use link::GpuStatus;
 pub use mesh_data::{MeshDataError, SlabLayout, bevy_mesh, slab_layout, tri_mesh};
@@ -138,7 +144,10 @@ impl Plugin for DentbendPlugin {
                 (decide::receive_from_render, decide::decide_dents).chain().in_set(DentSystems::Decide),
             );
         #[cfg(feature = "rapier")]
-        rapier::build(app);
+        {
+            rapier::build(app);
+            bend::build(app);
+        }
         match app.get_sub_app_mut(RenderApp) {
             Some(render_app) => {
                 render_app

@@ -6,6 +6,7 @@ use std::sync::{Arc, Mutex};
 
 use bevy::prelude::*;
 use dentbend::TriMesh;
+use dentbend::cpu::{SkinBone, SkinInfluence};
 use dentbend::dent::{DentParams, Impact};
 use dentbend::gpu::MovedVertices;
 
@@ -42,6 +43,19 @@ pub(crate) enum ToRender {
     Forget(Entity),
     /// A dent to make.
     Dent(GpuJob),
+    /// Skin `entity` (Bevy asset `asset`, laid out as `layout`) from its rest vertices (its own
+    /// coordinates) with `influences` over `bones` bones.
+    RegisterSkin {
+        entity: Entity,
+        asset: AssetId<Mesh>,
+        positions: Vec<Vec3>,
+        normals: Vec<Vec3>,
+        influences: Vec<SkinInfluence>,
+        bones: u32,
+        layout: SlabLayout,
+    },
+    /// This frame's bone matrices of skinned `entity` (rest frame → its own coordinates).
+    Pose { entity: Entity, bones: Vec<SkinBone> },
 }
 
 /// Render world → main world.

@@ -43,10 +43,7 @@ fn the_frame_changes_at_the_dent_and_nowhere_far(gpu: bool) {
     s.warm_up(gpu);
     let before = s.capture_settled();
     s.hit(HIT.0, HIT.1, SPEED);
-    s.until("the dent made", 60, |w| w.resource::<bevy_dentbend::DentStats>().dents == 1);
-    if gpu {
-        s.until("its read-back", 60, |w| w.resource::<bevy_dentbend::DentStats>().collider_readback_bytes > 0);
-    }
+    s.settle(1);
     let after = s.capture_settled();
 
     let now = s.slab_now();
@@ -99,8 +96,7 @@ fn no_render_read_back_on_the_gpu_path() {
     let mut s = scene(true, false);
     s.warm_up(true);
     s.hit(HIT.0, HIT.1, SPEED);
-    s.until("the read-back", 60, |w| w.resource::<bevy_dentbend::DentStats>().collider_readback_bytes > 0);
-    s.frames(2);
+    s.settle(1);
     let stats = s.stats();
     assert_eq!((stats.dents, stats.gpu_dents), (1, 1));
     assert_eq!(stats.render_readback_bytes, 0);
@@ -120,8 +116,7 @@ fn the_slab_holds_the_dent_at_bevys_offset_and_stride() {
     s.warm_up(true);
     s.hit(HIT.0, HIT.1, SPEED);
     s.hit(-0.4, -0.3, 4.0);
-    s.until("the read-backs", 60, |w| w.resource::<bevy_dentbend::DentStats>().collider_readback_bytes > 0);
-    s.frames(2);
+    s.settle(2);
     let handle = s.app.world().get::<Mesh3d>(s.slab).expect("a mesh").0.clone();
     let layout =
         slab_layout(s.app.world().resource::<Assets<Mesh>>().get(&handle).expect("the asset")).expect("a layout");
@@ -165,8 +160,7 @@ fn the_gpu_and_cpu_paths_make_the_same_dents() {
         s.hit(HIT.0 + 0.1, HIT.1, 5.0);
         s.frames(3);
         s.hit(-0.5, 0.4, 7.0);
-        s.until("three dents", 60, |w| w.resource::<bevy_dentbend::DentStats>().dents == 3);
-        s.frames(8);
+        s.settle(3);
         (s.slab_now(), s.slab_asset_positions(), s)
     };
     let (gpu, _, gs) = run(true);

@@ -102,8 +102,10 @@ fn bad_contacts_are_rejected() {
     still_dents(&mut s);
 }
 
-/// A body despawned after its dent was decided, before the render world makes it: the dent is
-/// dropped (counted), nothing panics, and the other bodies keep denting.
+/// A body despawned right after its dent was decided: the render world (which runs beside the
+/// main world) makes the dent if it got it before the body was forgotten, else drops it and
+/// counts it; either way no dent is lost silently, nothing panics, and the other bodies keep
+/// denting.
 fn a_body_despawned_mid_batch() {
     let mut s = scene(true, false);
     s.warm_up(true);
@@ -117,8 +119,11 @@ fn a_body_despawned_mid_batch() {
     s.app.world_mut().despawn(s.slab);
     s.frames(6);
     let stats = s.stats();
-    assert_eq!(stats.gpu_dents, 0, "a dent was made on a despawned body");
-    assert!(stats.rejected_contacts >= 1, "the dropped dent was not counted");
+    assert_eq!(
+        stats.gpu_dents + stats.rejected_contacts,
+        1,
+        "the dent was neither made nor counted as dropped: {stats:?}"
+    );
     s.slab = other;
     still_dents(&mut s);
 }

@@ -1,5 +1,6 @@
-//! The scenes of the examples, tests and benchmarks: balls raining on a dentable block and the
-//! bunny (bevy_rapier3d contacts), rendered headless into PNG files or windowed.
+//! The scenes of the examples, tests and benchmarks: balls raining on a dentable block, the
+//! bunny and a bendable plank (bevy_rapier3d contacts), rendered headless into PNG files or
+//! windowed.
 
 mod capture;
 mod rain;

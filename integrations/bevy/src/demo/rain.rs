@@ -1,4 +1,4 @@
-//! Balls rain on a dentable block and the bunny.
+//! Balls rain on a dentable block and the bunny, and on a bendable plank.
 
 use bevy::app::ScheduleRunnerPlugin;
 use bevy::core_pipeline::tonemapping::Tonemapping;
@@ -7,10 +7,11 @@ use bevy::render::RenderPlugin;
 use bevy::window::ExitCondition;
 use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
+use dentbend::bend::auto_skeleton;
 use dentbend::glam::Vec3 as DVec3;
 use dentbend::mesh;
 
-use crate::{DentProjectile, Dentable, DentbendPlugin, bevy_mesh};
+use crate::{BendSettings, Bendable, DentProjectile, Dentable, DentbendPlugin, bevy_mesh};
 
 /// The rain.
 #[derive(Resource, Debug, Clone)]
@@ -25,11 +26,13 @@ pub struct RainSettings {
     pub dents: bool,
     /// Seed of the spawn positions.
     pub seed: u64,
+    /// A bendable plank on two posts over the block.
+    pub plank: bool,
 }
 
 impl Default for RainSettings {
     fn default() -> Self {
-        Self { balls_per_frame: 0.5, ball_radius: 0.12, speed: 6.0, dents: true, seed: 7 }
+        Self { balls_per_frame: 0.5, ball_radius: 0.12, speed: 6.0, dents: true, seed: 7, plank: true }
     }
 }
 
@@ -40,6 +43,8 @@ pub enum Target {
     Block,
     /// The bunny sitting on it.
     Bunny,
+    /// The bendable plank.
+    Plank,
 }
 
 /// A ball and the frame it was spawned.
@@ -127,6 +132,37 @@ fn setup(
         &bunny,
         Vec3::new(1.1, 0.0, -0.6),
     );
+    if settings.plank {
+        spawn_plank(&mut commands, &mut meshes, &mut materials);
+    }
+}
+
+/// Height of the plank's posts above the block, m.
+const POST: f32 = 0.4;
+
+/// A 3.4 × 0.1 × 0.3 m plank of two bones (plastic joint of 40 N·m·s, 700 kg/m³) on two posts
+/// near the block's front edge: balls that land on it bend it at the joint.
+fn spawn_plank(commands: &mut Commands, meshes: &mut Assets<Mesh>, materials: &mut Assets<StandardMaterial>) {
+    let wood = materials.add(StandardMaterial { base_color: Color::srgb(0.6, 0.42, 0.25), ..default() });
+    let post = meshes.add(Cuboid::new(0.2, POST, 0.3));
+    for x in [-1.5, 1.5] {
+        commands.spawn((
+            Mesh3d(post.clone()),
+            MeshMaterial3d(wood.clone()),
+            Transform::from_xyz(x, 0.5 * POST, 1.2),
+            RigidBody::Fixed,
+            Collider::cuboid(0.1, 0.5 * POST, 0.15),
+        ));
+    }
+    let plank = mesh::plank(3.4, 0.3, 0.1, 68).expect("a valid plank");
+    let skeleton = auto_skeleton(&plank, 2).expect("a two-bone plank");
+    commands.spawn((
+        Target::Plank,
+        Mesh3d(meshes.add(bevy_mesh(&plank))),
+        MeshMaterial3d(wood),
+        Transform::from_xyz(0.0, POST + 0.052, 1.2),
+        Bendable { skeleton, settings: BendSettings::plastic(700.0, 40.0) },
+    ));
 }
 
 /// The built-in bunny, 1 m tall, standing on y = 0 with its foot centred on the origin.
@@ -150,7 +186,7 @@ fn spawn_target(
 ) {
     let color = match kind {
         Target::Block => Color::srgb(0.55, 0.6, 0.7),
-        Target::Bunny => Color::srgb(0.85, 0.7, 0.5),
+        Target::Bunny | Target::Plank => Color::srgb(0.85, 0.7, 0.5),
     };
     let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec()).expect("a valid tri-mesh");
     let mut entity = commands.spawn((

@@ -3,6 +3,7 @@
 //! written into Bevy's mesh allocator slabs.
 
 mod resident;
+mod skinned;
 mod startup;
 mod system;
 

@@ -8,6 +8,7 @@ use dentbend::TriMesh;
 use dentbend::dent::DentJob;
 use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter, PendingMoved};
 
+use super::skinned::SkinnedMeshes;
 use crate::link::{GpuJob, RenderLink, ToMain, ToRender};
 use crate::mesh_data::SlabLayout;
 
@@ -36,6 +37,7 @@ pub(crate) struct ResidentDents {
     stale: bool,
     jobs: Vec<GpuJob>,
     reads: Vec<(Entity, PendingMoved)>,
+    skinned: SkinnedMeshes,
 }
 
 /// What one frame recorded.
@@ -43,6 +45,7 @@ pub(crate) struct ResidentDents {
 pub(crate) struct Recorded {
     pub dents: u64,
     pub copies: u64,
+    pub skinned: u64,
 }
 
 impl ResidentDents {
@@ -66,8 +69,17 @@ impl ResidentDents {
                     self.targets.push(target);
                     self.stale = true;
                 }
-                ToRender::Forget(entity) => self.forget(entity),
+                ToRender::Forget(entity) => {
+                    self.forget(entity);
+                    self.skinned.forget(entity);
+                }
                 ToRender::Dent(job) => self.jobs.push(job),
+                ToRender::RegisterSkin { entity, asset, positions, normals, influences, bones, layout } => {
+                    if let Some(context) = &self.context {
+                        self.skinned.register(context, entity, asset, &positions, &normals, &influences, bones, layout);
+                    }
+                }
+                ToRender::Pose { entity, bones } => self.skinned.pose(entity, bones),
             }
         }
     }
@@ -85,6 +97,7 @@ impl ResidentDents {
             for t in self.targets.iter_mut().filter(|t| t.asset == asset) {
                 t.copy_needed = true;
             }
+            self.skinned.uploaded_again(asset);
         }
     }
 
@@ -141,15 +154,40 @@ impl ResidentDents {
         }
     }
 
-    /// Records this frame's dents, writes dented targets into Bevy's vertex slabs and records
-    /// their collider read-backs, in one submission on Bevy's queue. Dents wait while the
-    /// targets are being uploaded again.
+    /// Records this frame's dents, writes dented targets into Bevy's vertex slabs, records their
+    /// collider read-backs and skins the bendable meshes that moved, in one submission on Bevy's
+    /// queue (before Bevy's own frame, so this frame draws them).
     pub fn record(&mut self, allocator: &MeshAllocator, link: &RenderLink) -> Recorded {
-        let (Some(context), Some(denter)) = (&self.context, &mut self.denter) else { return Recorded::default() };
-        if self.stale {
-            return Recorded::default();
-        }
+        let Some(context) = self.context.clone() else { return Recorded::default() };
         let mut encoder = context.device.create_command_encoder(&Default::default());
+        let Some((dents, copies, reads)) = self.record_dents(&mut encoder, allocator, link) else {
+            // A failed batch may have left part of itself in the encoder: drop it.
+            return Recorded::default();
+        };
+        let skinned = self.skinned.record(&context, &mut encoder, allocator);
+        context.queue.submit([encoder.finish()]);
+        for (entity, mut read) in reads {
+            read.submitted();
+            self.reads.push((entity, read));
+        }
+        if dents > 0 {
+            link.send(ToMain::Batch { dents });
+        }
+        Recorded { dents, copies, skinned }
+    }
+
+    /// Records the dents waiting (unless the targets are being uploaded again), the writes of
+    /// dented targets into Bevy's vertex slabs and their collider read-backs into `encoder`:
+    /// dents, copies and the read-backs to start once it is submitted. `None` when the GPU failed
+    /// while recording.
+    #[allow(clippy::type_complexity)]
+    fn record_dents(
+        &mut self,
+        encoder: &mut dentbend::wgpu::CommandEncoder,
+        allocator: &MeshAllocator,
+        link: &RenderLink,
+    ) -> Option<(u64, u64, Vec<(Entity, PendingMoved)>)> {
+        let (Some(denter), false) = (&mut self.denter, self.stale) else { return Some((0, 0, Vec::new())) };
         let mut jobs = std::mem::take(&mut self.jobs);
         let slots: Vec<Option<usize>> =
             jobs.iter().map(|j| self.targets.iter().position(|t| t.entity == j.target)).collect();
@@ -171,7 +209,7 @@ impl ResidentDents {
                     params: j.params.clone(),
                 })
                 .collect();
-            match denter.record_batch(&mut encoder, &batch) {
+            match denter.record_batch(encoder, &batch) {
                 Ok(_) => break kept.len() as u64,
                 Err(GpuBatchError::Job(bad)) => {
                     let entity = kept[bad.job].1.target;
@@ -182,7 +220,7 @@ impl ResidentDents {
                 Err(GpuBatchError::Gpu(e)) => {
                     error!("bevy_dentbend: a dent batch failed on the GPU ({e}); {} dent(s) dropped", kept.len());
                     link.send(ToMain::Dropped { dents: kept.len() as u64 });
-                    return Recorded::default();
+                    return None;
                 }
             }
         };
@@ -201,7 +239,7 @@ impl ResidentDents {
                 continue;
             }
             let offset = u64::from(slice.range.start) * t.layout.stride;
-            match denter.copy_target_into(&mut encoder, slot, slice.buffer, offset, t.layout.stride, t.layout.fields) {
+            match denter.copy_target_into(encoder, slot, slice.buffer, offset, t.layout.stride, t.layout.fields) {
                 Ok(()) => {
                     (t.copy_needed, t.copied_at) = (false, Some(at));
                     copies += 1;
@@ -214,21 +252,13 @@ impl ResidentDents {
         }
         let mut reads = Vec::with_capacity(dented.len());
         for &slot in &dented {
-            match denter.record_moved(&mut encoder, slot) {
+            match denter.record_moved(encoder, slot) {
                 Ok(read) => reads.push((self.targets[slot].entity, read)),
                 Err(e) => {
                     error!("bevy_dentbend: the collider read-back of {} was refused ({e})", self.targets[slot].entity)
                 }
             }
         }
-        context.queue.submit([encoder.finish()]);
-        for (entity, mut read) in reads {
-            read.submitted();
-            self.reads.push((entity, read));
-        }
-        if dents > 0 {
-            link.send(ToMain::Batch { dents });
-        }
-        Recorded { dents, copies }
+        Some((dents, copies, reads))
     }
 }

@@ -174,6 +174,23 @@ impl Scene {
         assert!(done(self.app.world()), "{what}: not after {limit} frames");
     }
 
+    /// Runs frames until `dents` dents are made and their collider read-backs have all arrived
+    /// (the read-back total unchanged over 4 frames, longer than a read-back takes).
+    pub fn settle(&mut self, dents: u64) {
+        self.until("the dents made", 120, |w| w.resource::<DentStats>().dents == dents);
+        let (mut last, mut same) = (u64::MAX, 0);
+        for _ in 0..120 {
+            let bytes = self.stats().collider_readback_bytes;
+            same = if bytes == last { same + 1 } else { 0 };
+            if same >= 4 {
+                return;
+            }
+            last = bytes;
+            self.app.update();
+        }
+        panic!("the read-backs never settled");
+    }
+
     /// Runs frames until the slab is registered on the expected path (the GPU one when `gpu`).
     pub fn warm_up(&mut self, gpu: bool) {
         let slab = self.slab;

@@ -1,0 +1,123 @@
+//! Bendable bodies (paper §4) in Bevy: a body whose bones are bevy_rapier3d rigid bodies (one
+//! entity per bone, its collider the convex hull of the bone's sub-body) joined by spherical
+//! impulse joints, whose plastic or elastic rule the plug-in applies between Rapier's steps; the
+//! body's own mesh is skinned from the bones' poses every frame, on Bevy's GPU by dentbend's
+//! `skin` kernel straight into Bevy's vertex slab (or on the CPU into the mesh asset).
+//!
+//! Not yet in Bevy: dynamic articulation (splitting a bone where a fast hit lands) and dents on
+//! bendable bodies; dentbend-rapier's `Bendable` has both.
+
+mod joints;
+mod rig;
+mod skinning;
+
+use std::collections::HashMap;
+
+use bevy::prelude::*;
+use bevy_rapier3d::plugin::PhysicsSet;
+use dentbend::TriMesh;
+use dentbend::bend::Skeleton;
+use dentbend::cpu::{SkinBone, SkinInfluence};
+use dentbend::glam::Affine3A;
+use dentbend_rapier::{BendSettings, JointRule};
+
+use crate::{DentPath, DentSystems};
+
+/// An entity whose mesh ([`Mesh3d`], its own coordinates, m) bends: `skeleton` (same
+/// coordinates) cut into one rigid body per bone, joined by `settings.joint`'s rule. The entity
+/// keeps its transform (the rest pose); its bones move.
+#[derive(Component, Debug, Clone)]
+pub struct Bendable {
+    /// The bones (rest frame = the mesh's coordinates).
+    pub skeleton: Skeleton,
+    /// Density, friction, the joints' rule, skinning weights.
+    pub settings: BendSettings,
+}
+
+/// One bone of a bendable body: a dynamic rigid body whose frame is the body's rest frame.
+#[derive(Component, Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BendPiece {
+    /// The bendable entity.
+    pub owner: Entity,
+    /// Its bone.
+    pub bone: usize,
+}
+
+/// A joint between two bones and its rule's state.
+#[derive(Debug)]
+pub(crate) struct Joint {
+    pub parent: usize,
+    pub child: usize,
+    pub rule: JointRule,
+}
+
+/// One registered bendable body.
+#[derive(Debug)]
+pub(crate) struct Rig {
+    /// Rest frame → world when it was registered.
+    pub pose: Affine3A,
+    /// One entity per bone, in bone order.
+    pub pieces: Vec<Entity>,
+    pub joints: Vec<Joint>,
+    /// The rest mesh (rest frame) and its influences.
+    pub rest: TriMesh,
+    pub influences: Vec<SkinInfluence>,
+    pub path: DentPath,
+    /// Its private mesh asset.
+    pub mesh: Handle<Mesh>,
+    /// The bone matrices last skinned with.
+    pub last: Vec<SkinBone>,
+}
+
+/// Every bendable body, by entity.
+#[derive(Resource, Default)]
+pub struct Bends {
+    pub(crate) rigs: HashMap<Entity, Rig>,
+}
+
+impl Bends {
+    /// The bone entities of bendable `entity`, in bone order.
+    pub fn pieces(&self, entity: Entity) -> Option<&[Entity]> {
+        self.rigs.get(&entity).map(|r| r.pieces.as_slice())
+    }
+
+    /// Net plastic bend of each joint of `entity` since it was made, rad (0 for elastic joints).
+    pub fn bend_angles(&self, entity: Entity) -> Option<Vec<f32>> {
+        let rig = self.rigs.get(&entity)?;
+        Some(
+            rig.joints
+                .iter()
+                .map(|j| match &j.rule {
+                    JointRule::Plastic(p) => p.bend_angle(),
+                    JointRule::Elastic(_) => 0.0,
+                })
+                .collect(),
+        )
+    }
+
+    /// The rest mesh of `entity` (rest frame, m) and each vertex's bone influences.
+    pub fn rest(&self, entity: Entity) -> Option<(&TriMesh, &[SkinInfluence])> {
+        self.rigs.get(&entity).map(|r| (&r.rest, r.influences.as_slice()))
+    }
+
+    /// The bone matrices `entity` was last skinned with (rest frame → its own coordinates).
+    pub fn skinned_with(&self, entity: Entity) -> Option<&[SkinBone]> {
+        self.rigs.get(&entity).map(|r| r.last.as_slice())
+    }
+
+    /// The path `entity`'s skinning takes.
+    pub fn path(&self, entity: Entity) -> Option<DentPath> {
+        self.rigs.get(&entity).map(|r| r.path)
+    }
+}
+
+/// Adds bending to the app (with the `rapier` feature).
+pub(crate) fn build(app: &mut App) {
+    app.init_resource::<Bends>()
+        .add_systems(PostUpdate, rig::register_bendables.in_set(DentSystems::Register))
+        .add_systems(
+            PostUpdate,
+            joints::apply_joint_rules.after(PhysicsSet::SyncBackend).before(PhysicsSet::StepSimulation),
+        )
+        .add_systems(PostUpdate, (rig::forget_removed, skinning::pose_bendables).chain().in_set(DentSystems::Apply));
+}

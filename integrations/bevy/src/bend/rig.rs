@@ -1,0 +1,163 @@
+//! Builds a bendable body's rig when its mesh is available: skinning weights, one dynamic body
+//! per bone (convex hull of its sub-body), spherical joints at the skeleton's joints.
+
+use bevy::prelude::*;
+use bevy_rapier3d::prelude::*;
+use dentbend::TriMesh;
+use dentbend::bend::{SkinWeights, SubBodies, WeightCache};
+use dentbend::cpu::SkinInfluence;
+use dentbend::glam::Quat;
+use dentbend_rapier::{ElasticJoint, JointKind, JointRule, PlasticJoint};
+
+use super::{BendPiece, Bendable, Bends, Joint, Rig};
+use crate::link::{GpuStatus, MainLink, ToRender};
+use crate::mesh_data::{ensure_normals, private_copy, slab_layout, tri_mesh};
+use crate::{DentPath, DentRefused, DentRegistered};
+
+type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
+
+/// The rig of a bendable body, before anything is spawned.
+struct Built {
+    rest: TriMesh,
+    influences: Vec<SkinInfluence>,
+    hulls: Vec<Collider>,
+    rules: Vec<(usize, usize, Vec3, JointRule)>,
+}
+
+/// Registers each new bendable body once its mesh is loaded and the GPU's status is known.
+pub(crate) fn register_bendables(
+    mut commands: Commands,
+    mut bends: ResMut<Bends>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    link: Res<MainLink>,
+    new: Query<(Entity, &Bendable, &Mesh3d, &GlobalTransform), Unregistered>,
+) {
+    let status = link.status();
+    if status == GpuStatus::Pending {
+        return;
+    }
+    for (entity, bendable, mesh3d, transform) in &new {
+        let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
+        let mut copy = private_copy(mesh);
+        let scale = transform.to_scale_rotation_translation().0;
+        let built = if (scale - Vec3::ONE).abs().max_element() > 1e-4 {
+            Err(format!("it is scaled by {scale} (bake the scale into its mesh)"))
+        } else {
+            ensure_normals(&mut copy)
+                .and_then(|_| Ok((tri_mesh(&copy)?, slab_layout(&copy)?)))
+                .map_err(|e| format!("its mesh cannot bend: {e}"))
+                .and_then(|(tri, layout)| Ok((build(tri, bendable)?, layout)))
+        };
+        let (built, layout) = match built {
+            Ok(done) => done,
+            Err(reason) => {
+                warn!("bevy_dentbend: {entity} is left out: {reason}");
+                commands.entity(entity).insert(DentRefused(reason));
+                continue;
+            }
+        };
+        let pose = transform.affine();
+        let density = bendable.settings.density;
+        let pieces: Vec<Entity> = built
+            .hulls
+            .into_iter()
+            .enumerate()
+            .map(|(bone, hull)| {
+                commands
+                    .spawn((
+                        BendPiece { owner: entity, bone },
+                        RigidBody::Dynamic,
+                        hull,
+                        ColliderMassProperties::Density(density),
+                        Friction::coefficient(bendable.settings.friction),
+                        Transform::from_matrix(Mat4::from(pose)),
+                        Velocity::zero(),
+                    ))
+                    .id()
+            })
+            .collect();
+        let mut joints = Vec::new();
+        for (parent, child, point, rule) in built.rules {
+            let joint = SphericalJointBuilder::new().local_anchor1(point).local_anchor2(point).contacts_enabled(false);
+            commands.entity(pieces[child]).insert(ImpulseJoint::new(pieces[parent], joint));
+            joints.push(Joint { parent, child, rule });
+        }
+        let handle = meshes.add(copy);
+        let path = match status {
+            GpuStatus::Ready(_) => {
+                let (positions, normals) = (built.rest.positions().to_vec(), built.rest.normals().to_vec());
+                let (influences, bones) = (built.influences.clone(), pieces.len() as u32);
+                link.send(ToRender::RegisterSkin {
+                    entity,
+                    asset: handle.id(),
+                    positions,
+                    normals,
+                    influences,
+                    bones,
+                    layout,
+                });
+                DentPath::Gpu
+            }
+            _ => DentPath::Cpu,
+        };
+        commands.entity(entity).insert((Mesh3d(handle.clone()), DentRegistered));
+        let rig = Rig {
+            pose,
+            pieces,
+            joints,
+            rest: built.rest,
+            influences: built.influences,
+            path,
+            mesh: handle,
+            last: Vec::new(),
+        };
+        bends.rigs.insert(entity, rig);
+    }
+}
+
+/// Weights, sub-body hulls and joint rules of `bendable` over `rest`.
+fn build(rest: TriMesh, bendable: &Bendable) -> Result<Built, String> {
+    let (skeleton, settings) = (&bendable.skeleton, &bendable.settings);
+    let rig = |e: dentbend::bend::BendError| format!("its rig cannot be built: {e}");
+    let cache = WeightCache::new(&rest, settings.weights).map_err(rig)?;
+    let weights = SkinWeights::compute(&rest, skeleton, &cache).map_err(rig)?;
+    let subs = SubBodies::compute(&rest, &weights, cache.level_set(), settings.density).map_err(rig)?;
+    let mut hulls = Vec::with_capacity(skeleton.len());
+    for bone in 0..skeleton.len() {
+        let (sub, _) = subs.sub_mesh(&rest, bone).map_err(rig)?;
+        hulls.push(Collider::convex_hull(sub.positions()).ok_or(format!("bone {bone}'s sub-body has no convex hull"))?);
+    }
+    let mut rules = Vec::new();
+    for j in skeleton.joints() {
+        let rule = match settings.joint {
+            JointKind::Plastic { strength, damping_constant, damping_proportional } => JointRule::Plastic(
+                PlasticJoint::new(strength, damping_constant, damping_proportional, Quat::IDENTITY)
+                    .map_err(|e| e.to_string())?,
+            ),
+            JointKind::Elastic { stiffness, damping } => {
+                JointRule::Elastic(ElasticJoint::new(stiffness, damping, Quat::IDENTITY).map_err(|e| e.to_string())?)
+            }
+        };
+        rules.push((j.parent, j.child, j.point, rule));
+    }
+    let influences =
+        weights.influences4().into_iter().map(|(bones, weights)| SkinInfluence { bones, weights }).collect();
+    Ok(Built { rest, influences, hulls, rules })
+}
+
+/// Despawns the bones of bendable bodies that were despawned or lost their component.
+pub(crate) fn forget_removed(
+    mut commands: Commands,
+    mut bends: ResMut<Bends>,
+    link: Res<MainLink>,
+    mut removed: RemovedComponents<Bendable>,
+) {
+    for entity in removed.read() {
+        if let Some(rig) = bends.rigs.remove(&entity) {
+            for piece in rig.pieces {
+                commands.entity(piece).try_despawn();
+            }
+            link.send(ToRender::Forget(entity));
+        }
+    }
+}
