@@ -49,8 +49,9 @@ impl DentWorld {
         self.bodies.keys().copied()
     }
 
-    /// The surface `entity` dents others with (its dentable mesh, or its projectile mesh).
-    pub(crate) fn surface(&self, entity: Entity) -> Option<&TriMesh> {
+    /// The surface `entity` dents others with (its dentable mesh, or its projectile mesh; its own
+    /// coordinates, m); `None` for an entity the plug-in has not registered.
+    pub fn surface(&self, entity: Entity) -> Option<&TriMesh> {
         self.targets.mesh(entity).or_else(|| self.surfaces.get(&entity))
     }
 

@@ -8,6 +8,7 @@ use bevy::window::ExitCondition;
 use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
 use dentbend::bend::auto_skeleton;
+use dentbend::dent::Resolution;
 use dentbend::glam::Vec3 as DVec3;
 use dentbend::mesh;
 
@@ -28,11 +29,21 @@ pub struct RainSettings {
     pub seed: u64,
     /// A bendable plank on two posts over the block.
     pub plank: bool,
+    /// Z-buffer side of the block's and the bunny's dents, cells (`None`: from the meshes).
+    pub resolution: Option<u32>,
 }
 
 impl Default for RainSettings {
     fn default() -> Self {
-        Self { balls_per_frame: 0.5, ball_radius: 0.12, speed: 6.0, dents: true, seed: 7, plank: true }
+        Self {
+            balls_per_frame: 0.5,
+            ball_radius: 0.12,
+            speed: 6.0,
+            dents: true,
+            seed: 7,
+            plank: true,
+            resolution: None,
+        }
     }
 }
 
@@ -199,7 +210,11 @@ fn spawn_target(
     ));
     if settings.dents {
         // 2 m/s threshold, 8 mm per m/s above it, at most 6 cm.
-        entity.insert(Dentable::new(2.0, 0.008, 0.06));
+        let mut dentable = Dentable::new(2.0, 0.008, 0.06);
+        if let Some(side) = settings.resolution {
+            dentable.settings.params.resolution = Resolution::Fixed(side);
+        }
+        entity.insert(dentable);
     }
 }
 
