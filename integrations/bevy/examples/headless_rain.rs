@@ -135,7 +135,9 @@ fn main() -> ExitCode {
             resolution: args.resolution,
             burst_started: None,
             written: 0,
+            rng: 1,
         })
+        .add_systems(Startup, spawn_burst_ball)
         .add_systems(Update, burst)
         .add_systems(Last, finish);
     if !args.png {
@@ -158,33 +160,36 @@ struct Run {
     burst_started: Option<(Instant, u64, u64)>,
     /// Contacts the bursts wrote.
     written: u64,
+    /// The bursts' random stream (a linear congruential generator's state).
+    rng: u64,
 }
 
 /// A hidden ball for the burst's contacts.
 #[derive(Component)]
 struct BurstBall;
 
-/// `--burst N`: N contacts of a hidden ball on the block each frame, at random points.
+/// `--burst`: the hidden ball whose contacts the bursts write.
+fn spawn_burst_ball(mut commands: Commands, run: Res<Run>, mut meshes: ResMut<Assets<Mesh>>) {
+    if run.burst > 0 {
+        let sphere = meshes.add(bevy_mesh(&dentbend::mesh::icosphere(BURST_BALL, 2).expect("a valid sphere")));
+        commands.spawn((BurstBall, DentProjectile, Mesh3d(sphere), Transform::default(), Visibility::Hidden));
+    }
+}
+
+/// `--burst N`: N contacts of the hidden ball on the block each frame, at random points.
 fn burst(
-    mut commands: Commands,
     mut run: ResMut<Run>,
-    mut meshes: ResMut<Assets<Mesh>>,
     targets: Query<(Entity, &Target, &GlobalTransform)>,
     ball: Query<Entity, With<BurstBall>>,
     world: Res<DentWorld>,
     stats: Res<DentStats>,
     clock: Res<FrameClock>,
     mut contacts: MessageWriter<DentContact>,
-    mut rng: Local<u64>,
 ) {
     if run.burst == 0 || clock.frame > run.frames {
         return;
     }
-    let Ok(ball) = ball.single() else {
-        let sphere = meshes.add(bevy_mesh(&dentbend::mesh::icosphere(BURST_BALL, 2).expect("a valid sphere")));
-        commands.spawn((BurstBall, DentProjectile, Mesh3d(sphere), Transform::default(), Visibility::Hidden));
-        return;
-    };
+    let Ok(ball) = ball.single() else { return };
     let Some((block, _, transform)) = targets.iter().find(|(_, t, _)| **t == Target::Block) else { return };
     // Both bodies known to the plug-in (and the block on its path) before the clock starts.
     if world.path(block).is_none() || world.surface(ball).is_none() {
@@ -196,8 +201,8 @@ fn burst(
     let inertia = Mat3::from_diagonal(Vec3::splat(1.0 / (0.4 * BURST_BALL * BURST_BALL)));
     for _ in 0..run.burst {
         let mut unit = || {
-            *rng = rng.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (*rng >> 40) as f32 / (1u64 << 24) as f32
+            run.rng = run.rng.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (run.rng >> 40) as f32 / (1u64 << 24) as f32
         };
         let point = Vec3::new(-1.8 + 3.6 * unit(), top, -1.8 + 3.6 * unit());
         let centre = point + Vec3::Y * BURST_BALL;
