@@ -25,6 +25,14 @@ impl Dentable {
         Self { settings }
     }
 
+    /// The energy model instead of the gain: a hit dents as deep as makes the plastic work,
+    /// `hardness` Pa × the volume the projectile's tip sweeps, equal the kinetic energy the
+    /// collision removes along the normal (still above the threshold, at most the cap).
+    pub fn with_hardness(mut self, hardness: f32) -> Self {
+        self.settings.hardness = Some(hardness);
+        self
+    }
+
     /// Any settings (host stages too; see the type's doc for which path they take).
     pub fn with_settings(settings: DentSettings) -> Self {
         Self { settings }

@@ -180,6 +180,23 @@ fn the_gpu_and_cpu_paths_make_the_same_dents() {
     eprintln!("worst GPU/CPU difference {worst:e} m (tolerance {tol:e})");
 }
 
+/// The energy model reaches the dents: with `Dentable::with_hardness`, a slab four times harder
+/// dents less deep under the same hit (the plastic work equals the same energy over a smaller
+/// volume), and both dent.
+fn the_energy_model_sets_the_depth() {
+    let depth = |hardness: f32| -> f32 {
+        let mut s = common::scene_dentable(true, bevy_dentbend::Dentable::new(1.0, 0.01, 0.08).with_hardness(hardness));
+        s.warm_up(true);
+        s.hit(HIT.0, HIT.1, SPEED);
+        s.settle(1);
+        let (before, after) = (s.slab_mesh.clone(), s.slab_now());
+        (0..before.vertex_count()).map(|v| before.positions()[v].distance(after.positions()[v])).fold(0.0, f32::max)
+    };
+    let (soft, hard) = (depth(2e6), depth(8e6));
+    assert!(hard > 0.0 && soft > 1.2 * hard, "soft {soft} m, hard {hard} m");
+    eprintln!("deepest vertex: {soft} m (2 MPa), {hard} m (8 MPa)");
+}
+
 fn main() -> ExitCode {
     common::run(vec![
         ("the_frame_changes_at_the_dent_and_nowhere_far::gpu", frame_changes_gpu_path),
@@ -187,5 +204,6 @@ fn main() -> ExitCode {
         ("no_render_read_back_on_the_gpu_path", no_render_read_back_on_the_gpu_path),
         ("the_slab_holds_the_dent_at_bevys_offset_and_stride", the_slab_holds_the_dent_at_bevys_offset_and_stride),
         ("the_gpu_and_cpu_paths_make_the_same_dents", the_gpu_and_cpu_paths_make_the_same_dents),
+        ("the_energy_model_sets_the_depth", the_energy_model_sets_the_depth),
     ])
 }

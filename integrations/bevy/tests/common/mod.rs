@@ -85,6 +85,13 @@ pub fn scene(gpu: bool, capture: bool) -> Scene {
     scene_with(gpu, capture, None)
 }
 
+/// The scene with the slab's [`Dentable`] replaced before it registers.
+pub fn scene_dentable(gpu: bool, dentable: Dentable) -> Scene {
+    let mut s = scene(gpu, false);
+    s.app.world_mut().entity_mut(s.slab).insert(dentable);
+    s
+}
+
 /// [`scene`] with Bevy's render plug-in configured.
 pub fn scene_with(gpu: bool, capture: bool, render: Option<RenderPlugin>) -> Scene {
     let mut app = match render {
