@@ -201,9 +201,19 @@ impl PendingMoved {
     /// returns them) exactly once; `Ok(None)` again after that.
     ///
     /// # Errors
-    /// [`GpuError::Wait`] when a mapping failed (a device lost or destroyed buffer);
-    /// [`GpuError::DeviceLost`]. The read-back is over then.
+    /// [`GpuError::Wait`] when a mapping failed (a lost device, a destroyed buffer). The
+    /// read-back is over then: [`is_done`](Self::is_done) holds and later polls return `Ok(None)`.
     pub fn poll(&mut self) -> Result<Option<MovedVertices>, GpuError> {
+        let polled = self.advance();
+        if polled.is_err() {
+            self.state = ReadState::Done(None);
+            self.staging = None;
+        }
+        polled
+    }
+
+    /// [`poll`](Self::poll)'s work, leaving the state as it was on an error.
+    fn advance(&mut self) -> Result<Option<MovedVertices>, GpuError> {
         // Runs the callbacks of finished work without waiting.
         let _ = self.context.device.poll(wgpu::PollType::Poll);
         while let Some(staging) = &self.staging {

@@ -116,6 +116,11 @@ pub(crate) fn receive_from_render(
                 stats.dents += dents;
             }
             ToMain::Dropped { dents } => stats.rejected_contacts += dents,
+            ToMain::Demote(entities) => {
+                for entity in entities {
+                    world.demote(entity);
+                }
+            }
             ToMain::Moved { entity, moved, bytes } => {
                 stats.collider_readback_bytes += bytes;
                 if world.move_vertices(entity, &moved.indices, &moved.positions) {

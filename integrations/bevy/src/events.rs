@@ -5,7 +5,9 @@ use dentbend::dent::Impact;
 
 use crate::DentPath;
 
-/// A dent was decided and made (on the GPU path: recorded for this frame's batch).
+/// A dent was decided (and on the CPU path made). On the GPU path it is made by the render
+/// world's next batch it can run (usually this frame's), or dropped and counted in
+/// [`DentStats::rejected_contacts`](crate::DentStats::rejected_contacts) when its body is gone.
 #[derive(Message, Debug, Clone, Copy)]
 pub struct DentApplied {
     /// The dented entity.

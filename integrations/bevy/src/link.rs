@@ -67,6 +67,8 @@ pub(crate) enum ToMain {
     Batch { dents: u64 },
     /// Dents that could not be made (logged in the render world).
     Dropped { dents: u64 },
+    /// These bodies could not be made resident on the GPU: they take the CPU path from now on.
+    Demote(Vec<Entity>),
 }
 
 /// The main world's ends.

@@ -16,14 +16,14 @@ pub struct DentRegistered;
 #[derive(Component, Debug, Clone)]
 pub struct DentRefused(pub String);
 
-type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
+pub(crate) type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
 
 /// Projectiles (that do not dent themselves) not registered yet.
 type NewProjectile = (With<DentProjectile>, Without<Dentable>, Unregistered);
 
 /// How far from 1 a dentable entity's scale may be (dents are sized in metres in the mesh's own
 /// coordinates, which a scale would stretch).
-const UNIT_SCALE_TOLERANCE: f32 = 1e-4;
+pub(crate) const UNIT_SCALE_TOLERANCE: f32 = 1e-4;
 
 /// Registers each new dentable body once its mesh asset is loaded: a private copy of the mesh
 /// (normals added when missing), its triangles for the damage API, its vertex layout for the
@@ -120,16 +120,26 @@ pub(crate) fn promote_to_gpu(mut world: ResMut<DentWorld>, link: Res<MainLink>, 
     }
 }
 
-/// Forgets bodies that were despawned or lost their component.
+/// Forgets bodies that were despawned or lost their component; an entity that lost it may get
+/// it back and is registered again.
 pub(crate) fn forget_removed(
+    mut commands: Commands,
     mut world: ResMut<DentWorld>,
     link: Res<MainLink>,
     mut dentables: RemovedComponents<Dentable>,
     mut projectiles: RemovedComponents<DentProjectile>,
 ) {
-    for entity in dentables.read().chain(projectiles.read()) {
+    for entity in dentables.read() {
         if world.remove(entity) {
             link.send(ToRender::Forget(entity));
+        }
+        commands.entity(entity).try_remove::<(DentRegistered, DentRefused)>();
+    }
+    for entity in projectiles.read() {
+        // A dentable body's surface is its dentable mesh: only a plain projectile goes.
+        if !world.bodies.contains_key(&entity) {
+            world.remove(entity);
+            commands.entity(entity).try_remove::<(DentRegistered, DentRefused)>();
         }
     }
 }

@@ -9,7 +9,9 @@ pub struct DentStats {
     pub dents: u64,
     /// Dents made on the GPU path.
     pub gpu_dents: u64,
-    /// Bytes read back from the GPU to render dented meshes: 0 on the GPU path by design.
+    /// Bytes read back from the GPU to draw dented or bent meshes. The plug-in never does: the
+    /// GPU path writes into Bevy's vertex slab in place and the CPU path computes on the CPU, so
+    /// this stays 0 (reported in `summary.json` for comparison with engines that round-trip).
     pub render_readback_bytes: u64,
     /// Bytes read back for the physics colliders (4 per dented target and batch, 16 per moved
     /// vertex), asynchronously.

@@ -86,6 +86,14 @@ impl DentWorld {
         self.on_gpu.remove(&entity)
     }
 
+    /// Puts `entity` on the CPU path for good (the GPU could not hold it).
+    pub(crate) fn demote(&mut self, entity: Entity) {
+        self.set_path(entity, DentPath::Cpu);
+        if let Some(body) = self.bodies.get_mut(&entity) {
+            body.kernels_only = false;
+        }
+    }
+
     pub(crate) fn set_path(&mut self, entity: Entity, path: DentPath) {
         if let Some(body) = self.bodies.get_mut(&entity) {
             body.path = path;

@@ -52,11 +52,11 @@ fn plank_scene(gpu: bool) -> (common::Scene, Entity) {
     ));
     let scene = common::Scene {
         app,
-        slab: body,
+        target: body,
         ball: Entity::PLACEHOLDER,
         camera: Entity::PLACEHOLDER,
         probe,
-        slab_mesh: plank,
+        target_mesh: plank,
     };
     (scene, body)
 }
@@ -85,7 +85,7 @@ fn term_magnitude(bones: &[SkinBone], influence: &SkinInfluence, p: DVec3) -> [f
 /// core crate), and the slab moved from rest by more than 2 cm somewhere.
 fn the_plank_bends_and_the_slab_is_skinned() {
     let (mut s, body) = plank_scene(true);
-    s.until("the plank registered", 100, |w| w.resource::<Bends>().path(body) == Some(DentPath::Gpu));
+    s.until("the plank registered", 100, |w| w.resource::<Bends>().skinning_path(body) == Some(DentPath::Gpu));
     s.frames(120);
     let bent = angles(&s, body);
     let most = bent.iter().fold(0.0f32, |m, a| m.max(a.abs()));
@@ -141,13 +141,26 @@ fn the_plank_bends_and_the_slab_is_skinned() {
 
 /// The CPU path bends the same plank the same way: the physics does not depend on where the
 /// mesh is skinned, so every joint ends within 1e-4 rad of the GPU path's (Rapier is
-/// deterministic for the same inputs; the margin covers nothing but rounding).
+/// deterministic for the same inputs; the margin covers nothing but rounding); and on the CPU
+/// path the mesh asset is the rest mesh skinned by the bones last sent (the same function, so
+/// exactly), bent away from rest.
 fn the_cpu_path_bends_the_same() {
     let run = |gpu: bool| {
         let (mut s, body) = plank_scene(gpu);
         let path = if gpu { DentPath::Gpu } else { DentPath::Cpu };
-        s.until("the plank registered", 100, |w| w.resource::<Bends>().path(body) == Some(path));
+        s.until("the plank registered", 100, |w| w.resource::<Bends>().skinning_path(body) == Some(path));
         s.frames(150);
+        if !gpu {
+            let bends = s.app.world().resource::<Bends>();
+            let (rest, influences) = bends.rest(body).unwrap();
+            let bones = bends.skinned_with(body).unwrap();
+            let n = rest.vertex_count();
+            let (mut positions, mut normals) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
+            let params = SkinParams::new(n as u32, bones.len() as u32);
+            skin(&params, bones, rest.positions(), rest.normals(), influences, &mut positions, &mut normals).unwrap();
+            assert_eq!(s.target_asset_positions(), positions, "the CPU path's asset is not the skinned mesh");
+            assert_ne!(positions, rest.positions(), "the CPU path's plank did not bend");
+        }
         angles(&s, body)
     };
     let (gpu, cpu) = (run(true), run(false));

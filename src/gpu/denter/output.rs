@@ -62,7 +62,9 @@ impl GpuDenter {
     /// compaction moved.
     ///
     /// # Errors
-    /// As [`read_moved`](Self::read_moved); nothing is recorded then.
+    /// As [`read_moved`](Self::read_moved): an unknown target or a lost device records
+    /// nothing; a device error while recording may leave part of the compaction in `encoder`,
+    /// so drop it instead of submitting it (as after [`record_batch`](Self::record_batch)).
     pub fn record_moved(&self, encoder: &mut wgpu::CommandEncoder, target: usize) -> Result<PendingMoved, GpuError> {
         let params = self.moved_params(target)?;
         self.context.check_flag()?;

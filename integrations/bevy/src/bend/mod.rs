@@ -105,8 +105,9 @@ impl Bends {
         self.rigs.get(&entity).map(|r| r.last.as_slice())
     }
 
-    /// The path `entity`'s skinning takes.
-    pub fn path(&self, entity: Entity) -> Option<DentPath> {
+    /// Where `entity`'s mesh is skinned: on Bevy's GPU into its vertex slab, or on the CPU into
+    /// its mesh asset.
+    pub fn skinning_path(&self, entity: Entity) -> Option<DentPath> {
         self.rigs.get(&entity).map(|r| r.path)
     }
 }

@@ -12,9 +12,8 @@ use dentbend_rapier::{ElasticJoint, JointKind, JointRule, PlasticJoint};
 use super::{BendPiece, Bendable, Bends, Joint, Rig};
 use crate::link::{GpuStatus, MainLink, ToRender};
 use crate::mesh_data::{ensure_normals, private_copy, slab_layout, tri_mesh};
+use crate::register::{UNIT_SCALE_TOLERANCE, Unregistered};
 use crate::{DentPath, DentRefused, DentRegistered};
-
-type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
 
 /// The rig of a bendable body, before anything is spawned.
 struct Built {
@@ -40,7 +39,7 @@ pub(crate) fn register_bendables(
         let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
         let mut copy = private_copy(mesh);
         let scale = transform.to_scale_rotation_translation().0;
-        let built = if (scale - Vec3::ONE).abs().max_element() > 1e-4 {
+        let built = if (scale - Vec3::ONE).abs().max_element() > UNIT_SCALE_TOLERANCE {
             Err(format!("it is scaled by {scale} (bake the scale into its mesh)"))
         } else {
             ensure_normals(&mut copy)

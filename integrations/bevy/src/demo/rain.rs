@@ -47,7 +47,7 @@ impl Default for RainSettings {
     }
 }
 
-/// Marks the dentable bodies of the scene.
+/// Marks the scene's dentable bodies and its bendable plank.
 #[derive(Component, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Target {
     /// The 4 × 1 × 4 m block the rain falls on.

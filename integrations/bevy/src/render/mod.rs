@@ -2,6 +2,7 @@
 //! `RenderDevice`, the dentable meshes resident on it, and each frame's dent batch recorded and
 //! written into Bevy's mesh allocator slabs.
 
+mod readbacks;
 mod resident;
 mod skinned;
 mod startup;

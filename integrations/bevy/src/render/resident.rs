@@ -1,5 +1,6 @@
-//! The dentable meshes resident on Bevy's device, the dents waiting for the next batch, and the
-//! collider read-backs under way.
+//! The dentable meshes resident on Bevy's device and the dents waiting for the next batch: each
+//! frame's batch, the writes into Bevy's vertex slabs and the collider read-backs are recorded
+//! here.
 
 use bevy::prelude::*;
 use bevy::render::mesh::allocator::MeshAllocator;
@@ -8,6 +9,7 @@ use dentbend::TriMesh;
 use dentbend::dent::DentJob;
 use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter, PendingMoved};
 
+use super::readbacks::{Mirrors, Readbacks};
 use super::skinned::SkinnedMeshes;
 use crate::link::{GpuJob, RenderLink, ToMain, ToRender};
 use crate::mesh_data::SlabLayout;
@@ -36,8 +38,18 @@ pub(crate) struct ResidentDents {
     /// The targets changed since the denter was built.
     stale: bool,
     jobs: Vec<GpuJob>,
-    reads: Vec<(Entity, PendingMoved)>,
+    reads: Readbacks,
     skinned: SkinnedMeshes,
+}
+
+/// The resident targets as the read-backs see them.
+struct Slots<'a>(&'a mut Vec<Target>);
+
+impl Mirrors for Slots<'_> {
+    fn mirror(&mut self, entity: Entity) -> Option<(usize, &mut TriMesh)> {
+        let slot = self.0.iter().position(|t| t.entity == entity)?;
+        Some((slot, &mut self.0[slot].mirror))
+    }
 }
 
 /// What one frame recorded.
@@ -103,41 +115,13 @@ impl ResidentDents {
 
     /// Advances the collider read-backs; sends each finished one to the main world.
     pub fn poll_reads(&mut self, link: &RenderLink) {
-        let mut i = 0;
-        while i < self.reads.len() {
-            let (entity, read) = &mut self.reads[i];
-            let entity = *entity;
-            match read.poll() {
-                Ok(None) if !read.is_done() => {
-                    i += 1;
-                    continue;
-                }
-                Ok(None) => {}
-                Ok(Some(moved)) => {
-                    if let Some(t) = self.targets.iter_mut().find(|t| t.entity == entity) {
-                        let mut positions = t.mirror.positions().to_vec();
-                        for (&v, &p) in moved.indices.iter().zip(&moved.positions) {
-                            if let Some(slot) = positions.get_mut(v as usize) {
-                                *slot = p;
-                            }
-                        }
-                        if let Err(e) = t.mirror.set_positions(positions) {
-                            error!("bevy_dentbend: a dented mesh read back unusable ({e})");
-                        }
-                    }
-                    link.send(ToMain::Moved { entity, moved, bytes: read.bytes_read() });
-                }
-                Err(e) => error!(
-                    "bevy_dentbend: the collider read-back of {entity} failed ({e}); its collider keeps its shape"
-                ),
-            }
-            self.reads.swap_remove(i);
-        }
+        let Self { reads, targets, denter, .. } = self;
+        reads.poll(&mut Slots(targets), denter.as_ref(), link);
     }
 
     /// Uploads the targets again when they changed and no read-back is under way (so every
     /// mirror holds the dents the GPU made).
-    pub fn rebuild_if_stale(&mut self) {
+    pub fn rebuild_if_stale(&mut self, link: &RenderLink) {
         let Some(context) = &self.context else { return };
         if !self.stale || !self.reads.is_empty() {
             return;
@@ -150,7 +134,11 @@ impl ResidentDents {
         let meshes: Vec<TriMesh> = self.targets.iter().map(|t| t.mirror.clone()).collect();
         match GpuDenter::new(context, &meshes) {
             Ok(denter) => self.denter = Some(denter),
-            Err(e) => error!("bevy_dentbend: the dentable meshes could not be made resident ({e}); GPU dents wait"),
+            Err(e) => {
+                error!("bevy_dentbend: the dentable meshes could not be made resident ({e}); they take the CPU path");
+                let entities = self.targets.drain(..).map(|t| t.entity).collect();
+                link.send(ToMain::Demote(entities));
+            }
         }
     }
 
@@ -166,10 +154,7 @@ impl ResidentDents {
         };
         let skinned = self.skinned.record(&context, &mut encoder, allocator);
         context.queue.submit([encoder.finish()]);
-        for (entity, mut read) in reads {
-            read.submitted();
-            self.reads.push((entity, read));
-        }
+        self.reads.submitted(reads);
         if dents > 0 {
             link.send(ToMain::Batch { dents });
         }
@@ -187,7 +172,18 @@ impl ResidentDents {
         allocator: &MeshAllocator,
         link: &RenderLink,
     ) -> Option<(u64, u64, Vec<(Entity, PendingMoved)>)> {
-        let (Some(denter), false) = (&mut self.denter, self.stale) else { return Some((0, 0, Vec::new())) };
+        if self.stale {
+            // The targets are uploaded again once the read-backs under way are in: dents wait.
+            return Some((0, 0, Vec::new()));
+        }
+        let Some(denter) = &mut self.denter else {
+            // No resident target (all despawned, or demoted to the CPU path): drop and count.
+            let dropped = std::mem::take(&mut self.jobs).len() as u64;
+            if dropped > 0 {
+                link.send(ToMain::Dropped { dents: dropped });
+            }
+            return Some((0, 0, Vec::new()));
+        };
         let mut jobs = std::mem::take(&mut self.jobs);
         let slots: Vec<Option<usize>> =
             jobs.iter().map(|j| self.targets.iter().position(|t| t.entity == j.target)).collect();
@@ -255,7 +251,10 @@ impl ResidentDents {
             match denter.record_moved(encoder, slot) {
                 Ok(read) => reads.push((self.targets[slot].entity, read)),
                 Err(e) => {
-                    error!("bevy_dentbend: the collider read-back of {} was refused ({e})", self.targets[slot].entity)
+                    // It may have left part of itself in the encoder: drop the frame's batch.
+                    error!("bevy_dentbend: a collider read-back could not be recorded ({e}); {dents} dent(s) dropped");
+                    link.send(ToMain::Dropped { dents });
+                    return None;
                 }
             }
         }

@@ -23,8 +23,9 @@ pub(crate) fn make_dents(
         return;
     }
     resident.take(messages);
-    resident.uploaded_again(extracted.extracted.iter().map(|(id, _)| *id));
+    // Bevy uploads these assets this frame (before this system): their dents must be written again.
+    resident.uploaded_again(extracted.added.iter().chain(&extracted.modified).copied());
     resident.poll_reads(&link);
-    resident.rebuild_if_stale();
+    resident.rebuild_if_stale(&link);
     resident.record(&allocator, &link);
 }

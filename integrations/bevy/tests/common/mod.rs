@@ -1,6 +1,6 @@
 //! Shared by the plug-in's tests: a libtest-mimic runner that runs Bevy apps one at a time and
 //! skips them without a GPU adapter (unless `DENTBEND_REQUIRE_GPU=1`), and a scripted scene:
-//! a dentable slab under a camera, a hidden ball, and dents made through the contact hook.
+//! a dentable plate under a camera, a hidden ball, and dents made through the contact hook.
 
 #![allow(dead_code)]
 
@@ -49,29 +49,30 @@ pub fn run(tests: Vec<(&'static str, fn())>) -> ExitCode {
 
 /// Frame size of the scripted scene, pixels.
 pub const SIZE: UVec2 = UVec2::new(320, 240);
-/// Half extents of the slab, m (its top face at y = 0).
-pub const SLAB: Vec3 = Vec3::new(1.0, 0.1, 1.0);
+/// Half extents of the plate, m (its top face at y = 0).
+pub const PLATE: Vec3 = Vec3::new(1.0, 0.1, 1.0);
 /// Radius of the hidden ball, m.
 pub const BALL: f32 = 0.25;
-/// A ball speed that dents the slab, m/s (threshold 1 m/s).
+/// A ball speed that dents the plate, m/s (threshold 1 m/s).
 pub const SPEED_OK: f32 = 5.0;
 
 /// The scripted scene.
 pub struct Scene {
     pub app: App,
-    pub slab: Entity,
+    /// The dentable body.
+    pub target: Entity,
     pub ball: Entity,
     pub camera: Entity,
     /// Reads what Bevy's vertex slab holds.
     pub probe: slab::SlabProbe,
-    /// The slab as spawned.
-    pub slab_mesh: TriMesh,
+    /// The dentable body (the plate, or the plank) as spawned.
+    pub target_mesh: TriMesh,
 }
 
-/// The slab: 2 × 0.2 × 2 m, 48 × 2 × 48 cells, with UVs (so its vertices carry an attribute the
+/// The plate: 2 × 0.2 × 2 m, 48 × 2 × 48 cells, with UVs (so its vertices carry an attribute the
 /// dents must not touch).
-pub fn slab_mesh() -> TriMesh {
-    mesh::subdivided_box(2.0 * SLAB, [48, 2, 48]).expect("a valid box")
+pub fn plate_mesh() -> TriMesh {
+    mesh::subdivided_box(2.0 * PLATE, [48, 2, 48]).expect("a valid box")
 }
 
 /// A Bevy mesh of `tri` with UVs from x and z.
@@ -85,10 +86,10 @@ pub fn scene(gpu: bool, capture: bool) -> Scene {
     scene_with(gpu, capture, None)
 }
 
-/// The scene with the slab's [`Dentable`] replaced before it registers.
+/// The scene with the plate's [`Dentable`] replaced before it registers.
 pub fn scene_dentable(gpu: bool, dentable: Dentable) -> Scene {
     let mut s = scene(gpu, false);
-    s.app.world_mut().entity_mut(s.slab).insert(dentable);
+    s.app.world_mut().entity_mut(s.target).insert(dentable);
     s
 }
 
@@ -101,20 +102,20 @@ pub fn scene_with(gpu: bool, capture: bool, render: Option<RenderPlugin>) -> Sce
     if capture {
         app.add_plugins(CapturePlugin { size: SIZE, out: None, keep: true });
     }
-    let slab_mesh = slab_mesh();
+    let target_mesh = plate_mesh();
     let world = app.world_mut();
-    let slab_asset = world.resource_mut::<Assets<Mesh>>().add(with_uvs(&slab_mesh));
+    let plate_asset = world.resource_mut::<Assets<Mesh>>().add(with_uvs(&target_mesh));
     let ball_asset = world.resource_mut::<Assets<Mesh>>().add(bevy_dentbend::bevy_mesh(&ball_mesh()));
     let grey = world.resource_mut::<Assets<StandardMaterial>>().add(StandardMaterial {
         base_color: Color::srgb(0.6, 0.6, 0.65),
         perceptual_roughness: 0.5,
         ..default()
     });
-    let slab = world
+    let target = world
         .spawn((
-            Mesh3d(slab_asset),
+            Mesh3d(plate_asset),
             MeshMaterial3d(grey.clone()),
-            Transform::from_xyz(0.0, -SLAB.y, 0.0),
+            Transform::from_xyz(0.0, -PLATE.y, 0.0),
             // 1 m/s threshold, 1 cm per m/s above it, at most 8 cm.
             Dentable::new(1.0, 0.01, 0.08),
         ))
@@ -139,7 +140,7 @@ pub fn scene_with(gpu: bool, capture: bool, render: Option<RenderPlugin>) -> Sce
     let probe = slab::SlabProbe::install(&mut app);
     app.finish();
     app.cleanup();
-    let mut scene = Scene { app, slab, ball, camera, probe, slab_mesh };
+    let mut scene = Scene { app, target, ball, camera, probe, target_mesh };
     scene.stop_capturing();
     scene
 }
@@ -150,17 +151,17 @@ pub fn ball_mesh() -> TriMesh {
 }
 
 impl Scene {
-    /// The slab and the ball (no camera, no material) in `app`, which needs no renderer.
+    /// The plate and the ball (no camera, no material) in `app`, which needs no renderer.
     pub fn around(mut app: App) -> Scene {
-        let slab_mesh = slab_mesh();
+        let target_mesh = plate_mesh();
         let world = app.world_mut();
-        let slab_asset = world.resource_mut::<Assets<Mesh>>().add(with_uvs(&slab_mesh));
+        let plate_asset = world.resource_mut::<Assets<Mesh>>().add(with_uvs(&target_mesh));
         let ball_asset = world.resource_mut::<Assets<Mesh>>().add(bevy_dentbend::bevy_mesh(&ball_mesh()));
-        let slab = world
-            .spawn((Mesh3d(slab_asset), Transform::from_xyz(0.0, -SLAB.y, 0.0), Dentable::new(1.0, 0.01, 0.08)))
+        let target = world
+            .spawn((Mesh3d(plate_asset), Transform::from_xyz(0.0, -PLATE.y, 0.0), Dentable::new(1.0, 0.01, 0.08)))
             .id();
         let ball = world.spawn((Mesh3d(ball_asset), Transform::default(), DentProjectile)).id();
-        Scene { app, slab, ball, camera: Entity::PLACEHOLDER, probe: slab::SlabProbe::default(), slab_mesh }
+        Scene { app, target, ball, camera: Entity::PLACEHOLDER, probe: slab::SlabProbe::default(), target_mesh }
     }
 
     /// Runs `n` frames.
@@ -198,11 +199,11 @@ impl Scene {
         panic!("the read-backs never settled");
     }
 
-    /// Runs frames until the slab is registered on the expected path (the GPU one when `gpu`).
+    /// Runs frames until the plate is registered on the expected path (the GPU one when `gpu`).
     pub fn warm_up(&mut self, gpu: bool) {
-        let slab = self.slab;
+        let target = self.target;
         let path = if gpu { DentPath::Gpu } else { DentPath::Cpu };
-        self.until("the slab registered", 200, |w| w.resource::<DentWorld>().path(slab) == Some(path));
+        self.until("the plate registered", 200, |w| w.resource::<DentWorld>().path(target) == Some(path));
         if gpu {
             let status = self.app.world().resource::<DentGpu>().status();
             assert!(matches!(status, GpuStatus::Ready(_)), "GPU path expected, status {status:?}");
@@ -241,7 +242,7 @@ impl Scene {
         panic!("the frame never settled");
     }
 
-    /// Writes a contact of the hidden ball falling at `speed` m/s on the slab's top face at
+    /// Writes a contact of the hidden ball falling at `speed` m/s on the plate's top face at
     /// (x, z), through the contact hook.
     pub fn hit(&mut self, x: f32, z: f32, speed: f32) {
         let point = Vec3::new(x, 0.0, z);
@@ -250,8 +251,8 @@ impl Scene {
         let ball_state = BodyState::moving(centre, -speed * Vec3::Y, Vec3::ZERO, 10.0, inertia);
         let contact = DentContact {
             a: DentBody {
-                entity: self.slab,
-                pose: Affine3A::from_translation(Vec3::new(0.0, -SLAB.y, 0.0)),
+                entity: self.target,
+                pose: Affine3A::from_translation(Vec3::new(0.0, -PLATE.y, 0.0)),
                 state: BodyState::FIXED,
             },
             b: DentBody { entity: self.ball, pose: Affine3A::from_translation(centre), state: ball_state },
@@ -267,18 +268,18 @@ impl Scene {
         self.app.world().resource::<DentStats>().clone()
     }
 
-    /// The slab's mesh as the main world knows it.
-    pub fn slab_now(&self) -> TriMesh {
-        self.app.world().resource::<DentWorld>().mesh(self.slab).expect("the slab is dentable").clone()
+    /// The plate's mesh as the main world knows it.
+    pub fn target_now(&self) -> TriMesh {
+        self.app.world().resource::<DentWorld>().mesh(self.target).expect("the plate is dentable").clone()
     }
 
-    /// The positions of the slab's Bevy mesh asset (its private copy).
-    pub fn slab_asset_positions(&self) -> Vec<Vec3> {
-        let handle = &self.app.world().get::<Mesh3d>(self.slab).expect("a mesh").0;
+    /// The positions of the plate's Bevy mesh asset (its private copy).
+    pub fn target_asset_positions(&self) -> Vec<Vec3> {
+        let handle = &self.app.world().get::<Mesh3d>(self.target).expect("a mesh").0;
         let mesh = self.app.world().resource::<Assets<Mesh>>().get(handle).expect("the asset");
         match mesh.attribute(Mesh::ATTRIBUTE_POSITION) {
             Some(bevy::mesh::VertexAttributeValues::Float32x3(p)) => p.iter().map(|p| Vec3::from_array(*p)).collect(),
-            _ => panic!("the slab's asset lost its positions"),
+            _ => panic!("the plate's asset lost its positions"),
         }
     }
 
