@@ -16,8 +16,13 @@
 //! - **CPU path** (no usable device, [`DentbendPlugin::cpu_only`], or settings that need the
 //!   host stages): dents are made on all cores and the mesh asset is updated.
 //!
+//! Bending (with `rapier`): a [`Bendable`] entity is cut into one bevy_rapier3d body per bone of
+//! its skeleton, joined by spherical impulse joints under plastic or elastic rules; its mesh is
+//! skinned from the bones every frame they move, on the GPU path by dentbend's `skin` kernel
+//! straight into Bevy's vertex slab.
+//!
 //! Units: metres, seconds, kilograms; a dentable's mesh is in its entity's own coordinates, and
-//! dentable entities have unit scale.
+//! dentable and bendable entities have unit scale.
 //!
 //! ```no_run
 //! use bevy::prelude::*;
