@@ -128,6 +128,25 @@ fn a_body_despawned_mid_batch() {
     still_dents(&mut s);
 }
 
+/// The only GPU body despawned right after its dent was decided: the render world has no
+/// resident target left, so the dent is made before the body is forgotten or dropped and
+/// counted, never kept waiting; a body added afterwards dents.
+fn the_last_body_despawned_mid_batch() {
+    let mut s = scene(true, false);
+    s.warm_up(true);
+    s.hit(0.0, 0.0, SPEED_OK);
+    s.app.world_mut().run_schedule(PostUpdate);
+    s.app.world_mut().despawn(s.target);
+    s.frames(6);
+    let stats = s.stats();
+    assert_eq!(stats.gpu_dents + stats.rejected_contacts, 1, "the dent was neither made nor counted: {stats:?}");
+    let other =
+        spawn(&mut s, common::with_uvs(&common::plate_mesh()), Dentable::new(1.0, 0.01, 0.08), Transform::default());
+    s.until("a new plate on the GPU", 60, |w| w.resource::<DentWorld>().path(other) == Some(DentPath::Gpu));
+    s.target = other;
+    still_dents(&mut s);
+}
+
 /// A device without the kernels' limits (Bevy asked for WebGL2 limits: no storage buffers in
 /// compute) puts every body on the CPU path, which still dents and updates the asset.
 fn a_device_without_the_limits_takes_the_cpu_path() {
@@ -170,6 +189,7 @@ fn main() -> ExitCode {
         ("a_mesh_without_normals_gets_normals", a_mesh_without_normals_gets_normals),
         ("bad_contacts_are_rejected", bad_contacts_are_rejected),
         ("a_body_despawned_mid_batch", a_body_despawned_mid_batch),
+        ("the_last_body_despawned_mid_batch", the_last_body_despawned_mid_batch),
         ("a_device_without_the_limits_takes_the_cpu_path", a_device_without_the_limits_takes_the_cpu_path),
         ("an_app_without_a_renderer_dents_on_the_cpu", an_app_without_a_renderer_dents_on_the_cpu),
     ])
