@@ -7,6 +7,7 @@ use dentbend::dent::{Hit, Impact, Surface};
 use crate::backend::SplitBackend;
 use crate::link::{MainLink, ToMain, ToRender};
 use crate::mesh_data::write_dented;
+use crate::world::surface_in;
 use crate::{DentApplied, DentContact, DentPath, DentStats, DentWorld, MeshDented};
 
 /// Decides and makes the dents of this step's [`DentContact`]s.
@@ -50,10 +51,7 @@ pub(crate) fn decide_dents(
                 continue;
             }
         };
-        let Some(mesh) = world.targets.mesh(projectile.entity).or_else(|| world.surfaces.get(&projectile.entity))
-        else {
-            continue;
-        };
+        let Some(mesh) = surface_in(&world.targets, &world.surfaces, projectile.entity) else { continue };
         hits.push(Hit {
             target: target.entity,
             projectile: projectile.entity,

@@ -67,18 +67,18 @@ pub fn tri_mesh(mesh: &Mesh) -> Result<TriMesh, MeshDataError> {
     TriMesh::new(positions, faces).map_err(|e| MeshDataError::Refused(e.to_string()))
 }
 
-/// Gives `mesh` smooth normals when it has none; whether it had to.
+/// Gives `mesh` the smooth normals of `tri` (its triangles, [`tri_mesh`]) when it has none;
+/// whether it had to.
 ///
 /// # Errors
 /// [`MeshDataError::Extracted`], [`MeshDataError::BadNormals`].
-pub fn ensure_normals(mesh: &mut Mesh) -> Result<bool, MeshDataError> {
+pub fn add_missing_normals(mesh: &mut Mesh, tri: &TriMesh) -> Result<bool, MeshDataError> {
     match mesh.try_attribute_option(Mesh::ATTRIBUTE_NORMAL) {
         Err(_) => Err(MeshDataError::Extracted),
         Ok(Some(VertexAttributeValues::Float32x3(_))) => Ok(false),
         Ok(Some(_)) => Err(MeshDataError::BadNormals),
         Ok(None) => {
-            let dented = tri_mesh(mesh)?;
-            let normals: Vec<[f32; 3]> = dented.normals().iter().map(|n| n.to_array()).collect();
+            let normals: Vec<[f32; 3]> = tri.normals().iter().map(|n| n.to_array()).collect();
             mesh.try_insert_attribute(Mesh::ATTRIBUTE_NORMAL, normals).map_err(|_| MeshDataError::Extracted)?;
             Ok(true)
         }
@@ -134,11 +134,30 @@ pub fn write_dented(mesh: &mut Mesh, dented: &TriMesh, refinement: &Refinement) 
         let indices = dented.faces().iter().flatten().copied().collect();
         mesh.try_insert_indices(Indices::U32(indices)).map_err(extracted)?;
     }
-    let positions: Vec<[f32; 3]> = dented.positions().iter().map(|p| p.to_array()).collect();
-    let normals: Vec<[f32; 3]> = dented.normals().iter().map(|n| n.to_array()).collect();
+    write_vertices(mesh, dented.positions(), dented.normals())
+}
+
+/// Replaces `mesh`'s positions (its own coordinates, m) and unit normals.
+///
+/// # Errors
+/// [`MeshDataError::Extracted`] when the main world no longer holds the data.
+pub fn write_vertices(mesh: &mut Mesh, positions: &[Vec3], normals: &[Vec3]) -> Result<(), MeshDataError> {
+    let extracted = |_| MeshDataError::Extracted;
+    let positions: Vec<[f32; 3]> = positions.iter().map(|p| p.to_array()).collect();
+    let normals: Vec<[f32; 3]> = normals.iter().map(|n| n.to_array()).collect();
     mesh.try_insert_attribute(Mesh::ATTRIBUTE_POSITION, positions).map_err(extracted)?;
     mesh.try_insert_attribute(Mesh::ATTRIBUTE_NORMAL, normals).map_err(extracted)?;
     Ok(())
+}
+
+/// `mesh`'s positions with vertices `indices` moved to `positions`; `None` when an index is
+/// past the mesh's vertices.
+pub fn moved_positions(mesh: &TriMesh, indices: &[u32], positions: &[Vec3]) -> Option<Vec<Vec3>> {
+    let mut out = mesh.positions().to_vec();
+    for (&v, &p) in indices.iter().zip(positions) {
+        *out.get_mut(v as usize)? = p;
+    }
+    Some(out)
 }
 
 /// Appends one value per split vertex to float attribute `values`, interpolated between the

@@ -4,7 +4,9 @@
 use bevy::prelude::*;
 
 use crate::link::{GpuStatus, MainLink, ToRender};
-use crate::mesh_data::{ensure_normals, private_copy, slab_layout, tri_mesh};
+use dentbend::TriMesh;
+
+use crate::mesh_data::{SlabLayout, add_missing_normals, private_copy, slab_layout, tri_mesh};
 use crate::world::BodyInfo;
 use crate::{DentPath, DentProjectile, DentWorld, Dentable};
 
@@ -21,13 +23,33 @@ pub(crate) type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
 /// Projectiles (that do not dent themselves) not registered yet.
 type NewProjectile = (With<DentProjectile>, Without<Dentable>, Unregistered);
 
-/// How far from 1 a dentable entity's scale may be (dents are sized in metres in the mesh's own
-/// coordinates, which a scale would stretch).
-pub(crate) const UNIT_SCALE_TOLERANCE: f32 = 1e-4;
+/// How far from 1 a dentable or bendable entity's scale may be.
+const UNIT_SCALE_TOLERANCE: f32 = 1e-4;
 
-/// Registers each new dentable body once its mesh asset is loaded: a private copy of the mesh
-/// (normals added when missing), its triangles for the damage API, its vertex layout for the
-/// GPU path.
+/// Why a body of this `transform` cannot take part: dents and bends are sized in metres in the
+/// mesh's own coordinates, which a scale would stretch.
+pub(crate) fn scale_refusal(transform: &GlobalTransform) -> Option<String> {
+    let scale = transform.to_scale_rotation_translation().0;
+    ((scale - Vec3::ONE).abs().max_element() > UNIT_SCALE_TOLERANCE)
+        .then(|| format!("it is scaled by {scale} (bake the scale into its mesh)"))
+}
+
+/// `entity`'s mesh made ready to register: a private copy (normals added when missing), its
+/// triangles for the damage API and its vertex layout for the GPU path; otherwise why its mesh
+/// cannot `verb` ("dent", "bend").
+pub(crate) fn prepare_mesh(entity: Entity, mesh: &Mesh, verb: &str) -> Result<(Mesh, TriMesh, SlabLayout), String> {
+    let mut copy = private_copy(mesh);
+    let prepared = tri_mesh(&copy).and_then(|tri| {
+        if add_missing_normals(&mut copy, &tri)? {
+            info!("bevy_dentbend: {entity}'s mesh had no normals; smooth normals were added");
+        }
+        let layout = slab_layout(&copy)?;
+        Ok((tri, layout))
+    });
+    prepared.map(|(tri, layout)| (copy, tri, layout)).map_err(|e| format!("its mesh cannot {verb}: {e}"))
+}
+
+/// Registers each new dentable body once its mesh asset is loaded ([`prepare_mesh`]).
 pub(crate) fn register_dentables(
     mut commands: Commands,
     mut world: ResMut<DentWorld>,
@@ -35,23 +57,15 @@ pub(crate) fn register_dentables(
     new: Query<(Entity, &Dentable, &Mesh3d, &GlobalTransform), Unregistered>,
 ) {
     for (entity, dentable, mesh3d, transform) in &new {
-        let scale = transform.to_scale_rotation_translation().0;
-        if (scale - Vec3::ONE).abs().max_element() > UNIT_SCALE_TOLERANCE {
-            refuse(&mut commands, entity, format!("it is scaled by {scale} (bake the scale into its mesh)"));
+        if let Some(reason) = scale_refusal(transform) {
+            refuse(&mut commands, entity, reason);
             continue;
         }
         let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
-        let mut copy = private_copy(mesh);
-        let prepared = ensure_normals(&mut copy).and_then(|added| {
-            if added {
-                info!("bevy_dentbend: {entity}'s mesh had no normals; smooth normals were added");
-            }
-            Ok((tri_mesh(&copy)?, slab_layout(&copy)?))
-        });
-        let (tri, _layout) = match prepared {
+        let (copy, tri, _) = match prepare_mesh(entity, mesh, "dent") {
             Ok(done) => done,
-            Err(e) => {
-                refuse(&mut commands, entity, format!("its mesh cannot dent: {e}"));
+            Err(reason) => {
+                refuse(&mut commands, entity, reason);
                 continue;
             }
         };
@@ -86,7 +100,8 @@ pub(crate) fn register_projectiles(
     }
 }
 
-fn refuse(commands: &mut Commands, entity: Entity, reason: String) {
+/// Leaves `entity` out for `reason`, logged once.
+pub(crate) fn refuse(commands: &mut Commands, entity: Entity, reason: String) {
     warn!("bevy_dentbend: {entity} is left out: {reason}");
     commands.entity(entity).insert(DentRefused(reason));
 }

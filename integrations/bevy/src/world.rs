@@ -9,6 +9,7 @@ use dentbend::dent::{Damage, DentSettings, DentedTarget, TargetSet};
 use dentbend::glam::Affine3A;
 
 use crate::DentPath;
+use crate::mesh_data::moved_positions;
 
 /// One dentable body.
 #[derive(Debug, Clone)]
@@ -52,7 +53,7 @@ impl DentWorld {
     /// The surface `entity` dents others with (its dentable mesh, or its projectile mesh; its own
     /// coordinates, m); `None` for an entity the plug-in has not registered.
     pub fn surface(&self, entity: Entity) -> Option<&TriMesh> {
-        self.targets.mesh(entity).or_else(|| self.surfaces.get(&entity))
+        surface_in(&self.targets, &self.surfaces, entity)
     }
 
     /// Adds dentable `entity`.
@@ -108,13 +109,7 @@ impl DentWorld {
     /// `false` when it is unknown or the mesh refuses them.
     pub(crate) fn move_vertices(&mut self, entity: Entity, indices: &[u32], positions: &[Vec3]) -> bool {
         let Some(mesh) = self.targets.mesh(entity) else { return false };
-        let mut moved = mesh.positions().to_vec();
-        for (&v, &p) in indices.iter().zip(positions) {
-            match moved.get_mut(v as usize) {
-                Some(slot) => *slot = p,
-                None => return false,
-            }
-        }
+        let Some(moved) = moved_positions(mesh, indices, positions) else { return false };
         let mut mesh = mesh.clone();
         if mesh.set_positions(moved).is_err() {
             return false;
@@ -129,4 +124,13 @@ impl DentWorld {
         self.targets.apply(vec![dented]);
         true
     }
+}
+
+/// [`DentWorld::surface`] over the two fields, for callers that borrow the others apart.
+pub(crate) fn surface_in<'a>(
+    targets: &'a TargetSet<Entity>,
+    surfaces: &'a HashMap<Entity, TriMesh>,
+    entity: Entity,
+) -> Option<&'a TriMesh> {
+    targets.mesh(entity).or_else(|| surfaces.get(&entity))
 }

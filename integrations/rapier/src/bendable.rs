@@ -115,13 +115,20 @@ pub struct BendJoint {
     pub dynamic: bool,
 }
 
-impl BendJoint {
+impl JointRule {
     /// Net plastic bend since the joint was made, rad (0 for elastic joints).
     pub fn bend_angle(&self) -> f32 {
-        match &self.rule {
+        match self {
             JointRule::Plastic(p) => p.bend_angle(),
             JointRule::Elastic(_) => 0.0,
         }
+    }
+}
+
+impl BendJoint {
+    /// Net plastic bend since the joint was made, rad (0 for elastic joints).
+    pub fn bend_angle(&self) -> f32 {
+        self.rule.bend_angle()
     }
 }
 

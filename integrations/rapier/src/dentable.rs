@@ -197,8 +197,8 @@ impl Dentables {
         let mut sides = Vec::new();
         for c in contacts {
             c.validate()?;
-            let a = collider_side(c.collider1, states, bodies, colliders)?;
-            let b = collider_side(c.collider2, states, bodies, colliders)?;
+            let side = |h| states.collider_state(h, bodies, colliders).map(|(pose, state)| (h, pose, state));
+            let (a, b) = (side(c.collider1)?, side(c.collider2)?);
             for (target, projectile, into_target) in [(a, b, -c.normal), (b, a, c.normal)] {
                 let progressive = self.targets.settings(target.0).is_some_and(|s| s.progressive);
                 let surface = self.is_dentable(projectile.0) || self.surfaces.contains_key(&projectile.0);
@@ -245,24 +245,6 @@ struct Side {
     projectile_state: BodyState,
     point: Vec3,
     normal: Vec3,
-}
-
-/// Collider `handle`'s pose at the start of the step and its body's state then (restitution:
-/// the collider's).
-fn collider_side(
-    handle: ColliderHandle,
-    states: &BodyStates,
-    bodies: &RigidBodySet,
-    colliders: &ColliderSet,
-) -> Result<(ColliderHandle, Affine3A, BodyState), AdapterError> {
-    let collider = states.collider(handle, bodies, colliders)?;
-    let pose = states.collider_pose(handle).unwrap_or_else(|| crate::to_affine(collider.position()));
-    let mut state = match collider.parent() {
-        Some(body) => states.body(body, bodies)?,
-        None => BodyState::FIXED,
-    };
-    state.restitution = collider.restitution().clamp(0.0, 1.0);
-    Ok((handle, pose, state))
 }
 
 fn commit(colliders: &mut ColliderSet, key: ColliderHandle, refit: Refit) {

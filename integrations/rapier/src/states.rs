@@ -61,6 +61,28 @@ impl BodyStates {
         self.parents.get(&handle).copied()
     }
 
+    /// Collider `handle`'s pose at the start of the step (its pose now if it was not recorded)
+    /// and its body's state then, restitution the collider's ([`BodyState::FIXED`] without a
+    /// body).
+    ///
+    /// # Errors
+    /// As [`collider`](Self::collider) and [`body`](Self::body).
+    pub fn collider_state(
+        &self,
+        handle: ColliderHandle,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+    ) -> Result<(Affine3A, BodyState), AdapterError> {
+        let collider = self.collider(handle, bodies, colliders)?;
+        let pose = self.collider_pose(handle).unwrap_or_else(|| to_affine(collider.position()));
+        let mut state = match collider.parent() {
+            Some(body) => self.body(body, bodies)?,
+            None => BodyState::FIXED,
+        };
+        state.restitution = collider.restitution().clamp(0.0, 1.0);
+        Ok((pose, state))
+    }
+
     /// Collider `handle` from `colliders`, or why it is missing: its recorded body was removed
     /// ([`AdapterError::RemovedBody`]), it was removed itself
     /// ([`AdapterError::RemovedCollider`]), or it was never there

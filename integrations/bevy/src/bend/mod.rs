@@ -83,16 +83,7 @@ impl Bends {
 
     /// Net plastic bend of each joint of `entity` since it was made, rad (0 for elastic joints).
     pub fn bend_angles(&self, entity: Entity) -> Option<Vec<f32>> {
-        let rig = self.rigs.get(&entity)?;
-        Some(
-            rig.joints
-                .iter()
-                .map(|j| match &j.rule {
-                    JointRule::Plastic(p) => p.bend_angle(),
-                    JointRule::Elastic(_) => 0.0,
-                })
-                .collect(),
-        )
+        self.rigs.get(&entity).map(|rig| rig.joints.iter().map(|j| j.rule.bend_angle()).collect())
     }
 
     /// The rest mesh of `entity` (rest frame, m) and each vertex's bone influences.

@@ -11,9 +11,8 @@ use dentbend_rapier::{ElasticJoint, JointKind, JointRule, PlasticJoint};
 
 use super::{BendPiece, Bendable, Bends, Joint, Rig};
 use crate::link::{GpuStatus, MainLink, ToRender};
-use crate::mesh_data::{ensure_normals, private_copy, slab_layout, tri_mesh};
-use crate::register::{UNIT_SCALE_TOLERANCE, Unregistered};
-use crate::{DentPath, DentRefused, DentRegistered};
+use crate::register::{Unregistered, prepare_mesh, refuse, scale_refusal};
+use crate::{DentPath, DentRegistered};
 
 /// The rig of a bendable body, before anything is spawned.
 struct Built {
@@ -36,22 +35,17 @@ pub(crate) fn register_bendables(
         return;
     }
     for (entity, bendable, mesh3d, transform) in &new {
+        if let Some(reason) = scale_refusal(transform) {
+            refuse(&mut commands, entity, reason);
+            continue;
+        }
         let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
-        let mut copy = private_copy(mesh);
-        let scale = transform.to_scale_rotation_translation().0;
-        let built = if (scale - Vec3::ONE).abs().max_element() > UNIT_SCALE_TOLERANCE {
-            Err(format!("it is scaled by {scale} (bake the scale into its mesh)"))
-        } else {
-            ensure_normals(&mut copy)
-                .and_then(|_| Ok((tri_mesh(&copy)?, slab_layout(&copy)?)))
-                .map_err(|e| format!("its mesh cannot bend: {e}"))
-                .and_then(|(tri, layout)| Ok((build(tri, bendable)?, layout)))
-        };
-        let (built, layout) = match built {
+        let prepared = prepare_mesh(entity, mesh, "bend")
+            .and_then(|(copy, tri, layout)| Ok((copy, build(tri, bendable)?, layout)));
+        let (copy, built, layout) = match prepared {
             Ok(done) => done,
             Err(reason) => {
-                warn!("bevy_dentbend: {entity} is left out: {reason}");
-                commands.entity(entity).insert(DentRefused(reason));
+                refuse(&mut commands, entity, reason);
                 continue;
             }
         };

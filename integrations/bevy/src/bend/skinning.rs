@@ -9,6 +9,7 @@ use dentbend::glam::Vec3 as DVec3;
 use super::Bends;
 use crate::DentPath;
 use crate::link::{MainLink, ToRender};
+use crate::mesh_data::write_vertices;
 
 /// Skins every bendable body whose bones moved since the last frame, and bounds it for
 /// culling: linear blend skinning keeps each vertex in the convex hull of its bones' images of
@@ -43,11 +44,10 @@ pub(crate) fn pose_bendables(
                     error!("bevy_dentbend: {entity} could not be skinned ({e})");
                     continue;
                 }
-                if let Some(mut mesh) = meshes.get_mut(&rig.mesh) {
-                    let p: Vec<[f32; 3]> = positions.iter().map(|p| p.to_array()).collect();
-                    let n: Vec<[f32; 3]> = normals.iter().map(|n| n.to_array()).collect();
-                    mesh.insert_attribute(Mesh::ATTRIBUTE_POSITION, p);
-                    mesh.insert_attribute(Mesh::ATTRIBUTE_NORMAL, n);
+                if let Some(mut mesh) = meshes.get_mut(&rig.mesh)
+                    && let Err(e) = write_vertices(&mut mesh, &positions, &normals)
+                {
+                    error!("bevy_dentbend: {entity}'s skinned mesh could not be written ({e})");
                 }
             }
         }

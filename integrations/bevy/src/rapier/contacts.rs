@@ -9,7 +9,6 @@ use bevy_rapier3d::rapier::prelude::{
     ColliderHandle, ColliderSet, CollisionEvent, ContactPair, EventHandler, Real, RigidBodySet, SoftBodySet,
     SoftBodyTearEvent,
 };
-use dentbend::dent::BodyState;
 use dentbend_rapier::{BodyStates, ImpactCollector};
 
 use crate::{DentBody, DentContact, DentWorld, Dentable};
@@ -123,12 +122,6 @@ fn body(
     bodies: &RapierRigidBodySet,
 ) -> Option<DentBody> {
     let entity = colliders.collider_entity(handle)?;
-    let collider = colliders.colliders.get(handle)?;
-    let pose = states.collider_pose(handle)?;
-    let mut state = match collider.parent() {
-        Some(parent) => states.body(parent, &bodies.bodies).ok()?,
-        None => BodyState::FIXED,
-    };
-    state.restitution = collider.restitution().clamp(0.0, 1.0);
+    let (pose, state) = states.collider_state(handle, &bodies.bodies, &colliders.colliders).ok()?;
     Some(DentBody { entity, pose, state })
 }

@@ -10,6 +10,7 @@ use dentbend::dent::moved_vertices;
 use dentbend::gpu::{GpuDenter, MovedVertices, PendingMoved};
 
 use crate::link::{RenderLink, ToMain};
+use crate::mesh_data::moved_positions;
 
 /// Read-backs in recording order.
 #[derive(Default)]
@@ -78,12 +79,10 @@ impl Readbacks {
 
 /// Moves `mirror`'s vertices as `moved` says.
 fn apply(mirror: &mut TriMesh, moved: &MovedVertices) {
-    let mut positions = mirror.positions().to_vec();
-    for (&v, &p) in moved.indices.iter().zip(&moved.positions) {
-        if let Some(slot) = positions.get_mut(v as usize) {
-            *slot = p;
-        }
-    }
+    let Some(positions) = moved_positions(mirror, &moved.indices, &moved.positions) else {
+        error!("bevy_dentbend: a read-back names vertices past its mesh; ignored");
+        return;
+    };
     if let Err(e) = mirror.set_positions(positions) {
         error!("bevy_dentbend: a dented mesh read back unusable ({e})");
     }
