@@ -111,6 +111,10 @@ fn subdivided_box_closed_welded_exact() {
     // Flat faces: the volume is exact up to f32 summation (1e-5 relative).
     assert_rel(b.volume(), 6.0, 1e-5, "box volume");
     assert_rel(b.area(), 2.0 * (3.0 + 6.0 + 2.0), 1e-5, "box area");
+    // The early-stopping test agrees with the sum on both sides of it (±1e-4 relative, well
+    // outside f32 rounding of a 22 m² sum).
+    assert!(b.area_exceeds(22.0 * (1.0 - 1e-4)) && !b.area_exceeds(22.0 * (1.0 + 1e-4)));
+    assert!(b.area_exceeds(0.0) && !b.area_exceeds(f64::INFINITY));
     assert_eq!(b.bounds(), (-size / 2.0, size / 2.0));
     assert_outward(&b, Vec3::ZERO, "box");
     assert_mirror_symmetric(&b, Vec3::new(1.0, -1.0, 1.0), "box y -> -y");

@@ -63,8 +63,8 @@ pub fn plan_dent(
         return Err(super::error::invalid("target_edge", edge, "must be finite and >= 0"));
     }
     let (lo, hi) = projectile.bounds();
-    let area = projectile.area();
-    if area.is_nan() || area <= 1e-10 * lo.distance_squared(hi) {
+    // Positions are finite and bounded (a `TriMesh` invariant), so the area is never NaN.
+    if !projectile.area_exceeds(1e-10 * f64::from(lo.distance_squared(hi))) {
         return Err(DentError::DegenerateProjectile);
     }
     let frame = DentFrame::new(impact, params.min_cos);

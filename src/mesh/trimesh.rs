@@ -196,6 +196,21 @@ impl TriMesh {
         total as f32
     }
 
+    /// Whether the surface area exceeds `limit` (square world units): [`area`](Self::area)
+    /// `> limit`, summed face by face (in f64, as `area`) and stopped as soon as the sum is past
+    /// the limit, so a test against a small threshold usually reads one face.
+    pub fn area_exceeds(&self, limit: f64) -> bool {
+        let mut total = 0.0f64;
+        for f in &self.faces {
+            let [a, b, c] = f.map(|v| self.positions[v as usize].as_dvec3());
+            total += 0.5 * (b - a).cross(c - a).length();
+            if total > limit {
+                return true;
+            }
+        }
+        false
+    }
+
     /// Mean length of the triangle edges, world units (shared edges count once per face).
     pub fn mean_edge_length(&self) -> f32 {
         self.edge_lengths().mean
