@@ -1,6 +1,6 @@
 //! The whole dent pipeline on the GPU (`GpuDenter`) against the CPU: every stage of the bunny's
-//! dent maps, then dented targets after a multi-target batch, and a bad dent failing the batch
-//! with nothing changed.
+//! dent maps, then dented targets after a multi-target batch, a bad dent failing the batch with
+//! nothing changed, and the buffers kept between batches changing nothing.
 
 mod common;
 
@@ -156,10 +156,44 @@ fn one_bad_dent_fails_the_gpu_batch_and_changes_nothing(context: &'static GpuCon
     }
 }
 
+/// The map-building buffers a denter keeps between batches change no result: after a batch of
+/// larger grids has filled them, a batch gives bit for bit what a fresh denter gives (each chunk
+/// clears what it uses), both as stages and as dented targets; the memory is reused when the
+/// batch repeats and given back on request.
+fn kept_buffers_change_no_result(context: &'static GpuContext) {
+    let (bunny, balls, original) = (mesh::builtin("bunny").unwrap(), balls(), targets());
+    let (big, jobs) = (bunny_jobs(&bunny), target_jobs(&balls, &original));
+    let mut fresh = GpuDenter::new(context, &original).unwrap();
+    let expected_stages = fresh.dent_map_stages(&jobs).unwrap();
+    fresh.dent_batch(&jobs).unwrap();
+    let expected: Vec<_> = (0..original.len()).map(|t| fresh.read_positions(t).unwrap()).collect();
+
+    let mut kept = GpuDenter::new(context, &original).unwrap();
+    assert_eq!(kept.scratch_bytes(), 0, "nothing is kept before the first batch");
+    kept.dent_map_stages(&big).unwrap();
+    let held = kept.scratch_bytes();
+    assert!(held > 0);
+    let stages = kept.dent_map_stages(&jobs).unwrap();
+    for (k, (a, b)) in stages.iter().zip(&expected_stages).enumerate() {
+        assert_eq!((&a.zbuffer, &a.envelope), (&b.zbuffer, &b.envelope), "dent {k}: profile or envelope");
+        assert_eq!((&a.smoothed, &a.map), (&b.smoothed, &b.map), "dent {k}: heights or map");
+    }
+    kept.dent_map_stages(&big).unwrap();
+    assert_eq!(kept.scratch_bytes(), held, "a repeated batch reuses the buffers");
+    kept.release_scratch();
+    assert_eq!(kept.scratch_bytes(), 0);
+    kept.dent_map_stages(&big).unwrap();
+    kept.dent_batch(&jobs).unwrap();
+    for (t, expected) in expected.iter().enumerate() {
+        assert_eq!(&kept.read_positions(t).unwrap(), expected, "target {t}");
+    }
+}
+
 gpu_test_main! {
     gpu: [
         every_stage_matches_the_cpu_pipeline,
         a_gpu_batch_dents_targets_like_the_cpu_batch,
         one_bad_dent_fails_the_gpu_batch_and_changes_nothing,
+        kept_buffers_change_no_result,
     ],
 }

@@ -1,12 +1,14 @@
 //! Many dents per frame on the GPU: `GpuDenter` keeps target meshes resident and runs each
 //! kernel once per batch (paper Algorithm 1 for every impact of a time step at once).
 
+mod arena;
 mod batch;
 mod chunks;
 mod output;
 
 use std::collections::HashMap;
 use std::ops::Range;
+use std::sync::{Mutex, MutexGuard};
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -25,6 +27,7 @@ use super::{GpuContext, GpuError, buffers};
 use crate::cpu::{DisplaceParams, EnvelopeParams, GlanceParams, HeatParams, ZbufferParams, falloff_table};
 use crate::dent::{BatchError, DentJob, DentMap, DentPlan, DentStages, plan_dent};
 use crate::mesh::TriMesh;
+use arena::{Arena, Slot};
 
 /// Why a GPU batch failed; no target changed.
 #[derive(Debug, thiserror::Error)]
@@ -133,6 +136,8 @@ pub struct GpuDenter {
     normals: wgpu::Buffer,
     faces: wgpu::Buffer,
     adjacency: wgpu::Buffer,
+    /// The map-building buffers, kept between batches (see [`scratch_bytes`](Self::scratch_bytes)).
+    arena: Mutex<Arena>,
 }
 
 /// How a [`GpuDenter`] creates its resident buffers.
@@ -218,6 +223,7 @@ impl GpuDenter {
             context: context.clone(),
             kernels,
             targets: resident,
+            arena: Mutex::default(),
         })
     }
 
@@ -249,6 +255,26 @@ impl GpuDenter {
     /// Number of resident targets.
     pub fn target_count(&self) -> usize {
         self.targets.len()
+    }
+
+    /// Bytes of GPU memory the denter keeps between batches for building dent maps, beside its
+    /// resident targets: the largest chunk's grids and maps so far (about 40 bytes per grid cell
+    /// of the chunk, so 1,024 dents at 100² hold ~400 MB), reused by the next batch instead of
+    /// allocated afresh. [`release_scratch`](Self::release_scratch) gives it back.
+    pub fn scratch_bytes(&self) -> u64 {
+        self.arena().bytes()
+    }
+
+    /// Frees the map-building buffers kept between batches (after a burst of dents, say); the
+    /// next batch allocates what it needs again.
+    pub fn release_scratch(&mut self) {
+        self.arena().release();
+    }
+
+    /// The arena, whatever a panicking thread left in it (its buffers hold no invariant: every
+    /// chunk clears what it uses).
+    fn arena(&self) -> MutexGuard<'_, Arena> {
+        self.arena.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 
     /// Reads target `target`'s current vertex positions back (world units).
@@ -315,11 +341,13 @@ impl GpuDenter {
             return Err(GpuError::OverLimit { what: "dent grid side".into(), needed: res.into(), limit });
         }
         let mut out = Vec::with_capacity(jobs.len());
+        // Held until every read-back is done, so no other call reuses the buffers meanwhile.
+        let mut arena = self.arena();
         for chunk in chunks::chunks(plans, jobs, &self.context) {
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
             let mut rec = Recorder::new(&self.context, None);
-            let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, true)?;
+            let maps = self.encode_maps(&mut rec, &mut arena, &chunk_jobs, &chunk_plans, true)?;
             rec.submit();
             let cells = maps.cell_offsets.last().copied().unwrap_or(0) as usize;
             let profile: Vec<f32> = buffers::read_back(&self.context, &maps.work, cells)?;
@@ -357,12 +385,13 @@ impl GpuDenter {
             .collect()
     }
 
-    /// Records zbuffer → envelope → heat → glance for one chunk; returns its buffers. With
-    /// `keep_envelope` the heat steps smooth a copy, so the envelope can be read back; without,
-    /// they smooth it in place (`MapBuffers::envelope` then holds the smoothed heights).
+    /// Records zbuffer → envelope → heat → glance for one chunk into `arena`'s buffers; returns
+    /// them. With `keep_envelope` the heat steps smooth a copy, so the envelope can be read back;
+    /// without, they smooth it in place (`MapBuffers::envelope` then holds the smoothed heights).
     fn encode_maps(
         &self,
         rec: &mut Recorder<'_>,
+        arena: &mut Arena,
         jobs: &[&DentJob<'_>],
         plans: &[&DentPlan],
         keep_envelope: bool,
@@ -433,11 +462,12 @@ impl GpuDenter {
             .map(|(k, p)| GlanceParams { src_offset: cell_offsets[k], dst_offset: map_offsets[k], ..p.glance })
             .collect();
 
-        let work = buffers::storage_zeroed(context, "zbuffer work", work_words(cells, batch) * 4);
-        let rows = buffers::storage_zeroed(context, "envelope rows", cells * 4);
-        let envelope = buffers::storage_zeroed(context, "envelope", cells * 4);
-        let scratch = buffers::storage_zeroed(context, "envelope scratch", scratch_bytes(cells));
-        let map = buffers::storage_zeroed(context, "dent maps", u64::from(*map_offsets.last().unwrap()) * 16);
+        let map_bytes = u64::from(*map_offsets.last().unwrap()) * 16;
+        let work = arena.take(context, rec.encoder(), Slot::Work, work_words(cells, batch) * 4);
+        let rows = arena.take(context, rec.encoder(), Slot::Rows, cells * 4);
+        let envelope = arena.take(context, rec.encoder(), Slot::Envelope, cells * 4);
+        let scratch = arena.take(context, rec.encoder(), Slot::Scratch, scratch_bytes(cells));
+        let map = arena.take(context, rec.encoder(), Slot::Map, map_bytes);
 
         self.kernels.zbuffer.encode(
             context,
@@ -462,7 +492,7 @@ impl GpuDenter {
         rec.stage("envelope_cols")?;
         // Heat smooths in place; the rows pass's output is free by now and serves as its scratch.
         let smoothed = if keep_envelope {
-            let copy = buffers::storage_zeroed(context, "smoothed", cells * 4);
+            let copy = arena.take(context, rec.encoder(), Slot::Smoothed, cells * 4);
             rec.encoder().copy_buffer_to_buffer(&envelope, 0, &copy, 0, cells * 4);
             copy
         } else {

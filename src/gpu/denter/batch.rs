@@ -92,12 +92,13 @@ impl GpuDenter {
         self.kernels.displace.encode_clear_moved(context, clear.encoder(), &self.positions)?;
         let done = clear.finish();
         sink.push(done);
+        let mut arena = self.arena();
         for chunk in chunks(plans, jobs, context) {
             sink.flush(context);
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
             let mut rec = sink.recorder(context);
-            let maps = self.encode_maps(&mut rec, &chunk_jobs, &chunk_plans, false)?;
+            let maps = self.encode_maps(&mut rec, &mut arena, &chunk_jobs, &chunk_plans, false)?;
             self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
             let done = rec.finish();
             sink.push(done);
