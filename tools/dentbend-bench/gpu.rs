@@ -19,6 +19,9 @@ pub struct Row {
     pub res: u32,
     pub batch: usize,
     pub gpu_dents_per_s: f64,
+    /// Median seconds per batch the host spends planning, recording and submitting it (inside
+    /// `gpu_dents_per_s`'s time; the rest is waiting for the GPU).
+    pub gpu_host_s: f64,
     pub cpu_dents_per_s: f64,
     /// Seconds per batch of each kernel stage (GPU timestamps where the device has them, else
     /// submit-and-wait wall time).
@@ -78,10 +81,14 @@ pub fn run(context: &GpuContext, sides: &[u32], batches: &[usize], min_time: Dur
     for &res in sides {
         for &batch in batches {
             let jobs = scene.jobs(res, batch);
+            let mut host = Vec::new();
             let gpu_s = median(min_time, || {
+                let start = Instant::now();
                 denter.dent_batch(&jobs).map_err(|e| e.to_string())?;
+                host.push(start.elapsed().as_secs_f64());
                 context.wait().map_err(|e| e.to_string())
             })?;
+            host.sort_by(f64::total_cmp);
             let mut targets = scene.targets.clone();
             let cpu_s = median(min_time, || {
                 targets.clone_from(&scene.targets);
@@ -92,12 +99,14 @@ pub fn run(context: &GpuContext, sides: &[u32], batches: &[usize], min_time: Dur
                 res,
                 batch,
                 gpu_dents_per_s: batch as f64 / gpu_s,
+                gpu_host_s: host[host.len() / 2],
                 cpu_dents_per_s: batch as f64 / cpu_s,
                 kernels_s,
             };
             eprintln!(
-                "  {res:>4}² × {batch:>5}: GPU {:>9.0} dents/s, CPU ({} threads) {:>9.0} dents/s",
+                "  {res:>4}² × {batch:>5}: GPU {:>9.0} dents/s ({:.2} ms of a batch on the host), CPU ({} threads) {:>9.0} dents/s",
                 row.gpu_dents_per_s,
+                row.gpu_host_s * 1e3,
                 rayon::current_num_threads(),
                 row.cpu_dents_per_s
             );

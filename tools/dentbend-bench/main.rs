@@ -56,7 +56,7 @@ enum Command {
     /// Batched dents per second on the GPU next to the CPU twins on all cores, and per-kernel GPU
     /// times, for grid sides × batch sizes (16 block targets, a small ball, d = 0.1).
     Gpu {
-        /// Write {"adapter", "kernel_timing", "rows":[{"res","batch","gpu_dents_per_s","cpu_dents_per_s","kernels_s":{..}}]}.
+        /// Write {"adapter", "kernel_timing", "rows":[{"res","batch","gpu_dents_per_s","gpu_host_s","cpu_dents_per_s","kernels_s":{..}}]}.
         #[arg(long)]
         json: Option<PathBuf>,
         /// Grid sides, comma separated.
