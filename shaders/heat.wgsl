@@ -1,9 +1,12 @@
 // heat: explicit heat smoothing of the broadened envelope (paper §3.2), GPU twin of
-// src/cpu/heat.rs. `step` is one `heat_step` (E ← E + α·ΔE, 5-point Laplacian, zero outside the
-// grid; with clamping E ← max(E, E + α·ΔE)); the host strings the entry points together into the
-// whole `heat`: k₁ plain steps, `clear_peak` + `reduce_peak` + `rescale` (each dent's peak
-// becomes its dent distance d; all-zero grids stay zero), k₂ clamped steps, and one final copy
-// when the step count is odd, so the result always ends in `grid_a`.
+// src/cpu/heat.rs. One heat step is E ← E + α·ΔE (5-point Laplacian, zero outside the grid;
+// with clamping E ← max(E, E + α·ΔE)). `step` takes one step of every cell (the CPU `heat_step`)
+// or copies; `fused_steps` takes FUSED_STEPS steps of one tile in workgroup memory. The host
+// strings the entry points together into the whole `heat`: k₁ plain steps (fused, FUSED_STEPS a
+// dispatch), `clear_peak` + `reduce_peak` + `rescale` (each dent's peak becomes its dent
+// distance d; all-zero grids stay zero), k₂ clamped steps (fused), and one final copy when the
+// dispatch count is odd, so the result always ends in `grid_a`. Both entry points compute every
+// step with the same arithmetic (`heat_update`), so fusing changes no bit of the result.
 //
 // Bindings (group 0), the same for every entry point:
 //   0 params:    array<HeatParams>  read        per dent: res, rate α, clamped, cell_offset
@@ -17,24 +20,36 @@
 //
 // Dispatch geometry: `step`: one invocation per grid cell, x = column, y = row, z = dent index
 // of the batch; workgroups [ceil(max res / STEP_WORKGROUP), max res, batch] (no division per
-// cell). `reduce_peak`, `rescale`: one invocation per grid cell, x = cell index within the dent
+// cell). `fused_steps`: one workgroup per output tile of HeatPass.tile² cells (tile ≤
+// MAX_TILE), x = tile column, y = tile row, z = dent; workgroups [ceil(max res / tile),
+// ceil(max res / tile), batch]; its WORKGROUP invocations stride over the tile and its halo.
+// `reduce_peak`, `rescale`: one invocation per grid cell, x = cell index within the dent
 // (row-major, row · res + col), y = dent index; workgroups [ceil(max res² / WORKGROUP), batch,
 // 1]. `clear_peak`: one invocation per dent, workgroups [1, batch, 1].
 //
-// Host constants it must match (src/gpu/heat.rs): WORKGROUP = 256, STEP_WORKGROUP = 64, the PHASE_* codes, and the
-// layouts of HeatDent and HeatPass (16 bytes each, four 4-byte fields in this order).
+// Host constants it must match (src/gpu/heat.rs): WORKGROUP = 256, STEP_WORKGROUP = 64,
+// FUSED_STEPS = 4, MAX_TILE = 32, the PHASE_* codes, and the layouts of HeatDent and HeatPass
+// (16 bytes each, four 4-byte fields in this order).
 
 const WORKGROUP: u32 = 256u;
 const STEP_WORKGROUP: u32 = 64u;
+// Steps one `fused_steps` dispatch takes (even, so its result ends in the region's first copy).
+const FUSED_STEPS: u32 = 4u;
+// Largest output tile side of `fused_steps`, cells.
+const MAX_TILE: u32 = 32u;
+// A tile and its halo (FUSED_STEPS cells each side), the region's row pitch in workgroup memory.
+const REGION: u32 = MAX_TILE + 2u * FUSED_STEPS;
+const REGION_CELLS: u32 = REGION * REGION;
 
-// HeatPass.phase: which steps a `step` dispatch takes.
-// Step `index` of the k₁ plain ones: dents with index < heat_iters step, the others copy.
+// HeatPass.phase: which steps a dispatch takes.
+// `fused_steps` pass `index` of the k₁ plain steps: steps index·FUSED_STEPS onwards, each by the
+// dents whose heat_iters it is below (the others copy).
 const PHASE_PLAIN: u32 = 0u;
-// Step `index` of the k₂ clamped ones: dents with index < clamp_iters step, the others copy.
+// The same for the k₂ clamped steps and clamp_iters.
 const PHASE_CLAMPED: u32 = 1u;
-// One step of every dent, clamped as HeatParams.clamped says (the CPU `heat_step`).
+// `step`: one step of every dent, clamped as HeatParams.clamped says (the CPU `heat_step`).
 const PHASE_SINGLE: u32 = 2u;
-// Every dent copies its grid to the other buffer.
+// `step`: every dent copies its grid to the other buffer.
 const PHASE_COPY: u32 = 3u;
 
 struct HeatDent {
@@ -48,11 +63,12 @@ struct HeatDent {
 
 struct HeatPass {
     phase: u32,
-    // Step number within the phase.
+    // Fused pass number within the phase.
     index: u32,
     // Which buffer holds the current grids: 0 = grid_a (steps write grid_b), 1 = grid_b.
     source: u32,
-    _pad: u32,
+    // `fused_steps`: output tile side, cells (1 ..= MAX_TILE); unused by the other entries.
+    tile: u32,
 }
 
 @group(0) @binding(0) var<storage, read> params: array<HeatParams>;
@@ -62,6 +78,9 @@ struct HeatPass {
 @group(0) @binding(4) var<uniform> pass_info: HeatPass;
 
 var<workgroup> partial_max: array<u32, WORKGROUP>;
+// `fused_steps`: two copies of a tile and its halo (ping-pong between steps), cell (r, c) of a
+// copy at r · REGION + c; the second copy starts at REGION_CELLS.
+var<workgroup> region: array<f32, 2u * REGION_CELLS>;
 
 // Cell `k` of the current grids.
 fn load(k: u32) -> f32 {
@@ -78,28 +97,30 @@ fn store_current(k: u32, value: f32) {
     current[k] = value;
 }
 
-// One step of `heat_step` for the cell (row, col) at flat index k of a res × res grid.
-fn step_cell(k: u32, row: u32, col: u32, n: u32, alpha: f32, clamped: bool) -> f32 {
-    let s = load(k);
+// One step of `heat_step` for the cell (row, col) of an n × n grid, value s, from its four
+// neighbours (values outside the grid are not read: each sum adds only the neighbours inside,
+// in the order the CPU twin adds them).
+fn heat_update(s: f32, up: f32, down: f32, left: f32, right: f32, row: u32, col: u32, n: u32, alpha: f32,
+               clamped: bool) -> f32 {
     // up + down (rows outside the grid read as zero).
     var vertical = 0.0;
     if row > 0u && row + 1u < n {
-        vertical = load(k - n) + load(k + n);
+        vertical = up + down;
     } else if row > 0u {
-        vertical = load(k - n);
+        vertical = up;
     } else if row + 1u < n {
-        vertical = load(k + n);
+        vertical = down;
     }
     // left + right (columns outside the grid read as zero).
     var horizontal = 0.0;
     if n == 1u {
         horizontal = 0.0;
     } else if col == 0u {
-        horizontal = load(k + 1u);
+        horizontal = right;
     } else if col == n - 1u {
-        horizontal = load(k - 1u);
+        horizontal = left;
     } else {
-        horizontal = load(k - 1u) + load(k + 1u);
+        horizontal = left + right;
     }
     // centre + α·((up + down) + (left + right) − 4·centre).
     let next = s + alpha * ((vertical + horizontal) - 4.0 * s);
@@ -109,8 +130,34 @@ fn step_cell(k: u32, row: u32, col: u32, n: u32, alpha: f32, clamped: bool) -> f
     return next;
 }
 
-// One step (or copy) of every cell, current grids → other buffer. Indexed by (col, row, dent)
-// so no invocation divides: x = column, y = row, z = dent.
+// One step of `heat_step` for the cell (row, col) at flat index k of the current grids.
+fn step_cell(k: u32, row: u32, col: u32, n: u32, alpha: f32, clamped: bool) -> f32 {
+    var up = 0.0;
+    var down = 0.0;
+    var left = 0.0;
+    var right = 0.0;
+    if row > 0u {
+        up = load(k - n);
+    }
+    if row + 1u < n {
+        down = load(k + n);
+    }
+    if col > 0u {
+        left = load(k - 1u);
+    }
+    if col + 1u < n {
+        right = load(k + 1u);
+    }
+    return heat_update(load(k), up, down, left, right, row, col, n, alpha, clamped);
+}
+
+// Whether (row, col) lies on an n × n grid.
+fn on_grid(row: i32, col: i32, n: u32) -> bool {
+    return row >= 0 && col >= 0 && row < i32(n) && col < i32(n);
+}
+
+// One step (PHASE_SINGLE) or copy (PHASE_COPY) of every cell, current grids → other buffer.
+// Indexed by (col, row, dent) so no invocation divides: x = column, y = row, z = dent.
 @compute @workgroup_size(STEP_WORKGROUP, 1, 1)
 fn step(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = params[id.z];
@@ -119,26 +166,79 @@ fn step(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let k = p.cell_offset + id.y * n + id.x;
-    var stepping = false;
-    var clamped = false;
-    switch pass_info.phase {
-        case PHASE_PLAIN: {
-            stepping = pass_info.index < dents[id.z].heat_iters;
-        }
-        case PHASE_CLAMPED: {
-            stepping = pass_info.index < dents[id.z].clamp_iters;
-            clamped = true;
-        }
-        case PHASE_SINGLE: {
-            stepping = true;
-            clamped = p.clamped == 1u;
-        }
-        default: {}
-    }
-    if stepping {
-        store_next(k, step_cell(k, id.y, id.x, n, p.rate, clamped));
+    if pass_info.phase == PHASE_SINGLE {
+        store_next(k, step_cell(k, id.y, id.x, n, p.rate, p.clamped == 1u));
     } else {
         store_next(k, load(k));
+    }
+}
+
+// FUSED_STEPS steps (PHASE_PLAIN or PHASE_CLAMPED pass `index`) of one tile, current grids →
+// other buffer. The workgroup loads its tile and a halo of FUSED_STEPS cells into `region`
+// (zero off the grid), then each step updates the cells at least one cell further in than the
+// last (their neighbours are then still exact), so after the last step the tile is exact; off
+// the grid cells stay zero, as the CPU twin reads them. A dent past its step count copies.
+// Barriers sit only in loops whose bounds come from the pass uniform (uniform control flow).
+@compute @workgroup_size(WORKGROUP, 1, 1)
+fn fused_steps(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let p = params[group.z];
+    let n = p.res;
+    let tile = pass_info.tile;
+    let side = tile + 2u * FUSED_STEPS;
+    // Region cell (r, c) is grid cell (top + r, first + c); the halo may start off the grid.
+    let top = i32(group.y * tile) - i32(FUSED_STEPS);
+    let first = i32(group.x * tile) - i32(FUSED_STEPS);
+    var limit = dents[group.z].clamp_iters;
+    if pass_info.phase == PHASE_PLAIN {
+        limit = dents[group.z].heat_iters;
+    }
+    let taken = pass_info.index * FUSED_STEPS;
+    let steps = min(limit - min(limit, taken), FUSED_STEPS);
+    let clamped = pass_info.phase == PHASE_CLAMPED;
+    for (var i = lane; i < side * side; i += WORKGROUP) {
+        let r = i / side;
+        let c = i % side;
+        var value = 0.0;
+        if on_grid(top + i32(r), first + i32(c), n) {
+            value = load(p.cell_offset + u32(top + i32(r)) * n + u32(first + i32(c)));
+        }
+        region[r * REGION + c] = value;
+    }
+    workgroupBarrier();
+    for (var s = 0u; s < FUSED_STEPS; s += 1u) {
+        let src = (s % 2u) * REGION_CELLS;
+        let dst = REGION_CELLS - src;
+        let inner = side - 2u * (s + 1u);
+        for (var i = lane; i < inner * inner; i += WORKGROUP) {
+            let r = s + 1u + i / inner;
+            let c = s + 1u + i % inner;
+            let row = top + i32(r);
+            let col = first + i32(c);
+            let at = src + r * REGION + c;
+            var value = 0.0;
+            if on_grid(row, col, n) {
+                value = region[at];
+                if s < steps {
+                    let up = region[at - REGION];
+                    let down = region[at + REGION];
+                    let left = region[at - 1u];
+                    let right = region[at + 1u];
+                    value = heat_update(value, up, down, left, right, u32(row), u32(col), n, p.rate, clamped);
+                }
+            }
+            region[dst + r * REGION + c] = value;
+        }
+        workgroupBarrier();
+    }
+    // FUSED_STEPS is even: the last step wrote the first copy.
+    for (var i = lane; i < tile * tile; i += WORKGROUP) {
+        let r = FUSED_STEPS + i / tile;
+        let c = FUSED_STEPS + i % tile;
+        let row = top + i32(r);
+        let col = first + i32(c);
+        if on_grid(row, col, n) {
+            store_next(p.cell_offset + u32(row) * n + u32(col), region[r * REGION + c]);
+        }
     }
 }
 

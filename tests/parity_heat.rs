@@ -18,7 +18,7 @@ use common::SplitMix64;
 use dentbend::cpu::{HeatParams, heat, heat_step};
 use dentbend::glam::Vec3;
 use dentbend::gpu::GpuContext;
-use dentbend::gpu::heat::{HeatJob, HeatKernel};
+use dentbend::gpu::heat::{FUSED_STEPS, HeatJob, HeatKernel};
 use dentbend::{DentParams, Impact, Resolution, dent_map_stages, mesh};
 
 /// ε = 2⁻²³, one ulp at 1.
@@ -97,9 +97,11 @@ fn cpu_heat(job: &HeatJob<'_>) -> Vec<f32> {
     values
 }
 
-/// Step passes a batch of `jobs` records: the largest k₁ plus the largest k₂.
+/// Step dispatches a batch of `jobs` records: the largest k₁ and the largest k₂, each in
+/// dispatches of `FUSED_STEPS` steps.
 fn passes(jobs: &[HeatJob<'_>]) -> u32 {
-    jobs.iter().map(|job| job.heat_iters).max().unwrap_or(0) + jobs.iter().map(|job| job.clamp_iters).max().unwrap_or(0)
+    let most = |count: fn(&HeatJob<'_>) -> u32| jobs.iter().map(count).max().unwrap_or(0).div_ceil(FUSED_STEPS);
+    most(|job| job.heat_iters) + most(|job| job.clamp_iters)
 }
 
 /// Runs `jobs` as one GPU batch and compares every dent with `cpu::heat`.
@@ -161,7 +163,7 @@ fn whole_smoothing_matches_heat_with_per_dent_counts_in_one_batch(context: &'sta
         (1u32, 0.2f32, 3u32, 2u32, 0.5f32),
         (7, 0.25, 8, 16, 3.0),
         (64, 0.2, 8, 16, 0.02),
-        (200, 0.1, 6, 7, 1.0),
+        (200, 0.1, 6, 3, 1.0),
         (33, 0.15, 0, 4, 2.0),
         (2, 0.05, 4, 0, 1.5),
         (64, 0.25, 0, 0, 0.7),
@@ -179,15 +181,17 @@ fn whole_smoothing_matches_heat_with_per_dent_counts_in_one_batch(context: &'sta
             dent_distance,
         })
         .collect();
-    // The batch runs 8 + 16 passes (even: the last step writes the caller's grid) ...
-    assert_eq!(passes(&jobs), 24);
+    // The batch runs 8 + 16 steps in 2 + 4 dispatches (even: the last one writes the caller's
+    // grid); the 200² grid sets a 29-cell tile, which the 64² ones take three of a side ...
+    assert_eq!(passes(&jobs), 6);
     check_batch(&kernel, "batch of 8, even pass count", &jobs);
-    // ... and with the two 8 + 16 dents left out 6 + 7 (odd: a final copy brings the result back).
+    // ... and with the two 8 + 16 dents left out 6 + 4 steps in 2 + 1 dispatches (odd: a final
+    // copy brings the result back); counts not a multiple of four stop inside a dispatch.
     let odd: Vec<HeatJob<'_>> = jobs.iter().copied().filter(|job| job.clamp_iters != 16).collect();
-    assert_eq!((odd.len(), passes(&odd)), (6, 13));
+    assert_eq!((odd.len(), passes(&odd)), (6, 3));
     check_batch(&kernel, "batch of 6, odd pass count", &odd);
     // Batches of one, odd and even.
-    assert_eq!((passes(&jobs[3..4]), passes(&jobs[1..2])), (13, 24));
+    assert_eq!((passes(&jobs[3..4]), passes(&jobs[1..2])), (3, 6));
     check_batch(&kernel, "batch of one, odd", &jobs[3..4]);
     check_batch(&kernel, "batch of one, even", &jobs[1..2]);
 }
@@ -244,8 +248,8 @@ fn bunny_envelopes_smooth_like_the_cpu(context: &'static GpuContext) {
             dent_distance: params.dent_distance,
         })
         .collect();
-    // 11 + 20 passes: odd, so the result comes back by the final copy.
-    assert_eq!(passes(&jobs), 31);
+    // 11 + 20 steps in 3 + 5 dispatches.
+    assert_eq!(passes(&jobs), 8);
     // The pipeline's own smoothed stage is the CPU reference.
     for ((_, stages), job) in envelopes.iter().zip(&jobs) {
         assert_eq!(cpu_heat(job), stages.smoothed);

@@ -1,5 +1,7 @@
 //! GPU twin of [`cpu::heat`] and [`cpu::heat_step`]: `shaders/heat.wgsl` smooths the envelopes
-//! of a whole batch of dents, every step one dispatch over all dents.
+//! of a whole batch of dents, [`FUSED_STEPS`] steps a dispatch over all dents: each workgroup
+//! steps one tile (at most [`MAX_TILE`]² cells) and its halo in workgroup memory, so the grids
+//! cross device memory once per four steps instead of once per step.
 //!
 //! The whole smoothing of one batch is recorded into one command encoder: the step number of each
 //! dispatch reaches the shader through a 16-byte uniform that a buffer copy refreshes from a pass
@@ -20,10 +22,14 @@ pub const WORKGROUP: u32 = 256;
 /// Invocations per workgroup of the `step` entry point (one grid row segment each); keep in
 /// sync with `STEP_WORKGROUP` in `shaders/heat.wgsl`.
 pub const STEP_WORKGROUP: u32 = 64;
+/// Heat steps one `fused_steps` dispatch takes; `FUSED_STEPS` in `shaders/heat.wgsl`.
+pub const FUSED_STEPS: u32 = 4;
+/// Largest output tile side of `fused_steps`, cells; `MAX_TILE` in `shaders/heat.wgsl`.
+pub const MAX_TILE: u32 = 32;
 
-/// `HeatPass.phase` codes of `shaders/heat.wgsl`: plain steps of the k₁ phase.
+/// `HeatPass.phase` codes of `shaders/heat.wgsl`: fused plain steps of the k₁ phase.
 const PHASE_PLAIN: u32 = 0;
-/// Clamped steps of the k₂ phase.
+/// Fused clamped steps of the k₂ phase.
 const PHASE_CLAMPED: u32 = 1;
 /// One step of every dent, clamped per `HeatParams::clamped`.
 const PHASE_SINGLE: u32 = 2;
@@ -55,13 +61,14 @@ pub struct HeatDent {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 struct HeatPass {
-    /// One of the `PHASE_*` codes (read by `step` only).
+    /// One of the `PHASE_*` codes (read by `step` and `fused_steps`).
     phase: u32,
-    /// Step number within the phase.
+    /// Fused pass number within the phase.
     index: u32,
     /// Buffer holding the current grids: 0 = `grid`, 1 = `scratch`.
     source: u32,
-    _pad: u32,
+    /// Output tile side of `fused_steps`, cells (0 for the other entry points).
+    tile: u32,
 }
 
 /// Caller-owned buffers of one batch, in `@binding` order.
@@ -93,6 +100,14 @@ pub struct HeatBatch {
     pub clamp_iters: u32,
 }
 
+/// The output tile side of `fused_steps` for grids of up to `max_cells` cells: the largest
+/// grid's side cut into as few tiles of at most [`MAX_TILE`] cells as cover it, evenly, so the
+/// last tile wastes little (100 → four tiles of 25, 200 → seven of 29).
+fn tile_side(max_cells: u32) -> u32 {
+    let max_res = ((max_cells as f64).sqrt().ceil() as u32).max(1);
+    max_res.div_ceil(max_res.div_ceil(MAX_TILE))
+}
+
 /// One dent of [`HeatKernel::run_batch`], the arguments of [`cpu::heat`](crate::cpu::heat).
 #[derive(Debug, Clone, Copy)]
 pub struct HeatJob<'a> {
@@ -114,6 +129,7 @@ pub struct HeatJob<'a> {
 #[derive(Debug)]
 pub struct HeatKernel {
     step: Kernel,
+    fused_steps: Kernel,
     clear_peak: Kernel,
     reduce_peak: Kernel,
     rescale: Kernel,
@@ -123,6 +139,7 @@ pub struct HeatKernel {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Entry {
     Step,
+    FusedSteps,
     ClearPeak,
     ReducePeak,
     Rescale,
@@ -130,11 +147,12 @@ enum Entry {
 
 impl Entry {
     /// Every entry point, in discriminant order.
-    const ALL: [Self; 4] = [Self::Step, Self::ClearPeak, Self::ReducePeak, Self::Rescale];
+    const ALL: [Self; 5] = [Self::Step, Self::FusedSteps, Self::ClearPeak, Self::ReducePeak, Self::Rescale];
 }
 
 impl HeatKernel {
-    /// Compiles the four entry points (`step`, `clear_peak`, `reduce_peak`, `rescale`).
+    /// Compiles the five entry points (`step`, `fused_steps`, `clear_peak`, `reduce_peak`,
+    /// `rescale`).
     ///
     /// # Errors
     /// [`GpuError::Validation`] if the shader does not validate on this device.
@@ -143,6 +161,7 @@ impl HeatKernel {
         let kernel = |label, entry| Kernel::new(context, label, body, entry, &BINDINGS);
         Ok(Self {
             step: kernel("heat step", "step")?,
+            fused_steps: kernel("heat fused_steps", "fused_steps")?,
             clear_peak: kernel("heat clear_peak", "clear_peak")?,
             reduce_peak: kernel("heat reduce_peak", "reduce_peak")?,
             rescale: kernel("heat rescale", "rescale")?,
@@ -150,9 +169,10 @@ impl HeatKernel {
     }
 
     /// Records the whole smoothing of a batch, the twin of [`cpu::heat`](crate::cpu::heat) per
-    /// dent: `batch.heat_iters` plain passes, the peak reduction and rescale, `batch.clamp_iters`
-    /// clamped passes, and a final copy when the pass count is odd. The result is in
-    /// `buffers.grid`; `buffers.scratch` is clobbered.
+    /// dent: `batch.heat_iters` plain steps ([`FUSED_STEPS`] a dispatch), the peak reduction and
+    /// rescale, `batch.clamp_iters` clamped steps (fused too), and a final copy when the step
+    /// dispatches are odd in number. The result is in `buffers.grid`; `buffers.scratch` is
+    /// clobbered.
     ///
     /// Dent k takes `dents[k].heat_iters` plain and `dents[k].clamp_iters` clamped steps (counts
     /// above the batch's are cut to them) and copies its grid through the other passes; its
@@ -169,17 +189,18 @@ impl HeatKernel {
         buffers: &HeatBuffers<'_>,
         batch: HeatBatch,
     ) -> Result<(), GpuError> {
-        let at = |phase, index, source| HeatPass { phase, index, source, _pad: 0 };
+        let tile = tile_side(batch.max_cells);
+        let at = |phase, index, source| HeatPass { phase, index, source, tile };
         let mut passes = vec![(Entry::ClearPeak, at(PHASE_COPY, 0, 0))];
         let mut source = 0;
-        for index in 0..batch.heat_iters {
-            passes.push((Entry::Step, at(PHASE_PLAIN, index, source)));
+        for index in 0..batch.heat_iters.div_ceil(FUSED_STEPS) {
+            passes.push((Entry::FusedSteps, at(PHASE_PLAIN, index, source)));
             source ^= 1;
         }
         passes.push((Entry::ReducePeak, at(PHASE_COPY, 0, source)));
         passes.push((Entry::Rescale, at(PHASE_COPY, 0, source)));
-        for index in 0..batch.clamp_iters {
-            passes.push((Entry::Step, at(PHASE_CLAMPED, index, source)));
+        for index in 0..batch.clamp_iters.div_ceil(FUSED_STEPS) {
+            passes.push((Entry::FusedSteps, at(PHASE_CLAMPED, index, source)));
             source ^= 1;
         }
         if source == 1 {
@@ -202,7 +223,7 @@ impl HeatKernel {
         dents: u32,
         max_cells: u32,
     ) -> Result<(), GpuError> {
-        let single = HeatPass { phase: PHASE_SINGLE, index: 0, source: 0, _pad: 0 };
+        let single = HeatPass { phase: PHASE_SINGLE, index: 0, source: 0, tile: 0 };
         self.record(context, encoder, buffers, dents, max_cells, &[(Entry::Step, single)])
     }
 
@@ -262,6 +283,7 @@ impl HeatKernel {
     fn kernel(&self, entry: Entry) -> &Kernel {
         match entry {
             Entry::Step => &self.step,
+            Entry::FusedSteps => &self.fused_steps,
             Entry::ClearPeak => &self.clear_peak,
             Entry::ReducePeak => &self.reduce_peak,
             Entry::Rescale => &self.rescale,
@@ -322,8 +344,11 @@ impl HeatKernel {
         let groups = max_cells.div_ceil(WORKGROUP);
         // Side of the largest grid: `max_cells` is a square's area.
         let max_res = (max_cells as f64).sqrt().ceil() as u32;
+        let tiles = max_res.div_ceil(tile_side(max_cells));
         let limit = context.limits.max_compute_workgroups_per_dimension;
-        for (what, needed) in [("heat workgroups per dent", groups), ("heat batch (dents)", dents)] {
+        for (what, needed) in
+            [("heat workgroups per dent", groups), ("heat batch (dents)", dents), ("heat tiles", tiles)]
+        {
             if needed > limit {
                 return Err(GpuError::OverLimit { what: what.into(), needed: needed.into(), limit: limit.into() });
             }
@@ -354,6 +379,7 @@ impl HeatKernel {
                 let workgroups = match entry {
                     Entry::ClearPeak => [1, dents, 1],
                     Entry::Step => [max_res.div_ceil(STEP_WORKGROUP), max_res, dents],
+                    Entry::FusedSteps => [tiles, tiles, dents],
                     _ => [groups, dents, 1],
                 };
                 let bind_group = &bind_groups[entry as usize][(pass.source & 1) as usize];
