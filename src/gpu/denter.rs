@@ -463,11 +463,11 @@ impl GpuDenter {
             .collect();
 
         let map_bytes = u64::from(*map_offsets.last().unwrap()) * 16;
-        let work = arena.take(context, rec.encoder(), Slot::Work, work_words(cells, batch) * 4);
-        let rows = arena.take(context, rec.encoder(), Slot::Rows, cells * 4);
-        let envelope = arena.take(context, rec.encoder(), Slot::Envelope, cells * 4);
-        let scratch = arena.take(context, rec.encoder(), Slot::Scratch, scratch_bytes(cells));
-        let map = arena.take(context, rec.encoder(), Slot::Map, map_bytes);
+        let work = arena.take(context, Slot::Work, work_words(cells, batch) * 4);
+        let rows = arena.take(context, Slot::Rows, cells * 4);
+        let envelope = arena.take(context, Slot::Envelope, cells * 4);
+        let scratch = arena.take(context, Slot::Scratch, scratch_bytes(cells));
+        let map = arena.take(context, Slot::Map, map_bytes);
 
         self.kernels.zbuffer.encode(
             context,
@@ -492,7 +492,7 @@ impl GpuDenter {
         rec.stage("envelope_cols")?;
         // Heat smooths in place; the rows pass's output is free by now and serves as its scratch.
         let smoothed = if keep_envelope {
-            let copy = arena.take(context, rec.encoder(), Slot::Smoothed, cells * 4);
+            let copy = arena.take(context, Slot::Smoothed, cells * 4);
             rec.encoder().copy_buffer_to_buffer(&envelope, 0, &copy, 0, cells * 4);
             copy
         } else {

@@ -1,10 +1,15 @@
 //! The map-building buffers a [`GpuDenter`](super::GpuDenter) keeps from one batch to the next.
 //!
 //! A batch of 1,024 dents at 100² needs about 400 MB of grid and map buffers. Allocating them
-//! afresh every batch costs the driver a large allocation (and its zeroing) each time; the arena
-//! keeps the largest seen, grows a buffer by half again when a batch needs more, and clears only
-//! the bytes a chunk uses before its kernels run, so every chunk still starts from zeros as a
-//! fresh buffer would.
+//! afresh every batch costs the driver a large allocation (and wgpu its zeroing) each time; the
+//! arena keeps the largest seen and grows a buffer by half again when a batch needs more.
+//!
+//! Nothing is cleared between batches: every kernel writes each cell of its outputs before any
+//! kernel reads it (the Z-buffer clears its own work buffer; the envelope passes emit every cell
+//! of every line and fill the hull scratch before reading it; heat, glance and the smoothed copy
+//! write every cell of every dent), so what an earlier batch left is never read.
+//! `tests/parity_pipeline.rs` checks that a batch after a larger one gives the same bits as on a
+//! fresh denter.
 
 use crate::gpu::{GpuContext, buffers};
 
@@ -47,35 +52,22 @@ pub(super) struct Arena {
 }
 
 impl Arena {
-    /// A buffer of at least `bytes` bytes for `slot`, its first `bytes` (rounded up to 4)
-    /// cleared to zero in `encoder` before anything recorded after this call. An existing buffer
-    /// large enough is reused; otherwise a new one, half again as large as the old one where that
-    /// stays within the device's binding limit, replaces it (wgpu keeps the old one alive until
-    /// the work already recorded on it has run).
-    pub(super) fn take(
-        &mut self,
-        context: &GpuContext,
-        encoder: &mut wgpu::CommandEncoder,
-        slot: Slot,
-        bytes: u64,
-    ) -> wgpu::Buffer {
-        let bytes = bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+    /// A buffer of at least `bytes` bytes for `slot`, holding whatever the last batch left. An
+    /// existing buffer large enough is reused; otherwise a new one, half again as large as the
+    /// old one where that stays within the device's binding limit, replaces it (wgpu keeps the
+    /// old one alive until the work already recorded on it has run).
+    pub(super) fn take(&mut self, context: &GpuContext, slot: Slot, bytes: u64) -> wgpu::Buffer {
         let held = &mut self.buffers[slot as usize];
-        let buffer = match held {
+        match held {
             Some(buffer) if buffer.size() >= bytes => buffer.clone(),
             _ => {
                 let old = held.as_ref().map_or(0, wgpu::Buffer::size);
                 let grown = (old + old / 2).min(context.limits.max_storage_buffer_binding_size);
-                let size = bytes.max(grown).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
-                let buffer = buffers::storage_zeroed(context, slot.label(), size);
+                let buffer = buffers::storage_zeroed(context, slot.label(), bytes.max(grown));
                 *held = Some(buffer.clone());
                 buffer
             }
-        };
-        if slot != Slot::Work && bytes > 0 {
-            encoder.clear_buffer(&buffer, 0, Some(bytes));
         }
-        buffer
     }
 
     /// Bytes held across every slot.
