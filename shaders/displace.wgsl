@@ -5,7 +5,8 @@
 // `near_grid`); the statements below follow those functions line by line.
 //
 // Bindings (group 0):
-//   0 params     array<DisplaceParams>, read: the dents of this dispatch (one "layer", see below)
+//   0 params     array<DisplaceParams>, read: the dents of this dispatch, grouped by target (see
+//                `runs`), each target's in submission order
 //   1 cells      array<vec4<f32>>, read: dent maps [Δx, Δy, Δz, height] per cell, world units,
 //                row-major [row][col] per dent, dent k's map at params[k].cell_offset
 //   2 table      array<f32>, read: falloff tables (FALLOFF_TABLE), dent k's at
@@ -14,30 +15,34 @@
 //                w = "moved" flag: set to 1.0 when this batch changed the vertex, otherwise left as
 //                it was (the host clears it with `clear_moved` before a batch). Dent k's target
 //                is positions[params[k].vertex_offset ..][.. params[k].vertex_count].
+//   4 runs       array<vec4<u32>, MAX_RUNS>, uniform: one per target of this dispatch, (first
+//                dent in `params`, its number of dents, vertex_offset, vertex_count)
 //
 // Dispatch geometry: `main` runs one invocation per target vertex, x = vertex index within the
-// dent's target, y = dent index of the layer; dispatch = [ceil(max vertex_count / 64), dents in
-// the layer, 1]. Invocations past their dent's vertex_count return at once.
-// Order: all dents of one dispatch run concurrently, so a dispatch ("layer") must hold at most
-// one dent per target (no two dents of a layer may touch the same vertex). The host
-// (src/gpu/displace.rs, `layers`) puts the k-th dent on a target in layer k, in submission
-// order, and records one dispatch per layer, each in its own compute pass; wgpu orders passes
-// that write the same storage buffer, so dents on one target apply in submission order exactly
-// as sequential calls of the CPU twin do.
+// target, y = run (target) index; dispatch = [ceil(max vertex_count / 64), runs, 1].
+// Invocations past their target's vertex_count return at once.
+// Order: each invocation applies its target's dents to its vertex one after the other, in
+// submission order, holding the position in registers: a vertex's displacement depends only on
+// its own position, so this is exactly what sequential calls of the CPU twin do, in one dispatch
+// however many dents a target takes. The host (src/gpu/displace.rs, `runs`) groups the dents by
+// target and cuts batches of more than MAX_RUNS targets into several dispatches.
 //
 // `clear_moved` runs one invocation per element of `positions` (x = vertex index in the whole
 // buffer, y = 0; dispatch = [ceil(arrayLength / 64), 1, 1]) and sets every w to 0.
 //
 // Host constants matched: DisplaceParams and the FALLOFF_* codes of shaders/shared/layout.wgsl
 // (src/cpu/layout.rs, `mod falloff`: NONE, LOGISTIC, LINEAR, TABLE, TABLE_DEPTH);
-// WORKGROUP = displace::WORKGROUP in src/gpu/displace.rs.
+// WORKGROUP and MAX_RUNS = displace::{WORKGROUP, MAX_RUNS} in src/gpu/displace.rs.
 
 const WORKGROUP: u32 = 64u;
+// Targets one dispatch serves: 16 KiB of `runs`.
+const MAX_RUNS: u32 = 1024u;
 
 @group(0) @binding(0) var<storage, read> params: array<DisplaceParams>;
 @group(0) @binding(1) var<storage, read> cells: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read> table: array<f32>;
 @group(0) @binding(3) var<storage, read_write> positions: array<vec4<f32>>;
+@group(0) @binding(4) var<uniform> runs: array<vec4<u32>, MAX_RUNS>;
 
 // One cell of dent `k`'s map, zero outside the grid (sample.rs `bilinear`, closure `at`).
 fn at(k: u32, i: i32, j: i32) -> vec4<f32> {
@@ -83,12 +88,8 @@ fn attenuation(k: u32, z: f32, d: f32) -> f32 {
     }
 }
 
-@compute @workgroup_size(WORKGROUP, 1, 1)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let k = id.y;
-    if k >= arrayLength(&params) || id.x >= params[k].vertex_count {
-        return;
-    }
+// Vertex position p after dent k (p itself when the dent does not reach it).
+fn displaced(k: u32, p: vec3<f32>) -> vec3<f32> {
     let grid = params[k].grid;
     let origin = grid.origin;
     let inv_h = 1.0 / grid.cell_size;
@@ -98,23 +99,39 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let shift = 0.5 * f32(grid.res) - 0.5;
     let d = params[k].dent_distance;
 
-    let v = params[k].vertex_offset + id.x;
-    let p = positions[v].xyz;
     let r = p - origin;
     // Dot products written out in glam's order, (a.x·b.x + a.y·b.y) + a.z·b.z.
     let x = (r.x * axis_x.x + r.y * axis_x.y + r.z * axis_x.z) + shift;
     let y = (r.x * axis_y.x + r.y * axis_y.y + r.z * axis_y.z) + shift;
     if !near_grid(grid.res, x, y) {
-        return;
+        return p;
     }
     let delta = bilinear(k, x, y).xyz;
     if all(delta == vec3<f32>(0.0)) {
-        return;
+        return p;
     }
     let a = attenuation(k, r.x * axis_z.x + r.y * axis_z.y + r.z * axis_z.z, d);
-    let moved = p + a * delta;
-    if any(moved != p) {
-        positions[v] = vec4<f32>(moved, 1.0);
+    return p + a * delta;
+}
+
+@compute @workgroup_size(WORKGROUP, 1, 1)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let run = runs[id.y];
+    if id.x >= run.w {
+        return;
+    }
+    let v = run.z + id.x;
+    var p = positions[v].xyz;
+    var moved = false;
+    for (var k = run.x; k < run.x + run.y; k += 1u) {
+        let next = displaced(k, p);
+        if any(next != p) {
+            p = next;
+            moved = true;
+        }
+    }
+    if moved {
+        positions[v] = vec4<f32>(p, 1.0);
     }
 }
 

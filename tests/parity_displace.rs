@@ -31,7 +31,7 @@ use std::sync::Arc;
 use common::{SplitMix64, sphere_at};
 use dentbend::cpu::{self, DisplaceParams, GridUniform, falloff};
 use dentbend::glam::Vec3;
-use dentbend::gpu::displace::{Displace, DisplaceDent, DisplacedTarget, layers};
+use dentbend::gpu::displace::{Displace, DisplaceDent, DisplacedTarget, MAX_RUNS, runs};
 use dentbend::gpu::{GpuContext, buffers};
 use dentbend::{Attenuation, DentMap, DentParams, Impact, Resolution, TriMesh, dent_map, mesh};
 
@@ -385,14 +385,36 @@ fn a_batch_applies_dents_on_one_target_in_submission_order(context: &'static Gpu
     assert!(worst > 1e-3, "swapping the bunny's dents changed nothing ({worst})");
 }
 
-fn layers_hold_at_most_one_dent_per_target_in_submission_order() {
+/// More targets than one dispatch serves ([`MAX_RUNS`]): the batch is cut into two dispatches,
+/// the second also holding targets with two dents (their second submitted after every other
+/// dent), and every target still matches the CPU (tolerances as [`parity`]).
+fn more_targets_than_one_dispatch_serves(context: &'static GpuContext) {
+    let mut rng = SplitMix64::new(0xd15);
+    let count = MAX_RUNS + 37;
+    let mut dents: Vec<Dent> = (0..count).map(|t| random_dent(&mut rng, t, 6, Vec3::ZERO)).collect();
+    let targets: Vec<Vec<Vec3>> = dents.iter().map(|d| cloud_around(&mut rng, d, 24)).collect();
+    dents.extend((count - 5..count).map(|t| random_dent(&mut rng, t, 6, Vec3::ZERO)));
+    let order: Vec<&Dent> = dents.iter().collect();
+    let (gpu, cpu) = (gpu_batch(context, &targets, &order), cpu_batch(&targets, &order));
+    let mut moved_targets = 0;
+    for t in 0..count {
+        let on_t: Vec<&&Dent> = order.iter().filter(|d| d.target == t).collect();
+        let dent_tol: f32 = on_t.iter().map(|d| d.tolerance()).sum();
+        let report = check_target(&format!("target {t}"), &targets[t], &gpu[t], &cpu[t], dent_tol, on_t.len());
+        moved_targets += usize::from(report.moved > 0);
+    }
+    // Most clouds lie partly on their map (a test that moved nothing would prove nothing).
+    assert!(moved_targets * 10 >= count * 9, "only {moved_targets} of {count} targets moved");
+}
+
+fn runs_group_each_targets_dents_in_submission_order() {
     let on = |vertex_offset: u32, vertex_count: u32| DisplaceParams { vertex_offset, vertex_count, ..plain_params() };
     // Targets A = 0..10, B = 10..30, C = 30..31; submission order A B A C A B.
     let params = [on(0, 10), on(10, 20), on(0, 10), on(30, 1), on(0, 10), on(10, 20)];
-    assert_eq!(layers(&params).unwrap(), vec![vec![0, 1, 3], vec![2, 5], vec![4]]);
+    assert_eq!(runs(&params).unwrap(), vec![vec![0, 2, 4], vec![1, 5], vec![3]]);
     // Overlapping ranges that are not the same target cannot be ordered.
-    assert!(layers(&[on(0, 10), on(5, 10)]).is_err());
-    assert!(layers(&[]).unwrap().is_empty());
+    assert!(runs(&[on(0, 10), on(5, 10)]).is_err());
+    assert!(runs(&[]).unwrap().is_empty());
 }
 
 fn clear_moved_resets_the_flags_only(context: &'static GpuContext) {
@@ -430,13 +452,14 @@ fn plain_params() -> DisplaceParams {
 }
 
 gpu_test_main! {
-    plain: [layers_hold_at_most_one_dent_per_target_in_submission_order],
+    plain: [runs_group_each_targets_dents_in_submission_order],
     gpu: [
         a_sphere_dents_the_dense_bunny_like_the_cpu,
         every_falloff_on_a_block_matches_the_cpu,
         a_glancing_map_matches_the_cpu,
         random_maps_at_several_resolutions_match_the_cpu_and_leave_off_map_vertices_alone,
         a_batch_applies_dents_on_one_target_in_submission_order,
+        more_targets_than_one_dispatch_serves,
         clear_moved_resets_the_flags_only,
     ],
 }

@@ -1,11 +1,13 @@
 //! GPU twin of [`cpu::displace`](crate::cpu::displace): moves target vertices by attenuated dent
 //! maps, many dents (on many targets) per batch, in the resident `vec4` vertex buffer.
 //!
-//! Dents on the same target must apply in submission order, but the invocations of one dispatch
-//! run concurrently; [`layers`] therefore splits a batch into layers holding at most one dent per
-//! target (the k-th dent on a target goes to layer k) and [`Displace::encode`] records one
-//! dispatch per layer, in its own compute pass, which wgpu orders after the previous one.
+//! Dents on the same target must apply in submission order. A vertex's displacement depends only
+//! on its own position, so each invocation applies its target's dents to its vertex one after the
+//! other: [`runs`] groups a batch's dents by target (each group in submission order) and
+//! [`Displace::encode`] records one dispatch for up to [`MAX_RUNS`] targets, however many dents
+//! each takes.
 
+use bytemuck::Zeroable;
 use glam::{Vec3, Vec4};
 
 use super::{Binding, GpuContext, GpuError, Kernel, buffers};
@@ -13,14 +15,19 @@ use crate::cpu::{DisplaceParams, falloff};
 
 /// Invocations per workgroup along x. Keep in sync with `WORKGROUP` in `shaders/displace.wgsl`.
 pub const WORKGROUP: u32 = 64;
+/// Targets one dispatch serves (a 16 KiB uniform of 16-byte runs). Keep in sync with `MAX_RUNS`
+/// in `shaders/displace.wgsl`.
+pub const MAX_RUNS: usize = 1024;
 
 /// The `displace` kernel (and its `clear_moved` companion), compiled once.
 #[derive(Debug)]
 pub struct Displace {
     kernel: Kernel,
     clear: Kernel,
-    /// A 16-byte buffer filling the bindings `clear_moved` does not read.
+    /// A 16-byte buffer filling the storage bindings `clear_moved` does not read.
     unused: wgpu::Buffer,
+    /// A zeroed `runs` uniform for `clear_moved`, which does not read it.
+    unused_runs: wgpu::Buffer,
 }
 
 /// One dent of a [`Displace::run_batch`] batch: which target it moves and the map it applies.
@@ -47,44 +54,53 @@ pub struct DisplacedTarget {
     pub moved: Vec<bool>,
 }
 
-/// Splits a batch into layers that [`Displace::encode`] dispatches one after the other: each
-/// layer lists dent indices (into `params`, ascending) with at most one dent per target, and the
-/// k-th dent (in submission order) on a target sits in layer k. A target is identified by its
-/// vertex range `vertex_offset .. vertex_offset + vertex_count`.
+/// Groups a batch's dents by target for [`Displace::encode`]: one list of dent indices (into
+/// `params`, ascending, i.e. in submission order) per target, targets in the order of their first
+/// dent. A target is identified by its vertex range `vertex_offset .. vertex_offset +
+/// vertex_count`.
 ///
 /// # Errors
-/// [`GpuError::Validation`] if two dents' vertex ranges overlap without being equal (they would
-/// race in one dispatch and are not one target either).
-pub fn layers(params: &[DisplaceParams]) -> Result<Vec<Vec<usize>>, GpuError> {
+/// [`GpuError::Validation`] if two dents' vertex ranges overlap without being equal (they are
+/// not one target, and their order on the shared vertices would be lost).
+pub fn runs(params: &[DisplaceParams]) -> Result<Vec<Vec<usize>>, GpuError> {
     let range = |p: &DisplaceParams| (p.vertex_offset as u64, p.vertex_offset as u64 + p.vertex_count as u64);
-    // (range, dents on it so far); a batch holds few targets, so a linear scan is enough.
-    let mut targets: Vec<((u64, u64), usize)> = Vec::new();
-    let mut layers: Vec<Vec<usize>> = Vec::new();
+    // (range, its group); a batch holds few targets, so a linear scan is enough.
+    let mut targets: Vec<(u64, u64)> = Vec::new();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
     for (k, p) in params.iter().enumerate() {
         let (start, end) = range(p);
-        let mut depth = None;
-        for ((s, e), count) in &mut targets {
-            if (*s, *e) == (start, end) {
-                depth = Some(*count);
-                *count += 1;
+        let mut found = None;
+        for (t, &(s, e)) in targets.iter().enumerate() {
+            if (s, e) == (start, end) {
+                found = Some(t);
                 break;
             }
-            if start < *e && *s < end {
+            if start < e && s < end {
                 return Err(batch_error(format!(
                     "dent {k} moves vertices {start}..{end}, which overlap another dent's {s}..{e}"
                 )));
             }
         }
-        let depth = depth.unwrap_or_else(|| {
-            targets.push(((start, end), 1));
-            0
-        });
-        if layers.len() <= depth {
-            layers.push(Vec::new());
+        match found {
+            Some(t) => groups[t].push(k),
+            None => {
+                targets.push((start, end));
+                groups.push(vec![k]);
+            }
         }
-        layers[depth].push(k);
     }
-    Ok(layers)
+    Ok(groups)
+}
+
+/// One target of a dispatch, as `shaders/displace.wgsl` reads `runs`: its dents' place in the
+/// dispatch's parameters and its vertices.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Run {
+    first_dent: u32,
+    dents: u32,
+    vertex_offset: u32,
+    vertex_count: u32,
 }
 
 impl Displace {
@@ -94,23 +110,24 @@ impl Displace {
     /// [`GpuError::Validation`] if the shader does not compile on this device.
     pub fn new(context: &GpuContext) -> Result<Self, GpuError> {
         let source = super::shaders::body("displace");
-        let bindings = [Binding::Read, Binding::Read, Binding::Read, Binding::ReadWrite];
+        let bindings = [Binding::Read, Binding::Read, Binding::Read, Binding::ReadWrite, Binding::Uniform];
         let kernel = Kernel::new(context, "displace", source, "main", &bindings)?;
         let clear = Kernel::new(context, "displace clear_moved", source, "clear_moved", &bindings)?;
         let unused = buffers::storage_zeroed(context, "displace clear_moved unused", 16);
-        Ok(Self { kernel, clear, unused })
+        let unused_runs = runs_uniform(context, "displace clear_moved runs", &[Run::zeroed(); MAX_RUNS]);
+        Ok(Self { kernel, clear, unused, unused_runs })
     }
 
     /// Records the dispatches that apply a batch of dents, in submission order, to the vertex
     /// buffer `positions` (`vec4` per vertex: xyz world position, w moved flag, set to 1.0 for
     /// every vertex a dent moves). `params` are the dents in submission order with their offsets
     /// into `cells` (dent maps, `vec4` per cell), `table` (falloff tables, f32) and `positions`;
-    /// dents on the same target share its vertex range. One dispatch per [`layers`] layer; the
-    /// small per-layer parameter buffers are created here.
+    /// dents on the same target share its vertex range. One dispatch per [`MAX_RUNS`] targets
+    /// ([`runs`]); the small parameter buffers are created here.
     ///
     /// # Errors
-    /// As [`layers`]; [`GpuError::OverLimit`] if a target has more than 65,535 × [`WORKGROUP`]
-    /// vertices or a layer more than 65,535 dents.
+    /// As [`runs`]; [`GpuError::OverLimit`] if a target has more than 65,535 × [`WORKGROUP`]
+    /// vertices.
     pub fn encode(
         &self,
         context: &GpuContext,
@@ -121,21 +138,32 @@ impl Displace {
         positions: &wgpu::Buffer,
     ) -> Result<(), GpuError> {
         let max_groups = context.limits.max_compute_workgroups_per_dimension;
-        for layer in layers(params)? {
-            let layer_params: Vec<DisplaceParams> = layer.iter().map(|&k| params[k]).collect();
-            let max_vertices = layer_params.iter().map(|p| p.vertex_count).max().unwrap_or(0);
+        for targets in runs(params)?.chunks(MAX_RUNS) {
+            let max_vertices = targets.iter().map(|dents| params[dents[0]].vertex_count).max().unwrap_or(0);
             let groups = max_vertices.div_ceil(WORKGROUP);
-            if groups > max_groups || layer.len() as u64 > max_groups as u64 {
-                let what = "displace dispatch (vertices per target / WORKGROUP, dents per layer)";
-                let needed = groups.max(layer.len() as u32) as u64;
-                return Err(GpuError::OverLimit { what: what.into(), needed, limit: max_groups as u64 });
+            if groups > max_groups {
+                let what = "displace dispatch (vertices per target / WORKGROUP)";
+                return Err(GpuError::OverLimit { what: what.into(), needed: groups.into(), limit: max_groups.into() });
             }
             if groups == 0 {
                 continue;
             }
-            let layer_buffer = buffers::storage(context, "displace params", &layer_params);
-            let bind = self.kernel.bind(context, &[&layer_buffer, cells, table, positions]);
-            self.kernel.dispatch(encoder, &bind, [groups, layer.len() as u32, 1]);
+            let mut ordered = Vec::new();
+            let mut table_of_runs = vec![Run::zeroed(); MAX_RUNS];
+            for (run, dents) in table_of_runs.iter_mut().zip(targets) {
+                let target = params[dents[0]];
+                *run = Run {
+                    first_dent: ordered.len() as u32,
+                    dents: dents.len() as u32,
+                    vertex_offset: target.vertex_offset,
+                    vertex_count: target.vertex_count,
+                };
+                ordered.extend(dents.iter().map(|&k| params[k]));
+            }
+            let params_buffer = buffers::storage(context, "displace params", &ordered);
+            let runs_buffer = runs_uniform(context, "displace runs", &table_of_runs);
+            let bind = self.kernel.bind(context, &[&params_buffer, cells, table, positions, &runs_buffer]);
+            self.kernel.dispatch(encoder, &bind, [groups, targets.len() as u32, 1]);
         }
         Ok(())
     }
@@ -159,7 +187,7 @@ impl Displace {
             return Err(GpuError::OverLimit { what: "displace clear_moved workgroups".into(), needed: groups, limit });
         }
         let unused = &self.unused;
-        let bind = self.clear.bind(context, &[unused, unused, unused, positions]);
+        let bind = self.clear.bind(context, &[unused, unused, unused, positions, &self.unused_runs]);
         self.clear.dispatch(encoder, &bind, [groups as u32, 1, 1]);
         Ok(())
     }
@@ -236,6 +264,12 @@ impl Displace {
             })
             .collect())
     }
+}
+
+/// The `runs` uniform: [`MAX_RUNS`] runs, 16 KiB.
+fn runs_uniform(context: &GpuContext, label: &str, runs: &[Run]) -> wgpu::Buffer {
+    debug_assert_eq!(runs.len(), MAX_RUNS);
+    buffers::with_contents(context, label, bytemuck::cast_slice(runs), wgpu::BufferUsages::UNIFORM)
 }
 
 fn batch_error(message: String) -> GpuError {
