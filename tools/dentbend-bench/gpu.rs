@@ -10,8 +10,10 @@ use dentbend::gpu::{GpuContext, GpuDenter};
 use dentbend::{DentParams, Impact, Resolution, TriMesh, mesh};
 use serde::Serialize;
 
-/// Targets the batch's dents are spread over (round robin): built-in `block`s side by side.
+/// Targets the batch's dents are spread over (round robin) unless told: built-in `block`s.
 pub const TARGETS: usize = 16;
+/// Most targets `--targets` takes.
+pub const MAX_TARGETS: usize = 4096;
 
 /// One row; keys are the JSON interface.
 #[derive(Debug, Serialize)]
@@ -28,7 +30,7 @@ pub struct Row {
     pub kernels_s: BTreeMap<&'static str, f64>,
 }
 
-/// The scene: `TARGETS` blocks, a 0.3-radius ball dropped on each top face at a spread of
+/// The scene: `targets` blocks, a 0.3-radius ball dropped on each top face at a spread of
 /// points, d = 0.1, the given fixed grid side.
 struct Scene {
     targets: Vec<TriMesh>,
@@ -36,11 +38,11 @@ struct Scene {
 }
 
 impl Scene {
-    fn new() -> Result<Self, String> {
+    fn new(targets: usize) -> Result<Self, String> {
         let block = mesh::builtin("block").map_err(|e| e.to_string())?;
         let mut ball = mesh::icosphere(0.3, 3).map_err(|e| e.to_string())?;
         ball.transform(Affine3A::from_translation(Vec3::new(0.0, 1.0, 0.0))).map_err(|e| e.to_string())?;
-        Ok(Self { targets: vec![block; TARGETS], ball })
+        Ok(Self { targets: vec![block; targets], ball })
     }
 
     fn jobs(&self, res: u32, batch: usize) -> Vec<DentJob<'_>> {
@@ -49,7 +51,7 @@ impl Scene {
                 let spread = |n: usize| ((n * 7919 % 97) as f32 / 97.0 - 0.5) * 3.0;
                 let point = Vec3::new(spread(k), 0.5, spread(k + 31));
                 DentJob {
-                    target: k % TARGETS,
+                    target: k % self.targets.len(),
                     projectile: &self.ball,
                     impact: Impact { point, normal: -Vec3::Y, relative_velocity: Vec3::new(0.3, -1.0, 0.0) },
                     params: DentParams { resolution: Resolution::Fixed(res), ..DentParams::new(0.1) },
@@ -74,8 +76,14 @@ fn median(min_time: Duration, mut f: impl FnMut() -> Result<(), String>) -> Resu
 }
 
 /// Measures every (res, batch) pair.
-pub fn run(context: &GpuContext, sides: &[u32], batches: &[usize], min_time: Duration) -> Result<Vec<Row>, String> {
-    let scene = Scene::new()?;
+pub fn run(
+    context: &GpuContext,
+    targets: usize,
+    sides: &[u32],
+    batches: &[usize],
+    min_time: Duration,
+) -> Result<Vec<Row>, String> {
+    let scene = Scene::new(targets)?;
     let mut denter = GpuDenter::new(context, &scene.targets).map_err(|e| e.to_string())?;
     let mut rows = Vec::new();
     for &res in sides {

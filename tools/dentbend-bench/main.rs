@@ -54,9 +54,9 @@ enum Command {
         min_time: f64,
     },
     /// Batched dents per second on the GPU next to the CPU twins on all cores, and per-kernel GPU
-    /// times, for grid sides × batch sizes (16 block targets, a small ball, d = 0.1).
+    /// times, for grid sides × batch sizes (block targets, 16 unless `--targets`, a small ball, d = 0.1).
     Gpu {
-        /// Write {"adapter", "kernel_timing", "rows":[{"res","batch","gpu_dents_per_s","gpu_host_s","cpu_dents_per_s","kernels_s":{..}}]}.
+        /// Write {"adapter", "kernel_timing", "targets", "rows":[{"res","batch","gpu_dents_per_s","gpu_host_s","cpu_dents_per_s","kernels_s":{..}}]}.
         #[arg(long)]
         json: Option<PathBuf>,
         /// Grid sides, comma separated.
@@ -65,6 +65,9 @@ enum Command {
         /// Batch sizes (dents per batch), comma separated.
         #[arg(long, value_delimiter = ',', default_values_t = [1, 16, 256, 1024])]
         batch: Vec<usize>,
+        /// Blocks the dents are spread over, round robin (1: every dent on one body).
+        #[arg(long, default_value_t = gpu::TARGETS)]
+        targets: usize,
         /// Minimum wall time per measurement, seconds.
         #[arg(long, default_value_t = 0.5)]
         min_time: f64,
@@ -175,20 +178,26 @@ fn run(cli: Cli) -> Result<(), String> {
             print!("{}", table1::render(&rows));
             write_json(json, &serde_json::json!({ "rows": rows }))
         }
-        Command::Gpu { json, res, batch, min_time } => {
+        Command::Gpu { json, res, batch, targets, min_time } => {
             if let Some(&bad) = res.iter().find(|&&r| !(1..=dentbend::dent::MAX_RESOLUTION).contains(&r)) {
                 return Err(format!("grid side {bad} is outside 1..={}", dentbend::dent::MAX_RESOLUTION));
             }
             if batch.contains(&0) {
                 return Err("batch sizes must be at least 1".into());
             }
+            if !(1..=gpu::MAX_TARGETS).contains(&targets) {
+                return Err(format!("--targets must be 1..={}", gpu::MAX_TARGETS));
+            }
             let context = dentbend::gpu::shared_context().map_err(|e| e.to_string())?;
             let adapter = context.adapter_name();
             eprintln!("adapter: {adapter}");
-            let rows = gpu::run(context, &res, &batch, seconds(min_time)?)?;
+            let rows = gpu::run(context, targets, &res, &batch, seconds(min_time)?)?;
             let timing = if context.timestamps { "timestamp queries" } else { "submit-and-wait" };
             print!("{}", gpu::render(&adapter, timing, &rows));
-            write_json(json, &serde_json::json!({ "adapter": adapter, "kernel_timing": timing, "rows": rows }))
+            write_json(
+                json,
+                &serde_json::json!({ "adapter": adapter, "kernel_timing": timing, "targets": targets, "rows": rows }),
+            )
         }
         Command::Scene { name, json, frames, demo, backend, skin } => {
             let backend = dentbend::gpu::Backend::parse(&backend).map_err(|e| e.to_string())?;
