@@ -28,8 +28,8 @@
 // 1]. `clear_peak`: one invocation per dent, workgroups [1, batch, 1].
 //
 // Host constants it must match (src/gpu/heat.rs): WORKGROUP = 256, STEP_WORKGROUP = 64,
-// FUSED_STEPS = 4, MAX_TILE = 32, the PHASE_* codes, and the layouts of HeatDent and HeatPass
-// (16 bytes each, four 4-byte fields in this order).
+// FUSED_STEPS = 4, MAX_TILE = 32, the PHASE_* codes, and the layouts of HeatDent (16 bytes) and
+// HeatPass (32 bytes), 4-byte fields in this order.
 
 const WORKGROUP: u32 = 256u;
 const STEP_WORKGROUP: u32 = 64u;
@@ -69,6 +69,12 @@ struct HeatPass {
     source: u32,
     // `fused_steps`: output tile side, cells (1 ..= MAX_TILE); unused by the other entries.
     tile: u32,
+    // `fused_steps`: steps this pass takes at most (≤ FUSED_STEPS: the batch's count less the
+    // steps of the phase's earlier passes), so no dent steps past the batch's count.
+    steps: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 @group(0) @binding(0) var<storage, read> params: array<HeatParams>;
@@ -178,7 +184,7 @@ fn step(@builtin(global_invocation_id) id: vec3<u32>) {
 // (zero off the grid), then each step updates the cells at least one cell further in than the
 // last (their neighbours are then still exact), so after the last step the tile is exact; off
 // the grid cells stay zero, as the CPU twin reads them. A dent past its step count copies.
-// Barriers sit only in loops whose bounds come from the pass uniform (uniform control flow).
+// Every barrier is reached in uniform control flow: the loops around them run FUSED_STEPS times.
 @compute @workgroup_size(WORKGROUP, 1, 1)
 fn fused_steps(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     let p = params[group.z];
@@ -193,7 +199,7 @@ fn fused_steps(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocatio
         limit = dents[group.z].heat_iters;
     }
     let taken = pass_info.index * FUSED_STEPS;
-    let steps = min(limit - min(limit, taken), FUSED_STEPS);
+    let steps = min(limit - min(limit, taken), pass_info.steps);
     let clamped = pass_info.phase == PHASE_CLAMPED;
     for (var i = lane; i < side * side; i += WORKGROUP) {
         let r = i / side;

@@ -1,6 +1,6 @@
 //! GPU `heat` (shaders/heat.wgsl) against its CPU twin `cpu::heat_step` / `cpu::heat`: single
 //! steps, the whole smoothing (plain steps, rescale to d, clamped steps) with per-dent counts in
-//! one batch, and the bunny's real envelopes.
+//! one batch, counts above the batch's cut to it, and the bunny's real envelopes.
 //!
 //! Tolerances. A step is the CPU's expression with the same operations in the same order, so it
 //! is bit-exact unless the driver contracts `s + α·L` into a fused multiply-add (SPIR-V without
@@ -17,8 +17,8 @@ mod common;
 use common::SplitMix64;
 use dentbend::cpu::{HeatParams, heat, heat_step};
 use dentbend::glam::Vec3;
-use dentbend::gpu::GpuContext;
-use dentbend::gpu::heat::{FUSED_STEPS, HeatJob, HeatKernel};
+use dentbend::gpu::heat::{FUSED_STEPS, HeatBatch, HeatBuffers, HeatDent, HeatJob, HeatKernel};
+use dentbend::gpu::{GpuContext, buffers};
 use dentbend::{DentParams, Impact, Resolution, dent_map_stages, mesh};
 
 /// ε = 2⁻²³, one ulp at 1.
@@ -163,7 +163,7 @@ fn whole_smoothing_matches_heat_with_per_dent_counts_in_one_batch(context: &'sta
         (1u32, 0.2f32, 3u32, 2u32, 0.5f32),
         (7, 0.25, 8, 16, 3.0),
         (64, 0.2, 8, 16, 0.02),
-        (200, 0.1, 6, 3, 1.0),
+        (200, 0.1, 10, 7, 1.0),
         (33, 0.15, 0, 4, 2.0),
         (2, 0.05, 4, 0, 1.5),
         (64, 0.25, 0, 0, 0.7),
@@ -181,17 +181,17 @@ fn whole_smoothing_matches_heat_with_per_dent_counts_in_one_batch(context: &'sta
             dent_distance,
         })
         .collect();
-    // The batch runs 8 + 16 steps in 2 + 4 dispatches (even: the last one writes the caller's
-    // grid); the 200² grid sets a 29-cell tile, which the 64² ones take three of a side ...
-    assert_eq!(passes(&jobs), 6);
-    check_batch(&kernel, "batch of 8, even pass count", &jobs);
-    // ... and with the two 8 + 16 dents left out 6 + 4 steps in 2 + 1 dispatches (odd: a final
-    // copy brings the result back); counts not a multiple of four stop inside a dispatch.
+    // The batch runs 10 + 16 steps in 3 + 4 dispatches (odd: a final copy brings the result back
+    // to the caller's grid); the 200² grid sets a 29-cell tile, which the 64² ones take three of
+    // a side; the 200² dent's 10 and 7 steps stop inside a later dispatch of each phase ...
+    assert_eq!(passes(&jobs), 7);
+    check_batch(&kernel, "batch of 8, odd pass count", &jobs);
+    // ... and with the two 8 + 16 dents left out, 10 + 7 steps in 3 + 2 dispatches.
     let odd: Vec<HeatJob<'_>> = jobs.iter().copied().filter(|job| job.clamp_iters != 16).collect();
-    assert_eq!((odd.len(), passes(&odd)), (6, 3));
+    assert_eq!((odd.len(), passes(&odd)), (6, 5));
     check_batch(&kernel, "batch of 6, odd pass count", &odd);
-    // Batches of one, odd and even.
-    assert_eq!((passes(&jobs[3..4]), passes(&jobs[1..2])), (3, 6));
+    // Batches of one, odd and even (even: the last dispatch writes the caller's grid).
+    assert_eq!((passes(&jobs[3..4]), passes(&jobs[1..2])), (5, 6));
     check_batch(&kernel, "batch of one, odd", &jobs[3..4]);
     check_batch(&kernel, "batch of one, even", &jobs[1..2]);
 }
@@ -257,11 +257,35 @@ fn bunny_envelopes_smooth_like_the_cpu(context: &'static GpuContext) {
     check_batch(&kernel, "bunny envelopes", &jobs);
 }
 
+/// `HeatKernel::encode` cuts a dent's counts above the batch's to the batch's: a dent asking for
+/// 8 + 16 steps in a batch recorded for 6 + 3 (neither a multiple of the fused passes' four
+/// steps) smooths like `cpu::heat` with 6 + 3.
+fn counts_above_the_batchs_are_cut_to_it(context: &'static GpuContext) {
+    let kernel = HeatKernel::new(context).unwrap();
+    let mut rng = SplitMix64::new(0xc07);
+    let res = 40;
+    let values = bumps(&mut rng, res, 1.0);
+    let params = [HeatParams { res, rate: 0.2, clamped: 0, cell_offset: 0 }];
+    let dents = [HeatDent { dent_distance: 0.5, heat_iters: 8, clamp_iters: 16, peak_bits: 0 }];
+    let (params, dents) = (buffers::storage(context, "params", &params), buffers::storage(context, "dents", &dents));
+    let (grid, scratch) = (buffers::storage(context, "grid", &values), buffers::storage(context, "scratch", &values));
+    let bound = HeatBuffers { params: &params, dents: &dents, grid: &grid, scratch: &scratch };
+    let batch = HeatBatch { dents: 1, max_cells: res * res, heat_iters: 6, clamp_iters: 3 };
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    kernel.encode(context, &mut encoder, &bound, batch).unwrap();
+    context.queue.submit([encoder.finish()]);
+    let gpu: Vec<f32> = buffers::read_back(context, &grid, values.len()).unwrap();
+    let asked = HeatJob { values: &values, res, rate: 0.2, heat_iters: 6, clamp_iters: 3, dent_distance: 0.5 };
+    let worst = compare("counts cut to the batch's", &gpu, &cpu_heat(&asked), heat_tolerance(&asked));
+    eprintln!("counts cut to the batch's: largest |GPU − CPU| {worst:e}");
+}
+
 gpu_test_main! {
     gpu: [
         single_steps_match_heat_step_bit_for_bit_or_within_fma_rounding,
         whole_smoothing_matches_heat_with_per_dent_counts_in_one_batch,
         all_zero_grids_stay_zero_beside_others,
         bunny_envelopes_smooth_like_the_cpu,
+        counts_above_the_batchs_are_cut_to_it,
     ],
 }

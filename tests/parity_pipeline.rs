@@ -157,9 +157,9 @@ fn one_bad_dent_fails_the_gpu_batch_and_changes_nothing(context: &'static GpuCon
 }
 
 /// The map-building buffers a denter keeps between batches change no result: after a batch of
-/// larger grids has filled them, a batch gives bit for bit what a fresh denter gives (each chunk
-/// clears what it uses), both as stages and as dented targets; the memory is reused when the
-/// batch repeats and given back on request.
+/// larger grids has filled them, a batch gives bit for bit what a fresh denter gives (no kernel
+/// reads a cell it has not written, so nothing is cleared), both as stages and as dented targets;
+/// the memory is reused when the batch repeats and given back on request.
 fn kept_buffers_change_no_result(context: &'static GpuContext) {
     let (bunny, balls, original) = (mesh::builtin("bunny").unwrap(), balls(), targets());
     let (big, jobs) = (bunny_jobs(&bunny), target_jobs(&balls, &original));

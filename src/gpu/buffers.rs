@@ -132,6 +132,20 @@ pub fn read_back_all<T: Pod>(
     context: &GpuContext,
     sources: &[(&wgpu::Buffer, usize)],
 ) -> Result<Vec<Vec<T>>, GpuError> {
+    read_back_all_after(context, None, sources)
+}
+
+/// [`read_back_all`] with `work` (commands that write the sources) submitted in the same
+/// submission, before the copies: no other submission can come between the work and its
+/// read-back.
+///
+/// # Errors
+/// As [`read_back_all`].
+pub fn read_back_all_after<T: Pod>(
+    context: &GpuContext,
+    work: Option<wgpu::CommandBuffer>,
+    sources: &[(&wgpu::Buffer, usize)],
+) -> Result<Vec<Vec<T>>, GpuError> {
     context.check_alive()?;
     let limit = context.limits.max_buffer_size;
     // Where each source lands: (staging buffer, byte offset, bytes); staging sizes in bytes.
@@ -176,7 +190,7 @@ pub fn read_back_all<T: Pod>(
                     encoder.copy_buffer_to_buffer(buffer, 0, &staging[k], offset, bytes.next_multiple_of(4));
                 }
             }
-            context.queue.submit([encoder.finish()]);
+            context.queue.submit(work.into_iter().chain([encoder.finish()]));
             for (k, buffer) in staging.iter().enumerate() {
                 let sender = sender.clone();
                 buffer.slice(..).map_async(wgpu::MapMode::Read, move |result| {

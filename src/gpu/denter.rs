@@ -272,7 +272,7 @@ impl GpuDenter {
     }
 
     /// The arena, whatever a panicking thread left in it (its buffers hold no invariant: every
-    /// chunk clears what it uses).
+    /// kernel writes what it later reads).
     fn arena(&self) -> MutexGuard<'_, Arena> {
         self.arena.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
     }
@@ -341,20 +341,24 @@ impl GpuDenter {
             return Err(GpuError::OverLimit { what: "dent grid side".into(), needed: res.into(), limit });
         }
         let mut out = Vec::with_capacity(jobs.len());
-        // Held until every read-back is done, so no other call reuses the buffers meanwhile.
+        // Held until every read-back is done, so no other call of this denter reuses the buffers
+        // meanwhile; the maps and their read-back go in one submission, so no batch a caller
+        // recorded earlier and submits now can come between them either.
         let mut arena = self.arena();
         for chunk in chunks::chunks(plans, jobs, &self.context) {
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
             let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
             let mut rec = Recorder::new(&self.context, None);
             let maps = self.encode_maps(&mut rec, &mut arena, &chunk_jobs, &chunk_plans, true)?;
-            rec.submit();
             let cells = maps.cell_offsets.last().copied().unwrap_or(0) as usize;
-            let profile: Vec<f32> = buffers::read_back(&self.context, &maps.work, cells)?;
-            let envelope: Vec<f32> = buffers::read_back(&self.context, &maps.envelope, cells)?;
-            let smoothed: Vec<f32> = buffers::read_back(&self.context, &maps.smoothed, cells)?;
             let map_cells = maps.map_offsets.last().copied().unwrap_or(0) as usize;
-            let map: Vec<[f32; 4]> = buffers::read_back(&self.context, &maps.map, map_cells)?;
+            let sources =
+                [(&maps.work, cells), (&maps.envelope, cells), (&maps.smoothed, cells), (&maps.map, 4 * map_cells)];
+            let [profile, envelope, smoothed, map] =
+                buffers::read_back_all_after::<f32>(&self.context, rec.finish(), &sources)?
+                    .try_into()
+                    .expect("one read-back per source");
+            let map: Vec<[f32; 4]> = map.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
             for (k, plan) in chunk_plans.iter().enumerate() {
                 let cells = maps.cell_offsets[k] as usize..maps.cell_offsets[k + 1] as usize;
                 let map_range = maps.map_offsets[k] as usize..maps.map_offsets[k + 1] as usize;

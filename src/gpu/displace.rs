@@ -64,7 +64,8 @@ pub struct DisplacedTarget {
 /// not one target, and their order on the shared vertices would be lost).
 pub fn runs(params: &[DisplaceParams]) -> Result<Vec<Vec<usize>>, GpuError> {
     let range = |p: &DisplaceParams| (p.vertex_offset as u64, p.vertex_offset as u64 + p.vertex_count as u64);
-    // (range, its group); a batch holds few targets, so a linear scan is enough.
+    // (range, its group): a linear scan, dents × targets, fine for the hundreds of targets a
+    // batch holds.
     let mut targets: Vec<(u64, u64)> = Vec::new();
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for (k, p) in params.iter().enumerate() {
@@ -138,7 +139,8 @@ impl Displace {
         positions: &wgpu::Buffer,
     ) -> Result<(), GpuError> {
         let max_groups = context.limits.max_compute_workgroups_per_dimension;
-        for targets in runs(params)?.chunks(MAX_RUNS) {
+        // Targets are the dispatch's y: at most MAX_RUNS, and at most the device allows.
+        for targets in runs(params)?.chunks(MAX_RUNS.min(max_groups as usize).max(1)) {
             let max_vertices = targets.iter().map(|dents| params[dents[0]].vertex_count).max().unwrap_or(0);
             let groups = max_vertices.div_ceil(WORKGROUP);
             if groups > max_groups {

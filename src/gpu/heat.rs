@@ -3,11 +3,12 @@
 //! steps one tile (at most [`MAX_TILE`]² cells) and its halo in workgroup memory, so the grids
 //! cross device memory once per four steps instead of once per step.
 //!
-//! The whole smoothing of one batch is recorded into one command encoder: the step number of each
-//! dispatch reaches the shader through a 16-byte uniform that a buffer copy refreshes from a pass
-//! table before every dispatch, so the batch needs no round trip to the host between steps.
-//! Iteration counts are per dent ([`HeatDent`]); the batch runs as many passes as its largest
-//! counts, and a dent whose count is exhausted copies its grid through the remaining passes.
+//! The whole smoothing of one batch is recorded into one command encoder: what each dispatch does
+//! (phase, pass number, steps, tile) reaches the shader through a 32-byte uniform that a buffer
+//! copy refreshes from a pass table before every dispatch, so the batch needs no round trip to
+//! the host between steps. Iteration counts are per dent ([`HeatDent`]); the batch runs as many
+//! steps as its largest counts (in passes of up to [`FUSED_STEPS`]), and a dent whose count is
+//! exhausted copies its grid through the remaining steps.
 //!
 //! [`cpu::heat`]: crate::cpu::heat
 //! [`cpu::heat_step`]: crate::cpu::heat_step
@@ -57,7 +58,7 @@ pub struct HeatDent {
     pub peak_bits: u32,
 }
 
-/// What one dispatch does. Keep in sync with `HeatPass` in `shaders/heat.wgsl`.
+/// What one dispatch does, 32 bytes. Keep in sync with `HeatPass` in `shaders/heat.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 struct HeatPass {
@@ -67,8 +68,12 @@ struct HeatPass {
     index: u32,
     /// Buffer holding the current grids: 0 = `grid`, 1 = `scratch`.
     source: u32,
-    /// Output tile side of `fused_steps`, cells (0 for the other entry points).
+    /// Output tile side of `fused_steps`, cells (read by `fused_steps` only).
     tile: u32,
+    /// Steps a `fused_steps` pass takes at most: the batch's count less the phase's earlier
+    /// passes' steps, at most [`FUSED_STEPS`].
+    steps: u32,
+    _pad: [u32; 3],
 }
 
 /// Caller-owned buffers of one batch, in `@binding` order.
@@ -94,9 +99,9 @@ pub struct HeatBatch {
     pub dents: u32,
     /// Largest `res²` of the batch, cells.
     pub max_cells: u32,
-    /// Plain passes recorded: the largest `HeatDent::heat_iters` of the batch.
+    /// Plain steps recorded: the largest `HeatDent::heat_iters` of the batch.
     pub heat_iters: u32,
-    /// Clamped passes recorded: the largest `HeatDent::clamp_iters` of the batch.
+    /// Clamped steps recorded: the largest `HeatDent::clamp_iters` of the batch.
     pub clamp_iters: u32,
 }
 
@@ -190,21 +195,23 @@ impl HeatKernel {
         batch: HeatBatch,
     ) -> Result<(), GpuError> {
         let tile = tile_side(batch.max_cells);
-        let at = |phase, index, source| HeatPass { phase, index, source, tile };
-        let mut passes = vec![(Entry::ClearPeak, at(PHASE_COPY, 0, 0))];
-        let mut source = 0;
-        for index in 0..batch.heat_iters.div_ceil(FUSED_STEPS) {
-            passes.push((Entry::FusedSteps, at(PHASE_PLAIN, index, source)));
-            source ^= 1;
-        }
-        passes.push((Entry::ReducePeak, at(PHASE_COPY, 0, source)));
-        passes.push((Entry::Rescale, at(PHASE_COPY, 0, source)));
-        for index in 0..batch.clamp_iters.div_ceil(FUSED_STEPS) {
-            passes.push((Entry::FusedSteps, at(PHASE_CLAMPED, index, source)));
-            source ^= 1;
-        }
+        let at = |phase, index, source, steps| HeatPass { phase, index, source, tile, steps, _pad: [0; 3] };
+        let mut passes = vec![(Entry::ClearPeak, at(PHASE_COPY, 0, 0, 0))];
+        // Appends a phase's fused passes from `source`; returns where its result is.
+        let fused = |passes: &mut Vec<_>, phase, count: u32, mut source: u32| {
+            for index in 0..count.div_ceil(FUSED_STEPS) {
+                let steps = (count - index * FUSED_STEPS).min(FUSED_STEPS);
+                passes.push((Entry::FusedSteps, at(phase, index, source, steps)));
+                source ^= 1;
+            }
+            source
+        };
+        let source = fused(&mut passes, PHASE_PLAIN, batch.heat_iters, 0);
+        passes.push((Entry::ReducePeak, at(PHASE_COPY, 0, source, 0)));
+        passes.push((Entry::Rescale, at(PHASE_COPY, 0, source, 0)));
+        let source = fused(&mut passes, PHASE_CLAMPED, batch.clamp_iters, source);
         if source == 1 {
-            passes.push((Entry::Step, at(PHASE_COPY, 0, 1)));
+            passes.push((Entry::Step, at(PHASE_COPY, 0, 1, 0)));
         }
         self.record(context, encoder, buffers, batch.dents, batch.max_cells, &passes)
     }
@@ -223,7 +230,7 @@ impl HeatKernel {
         dents: u32,
         max_cells: u32,
     ) -> Result<(), GpuError> {
-        let single = HeatPass { phase: PHASE_SINGLE, index: 0, source: 0, tile: 0 };
+        let single = HeatPass { phase: PHASE_SINGLE, index: 0, source: 0, tile: 0, steps: 0, _pad: [0; 3] };
         self.record(context, encoder, buffers, dents, max_cells, &[(Entry::Step, single)])
     }
 

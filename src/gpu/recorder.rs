@@ -87,14 +87,6 @@ impl<'a> Recorder<'a> {
         Ok(())
     }
 
-    /// Submits whatever is left in an encoder of its own (nothing for the caller's encoder).
-    pub(super) fn submit(self) {
-        let context = self.context;
-        if let Some(buffer) = self.finish() {
-            context.queue.submit([buffer]);
-        }
-    }
-
     /// Finishes what is left in an encoder of its own into a command buffer for the caller to
     /// submit; `None` on the caller's encoder.
     pub(super) fn finish(self) -> Option<wgpu::CommandBuffer> {

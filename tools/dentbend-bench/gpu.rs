@@ -12,8 +12,9 @@ use serde::Serialize;
 
 /// Targets the batch's dents are spread over (round robin) unless told: built-in `block`s.
 pub const TARGETS: usize = 16;
-/// Most targets `--targets` takes.
-pub const MAX_TARGETS: usize = 4096;
+/// Most targets `--targets` takes: a `block` has 12,290 vertices, and the resident vertices of
+/// all targets must fit one dispatch of 65,535 × 64 invocations (about 341 blocks).
+pub const MAX_TARGETS: usize = 256;
 
 /// One row; keys are the JSON interface.
 #[derive(Debug, Serialize)]
@@ -96,6 +97,8 @@ pub fn run(
                 host.push(start.elapsed().as_secs_f64());
                 context.wait().map_err(|e| e.to_string())
             })?;
+            // The first call is `median`'s warm-up (it allocates the denter's buffers): not a sample.
+            host.remove(0);
             host.sort_by(f64::total_cmp);
             let mut targets = scene.targets.clone();
             let cpu_s = median(min_time, || {

@@ -52,18 +52,25 @@ pub(super) struct Arena {
 }
 
 impl Arena {
-    /// A buffer of at least `bytes` bytes for `slot`, holding whatever the last batch left. An
-    /// existing buffer large enough is reused; otherwise a new one, half again as large as the
-    /// old one where that stays within the device's binding limit, replaces it (wgpu keeps the
-    /// old one alive until the work already recorded on it has run).
+    /// A buffer of at least `bytes` bytes (a multiple of 4) for `slot`, holding whatever the
+    /// last batch left. An existing buffer large enough is reused; otherwise a new one, half again
+    /// as large as the old one where that stays within the device's binding and buffer limits,
+    /// replaces it (wgpu keeps the old one alive until the work already recorded on it has run).
+    /// A need past the binding limit gets a buffer of its own that is not kept: the kernel then
+    /// refuses the chunk, and later batches are not burdened with it.
     pub(super) fn take(&mut self, context: &GpuContext, slot: Slot, bytes: u64) -> wgpu::Buffer {
+        let limits = &context.limits;
+        // Rounded down to a multiple of 4, so rounding the size up never passes the limit.
+        let cap = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size) & !3;
+        if bytes > cap {
+            return buffers::storage_zeroed(context, slot.label(), bytes);
+        }
         let held = &mut self.buffers[slot as usize];
         match held {
             Some(buffer) if buffer.size() >= bytes => buffer.clone(),
             _ => {
                 let old = held.as_ref().map_or(0, wgpu::Buffer::size);
-                let grown = (old + old / 2).min(context.limits.max_storage_buffer_binding_size);
-                let buffer = buffers::storage_zeroed(context, slot.label(), bytes.max(grown));
+                let buffer = buffers::storage_zeroed(context, slot.label(), bytes.max((old + old / 2).min(cap)));
                 *held = Some(buffer.clone());
                 buffer
             }
