@@ -45,10 +45,18 @@ fn impacts_dent_and_colliders_follow() {
     let mut q = app.world_mut().query::<(Entity, &Target)>();
     let block = q.iter(app.world()).find(|(_, t)| **t == Target::Block).map(|(e, _)| e).expect("the block");
     assert_eq!(app.world().resource::<DentWorld>().path(block), Some(DentPath::Gpu));
-    // Stop the rain and let the read-backs and refits land.
+    // Stop the rain and let the read-backs and refits land: the read-backs are polled each frame
+    // and Rapier takes a changed `Collider` at its next step, so how many frames that takes
+    // depends on the machine's load (10 were not always enough on a busy 2-core machine). Wait
+    // until both colliders hold the main world's mesh, at most 300 frames (5 s of game time).
     app.world_mut().resource_mut::<RainSettings>().balls_per_frame = 0.0;
-    for _ in 0..10 {
+    for _ in 0..300 {
         app.update();
+        let mesh = app.world().resource::<DentWorld>().mesh(block).expect("the block").clone();
+        let (ours, theirs) = collider_vertices(&mut app, block);
+        if ours == mesh.positions() && theirs == mesh.positions() {
+            break;
+        }
     }
     let mesh = app.world().resource::<DentWorld>().mesh(block).expect("the block").clone();
     let spawned = bevy_dentbend::dentbend::mesh::subdivided_box(Vec3::new(4.0, 1.0, 4.0), [64, 8, 64]).unwrap();
