@@ -358,7 +358,7 @@ impl GpuDenter {
                 buffers::read_back_all_after::<f32>(&self.context, rec.finish(), &sources)?
                     .try_into()
                     .expect("one read-back per source");
-            let map: Vec<[f32; 4]> = map.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
+            let map: &[[f32; 4]] = bytemuck::cast_slice(&map);
             for (k, plan) in chunk_plans.iter().enumerate() {
                 let cells = maps.cell_offsets[k] as usize..maps.cell_offsets[k + 1] as usize;
                 let map_range = maps.map_offsets[k] as usize..maps.map_offsets[k + 1] as usize;

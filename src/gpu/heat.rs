@@ -105,11 +105,16 @@ pub struct HeatBatch {
     pub clamp_iters: u32,
 }
 
-/// The output tile side of `fused_steps` for grids of up to `max_cells` cells: the largest
-/// grid's side cut into as few tiles of at most [`MAX_TILE`] cells as cover it, evenly, so the
-/// last tile wastes little (100 → four tiles of 25, 200 → seven of 29).
-fn tile_side(max_cells: u32) -> u32 {
-    let max_res = ((max_cells as f64).sqrt().ceil() as u32).max(1);
+/// Side of the largest grid of a batch whose largest grid has `max_cells` cells (a square's area).
+fn grid_side(max_cells: u32) -> u32 {
+    (max_cells as f64).sqrt().ceil() as u32
+}
+
+/// The output tile side of `fused_steps` for grids of up to `max_res` cells a side: that side cut
+/// into as few tiles of at most [`MAX_TILE`] cells as cover it, evenly, so the last tile wastes
+/// little (100 → four tiles of 25, 200 → seven of 29).
+fn tile_side(max_res: u32) -> u32 {
+    let max_res = max_res.max(1);
     max_res.div_ceil(max_res.div_ceil(MAX_TILE))
 }
 
@@ -194,7 +199,7 @@ impl HeatKernel {
         buffers: &HeatBuffers<'_>,
         batch: HeatBatch,
     ) -> Result<(), GpuError> {
-        let tile = tile_side(batch.max_cells);
+        let tile = tile_side(grid_side(batch.max_cells));
         let at = |phase, index, source, steps| HeatPass { phase, index, source, tile, steps, _pad: [0; 3] };
         let mut passes = vec![(Entry::ClearPeak, at(PHASE_COPY, 0, 0, 0))];
         // Appends a phase's fused passes from `source`; returns where its result is.
@@ -349,9 +354,8 @@ impl HeatKernel {
             return Ok(());
         }
         let groups = max_cells.div_ceil(WORKGROUP);
-        // Side of the largest grid: `max_cells` is a square's area.
-        let max_res = (max_cells as f64).sqrt().ceil() as u32;
-        let tiles = max_res.div_ceil(tile_side(max_cells));
+        let max_res = grid_side(max_cells);
+        let tiles = max_res.div_ceil(tile_side(max_res));
         let limit = context.limits.max_compute_workgroups_per_dimension;
         for (what, needed) in
             [("heat workgroups per dent", groups), ("heat batch (dents)", dents), ("heat tiles", tiles)]

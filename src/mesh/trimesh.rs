@@ -185,14 +185,7 @@ impl TriMesh {
 
     /// Total surface area, square world units.
     pub fn area(&self) -> f32 {
-        let total: f64 = self
-            .faces
-            .iter()
-            .map(|f| {
-                let [a, b, c] = f.map(|v| self.positions[v as usize].as_dvec3());
-                0.5 * (b - a).cross(c - a).length()
-            })
-            .sum();
+        let total: f64 = self.faces.iter().map(|f| self.face_area(f)).sum();
         total as f32
     }
 
@@ -202,13 +195,18 @@ impl TriMesh {
     pub fn area_exceeds(&self, limit: f64) -> bool {
         let mut total = 0.0f64;
         for f in &self.faces {
-            let [a, b, c] = f.map(|v| self.positions[v as usize].as_dvec3());
-            total += 0.5 * (b - a).cross(c - a).length();
+            total += self.face_area(f);
             if total > limit {
                 return true;
             }
         }
         false
+    }
+
+    /// Area of triangle `f`, square world units, in f64.
+    fn face_area(&self, f: &[u32; 3]) -> f64 {
+        let [a, b, c] = f.map(|v| self.positions[v as usize].as_dvec3());
+        0.5 * (b - a).cross(c - a).length()
     }
 
     /// Mean length of the triangle edges, world units (shared edges count once per face).
