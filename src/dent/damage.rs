@@ -134,6 +134,16 @@ pub struct AppliedDent<K> {
     pub volume_change: f64,
     /// The dent's cavity (|volume change| before any rim), target mesh units³.
     pub cavity_volume: f64,
+    /// How deep the dent really is: its largest vertex displacement, target mesh units. Below
+    /// `dent_distance` when the intersection guard limited it (`limited_to`) or the surface under
+    /// it is coarse; 0 when it moved nothing. Zero from a backend that queues the dent to make
+    /// later (a game engine's resident GPU path), which reports it when made.
+    pub depth_made: f32,
+    /// Vertices the dent moved (0 from a backend that queues it, as `depth_made`).
+    pub moved_vertices: usize,
+    /// Fraction of the dent's displacement kept when the intersection guard scaled it back so
+    /// that no faces cross or turn over (`None`: not limited).
+    pub limited_to: Option<f32>,
 }
 
 /// A target's new surface.
@@ -235,7 +245,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
             moved.extend(now.vertex_count().min(mesh.vertex_count()) as u32..mesh.vertex_count() as u32);
             let topology_changed = now.faces() != mesh.faces();
             staged.record(key, projectile, pre_dent, distance, step);
-            plan.dents.push(with_volume(applied(&target, d, distance), &report));
+            plan.dents.push(with_report(applied(&target, d, distance), &report));
             let dented = DentedTarget { key, mesh, moved, refinement, topology_changed };
             match plan.targets.iter_mut().find(|t| t.key == key) {
                 Some(t) => merge(t, dented),
@@ -315,6 +325,9 @@ fn applied<K: Copy>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) 
         projectile_offset: projectile_offset(target.settings, &d.data.impact, distance),
         volume_change: 0.0,
         cavity_volume: 0.0,
+        depth_made: 0.0,
+        moved_vertices: 0,
+        limited_to: None,
     }
 }
 
@@ -355,7 +368,7 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
     let dents = kept
         .iter()
         .zip(&outcome.reports)
-        .map(|(d, report)| with_volume(applied(&view(targets, d), d, d.distance), report))
+        .map(|(d, report)| with_report(applied(&view(targets, d), d, d.distance), report))
         .collect();
     let changed: Vec<bool> = (0..keys.len()).map(|t| outcome.topology_changed(t)).collect();
     let mut refined = outcome.refined.into_iter();
@@ -386,9 +399,17 @@ fn dent_one<K: std::fmt::Debug>(
     Ok(meshes.pop().map(|mesh| (mesh, refinement, report)))
 }
 
-/// `dent` with the volume its batch report measured.
-fn with_volume<K>(dent: AppliedDent<K>, report: &super::DentReport) -> AppliedDent<K> {
-    AppliedDent { volume_change: report.volume_change, cavity_volume: report.cavity_volume, ..dent }
+/// `dent` with what its batch report measured: volume, depth, moved vertices and the guard's
+/// limit.
+fn with_report<K>(dent: AppliedDent<K>, report: &super::DentReport) -> AppliedDent<K> {
+    AppliedDent {
+        volume_change: report.volume_change,
+        cavity_volume: report.cavity_volume,
+        depth_made: report.max_displacement,
+        moved_vertices: report.moved_vertices,
+        limited_to: report.limited_to,
+        ..dent
+    }
 }
 
 /// The vertices whose position differs between `before` and `after` (bitwise), as indices, for a

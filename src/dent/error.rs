@@ -65,6 +65,21 @@ pub enum DentError {
     /// The batch's backend failed (a GPU device lost or out of memory mid-batch).
     #[error("dent backend: {0}")]
     Backend(String),
+    /// Two vertices under the dent nearly share a position without sharing it exactly: a seam
+    /// (hard edge, UV seam) whose sides no stage can keep together. Weld the mesh's seams so that
+    /// their vertices' positions are bit-identical.
+    #[error(
+        "vertices {a} and {b} lie {distance:e} apart under the dent: a seam whose sides nearly but not exactly \
+         coincide would crack open; snap its vertices to bit-identical positions (weld the seam) before denting"
+    )]
+    NearlyCoincidentVertices {
+        /// One vertex.
+        a: u32,
+        /// The other.
+        b: u32,
+        /// Their distance, world units.
+        distance: f32,
+    },
     /// Applying the map would move a vertex out of finite space or beyond
     /// [`MAX_COORDINATE`](crate::mesh::MAX_COORDINATE); the mesh is left unchanged.
     #[error(

@@ -4,7 +4,7 @@
 use super::apply::note_refinement;
 use super::error::invalid;
 use super::refine_setting::Refine;
-use super::refine_target::{Footprint, refine_for_dents};
+use super::refine_target::{Footprint, refine_for_dents, refined_mesh};
 use super::{BatchError, DentJob, DentPlan, DentReport, plan_dent};
 use crate::mesh::{EdgeLengths, Refinement, TriMesh};
 use rayon::prelude::*;
@@ -100,7 +100,9 @@ pub(crate) fn refine_planned(
         for (k, &j) in mine.iter().enumerate() {
             note_refinement(&mut out.reports[j], &done, k);
         }
-        out.meshes.push(done.take_parts().map(|(positions, faces)| TriMesh::from_valid(positions, faces)));
+        let refined = done.take_parts();
+        out.meshes
+            .push(refined.map(|(positions, faces)| refined_mesh(target, positions, faces, &done.refinement, &[])));
         out.refinements.push(done.refinement);
     }
     Ok(out)

@@ -16,6 +16,7 @@ use super::error::invalid;
 use super::map::PendingDisplacement;
 use super::refine_setting::{AUTO_DOUBLINGS, MAX_EDGE_NEW_TRIANGLES, Refine};
 use super::{DentError, DentParams, Grid};
+use crate::mesh::weld::near_miss;
 use crate::mesh::{OrientedBox, RefineError, Refinement, TriMesh, refine_parts};
 
 /// The falloff a(z) below which the footprint ends in depth.
@@ -114,7 +115,9 @@ impl RefinedTarget {
     pub(crate) fn surface<'a>(&'a self, target: &'a TriMesh) -> (&'a [[u32; 3]], Cow<'a, [Vec3]>) {
         match &self.parts {
             None => (target.faces(), Cow::Borrowed(target.normals())),
-            Some((p, f)) => (f, Cow::Owned(TriMesh::from_valid(p.clone(), f.clone()).normals().to_vec())),
+            Some((p, f)) => {
+                (f, Cow::Owned(refined_mesh(target, p.clone(), f.clone(), &self.refinement, &[]).normals().to_vec()))
+            }
         }
     }
 
@@ -129,12 +132,13 @@ impl RefinedTarget {
     }
 
     /// Writes `pending` (displaced from [`positions`](Self::positions)) into `target` with the
-    /// refined faces.
+    /// refined faces; normals are recomputed only around what moved (new vertices interpolate
+    /// their parents').
     pub(crate) fn commit(&mut self, target: &mut TriMesh, pending: PendingDisplacement) -> super::DisplaceReport {
         match self.parts.take() {
             None => pending.commit(target),
             Some((_, faces)) => {
-                *target = TriMesh::from_valid(pending.positions, faces);
+                *target = refined_mesh(target, pending.positions, faces, &self.refinement, &pending.moved);
                 pending.report
             }
         }
@@ -148,8 +152,28 @@ impl RefinedTarget {
                 target.positions_mut().copy_from_slice(&positions);
                 target.recompute_normals_near(moved);
             }
-            Some((_, faces)) => *target = TriMesh::from_valid(positions, faces),
+            Some((_, faces)) => *target = refined_mesh(target, positions, faces, &self.refinement, moved),
         }
+    }
+}
+
+/// `target` after `refinement` (giving `positions` and `faces`) and a displacement that moved the
+/// vertices flagged in `moved`: base vertices keep their normals (an asset's authored ones stay
+/// bit for bit where nothing moved), new vertices get their parents' interpolated and
+/// renormalised, and the normals around moved vertices are recomputed.
+pub(crate) fn refined_mesh(
+    target: &TriMesh,
+    positions: Vec<Vec3>,
+    faces: Vec<[u32; 3]>,
+    refinement: &Refinement,
+    moved: &[bool],
+) -> TriMesh {
+    let nlerp = |a: &Vec3, b: &Vec3, t: f32| a.lerp(*b, t).normalize_or_zero();
+    match refinement.interpolate(target.normals(), nlerp) {
+        Ok(normals) if normals.len() == positions.len() => {
+            TriMesh::from_valid_with_normals(positions, faces, normals, moved)
+        }
+        _ => TriMesh::from_valid(positions, faces),
     }
 }
 
@@ -173,6 +197,11 @@ pub(crate) fn refine_for_dents(
     let mut size = None;
     for (k, dent) in dents.iter().enumerate() {
         dent.params.refine.validate().map_err(|e| (k, e))?;
+        let size = *size.get_or_insert_with(|| {
+            let (lo, hi) = target.bounds();
+            lo.distance(hi)
+        });
+        check_seams(target, dent, size).map_err(|e| (k, e))?;
         let (wanted, trigger, cap, auto) = match dent.params.refine {
             Refine::Off => {
                 out.per_dent.push(DentRefinement::default());
@@ -190,10 +219,6 @@ pub(crate) fn refine_for_dents(
             out.per_dent.push(DentRefinement::default());
             continue;
         }
-        let size = *size.get_or_insert_with(|| {
-            let (lo, hi) = target.bounds();
-            lo.distance(hi)
-        });
         let region = footprint_box(&dent.grid, dent.params, size);
         let mut done = DentRefinement::default();
         let (positions, faces) = match &out.parts {
@@ -244,6 +269,26 @@ pub(crate) fn refine_for_dents(
         out.per_dent.push(done);
     }
     Ok(out)
+}
+
+/// Vertices closer than this fraction of a dent map's cell, at different positions, are a seam
+/// whose sides nearly coincide: the map cannot tell them apart, yet they would not move as one.
+const NEAR_SEAM_CELLS: f32 = 1e-3;
+
+/// Refuses a dent whose footprint (on `target`, `size` across) holds two vertices that nearly but
+/// not exactly share a position ([`DentError::NearlyCoincidentVertices`]).
+fn check_seams(target: &TriMesh, dent: &Footprint<'_>, size: f32) -> Result<(), DentError> {
+    let region = footprint_box(&dent.grid, dent.params, size);
+    let inside = |p: Vec3| {
+        let r = p - region.centre;
+        (0..3).all(|i| r.dot(region.axes[i]).abs() <= region.half_extents[i])
+    };
+    let under: Vec<u32> =
+        (0..target.vertex_count() as u32).filter(|&v| inside(target.positions()[v as usize])).collect();
+    match near_miss(target.positions(), &under, NEAR_SEAM_CELLS * dent.grid.cell_size) {
+        Some((a, b, distance)) => Err(DentError::NearlyCoincidentVertices { a, b, distance }),
+        None => Ok(()),
+    }
 }
 
 /// The warning for a refinement that left `faces` too-coarse faces unsplit (`usize::MAX`: all of

@@ -15,6 +15,7 @@ use super::{DentMap, VolumeMode};
 use crate::mesh::face_grid::Aabb;
 use crate::mesh::face_sort::{FaceSort, MARK_A, MARK_B, out_code};
 use crate::mesh::in_coordinate_range;
+use crate::mesh::weld::position_key;
 
 /// Width of the rim past the crater's edge, in crater half-extents (on each of the map's axes).
 const RIM_WIDTH: f64 = 1.0;
@@ -216,7 +217,7 @@ fn rim_weights(
     let reach = (crater * (outer * outer + 1.0).sqrt() * 1.001) as f32;
     let bump = |x: f64| (1.0 - x * x).max(0.0).powi(2);
     let centre_lanes = Vec3A::from(centre);
-    let rim: Vec<(u32, DVec3)> = (0..before.len() as u32)
+    let mut lifted: Vec<(u32, f64, Option<DVec3>)> = (0..before.len() as u32)
         .zip(before)
         .filter(|(_, p)| Vec3A::from(**p).distance_squared(centre_lanes) < reach * reach)
         .filter_map(|(v, _)| {
@@ -227,11 +228,27 @@ fn rim_weights(
             }
             let lip = 1.0 - f64::from(shift(v) / deepest.max(f32::MIN_POSITIVE)).min(1.0);
             let w = bump(rho / outer) * bump(z / crater) * lip;
-            let n = normals.get(v as usize)?.as_dvec3().try_normalize()?;
-            (w > 0.0).then_some((v, w * n))
+            let n = normals.get(v as usize).and_then(|n| n.as_dvec3().try_normalize());
+            (w > 0.0).then_some((v, w, n))
         })
         .collect();
+    share_normals_at_seams(&mut lifted, before);
+    let rim: Vec<(u32, DVec3)> = lifted.into_iter().filter_map(|(v, w, n)| Some((v, w * n?))).collect();
     (!rim.is_empty()).then_some((rim, crater))
+}
+
+/// Gives the rim's vertices that share a position (the sides of a hard edge or a UV seam, each
+/// with the normal of its own faces) one normal, the normalised mean of theirs, so they rise
+/// together and the seam stays closed; their weights already agree (they depend on the position
+/// and the dent's displacement there only). A group whose mean vanishes does not rise.
+fn share_normals_at_seams(lifted: &mut [(u32, f64, Option<DVec3>)], before: &[Vec3]) {
+    let key = |v: u32| position_key(before[v as usize]);
+    lifted.sort_unstable_by_key(|&(v, _, _)| (key(v), v));
+    for group in lifted.chunk_by_mut(|a, b| key(a.0) == key(b.0)).filter(|g| g.len() > 1) {
+        let mean = group.iter().filter_map(|(_, _, n)| *n).sum::<DVec3>().try_normalize();
+        group.iter_mut().for_each(|(_, _, n)| *n = mean);
+    }
+    lifted.sort_unstable_by_key(|&(v, _, _)| v);
 }
 
 /// The root of `k₀ + k₁s + k₂s² + k₃s³` nearest zero on the side where the cubic starts toward

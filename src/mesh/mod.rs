@@ -36,6 +36,7 @@ mod subdivide;
 pub(crate) mod tri_tri;
 mod trimesh;
 pub(crate) mod umbrella;
+pub(crate) mod weld;
 
 #[cfg(feature = "io")]
 pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb, save_glb_scene};

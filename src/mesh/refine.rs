@@ -9,6 +9,10 @@
 //! carry its own per-vertex data (UVs, skin weights, colours) along
 //! ([`Refinement::interpolate`]).
 //!
+//! Vertices that share a position (a game mesh's hard edges and UV seams, `weld`) are one point
+//! of the surface: an edge is split on every side of a seam at once, each side getting its own
+//! new vertex at a bit-identical position, so the sides stay together.
+//!
 //! A refinement never makes faces cross that did not: where a rounded midpoint would (on a
 //! surface folded flat onto itself, see `refine_crossings`), the base faces involved are left
 //! unsplit ([`Refinement::held_back`]) and the refinement is run again without them.
@@ -20,6 +24,7 @@ use rayon::prelude::*;
 
 use super::TriMesh;
 use super::refine_crossings::{Pieces, crossings_made};
+use super::weld::Weld;
 
 /// Where a mesh is refined: a triangle is refined while it touches the region.
 pub trait RefineRegion: Sync {
@@ -308,7 +313,9 @@ fn refine_once(
     held_back: &HashSet<u32>,
 ) -> Result<Result<Refinement, Vec<u32>>, RefineError> {
     let base = Refinement { base_vertex_count: positions.len(), base_face_count: faces.len(), ..Default::default() };
+    let weld = Weld::of(positions);
     let mut refiner = Refiner {
+        weld,
         positions,
         faces,
         max_edge_sq: max_edge * max_edge,
@@ -323,7 +330,8 @@ fn refine_once(
     if candidates.is_empty() {
         return Ok(Ok(refiner.log));
     }
-    refiner.adjacency = Some(Adjacency::new(refiner.positions.len(), &refiner.faces[..]));
+    let welded: Vec<[u32; 3]> = refiner.faces.iter().map(|f| refiner.welded(*f)).collect();
+    refiner.adjacency = Some(Adjacency::new(refiner.positions.len(), &welded));
     if refiner.run(candidates, max_new_triangles).is_err() {
         refiner.roll_back();
         return Err(RefineError::TooManyTriangles { limit: max_new_triangles, max_edge });
@@ -353,7 +361,8 @@ pub(crate) fn any_too_long(positions: &[Vec3], faces: &[[u32; 3]], region: &dyn 
 }
 
 /// Vertex → faces, for the base mesh in one packed array, and for vertices a split touched in a
-/// list of their own.
+/// list of their own. Keyed by a group of vertices that share a position (its first vertex):
+/// the other vertices of a group have no list.
 struct Adjacency {
     offsets: Vec<u32>,
     packed: Vec<u32>,
@@ -410,6 +419,9 @@ impl Adjacency {
 }
 
 struct Refiner<'a> {
+    /// The groups of vertices that share a position (`None`: every vertex is its own), new
+    /// vertices included.
+    weld: Option<Weld>,
     positions: &'a mut Vec<Vec3>,
     faces: &'a mut Vec<[u32; 3]>,
     max_edge_sq: f32,
@@ -422,8 +434,9 @@ struct Refiner<'a> {
     held_back: &'a HashSet<u32>,
 }
 
-/// An undirected edge ordered by (squared length, low index, high index): a strict total order,
-/// so ties between equal lengths break the same way every run.
+/// An undirected edge between two groups of vertices (each named by its first vertex), ordered by
+/// (squared length, low index, high index): a strict total order, so ties between equal lengths
+/// break the same way every run.
 #[derive(Debug, Clone, Copy, PartialEq, PartialOrd)]
 struct EdgeKey {
     length_sq: f32,
@@ -440,7 +453,18 @@ impl Refiner<'_> {
         face[0] == face[1] || face[1] == face[2] || face[2] == face[0]
     }
 
+    /// The group of vertex `v`: the first vertex at its position.
+    fn group(&self, v: u32) -> u32 {
+        self.weld.as_ref().map_or(v, |w| w.canonical(v))
+    }
+
+    /// `face` with each corner replaced by its group.
+    fn welded(&self, face: [u32; 3]) -> [u32; 3] {
+        face.map(|v| self.group(v))
+    }
+
     fn edge(&self, a: u32, b: u32) -> EdgeKey {
+        let (a, b) = (self.group(a), self.group(b));
         let length_sq = self.positions[a as usize].distance_squared(self.positions[b as usize]);
         EdgeKey { length_sq, lo: a.min(b), hi: a.max(b) }
     }
@@ -460,7 +484,9 @@ impl Refiner<'_> {
     /// Whether face `f` touches the region with an edge longer than allowed.
     fn needs(&self, f: u32) -> bool {
         let face = self.faces[f as usize];
-        !Self::degenerate(face) && self.longest(f).length_sq > self.max_edge_sq && self.region.touches(self.corners(f))
+        !Self::degenerate(self.welded(face))
+            && self.longest(f).length_sq > self.max_edge_sq
+            && self.region.touches(self.corners(f))
     }
 
     /// Refines until no face in the queue needs it; `Err` when the cap is passed.
@@ -484,7 +510,8 @@ impl Refiner<'_> {
         Ok(())
     }
 
-    /// The faces (non-degenerate) on edge `lo`–`hi`, ascending.
+    /// The faces (non-degenerate) on the edge between groups `lo` and `hi`, on every side of a
+    /// seam, ascending.
     fn faces_on(&self, lo: u32, hi: u32) -> Vec<u32> {
         let adjacency = self.adjacency.as_ref().expect("adjacency is built before splitting");
         let mut on: Vec<u32> = adjacency
@@ -492,7 +519,7 @@ impl Refiner<'_> {
             .iter()
             .copied()
             .filter(|&f| {
-                let face = self.faces[f as usize];
+                let face = self.welded(self.faces[f as usize]);
                 face.contains(&hi) && !Self::degenerate(face)
             })
             .collect();
@@ -548,25 +575,27 @@ impl Refiner<'_> {
         }
     }
 
-    /// Bisects `edge` and every face on it; returns the faces changed or added.
+    /// Bisects `edge` and every face on it, with one new vertex for each side of a seam (all at
+    /// one position); returns the faces changed or added.
     fn split(&mut self, edge: EdgeKey) -> Vec<u32> {
         let (lo, hi) = (edge.lo, edge.hi);
         let on = self.faces_on(lo, hi);
-        let m = self.positions.len() as u32;
-        let (p, q) = (self.positions[lo as usize], self.positions[hi as usize]);
-        // Halving first cannot overflow, so finite ends give a finite midpoint.
-        self.positions.push(p * 0.5 + q * 0.5);
-        self.log.vertices.push(SplitVertex { parents: [lo, hi], fraction: 0.5 });
+        // Halving first cannot overflow, so finite ends give a finite midpoint; every side's
+        // new vertex is computed from the groups' own positions, so all are bit-identical.
+        let midpoint = self.positions[lo as usize] * 0.5 + self.positions[hi as usize] * 0.5;
+        let mut sides: Vec<([u32; 2], u32)> = Vec::with_capacity(2);
         let mut changed = Vec::with_capacity(2 * on.len());
         let mut middle = Vec::with_capacity(2 * on.len());
         for slot in on {
             let face = self.faces[slot as usize];
+            let welded = self.welded(face);
             // k: the corner where the edge starts in this face's winding.
             let k = (0..3).find(|&k| {
-                let (a, b) = (face[k], face[(k + 1) % 3]);
+                let (a, b) = (welded[k], welded[(k + 1) % 3]);
                 (a == lo && b == hi) || (a == hi && b == lo)
             });
             let Some(k) = k else { continue };
+            let m = self.side_vertex(&mut sides, [face[k], face[(k + 1) % 3]], lo, midpoint);
             let (b, c) = (face[(k + 1) % 3], face[(k + 2) % 3]);
             let mut kept = face;
             kept[(k + 1) % 3] = m;
@@ -584,6 +613,7 @@ impl Refiner<'_> {
                 self.log.face_parents[s - self.log.base_face_count]
             };
             self.log.face_parents.push(root);
+            let (b, c) = (self.group(b), self.group(c));
             let adjacency = self.adjacency.as_mut().expect("adjacency is built before splitting");
             let list = adjacency.edit(b);
             if let Some(at) = list.iter().position(|&x| x == slot) {
@@ -594,8 +624,30 @@ impl Refiner<'_> {
             middle.extend([slot, new]);
             changed.extend([slot, new]);
         }
-        *self.adjacency.as_mut().expect("adjacency is built before splitting").edit(m) = middle;
+        if let Some(&(_, first)) = sides.first() {
+            *self.adjacency.as_mut().expect("adjacency is built before splitting").edit(first) = middle;
+        }
         changed
+    }
+
+    /// The new vertex at `midpoint` on the side of the edge whose ends are the vertices `ends`
+    /// (`lo` the group of one of them): the one made for these ends already, or a new one
+    /// (recorded with its parents, in the group of the split's first new vertex).
+    fn side_vertex(&mut self, sides: &mut Vec<([u32; 2], u32)>, ends: [u32; 2], lo: u32, midpoint: Vec3) -> u32 {
+        let key = [ends[0].min(ends[1]), ends[0].max(ends[1])];
+        if let Some(&(_, m)) = sides.iter().find(|(k, _)| *k == key) {
+            return m;
+        }
+        let m = self.positions.len() as u32;
+        self.positions.push(midpoint);
+        let parents = if self.group(ends[0]) == lo { ends } else { [ends[1], ends[0]] };
+        self.log.vertices.push(SplitVertex { parents, fraction: 0.5 });
+        let group = sides.first().map_or(m, |&(_, first)| first);
+        if let Some(weld) = self.weld.as_mut() {
+            weld.push(group);
+        }
+        sides.push((key, m));
+        m
     }
 
     /// Undoes every split: the parts are as they were given.
@@ -605,6 +657,9 @@ impl Refiner<'_> {
         }
         self.faces.truncate(self.log.base_face_count);
         self.positions.truncate(self.log.base_vertex_count);
+        if let Some(weld) = self.weld.as_mut() {
+            weld.truncate(self.log.base_vertex_count);
+        }
     }
 }
 

@@ -37,6 +37,40 @@ impl TriMesh {
         Ok(mesh)
     }
 
+    /// Builds a mesh with the caller's own vertex normals (an asset's authored ones: hard edges,
+    /// smoothing groups), validated like [`new`](Self::new). They are kept bit for bit until the
+    /// mesh moves: a dent recomputes only the normals around the vertices it moved
+    /// ([`recompute_normals_near`](Self::recompute_normals_near)) and gives new vertices their
+    /// parents' normals interpolated.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new); [`MeshError::LengthMismatch`] when `normals` has not one entry per
+    /// position, [`MeshError::InvalidParameter`] for a non-finite normal.
+    pub fn with_normals(positions: Vec<Vec3>, faces: Vec<[u32; 3]>, normals: Vec<Vec3>) -> Result<Self, MeshError> {
+        validate(&positions, &faces)?;
+        if normals.len() != positions.len() {
+            return Err(MeshError::LengthMismatch { expected: positions.len(), actual: normals.len() });
+        }
+        if let Some(index) = normals.iter().position(|n| !n.is_finite()) {
+            return Err(MeshError::InvalidParameter(format!("normal {index} = {} is not finite", normals[index])));
+        }
+        Ok(Self { positions, faces, normals })
+    }
+
+    /// A mesh from parts the caller guarantees valid, with `normals` (one per vertex) kept
+    /// except around the vertices flagged in `moved`, which are recomputed.
+    pub(crate) fn from_valid_with_normals(
+        positions: Vec<Vec3>,
+        faces: Vec<[u32; 3]>,
+        normals: Vec<Vec3>,
+        moved: &[bool],
+    ) -> Self {
+        debug_assert!(validate(&positions, &faces).is_ok() && normals.len() == positions.len());
+        let mut mesh = Self { positions, faces, normals };
+        mesh.recompute_normals_near(moved);
+        mesh
+    }
+
     /// Builds a mesh from parts the caller guarantees valid (the crate's own generators and
     /// subdivision), computing vertex normals; the invariants are checked in debug builds only.
     pub(crate) fn from_valid(positions: Vec<Vec3>, faces: Vec<[u32; 3]>) -> Self {

@@ -2,7 +2,9 @@
 //! dented and their mesh assets updated at once, GPU-path dents go to the render world.
 
 use bevy::prelude::*;
-use dentbend::dent::{Hit, Impact, Surface};
+use std::collections::HashSet;
+
+use dentbend::dent::{AppliedDent, Hit, Impact, Surface};
 
 use crate::backend::SplitBackend;
 use crate::link::{MainLink, ToMain, ToRender};
@@ -19,6 +21,7 @@ pub(crate) fn decide_dents(
     mut stats: ResMut<DentStats>,
     mut applied: MessageWriter<DentApplied>,
     mut dented: MessageWriter<MeshDented>,
+    names: Query<&Name>,
 ) {
     let contacts: Vec<DentContact> = contacts.read().copied().collect();
     world.step += 1;
@@ -78,13 +81,26 @@ pub(crate) fn decide_dents(
     }
     for dent in &plan.dents {
         let path = if world.on_gpu.contains(&dent.target) { DentPath::Gpu } else { DentPath::Cpu };
-        if path == DentPath::Cpu {
-            stats.dents += 1;
-        }
+        let (depth_made, limited_to) = match path {
+            DentPath::Gpu => (None, None),
+            DentPath::Cpu => {
+                count_cpu_dent(&mut stats, dent);
+                if dent.moved_vertices == 0 {
+                    warn_empty_once(&mut world.warned_empty, dent, &names);
+                }
+                (Some(dent.depth_made), dent.limited_to)
+            }
+        };
         let (target, projectile, impact, dent_distance) =
             (dent.target, dent.projectile, dent.impact, dent.dent_distance);
-        applied.write(DentApplied { target, projectile, impact, dent_distance, path });
+        applied.write(DentApplied { target, projectile, impact, dent_distance, depth_made, limited_to, path });
     }
+    stats.refined_triangles += plan
+        .targets
+        .iter()
+        .filter(|t| !world.on_gpu.contains(&t.key))
+        .map(|t| t.refinement.added_faces() as u64)
+        .sum::<u64>();
     let cpu_targets: Vec<_> = plan.targets.into_iter().filter(|t| !world.on_gpu.contains(&t.key)).collect();
     for t in &cpu_targets {
         let Some(body) = world.bodies.get(&t.key) else { continue };
@@ -96,6 +112,31 @@ pub(crate) fn decide_dents(
         dented.write(MeshDented { entity: t.key, moved: t.moved.clone(), topology_changed: t.topology_changed });
     }
     world.targets.apply(cpu_targets);
+}
+
+/// Counts a dent made on the CPU path.
+fn count_cpu_dent(stats: &mut DentStats, dent: &AppliedDent<Entity>) {
+    stats.dents += 1;
+    stats.cpu_dents += 1;
+    stats.limited_dents += u64::from(dent.limited_to.is_some());
+    stats.empty_dents += u64::from(dent.moved_vertices == 0);
+}
+
+/// Logs, once per body, that a dent on it moved nothing, naming it and what fixes it.
+fn warn_empty_once(warned: &mut HashSet<Entity>, dent: &AppliedDent<Entity>, names: &Query<&Name>) {
+    if !warned.insert(dent.target) {
+        return;
+    }
+    let name = names.get(dent.target).map_or_else(|_| format!("{}", dent.target), |n| format!("{n} ({})", dent.target));
+    let why = match dent.limited_to {
+        Some(_) => "the intersection guard limited it to nothing (any deeper, faces would cross or turn over)",
+        None => "no vertex lies under its map (the mesh is too coarse there)",
+    };
+    warn!(
+        "bevy_dentbend: a {:.3} m dent on {name} moved no vertex: {why}; give the body a finer mesh, or settings with \
+         refinement (`Refine::Auto`, the default of `DentSettings`), so that dents take their shape",
+        dent.dent_distance
+    );
 }
 
 /// Takes what the render world sent: batch counts and the collider read-backs, which update the

@@ -16,8 +16,15 @@ pub struct DentApplied {
     pub projectile: Entity,
     /// The impact, world coordinates at the start of the step.
     pub impact: Impact,
-    /// How deep the dent is, m.
+    /// How deep the dent was decided to be, m.
     pub dent_distance: f32,
+    /// How deep it really is, m: its largest vertex displacement (0 when it moved nothing; less
+    /// than `dent_distance` when the intersection guard limited it or the mesh under it is
+    /// coarse). `None` on the GPU path, whose dents are made after this message.
+    pub depth_made: Option<f32>,
+    /// Fraction of the displacement the intersection guard kept (`None`: not limited, or on the
+    /// GPU path).
+    pub limited_to: Option<f32>,
     /// Where it was computed.
     pub path: DentPath,
 }

@@ -6,9 +6,10 @@ use bevy::prelude::*;
 use crate::link::{GpuStatus, MainLink, ToRender};
 use dentbend::TriMesh;
 
-use crate::mesh_data::{SlabLayout, add_missing_normals, private_copy, slab_layout, tri_mesh};
+use crate::mesh_data::{SlabLayout, add_missing_normals, private_copy, slab_layout, tri_mesh, write_vertices};
 use crate::world::BodyInfo;
 use crate::{DentPath, DentProjectile, DentWorld, Dentable};
+use bevy::mesh::VertexAttributeValues;
 
 /// Marks an entity the plug-in has registered.
 #[derive(Component, Debug, Clone, Copy)]
@@ -43,10 +44,44 @@ pub(crate) fn prepare_mesh(entity: Entity, mesh: &Mesh, verb: &str) -> Result<(M
         if add_missing_normals(&mut copy, &tri)? {
             info!("bevy_dentbend: {entity}'s mesh had no normals; smooth normals were added");
         }
+        let mut tri = with_asset_normals(entity, &copy, tri);
+        let snapped = close_seams(&mut tri);
+        if snapped > 0 {
+            info!("bevy_dentbend: {entity}'s mesh had {snapped} seam vertices a few ulps off their twins; snapped together");
+            write_vertices(&mut copy, tri.positions(), tri.normals())?;
+        }
         let layout = slab_layout(&copy)?;
         Ok((tri, layout))
     });
     prepared.map(|(tri, layout)| (copy, tri, layout)).map_err(|e| format!("its mesh cannot {verb}: {e}"))
+}
+
+/// Seam vertices closer than this fraction of a mesh's bounding-box diagonal to their twin are
+/// snapped onto it: generators and exporters leave a UV seam or a pole a few ulps apart (Bevy's
+/// UV sphere computes its seam column at 2π), which the dent stages would refuse.
+const SEAM_SNAP_FRACTION: f32 = 1e-5;
+
+/// `tri` carrying `mesh`'s own normals (so surfaces no dent touched keep their shading bit for
+/// bit, hard edges included); its smooth normals when the asset's are unusable.
+fn with_asset_normals(entity: Entity, mesh: &Mesh, tri: TriMesh) -> TriMesh {
+    let Ok(Some(VertexAttributeValues::Float32x3(normals))) = mesh.try_attribute_option(Mesh::ATTRIBUTE_NORMAL) else {
+        return tri;
+    };
+    let normals: Vec<Vec3> = normals.iter().map(|&n| Vec3::from_array(n)).collect();
+    match TriMesh::with_normals(tri.positions().to_vec(), tri.faces().to_vec(), normals) {
+        Ok(authored) => authored,
+        Err(e) => {
+            warn!("bevy_dentbend: {entity}'s normals are unusable ({e}); smooth normals are used instead");
+            tri
+        }
+    }
+}
+
+/// Snaps `tri`'s nearly coincident seam vertices together ([`SEAM_SNAP_FRACTION`]); how many
+/// moved.
+fn close_seams(tri: &mut TriMesh) -> usize {
+    let (lo, hi) = tri.bounds();
+    tri.snap_seams(SEAM_SNAP_FRACTION * lo.distance(hi)).unwrap_or(0)
 }
 
 /// Registers each new dentable body once its mesh asset is loaded ([`prepare_mesh`]).

@@ -20,6 +20,15 @@ pub struct DentStats {
     pub gpu_batches: u64,
     /// Contacts that could not dent (unknown or despawned bodies, bad values), logged.
     pub rejected_contacts: u64,
+    /// Dents made on the CPU path.
+    pub cpu_dents: u64,
+    /// Triangles refinement added under CPU-path dents.
+    pub refined_triangles: u64,
+    /// CPU-path dents the intersection guard scaled back.
+    pub limited_dents: u64,
+    /// CPU-path dents that moved no vertex (the mesh too coarse under them, or the guard
+    /// limited them to nothing); each body's first is logged with its fix.
+    pub empty_dents: u64,
 }
 
 /// Which path a dentable body's dents take.

@@ -31,6 +31,8 @@ pub struct DentWorld {
     /// Bodies on the GPU path (the keys the split backend queues).
     pub(crate) on_gpu: HashSet<Entity>,
     pub(crate) step: u64,
+    /// Bodies whose first dent that moved nothing has been logged.
+    pub(crate) warned_empty: HashSet<Entity>,
 }
 
 impl DentWorld {

@@ -1,0 +1,116 @@
+//! Bevy's own meshes as game assets: a UV sphere (a seam column computed at 2π, a row of
+//! vertices at each pole) and a `Cuboid` (24 vertices split at its hard edges) dent with the game
+//! settings (refinement, volume rim, guard) on the CPU path. Registration keeps their shading:
+//! the authored normals stay bit for bit until a dent moves the surface around them, and after
+//! one only the normals near it change. Reports tell the depth the dent really made.
+
+mod common;
+
+use std::process::ExitCode;
+
+use bevy::prelude::*;
+use bevy_dentbend::dentbend::dent::{DentSettings, VolumeMode};
+use bevy_dentbend::{DentApplied, DentPath, DentStats, DentWorld, Dentable};
+use common::SPEED_OK;
+
+/// Every `DentApplied` written so far.
+#[derive(Resource, Default)]
+struct Seen(Vec<DentApplied>);
+
+fn collect(mut seen: ResMut<Seen>, mut applied: MessageReader<DentApplied>) {
+    seen.0.extend(applied.read().copied());
+}
+
+/// The game dent: the scene's material (1 m/s threshold, 1 cm per m/s, at most 8 cm) with the
+/// volume rim and the default refinement and guard.
+fn game_dentable() -> Dentable {
+    let mut settings = DentSettings::new(1.0, 0.01, 0.08);
+    settings.params.volume = VolumeMode::Preserve;
+    Dentable::with_settings(settings)
+}
+
+/// The asset's normals.
+fn normals_of(mesh: &Mesh) -> Vec<Vec3> {
+    match mesh.attribute(Mesh::ATTRIBUTE_NORMAL) {
+        Some(bevy::mesh::VertexAttributeValues::Float32x3(n)) => n.iter().map(|n| Vec3::from_array(*n)).collect(),
+        _ => panic!("the asset has no Float32x3 normals"),
+    }
+}
+
+/// The scripted scene with `asset` (its top at the plate's top, y = 0 in the world) as the
+/// dentable body on the CPU path; registered.
+fn scene_with_asset(asset: Mesh) -> common::Scene {
+    let mut s = common::scene_dentable(false, game_dentable());
+    let handle = s.app.world_mut().resource_mut::<Assets<Mesh>>().add(asset);
+    s.app.world_mut().entity_mut(s.target).insert((Mesh3d(handle), Name::new("asset under test")));
+    s.app.init_resource::<Seen>().add_systems(Update, collect);
+    s.warm_up(false);
+    s
+}
+
+/// The body's registered asset (the plug-in's private copy).
+fn registered_asset(s: &common::Scene) -> Mesh {
+    let handle = &s.app.world().get::<Mesh3d>(s.target).expect("a mesh").0;
+    s.app.world().resource::<Assets<Mesh>>().get(handle).expect("the asset").clone()
+}
+
+/// Hits `asset` at the top, head-on; checks the dent is made as reported and that the normals
+/// of every vertex below `far_below` (mesh y) stay the asset's, bit for bit, before and after.
+fn dents_and_keeps_far_normals(asset: Mesh, far_below: f32) -> DentStats {
+    let original = normals_of(&asset);
+    let positions: Vec<Vec3> = match asset.attribute(Mesh::ATTRIBUTE_POSITION) {
+        Some(bevy::mesh::VertexAttributeValues::Float32x3(p)) => p.iter().map(|p| Vec3::from_array(*p)).collect(),
+        _ => panic!("no positions"),
+    };
+    let mut s = scene_with_asset(asset);
+    assert_eq!(s.app.world().resource::<DentWorld>().path(s.target), Some(DentPath::Cpu));
+    let registered = normals_of(&registered_asset(&s));
+    let changed = (0..original.len()).find(|&v| registered[v] != original[v]);
+    assert_eq!(changed, None, "registration changed the shading of a vertex");
+
+    s.hit(0.0, 0.0, SPEED_OK);
+    s.until("the dent", 60, |w| w.resource::<DentStats>().dents == 1);
+    s.frames(2);
+    let seen = &s.app.world().resource::<Seen>().0;
+    assert_eq!(seen.len(), 1, "{seen:?}");
+    let applied = seen[0];
+    // 1 cm per m/s above 1 m/s at 5 m/s: 4 cm decided.
+    assert!((applied.dent_distance - 0.04).abs() < 1e-4, "{applied:?}");
+    let depth = applied.depth_made.expect("a CPU-path dent reports its depth");
+    // The guard may limit it, but the dent must be made (a half at least: nothing crosses here).
+    assert!(depth >= 0.5 * applied.dent_distance && depth <= 1.01 * applied.dent_distance, "{applied:?}");
+    let after = normals_of(&registered_asset(&s));
+    let far: Vec<usize> = (0..positions.len()).filter(|&v| positions[v].y < far_below).collect();
+    assert!(!far.is_empty());
+    for v in far {
+        assert_eq!(after[v], original[v], "vertex {v} far below the dent changed its normal");
+    }
+    let stats = s.stats();
+    assert_eq!((stats.cpu_dents, stats.empty_dents), (1, 0), "{stats:?}");
+    stats
+}
+
+/// A 1 m UV sphere whose top is at y = 0.1 (the plate's top face in its own coordinates).
+fn uv_sphere() -> Mesh {
+    Sphere::new(0.5).mesh().uv(32, 18).translated_by(Vec3::new(0.0, -0.4, 0.0))
+}
+
+fn a_bevy_uv_sphere_dents_and_keeps_its_shading() {
+    dents_and_keeps_far_normals(uv_sphere(), -0.3);
+}
+
+fn a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges() {
+    // 1 × 0.2 × 1 m: one quad per side; its top at y = 0.1.
+    let stats = dents_and_keeps_far_normals(Cuboid::new(1.0, 0.2, 1.0).mesh().build(), 0.0);
+    assert!(stats.refined_triangles > 0, "{stats:?}");
+}
+
+fn main() -> ExitCode {
+    common::run(vec![
+        ("a_bevy_uv_sphere_dents_and_keeps_its_shading", a_bevy_uv_sphere_dents_and_keeps_its_shading),
+        (
+            "a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges",
+            a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges,
+        ),
+    ])
+}

@@ -1,0 +1,175 @@
+//! Vertices that share a position. Game meshes split a vertex wherever an attribute is
+//! discontinuous (a hard edge's two normals, a UV seam, a material boundary), so one point of the
+//! surface is several vertices there, each with the faces of its own side. Every stage that
+//! reasons about the surface (refinement, the volume rim) treats such vertices as one point and
+//! moves them identically, so a closed asset stays closed.
+//!
+//! Positions are compared bit for bit (with −0 equal to +0): a seam whose vertices merely lie
+//! close is found by [`near_miss`] and refused by the dent stages, since no stage could keep
+//! its sides together.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use super::{MeshError, TriMesh};
+
+/// A position's key: its bits, with −0 taken as +0.
+pub(crate) fn position_key(p: Vec3) -> [u32; 3] {
+    // Adding +0 turns −0 into +0 and leaves every other value as it is.
+    (p + Vec3::ZERO).to_array().map(f32::to_bits)
+}
+
+/// The smallest-index vertex of every group of vertices that share a position.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Weld {
+    /// `canonical[v]`: the first vertex at `v`'s position (`v` itself when it is alone).
+    canonical: Vec<u32>,
+}
+
+impl Weld {
+    /// The groups of `positions`; `None` when no two vertices share a position (most meshes
+    /// built for simulation: then every vertex is its own point).
+    pub(crate) fn of(positions: &[Vec3]) -> Option<Self> {
+        let mut first: HashMap<[u32; 3], u32> = HashMap::with_capacity(positions.len());
+        let mut canonical: Vec<u32> = Vec::with_capacity(positions.len());
+        let mut shared = false;
+        for (v, &p) in positions.iter().enumerate() {
+            let c = *first.entry(position_key(p)).or_insert(v as u32);
+            shared |= c != v as u32;
+            canonical.push(c);
+        }
+        shared.then_some(Self { canonical })
+    }
+
+    /// The group of vertex `v` (its first vertex); a vertex past the ones known is its own.
+    pub(crate) fn canonical(&self, v: u32) -> u32 {
+        self.canonical.get(v as usize).copied().unwrap_or(v)
+    }
+
+    /// Records vertex `v` (the next index) as a member of the group of `group`.
+    pub(crate) fn push(&mut self, group: u32) {
+        self.canonical.push(group);
+    }
+
+    /// Forgets the vertices from `len` on.
+    pub(crate) fn truncate(&mut self, len: usize) {
+        self.canonical.truncate(len);
+    }
+}
+
+/// Two of the vertices `candidates` of `positions` that lie within `tolerance` (world units, > 0)
+/// of each other without sharing a position, and their distance; `None` when there are none.
+/// A hash grid of cell `tolerance`: each vertex is compared with those of its 27 cells.
+pub(crate) fn near_miss(positions: &[Vec3], candidates: &[u32], tolerance: f32) -> Option<(u32, u32, f32)> {
+    if !(tolerance.is_finite() && tolerance > 0.0) || candidates.len() < 2 {
+        return None;
+    }
+    // f64 cells: within the coordinate range even a tiny tolerance numbers them exactly.
+    let cell = |p: Vec3| (p.as_dvec3() / f64::from(tolerance)).floor().as_i64vec3().to_array();
+    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(candidates.len());
+    for &v in candidates {
+        cells.entry(cell(positions[v as usize])).or_default().push(v);
+    }
+    for &v in candidates {
+        let p = positions[v as usize];
+        let [x, y, z] = cell(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let Some(near) = cells.get(&[x + dx, y + dy, z + dz]) else { continue };
+                    for &w in near.iter().filter(|&&w| w > v) {
+                        let q = positions[w as usize];
+                        let distance = p.distance(q);
+                        if distance <= tolerance && position_key(p) != position_key(q) {
+                            return Some((v, w, distance));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    None
+}
+
+impl TriMesh {
+    /// Closes seams whose sides nearly coincide: every vertex within `tolerance` (world units,
+    /// finite and ≥ 0) of an earlier vertex that stays where it is takes that vertex's position
+    /// exactly. Exporters and generators often leave a UV seam's or a pole's vertices a few
+    /// ulps apart (a sphere's seam column computed at 2π instead of 0); the dent stages refuse
+    /// those ([`DentError::NearlyCoincidentVertices`](crate::DentError::NearlyCoincidentVertices))
+    /// until they are snapped together. Returns how many vertices moved. Normals are kept as
+    /// they are: a move within the tolerance changes no shading, and an asset's authored normals
+    /// (a seam's sides may differ on purpose) stay bit for bit.
+    ///
+    /// # Errors
+    /// [`MeshError::InvalidParameter`] for a negative or non-finite `tolerance`; the mesh is
+    /// unchanged then.
+    pub fn snap_seams(&mut self, tolerance: f32) -> Result<usize, MeshError> {
+        if !(tolerance.is_finite() && tolerance >= 0.0) {
+            return Err(MeshError::InvalidParameter(format!(
+                "snap_seams tolerance {tolerance} must be finite and >= 0"
+            )));
+        }
+        if tolerance == 0.0 {
+            return Ok(0);
+        }
+        let cell = |p: Vec3| (p.as_dvec3() / f64::from(tolerance)).floor().as_i64vec3().to_array();
+        let mut anchors: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        let mut moved = 0;
+        let mut positions = self.positions().to_vec();
+        for v in 0..positions.len() {
+            let p = positions[v];
+            let [x, y, z] = cell(p);
+            let neighbours =
+                (-1..=1).flat_map(|dx| (-1..=1).flat_map(move |dy| (-1..=1).map(move |dz| [x + dx, y + dy, z + dz])));
+            let anchor = neighbours
+                .filter_map(|c| anchors.get(&c))
+                .flatten()
+                .copied()
+                .filter(|&a| positions[a as usize].distance(p) <= tolerance)
+                .min();
+            match anchor {
+                Some(a) if position_key(positions[a as usize]) != position_key(p) => {
+                    positions[v] = positions[a as usize];
+                    moved += 1;
+                }
+                Some(_) => {}
+                None => anchors.entry([x, y, z]).or_default().push(v as u32),
+            }
+        }
+        if moved > 0 {
+            self.positions_mut().copy_from_slice(&positions);
+        }
+        Ok(moved)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn groups_vertices_that_share_a_position() {
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::new(-0.0, 0.0, 0.0), Vec3::X, Vec3::Y];
+        let weld = Weld::of(&positions).expect("two pairs share a position");
+        let groups: Vec<u32> = (0..5).map(|v| weld.canonical(v)).collect();
+        assert_eq!(groups, [0, 1, 0, 1, 4]);
+        assert_eq!(weld.canonical(9), 9);
+    }
+
+    #[test]
+    fn a_mesh_without_shared_positions_has_no_weld() {
+        assert_eq!(Weld::of(&[Vec3::ZERO, Vec3::X, Vec3::Y]), None);
+    }
+
+    #[test]
+    fn finds_vertices_that_nearly_coincide() {
+        let nudged = Vec3::new(1.0 + 4.0 * f32::EPSILON, 0.0, 0.0);
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::X, nudged, Vec3::Y];
+        assert_eq!(near_miss(&positions, &[0, 1, 2, 4], 1e-5), None, "bit-identical vertices are a seam");
+        let (a, b, distance) = near_miss(&positions, &[0, 1, 2, 3, 4], 1e-5).expect("a near miss");
+        assert!(a != b && [a, b].contains(&3) && distance > 0.0 && distance <= 1e-5);
+        assert_eq!(near_miss(&positions, &[0, 1, 2, 3, 4], 1e-9), None, "farther apart than the tolerance");
+    }
+}
