@@ -72,6 +72,10 @@ impl Asset {
 
 /// Every attribute extended to the new vertices (see [`Asset::follow_dent`] for the rules).
 fn interpolate(old: &VertexAttributes, r: &Refinement) -> Result<VertexAttributes, RefineError> {
+    if r.vertices.is_empty() {
+        // Also an empty `Refinement::default()`, whose base counts are zero.
+        return Ok(old.clone());
+    }
     let lerp2 = |s: &Vec<glam::Vec2>| r.interpolate(s, |a, b, t| a.lerp(*b, t));
     let lerp4 = |s: &Vec<Vec4>| r.interpolate(s, |a, b, t| a.lerp(*b, t));
     let normal = |a: &Vec3, b: &Vec3, t| a.lerp(*b, t).normalize_or_zero();
