@@ -127,7 +127,7 @@ fn nearer<'a, T>(a: &'a T, b: &'a T, t: f32) -> &'a T {
 /// Skin influences of the new vertices (see [`Asset::follow_dent`] for the rule).
 fn follow_skin(skin: &Skin, refinement: &Refinement) -> Result<Skin, RefineError> {
     let pairs: Vec<([u16; 4], Vec4)> = skin.joints.iter().copied().zip(skin.weights.iter().copied()).collect();
-    let merged = refinement.interpolate(&pairs, |a, b, t| merge_influences(a, b, t))?;
+    let merged = refinement.interpolate(&pairs, merge_influences)?;
     Ok(Skin { joints: merged.iter().map(|p| p.0).collect(), weights: merged.iter().map(|p| p.1).collect() })
 }
 

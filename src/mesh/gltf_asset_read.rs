@@ -93,8 +93,11 @@ struct Columns {
     any_tangent: bool,
     any_skin: bool,
     /// Vertices already read, by attribute accessors and world matrix: their first index.
-    shared: HashMap<(Vec<(String, usize)>, [u32; 16]), u32>,
+    shared: HashMap<SharedKey, u32>,
 }
+
+/// A primitive's attribute accessors by semantic (sorted) and its world matrix's bits.
+type SharedKey = (Vec<(String, usize)>, [u32; 16]);
 
 struct Reader<'a> {
     root: &'a Root,

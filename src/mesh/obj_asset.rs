@@ -14,6 +14,9 @@ use super::{Asset, MeshError, TriMesh};
 /// One face corner: `v`, `vt`, `vn` indices, zero-based (`vt`/`vn` optional).
 type Corner = (u32, Option<u32>, Option<u32>);
 
+/// The `vt` and `vn` indices a vertex is used with (`None`: no face uses it yet).
+type Pair = Option<(Option<u32>, Option<u32>)>;
+
 /// Reads an OBJ file as an asset (see [`parse_obj_asset`]).
 ///
 /// # Errors
@@ -164,7 +167,7 @@ impl State {
     fn into_asset(self, fail: &impl Fn(usize, String) -> MeshError) -> Result<Asset, MeshError> {
         let n = self.positions.len();
         let mut positions = self.positions;
-        let mut pairs: Vec<Option<(Option<u32>, Option<u32>)>> = vec![None; n];
+        let mut pairs: Vec<Pair> = vec![None; n];
         let mut extra: HashMap<Corner, u32> = HashMap::new();
         let mut faces = Vec::with_capacity(self.triangles.len());
         for (triangle, line) in &self.triangles {
@@ -197,15 +200,12 @@ impl State {
         let mesh = TriMesh::new(positions, faces)?;
         let mut attributes = VertexAttributes::default();
         if pairs.iter().flatten().any(|p| p.0.is_some()) {
-            let uv = |p: &Option<(Option<u32>, Option<u32>)>| {
-                p.and_then(|p| p.0).map_or(Vec2::ZERO, |i| self.texcoords[i as usize])
-            };
+            let uv = |p: &Pair| p.and_then(|p| p.0).map_or(Vec2::ZERO, |i| self.texcoords[i as usize]);
             attributes.uvs.push(pairs.iter().map(uv).collect());
         }
         if pairs.iter().flatten().any(|p| p.1.is_some()) {
-            let normal = |(p, &smooth): (&Option<(Option<u32>, Option<u32>)>, &Vec3)| {
-                p.and_then(|p| p.1).map_or(smooth, |i| self.normals[i as usize])
-            };
+            let normal =
+                |(p, &smooth): (&Pair, &Vec3)| p.and_then(|p| p.1).map_or(smooth, |i| self.normals[i as usize]);
             attributes.normals = Some(pairs.iter().zip(mesh.normals()).map(normal).collect());
         }
         Ok(Asset::new(mesh, attributes, self.groups, self.face_groups)?.with_material_libraries(self.libraries))
