@@ -110,3 +110,47 @@ fn a_dent_that_does_not_fit_is_refused_and_changes_nothing() {
     assert!(matches!(result, Err(MeshError::DentMismatch { what: "a moved vertex", .. })), "{result:?}");
     assert_eq!(asset, before);
 }
+
+#[test]
+fn tangents_stay_perpendicular_and_skin_weights_sum_to_one() {
+    let (asset, dented, refinement, moved) = dented_crate();
+    let (mesh, attributes, groups, face_groups, _) = asset.into_parts();
+    let n = mesh.vertex_count();
+    let normals = attributes.normals.clone().unwrap();
+    let dressed = dentbend::mesh::VertexAttributes {
+        tangents: Some(
+            normals.iter().map(|n| n.any_orthonormal_vector().extend(if n.x < 0.0 { -1.0 } else { 1.0 })).collect(),
+        ),
+        skin: Some(dentbend::mesh::Skin {
+            joints: (0..n as u16).map(|v| [v % 5, 5 + v % 3, 9, 10]).collect(),
+            weights: (0..n)
+                .map(|v| {
+                    let mut w = [0.4, 0.3, 0.2, 0.1];
+                    w.rotate_left(v % 4);
+                    dentbend::glam::Vec4::from_array(w)
+                })
+                .collect(),
+        }),
+        ..attributes
+    };
+    let mut asset = Asset::new(mesh, dressed, groups, face_groups).unwrap();
+    asset.follow_dent(dented, &refinement, &moved).unwrap();
+    let a = asset.attributes();
+    let (normals, tangents, skin) =
+        (a.normals.as_ref().unwrap(), a.tangents.as_ref().unwrap(), a.skin.as_ref().unwrap());
+    for (k, split) in refinement.vertices.iter().enumerate() {
+        let v = n + k;
+        let (t, normal) = (tangents[v], normals[v]);
+        // Tolerances: a few f32 roundings of a unit vector.
+        assert!((normal.length() - 1.0).abs() < 1e-5, "vertex {v}: normal {normal}");
+        assert!((t.truncate().length() - 1.0).abs() < 1e-5 && t.truncate().dot(normal).abs() < 1e-5, "vertex {v}: {t}");
+        let nearer = split.parents[usize::from(split.fraction >= 0.5)];
+        assert_eq!(t.w, tangents[nearer as usize].w, "vertex {v}: handedness not its nearer parent's");
+        let w = skin.weights[v];
+        assert!((w.element_sum() - 1.0).abs() < 1e-5 && w.min_element() >= 0.0, "vertex {v}: weights {w}");
+        // The four largest merged influences, largest first.
+        assert!(w.x >= w.y && w.y >= w.z && w.z >= w.w, "vertex {v}: weights {w} not sorted");
+        let [a, b] = split.parents.map(|p| skin.joints[p as usize]);
+        assert!(skin.joints[v].iter().zip(w.to_array()).all(|(j, wt)| wt == 0.0 || a.contains(j) || b.contains(j)));
+    }
+}
