@@ -310,3 +310,73 @@ fn refine_lets_a_coarse_cube_take_the_dent_and_says_how_much_it_added() {
         assert!(!out.exists());
     }
 }
+
+/// Runs `dentbend dent` of a 0.5-radius ball 0.1 deep into the top of the 2 m cube `target`
+/// at (0.3, 1, 0.2), written to `out`.
+fn dent_top(target: &str, out: &Path) -> std::process::Output {
+    let out = out.to_str().unwrap();
+    dentbend(&[
+        "dent",
+        "--target",
+        target,
+        "--projectile",
+        "sphere",
+        "--scale",
+        "0.5",
+        "--translate",
+        "0.3,1.5,0.2",
+        "--point",
+        "0.3,1,0.2",
+        "--normal=0,-1,0",
+        "--dent-distance",
+        "0.1",
+        "--out",
+        out,
+    ])
+}
+
+#[test]
+fn an_obj_asset_keeps_its_uvs_normals_groups_and_materials() {
+    let dir = TempDir::new("asset-obj");
+    let input = dir.path("crate.obj");
+    let mut obj = "mtllib crate.mtl\no crate\nusemtl wood\n".to_owned();
+    obj.push_str(&dentbend::mesh::obj_asset_text(&dentbend::mesh::builtin_asset("crate").unwrap()));
+    std::fs::write(&input, &obj).unwrap();
+    let out = dir.path("dented.obj");
+    let output = dent_top(input.to_str().unwrap(), &out);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let written = std::fs::read_to_string(&out).unwrap();
+    let count = |prefix: &str| written.lines().filter(|l| l.starts_with(prefix)).count();
+    let (vertices, faces) = (count("v "), count("f "));
+    assert!(vertices > 24 && faces > 12, "{vertices} vertices, {faces} faces: not refined");
+    assert_eq!((count("vt "), count("vn ")), (vertices, vertices));
+    for line in ["mtllib crate.mtl", "o crate", "usemtl wood"] {
+        assert!(written.lines().any(|l| l == line), "{line} lost");
+    }
+    let asset = dentbend::mesh::parse_obj_asset(&written).unwrap();
+    assert_eq!(asset.mesh().vertex_count(), vertices);
+    // The bottom side (y = −1) is far from the dent: its four corners keep its normal, and the
+    // sides' vertices beside them theirs (hard edges).
+    let bottom: Vec<usize> = (0..vertices).filter(|&v| asset.mesh().positions()[v].y == -1.0).collect();
+    let normals: Vec<Vec3> = bottom.iter().map(|&v| asset.shading_normals()[v]).collect();
+    assert_eq!(normals.iter().filter(|n| **n == Vec3::NEG_Y).count(), 4, "{normals:?}");
+    assert!(normals.iter().all(|n| n.abs().max_element() == 1.0), "{normals:?}");
+}
+
+#[test]
+fn a_gltf_asset_comes_out_as_glb_with_its_texcoords() {
+    let dir = TempDir::new("asset-glb");
+    let input = dir.path("crate.glb");
+    dentbend::mesh::save_glb_asset(&dentbend::mesh::builtin_asset("crate").unwrap(), &input).unwrap();
+    let out = dir.path("dented.glb");
+    let output = dent_top(input.to_str().unwrap(), &out);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let bytes = std::fs::read(&out).unwrap();
+    let json_length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let json = String::from_utf8_lossy(&bytes[20..20 + json_length]);
+    assert!(json.contains("\"TEXCOORD_0\"") && json.contains("\"NORMAL\""), "{json}");
+    let asset = dentbend::mesh::parse_gltf_asset(&bytes).unwrap();
+    assert!(asset.mesh().face_count() > 12, "not refined");
+    assert_eq!(asset.attributes().uvs.len(), 1);
+    assert!(asset.attributes().uvs[0].iter().all(|uv| (0.0..=1.0).contains(&uv.x) && (0.0..=1.0).contains(&uv.y)));
+}

@@ -28,6 +28,23 @@ fn assert_closed(mesh: &TriMesh, what: &str) {
     assert!(used.iter().all(|&u| u), "{what}: unreferenced vertices");
 }
 
+/// `mesh` with the vertices at bit-identical positions merged into the first of them.
+fn welded(mesh: &TriMesh) -> TriMesh {
+    let mut first: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut positions = Vec::new();
+    let mut map = Vec::with_capacity(mesh.vertex_count());
+    for p in mesh.positions() {
+        let next = positions.len() as u32;
+        let index = *first.entry(p.to_array().map(f32::to_bits)).or_insert(next);
+        if index == next {
+            positions.push(*p);
+        }
+        map.push(index);
+    }
+    let faces = mesh.faces().iter().map(|f| f.map(|v| map[v as usize])).collect();
+    TriMesh::new(positions, faces).unwrap()
+}
+
 fn assert_rel(actual: f32, expected: f32, tolerance: f32, what: &str) {
     let error = (actual - expected).abs() / expected.abs();
     assert!(error <= tolerance, "{what}: {actual} vs {expected} (relative error {error:e} > {tolerance:e})");
@@ -215,8 +232,9 @@ fn loop_subdivision_smooths_closed_meshes() {
 fn builtins_are_closed_solids() {
     for &name in BUILTIN_NAMES {
         let m = mesh::builtin(name).unwrap();
-        // The shipped bunny happens to be closed too, and subdivision keeps it closed.
-        assert_closed(&m, name);
+        // The shipped bunny happens to be closed too, and subdivision keeps it closed. The crate
+        // splits its vertices at its hard edges, as game meshes do: welded, it is closed.
+        assert_closed(&welded(&m), name);
         assert!(m.volume() > 0.0, "{name} has non-positive volume");
         if name.starts_with("bunny") {
             continue;
@@ -234,6 +252,18 @@ fn builtin_sizes_match_their_documentation() {
     let block = mesh::builtin("block").unwrap();
     assert_eq!(block.bounds(), (Vec3::new(-2.0, -0.5, -2.0), Vec3::new(2.0, 0.5, 2.0)));
     assert_eq!(block.face_count(), 24_576);
+    let crate_mesh = mesh::builtin("crate").unwrap();
+    // 24 vertices: four per side, split at the hard edges, so each side shades flat.
+    assert_eq!(
+        (crate_mesh.bounds(), crate_mesh.face_count(), crate_mesh.vertex_count()),
+        ((Vec3::splat(-1.0), Vec3::splat(1.0)), 12, 24)
+    );
+    assert!((crate_mesh.volume() - 8.0).abs() < 1e-5);
+    for (f, face) in crate_mesh.faces().iter().enumerate() {
+        let side = crate_mesh.normals()[face[0] as usize];
+        assert!(side.abs().max_element() == 1.0, "face {f}: normal {side} is not its side's");
+        assert!(face.iter().all(|&v| crate_mesh.normals()[v as usize] == side), "face {f}");
+    }
     let b = mesh::builtin("box").unwrap();
     assert_eq!((b.bounds(), b.face_count()), ((Vec3::splat(-1.0), Vec3::splat(1.0)), 3072));
     let plank = mesh::builtin("plank").unwrap();

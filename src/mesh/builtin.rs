@@ -34,7 +34,7 @@ pub const BUILTIN_NAMES: &[&str] =
 /// | `block-fine`  | `block` with 112 × 8 × 112 cells (0.036 apart), for detailed dents     | 57,344    |
 /// | `plank`       | 8 (x) × 0.25 (y) × 0.5 (z), 128 cells along x (square cells)           | 6,272     |
 /// | `cylinder`    | radius 0.5, height 2 along y, 48 segments, 16 stacks, 8-ring caps      | 2,976     |
-/// | `crate`       | 2 × 2 × 2 cube with one cell per face: the low-poly game mesh          | 12        |
+/// | `crate`       | 2 × 2 × 2 cube, one cell per face, 24 vertices split at its hard edges | 12        |
 ///
 /// # Errors
 /// [`MeshError::UnsupportedFormat`] for any other name (its message lists the valid ones).
@@ -55,7 +55,7 @@ pub fn builtin(name: &str) -> Result<TriMesh, MeshError> {
         "block-fine" => subdivided_box(Vec3::new(4.0, 1.0, 4.0), [112, 8, 112]),
         "plank" => plank(8.0, 0.5, 0.25, 128),
         "cylinder" => cylinder(0.5, 2.0, 48, 16),
-        "crate" => subdivided_box(Vec3::splat(2.0), [1; 3]),
+        "crate" => Ok(super::builtin_crate::crate_asset().into_parts().0),
         _ => Err(unsupported(name)),
     }
 }
@@ -88,6 +88,6 @@ pub fn load(spec: &str) -> Result<TriMesh, MeshError> {
     }
 }
 
-fn unsupported(spec: &str) -> MeshError {
+pub(crate) fn unsupported(spec: &str) -> MeshError {
     MeshError::UnsupportedFormat { path: spec.into(), builtins: BUILTIN_NAMES.join(", ") }
 }

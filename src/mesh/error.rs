@@ -54,6 +54,38 @@ pub enum MeshError {
         /// Number of positions supplied.
         actual: usize,
     },
+    /// A per-vertex or per-face attribute array of an [`Asset`](super::Asset) has the wrong
+    /// length.
+    #[error("attribute {attribute} has {actual} entries, expected {expected}")]
+    AttributeLength {
+        /// Which attribute (`"uv set 0"`, `"normals"`, `"face groups"`, ...).
+        attribute: String,
+        /// Entries needed (the vertex or face count).
+        expected: usize,
+        /// Entries supplied.
+        actual: usize,
+    },
+    /// An attribute value of an [`Asset`](super::Asset) is NaN or infinite, or out of its range.
+    #[error("attribute {attribute} entry {index} is invalid: {reason}")]
+    AttributeValue {
+        /// Which attribute.
+        attribute: String,
+        /// Index of the offending entry.
+        index: usize,
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+    /// A dented mesh, its refinement and its moved list do not describe the same dent of an
+    /// [`Asset`](super::Asset)'s mesh.
+    #[error("the dent does not follow this asset: {what} is {actual}, expected {expected}")]
+    DentMismatch {
+        /// What disagrees.
+        what: &'static str,
+        /// What the asset implies.
+        expected: usize,
+        /// What was given.
+        actual: usize,
+    },
     /// A generator parameter is out of range (negative size, zero segments, ...).
     #[error("invalid mesh parameter: {0}")]
     InvalidParameter(String),

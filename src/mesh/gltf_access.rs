@@ -2,8 +2,9 @@
 //! `data:` URIs, files beside the `.gltf`) and accessors read with every index, offset, stride
 //! and count checked against the bytes present, so a malformed file is an error, never a panic.
 //!
-//! Supported accessors: `POSITION` as f32 `VEC3`, indices as u8, u16 or u32 `SCALAR`, each with a
-//! buffer view (interleaved or not). Sparse accessors are not supported.
+//! Supported accessors: `POSITION` as f32 `VEC3`, indices as u8, u16 or u32 `SCALAR`, other
+//! vertex attributes as f32 or normalized u8/u16 vectors and joints as u8/u16 `VEC4`, each with
+//! a buffer view (interleaved or not). Sparse accessors are not supported.
 
 use std::borrow::Cow;
 use std::path::Path;
@@ -50,7 +51,8 @@ impl<'a> Buffers<'a> {
 
     /// Reads a `POSITION` accessor: f32 `VEC3` elements, world units of the mesh's frame.
     pub(crate) fn positions(&mut self, accessor: usize) -> Result<Vec<Vec3>, String> {
-        let accepts = |kind, component| kind == Type::Vec3 && component == ComponentType::F32;
+        let accepts =
+            |kind, component, normalized: bool| kind == Type::Vec3 && component == ComponentType::F32 && !normalized;
         let elements = self.elements(accessor, "POSITION", "VEC3 of f32", accepts)?;
         let f32_at = |e: &[u8], k: usize| f32::from_le_bytes([e[k], e[k + 1], e[k + 2], e[k + 3]]);
         Ok(elements.iter().map(|e| Vec3::new(f32_at(e, 0), f32_at(e, 4), f32_at(e, 8))).collect())
@@ -58,8 +60,10 @@ impl<'a> Buffers<'a> {
 
     /// Reads an index accessor: u8, u16 or u32 `SCALAR` elements, widened to u32.
     pub(crate) fn indices(&mut self, accessor: usize) -> Result<Vec<u32>, String> {
-        let accepts = |kind, component| {
-            kind == Type::Scalar && matches!(component, ComponentType::U8 | ComponentType::U16 | ComponentType::U32)
+        let accepts = |kind, component, normalized: bool| {
+            kind == Type::Scalar
+                && matches!(component, ComponentType::U8 | ComponentType::U16 | ComponentType::U32)
+                && !normalized
         };
         let elements = self.elements(accessor, "index", "SCALAR of u8, u16 or u32", accepts)?;
         let widen = |e: &[u8]| match elements.component {
@@ -70,6 +74,51 @@ impl<'a> Buffers<'a> {
         Ok(elements.iter().map(widen).collect())
     }
 
+    /// Reads a vertex attribute accessor as `role`: one of `kinds`, of f32 or normalized u8/u16
+    /// components (scaled to [0, 1]); components the type lacks are taken from `pad`.
+    pub(crate) fn floats(
+        &mut self,
+        accessor: usize,
+        role: &str,
+        kinds: &[Type],
+        pad: [f32; 4],
+    ) -> Result<Vec<[f32; 4]>, String> {
+        let accepts = |kind, component, normalized: bool| {
+            kinds.contains(&kind)
+                && match component {
+                    ComponentType::F32 => !normalized,
+                    ComponentType::U8 | ComponentType::U16 => normalized,
+                    _ => false,
+                }
+        };
+        let elements = self.elements(accessor, role, "f32 or normalized u8/u16 vectors", accepts)?;
+        let (size, component) = (elements.component.size(), elements.component);
+        let value = |e: &[u8], k: usize| match component {
+            ComponentType::U8 => f32::from(e[k]) / 255.0,
+            ComponentType::U16 => f32::from(u16::from_le_bytes([e[2 * k], e[2 * k + 1]])) / 65535.0,
+            _ => f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]]),
+        };
+        let n = elements.size / size;
+        Ok(elements.iter().map(|e| std::array::from_fn(|k| if k < n { value(e, k) } else { pad[k] })).collect())
+    }
+
+    /// Reads a `JOINTS_n` accessor: u8 or u16 `VEC4`, widened to u16.
+    pub(crate) fn joints(&mut self, accessor: usize) -> Result<Vec<[u16; 4]>, String> {
+        let accepts = |kind, component, normalized: bool| {
+            kind == Type::Vec4 && matches!(component, ComponentType::U8 | ComponentType::U16) && !normalized
+        };
+        let elements = self.elements(accessor, "JOINTS", "VEC4 of u8 or u16", accepts)?;
+        let wide = elements.component == ComponentType::U16;
+        let value =
+            |e: &[u8], k: usize| if wide { u16::from_le_bytes([e[2 * k], e[2 * k + 1]]) } else { u16::from(e[k]) };
+        Ok(elements.iter().map(|e| std::array::from_fn(|k| value(e, k))).collect())
+    }
+
+    /// The element count of accessor `index` as declared (not checked against the data).
+    pub(crate) fn count(&self, index: usize) -> Option<u64> {
+        self.root.accessors.get(index).map(|a| a.count.0)
+    }
+
     /// The checked element layout of accessor `index`, used as `role`, whose type and
     /// component type must satisfy `accepts` (`expected` says what it accepts).
     fn elements(
@@ -77,7 +126,7 @@ impl<'a> Buffers<'a> {
         index: usize,
         role: &str,
         expected: &str,
-        accepts: impl Fn(Type, ComponentType) -> bool,
+        accepts: impl Fn(Type, ComponentType, bool) -> bool,
     ) -> Result<Elements<'_>, String> {
         let root = self.root;
         let accessor = root
@@ -89,7 +138,7 @@ impl<'a> Buffers<'a> {
         else {
             return Err(format!("accessor {index} has an invalid type or componentType"));
         };
-        if !accepts(kind, component) || accessor.normalized {
+        if !accepts(kind, component, accessor.normalized) {
             let normalized = if accessor.normalized { "normalized " } else { "" };
             return Err(format!(
                 "{role} accessor {index} holds {kind:?} of {normalized}{component:?}, expected {expected}"

@@ -58,22 +58,11 @@ pub fn parse_gltf(bytes: &[u8]) -> Result<TriMesh, MeshError> {
 /// resolved against (`None`: they are refused).
 fn parse_gltf_named(bytes: &[u8], path: &Path, folder: Option<&Path>) -> Result<TriMesh, MeshError> {
     let fail = |message: String| MeshError::Parse { path: path.to_path_buf(), format: "glTF", message };
-    if bytes.is_empty() {
-        return Err(fail("the file is empty".to_owned()));
-    }
-    let (json, bin) = if bytes.starts_with(b"glTF") {
-        let chunks = glb::split(bytes).map_err(fail)?;
-        (chunks.json, chunks.bin)
-    } else {
-        (bytes, None)
-    };
-    let root: Root = gltf::json::deserialize::from_slice(json).map_err(|e| fail(format!("invalid glTF JSON: {e}")))?;
-    if let Some(ext) = root.extensions_required.iter().find(|e| GEOMETRY_EXTENSIONS.contains(&e.as_str())) {
-        return Err(fail(format!("the file requires extension {ext}, which dentbend cannot decode")));
-    }
+    let (root, bin) = document(bytes).map_err(fail)?;
+    let root = &root;
     let mut reader =
-        Reader { root: &root, buffers: Buffers::new(&root, folder, bin), positions: Vec::new(), faces: Vec::new() };
-    for (node, world) in scene_nodes(&root).map_err(fail)? {
+        Reader { root, buffers: Buffers::new(root, folder, bin), positions: Vec::new(), faces: Vec::new() };
+    for (node, world) in scene_nodes(root).map_err(fail)? {
         reader.add_node(node, world).map_err(|e| e.into_mesh_error(&fail))?;
     }
     if reader.faces.is_empty() {
@@ -82,9 +71,28 @@ fn parse_gltf_named(bytes: &[u8], path: &Path, folder: Option<&Path>) -> Result<
     TriMesh::new(reader.positions, reader.faces)
 }
 
+/// The JSON document of a `.gltf` or `.glb` file and its BIN chunk, refused if it needs a
+/// geometry extension this reader cannot decode.
+pub(crate) fn document(bytes: &[u8]) -> Result<(Root, Option<&[u8]>), String> {
+    if bytes.is_empty() {
+        return Err("the file is empty".to_owned());
+    }
+    let (json, bin) = if bytes.starts_with(b"glTF") {
+        let chunks = glb::split(bytes)?;
+        (chunks.json, chunks.bin)
+    } else {
+        (bytes, None)
+    };
+    let root: Root = gltf::json::deserialize::from_slice(json).map_err(|e| format!("invalid glTF JSON: {e}"))?;
+    if let Some(ext) = root.extensions_required.iter().find(|e| GEOMETRY_EXTENSIONS.contains(&e.as_str())) {
+        return Err(format!("the file requires extension {ext}, which dentbend cannot decode"));
+    }
+    Ok((root, bin))
+}
+
 /// Every node of the scene to load with its world matrix, parents before children, in file
 /// order.
-fn scene_nodes(root: &Root) -> Result<Vec<(usize, Mat4)>, String> {
+pub(crate) fn scene_nodes(root: &Root) -> Result<Vec<(usize, Mat4)>, String> {
     let roots: Vec<usize> = match (root.scene, root.scenes.first()) {
         (Some(scene), _) => {
             let count = root.scenes.len();
@@ -215,7 +223,7 @@ impl Reader<'_> {
 
 /// The triangles of a primitive's index list, counter-clockwise as the glTF specification
 /// orders strips and fans; a triangle list's incomplete last triangle is dropped.
-fn triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
+pub(crate) fn triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
     let n = indices.len();
     match mode {
         Mode::TriangleStrip => (2..n)

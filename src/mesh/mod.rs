@@ -1,8 +1,13 @@
-//! Triangle meshes: the [`TriMesh`] type, file input and output (OBJ, PLY, glTF), procedural
-//! primitives, the built-in meshes that work wherever a mesh path is accepted, and local
-//! refinement ([`refine`]).
+//! Triangle meshes: the [`TriMesh`] type, game assets ([`Asset`]: a mesh with UVs, authored
+//! normals, tangents, colours, skin and face groups, carried through a dent), file input and
+//! output (OBJ, PLY, glTF), procedural primitives, the built-in meshes that work wherever a mesh
+//! path is accepted, and local refinement ([`refine`]).
 
+mod asset;
+mod asset_follow;
+mod asset_io;
 mod builtin;
+mod builtin_crate;
 #[cfg(feature = "io")]
 pub(crate) mod confined;
 mod content_hash;
@@ -18,11 +23,17 @@ mod gltf;
 #[cfg(feature = "io")]
 mod gltf_access;
 #[cfg(feature = "io")]
+mod gltf_asset_read;
+#[cfg(feature = "io")]
+mod gltf_asset_write;
+#[cfg(feature = "io")]
 mod gltf_read;
 pub(crate) mod height_field;
 pub(crate) mod local_vertices;
 mod mass;
 mod obj;
+mod obj_asset;
+mod obj_asset_write;
 mod ply;
 mod ply_header;
 mod ply_source;
@@ -40,14 +51,22 @@ pub(crate) mod weld;
 
 #[cfg(feature = "io")]
 pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb, save_glb_scene};
+pub use asset::{Asset, FaceGroup, Skin, VertexAttributes};
+pub use asset_io::{builtin_asset, load_asset, save_asset};
 pub use builtin::{BUILTIN_NAMES, builtin, load};
 pub use content_hash::{content_hash, fnv1a64, fnv1a64_start};
 pub use edit::MeshEdit;
 pub use error::MeshError;
 #[cfg(feature = "io")]
+pub use gltf_asset_read::{MAX_ATTRIBUTE_SETS, load_gltf_asset, parse_gltf_asset};
+#[cfg(feature = "io")]
+pub use gltf_asset_write::{glb_asset_bytes, save_glb_asset};
+#[cfg(feature = "io")]
 pub use gltf_read::{load_gltf, parse_gltf};
 pub use mass::{MassProperties, mass_properties};
 pub use obj::{load_obj, parse_obj, save_obj};
+pub use obj_asset::{load_obj_asset, parse_obj_asset};
+pub use obj_asset_write::{obj_asset_text, save_obj_asset};
 pub use ply::{load_ply, parse_ply};
 pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere};
 pub use refine::{Ball, OrientedBox, RefineError, RefineRegion, Refinement, SplitVertex, refine};

@@ -2,8 +2,9 @@
 //! pictures from the GPU renderer.
 
 use clap::{Args, ValueEnum};
-use dentbend::dent::{DentBackend, DentJob, DentStages, plan_dent};
+use dentbend::dent::{BatchOutcome, DentBackend, DentJob, DentStages, dent_batch_tracked, plan_dent};
 use dentbend::gpu::{Backend, GpuBackend, GpuContext, GpuDenter};
+use dentbend::mesh::Refinement;
 use dentbend::render::Renderer;
 use dentbend::{DentError, DentParams, DentReport, Impact, TriMesh};
 
@@ -81,17 +82,29 @@ pub fn gpu_stages(
     Ok(stages)
 }
 
-/// Dents `target` (and, with `mutual`, `projectile` by the undented target: Jacobi) on the GPU,
-/// through [`GpuBackend`]: the kernels build the maps and displace, the host refines, fits the
-/// falloff, guards against crossings and keeps the volume, as `dent` and `dent_pair` do on the CPU.
-pub fn gpu_dent(
-    context: &GpuContext,
+/// What [`dent_pair_or_one`] did to the target: its report, the vertices that moved and what
+/// refinement appended (for the target's per-vertex data).
+pub struct TargetDent {
+    /// The target's dent report.
+    pub report: DentReport,
+    /// The target's vertices that moved, ascending (new vertices included).
+    pub moved: Vec<u32>,
+    /// What refinement appended to the target.
+    pub refinement: Refinement,
+}
+
+/// Dents `target` (and, with `mutual`, `projectile` by the undented target: Jacobi) as one
+/// batch, on the GPU through [`GpuBackend`] with a context (the kernels build the maps and
+/// displace, the host refines, fits the falloff, guards against crossings and keeps the volume),
+/// else on the CPU (`dent_batch_tracked`), as `dent` and `dent_pair` do.
+pub fn dent_pair_or_one(
+    context: Option<&GpuContext>,
     target: &mut TriMesh,
     projectile: &mut TriMesh,
     impact: &Impact,
     params: &DentParams,
     mutual: bool,
-) -> Result<DentReport, CliError> {
+) -> Result<TargetDent, CliError> {
     let (original_target, original_projectile) = (target.clone(), projectile.clone());
     let mut meshes = vec![original_target.clone()];
     let mut jobs =
@@ -106,8 +119,11 @@ pub fn gpu_dent(
         });
     }
     let keys: Vec<usize> = (0..meshes.len()).collect();
-    let mut backend = GpuBackend::new(context);
-    let outcome = backend.dent_batch(&keys, &mut meshes, &jobs).map_err(|e| match e.error {
+    let outcome = match context {
+        Some(context) => GpuBackend::new(context).dent_batch(&keys, &mut meshes, &jobs),
+        None => dent_batch_tracked(&mut meshes, &jobs),
+    };
+    let outcome = outcome.map_err(|e| match e.error {
         DentError::Backend(gpu) => CliError::Usage(format!("GPU: {gpu}")),
         error => CliError::Dent(error),
     })?;
@@ -116,7 +132,12 @@ pub fn gpu_dent(
     if mutual {
         *projectile = meshes.next().expect("the projectile is the batch's second mesh");
     }
-    Ok(outcome.reports.into_iter().next().unwrap_or_default())
+    let BatchOutcome { reports, moved, refined } = outcome;
+    Ok(TargetDent {
+        report: reports.into_iter().next().unwrap_or_default(),
+        moved: moved.into_iter().next().unwrap_or_default(),
+        refinement: refined.into_iter().next().unwrap_or_default(),
+    })
 }
 
 fn gpu_error(error: dentbend::gpu::GpuError) -> CliError {

@@ -1,4 +1,5 @@
-//! `dentbend dent`: dents a target mesh where a projectile hits it and saves it as OBJ.
+//! `dentbend dent`: dents a target mesh where a projectile hits it and saves it, with its
+//! attributes (UVs, normals, groups, materials, glTF vertex data), as OBJ or glTF.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -6,11 +7,12 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use dentbend::dent::Refine;
 use dentbend::glam::Vec3;
+use dentbend::mesh::Asset;
 use dentbend::{Attenuation, Impact, MeshError, TriMesh, VolumeMode, mesh};
 
-use crate::backend::{BackendOption, gpu_dent};
+use crate::backend::{BackendOption, dent_pair_or_one};
 use crate::error::{CliError, flag_error};
-use crate::options::{MapOptions, ProjectileOptions, load_mesh, nonzero, parse_refine, sig3};
+use crate::options::{MapOptions, ProjectileOptions, nonzero, parse_refine, sig3};
 use crate::output::require_extension;
 use crate::vector::parse_vec3;
 
@@ -35,7 +37,8 @@ The dent is measured from the projectile's most advanced point along the viewing
 velocity, θ clamped by --min-cos), wherever the projectile is, and that point is placed on \
 --point: the dent map is centred there.")]
 pub struct DentArgs {
-    /// Target mesh to dent: an .obj or .ply path, or a built-in name
+    /// Target mesh to dent: an .obj, .ply, .gltf or .glb path, or a built-in name (its UVs,
+    /// normals, groups, materials and glTF vertex attributes follow the dent)
     #[arg(long, value_name = "MESH")]
     pub target: String,
 
@@ -81,8 +84,9 @@ pub struct DentArgs {
     #[arg(long)]
     pub preserve_volume: bool,
 
-    /// Output OBJ file (not written if anything fails)
-    #[arg(long, value_name = "OUT.obj")]
+    /// Output file, .obj (with vt, vn, groups and materials) or .glb (with every glTF vertex
+    /// attribute); not written if anything fails
+    #[arg(long, value_name = "OUT.obj|OUT.glb")]
     pub out: PathBuf,
 
     /// Also dent the projectile by the target (same parameters) and save it here as OBJ
@@ -106,14 +110,18 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
         params.volume = VolumeMode::Preserve;
     }
     params.validate().map_err(flag_error)?;
-    require_extension(&args.out, "--out", &["obj"])?;
+    require_extension(&args.out, "--out", &["obj", "glb"])?;
     if let Some(path) = &args.projectile_out {
         require_extension(path, "--projectile-out", &["obj"])?;
     }
     let normal = nonzero(args.normal, "--normal")?;
     let impact = Impact { point: args.point, normal, relative_velocity: args.velocity.unwrap_or(normal) };
     impact.validate()?;
-    let mut target = load_mesh("target", &args.target)?;
+    let mut asset = mesh::load_asset(&args.target).map_err(|source| CliError::Load {
+        role: "target",
+        spec: args.target.clone(),
+        source,
+    })?;
     let mut projectile = args.projectile.load()?;
     if let Some(path) = &args.projectile_out
         && same_file(path, &args.out)
@@ -121,26 +129,23 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
         return Err(CliError::Usage("--projectile-out must differ from --out".into()));
     }
     let gpu = args.backend.context()?;
-    let report = match &args.projectile_out {
-        None => {
-            let report = match gpu {
-                Some(context) => gpu_dent(context, &mut target, &mut projectile, &impact, &params, false)?,
-                None => dentbend::dent::dent(&mut target, &projectile, &impact, &params)?,
-            };
-            stage(&target, &args.out)?.commit()?;
-            report
-        }
+    let mut target = asset.mesh().clone();
+    let mutual = args.projectile_out.is_some();
+    let dent = dent_pair_or_one(gpu, &mut target, &mut projectile, &impact, &params, mutual)?;
+    asset
+        .follow_dent(target, &dent.refinement, &dent.moved)
+        .map_err(|source| CliError::Save { path: args.out.clone(), source })?;
+    // Both files are written aside first, and only put in place once both are.
+    let staged = stage(&Output::Asset(&asset), &args.out)?;
+    match &args.projectile_out {
+        None => staged.commit()?,
         Some(path) => {
-            let report = match gpu {
-                Some(context) => gpu_dent(context, &mut target, &mut projectile, &impact, &params, true)?,
-                None => dentbend::dent::dent_pair(&mut target, &mut projectile, &impact, &params, &params)?.0,
-            };
-            // Both files are written aside first, and only put in place once both are.
-            let staged = [stage(&target, &args.out)?, stage(&projectile, path)?];
+            let staged = [staged, stage(&Output::Mesh(&projectile), path)?];
             staged.into_iter().try_for_each(Staged::commit)?;
-            report
         }
-    };
+    }
+    let report = dent.report;
+    let target = asset.mesh();
     let refined = match report.refined_triangles {
         0 => String::new(),
         n => format!(", refined first: +{n} triangles, +{} vertices", report.refined_vertices),
@@ -195,14 +200,25 @@ impl Drop for Staged {
     }
 }
 
-/// Writes `mesh` as OBJ to a temporary file beside `path`, so that a failure leaves neither a
-/// partial file nor a damaged earlier one.
-fn stage(mesh: &TriMesh, path: &Path) -> Result<Staged, CliError> {
+/// What to write: the dented target with its attributes, or a plain mesh as OBJ.
+enum Output<'a> {
+    Asset(&'a Asset),
+    Mesh(&'a TriMesh),
+}
+
+/// Writes `output` to a temporary file beside `path` (in the format its extension names), so
+/// that a failure leaves neither a partial file nor a damaged earlier one.
+fn stage(output: &Output<'_>, path: &Path) -> Result<Staged, CliError> {
     crate::output::prepare_file(path)?;
     let stem = path.file_stem().map_or_else(|| "out".into(), |s| s.to_string_lossy());
-    let temp = path.with_file_name(format!(".{stem}.dentbend-{}.obj", std::process::id()));
+    let extension = path.extension().map_or_else(|| "obj".into(), |e| e.to_string_lossy());
+    let temp = path.with_file_name(format!(".{stem}.dentbend-{}.{extension}", std::process::id()));
     let staged = Staged { temp, path: path.to_owned() };
-    match mesh::save_obj(mesh, &staged.temp) {
+    let saved = match output {
+        Output::Asset(asset) => mesh::save_asset(&staged.temp, asset),
+        Output::Mesh(mesh) => mesh::save_obj(mesh, &staged.temp),
+    };
+    match saved {
         Ok(()) => Ok(staged),
         Err(MeshError::Io { source, .. }) => Err(CliError::Write { path: path.to_owned(), source }),
         Err(source) => Err(CliError::Save { path: path.to_owned(), source }),

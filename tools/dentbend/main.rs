@@ -48,7 +48,7 @@ type CommandResult = Result<(String, Vec<String>), error::CliError>;
 enum Command {
     /// Computes the dent map a projectile leaves and writes every stage (.npy, .png, .json)
     Dentmap(cmd_dentmap::DentmapArgs),
-    /// Dents a target mesh where a projectile hits it and saves the result as OBJ
+    /// Dents a target mesh where a projectile hits it and saves the result, with its attributes, as OBJ or glTF
     Dent(cmd_dent::DentArgs),
     /// Draws meshes to a PNG picture
     Render(cmd_render::RenderArgs),
