@@ -24,7 +24,9 @@ pub const SHAPE_TOLERANCE: f64 = 1e-3;
 pub(crate) fn is_turned_over(face: [u32; 3], before: &[Vec3], after: &[Vec3]) -> bool {
     let (n_before, l_before) = normal_and_longest_sq(face, before);
     let length = n_before.length();
-    if !(length > SHAPE_TOLERANCE * l_before) {
+    // Also false for a NaN length: no orientation to lose.
+    let oriented = length > SHAPE_TOLERANCE * l_before;
+    if !oriented {
         return false;
     }
     let (n_after, l_after) = normal_and_longest_sq(face, after);
