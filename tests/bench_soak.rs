@@ -1,6 +1,7 @@
 //! `dentbend-bench soak` end to end: the real binary dents the built-in block 50 times and its
-//! JSON report has every key with sane values; the same seed gives the same surface; bad input
-//! exits with code 2 and writes no report.
+//! JSON report has every key with sane values; the same seed gives the same surface; drawn
+//! projectile sizes and depths, a wider cone and the GPU backend; bad input exits with code 2
+//! and writes no report.
 
 mod common;
 
@@ -91,5 +92,65 @@ fn soak_refuses_bad_input_and_writes_nothing() {
         let stderr = text(&output.stderr);
         assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1, "{args:?}: {stderr}");
         assert!(!json.exists(), "{args:?} wrote a report");
+    }
+}
+
+/// `--projectile-scale`, `--depth` and `--cone-deg` on the block (4 × 1 × 4: size 4, thickness
+/// 1): every ball's radius and dent distance are drawn up to the stated maxima, which the report
+/// names; big, deep, steep hits turn no face over (the guard limits a dent that would); the
+/// medians of the first and last dents are there and ordered like the others.
+#[test]
+fn soak_draws_sizes_and_depths_and_turns_no_face_over() {
+    let dir = TempDir::new("soak-drawn");
+    let json = dir.path("soak.json");
+    let args = ["--projectile-scale", "0.1", "--depth", "0.05", "--cone-deg", "60", "--json"];
+    let output = bench(&[&["soak", "--dents", "20"][..], &args, &[json.to_str().unwrap()]].concat());
+    assert!(output.status.success(), "soak failed: {}", text(&output.stderr));
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["errors"].as_u64(), Some(0), "{}", r["error_messages"]);
+    assert_eq!(r["backend"], "cpu");
+    assert_eq!((number(&r, &["target_size"]), number(&r, &["target_thickness"])), (4.0, 1.0));
+    assert_eq!((number(&r, &["projectile_scale"]), number(&r, &["depth"])), (0.1f32 as f64, 0.05f32 as f64));
+    // f32 products: 0.1 × 4 and 0.05 × 1, to an ulp.
+    assert!((number(&r, &["projectile_radius"]) - 0.4).abs() < 1e-6);
+    assert!((number(&r, &["dent_distance"]) - 0.05).abs() < 1e-7);
+    assert_eq!(number(&r, &["cone_deg"]), 60.0);
+    assert_eq!(r["flipped_faces"].as_u64(), Some(0));
+    let max = number(&r, &["max_ms"]);
+    for key in ["median_first_ms", "median_last_ms"] {
+        let m = number(&r, &[key]);
+        assert!(0.0 < m && m <= max, "{key} {m}, max {max}");
+    }
+}
+
+#[test]
+fn soak_refuses_bad_sizes_and_backends() {
+    for args in
+        [["--projectile-scale", "0"], ["--depth", "nan"], ["--depth", "11"], ["--cone-deg", "90"], ["--backend", "tpu"]]
+    {
+        let output = bench(&["soak", "--dents", "1", args[0], args[1]]);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        let stderr = text(&output.stderr);
+        assert!(stderr.starts_with("error: ") && stderr.contains(args[0]), "{args:?}: {stderr}");
+    }
+}
+
+/// `--backend gpu` dents through the crate's GPU backend where an adapter exists (Mesa's
+/// software Vulkan in CI), and otherwise stops with a clear error, never a panic.
+#[test]
+fn soak_on_the_gpu_backend_runs_or_names_the_missing_adapter() {
+    let dir = TempDir::new("soak-gpu");
+    let json = dir.path("soak.json");
+    let output = bench(&["soak", "--dents", "2", "--backend", "gpu", "--json", json.to_str().unwrap()]);
+    if output.status.success() {
+        let r: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        assert_eq!(r["backend"], "gpu");
+        assert_eq!(r["errors"].as_u64(), Some(0), "{}", r["error_messages"]);
+        assert_eq!(r["dented"].as_u64(), Some(2));
+    } else {
+        assert_eq!(output.status.code(), Some(2));
+        let stderr = text(&output.stderr);
+        assert!(stderr.contains("--backend gpu needs a GPU adapter"), "{stderr}");
+        assert!(!json.exists());
     }
 }

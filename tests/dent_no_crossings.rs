@@ -386,17 +386,16 @@ fn random_hit(target: &TriMesh, f: usize, rng: &mut SplitMix64) -> (Vec3, Vec3, 
 
 /// Refinement and accumulated dents on block-fine, cheaply: 40 dents on the 400 faces nearest a
 /// top corner, where dents roll the edges over and stretch the faces until the refine stage
-/// splits them; three seeds. In some runs a dent lands on a patch that earlier dents folded flat
-/// onto itself (two faces back to back) and would refine across it: the f32 midpoints added
-/// there make crossing pairs that the guard would take as already there, so the refine stage
-/// holds those faces back. Seeds 22, 29 and 30 each do so once under the current pipeline; the
-/// test asks for it at least once among them (another pipeline may need other seeds).
+/// splits them; three seeds that refine (22, 30 and 31 under the current pipeline; another
+/// pipeline may need other seeds). Before the guard limited dents that turn faces over, some
+/// dents here folded a patch flat onto itself (two faces back to back, one of them turned over)
+/// and the refine stage held those faces back; the guard now stops such folds, and holding back
+/// is tested on a captured fold in `mesh::refine_crossings`.
 #[test]
 fn refined_dents_piled_on_a_corner_of_block_fine_leave_no_crossings() {
     let block = mesh::builtin("block-fine").unwrap();
     let corner = block.support_point(Vec3::new(-1.0, 1.0, 0.0).normalize());
-    let mut held_back = 0;
-    for seed in [22, 29, 30] {
+    for seed in [22, 30, 31] {
         let run = accumulate_on_patch(block.clone(), corner, (400, 40, seed), Refine::default());
         eprintln!(
             "seed {seed}: {} dents applied, {} triangles refined, {} held back; {} faces",
@@ -408,8 +407,5 @@ fn refined_dents_piled_on_a_corner_of_block_fine_leave_no_crossings() {
         assert!(run.applied >= 36, "only {} of 40 dents applied", run.applied);
         assert!(run.refined_triangles > 0, "seed {seed}: nothing refined");
         assert_no_crossings(&run.dented);
-        held_back += run.held_back;
     }
-    // The scenario this test keeps: refinement across a flat fold, at least once.
-    assert!(held_back >= 1, "no refinement was held back at a fold");
 }

@@ -4,8 +4,10 @@
 //! Each box is binned once, in the cell of its low corner; a query for a box visits the cells
 //! from its low corner less the largest binned box's size to its high corner, which hold every
 //! binned box that can overlap it. Boxes much larger than the typical one (a long sliver, a big
-//! face beside fine ones) are kept in a short list that every query scans, so that they do not
-//! make the cells coarse.
+//! face beside fine ones) do not make the cells coarse: they go up to a coarser level, a grid of
+//! their own sized to them, and so on (a dented, refined surface mixes faces of many sizes, and
+//! one list of them all scanned by every query made the broad phase quadratic); only the last
+//! level's few largest boxes are scanned by every query.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -41,14 +43,45 @@ impl Aabb {
 }
 
 /// Cell side in mean box sizes: a box up to this size is binned, a larger one listed apart.
-const CELL_IN_MEAN_BOXES: f32 = 2.0;
+const CELL_IN_MEAN_BOXES: f32 = 1.0;
 /// At most this many grid cells per binned box, so memory stays linear in the box count.
 const CELLS_PER_BOX: usize = 2;
+/// At most this many levels; the boxes too large for the last are scanned by every query.
+const MAX_LEVELS: usize = 8;
+/// Boxes too large for a level that are scanned by every query rather than given a level.
+const SCANNED_BOXES: usize = 32;
 
-/// Boxes binned by the cell of their low corner (compressed rows: `items[starts[c]..
-/// starts[c + 1]]` are the boxes of cell `c`, `item_boxes` their boxes in the same order), and
-/// the boxes too large for a cell, with their boxes.
+/// Levels of grids from fine to coarse, each holding the boxes too large for the one before,
+/// and the few boxes left over, with their boxes.
 struct LooseGrid {
+    levels: Vec<Level>,
+    large: Vec<(u32, Aabb)>,
+}
+
+impl LooseGrid {
+    fn new(boxes: &[Aabb]) -> Self {
+        let mut left: Vec<(u32, Aabb)> = boxes.iter().copied().zip(0..).map(|(b, k)| (k, b)).collect();
+        let mut levels = Vec::new();
+        while left.len() > SCANNED_BOXES && levels.len() < MAX_LEVELS {
+            let (level, larger) = Level::new(&left);
+            levels.push(level);
+            left = larger;
+        }
+        Self { levels, large: left }
+    }
+
+    /// Calls `visit(k, box)` for every box that may overlap `b` (a superset).
+    fn for_candidates(&self, b: &Aabb, mut visit: impl FnMut(u32, &Aabb)) {
+        for level in &self.levels {
+            level.for_candidates(b, &mut visit);
+        }
+        self.large.iter().for_each(|(k, item)| visit(*k, item));
+    }
+}
+
+/// One level: boxes binned by the cell of their low corner (compressed rows: `items[starts[c]..
+/// starts[c + 1]]` are the boxes of cell `c`, `item_boxes` their boxes in the same order).
+struct Level {
     origin: Vec3,
     inv_cell: f32,
     dims: [usize; 3],
@@ -57,14 +90,15 @@ struct LooseGrid {
     starts: Vec<u32>,
     items: Vec<u32>,
     item_boxes: Vec<Aabb>,
-    large: Vec<(u32, Aabb)>,
 }
 
-impl LooseGrid {
-    fn new(boxes: &[Aabb]) -> Self {
-        let bounds = boxes.iter().fold(Aabb::EMPTY, |b, x| b.union(*x));
+impl Level {
+    /// A level for `boxes` (id and box each, at least one), and the boxes too large for its cells.
+    /// Those are fewer: the cell is the mean box size, which not every box exceeds.
+    fn new(boxes: &[(u32, Aabb)]) -> (Self, Vec<(u32, Aabb)>) {
+        let bounds = boxes.iter().fold(Aabb::EMPTY, |b, (_, x)| b.union(*x));
         let extent = bounds.extent();
-        let mean = boxes.iter().map(|b| b.extent().max_element()).sum::<f32>() / boxes.len().max(1) as f32;
+        let mean = boxes.iter().map(|(_, b)| b.extent().max_element()).sum::<f32>() / boxes.len().max(1) as f32;
         let mut cell = (CELL_IN_MEAN_BOXES * mean).max(extent.max_element() * 1e-6).max(f32::MIN_POSITIVE);
         let dims_for = |cell: f32| extent.to_array().map(|e| ((e / cell) as usize).saturating_add(1));
         let mut dims = dims_for(cell);
@@ -81,14 +115,14 @@ impl LooseGrid {
             starts: Vec::new(),
             items: Vec::new(),
             item_boxes: Vec::new(),
-            large: Vec::new(),
         };
+        let mut larger = Vec::new();
         let mut cell_of_box = vec![u32::MAX; boxes.len()];
         let mut counts = vec![0u32; dims[0] * dims[1] * dims[2] + 1];
-        for (k, b) in boxes.iter().enumerate() {
+        for (k, (id, b)) in boxes.iter().enumerate() {
             let size = b.extent();
             if size.max_element() > cell {
-                grid.large.push((k as u32, *b));
+                larger.push((*id, *b));
                 continue;
             }
             grid.reach = grid.reach.max(size);
@@ -107,14 +141,13 @@ impl LooseGrid {
         let mut item_boxes = vec![Aabb::EMPTY; total as usize];
         for (k, &c) in cell_of_box.iter().enumerate().filter(|(_, c)| **c != u32::MAX) {
             let slot = fill[c as usize] as usize;
-            items[slot] = k as u32;
-            item_boxes[slot] = boxes[k];
+            (items[slot], item_boxes[slot]) = boxes[k];
             fill[c as usize] += 1;
         }
         grid.starts = counts;
         grid.items = items;
         grid.item_boxes = item_boxes;
-        grid
+        (grid, larger)
     }
 
     /// Cell coordinates of a point, clamped into the grid (monotone in each coordinate).
@@ -127,9 +160,8 @@ impl LooseGrid {
         (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
     }
 
-    /// Calls `visit(k, box)` for every binned box that may overlap `b` (a superset), then for
-    /// every large one (the large list is short: it is scanned whole).
-    fn for_candidates(&self, b: &Aabb, mut visit: impl FnMut(u32, &Aabb)) {
+    /// Calls `visit(k, box)` for every box binned here that may overlap `b` (a superset).
+    fn for_candidates(&self, b: &Aabb, visit: &mut impl FnMut(u32, &Aabb)) {
         // A binned box overlapping `b` has its low corner in [b.min − reach, b.max]. The reach is
         // widened by a few ulps of the magnitudes involved, so that neither the rounding of
         // `b.min − reach` nor that of the binned boxes' extents can leave a corner just outside.
@@ -144,7 +176,6 @@ impl LooseGrid {
                 }
             }
         }
-        self.large.iter().for_each(|(k, item)| visit(*k, item));
     }
 }
 
@@ -226,12 +257,21 @@ mod tests {
             let n = 300 + 200 * round;
             let boxes: Vec<Aabb> = (0..n)
                 .map(|k| {
-                    let size = if k % 37 == 0 { 3.0 } else { 0.02 + 0.2 * next() };
+                    // Rounds 0–2: a few boxes far larger than the rest (one level and the
+                    // scanned list); rounds 3–5: sizes spread over 10⁻³..3 (many levels).
+                    let size = match (round < 3, k % 37 == 0) {
+                        (true, true) => 3.0,
+                        (true, false) => 0.02 + 0.2 * next(),
+                        (false, _) => 10f32.powf(-3.0 + 3.5 * next()),
+                    };
                     let min = Vec3::new(next(), next() * 0.3, next()) * 5.0;
                     Aabb { min, max: min + Vec3::new(next(), next(), next()) * size }
                 })
                 .collect();
             let active = n / 3;
+            if round >= 3 {
+                assert!(LooseGrid::new(&boxes).levels.len() >= 3, "round {round} takes several levels");
+            }
             let mut found = overlapping_pairs(&boxes, active);
             let count = found.len();
             found.iter_mut().for_each(|p| *p = (p.0.min(p.1), p.0.max(p.1)));

@@ -46,6 +46,7 @@ pub(crate) mod self_intersect;
 mod subdivide;
 pub(crate) mod tri_tri;
 mod trimesh;
+pub(crate) mod turned_over;
 pub(crate) mod umbrella;
 pub(crate) mod weld;
 
@@ -75,6 +76,7 @@ pub use save::{save, write_file_atomically};
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 pub(crate) use trimesh::in_coordinate_range;
 pub use trimesh::{EdgeLengths, MAX_COORDINATE, TriMesh, validate};
+pub use turned_over::{SHAPE_TOLERANCE, turned_over_faces};
 
 #[cfg(test)]
 pub(crate) mod test_support;

@@ -4,12 +4,13 @@
 //! [`PROJECTILE_FRACTION`] of the diagonal, a dent distance of [`DENT_FRACTION`] of it times
 //! cos θ, at seeded random points of the current surface).
 
+use dentbend::dent::CpuBackend;
 use dentbend::glam::Vec3;
 use dentbend::mesh;
 use serde::Serialize;
 
 use crate::soak::{DENT_FRACTION, PROJECTILE_FRACTION, nearest_rank};
-use crate::soak_target::{SPEED, SoakTarget};
+use crate::soak_target::{HitSizes, SPEED, SoakBackend, SoakTarget};
 use crate::surface_sample::{Rng, sample_surface};
 
 /// Smallest angle of a steep dent, degrees.
@@ -61,7 +62,13 @@ pub fn run(target: &str, dents: usize, seed: u64) -> Result<Report, String> {
     let mesh = mesh::load(target).map_err(|e| e.to_string())?;
     let (lo, hi) = mesh.bounds();
     let diagonal = (hi - lo).length();
-    let mut body = SoakTarget::new(mesh, PROJECTILE_FRACTION * diagonal, DENT_FRACTION * diagonal, 0.0)?;
+    let sizes = HitSizes {
+        radius: PROJECTILE_FRACTION * diagonal,
+        dent_distance: DENT_FRACTION * diagonal,
+        draw_radius: false,
+        draw_distance: false,
+    };
+    let mut body = SoakTarget::new(mesh, sizes, 0.0, SoakBackend::Cpu(CpuBackend))?;
     let mut rng = Rng::new(seed);
     let mut samples: [Vec<(f64, Option<usize>)>; 2] = [Vec::with_capacity(dents), Vec::with_capacity(dents)];
     for k in 0..2 * dents {

@@ -138,8 +138,9 @@ enum Command {
         json: Option<PathBuf>,
     },
     /// Dent one target N times at seeded random points of its surface (a small ball, random
-    /// incidence) through the damage API on the CPU: errors, non-finite vertices, per-dent
-    /// times, triangle quality, volume and memory, first against last.
+    /// incidence) through the damage API on the CPU (or the GPU backend): errors, non-finite
+    /// vertices, per-dent times (the first and last 100 dents' medians too), triangle quality,
+    /// faces turned over, volume and memory, first against last.
     Soak {
         /// Dents to make.
         #[arg(long, default_value_t = 10_000)]
@@ -150,7 +151,23 @@ enum Command {
         /// Seed of the random hits (the same seed gives the same hits).
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// Projectile radius of each hit drawn uniformly up to F × the target's size (its bounding
+        /// box's largest side) [default: every ball 3 % of the bounding-box diagonal].
+        #[arg(long, value_name = "F")]
+        projectile_scale: Option<f32>,
+        /// Head-on dent distance of each hit drawn uniformly up to F × the target's thickness (its
+        /// bounding box's smallest side) [default: every dent 0.3 % of the bounding-box diagonal];
+        /// a hit at incidence θ dents cos θ of it.
+        #[arg(long, value_name = "F")]
+        depth: Option<f32>,
+        /// Half-angle of the cone of incidence about the inward normal, degrees.
+        #[arg(long, default_value_t = soak::CONE_DEG)]
+        cone_deg: f32,
+        /// Where dents run: cpu, or gpu (the crate's GPU backend; an error without an adapter).
+        #[arg(long, default_value = "cpu")]
+        backend: String,
         /// Write the report as JSON: {"dents","errors","non_finite","median_ms","p99_ms","max_ms",
+        /// "median_first_ms","median_last_ms","flipped_faces","target_size","target_thickness",
         /// "min_triangle_quality":{"first","last"},"volume_change","peak_rss_mb":{"first","last"},..}.
         #[arg(long)]
         json: Option<PathBuf>,
@@ -230,8 +247,15 @@ fn run(cli: Cli) -> Result<(), String> {
             print!("{}", stages::render(&report));
             write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
         }
-        Command::Soak { dents, target, seed, json } => {
-            let report = soak::run(&target, dents, seed)?;
+        Command::Soak { dents, target, seed, projectile_scale, depth, cone_deg, backend, json } => {
+            let options = soak::Options {
+                projectile_scale,
+                depth,
+                cone_deg,
+                backend,
+                ..soak::Options::new(&target, dents, seed)
+            };
+            let report = soak::run(&options)?;
             print!("{}", soak::render(&report));
             write_json(json, &serde_json::to_value(&report).map_err(|e| e.to_string())?)
         }

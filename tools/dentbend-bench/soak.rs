@@ -1,14 +1,18 @@
 //! `dentbend-bench soak`: dents one target thousands of times at seeded random points of its
-//! surface through the world-free damage API (`Damage::plan` on the CPU, then
-//! `TargetSet::apply`, as an engine would; see [`SoakTarget`]), and reports failures, per-dent wall times, how the
-//! mesh wears (triangle quality, volume) and whether memory grows.
+//! surface through the world-free damage API (`Damage::plan` on the CPU or the GPU backend, then
+//! `TargetSet::apply`, as an engine would; see [`SoakTarget`]), and reports failures, per-dent
+//! wall times, how the mesh wears (triangle quality, volume, faces turned over) and whether
+//! memory grows.
 //!
 //! Each dent: a point drawn uniformly by area over the target's current (dented) surface and
 //! the interpolated vertex normal there; the built-in sphere scaled to a radius of
-//! [`PROJECTILE_FRACTION`] of the target's bounding-box diagonal, touching the surface at that
-//! point; a velocity of [`SPEED`](crate::soak_target::SPEED) inside a cone of half-angle [`CONE_DEG`] about the inward
-//! normal; a dent distance of [`DENT_FRACTION`] of the diagonal times the cosine of the
-//! incidence (threshold 0, gain and cap chosen so a head-on hit gets the full distance).
+//! [`PROJECTILE_FRACTION`] of the target's bounding-box diagonal (or, with a projectile scale
+//! F, drawn uniformly from (0, F·size], size the bounding box's largest side), touching the
+//! surface at that point; a velocity inside a cone of half-angle [`CONE_DEG`] (or the one asked
+//! for) about the inward normal; a dent distance of [`DENT_FRACTION`] of the diagonal (or, with
+//! a depth F, drawn uniformly from (0, F·thickness], thickness the bounding box's smallest side)
+//! times the cosine of the incidence (threshold 0, gain and cap chosen so a head-on hit gets the
+//! full distance). Sizes are those of the undented target.
 
 use std::time::Instant;
 
@@ -17,7 +21,7 @@ use dentbend::{TriMesh, mesh};
 use serde::Serialize;
 
 use crate::memory::{peak_resident_mb, resident_mb};
-use crate::soak_target::SoakTarget;
+use crate::soak_target::{HitSizes, SoakBackend, SoakTarget};
 use crate::surface_sample::Rng;
 use crate::triangle_quality::{QualityStats, quality_stats};
 
@@ -31,6 +35,63 @@ pub const CONE_DEG: f32 = 30.0;
 pub const MEMORY_WINDOW: usize = 1000;
 /// Most dents one run takes: each dent's time is kept (8 bytes) for the percentiles.
 pub const MAX_DENTS: usize = 10_000_000;
+/// Dents in each of the two windows (first and last) whose median times are compared.
+pub const TIME_WINDOW: usize = 100;
+/// Largest projectile scale and depth fraction accepted.
+pub const MAX_FRACTION: f32 = 10.0;
+/// Largest cone half-angle accepted, degrees (a hit along the surface makes no dent).
+pub const MAX_CONE_DEG: f32 = 89.0;
+
+/// What a soak run does.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Built-in mesh name or mesh path.
+    pub target: String,
+    /// Dents to make.
+    pub dents: usize,
+    /// Seed of the hit sequence.
+    pub seed: u64,
+    /// Projectile radius drawn up to this times the target's size (largest bounding-box side);
+    /// `None`: every ball [`PROJECTILE_FRACTION`] of the diagonal.
+    pub projectile_scale: Option<f32>,
+    /// Head-on dent distance drawn up to this times the target's thickness (smallest
+    /// bounding-box side); `None`: every dent [`DENT_FRACTION`] of the diagonal.
+    pub depth: Option<f32>,
+    /// Half-angle of the cone of incidence, degrees.
+    pub cone_deg: f32,
+    /// `cpu` or `gpu`.
+    pub backend: String,
+}
+
+impl Options {
+    /// The defaults of the command line for `target`, `dents` and `seed`.
+    pub fn new(target: &str, dents: usize, seed: u64) -> Self {
+        Self {
+            target: target.to_owned(),
+            dents,
+            seed,
+            projectile_scale: None,
+            depth: None,
+            cone_deg: CONE_DEG,
+            backend: "cpu".to_owned(),
+        }
+    }
+
+    fn check(&self) -> Result<(), String> {
+        if !(1..=MAX_DENTS).contains(&self.dents) {
+            return Err(format!("--dents {} is outside 1..={MAX_DENTS}", self.dents));
+        }
+        for (flag, value) in [("--projectile-scale", self.projectile_scale), ("--depth", self.depth)] {
+            if let Some(v) = value.filter(|v| !(*v > 0.0 && *v <= MAX_FRACTION)) {
+                return Err(format!("{flag} {v} is outside (0, {MAX_FRACTION}]"));
+            }
+        }
+        if !(0.0..=MAX_CONE_DEG).contains(&self.cone_deg) {
+            return Err(format!("--cone-deg {} is outside 0..={MAX_CONE_DEG}", self.cone_deg));
+        }
+        Ok(())
+    }
+}
 
 /// A value at the start of the run and at its end.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -67,6 +128,8 @@ pub struct Report {
     pub triangles: usize,
     /// Seed of the hit sequence.
     pub seed: u64,
+    /// Where the dents ran: `cpu` or `gpu`.
+    pub backend: String,
     /// Dents attempted.
     pub dents: usize,
     /// Dents that changed the surface.
@@ -81,6 +144,10 @@ pub struct Report {
     pub median_ms: f64,
     /// 99th percentile (nearest rank), ms.
     pub p99_ms: f64,
+    /// Median wall time of the first [`TIME_WINDOW`] dents (all of them in a shorter run), ms.
+    pub median_first_ms: f64,
+    /// Median wall time of the last [`TIME_WINDOW`] dents (all of them in a shorter run), ms.
+    pub median_last_ms: f64,
     /// Slowest dent, ms.
     pub max_ms: f64,
     /// Mean, ms.
@@ -89,14 +156,27 @@ pub struct Report {
     pub total_s: f64,
     /// Rayon threads the dents could use.
     pub threads: usize,
-    /// Projectile radius, world units.
+    /// Projectile radius, world units: every ball's, or with a projectile scale the largest
+    /// drawn from.
     pub projectile_radius: f32,
-    /// Head-on dent distance, world units.
+    /// Head-on dent distance, world units: every dent's, or with a depth the largest drawn from.
     pub dent_distance: f32,
+    /// The target's size: its bounding box's largest side, world units (before any dent).
+    pub target_size: f32,
+    /// The target's thickness: its bounding box's smallest side, world units (before any dent).
+    pub target_thickness: f32,
+    /// Radius drawn uniformly from (0, projectile_scale·target_size] (`null`: fixed radius).
+    pub projectile_scale: Option<f32>,
+    /// Head-on dent distance drawn uniformly from (0, depth·target_thickness] (`null`: fixed).
+    pub depth: Option<f32>,
     /// Half-angle of the cone of incidence, degrees.
     pub cone_deg: f32,
     /// Vertices moved, mean per dent.
     pub moved_vertices_mean: f64,
+    /// Faces turned over by the dents, summed over the run: the normal reversed beyond
+    /// `dentbend::mesh::SHAPE_TOLERANCE` (`mesh::turned_over_faces`; refined faces compared with
+    /// where refinement made them).
+    pub flipped_faces: usize,
     /// Worst triangle quality q = 4√3·area / (sum of squared edge lengths), 1 = equilateral.
     pub min_triangle_quality: FirstLast<f64>,
     /// Mean triangle quality.
@@ -140,27 +220,37 @@ fn max_of(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     }
 }
 
-/// Dents `target` (built-in name or mesh path) `dents` times with hits drawn from `seed`.
-pub fn run(target: &str, dents: usize, seed: u64) -> Result<Report, String> {
-    if !(1..=MAX_DENTS).contains(&dents) {
-        return Err(format!("--dents {dents} is outside 1..={MAX_DENTS}"));
-    }
+/// Dents `options.target` `options.dents` times with hits drawn from `options.seed`.
+pub fn run(options: &Options) -> Result<Report, String> {
+    options.check()?;
+    let Options { target, dents, seed, .. } = options.clone();
+    let (target, dents) = (target.as_str(), dents);
     let started = Instant::now();
     let mesh = mesh::load(target).map_err(|e| e.to_string())?;
     let (lo, hi) = mesh.bounds();
     let diagonal = (hi - lo).length();
-    let radius = PROJECTILE_FRACTION * diagonal;
-    let dent_distance = DENT_FRACTION * diagonal;
+    let (target_size, target_thickness) = ((hi - lo).max_element(), (hi - lo).min_element());
+    let sizes = HitSizes {
+        radius: options.projectile_scale.map_or(PROJECTILE_FRACTION * diagonal, |f| f * target_size),
+        dent_distance: options.depth.map_or(DENT_FRACTION * diagonal, |f| f * target_thickness),
+        draw_radius: options.projectile_scale.is_some(),
+        draw_distance: options.depth.is_some(),
+    };
+    if !(sizes.radius > 0.0 && sizes.dent_distance > 0.0) {
+        return Err(format!("the target {target} is flat: no projectile size or depth can be drawn from it"));
+    }
     let (vertices, triangles) = (mesh.vertex_count(), mesh.face_count());
     let quality_first = quality_stats(&mesh);
     let volume_first = mesh.volume();
-    let mut target_body = SoakTarget::new(mesh, radius, dent_distance, CONE_DEG.to_radians())?;
+    let backend = SoakBackend::parse(&options.backend)?;
+    let backend_name = backend.name().to_owned();
+    let mut target_body = SoakTarget::new(mesh, sizes, options.cone_deg.to_radians(), backend)?;
 
     let mut rng = Rng::new(seed);
     // Every page of the times written now, so that filling them in does not read as growth in
     // the memory windows.
     let mut times_ms = vec![f64::NAN; dents];
-    let (mut dented, mut errors, mut non_finite, mut moved_total) = (0, 0, 0, 0usize);
+    let (mut dented, mut errors, mut non_finite, mut moved_total, mut flipped) = (0, 0, 0, 0usize, 0);
     let mut error_messages = Vec::new();
     let mut memory = MemoryWindows { dents, first: None, last: None };
     let mut checkpoints = Vec::new();
@@ -168,6 +258,7 @@ pub fn run(target: &str, dents: usize, seed: u64) -> Result<Report, String> {
     for (k, time_ms) in times_ms.iter_mut().enumerate() {
         let outcome = target_body.hit(&mut rng, k as u64)?;
         *time_ms = outcome.elapsed.as_secs_f64() * 1e3;
+        flipped += outcome.flipped_faces;
         match outcome.result {
             Ok((made, moved)) => {
                 dented += usize::from(made > 0);
@@ -196,6 +287,9 @@ pub fn run(target: &str, dents: usize, seed: u64) -> Result<Report, String> {
         (Some(first), Some(last)) => Some(FirstLast { first, last }),
         _ => None,
     };
+    let window = TIME_WINDOW.min(dents);
+    let median_first_ms = median(&times_ms[..window]);
+    let median_last_ms = median(&times_ms[dents - window..]);
     let mut sorted = times_ms;
     sorted.sort_by(f64::total_cmp);
     Ok(Report {
@@ -203,6 +297,7 @@ pub fn run(target: &str, dents: usize, seed: u64) -> Result<Report, String> {
         vertices,
         triangles,
         seed,
+        backend: backend_name,
         dents,
         dented,
         errors,
@@ -210,14 +305,21 @@ pub fn run(target: &str, dents: usize, seed: u64) -> Result<Report, String> {
         non_finite,
         median_ms: nearest_rank(&sorted, 0.5),
         p99_ms: nearest_rank(&sorted, 0.99),
+        median_first_ms,
+        median_last_ms,
         max_ms: sorted[sorted.len() - 1],
         mean_ms: sorted.iter().sum::<f64>() / sorted.len() as f64,
         total_s: started.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
-        projectile_radius: radius,
-        dent_distance,
-        cone_deg: CONE_DEG,
+        projectile_radius: sizes.radius,
+        dent_distance: sizes.dent_distance,
+        target_size,
+        target_thickness,
+        projectile_scale: options.projectile_scale,
+        depth: options.depth,
+        cone_deg: options.cone_deg,
         moved_vertices_mean: moved_total as f64 / dents as f64,
+        flipped_faces: flipped,
         min_triangle_quality: FirstLast { first: quality_first.min, last: quality_last.min },
         mean_triangle_quality: FirstLast { first: quality_first.mean, last: quality_last.mean },
         volume: FirstLast { first: volume_first, last: volume_last },
@@ -239,6 +341,13 @@ fn checkpoint(dents: usize, mesh: &TriMesh) -> Checkpoint {
     }
 }
 
+/// The median (nearest rank) of `times` (non-empty, any order).
+fn median(times: &[f64]) -> f64 {
+    let mut sorted = times.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    nearest_rank(&sorted, 0.5)
+}
+
 /// The `p`-quantile of ascending `sorted` (non-empty) by the nearest-rank rule.
 pub fn nearest_rank(sorted: &[f64], p: f64) -> f64 {
     let rank = (p * sorted.len() as f64).ceil() as usize;
@@ -255,8 +364,8 @@ pub fn render(r: &Report) -> String {
     };
     format!(
         "soak {}: {} dents ({} dented, {} errors, {} non-finite) on {} triangles in {:.1} s\n  \
-         per dent: median {:.3} ms, p99 {:.3} ms, max {:.3} ms\n  \
-         min triangle quality {:.4} → {:.4}, volume change {:+.2} %\n  {rss}\n",
+         per dent: median {:.3} ms (first {TIME_WINDOW}: {:.3}, last {TIME_WINDOW}: {:.3}), p99 {:.3} ms, max {:.3} ms\n  \
+         min triangle quality {:.4} → {:.4}, volume change {:+.2} %, {} faces turned over\n  {rss}\n",
         r.target,
         r.dents,
         r.dented,
@@ -265,10 +374,13 @@ pub fn render(r: &Report) -> String {
         r.triangles,
         r.total_s,
         r.median_ms,
+        r.median_first_ms,
+        r.median_last_ms,
         r.p99_ms,
         r.max_ms,
         r.min_triangle_quality.first,
         r.min_triangle_quality.last,
         100.0 * r.volume_change,
+        r.flipped_faces,
     )
 }
