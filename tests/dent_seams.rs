@@ -11,8 +11,8 @@ mod common;
 use std::collections::HashMap;
 
 use common::cube12;
-use dentbend::dent::{CpuBackend, Damage, DentSettings, Hit, Surface, TargetSet};
-use dentbend::glam::{Affine3A, Vec3};
+use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Surface, TargetSet};
+use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh::{self, TriMesh};
 use dentbend::{DentError, DentParams, Impact, VolumeMode};
 
@@ -123,6 +123,20 @@ fn ball_touching(point: Vec3, normal: Vec3, radius: f32) -> TriMesh {
     ball
 }
 
+/// Body 1 (`ball`, world coordinates) falling at 10 m/s on body 0 (fixed) at `point`, the
+/// normal straight down into it.
+fn hit_from_above(point: Vec3, ball: &TriMesh) -> Hit<'_, u32> {
+    let state = BodyState::moving(point + 0.25 * Vec3::Y, -10.0 * Vec3::Y, Vec3::ZERO, 1.0, Mat3::IDENTITY);
+    Hit {
+        target: 0,
+        projectile: 1,
+        impact: Impact::from_contact(point, -Vec3::Y, &BodyState::FIXED, &state).unwrap(),
+        target_state: BodyState::FIXED,
+        projectile_state: state,
+        projectile_surface: Surface { mesh: ball, to_world: Affine3A::IDENTITY },
+    }
+}
+
 fn game_params(d: f32) -> DentParams {
     DentParams { volume: VolumeMode::Preserve, ..DentParams::new(d) }
 }
@@ -158,23 +172,7 @@ fn repeated_dents_through_the_damage_api_keep_the_cube_closed() {
     for (step, (x, z)) in [(0.9, 0.1), (0.85, -0.2)].into_iter().enumerate() {
         let point = Vec3::new(x, 1.0, z);
         let ball = ball_touching(point, -Vec3::Y, 0.25);
-        let state = dentbend::dent::BodyState::moving(
-            point + 0.25 * Vec3::Y,
-            -10.0 * Vec3::Y,
-            Vec3::ZERO,
-            1.0,
-            dentbend::glam::Mat3::IDENTITY,
-        );
-        let impact = Impact::from_contact(point, -Vec3::Y, &dentbend::dent::BodyState::FIXED, &state).unwrap();
-        let hit = Hit {
-            target: 0,
-            projectile: 1,
-            impact,
-            target_state: dentbend::dent::BodyState::FIXED,
-            projectile_state: state,
-            projectile_surface: Surface { mesh: &ball, to_world: Affine3A::IDENTITY },
-        };
-        let plan = damage.plan(&set, &[hit], step as u64, &mut CpuBackend).expect("planned");
+        let plan = damage.plan(&set, &[hit_from_above(point, &ball)], step as u64, &mut CpuBackend).expect("planned");
         assert_eq!(plan.dents.len(), 1, "no dent at step {step}");
         set.apply(plan.targets);
     }
@@ -248,23 +246,7 @@ fn authored_normals_stay_where_nothing_moved() {
     set.insert_rigid(1);
     let point = Vec3::new(0.0, 1.0, 0.0);
     let ball = ball_touching(point, -Vec3::Y, 0.25);
-    let state = dentbend::dent::BodyState::moving(
-        point + 0.25 * Vec3::Y,
-        -10.0 * Vec3::Y,
-        Vec3::ZERO,
-        1.0,
-        dentbend::glam::Mat3::IDENTITY,
-    );
-    let impact = Impact::from_contact(point, -Vec3::Y, &dentbend::dent::BodyState::FIXED, &state).unwrap();
-    let hit = Hit {
-        target: 0,
-        projectile: 1,
-        impact,
-        target_state: dentbend::dent::BodyState::FIXED,
-        projectile_state: state,
-        projectile_surface: Surface { mesh: &ball, to_world: Affine3A::IDENTITY },
-    };
-    let plan = Damage::new().plan(&set, &[hit], 0, &mut CpuBackend).expect("planned");
+    let plan = Damage::new().plan(&set, &[hit_from_above(point, &ball)], 0, &mut CpuBackend).expect("planned");
     let dented = &plan.targets[0];
     assert!(!dented.refinement.is_empty(), "the crate was not refined: the test checks no new vertex");
     // Where each vertex was before the displacement: new ones halfway along their parents, as

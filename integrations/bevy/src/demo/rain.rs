@@ -1,4 +1,4 @@
-//! Balls rain on a dentable block and the bunny, and on a bendable plank.
+//! Balls rain on a dentable block, the bunny and a low-poly crate, and on a bendable plank.
 
 use bevy::app::ScheduleRunnerPlugin;
 use bevy::core_pipeline::tonemapping::Tonemapping;
@@ -8,7 +8,7 @@ use bevy::window::ExitCondition;
 use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
 use dentbend::bend::auto_skeleton;
-use dentbend::dent::Resolution;
+use dentbend::dent::{DentSettings, Resolution, VolumeMode};
 use dentbend::glam::Vec3 as DVec3;
 use dentbend::mesh;
 
@@ -56,6 +56,10 @@ pub enum Target {
     Bunny,
     /// The bendable plank.
     Plank,
+    /// A low-poly crate on the block: 12 triangles, its vertices split at its hard edges (as a
+    /// game asset's), dented with the game settings (refinement, volume rim, guard) on the CPU
+    /// path.
+    Crate,
 }
 
 /// A ball and the frame it was spawned.
@@ -143,6 +147,18 @@ fn setup(
         &bunny,
         Vec3::new(1.1, 0.0, -0.6),
     );
+    let mut game_crate = mesh::builtin("crate").expect("the built-in crate");
+    game_crate.transform(dentbend::glam::Affine3A::from_scale(DVec3::splat(0.35))).expect("a smaller crate");
+    spawn_target(
+        &mut commands,
+        &mut meshes,
+        &mut materials,
+        &settings,
+        Target::Crate,
+        &game_crate,
+        // 0.7 m wide, on the block's back left quarter (clear of the tests' dropped balls).
+        Vec3::new(-1.0, 0.35, -1.0),
+    );
     if settings.plank {
         spawn_plank(&mut commands, &mut meshes, &mut materials);
     }
@@ -198,6 +214,7 @@ fn spawn_target(
     let color = match kind {
         Target::Block => Color::srgb(0.55, 0.6, 0.7),
         Target::Bunny | Target::Plank => Color::srgb(0.85, 0.7, 0.5),
+        Target::Crate => Color::srgb(0.6, 0.45, 0.3),
     };
     let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec()).expect("a valid tri-mesh");
     let mut entity = commands.spawn((
@@ -211,6 +228,12 @@ fn spawn_target(
     if settings.dents {
         // 2 m/s threshold, 8 mm per m/s above it, at most 6 cm.
         let mut dentable = Dentable::new(2.0, 0.008, 0.06);
+        if kind == Target::Crate {
+            // The game dent: refinement (the default), the volume rim and the guard.
+            let mut game = DentSettings::new(2.0, 0.008, 0.06);
+            game.params.volume = VolumeMode::Preserve;
+            dentable = Dentable::with_settings(game);
+        }
         if let Some(side) = settings.resolution {
             dentable.settings.params.resolution = Resolution::Fixed(side);
         }
