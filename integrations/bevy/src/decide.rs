@@ -1,6 +1,7 @@
 //! Each step's contacts → hits → dents through the world-free damage API: CPU-path bodies are
 //! dented and their mesh assets updated at once, GPU-path dents go to the render world.
 
+use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use std::collections::HashSet;
 
@@ -12,6 +13,14 @@ use crate::mesh_data::write_dented;
 use crate::world::surface_in;
 use crate::{DentApplied, DentContact, DentPath, DentStats, DentWorld, MeshDented};
 
+/// What [`decide_dents`] reports: its messages, and the names it logs bodies by.
+#[derive(SystemParam)]
+pub(crate) struct DentReports<'w, 's> {
+    applied: MessageWriter<'w, DentApplied>,
+    dented: MessageWriter<'w, MeshDented>,
+    names: Query<'w, 's, &'static Name>,
+}
+
 /// Decides and makes the dents of this step's [`DentContact`]s.
 pub(crate) fn decide_dents(
     mut world: ResMut<DentWorld>,
@@ -19,9 +28,7 @@ pub(crate) fn decide_dents(
     link: Res<MainLink>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut stats: ResMut<DentStats>,
-    mut applied: MessageWriter<DentApplied>,
-    mut dented: MessageWriter<MeshDented>,
-    names: Query<&Name>,
+    mut reports: DentReports,
 ) {
     let contacts: Vec<DentContact> = contacts.read().copied().collect();
     world.step += 1;
@@ -86,14 +93,14 @@ pub(crate) fn decide_dents(
             DentPath::Cpu => {
                 count_cpu_dent(&mut stats, dent);
                 if dent.moved_vertices == 0 {
-                    warn_empty_once(&mut world.warned_empty, dent, &names);
+                    warn_empty_once(&mut world.warned_empty, dent, &reports.names);
                 }
                 (Some(dent.depth_made), dent.limited_to)
             }
         };
         let (target, projectile, impact, dent_distance) =
             (dent.target, dent.projectile, dent.impact, dent.dent_distance);
-        applied.write(DentApplied { target, projectile, impact, dent_distance, depth_made, limited_to, path });
+        reports.applied.write(DentApplied { target, projectile, impact, dent_distance, depth_made, limited_to, path });
     }
     stats.refined_triangles += plan
         .targets
@@ -109,7 +116,11 @@ pub(crate) fn decide_dents(
         {
             error!("bevy_dentbend: {}'s dented mesh could not be written ({e})", t.key);
         }
-        dented.write(MeshDented { entity: t.key, moved: t.moved.clone(), topology_changed: t.topology_changed });
+        reports.dented.write(MeshDented {
+            entity: t.key,
+            moved: t.moved.clone(),
+            topology_changed: t.topology_changed,
+        });
     }
     world.targets.apply(cpu_targets);
 }
