@@ -138,18 +138,9 @@ fn crossing_pairs(faces: &[[u32; 3]], positions: &[Vec3], pairs: &[(u32, u32)]) 
     }
 }
 
-/// A pair of `pairs` whose faces cross at `positions`, `hint` (a pair of `pairs`, or one that
-/// cannot cross there) tried first; `None` if none does.
-fn first_crossing(
-    faces: &[[u32; 3]],
-    positions: &[Vec3],
-    pairs: &[(u32, u32)],
-    hint: Option<(u32, u32)>,
-) -> Option<(u32, u32)> {
+/// A pair of `pairs` whose faces cross at `positions`; `None` if none does.
+fn first_crossing(faces: &[[u32; 3]], positions: &[Vec3], pairs: &[(u32, u32)]) -> Option<(u32, u32)> {
     let crosses = |&(a, b): &(u32, u32)| faces_cross(positions, faces, a, b);
-    if let Some(pair) = hint.filter(crosses) {
-        return Some(pair);
-    }
     if pairs.len() < PARALLEL_TESTS {
         pairs.iter().copied().find(crosses)
     } else {
@@ -187,27 +178,29 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
     let mut positions = before.to_vec();
     let (mut lo, mut hi) = (0.0f32, 1.0f32);
     // Each step needs only whether some watched pair crosses: the last pair found crossing is
-    // tried first (it often crosses again), and the search stops at the first. Whenever `hi`
-    // drops, the pairs that cannot cross at any scale up to it are dropped (`pairs_within_scale`:
-    // the same bounds, on the smaller displacement); later steps try only scales below `hi`.
-    // Neither changes a step's outcome, so the scale found is the same.
-    let mut hint = None;
+    // tried first (it often crosses again), and the search stops at the first. Before a step
+    // scans the watched pairs, those that cannot cross at any scale up to `hi` are dropped if
+    // `hi` fell since the last such pass (`pairs_within_scale`: the same bounds, on the smaller
+    // displacement; later steps try only scales below `hi`; a hint dropped so cannot cross
+    // either). Neither changes a step's outcome, so the scale found is the same.
+    let (mut hint, mut filtered_at) = (None, 1.0f32);
     for _ in 0..BISECTION_STEPS {
         let mid = 0.5 * (lo + hi);
         for ((p, (&b, &a)), _) in positions.iter_mut().zip(before.iter().zip(after)).zip(moved).filter(|(_, m)| **m) {
             *p = scaled(b, a, mid);
         }
-        let clear = turned_over(faces, before, &positions, &moved_faces).is_empty() && {
-            let found = first_crossing(faces, &positions, &watched, hint);
-            hint = found.or(hint);
-            found.is_none()
-        };
-        if clear {
-            lo = mid;
-        } else {
-            hi = mid;
-            watched = pairs_within_scale(faces, before, after, &watched, hi);
-        }
+        let clear = turned_over(faces, before, &positions, &moved_faces).is_empty()
+            && !hint.is_some_and(|(f, g)| faces_cross(&positions, faces, f, g))
+            && {
+                if hi < filtered_at {
+                    watched = pairs_within_scale(faces, before, after, &watched, hi);
+                    filtered_at = hi;
+                }
+                let found = first_crossing(faces, &positions, &watched);
+                hint = found.or(hint);
+                found.is_none()
+            };
+        if clear { lo = mid } else { hi = mid }
     }
     Some(Limit { scale: lo, crosses, turned_over: turned_over_after })
 }
