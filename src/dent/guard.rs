@@ -17,7 +17,8 @@
 //! that does make faces cross, the pairs whose swept boxes meet are found and those that their
 //! vertices' relative motion cannot clear (`guard_pairs`: neighbours moving together need no
 //! test; this is sound for every scale, no motion is too small to matter) are tested at each
-//! step of the bisection. A dent with a volume rim is checked once, dent and rim together; only
+//! step of the bisection, up to the first that crosses; as the bisection's upper end falls, the
+//! pairs those bounds clear for the smaller displacement are dropped. A dent with a volume rim is checked once, dent and rim together; only
 //! when they cross is the dent limited first and its rim made again for what is left.
 //!
 //! [`TriMesh::self_intersections`]: crate::mesh::TriMesh::self_intersections
@@ -27,7 +28,7 @@ use std::collections::HashSet;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::guard_pairs::{Reach, pairs_to_test};
+use super::guard_pairs::{Reach, pairs_to_test, pairs_within_scale};
 use super::map::PendingDisplacement;
 use crate::mesh::face_sort::FaceSort;
 use crate::mesh::self_intersect::faces_cross;
@@ -137,6 +138,16 @@ fn crossing_pairs(faces: &[[u32; 3]], positions: &[Vec3], pairs: &[(u32, u32)]) 
     }
 }
 
+/// A pair of `pairs` whose faces cross at `positions`; `None` if none does.
+fn first_crossing(faces: &[[u32; 3]], positions: &[Vec3], pairs: &[(u32, u32)]) -> Option<(u32, u32)> {
+    let crosses = |&(a, b): &(u32, u32)| faces_cross(positions, faces, a, b);
+    if pairs.len() < PARALLEL_TESTS {
+        pairs.iter().copied().find(crosses)
+    } else {
+        pairs.par_iter().with_min_len(PARALLEL_TESTS / 2).copied().find_any(crosses)
+    }
+}
+
 /// `before + s·(after − before)`, exactly `after` at `s = 1`.
 fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
     if s == 1.0 { after } else { before + (after - before) * s }
@@ -163,16 +174,32 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
     if !crosses && turned_over_after.is_empty() {
         return None;
     }
-    let watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
+    let mut watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
     let mut positions = before.to_vec();
     let (mut lo, mut hi) = (0.0f32, 1.0f32);
+    // Each step needs only whether some watched pair crosses: the last pair found crossing is
+    // tried first (it often crosses again), and the search stops at the first. Before a step
+    // scans the watched pairs, those that cannot cross at any scale up to `hi` are dropped if
+    // `hi` fell since the last such pass (`pairs_within_scale`: the same bounds, on the smaller
+    // displacement; later steps try only scales below `hi`; a hint dropped so cannot cross
+    // either). Neither changes a step's outcome, so the scale found is the same.
+    let (mut hint, mut filtered_at) = (None, 1.0f32);
     for _ in 0..BISECTION_STEPS {
         let mid = 0.5 * (lo + hi);
         for ((p, (&b, &a)), _) in positions.iter_mut().zip(before.iter().zip(after)).zip(moved).filter(|(_, m)| **m) {
             *p = scaled(b, a, mid);
         }
         let clear = turned_over(faces, before, &positions, &moved_faces).is_empty()
-            && crossing_pairs(faces, &positions, &watched).is_empty();
+            && !hint.is_some_and(|(f, g)| faces_cross(&positions, faces, f, g))
+            && {
+                if hi < filtered_at {
+                    watched = pairs_within_scale(faces, before, after, &watched, hi);
+                    filtered_at = hi;
+                }
+                let found = first_crossing(faces, &positions, &watched);
+                hint = found.or(hint);
+                found.is_none()
+            };
         if clear { lo = mid } else { hi = mid }
     }
     Some(Limit { scale: lo, crosses, turned_over: turned_over_after })

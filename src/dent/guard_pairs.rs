@@ -91,7 +91,7 @@ pub(crate) fn pairs_to_test(
         (f.min(g), f.max(g))
     };
     let slack = 4.0 * f64::from(f32::EPSILON) * near.scale;
-    let motion = Motion { faces, before, after, slack };
+    let motion = Motion { faces, before, after, reach: 1.0, slack };
     let keep = |&(i, j): &(u32, u32)| {
         let gap = || near.before[i as usize].distance(&near.before[j as usize]);
         let (f, g) = (near.faces[i as usize], near.faces[j as usize]);
@@ -101,6 +101,36 @@ pub(crate) fn pairs_to_test(
         candidates.iter().filter_map(keep).collect()
     } else {
         candidates.par_iter().with_min_len(PARALLEL_PAIRS / 2).filter_map(keep).collect()
+    }
+}
+
+/// The pairs of `pairs` (listed by [`pairs_to_test`] with [`Reach::Scaled`] for the same move)
+/// that could still cross at some scale in `(0, reach]`. The positions at those scales,
+/// `b + s·u` with `s ≤ reach`, are the scales `(0, 1]` of the displacement `reach·u`, so the
+/// module's bounds apply to it unchanged (in f64, `reach·u` is exact for the guard's dyadic
+/// scales); the rounding of the positions the guard writes is no larger than at the full
+/// displacement, so the slack is the one for `u`, from the pairs' own corners. A pair cleared
+/// here does not meet at any such scale, so dropping it changes no test's outcome.
+pub(crate) fn pairs_within_scale(
+    faces: &[[u32; 3]],
+    before: &[Vec3],
+    after: &[Vec3],
+    pairs: &[(u32, u32)],
+    reach: f32,
+) -> Vec<(u32, u32)> {
+    let corners = || pairs.iter().flat_map(|&(f, g)| faces[f as usize].into_iter().chain(faces[g as usize]));
+    let (extent, displacement) = corners().fold((0.0f32, 0.0f32), |(e, d), v| {
+        let (b, a) = (before[v as usize], after[v as usize]);
+        (e.max(b.abs().max_element()).max(a.abs().max_element()), d.max((a - b).abs().max_element()))
+    });
+    let slack = 4.0 * f64::from(f32::EPSILON) * (f64::from(extent) + f64::from(displacement));
+    let motion = Motion { faces, before, after, reach: f64::from(reach), slack };
+    let box_before = |f: u32| Aabb::of(faces[f as usize].map(|v| before[v as usize]));
+    let keep = |&&(f, g): &&(u32, u32)| motion.may_cross(f, g, || box_before(f).distance(&box_before(g)));
+    if pairs.len() < PARALLEL_PAIRS {
+        pairs.iter().filter(keep).copied().collect()
+    } else {
+        pairs.par_iter().with_min_len(PARALLEL_PAIRS / 2).filter(keep).copied().collect()
     }
 }
 
@@ -300,11 +330,13 @@ impl BoxGap for Aabb {
     }
 }
 
-/// One displacement: positions before and after, and the slack added to every motion bound.
+/// One displacement: positions before and after, the scale `reach` of `after − before` taken
+/// as the displacement (1: all of it), and the slack added to every motion bound.
 struct Motion<'a> {
     faces: &'a [[u32; 3]],
     before: &'a [Vec3],
     after: &'a [Vec3],
+    reach: f64,
     slack: f64,
 }
 
@@ -314,7 +346,7 @@ impl Motion<'_> {
     }
 
     fn displacement(&self, v: u32) -> DVec3 {
-        self.after[v as usize].as_dvec3() - self.before[v as usize].as_dvec3()
+        (self.after[v as usize].as_dvec3() - self.before[v as usize].as_dvec3()) * self.reach
     }
 
     /// Whether faces `f` and `g`, whose boxes before lie `gap()` apart, are not cleared.
@@ -415,7 +447,7 @@ mod tests {
     use super::*;
 
     fn motion<'a>(faces: &'a [[u32; 3]], before: &'a [Vec3], after: &'a [Vec3]) -> Motion<'a> {
-        Motion { faces, before, after, slack: 1e-9 }
+        Motion { faces, before, after, reach: 1.0, slack: 1e-9 }
     }
 
     #[test]
