@@ -4,9 +4,9 @@
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-use dentbend::dent::{DentJob, dent_batch};
+use dentbend::dent::{DentBackend, DentJob, VolumeMode, dent_batch};
 use dentbend::glam::{Affine3A, Vec3};
-use dentbend::gpu::{GpuContext, GpuDenter};
+use dentbend::gpu::{GpuBackend, GpuContext, GpuDenter};
 use dentbend::{DentParams, Impact, Resolution, TriMesh, mesh};
 use serde::Serialize;
 
@@ -16,6 +16,26 @@ pub const TARGETS: usize = 16;
 /// all targets must fit one dispatch of 65,535 × 64 invocations (about 341 blocks).
 pub const MAX_TARGETS: usize = 256;
 
+/// Which stages a GPU batch runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Stages {
+    /// The paper's dent: the kernels alone on resident targets (`GpuDenter`).
+    Kernels,
+    /// The game dent: refinement, fitted falloff, volume rim and intersection guard around the
+    /// kernels, as `GpuBackend` runs them.
+    All,
+}
+
+impl Stages {
+    /// The name in the JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Kernels => "kernels",
+            Self::All => "all",
+        }
+    }
+}
+
 /// One row; keys are the JSON interface.
 #[derive(Debug, Serialize)]
 pub struct Row {
@@ -23,7 +43,8 @@ pub struct Row {
     pub batch: usize,
     pub gpu_dents_per_s: f64,
     /// Median seconds per batch the host spends planning, recording and submitting it (inside
-    /// `gpu_dents_per_s`'s time; the rest is waiting for the GPU).
+    /// `gpu_dents_per_s`'s time; the rest is waiting for the GPU). With `--stages all` the
+    /// backend waits for its read-backs and runs the host stages, so this is the whole batch.
     pub gpu_host_s: f64,
     pub cpu_dents_per_s: f64,
     /// Seconds per batch of each kernel stage (GPU timestamps where the device has them, else
@@ -46,7 +67,11 @@ impl Scene {
         Ok(Self { targets: vec![block; targets], ball })
     }
 
-    fn jobs(&self, res: u32, batch: usize) -> Vec<DentJob<'_>> {
+    fn jobs(&self, res: u32, batch: usize, stages: Stages) -> Vec<DentJob<'_>> {
+        let base = match stages {
+            Stages::Kernels => DentParams::new(0.1),
+            Stages::All => DentParams { volume: VolumeMode::Preserve, ..DentParams::new(0.1) },
+        };
         (0..batch)
             .map(|k| {
                 let spread = |n: usize| ((n * 7919 % 97) as f32 / 97.0 - 0.5) * 3.0;
@@ -55,7 +80,7 @@ impl Scene {
                     target: k % self.targets.len(),
                     projectile: &self.ball,
                     impact: Impact { point, normal: -Vec3::Y, relative_velocity: Vec3::new(0.3, -1.0, 0.0) },
-                    params: DentParams { resolution: Resolution::Fixed(res), ..DentParams::new(0.1) },
+                    params: DentParams { resolution: Resolution::Fixed(res), ..base.clone() },
                 }
             })
             .collect()
@@ -76,24 +101,36 @@ fn median(min_time: Duration, mut f: impl FnMut() -> Result<(), String>) -> Resu
     Ok(samples[samples.len() / 2])
 }
 
-/// Measures every (res, batch) pair.
+/// Measures every (res, batch) pair with `stages`.
 pub fn run(
     context: &GpuContext,
     targets: usize,
+    stages: Stages,
     sides: &[u32],
     batches: &[usize],
     min_time: Duration,
 ) -> Result<Vec<Row>, String> {
     let scene = Scene::new(targets)?;
     let mut denter = GpuDenter::new(context, &scene.targets).map_err(|e| e.to_string())?;
+    let mut backend = GpuBackend::<usize>::new(context);
+    let keys: Vec<usize> = (0..scene.targets.len()).collect();
     let mut rows = Vec::new();
     for &res in sides {
         for &batch in batches {
-            let jobs = scene.jobs(res, batch);
+            let jobs = scene.jobs(res, batch, stages);
             let mut host = Vec::new();
+            let mut dented = scene.targets.clone();
             let gpu_s = median(min_time, || {
                 let start = Instant::now();
-                denter.dent_batch(&jobs).map_err(|e| e.to_string())?;
+                match stages {
+                    Stages::Kernels => denter.dent_batch(&jobs).map(|_| ()).map_err(|e| e.to_string())?,
+                    Stages::All => {
+                        // Every batch dents the undented blocks again (uploading them: the
+                        // backend's read-back path meets a changed mesh).
+                        dented.clone_from(&scene.targets);
+                        backend.dent_batch(&keys, &mut dented, &jobs).map(|_| ()).map_err(|e| e.to_string())?;
+                    }
+                }
                 host.push(start.elapsed().as_secs_f64());
                 context.wait().map_err(|e| e.to_string())
             })?;
@@ -105,7 +142,10 @@ pub fn run(
                 targets.clone_from(&scene.targets);
                 dent_batch(&mut targets, &jobs).map(|_| ()).map_err(|e| e.to_string())
             })?;
-            let kernels_s = denter.dent_batch_timed(&jobs).map_err(|e| e.to_string())?;
+            let kernels_s = match stages {
+                Stages::Kernels => denter.dent_batch_timed(&jobs).map_err(|e| e.to_string())?,
+                Stages::All => BTreeMap::new(),
+            };
             let row = Row {
                 res,
                 batch,
@@ -115,7 +155,8 @@ pub fn run(
                 kernels_s,
             };
             eprintln!(
-                "  {res:>4}² × {batch:>5}: GPU {:>9.0} dents/s ({:.2} ms of a batch on the host), CPU ({} threads) {:>9.0} dents/s",
+                "  {res:>4}² × {batch:>5} ({}): GPU {:>9.0} dents/s ({:.2} ms of a batch on the host), CPU ({} threads) {:>9.0} dents/s",
+                stages.name(),
                 row.gpu_dents_per_s,
                 row.gpu_host_s * 1e3,
                 rayon::current_num_threads(),

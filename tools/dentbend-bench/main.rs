@@ -68,6 +68,12 @@ enum Command {
         /// Blocks the dents are spread over, round robin (1: every dent on one body).
         #[arg(long, default_value_t = gpu::TARGETS)]
         targets: usize,
+        /// Which stages the GPU batch runs: `kernels` (the paper's dent on resident targets,
+        /// `GpuDenter`) or `all` (the game dent: refinement, fitted falloff, volume rim and
+        /// intersection guard, as the GPU backend runs them, `GpuBackend`); the CPU column runs the
+        /// same dents on all cores.
+        #[arg(long, value_enum, default_value_t = gpu::Stages::Kernels)]
+        stages: gpu::Stages,
         /// Minimum wall time per measurement, seconds.
         #[arg(long, default_value_t = 0.5)]
         min_time: f64,
@@ -195,7 +201,7 @@ fn run(cli: Cli) -> Result<(), String> {
             print!("{}", table1::render(&rows));
             write_json(json, &serde_json::json!({ "rows": rows }))
         }
-        Command::Gpu { json, res, batch, targets, min_time } => {
+        Command::Gpu { json, res, batch, targets, stages, min_time } => {
             if let Some(&bad) = res.iter().find(|&&r| !(1..=dentbend::dent::MAX_RESOLUTION).contains(&r)) {
                 return Err(format!("grid side {bad} is outside 1..={}", dentbend::dent::MAX_RESOLUTION));
             }
@@ -208,12 +214,18 @@ fn run(cli: Cli) -> Result<(), String> {
             let context = dentbend::gpu::shared_context().map_err(|e| e.to_string())?;
             let adapter = context.adapter_name();
             eprintln!("adapter: {adapter}");
-            let rows = gpu::run(context, targets, &res, &batch, seconds(min_time)?)?;
+            let rows = gpu::run(context, targets, stages, &res, &batch, seconds(min_time)?)?;
             let timing = if context.timestamps { "timestamp queries" } else { "submit-and-wait" };
             print!("{}", gpu::render(&adapter, timing, &rows));
             write_json(
                 json,
-                &serde_json::json!({ "adapter": adapter, "kernel_timing": timing, "targets": targets, "rows": rows }),
+                &serde_json::json!({
+                    "adapter": adapter,
+                    "kernel_timing": timing,
+                    "targets": targets,
+                    "stages": stages.name(),
+                    "rows": rows
+                }),
             )
         }
         Command::Scene { name, json, frames, demo, backend, skin } => {
