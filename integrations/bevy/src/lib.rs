@@ -68,7 +68,7 @@ pub use dentbend_rapier::{BendSettings, JointKind};
 pub use events::{DentApplied, MeshDented};
 pub use link::GpuStatus;
 pub use mesh_data::{MeshDataError, SlabLayout, bevy_mesh, slab_layout, tri_mesh};
-pub use register::{DentRefused, DentRegistered};
+pub use register::{DentAdvice, DentRefused, DentRegistered};
 pub use stats::{DentPath, DentStats};
 pub use world::DentWorld;
 

@@ -19,6 +19,17 @@ pub struct DentRegistered;
 #[derive(Component, Debug, Clone)]
 pub struct DentRefused(pub String);
 
+/// Marks a registered body the plug-in dents, but not well, with what is wrong and what fixes it
+/// (also logged once, naming the entity by its `Name`).
+#[derive(Component, Debug, Clone)]
+pub struct DentAdvice(pub String);
+
+/// How many times its largest dent (`DentMaterial::cap`) a kernel-only body's mean edge may be
+/// before its dents are called too coarse for it. A dent's map spans the projectile's contact
+/// footprint and about 1.5 cap (3σ, σ = cap/2) around it; past 8 caps most dents land inside a
+/// face or two and move a few vertices, or none.
+const COARSE_EDGE_CAPS: f32 = 8.0;
+
 pub(crate) type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
 
 /// Projectiles (that do not dent themselves) not registered yet.
@@ -89,9 +100,9 @@ pub(crate) fn register_dentables(
     mut commands: Commands,
     mut world: ResMut<DentWorld>,
     mut meshes: ResMut<Assets<Mesh>>,
-    new: Query<(Entity, &Dentable, &Mesh3d, &GlobalTransform), Unregistered>,
+    new: Query<(Entity, &Dentable, &Mesh3d, &GlobalTransform, Option<&Name>), Unregistered>,
 ) {
-    for (entity, dentable, mesh3d, transform) in &new {
+    for (entity, dentable, mesh3d, transform, name) in &new {
         if let Some(reason) = scale_refusal(transform) {
             refuse(&mut commands, entity, reason);
             continue;
@@ -104,6 +115,11 @@ pub(crate) fn register_dentables(
                 continue;
             }
         };
+        if let Some(advice) = coarseness_advice(dentable, &tri) {
+            let who = name.map_or_else(|| format!("{entity}"), |n| format!("{n} ({entity})"));
+            warn!("bevy_dentbend: {who}: {advice}");
+            commands.entity(entity).insert(DentAdvice(format!("{who}: {advice}")));
+        }
         let handle = meshes.add(copy);
         let info = BodyInfo { mesh: handle.clone(), path: DentPath::Cpu, kernels_only: dentable.kernels_only() };
         let settings = dentable.settings.clone();
@@ -114,6 +130,21 @@ pub(crate) fn register_dentables(
             Err(e) => refuse(&mut commands, entity, format!("its dent settings are invalid: {e}")),
         }
     }
+}
+
+/// Why `tri` is too coarse for `dentable`'s dents, and the fix: only for kernel-only dents (the
+/// paper's, on the GPU path), which move the vertices as they are; refinement makes any mesh
+/// take a dent's shape.
+fn coarseness_advice(dentable: &Dentable, tri: &TriMesh) -> Option<String> {
+    let cap = dentable.settings.material.cap;
+    let edge = tri.mean_edge_length();
+    (dentable.kernels_only() && edge > COARSE_EDGE_CAPS * cap).then(|| {
+        format!(
+            "its mesh is too coarse for its dents (edges of {edge:.3} m on average, dents at most {cap:.3} m deep): \
+             they move few vertices or none; give it `Dentable::with_settings(DentSettings::new(..))`, whose \
+             refinement splits the faces under each dent, or a finer mesh"
+        )
+    })
 }
 
 /// Registers each new projectile once its mesh asset is loaded.
@@ -183,13 +214,13 @@ pub(crate) fn forget_removed(
         if world.remove(entity) {
             link.send(ToRender::Forget(entity));
         }
-        commands.entity(entity).try_remove::<(DentRegistered, DentRefused)>();
+        commands.entity(entity).try_remove::<(DentRegistered, DentRefused, DentAdvice)>();
     }
     for entity in projectiles.read() {
         // A dentable body's surface is its dentable mesh: only a plain projectile goes.
         if !world.bodies.contains_key(&entity) {
             world.remove(entity);
-            commands.entity(entity).try_remove::<(DentRegistered, DentRefused)>();
+            commands.entity(entity).try_remove::<(DentRegistered, DentRefused, DentAdvice)>();
         }
     }
 }

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use bevy::prelude::*;
 use bevy_dentbend::dentbend::dent::{DentSettings, VolumeMode};
-use bevy_dentbend::{DentApplied, DentPath, DentStats, DentWorld, Dentable};
+use bevy_dentbend::{DentAdvice, DentApplied, DentPath, DentStats, DentWorld, Dentable};
 use common::SPEED_OK;
 
 /// Every `DentApplied` written so far.
@@ -105,12 +105,40 @@ fn a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges() {
     assert!(stats.refined_triangles > 0, "{stats:?}");
 }
 
+/// A `Cuboid` with the paper's dent (kernels only, the GPU path's `Dentable::new`) is named in
+/// one warning with its fix; the same cuboid with the game settings, and the scene's finely
+/// meshed plate, are not.
+fn a_body_too_coarse_for_its_dents_is_named_with_the_fix() {
+    let cuboid = || Cuboid::new(1.0, 0.2, 1.0).mesh().build();
+    let mut s = common::scene_dentable(false, Dentable::new(1.0, 0.01, 0.08));
+    s.app.init_resource::<Seen>();
+    s.warm_up(false);
+    assert!(s.app.world().get::<DentAdvice>(s.target).is_none(), "the 48-cell plate is fine enough");
+    let mut spawn = |dentable: Dentable, name: &str| {
+        let handle = s.app.world_mut().resource_mut::<Assets<Mesh>>().add(cuboid());
+        let entity =
+            s.app.world_mut().spawn((Mesh3d(handle), Transform::default(), dentable, Name::new(name.to_owned()))).id();
+        s.frames(3);
+        entity
+    };
+    let coarse = spawn(Dentable::new(1.0, 0.01, 0.08), "paper crate");
+    let game = spawn(game_dentable(), "game crate");
+    let advice = s.app.world().get::<DentAdvice>(coarse).expect("the coarse body is named").0.clone();
+    assert!(advice.contains("paper crate") && advice.contains("too coarse"), "{advice}");
+    assert!(advice.contains("Dentable::with_settings"), "the advice names no fix: {advice}");
+    assert!(s.app.world().get::<DentAdvice>(game).is_none(), "refinement serves the game crate");
+}
+
 fn main() -> ExitCode {
     common::run(vec![
         ("a_bevy_uv_sphere_dents_and_keeps_its_shading", a_bevy_uv_sphere_dents_and_keeps_its_shading),
         (
             "a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges",
             a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges,
+        ),
+        (
+            "a_body_too_coarse_for_its_dents_is_named_with_the_fix",
+            a_body_too_coarse_for_its_dents_is_named_with_the_fix,
         ),
     ])
 }
