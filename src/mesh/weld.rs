@@ -10,7 +10,7 @@
 
 use std::collections::HashMap;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use super::{MeshError, TriMesh};
 
@@ -60,11 +60,52 @@ impl Weld {
 
 /// Two of the vertices `candidates` of `positions` that lie within `tolerance` (world units, > 0)
 /// of each other without sharing a position, and their distance; `None` when there are none.
-/// A hash grid of cell `tolerance`: each vertex is compared with those of its 27 cells.
+///
+/// The candidates are sorted by their projection on a fixed direction no mesh is aligned with,
+/// and each is compared with those whose projection lies within `tolerance` of its own (a pair
+/// that close projects that close): a handful of comparisons per vertex, unless many vertices
+/// project alike, when a hash grid of cell `tolerance` takes over.
 pub(crate) fn near_miss(positions: &[Vec3], candidates: &[u32], tolerance: f32) -> Option<(u32, u32, f32)> {
     if !(tolerance.is_finite() && tolerance > 0.0) || candidates.len() < 2 {
         return None;
     }
+    // Unit, with irrational-looking components: grid-aligned meshes project apart on it.
+    let direction = DVec3::new(0.573_462_7, 0.612_340_9, 0.544_174_6).normalize();
+    let mut projected: Vec<(f64, u32)> =
+        candidates.iter().map(|&v| (positions[v as usize].as_dvec3().dot(direction), v)).collect();
+    projected.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    // f64 projections of f32 points are exact to far below the tolerance; the margin covers them.
+    let window = f64::from(tolerance) * (1.0 + 1e-9);
+    let budget = SWEEP_COMPARISONS_PER_VERTEX * projected.len();
+    let mut compared = 0;
+    for (i, &(along, v)) in projected.iter().enumerate() {
+        for &(_, w) in projected[i + 1..].iter().take_while(|(o, _)| o - along <= window) {
+            compared += 1;
+            if compared > budget {
+                return near_miss_in_grid(positions, candidates, tolerance);
+            }
+            if let Some(found) = close_apart(positions, v, w, tolerance) {
+                return Some(found);
+            }
+        }
+    }
+    None
+}
+
+/// Comparisons per vertex the projection sweep of [`near_miss`] makes before it hands over to
+/// the hash grid.
+const SWEEP_COMPARISONS_PER_VERTEX: usize = 16;
+
+/// `(v, w, distance)` when vertices `v` and `w` lie within `tolerance` without sharing a position.
+fn close_apart(positions: &[Vec3], v: u32, w: u32, tolerance: f32) -> Option<(u32, u32, f32)> {
+    let (p, q) = (positions[v as usize], positions[w as usize]);
+    let distance = p.distance(q);
+    (distance <= tolerance && position_key(p) != position_key(q)).then_some((v.min(w), v.max(w), distance))
+}
+
+/// [`near_miss`] by a hash grid of cell `tolerance`: each vertex compared with those of its 27
+/// cells.
+fn near_miss_in_grid(positions: &[Vec3], candidates: &[u32], tolerance: f32) -> Option<(u32, u32, f32)> {
     // f64 cells: within the coordinate range even a tiny tolerance numbers them exactly.
     let cell = |p: Vec3| (p.as_dvec3() / f64::from(tolerance)).floor().as_i64vec3().to_array();
     let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(candidates.len());
@@ -72,18 +113,15 @@ pub(crate) fn near_miss(positions: &[Vec3], candidates: &[u32], tolerance: f32) 
         cells.entry(cell(positions[v as usize])).or_default().push(v);
     }
     for &v in candidates {
-        let p = positions[v as usize];
-        let [x, y, z] = cell(p);
+        let [x, y, z] = cell(positions[v as usize]);
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
                     let Some(near) = cells.get(&[x + dx, y + dy, z + dz]) else { continue };
-                    for &w in near.iter().filter(|&&w| w > v) {
-                        let q = positions[w as usize];
-                        let distance = p.distance(q);
-                        if distance <= tolerance && position_key(p) != position_key(q) {
-                            return Some((v, w, distance));
-                        }
+                    if let Some(found) =
+                        near.iter().filter(|&&w| w > v).find_map(|&w| close_apart(positions, v, w, tolerance))
+                    {
+                        return Some(found);
                     }
                 }
             }
@@ -171,5 +209,22 @@ mod tests {
         let (a, b, distance) = near_miss(&positions, &[0, 1, 2, 3, 4], 1e-5).expect("a near miss");
         assert!(a != b && [a, b].contains(&3) && distance > 0.0 && distance <= 1e-5);
         assert_eq!(near_miss(&positions, &[0, 1, 2, 3, 4], 1e-9), None, "farther apart than the tolerance");
+    }
+
+    #[test]
+    fn the_grid_finds_what_the_sweep_finds_where_many_vertices_project_alike() {
+        // Points on a plane perpendicular to the sweep's direction all project alike: the sweep
+        // runs out of comparisons and the hash grid answers.
+        let direction = DVec3::new(0.573_462_7, 0.612_340_9, 0.544_174_6).normalize().as_vec3();
+        let (a, b) = (direction.any_orthonormal_pair().0, direction.any_orthonormal_pair().1);
+        let mut positions: Vec<Vec3> =
+            (0..40).flat_map(|i| (0..40).map(move |j| a * i as f32 + b * j as f32)).collect();
+        let all: Vec<u32> = (0..positions.len() as u32).collect();
+        assert_eq!(near_miss(&positions, &all, 1e-4), None);
+        positions.push(positions[700] + Vec3::splat(1e-5));
+        let all: Vec<u32> = (0..positions.len() as u32).collect();
+        let (v, w, distance) = near_miss(&positions, &all, 1e-4).expect("the nudged twin");
+        assert_eq!((v, w), (700, 1600));
+        assert!(distance > 0.0 && distance <= 1e-4);
     }
 }
