@@ -201,7 +201,8 @@ pub(crate) fn refine_for_dents(
             let (lo, hi) = target.bounds();
             lo.distance(hi)
         });
-        check_seams(target, dent, size).map_err(|e| (k, e))?;
+        let region = footprint_box(&dent.grid, dent.params, size);
+        check_seams(target, &region, dent.grid.cell_size).map_err(|e| (k, e))?;
         let (wanted, trigger, cap, auto) = match dent.params.refine {
             Refine::Off => {
                 out.per_dent.push(DentRefinement::default());
@@ -219,7 +220,6 @@ pub(crate) fn refine_for_dents(
             out.per_dent.push(DentRefinement::default());
             continue;
         }
-        let region = footprint_box(&dent.grid, dent.params, size);
         let mut done = DentRefinement::default();
         let (positions, faces) = match &out.parts {
             Some((p, f)) => (&p[..], &f[..]),
@@ -275,17 +275,13 @@ pub(crate) fn refine_for_dents(
 /// whose sides nearly coincide: the map cannot tell them apart, yet they would not move as one.
 const NEAR_SEAM_CELLS: f32 = 1e-3;
 
-/// Refuses a dent whose footprint (on `target`, `size` across) holds two vertices that nearly but
-/// not exactly share a position ([`DentError::NearlyCoincidentVertices`]).
-fn check_seams(target: &TriMesh, dent: &Footprint<'_>, size: f32) -> Result<(), DentError> {
-    let region = footprint_box(&dent.grid, dent.params, size);
-    let inside = |p: Vec3| {
-        let r = p - region.centre;
-        (0..3).all(|i| r.dot(region.axes[i]).abs() <= region.half_extents[i])
-    };
-    let under: Vec<u32> =
-        (0..target.vertex_count() as u32).filter(|&v| inside(target.positions()[v as usize])).collect();
-    match near_miss(target.positions(), &under, NEAR_SEAM_CELLS * dent.grid.cell_size) {
+/// Refuses a dent whose footprint `region` on `target` (its map's cells `cell_size` wide) holds
+/// two vertices that nearly but not exactly share a position
+/// ([`DentError::NearlyCoincidentVertices`]).
+fn check_seams(target: &TriMesh, region: &OrientedBox, cell_size: f32) -> Result<(), DentError> {
+    let positions = target.positions();
+    let under: Vec<u32> = (0..positions.len() as u32).filter(|&v| region.contains(positions[v as usize])).collect();
+    match near_miss(positions, &under, NEAR_SEAM_CELLS * cell_size) {
         Some((a, b, distance)) => Err(DentError::NearlyCoincidentVertices { a, b, distance }),
         None => Ok(()),
     }

@@ -1,5 +1,5 @@
 //! Stage 3 of a dent: measure the volume the displacement changed and, when asked, put it back
-//! with a raised rim around the crater (DESIGN.md §4 "Volume").
+//! with a raised rim around the crater (ARCHITECTURE.md §2).
 //!
 //! Only the triangles with a moved corner change the enclosed volume, so the change is summed
 //! over those alone (signed tetrahedra against the impact point, f64). To restore it, a ring of

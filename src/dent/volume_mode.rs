@@ -1,4 +1,4 @@
-//! The volume setting of a dent (issue 18: volume kept); the stage itself is `volume.rs`.
+//! The volume setting of a dent (volume lost, the paper's, or kept); the stage itself is `volume.rs`.
 
 /// What a dent does to the body's volume.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -1,5 +1,5 @@
 //! Prescored fracture (paper Figure 3; after Su–Schroeder–Fedkiw 2009 and Müller–Chentanez–Kim
-//! 2013; DESIGN.md §4): a [`FracturePattern`] of convex Voronoi cells, finer near its origin, is
+//! 2013): a [`FracturePattern`] of convex Voronoi cells, finer near its origin, is
 //! computed once; when a hit passes a body's toughness ([`FractureSettings::breaks`]) the
 //! pattern is [placed](Placement) at the impact point along its normal and [`break_body`] cuts
 //! the body into closed pieces (one per cell within the radius, with mass properties) and one

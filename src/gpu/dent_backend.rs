@@ -134,12 +134,11 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
             };
             // Normals change only around what moved, as on the CPU.
             let (faces, normals) = (current[t].faces().to_vec(), current[t].normals().to_vec());
-            let mesh = TriMesh::with_normals(positions, faces, normals).map_err(|e| {
+            let mut mesh = TriMesh::with_normals(positions, faces, normals).map_err(|e| {
                 self.denter = None;
                 let job = jobs.iter().position(|j| j.target == t).unwrap_or(0);
                 BatchError { job, error: DentError::Backend(format!("read back mesh: {e}")) }
             })?;
-            let mut mesh = mesh;
             mesh.recompute_normals_near(&moved);
             built.push(Some((mesh, moved)));
         }

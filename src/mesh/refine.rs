@@ -60,6 +60,14 @@ pub struct OrientedBox {
     pub half_extents: Vec3,
 }
 
+impl OrientedBox {
+    /// Whether point `p` lies in the box (its boundary included).
+    pub(crate) fn contains(&self, p: Vec3) -> bool {
+        let r = p - self.centre;
+        (0..3).all(|i| r.dot(self.axes[i]).abs() <= self.half_extents[i])
+    }
+}
+
 impl RefineRegion for OrientedBox {
     /// Exact separating-axis test (the box's 3 axes, the triangle's normal, and the 9 products
     /// of a box axis with a triangle edge) in the box's coordinates.
@@ -288,8 +296,10 @@ pub(crate) fn refine_parts(
         return Err(RefineError::InvalidMaxEdge(max_edge));
     }
     let mut held_back = HashSet::new();
+    // The positions are the same for every try (a try that fails rolls back).
+    let weld = Weld::of(positions);
     for _ in 0..CROSSING_RETRIES {
-        match refine_once(positions, faces, region, max_edge, max_new_triangles, &held_back)? {
+        match refine_once(positions, faces, weld.clone(), region, max_edge, max_new_triangles, &held_back)? {
             Ok(mut log) => {
                 log.held_back = held_back.into_iter().collect();
                 log.held_back.sort_unstable();
@@ -307,13 +317,13 @@ pub(crate) fn refine_parts(
 fn refine_once(
     positions: &mut Vec<Vec3>,
     faces: &mut Vec<[u32; 3]>,
+    weld: Option<Weld>,
     region: &dyn RefineRegion,
     max_edge: f32,
     max_new_triangles: usize,
     held_back: &HashSet<u32>,
 ) -> Result<Result<Refinement, Vec<u32>>, RefineError> {
     let base = Refinement { base_vertex_count: positions.len(), base_face_count: faces.len(), ..Default::default() };
-    let weld = Weld::of(positions);
     let mut refiner = Refiner {
         weld,
         positions,

@@ -1,4 +1,4 @@
-//! Damage as data (issue 18): a body's dents, bends and fractures as a compact file that replays
+//! Damage as data: a body's dents, bends and fractures as a compact file that replays
 //! to bit-identical meshes — for save games, and for multiplayer clients that receive impacts
 //! instead of meshes.
 //!

@@ -1,5 +1,5 @@
 //! `dentbend-bench stages`: what refinement, volume preservation and the intersection guard
-//! add to one dent (issue 18's budget), measured as in `cargo bench --bench dent_game` but with
+//! add to one dent (against its budget), measured as in `cargo bench --bench dent_game` but with
 //! the two settings interleaved dent by dent, so that both see the same machine state: a ball of
 //! radius [`BALL_RADIUS`] resting on the middle of the target's top, a dent of
 //! [`DENT_DISTANCE`], head-on and at [`GLANCE_DEG`], once as the paper makes it (no
