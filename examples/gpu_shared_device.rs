@@ -30,7 +30,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         target: 0,
         projectile: &ball,
         impact: Impact { point: Vec3::new(0.0, 0.5, 0.0), normal: -Vec3::Y, relative_velocity: -Vec3::Y * 3.0 },
-        params: DentParams::new(0.2),
+        // A recorded batch runs the kernels alone: the paper's dent, no host stage.
+        params: DentParams::new(0.2).without_host_stages(),
     };
     // Recorded into the application's encoder: nothing runs until the application submits.
     let mut encoder = device.create_command_encoder(&Default::default());

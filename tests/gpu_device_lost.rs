@@ -43,7 +43,8 @@ fn a_destroyed_application_device_gives_a_typed_error(_: &'static GpuContext) {
     let targets = vec![mesh::builtin("block").unwrap()];
     let ball = mesh::builtin("sphere").unwrap();
     let mut denter = GpuDenter::new(&context, &targets).unwrap();
-    let job = head_on(&ball);
+    // The paper's dent, which a recorded batch runs (the kernels alone).
+    let job = DentJob { params: DentParams::new(0.2).without_host_stages(), ..head_on(&ball) };
     let before = targets[0].positions().to_vec();
     // Lost mid-batch: recorded into the application's encoder, the device goes away before the
     // application submits.

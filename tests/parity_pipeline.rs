@@ -5,7 +5,7 @@
 mod common;
 
 use common::sphere_at;
-use dentbend::dent::{DentJob, Refine, dent_batch};
+use dentbend::dent::{DentJob, dent_batch};
 use dentbend::glam::Vec3;
 use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter};
 use dentbend::{DentParams, Impact, Resolution, TriMesh, dent_map_stages, mesh};
@@ -94,9 +94,9 @@ fn target_jobs<'a>(balls: &'a [TriMesh], targets: &[TriMesh]) -> Vec<DentJob<'a>
         target,
         projectile: &balls[ball],
         impact: Impact { point, normal, relative_velocity: velocity },
-        // The kernels' parity: the CPU batch's host stages (refinement, intersection guard) stay
-        // off, as the GPU denter runs only the kernels.
-        params: DentParams { refine: Refine::Off, guard_crossings: false, ..DentParams::new(d) },
+        // The kernels' parity: the host stages (refinement, intersection guard) stay off here;
+        // tests/gpu_host_stages.rs compares them.
+        params: DentParams::new(d).without_host_stages(),
     };
     vec![
         hit(0, Vec3::new(0.0, 0.5, 0.0), -Vec3::Y, -Vec3::Y, 0, 0.2),
@@ -115,8 +115,8 @@ fn a_gpu_batch_dents_targets_like_the_cpu_batch(context: &'static GpuContext) {
     let mut cpu = targets();
     let jobs = target_jobs(&balls, &cpu);
     let mut denter = GpuDenter::new(context, &cpu).unwrap();
-    let info = denter.dent_batch(&jobs).unwrap();
-    assert_eq!(info.len(), jobs.len());
+    let outcome = denter.dent_batch(&jobs).unwrap();
+    assert_eq!(outcome.reports.len(), jobs.len());
     dent_batch(&mut cpu, &jobs).unwrap();
     for (t, target) in cpu.iter().enumerate() {
         let gpu = denter.read_positions(t).unwrap();

@@ -91,7 +91,8 @@ pub struct DentParams {
     /// or put back as a raised rim ([`VolumeMode::Preserve`]).
     pub volume: VolumeMode,
     /// Scale a dent back so that it makes no faces of its target cross (default on; the report's
-    /// `limited_to` says when it did). The CPU paths (`dent`, `dent_pair`, batches) apply it.
+    /// `limited_to` says when it did). Every batch path applies it (`dent`, `dent_pair`, the CPU
+    /// batches and `GpuDenter::dent_batch`).
     pub guard_crossings: bool,
 }
 
@@ -112,6 +113,30 @@ impl DentParams {
             volume: VolumeMode::Free,
             guard_crossings: true,
         }
+    }
+
+    /// The stages of this dent that run on the host, around the map kernels and the
+    /// displacement: `"refinement"`, `"intersection guard"`, `"volume rim"` (empty for the
+    /// paper's dent). A falloff steep enough to fold a wall under its map (not the default
+    /// logistic one) is also fitted on the host, which only the plan can tell.
+    pub fn host_stages(&self) -> Vec<&'static str> {
+        let mut stages = Vec::new();
+        if self.refine != super::Refine::Off {
+            stages.push("refinement");
+        }
+        if self.guard_crossings {
+            stages.push("intersection guard");
+        }
+        if self.volume == VolumeMode::Preserve {
+            stages.push("volume rim");
+        }
+        stages
+    }
+
+    /// The same dent without its host stages: no refinement, no guard, no volume rim (the
+    /// paper's dent, which the GPU kernels make alone).
+    pub fn without_host_stages(self) -> Self {
+        Self { refine: super::Refine::Off, guard_crossings: false, volume: VolumeMode::Free, ..self }
     }
 
     /// The Gaussian width actually used, world units.

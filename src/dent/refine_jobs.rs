@@ -28,7 +28,8 @@ pub struct RefinedTargets {
 /// # Errors
 /// [`BatchError`] naming the first job (in job order) whose plan or refinement failed.
 pub fn refine_targets(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<RefinedTargets, BatchError> {
-    let edges = edges_of_dented(targets, jobs)?;
+    let targets: Vec<&TriMesh> = targets.iter().collect();
+    let edges = edges_of_dented(&targets, jobs)?;
     let mut plans = Vec::with_capacity(jobs.len());
     for (job, j) in jobs.iter().enumerate() {
         if matches!(j.params.refine, Refine::Off) {
@@ -40,7 +41,7 @@ pub fn refine_targets(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<Refin
         plans.push(Some(plan));
     }
     let plans: Vec<Option<&DentPlan>> = plans.iter().map(Option::as_ref).collect();
-    refine_planned(targets, &edges, jobs, &plans)
+    refine_planned(&targets, &edges, jobs, &plans)
 }
 
 /// Every job planned on the host as the CPU batch plans it, from its target as given (the mean
@@ -49,7 +50,7 @@ pub fn refine_targets(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<Refin
 /// # Errors
 /// [`BatchError`] naming the first job (in job order) whose target index or plan is bad.
 pub(crate) fn plan_jobs(
-    targets: &[TriMesh],
+    targets: &[&TriMesh],
     jobs: &[DentJob<'_>],
 ) -> Result<(Vec<Option<EdgeLengths>>, Vec<DentPlan>), BatchError> {
     let edges = edges_of_dented(targets, jobs)?;
@@ -66,7 +67,7 @@ pub(crate) fn plan_jobs(
 
 /// Per target, its edge lengths if a job dents it (`None` otherwise), after checking that every
 /// job names a target of the list.
-fn edges_of_dented(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<Vec<Option<EdgeLengths>>, BatchError> {
+fn edges_of_dented(targets: &[&TriMesh], jobs: &[DentJob<'_>]) -> Result<Vec<Option<EdgeLengths>>, BatchError> {
     if let Some((job, bad)) = jobs.iter().enumerate().find(|(_, j)| j.target >= targets.len()) {
         return Err(BatchError { job, error: invalid("target", bad.target, "must index the batch's target list") });
     }
@@ -80,13 +81,13 @@ fn edges_of_dented(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<Vec<Opti
 /// The refine stage of `jobs` planned as `plans` (`None` for a job that does not refine), on
 /// `targets` whose edge lengths `edges` holds (as [`edges_of_dented`] measures them).
 pub(crate) fn refine_planned(
-    targets: &[TriMesh],
+    targets: &[&TriMesh],
     edges: &[Option<EdgeLengths>],
     jobs: &[DentJob<'_>],
     plans: &[Option<&DentPlan>],
 ) -> Result<RefinedTargets, BatchError> {
     let mut out = RefinedTargets { reports: vec![DentReport::default(); jobs.len()], ..RefinedTargets::default() };
-    for (t, target) in targets.iter().enumerate() {
+    for (t, &target) in targets.iter().enumerate() {
         let mine: Vec<usize> = (0..jobs.len()).filter(|&j| jobs[j].target == t && plans[j].is_some()).collect();
         let dents: Vec<Footprint<'_>> = mine
             .iter()

@@ -5,6 +5,9 @@ mod arena;
 mod batch;
 mod chunks;
 mod output;
+mod resident;
+mod stages;
+mod targets;
 
 use std::collections::HashMap;
 use std::ops::Range;
@@ -20,7 +23,7 @@ use super::glance::{GlanceBuffers, GlanceKernel};
 use super::heat::{HeatBatch, HeatBuffers, HeatDent, HeatKernel};
 use super::interleave::Interleave;
 use super::moved::Moved;
-use super::normals::{Normals, NormalsParams, adjacency};
+use super::normals::{Normals, NormalsParams};
 use super::recorder::Recorder;
 use super::zbuffer::{Zbuffer, ZbufferBuffers, work_words};
 use super::{GpuContext, GpuError, buffers};
@@ -28,6 +31,7 @@ use crate::cpu::{DisplaceParams, EnvelopeParams, GlanceParams, HeatParams, Zbuff
 use crate::dent::{BatchError, DentJob, DentMap, DentPlan, DentStages, plan_dent};
 use crate::mesh::TriMesh;
 use arena::{Arena, Slot};
+use resident::{Resident, ResidentBuffers};
 
 /// Why a GPU batch failed; no target changed.
 #[derive(Debug, thiserror::Error)]
@@ -35,6 +39,20 @@ pub enum GpuBatchError {
     /// One dent's input was invalid (reported by job index, as [`crate::dent::dent_batch`] does).
     #[error(transparent)]
     Job(#[from] BatchError),
+    /// A dent given to [`GpuDenter::record_batch`] (or
+    /// [`dent_batch_timed`](GpuDenter::dent_batch_timed)) asks for stages that run on the host,
+    /// which a recording that never waits cannot run; nothing was recorded.
+    #[error(
+        "dent {job} of the batch asks for {stages}, which run on the host around the kernels, and \
+         a recorded batch runs the kernels alone: dent it with GpuDenter::dent_batch, or make the \
+         paper's dent with DentParams::without_host_stages"
+    )]
+    HostStages {
+        /// Index of the dent in the batch.
+        job: usize,
+        /// The stages it asks for, comma-separated.
+        stages: String,
+    },
     /// The GPU failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
@@ -86,16 +104,6 @@ pub struct GpuStages {
     pub map: Vec<[f32; 4]>,
 }
 
-/// Where a target lives in the resident buffers.
-#[derive(Debug, Clone)]
-struct Resident {
-    vertices: Range<u32>,
-    face_offset: u32,
-    adjacency_offset: u32,
-    mean_edge: f32,
-    faces: Vec<[u32; 3]>,
-}
-
 /// The compiled kernels.
 struct Kernels {
     zbuffer: Zbuffer,
@@ -109,33 +117,37 @@ struct Kernels {
     moved: Moved,
 }
 
-/// Dents target meshes that stay on the GPU.
+/// Dents target meshes that stay on the GPU, with every stage of [`DentParams`](crate::DentParams).
 ///
-/// Targets are uploaded once ([`new`](Self::new)); [`dent_batch`](Self::dent_batch) runs each
-/// kernel once per batch (per memory-sized chunk of it) over every dent, and several dents on
-/// the same target apply in submission order. The deformed vertices stay in
-/// [`vertex_buffer`](Self::vertex_buffer) (`vec4<f32>` per vertex, `w` = moved in the last
-/// batch) for a renderer to bind; [`read_positions`](Self::read_positions) copies them back.
+/// Targets are uploaded once ([`new`](Self::new)) and stay on the device; the host keeps a
+/// mirror of each (`resident.rs`). [`dent_batch`](Self::dent_batch) gives what the CPU batch
+/// ([`dent_batch_tracked`](crate::dent::dent_batch_tracked)) gives: each job is planned on the
+/// host, its target refined there where the dent needs it (the new vertices and triangles are
+/// written into the target's slice of the device buffers), the falloff fitted to the target's
+/// thickness where it could fold a wall; the kernels build every map and displace, once per batch
+/// (per memory-sized chunk of it) over every dent; then only the vertices the kernels moved come
+/// back, the intersection guard and the volume rim run on the host's mirror, and what they change
+/// is written back. Several dents on one target apply in submission order, each on what the
+/// earlier ones left. No batch reads a whole target back.
 ///
-/// It runs the kernels only, the paper's dent: positions never come back to the host during a
-/// batch, so the host stages of [`DentParams`](crate::DentParams) do not run here. The falloff
-/// is not fitted to the target's thickness, `guard_crossings` is ignored (no dent is limited),
-/// [`VolumeMode::Preserve`](crate::dent::VolumeMode::Preserve) raises no rim, and
-/// `refine` is not applied (upload refined meshes yourself). [`GpuBackend`](super::GpuBackend)
-/// runs all of them around these kernels, at the cost of a read-back per dented target.
+/// The deformed vertices stay in [`vertex_buffer`](Self::vertex_buffer) (`vec4<f32>` per
+/// vertex, `w` = moved in the last batch) for a renderer to bind; [`mesh`](Self::mesh) is the
+/// host's copy and [`read_positions`](Self::read_positions) reads the device's.
+///
+/// [`record_batch`](Self::record_batch) records a batch into the caller's command encoder for a
+/// frame loop that never waits: it runs the kernels, so it takes the dents that need no host
+/// stage ([`DentParams::without_host_stages`](crate::DentParams::without_host_stages)) and
+/// refuses the others.
 ///
 /// The denter holds its own clone of the [`GpuContext`] (no borrow), so it is `Send + Sync +
-/// 'static` and can live in an application's resources. [`record_batch`](Self::record_batch)
-/// records a batch into the caller's command encoder; [`dent_batch`](Self::dent_batch) records,
-/// submits and checks the device in one call.
+/// 'static` and can live in an application's resources.
 pub struct GpuDenter {
     context: GpuContext,
     kernels: Kernels,
     targets: Vec<Resident>,
-    positions: wgpu::Buffer,
-    normals: wgpu::Buffer,
-    faces: wgpu::Buffer,
-    adjacency: wgpu::Buffer,
+    buffers: ResidentBuffers,
+    /// Usage the vertex and normal buffers get beyond storage and copies.
+    usage: wgpu::BufferUsages,
     /// The map-building buffers, kept between batches (see [`scratch_bytes`](Self::scratch_bytes)).
     arena: Mutex<Arena>,
 }
@@ -150,8 +162,9 @@ pub struct GpuDenterOptions {
 }
 
 impl GpuDenter {
-    /// Compiles the kernels and uploads `targets` (positions, triangles, vertex→face adjacency)
-    /// onto `context`'s device, keeping a clone of `context` (cheap: the handles are shared).
+    /// Compiles the kernels and uploads `targets` (positions, normals, triangles, vertex→face
+    /// adjacency) onto `context`'s device, keeping a clone of `context` (cheap: the handles are
+    /// shared) and a copy of each target on the host.
     ///
     /// # Errors
     /// Kernel compilation errors, or [`GpuError::OverLimit`] when the targets do not fit one
@@ -183,48 +196,10 @@ impl GpuDenter {
             interleave: Interleave::new(context)?,
             moved: Moved::new(context)?,
         };
-        let (mut positions, mut normals, mut faces, mut adjacent) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let mut resident = Vec::with_capacity(targets.len());
-        for mesh in targets {
-            let first = positions.len() as u32;
-            positions.extend(mesh.positions().iter().map(|p| p.extend(0.0).to_array()));
-            normals.extend(mesh.normals().iter().map(|n| n.extend(0.0).to_array()));
-            resident.push(Resident {
-                vertices: first..positions.len() as u32,
-                face_offset: faces.len() as u32,
-                adjacency_offset: adjacent.len() as u32,
-                mean_edge: mesh.mean_edge_length(),
-                faces: mesh.faces().to_vec(),
-            });
-            faces.extend_from_slice(mesh.faces());
-            adjacent.extend(adjacency(mesh.vertex_count(), mesh.faces()));
-        }
-        buffers::check_binding_size(context, "resident vertices", (positions.len() * 16) as u64)?;
-        // The moved-flag clear runs one invocation per resident vertex in a 1-D dispatch.
-        let max_vertices = u64::from(context.limits.max_compute_workgroups_per_dimension) * 64;
-        if positions.len() as u64 > max_vertices {
-            return Err(GpuError::OverLimit {
-                what: "resident vertices of all targets".into(),
-                needed: positions.len() as u64,
-                limit: max_vertices,
-            });
-        }
-        buffers::check_binding_size(context, "resident adjacency", (adjacent.len() * 4) as u64)?;
-        let mut usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-        if options.vertex_usage {
-            usage |= wgpu::BufferUsages::VERTEX;
-        }
-        let bytes = |data: &[[f32; 4]]| bytemuck::cast_slice::<[f32; 4], u8>(data).to_vec();
-        Ok(Self {
-            positions: buffers::with_contents(context, "resident positions", &bytes(&positions), usage),
-            normals: buffers::with_contents(context, "resident normals", &bytes(&normals), usage),
-            faces: buffers::storage(context, "resident faces", &faces),
-            adjacency: buffers::storage(context, "resident adjacency", &adjacent),
-            context: context.clone(),
-            kernels,
-            targets: resident,
-            arena: Mutex::default(),
-        })
+        let mut resident: Vec<Resident> = targets.iter().cloned().map(Resident::new).collect();
+        let usage = if options.vertex_usage { wgpu::BufferUsages::VERTEX } else { wgpu::BufferUsages::empty() };
+        let buffers = ResidentBuffers::lay_out(context, &mut resident, usage)?;
+        Ok(Self { context: context.clone(), kernels, targets: resident, buffers, usage, arena: Mutex::default() })
     }
 
     /// The context (device and queue) the denter runs on.
@@ -235,12 +210,12 @@ impl GpuDenter {
     /// The deformed vertices of every target, `vec4<f32>` each (xyz world units, w = 1 when the
     /// vertex moved in the last batch); target `t` occupies [`vertex_range`](Self::vertex_range).
     pub fn vertex_buffer(&self) -> &wgpu::Buffer {
-        &self.positions
+        &self.buffers.positions
     }
 
     /// Unit vertex normals, laid out like [`vertex_buffer`](Self::vertex_buffer).
     pub fn normal_buffer(&self) -> &wgpu::Buffer {
-        &self.normals
+        &self.buffers.normals
     }
 
     /// Byte range of target `target`'s vertices in the vertex and normal buffers.
@@ -248,7 +223,7 @@ impl GpuDenter {
     /// # Panics
     /// If `target` is not a target index.
     pub fn vertex_range(&self, target: usize) -> Range<u64> {
-        let v = &self.targets[target].vertices;
+        let v = self.targets[target].vertices();
         u64::from(v.start) * 16..u64::from(v.end) * 16
     }
 
@@ -285,8 +260,8 @@ impl GpuDenter {
         let Some(resident) = self.targets.get(target) else {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
-        let (first, count) = (resident.vertices.start as usize, resident.vertices.len());
-        let values: Vec<[f32; 4]> = buffers::read_back_range(&self.context, &self.positions, first, count)?;
+        let (first, count) = (resident.first_vertex as usize, resident.mesh.vertex_count());
+        let values: Vec<[f32; 4]> = buffers::read_back_range(&self.context, &self.buffers.positions, first, count)?;
         Ok(values.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
     }
 
@@ -299,18 +274,19 @@ impl GpuDenter {
         let Some(resident) = self.targets.get(target) else {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
-        let (first, count) = (resident.vertices.start as usize, resident.vertices.len());
-        let values: Vec<[f32; 4]> = buffers::read_back_range(&self.context, &self.normals, first, count)?;
+        let (first, count) = (resident.first_vertex as usize, resident.mesh.vertex_count());
+        let values: Vec<[f32; 4]> = buffers::read_back_range(&self.context, &self.buffers.normals, first, count)?;
         Ok(values.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect())
     }
 
-    /// Target `target` as it is now, as a mesh (normals recomputed on the CPU).
+    /// Target `target` as the device holds it now, read back whole (normals recomputed on the
+    /// CPU); [`mesh`](Self::mesh) is the host's copy, with no read-back.
     ///
     /// # Errors
     /// As [`read_positions`](Self::read_positions).
     pub fn read_mesh(&self, target: usize) -> Result<TriMesh, GpuError> {
         let positions = self.read_positions(target)?;
-        TriMesh::new(positions, self.targets[target].faces.clone())
+        TriMesh::new(positions, self.targets[target].mesh.faces().to_vec())
             .map_err(|e| GpuError::Validation { label: "read back mesh".into(), message: e.to_string() })
     }
 
@@ -544,7 +520,7 @@ impl GpuDenter {
                 let (falloff, falloff_scale, table) = falloff_table(&job.params.attenuation, plan.dent_distance);
                 let table_offset = tables.len() as u32;
                 tables.extend_from_slice(&table);
-                let vertices = &self.targets[job.target].vertices;
+                let vertices = self.targets[job.target].vertices();
                 DisplaceParams {
                     grid: plan.map_grid.uniform(),
                     dent_distance: plan.dent_distance,
@@ -559,15 +535,22 @@ impl GpuDenter {
             })
             .collect();
         let tables = buffers::storage(&self.context, "falloff tables", &tables);
-        self.kernels.displace.encode(&self.context, rec.encoder(), &params, &maps.map, &tables, &self.positions)?;
+        self.kernels.displace.encode(
+            &self.context,
+            rec.encoder(),
+            &params,
+            &maps.map,
+            &tables,
+            &self.buffers.positions,
+        )?;
         rec.stage("displace")
     }
 
     fn normals_params(&self, target: usize) -> NormalsParams {
         let t = &self.targets[target];
         NormalsParams {
-            vertex_count: t.vertices.end - t.vertices.start,
-            vertex_offset: t.vertices.start,
+            vertex_count: t.mesh.vertex_count() as u32,
+            vertex_offset: t.first_vertex,
             face_offset: t.face_offset,
             adjacency_offset: t.adjacency_offset,
             moved_only: 1,

@@ -297,3 +297,27 @@ fn read_words(staging: &wgpu::Buffer, range: Range<u64>) -> Result<Vec<u32>, Gpu
     staging.unmap();
     words
 }
+
+/// Waits for `pending` read-backs, recorded into one submission the caller has made, and returns
+/// each one's vertices (in `pending`'s order): two waits for the device however many there are
+/// (the counts, then the lists).
+///
+/// # Errors
+/// [`GpuError::Wait`] when a mapping failed or a read-back gave nothing; device errors.
+pub(crate) fn wait_all(context: &GpuContext, pending: &mut [PendingMoved]) -> Result<Vec<MovedVertices>, GpuError> {
+    pending.iter_mut().for_each(PendingMoved::submitted);
+    let mut out: Vec<Option<MovedVertices>> = vec![None; pending.len()];
+    // A count, then a list, each mapped after a wait: two rounds; a third finds nothing new.
+    for _ in 0..3 {
+        context.wait()?;
+        for (read, slot) in pending.iter_mut().zip(&mut out) {
+            if slot.is_none() {
+                *slot = read.poll()?;
+            }
+        }
+        if out.iter().all(Option::is_some) {
+            return Ok(out.into_iter().flatten().collect());
+        }
+    }
+    Err(GpuError::Wait("a moved-vertex read-back did not complete after the device went idle".into()))
+}

@@ -4,9 +4,9 @@
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-use dentbend::dent::{DentBackend, DentJob, VolumeMode, dent_batch};
+use dentbend::dent::{DentJob, VolumeMode, dent_batch};
 use dentbend::glam::{Affine3A, Vec3};
-use dentbend::gpu::{GpuBackend, GpuContext, GpuDenter};
+use dentbend::gpu::{GpuContext, GpuDenter};
 use dentbend::{DentParams, Impact, Resolution, TriMesh, mesh};
 use serde::Serialize;
 
@@ -19,10 +19,11 @@ pub const MAX_TARGETS: usize = 256;
 /// Which stages a GPU batch runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Stages {
-    /// The paper's dent: the kernels alone on resident targets (`GpuDenter`).
+    /// The paper's dent: the kernels alone on resident targets, recorded and submitted
+    /// (`GpuDenter::record_batch`).
     Kernels,
     /// The game dent: refinement, fitted falloff, volume rim and intersection guard around the
-    /// kernels, as `GpuBackend` runs them.
+    /// kernels (`GpuDenter::dent_batch`), each batch on undented targets.
     All,
 }
 
@@ -44,7 +45,8 @@ pub struct Row {
     pub gpu_dents_per_s: f64,
     /// Median seconds per batch the host spends planning, recording and submitting it (inside
     /// `gpu_dents_per_s`'s time; the rest is waiting for the GPU). With `--stages all` the
-    /// backend waits for its read-backs and runs the host stages, so this is the whole batch.
+    /// denter waits for its read-backs of the moved vertices and runs the host stages, so this
+    /// is the whole batch.
     pub gpu_host_s: f64,
     pub cpu_dents_per_s: f64,
     /// Seconds per batch of each kernel stage (GPU timestamps where the device has them, else
@@ -69,7 +71,7 @@ impl Scene {
 
     fn jobs(&self, res: u32, batch: usize, stages: Stages) -> Vec<DentJob<'_>> {
         let base = match stages {
-            Stages::Kernels => DentParams::new(0.1),
+            Stages::Kernels => DentParams::new(0.1).without_host_stages(),
             Stages::All => DentParams { volume: VolumeMode::Preserve, ..DentParams::new(0.1) },
         };
         (0..batch)
@@ -112,23 +114,26 @@ pub fn run(
 ) -> Result<Vec<Row>, String> {
     let scene = Scene::new(targets)?;
     let mut denter = GpuDenter::new(context, &scene.targets).map_err(|e| e.to_string())?;
-    let mut backend = GpuBackend::<usize>::new(context);
-    let keys: Vec<usize> = (0..scene.targets.len()).collect();
     let mut rows = Vec::new();
     for &res in sides {
         for &batch in batches {
             let jobs = scene.jobs(res, batch, stages);
             let mut host = Vec::new();
-            let mut dented = scene.targets.clone();
             let gpu_s = median(min_time, || {
                 let start = Instant::now();
                 match stages {
-                    Stages::Kernels => denter.dent_batch(&jobs).map(|_| ()).map_err(|e| e.to_string())?,
+                    Stages::Kernels => {
+                        let mut encoder = context.device.create_command_encoder(&Default::default());
+                        denter.record_batch(&mut encoder, &jobs).map_err(|e| e.to_string())?;
+                        context.queue.submit([encoder.finish()]);
+                    }
                     Stages::All => {
-                        // Every batch dents the undented blocks again (uploading them: the
-                        // backend's read-back path meets a changed mesh).
-                        dented.clone_from(&scene.targets);
-                        backend.dent_batch(&keys, &mut dented, &jobs).map(|_| ()).map_err(|e| e.to_string())?;
+                        // Every batch dents the undented blocks again (written back into their
+                        // slices on the device: an upload, no read-back).
+                        for (t, block) in scene.targets.iter().enumerate() {
+                            denter.replace_target(t, block.clone()).map_err(|e| e.to_string())?;
+                        }
+                        denter.dent_batch(&jobs).map_err(|e| e.to_string())?;
                     }
                 }
                 host.push(start.elapsed().as_secs_f64());

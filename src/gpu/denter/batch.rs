@@ -3,84 +3,88 @@
 
 use super::chunks::chunks;
 use super::{GpuDentInfo, GpuDenter};
-use crate::dent::{DentJob, DentPlan};
+use crate::dent::{DentJob, DentPlan, falloff_may_need_fit};
 use crate::gpu::normals::NormalsParams;
 use crate::gpu::recorder::{KernelTimes, Recorder};
 use crate::gpu::{GpuBatchError, GpuContext, GpuError};
 
 impl GpuDenter {
-    /// Dents the resident targets by every job (`job.target` indexes the targets given to
-    /// [`new`](Self::new)): plans on the CPU (all cores), then every kernel once per chunk of the
-    /// batch, chunks sized to the device's binding limit. Dents on the same target apply in
-    /// submission order. A dent whose profile vanishes on its grid (σ or d far outside the
-    /// projectile's scale) leaves its target unchanged, where the CPU pipeline reports
-    /// [`DentError::EmptyProfile`](crate::DentError::EmptyProfile): telling would need a read-back.
+    /// Records the kernels of a batch of the paper's dents into the caller's `encoder`, without
+    /// submitting or waiting, for a frame loop: every job is planned on the CPU (all cores), then
+    /// every kernel runs once per chunk of the batch (cut to the device's limits) and the normals
+    /// around what moved are refreshed. Dents on the same target apply in submission order; the
+    /// targets change when the caller submits the encoder's commands (the batch's small buffers
+    /// go through `queue.write_buffer` and land before that submission). Record several batches
+    /// before one submission and they apply in recording order.
     ///
-    /// Submits without waiting for the GPU to finish; the read-backs wait.
-    ///
-    /// # Errors
-    /// [`GpuBatchError::Job`] naming the first invalid dent (nothing is submitted then);
-    /// [`GpuBatchError::Gpu`] for device errors: [`GpuError::DeviceLost`] for a device lost
-    /// before or while the batch is recorded and submitted (the caller's meshes are never
-    /// touched by the GPU path).
-    pub fn dent_batch(&mut self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
-        self.context.check_alive()?;
-        let mut encoder = self.context.device.create_command_encoder(&Default::default());
-        // A device lost while recording shows up as a validation error of some command; name
-        // the real cause.
-        let info = self.record_batch(&mut encoder, jobs).map_err(|error| match error {
-            GpuBatchError::Gpu(gpu) => GpuBatchError::Gpu(self.context.lost_or(gpu)),
-            job => job,
-        })?;
-        let context = &self.context;
-        context
-            .scoped("dent batch submit", || context.queue.submit([encoder.finish()]))
-            .map_err(|e| context.lost_or(e))?;
-        context.check_alive()?;
-        Ok(info)
-    }
-
-    /// Records the batch [`dent_batch`](Self::dent_batch) runs into the caller's `encoder`,
-    /// without submitting or polling: the targets change when the caller submits the encoder's
-    /// commands (uploads of the batch's small buffers go through `queue.write_buffer` and land
-    /// before that submission). Record several batches before one submission and they apply in
-    /// recording order.
+    /// A recording cannot wait for the GPU, so it takes only dents that need no host stage
+    /// ([`DentParams::without_host_stages`](crate::DentParams::without_host_stages), with a
+    /// falloff that cannot fold a wall); [`dent_batch`](Self::dent_batch) runs every stage. The
+    /// host's copy of a target dented here is read back once, the next time the host needs it.
+    /// A dent whose profile vanishes on its grid (σ or d far outside the projectile's scale)
+    /// leaves its target unchanged, where the CPU pipeline reports
+    /// [`DentError::EmptyProfile`](crate::DentError::EmptyProfile): telling would need a
+    /// read-back.
     ///
     /// # Errors
-    /// As [`dent_batch`](Self::dent_batch). An invalid job is found before anything is recorded;
-    /// a device limit met while recording leaves part of the batch in `encoder`, so after an
-    /// error drop the encoder instead of submitting it (the targets then stay as they were).
-    /// Resource creation is checked here inside error scopes; what wgpu only validates when the
-    /// caller finishes the encoder is checked beforehand against the device's limits (grid
-    /// sizes, dispatch sizes, binding sizes), so it should not reach the application's handler.
+    /// [`GpuBatchError::Job`] naming the first invalid dent, [`GpuBatchError::HostStages`] the
+    /// first that needs a host stage (nothing is recorded then); [`GpuBatchError::Gpu`] for
+    /// device errors. A device limit met while recording leaves part of the batch in `encoder`,
+    /// so after an error drop the encoder instead of submitting it (the targets then stay as
+    /// they were). Resource creation is checked here inside error scopes; what wgpu only
+    /// validates when the caller finishes the encoder is checked beforehand against the
+    /// device's limits (grid sizes, dispatch sizes, binding sizes), so it should not reach the
+    /// application's handler.
     pub fn record_batch(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         jobs: &[DentJob<'_>],
     ) -> Result<Vec<GpuDentInfo>, GpuBatchError> {
-        let plans = self.plan(jobs)?;
+        let plans = self.kernel_plans(jobs)?;
         let mut sink = Sink::Caller(encoder);
         self.context.scoped("dent batch", || self.encode_batch(&plans, jobs, &mut sink))??;
+        self.fall_behind(jobs);
         Ok(infos(&plans))
     }
 
-    /// [`dent_batch`](Self::dent_batch), submitting and waiting after every kernel stage to time
-    /// it (slower than `dent_batch`, which records a chunk's stages into one submission): GPU
-    /// time from timestamp queries when [`GpuContext::timestamps`] is set, else wall time.
+    /// [`record_batch`](Self::record_batch) on the denter's own command buffers, submitting and
+    /// waiting after every kernel stage to time it: GPU time from timestamp queries when
+    /// [`GpuContext::timestamps`] is set, else wall time.
     ///
     /// # Errors
-    /// As [`dent_batch`](Self::dent_batch).
+    /// As [`record_batch`](Self::record_batch).
     pub fn dent_batch_timed(&mut self, jobs: &[DentJob<'_>]) -> Result<KernelTimes, GpuBatchError> {
         let mut times = KernelTimes::new();
-        let plans = self.plan(jobs)?;
+        let plans = self.kernel_plans(jobs)?;
         self.context.check_alive()?;
         let mut sink = Sink::Own { timings: Some(&mut times), pending: Vec::new() };
         self.context.scoped("dent batch", || self.encode_batch(&plans, jobs, &mut sink))??;
         if let Sink::Own { pending, .. } = sink {
             self.context.queue.submit(pending);
         }
+        self.fall_behind(jobs);
         self.context.check_alive()?;
         Ok(times)
+    }
+
+    /// Plans every job (all cores) and checks that none needs a host stage.
+    fn kernel_plans(&self, jobs: &[DentJob<'_>]) -> Result<Vec<DentPlan>, GpuBatchError> {
+        let plans = self.plan(jobs)?;
+        for (job, (j, plan)) in jobs.iter().zip(&plans).enumerate() {
+            let mut stages = j.params.host_stages();
+            if falloff_may_need_fit(plan, &j.params) {
+                stages.push("a falloff fitted to the wall's thickness");
+            }
+            if !stages.is_empty() {
+                return Err(GpuBatchError::HostStages { job, stages: stages.join(", ") });
+            }
+        }
+        Ok(plans)
+    }
+
+    /// Marks the targets `jobs` dent as moved behind the host's copy.
+    fn fall_behind(&mut self, jobs: &[DentJob<'_>]) {
+        jobs.iter().for_each(|j| self.targets[j.target].behind = true);
     }
 
     /// Records the whole batch into `sink`: clear the moved flags, then per chunk (cut to the
@@ -89,7 +93,7 @@ impl GpuDenter {
     fn encode_batch(&self, plans: &[DentPlan], jobs: &[DentJob<'_>], sink: &mut Sink<'_>) -> Result<(), GpuError> {
         let context = &self.context;
         let mut clear = sink.recorder(context);
-        self.kernels.displace.encode_clear_moved(context, clear.encoder(), &self.positions)?;
+        self.kernels.displace.encode_clear_moved(context, clear.encoder(), &self.buffers.positions)?;
         let done = clear.finish();
         sink.push(done);
         let mut arena = self.arena();
@@ -109,8 +113,16 @@ impl GpuDenter {
             (0..self.targets.len()).filter(|&t| touched[t]).map(|t| self.normals_params(t)).collect();
         sink.flush(context);
         let mut rec = sink.recorder(context);
-        let (positions, faces, adjacency) = (&self.positions, &self.faces, &self.adjacency);
-        self.kernels.normals.encode(context, rec.encoder(), &normals, positions, faces, adjacency, &self.normals)?;
+        let b = &self.buffers;
+        self.kernels.normals.encode(
+            context,
+            rec.encoder(),
+            &normals,
+            &b.positions,
+            &b.faces,
+            &b.adjacency,
+            &b.normals,
+        )?;
         rec.stage("normals")?;
         let done = rec.finish();
         sink.push(done);

@@ -1,5 +1,6 @@
 //! Cutting a batch into chunks whose buffers fit the device's limits.
 
+use std::borrow::Borrow;
 use std::ops::Range;
 
 use crate::dent::{DentJob, DentPlan};
@@ -17,13 +18,17 @@ const MAP_BYTES_PER_CELL: u64 = 16;
 /// geometry 24 bytes per vertex and triangle), and at most as many dents as workgroups per
 /// dispatch dimension. A single dent too large on its own still gets a chunk, which its
 /// kernels then refuse with [`GpuError::OverLimit`](crate::gpu::GpuError::OverLimit).
-pub(super) fn chunks(plans: &[DentPlan], jobs: &[DentJob<'_>], context: &GpuContext) -> Vec<Range<usize>> {
+pub(super) fn chunks<P: Borrow<DentPlan>>(
+    plans: &[P],
+    jobs: &[DentJob<'_>],
+    context: &GpuContext,
+) -> Vec<Range<usize>> {
     let limit = context.limits.max_storage_buffer_binding_size;
     let max_dents = context.limits.max_compute_workgroups_per_dimension as usize;
     let mut out = Vec::new();
     let (mut start, mut cells, mut map_cells, mut geometry) = (0, 0u64, 0u64, 0u64);
     let mut seen: std::collections::HashSet<*const TriMesh> = Default::default();
-    for (k, plan) in plans.iter().enumerate() {
+    for (k, plan) in plans.iter().map(Borrow::borrow).enumerate() {
         let (c, m) = (u64::from(plan.zbuffer_grid.res.pow(2)), u64::from(plan.map_grid.res.pow(2)));
         let projectile = jobs[k].projectile;
         let size = 12 * (projectile.vertex_count() + projectile.face_count()) as u64;
@@ -88,6 +93,6 @@ mod tests {
         assert!(cut.windows(2).all(|w| w[0].end == w[1].start), "chunks are consecutive: {cut:?}");
         // One dent larger than the limit still gets its own chunk (and the kernels refuse it).
         assert_eq!(chunks(&[plan(2048)], &jobs[..1], context), vec![0..1]);
-        assert!(chunks(&[], &[], context).is_empty());
+        assert!(chunks::<DentPlan>(&[], &[], context).is_empty());
     }
 }

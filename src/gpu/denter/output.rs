@@ -32,11 +32,18 @@ impl GpuDenter {
     ) -> Result<(), InterleaveError> {
         let count = self.targets.len();
         let resident = self.targets.get(target).ok_or(InterleaveError::UnknownTarget { target, count })?;
-        let vertices = &resident.vertices;
+        let vertices = resident.vertices();
         let copy =
             plan(&self.context, vertices.start, vertices.end - vertices.start, dst.size(), offset, stride, layout)?;
         self.context.check_flag()?;
-        self.kernels.interleave.encode(&self.context, encoder, &copy, &self.positions, &self.normals, dst)
+        self.kernels.interleave.encode(
+            &self.context,
+            encoder,
+            &copy,
+            &self.buffers.positions,
+            &self.buffers.normals,
+            dst,
+        )
     }
 
     /// Reads back only the vertices of target `target` that the last batch moved (their
@@ -52,7 +59,7 @@ impl GpuDenter {
     pub fn read_moved(&self, target: usize) -> Result<MovedVertices, GpuError> {
         let params = self.moved_params(target)?;
         self.context.check_alive()?;
-        self.kernels.moved.run(&self.context, params, &self.positions)
+        self.kernels.moved.run(&self.context, params, &self.buffers.positions)
     }
 
     /// [`read_moved`](Self::read_moved) without blocking, for a frame loop: records the
@@ -68,7 +75,7 @@ impl GpuDenter {
     pub fn record_moved(&self, encoder: &mut wgpu::CommandEncoder, target: usize) -> Result<PendingMoved, GpuError> {
         let params = self.moved_params(target)?;
         self.context.check_flag()?;
-        self.kernels.moved.record(&self.context, encoder, params, &self.positions)
+        self.kernels.moved.record(&self.context, encoder, params, &self.buffers.positions)
     }
 
     /// The `moved` kernel's parameters for target `target`.
@@ -76,7 +83,7 @@ impl GpuDenter {
         let Some(resident) = self.targets.get(target) else {
             return Err(GpuError::OverLimit { what: "target index".into(), needed: target as u64, limit: 0 });
         };
-        let vertices = &resident.vertices;
+        let vertices = resident.vertices();
         Ok(MovedParams { vertex_offset: vertices.start, vertex_count: vertices.end - vertices.start, _pad: [0; 2] })
     }
 }
