@@ -11,6 +11,7 @@ mod common;
 use std::collections::HashMap;
 
 use common::cube12;
+use common::seams::{key, unpaired_edges};
 use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Surface, TargetSet};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh::{self, TriMesh};
@@ -67,31 +68,6 @@ fn seam_sphere(radius: f32, sectors: u32, stacks: u32, at_two_pi: bool) -> TriMe
         }
     }
     TriMesh::new(positions, faces).unwrap()
-}
-
-/// The position key of a vertex (bits, −0 as +0).
-fn key(p: Vec3) -> [u32; 3] {
-    (p + Vec3::ZERO).to_array().map(f32::to_bits)
-}
-
-/// Edges of `mesh`, welded by position, that do not lie between exactly two faces (degenerate
-/// faces, which have a corner twice once welded, left out).
-fn unpaired_edges(mesh: &TriMesh) -> usize {
-    let mut first: HashMap<[u32; 3], u32> = HashMap::new();
-    let group: Vec<u32> =
-        mesh.positions().iter().enumerate().map(|(v, &p)| *first.entry(key(p)).or_insert(v as u32)).collect();
-    let mut counts: HashMap<(u32, u32), u32> = HashMap::new();
-    for f in mesh.faces() {
-        let w = f.map(|v| group[v as usize]);
-        if w[0] == w[1] || w[1] == w[2] || w[2] == w[0] {
-            continue;
-        }
-        for k in 0..3 {
-            let (a, b) = (w[k], w[(k + 1) % 3]);
-            *counts.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-        }
-    }
-    counts.values().filter(|&&n| n != 2).count()
 }
 
 /// The first pair of vertices that shared a position in `before` and no longer do in `after`

@@ -150,6 +150,8 @@ pub struct GpuDenter {
     usage: wgpu::BufferUsages,
     /// The map-building buffers, kept between batches (see [`scratch_bytes`](Self::scratch_bytes)).
     arena: Mutex<Arena>,
+    /// Vertices the last [`dent_batch`](Self::dent_batch) read back.
+    vertices_read_back: usize,
 }
 
 /// How a [`GpuDenter`] creates its resident buffers.
@@ -199,7 +201,22 @@ impl GpuDenter {
         let mut resident: Vec<Resident> = targets.iter().cloned().map(Resident::new).collect();
         let usage = if options.vertex_usage { wgpu::BufferUsages::VERTEX } else { wgpu::BufferUsages::empty() };
         let buffers = ResidentBuffers::lay_out(context, &mut resident, usage)?;
-        Ok(Self { context: context.clone(), kernels, targets: resident, buffers, usage, arena: Mutex::default() })
+        Ok(Self {
+            context: context.clone(),
+            kernels,
+            targets: resident,
+            buffers,
+            usage,
+            arena: Mutex::default(),
+            vertices_read_back: 0,
+        })
+    }
+
+    /// Vertices the last [`dent_batch`](Self::dent_batch) read back from the device: those the
+    /// kernels moved, once per round of the batch (16 bytes each, plus 4 per target and
+    /// round for the count). No other read-back of positions happens in a batch.
+    pub fn vertices_read_back(&self) -> usize {
+        self.vertices_read_back
     }
 
     /// The context (device and queue) the denter runs on.

@@ -6,6 +6,7 @@ pub mod envelope;
 pub mod geometry;
 pub mod gpu;
 pub mod rng;
+pub mod seams;
 pub mod skin_tolerance;
 pub mod temp;
 pub mod view;

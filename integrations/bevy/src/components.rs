@@ -1,7 +1,7 @@
 //! The components a game puts on its entities.
 
 use bevy::prelude::*;
-use dentbend::dent::{DentParams, DentSettings, Refine, VolumeMode};
+use dentbend::dent::{DentParams, DentSettings};
 
 /// An entity whose mesh ([`Mesh3d`]) dents where things hit it. Its mesh becomes its own (the
 /// plug-in gives it a private copy, so other entities sharing the asset stay undented), in the
@@ -40,19 +40,13 @@ impl Dentable {
 
     /// Whether the GPU kernels alone make this body's dents (the GPU path can serve it).
     pub fn kernels_only(&self) -> bool {
-        let p = &self.settings.params;
-        p.refine == Refine::Off && p.volume == VolumeMode::Free && !p.guard_crossings && !self.settings.progressive
+        self.settings.params.host_stages().is_empty() && !self.settings.progressive
     }
 }
 
 /// The paper's dent of depth `dent_distance` m: every kernel stage, no host stage.
 pub fn kernel_params(dent_distance: f32) -> DentParams {
-    DentParams {
-        refine: Refine::Off,
-        volume: VolumeMode::Free,
-        guard_crossings: false,
-        ..DentParams::new(dent_distance)
-    }
+    DentParams::new(dent_distance).without_host_stages()
 }
 
 /// An entity that dents what it hits without denting itself (a ball, a hammer): its surface is

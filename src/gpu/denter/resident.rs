@@ -117,7 +117,8 @@ impl ResidentBuffers {
     ///
     /// # Errors
     /// [`GpuError::OverLimit`] when the targets do not fit one storage binding, or have more
-    /// vertices than the moved-flag clear can dispatch over; nothing is changed then.
+    /// vertices than the moved-flag clear can dispatch over; device errors (a lost device,
+    /// caught in an error scope); nothing is changed then.
     pub(super) fn lay_out(
         context: &GpuContext,
         targets: &mut [Resident],
@@ -133,39 +134,62 @@ impl ResidentBuffers {
             words += vertex_room + 1 + 3 * face_room;
         }
         check_sizes(context, vertices, faces, words)?;
+        context.check_alive()?;
+        let buffers = context.scoped("resident buffers", || Self::create(context, targets, &offsets, usage))?;
         for (target, &(v, vr, f, fr, a, ar)) in targets.iter_mut().zip(&offsets) {
             (target.first_vertex, target.vertex_room) = (v as u32, vr as u32);
             (target.face_offset, target.face_room) = (f as u32, fr as u32);
             (target.adjacency_offset, target.adjacency_room) = (a as u32, ar as u32);
         }
+        Ok(buffers)
+    }
+
+    /// The buffers of a layout (`offsets`: per target, its first vertex, vertex room, first
+    /// face, face room, first adjacency word and adjacency room), holding `targets`' mirrors.
+    fn create(
+        context: &GpuContext,
+        targets: &[Resident],
+        offsets: &[(u64, u64, u64, u64, u64, u64)],
+        usage: wgpu::BufferUsages,
+    ) -> Self {
+        let (vertices, faces, words) =
+            offsets.last().map_or((0, 0, 0), |&(v, vr, f, fr, a, ar)| (v + vr, f + fr, a + ar));
         let mut position_words = vec![[0f32; 4]; vertices as usize];
         let mut normal_words = vec![[0f32; 4]; vertices as usize];
         let mut face_words = vec![[0u32; 3]; faces as usize];
         let mut adjacency_words = vec![0u32; words as usize];
-        for target in targets.iter() {
-            let first = target.first_vertex as usize;
+        for (target, &(first, _, f, _, a, _)) in targets.iter().zip(offsets) {
+            let first = first as usize;
             let slice = first..first + target.mesh.vertex_count();
             position_words[slice.clone()].copy_from_slice(&vec4s(target.mesh.positions()));
             normal_words[slice].copy_from_slice(&vec4s(target.mesh.normals()));
-            let f = target.face_offset as usize;
+            let f = f as usize;
             face_words[f..f + target.mesh.face_count()].copy_from_slice(target.mesh.faces());
             let block = adjacency(target.mesh.vertex_count(), target.mesh.faces());
-            let a = target.adjacency_offset as usize;
+            let a = a as usize;
             adjacency_words[a..a + block.len()].copy_from_slice(&block);
         }
         let vertex_usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | usage;
         let bytes = |data: &[[f32; 4]]| bytemuck::cast_slice::<[f32; 4], u8>(data).to_vec();
-        Ok(Self {
+        Self {
             positions: buffers::with_contents(context, "resident positions", &bytes(&position_words), vertex_usage),
             normals: buffers::with_contents(context, "resident normals", &bytes(&normal_words), vertex_usage),
             faces: buffers::storage(context, "resident faces", &face_words),
             adjacency: buffers::storage(context, "resident adjacency", &adjacency_words),
-        })
+        }
     }
 
     /// Writes `target`'s mirror into its slices (moved flags cleared), through the queue: it
     /// lands before the next submission. The caller has checked that it [`fits`](Resident::fits).
-    pub(super) fn upload(&self, context: &GpuContext, target: &Resident) {
+    ///
+    /// # Errors
+    /// Device errors (a lost device), caught in an error scope.
+    pub(super) fn upload(&self, context: &GpuContext, target: &Resident) -> Result<(), GpuError> {
+        context.scoped("resident target upload", || self.write_target(context, target))
+    }
+
+    /// [`upload`](Self::upload)'s writes.
+    fn write_target(&self, context: &GpuContext, target: &Resident) {
         let queue = &context.queue;
         let first = u64::from(target.first_vertex) * 16;
         queue.write_buffer(&self.positions, first, bytemuck::cast_slice(&vec4s(target.mesh.positions())));
@@ -179,7 +203,7 @@ impl ResidentBuffers {
     }
 
     /// Writes `positions` of `target`'s vertices `first..` (with moved flags `moved`, one per
-    /// position) through the queue.
+    /// position) through the queue. Call inside an error scope ([`GpuContext::scoped`]).
     pub(super) fn write_positions(
         &self,
         context: &GpuContext,

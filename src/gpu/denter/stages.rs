@@ -66,6 +66,7 @@ impl GpuDenter {
             return Err(BatchError { job, error }.into());
         }
         self.catch_up()?;
+        self.vertices_read_back = 0;
         let meshes: Vec<&TriMesh> = self.targets.iter().map(|r| &r.mesh).collect();
         let (edges, plans) = plan_jobs(&meshes, jobs)?;
         let refining: Vec<Option<&DentPlan>> =
@@ -132,7 +133,9 @@ impl GpuDenter {
             fits &= target.fits(&target.mesh);
         }
         if fits {
-            grown.iter().for_each(|&t| self.buffers.upload(&self.context, &self.targets[t]));
+            for &t in grown {
+                self.buffers.upload(&self.context, &self.targets[t])?;
+            }
         } else {
             self.buffers = super::ResidentBuffers::lay_out(&self.context, &mut self.targets, self.usage)?;
         }
@@ -147,12 +150,16 @@ impl GpuDenter {
             self.targets[t].mean_edge = mesh.mean_edge_length();
             self.targets[t].mesh = mesh;
         }
+        if self.context.check_alive().is_err() {
+            return;
+        }
         let mut dented = vec![false; self.targets.len()];
         jobs.iter().for_each(|j| dented[j.target] = true);
         for (t, target) in self.targets.iter().enumerate() {
-            // A target the failed layout never placed has no room yet: nothing on the device to mend.
-            if dented[t] && target.fits(&target.mesh) {
-                self.buffers.upload(&self.context, target);
+            // A target the failed layout never placed has no room yet: nothing on the device to
+            // mend. A device failing now is reported by the next batch.
+            if dented[t] && target.fits(&target.mesh) && self.buffers.upload(&self.context, target).is_err() {
+                return;
             }
         }
     }
@@ -192,6 +199,7 @@ impl GpuDenter {
                 .collect();
             let round_plans: Vec<&DentPlan> = round.iter().map(|&j| &plans[j]).collect();
             let moved = self.displace_round(&round_jobs, &round_plans, r == 0)?;
+            self.vertices_read_back += moved.iter().map(|m| m.indices.len()).sum::<usize>();
             for ((&j, fit), moved) in round.iter().zip(fitted).zip(moved) {
                 let t = jobs[j].target;
                 let state = states[t].as_mut().expect("a dented target");
@@ -211,7 +219,7 @@ impl GpuDenter {
                 )
                 .map_err(|error| BatchError { job: j, error })?;
                 state.moved.iter_mut().zip(&done.moved).for_each(|(m, &d)| *m |= d);
-                self.write_back(t, &moved.indices, &after, &done.positions, &state.moved);
+                self.write_back(t, &moved.indices, &after, &done.positions, &state.moved)?;
                 state.positions = done.positions;
                 reports[j] = done.report;
             }
@@ -282,22 +290,32 @@ impl GpuDenter {
     /// Writes back what the host stages changed of target `t`: every vertex the kernels moved
     /// (`read`) or the host stages moved elsewhere (`finished` differs from `after`), with its
     /// moved flag from `moved`, in runs of consecutive vertices.
-    fn write_back(&self, t: usize, read: &[u32], after: &[Vec3], finished: &[Vec3], moved: &[bool]) {
+    fn write_back(
+        &self,
+        t: usize,
+        read: &[u32],
+        after: &[Vec3],
+        finished: &[Vec3],
+        moved: &[bool],
+    ) -> Result<(), GpuError> {
         let mut changed: Vec<usize> = read.iter().map(|&v| v as usize).collect();
         changed.extend((0..finished.len()).filter(|&v| finished[v] != after[v]));
         changed.sort_unstable();
         changed.dedup();
         let target = &self.targets[t];
-        let mut start = 0;
-        while start < changed.len() {
-            let mut end = start + 1;
-            while end < changed.len() && changed[end] == changed[end - 1] + 1 {
-                end += 1;
+        self.context.scoped("dent batch write-back", || {
+            let mut start = 0;
+            while start < changed.len() {
+                let mut end = start + 1;
+                while end < changed.len() && changed[end] == changed[end - 1] + 1 {
+                    end += 1;
+                }
+                let (first, last) = (changed[start], changed[end - 1] + 1);
+                let (positions, flags) = (&finished[first..last], &moved[first..last]);
+                self.buffers.write_positions(&self.context, target, first, positions, flags);
+                start = end;
             }
-            let (first, last) = (changed[start], changed[end - 1] + 1);
-            self.buffers.write_positions(&self.context, target, first, &finished[first..last], &moved[first..last]);
-            start = end;
-        }
+        })
     }
 
     /// Refreshes, on the device, the normals around every vertex the batch moved on the targets

@@ -51,8 +51,9 @@ impl GpuDenter {
         self.catch_up()?;
         let resident = &self.targets[target];
         if resident.fits(&mesh) {
-            self.targets[target] = resident.placed_as(mesh);
-            self.buffers.upload(&self.context, &self.targets[target]);
+            let placed = resident.placed_as(mesh);
+            self.buffers.upload(&self.context, &placed)?;
+            self.targets[target] = placed;
             return Ok(());
         }
         let old = std::mem::replace(&mut self.targets[target], Resident::new(mesh));

@@ -213,6 +213,12 @@ impl ResidentDents {
                     link.send(ToMain::Dropped { dents: 1 });
                     kept.remove(bad.job);
                 }
+                Err(error @ GpuBatchError::HostStages { job, .. }) => {
+                    let entity = kept[job].1.target;
+                    warn!("bevy_dentbend: a dent on {entity} cannot take the GPU path ({error}); the others go on");
+                    link.send(ToMain::Dropped { dents: 1 });
+                    kept.remove(job);
+                }
                 Err(GpuBatchError::Gpu(e)) => {
                     error!("bevy_dentbend: a dent batch failed on the GPU ({e}); {} dent(s) dropped", kept.len());
                     link.send(ToMain::Dropped { dents: kept.len() as u64 });
