@@ -152,6 +152,8 @@ pub struct GpuDenter {
     arena: Mutex<Arena>,
     /// Vertices the last [`dent_batch`](Self::dent_batch) read back.
     vertices_read_back: usize,
+    /// Bytes the last [`dent_batch`](Self::dent_batch) read back.
+    bytes_read_back: u64,
 }
 
 /// How a [`GpuDenter`] creates its resident buffers.
@@ -209,6 +211,7 @@ impl GpuDenter {
             usage,
             arena: Mutex::default(),
             vertices_read_back: 0,
+            bytes_read_back: 0,
         })
     }
 
@@ -217,6 +220,13 @@ impl GpuDenter {
     /// round for the count). No other read-back of positions happens in a batch.
     pub fn vertices_read_back(&self) -> usize {
         self.vertices_read_back
+    }
+
+    /// Bytes the last [`dent_batch`](Self::dent_batch) read back from the device: the moved
+    /// vertices ([`vertices_read_back`](Self::vertices_read_back)) with their counts, and the
+    /// stages of each map a fold-prone falloff was fitted to.
+    pub fn bytes_read_back(&self) -> u64 {
+        self.bytes_read_back
     }
 
     /// The context (device and queue) the denter runs on.

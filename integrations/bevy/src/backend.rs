@@ -12,14 +12,17 @@ use crate::link::GpuJob;
 /// Splits each batch between the CPU (now) and the GPU (queued).
 pub(crate) struct SplitBackend<'a> {
     gpu: &'a HashSet<Entity>,
+    /// Id of the first queued dent (the others follow in order).
+    first_id: u64,
     /// The GPU-path dents of the batch, in order.
     pub queued: Vec<GpuJob>,
 }
 
 impl<'a> SplitBackend<'a> {
-    /// Bodies in `gpu` are dented on the GPU, the others on the CPU.
-    pub fn new(gpu: &'a HashSet<Entity>) -> Self {
-        Self { gpu, queued: Vec::new() }
+    /// Bodies in `gpu` are dented on the GPU, the others on the CPU; the queued dents are
+    /// numbered from `first_id`.
+    pub fn new(gpu: &'a HashSet<Entity>, first_id: u64) -> Self {
+        Self { gpu, first_id, queued: Vec::new() }
     }
 }
 
@@ -57,7 +60,9 @@ impl DentBackend<Entity> for SplitBackend<'_> {
         self.queued = jobs
             .iter()
             .filter(|j| !cpu_slot.contains_key(&j.target))
-            .map(|j| GpuJob {
+            .zip(self.first_id..)
+            .map(|(j, id)| GpuJob {
+                id,
                 target: keys[j.target],
                 projectile: j.projectile.clone(),
                 impact: j.impact,

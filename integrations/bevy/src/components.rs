@@ -7,9 +7,12 @@ use dentbend::dent::{DentParams, DentSettings};
 /// plug-in gives it a private copy, so other entities sharing the asset stay undented), in the
 /// entity's own coordinates, m.
 ///
-/// On the GPU path the dent runs on Bevy's device and lands straight in Bevy's vertex buffer;
-/// settings that need the host stages (refinement, volume preservation, the intersection guard,
-/// progressive dents) put the body on the CPU path, which updates the mesh asset.
+/// On the GPU path the dent runs on Bevy's device and lands straight in Bevy's vertex buffer. The
+/// paper's dent ([`kernel_params`]) is recorded into Bevy's frame and never waits; settings with
+/// host stages (refinement, volume preservation, the intersection guard) run them around the
+/// kernels on the render world's copy of the mesh, reading back only the vertices the kernels
+/// moved; a dent that refines the mesh grows it through its mesh asset. Progressive dents take
+/// the CPU path, which updates the mesh asset.
 #[derive(Component, Debug, Clone)]
 pub struct Dentable {
     /// How it dents (material, shape of the dent, projectile handling).
@@ -38,9 +41,15 @@ impl Dentable {
         Self { settings }
     }
 
-    /// Whether the GPU kernels alone make this body's dents (the GPU path can serve it).
+    /// Whether the GPU kernels alone make this body's dents (the paper's dent: no host stage).
     pub fn kernels_only(&self) -> bool {
         self.settings.params.host_stages().is_empty() && !self.settings.progressive
+    }
+
+    /// Whether the GPU path can make this body's dents: every setting but progressive dents
+    /// (which rebuild each dent from the surface before the contact, on the CPU path).
+    pub fn gpu_servable(&self) -> bool {
+        !self.settings.progressive
     }
 }
 

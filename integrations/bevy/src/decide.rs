@@ -74,7 +74,7 @@ pub(crate) fn decide_dents(
     if hits.is_empty() {
         return;
     }
-    let mut backend = SplitBackend::new(&world.on_gpu);
+    let mut backend = SplitBackend::new(&world.on_gpu, world.next_job);
     let plan = match world.damage.plan(&world.targets, &hits, step, &mut backend) {
         Ok(plan) => plan,
         Err(e) => {
@@ -83,24 +83,40 @@ pub(crate) fn decide_dents(
             return;
         }
     };
-    for job in backend.queued {
-        link.send(ToRender::Dent(job));
-    }
+    world.next_job += backend.queued.len() as u64;
+    // The GPU-path dents, in the order they were queued (the plan's order): a dent with host
+    // stages reports how deep it really is once the render world has made it.
+    let mut queued = backend.queued.into_iter();
     for dent in &plan.dents {
         let path = if world.on_gpu.contains(&dent.target) { DentPath::Gpu } else { DentPath::Cpu };
-        let (depth_made, limited_to) = match path {
-            DentPath::Gpu => (None, None),
+        let (target, projectile, impact, dent_distance) =
+            (dent.target, dent.projectile, dent.impact, dent.dent_distance);
+        let mut applied =
+            DentApplied { target, projectile, impact, dent_distance, depth_made: None, limited_to: None, path };
+        match path {
+            DentPath::Gpu => {
+                let Some(job) = queued.next() else { continue };
+                let staged = !job.params.host_stages().is_empty();
+                let id = job.id;
+                link.send(ToRender::Dent(job));
+                if staged {
+                    world.awaiting_report.insert(id, applied);
+                    continue;
+                }
+            }
             DentPath::Cpu => {
                 count_cpu_dent(&mut stats, dent);
                 if dent.moved_vertices == 0 {
-                    warn_empty_once(&mut world.warned_empty, dent, &reports.names);
+                    warn_empty_once(
+                        &mut world.warned_empty,
+                        (dent.target, dent.dent_distance, dent.limited_to),
+                        &reports.names,
+                    );
                 }
-                (Some(dent.depth_made), dent.limited_to)
+                (applied.depth_made, applied.limited_to) = (Some(dent.depth_made), dent.limited_to);
             }
-        };
-        let (target, projectile, impact, dent_distance) =
-            (dent.target, dent.projectile, dent.impact, dent.dent_distance);
-        reports.applied.write(DentApplied { target, projectile, impact, dent_distance, depth_made, limited_to, path });
+        }
+        reports.applied.write(applied);
     }
     stats.refined_triangles += plan
         .targets
@@ -133,30 +149,38 @@ fn count_cpu_dent(stats: &mut DentStats, dent: &AppliedDent<Entity>) {
     stats.empty_dents += u64::from(dent.moved_vertices == 0);
 }
 
-/// Logs, once per body, that a dent on it moved nothing, naming it and what fixes it.
-fn warn_empty_once(warned: &mut HashSet<Entity>, dent: &AppliedDent<Entity>, names: &Query<&Name>) {
-    if !warned.insert(dent.target) {
+/// Logs, once per body, that a dent on it (target, decided distance in m, the guard's limit)
+/// moved nothing, naming it and what fixes it.
+fn warn_empty_once(
+    warned: &mut HashSet<Entity>,
+    (target, dent_distance, limited_to): (Entity, f32, Option<f32>),
+    names: &Query<&Name>,
+) {
+    if !warned.insert(target) {
         return;
     }
-    let name = names.get(dent.target).map_or_else(|_| format!("{}", dent.target), |n| format!("{n} ({})", dent.target));
-    let why = match dent.limited_to {
+    let name = names.get(target).map_or_else(|_| format!("{target}"), |n| format!("{n} ({target})"));
+    let why = match limited_to {
         Some(_) => "the intersection guard limited it to nothing (any deeper, faces would cross or turn over)",
         None => "no vertex lies under its map (the mesh is too coarse there)",
     };
     warn!(
         "bevy_dentbend: a {:.3} m dent on {name} moved no vertex: {why}; give the body a finer mesh, or settings with \
          refinement (`Refine::Auto`, the default of `DentSettings`), so that dents take their shape",
-        dent.dent_distance
+        dent_distance
     );
 }
 
-/// Takes what the render world sent: batch counts and the collider read-backs, which update the
-/// main world's meshes (and, through [`MeshDented`], the colliders).
+/// Takes what the render world sent: batch counts, the reports of dents made with host stages,
+/// the collider read-backs and refined meshes, which update the main world's meshes (and,
+/// through [`MeshDented`], the colliders; a refined mesh also its asset, which Bevy uploads
+/// again with its new vertices and triangles).
 pub(crate) fn receive_from_render(
     mut world: ResMut<DentWorld>,
     link: Res<MainLink>,
     mut stats: ResMut<DentStats>,
-    mut dented: MessageWriter<MeshDented>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut reports: DentReports,
 ) {
     for message in link.receive() {
         match message {
@@ -165,7 +189,12 @@ pub(crate) fn receive_from_render(
                 stats.gpu_dents += dents;
                 stats.dents += dents;
             }
-            ToMain::Dropped { dents } => stats.rejected_contacts += dents,
+            ToMain::Dropped { ids } => {
+                stats.rejected_contacts += ids.len() as u64;
+                for id in &ids {
+                    world.awaiting_report.remove(id);
+                }
+            }
             ToMain::Demote(entities) => {
                 for entity in entities {
                     world.demote(entity);
@@ -174,7 +203,33 @@ pub(crate) fn receive_from_render(
             ToMain::Moved { entity, moved, bytes } => {
                 stats.collider_readback_bytes += bytes;
                 if world.move_vertices(entity, &moved.indices, &moved.positions) {
-                    dented.write(MeshDented { entity, moved: moved.indices, topology_changed: false });
+                    reports.dented.write(MeshDented { entity, moved: moved.indices, topology_changed: false });
+                }
+            }
+            ToMain::Made { reports: made, bytes } => {
+                stats.collider_readback_bytes += bytes;
+                for (id, report) in made {
+                    stats.limited_dents += u64::from(report.limited_to.is_some());
+                    stats.empty_dents += u64::from(report.moved_vertices == 0);
+                    stats.refined_triangles += report.refined_triangles as u64;
+                    let Some(mut applied) = world.awaiting_report.remove(&id) else { continue };
+                    if report.moved_vertices == 0 {
+                        let dent = (applied.target, applied.dent_distance, report.limited_to);
+                        warn_empty_once(&mut world.warned_empty, dent, &reports.names);
+                    }
+                    (applied.depth_made, applied.limited_to) = (Some(report.max_displacement), report.limited_to);
+                    reports.applied.write(applied);
+                }
+            }
+            ToMain::Refined { entity, mesh, refinement, moved } => {
+                if let Some(body) = world.bodies.get(&entity)
+                    && let Some(mut asset) = meshes.get_mut(&body.mesh)
+                    && let Err(e) = write_dented(&mut asset, &mesh, &refinement)
+                {
+                    error!("bevy_dentbend: {entity}'s refined mesh could not be written ({e})");
+                }
+                if world.take_refined(entity, mesh, refinement, moved.clone()) {
+                    reports.dented.write(MeshDented { entity, moved, topology_changed: true });
                 }
             }
         }

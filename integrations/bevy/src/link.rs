@@ -7,8 +7,9 @@ use std::sync::{Arc, Mutex};
 use bevy::prelude::*;
 use dentbend::TriMesh;
 use dentbend::cpu::{SkinBone, SkinInfluence};
-use dentbend::dent::{DentParams, Impact};
+use dentbend::dent::{DentParams, DentReport, Impact};
 use dentbend::gpu::MovedVertices;
+use dentbend::mesh::Refinement;
 
 use crate::mesh_data::SlabLayout;
 
@@ -24,9 +25,10 @@ pub enum GpuStatus {
 }
 
 /// One dent for the render world, owning its data (the projectile in the target's mesh
-/// coordinates, cropped to what shapes the dent).
+/// coordinates, cropped to what shapes the dent); `id` numbers it for its report.
 #[derive(Debug, Clone)]
 pub(crate) struct GpuJob {
+    pub id: u64,
     pub target: Entity,
     pub projectile: TriMesh,
     pub impact: Impact,
@@ -68,10 +70,17 @@ pub(crate) enum ToMain {
     Moved { entity: Entity, moved: MovedVertices, bytes: u64 },
     /// A batch of `dents` dents was recorded and submitted.
     Batch { dents: u64 },
-    /// Dents that could not be made (logged in the render world).
-    Dropped { dents: u64 },
+    /// Dents that could not be made (logged in the render world), by id.
+    Dropped { ids: Vec<u64> },
     /// These bodies could not be made resident on the GPU: they take the CPU path from now on.
     Demote(Vec<Entity>),
+    /// A batch ran with its host stages (refinement, guard, volume rim): each dent's report by
+    /// its job's id, and the bytes the batch read back (moved vertices, and the maps of falloffs
+    /// fitted to a wall).
+    Made { reports: Vec<(u64, DentReport)>, bytes: u64 },
+    /// A dent refined `entity`: its mesh now (the denter's host copy, never read back), what
+    /// refinement appended, and the vertices that moved (every new one included).
+    Refined { entity: Entity, mesh: TriMesh, refinement: Refinement, moved: Vec<u32> },
 }
 
 /// The main world's ends.

@@ -121,7 +121,7 @@ pub(crate) fn register_dentables(
             commands.entity(entity).insert(DentAdvice(format!("{who}: {advice}")));
         }
         let handle = meshes.add(copy);
-        let info = BodyInfo { mesh: handle.clone(), path: DentPath::Cpu, kernels_only: dentable.kernels_only() };
+        let info = BodyInfo { mesh: handle.clone(), path: DentPath::Cpu, gpu_servable: dentable.gpu_servable() };
         let settings = dentable.settings.clone();
         match world.insert_dentable(entity, tri, transform.affine(), settings, info) {
             Ok(()) => {
@@ -172,8 +172,8 @@ pub(crate) fn refuse(commands: &mut Commands, entity: Entity, reason: String) {
     commands.entity(entity).insert(DentRefused(reason));
 }
 
-/// Moves every CPU-path body whose dents the kernels alone make to the GPU path once Bevy's
-/// device is ready (its mesh as it is now becomes resident).
+/// Moves every CPU-path body the GPU path can serve to it once Bevy's device is ready (its mesh
+/// as it is now becomes resident).
 pub(crate) fn promote_to_gpu(mut world: ResMut<DentWorld>, link: Res<MainLink>, meshes: Res<Assets<Mesh>>) {
     if !matches!(link.status(), GpuStatus::Ready(_)) {
         return;
@@ -181,7 +181,7 @@ pub(crate) fn promote_to_gpu(mut world: ResMut<DentWorld>, link: Res<MainLink>, 
     let ready: Vec<(Entity, Handle<Mesh>)> = world
         .bodies
         .iter()
-        .filter(|(_, b)| b.path == DentPath::Cpu && b.kernels_only)
+        .filter(|(_, b)| b.path == DentPath::Cpu && b.gpu_servable)
         .map(|(e, b)| (*e, b.mesh.clone()))
         .collect();
     for (entity, handle) in ready {
@@ -191,7 +191,7 @@ pub(crate) fn promote_to_gpu(mut world: ResMut<DentWorld>, link: Res<MainLink>, 
             Err(e) => {
                 warn!("bevy_dentbend: {entity} stays on the CPU path: {e}");
                 if let Some(body) = world.bodies.get_mut(&entity) {
-                    body.kernels_only = false;
+                    body.gpu_servable = false;
                 }
                 continue;
             }

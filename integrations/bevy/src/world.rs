@@ -7,6 +7,7 @@ use bevy::prelude::*;
 use dentbend::TriMesh;
 use dentbend::dent::{Damage, DentSettings, DentedTarget, TargetSet};
 use dentbend::glam::Affine3A;
+use dentbend::mesh::Refinement;
 
 use crate::DentPath;
 use crate::mesh_data::moved_positions;
@@ -17,8 +18,9 @@ pub(crate) struct BodyInfo {
     /// Its private mesh asset.
     pub mesh: Handle<Mesh>,
     pub path: DentPath,
-    /// Whether the GPU kernels alone make its dents.
-    pub kernels_only: bool,
+    /// Whether the GPU path can make its dents (all but progressive ones, which rebuild each
+    /// dent from the surface before the contact).
+    pub gpu_servable: bool,
 }
 
 /// Every body the plug-in knows, by entity.
@@ -33,6 +35,11 @@ pub struct DentWorld {
     pub(crate) step: u64,
     /// Bodies whose first dent that moved nothing has been logged.
     pub(crate) warned_empty: HashSet<Entity>,
+    /// Id of the next dent queued for the GPU path.
+    pub(crate) next_job: u64,
+    /// GPU-path dents made with their host stages whose report has not come back yet, by id:
+    /// their [`DentApplied`](crate::DentApplied) is written when it does.
+    pub(crate) awaiting_report: HashMap<u64, crate::DentApplied>,
 }
 
 impl DentWorld {
@@ -93,7 +100,7 @@ impl DentWorld {
     pub(crate) fn demote(&mut self, entity: Entity) {
         self.set_path(entity, DentPath::Cpu);
         if let Some(body) = self.bodies.get_mut(&entity) {
-            body.kernels_only = false;
+            body.gpu_servable = false;
         }
     }
 
@@ -123,6 +130,23 @@ impl DentWorld {
             refinement: Default::default(),
             topology_changed: false,
         };
+        self.targets.apply(vec![dented]);
+        true
+    }
+
+    /// Replaces `entity`'s mesh by `mesh`, which refinement grew by `refinement` (`moved`: the
+    /// vertices that moved, every new one included); `false` when it is unknown.
+    pub(crate) fn take_refined(
+        &mut self,
+        entity: Entity,
+        mesh: TriMesh,
+        refinement: Refinement,
+        moved: Vec<u32>,
+    ) -> bool {
+        if self.targets.mesh(entity).is_none() {
+            return false;
+        }
+        let dented = DentedTarget { key: entity, mesh, moved, refinement, topology_changed: true };
         self.targets.apply(vec![dented]);
         true
     }

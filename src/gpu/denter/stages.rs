@@ -33,6 +33,12 @@ use crate::gpu::recorder::Recorder;
 use crate::gpu::{GpuBatchError, GpuError};
 use crate::mesh::TriMesh;
 
+/// A round's fitted falloffs (per job of the round) and the bytes read back to fit them.
+struct Fitted {
+    falloffs: Vec<Option<FittedFalloff>>,
+    bytes: u64,
+}
+
 /// One dented target during a batch: its current positions and the vertices moved so far.
 struct TargetState {
     positions: Vec<Vec3>,
@@ -66,7 +72,7 @@ impl GpuDenter {
             return Err(BatchError { job, error }.into());
         }
         self.catch_up()?;
-        self.vertices_read_back = 0;
+        (self.vertices_read_back, self.bytes_read_back) = (0, 0);
         let meshes: Vec<&TriMesh> = self.targets.iter().map(|r| &r.mesh).collect();
         let (edges, plans) = plan_jobs(&meshes, jobs)?;
         let refining: Vec<Option<&DentPlan>> =
@@ -186,6 +192,8 @@ impl GpuDenter {
         let mut reports = vec![DentReport::default(); jobs.len()];
         for (r, round) in rounds(jobs, self.targets.len()).into_iter().enumerate() {
             let fitted = self.fit_falloffs(&round, jobs, plans, &states)?;
+            self.bytes_read_back += fitted.bytes;
+            let fitted = fitted.falloffs;
             let round_jobs: Vec<DentJob<'_>> = round
                 .iter()
                 .zip(&fitted)
@@ -198,8 +206,9 @@ impl GpuDenter {
                 })
                 .collect();
             let round_plans: Vec<&DentPlan> = round.iter().map(|&j| &plans[j]).collect();
-            let moved = self.displace_round(&round_jobs, &round_plans, r == 0)?;
+            let (moved, bytes) = self.displace_round(&round_jobs, &round_plans, r == 0)?;
             self.vertices_read_back += moved.iter().map(|m| m.indices.len()).sum::<usize>();
+            self.bytes_read_back += bytes;
             for ((&j, fit), moved) in round.iter().zip(fitted).zip(moved) {
                 let t = jobs[j].target;
                 let state = states[t].as_mut().expect("a dented target");
@@ -229,15 +238,15 @@ impl GpuDenter {
     }
 
     /// The round's falloffs fitted on the host where they could fold a wall (`None`: the job's
-    /// own, which cannot).
+    /// own, which cannot), and the bytes of the maps read back for them.
     fn fit_falloffs(
         &self,
         round: &[usize],
         jobs: &[DentJob<'_>],
         plans: &[DentPlan],
         states: &[Option<TargetState>],
-    ) -> Result<Vec<Option<FittedFalloff>>, GpuBatchError> {
-        let mut fitted: Vec<Option<FittedFalloff>> = vec![None; round.len()];
+    ) -> Result<Fitted, GpuBatchError> {
+        let mut fitted = Fitted { falloffs: vec![None; round.len()], bytes: 0 };
         let to_fit: Vec<usize> =
             (0..round.len()).filter(|&k| falloff_may_need_fit(&plans[round[k]], &jobs[round[k]].params)).collect();
         if to_fit.is_empty() {
@@ -250,19 +259,23 @@ impl GpuDenter {
             let job = &jobs[round[k]];
             let positions = &states[job.target].as_ref().expect("a dented target").positions;
             let faces = self.targets[job.target].mesh.faces();
-            fitted[k] = Some(fit_to_target(&stages.into_stages().map, positions, faces, &job.params.attenuation));
+            let words = stages.zbuffer.len() + stages.envelope.len() + stages.smoothed.len() + 4 * stages.map.len();
+            fitted.bytes += 4 * words as u64;
+            let map = stages.into_stages().map;
+            fitted.falloffs[k] = Some(fit_to_target(&map, positions, faces, &job.params.attenuation));
         }
         Ok(fitted)
     }
 
     /// Builds the round's maps and displaces its targets (the moved flags cleared first in the
-    /// batch's first round), then reads back, per job, the vertices its target's flags mark.
+    /// batch's first round), then reads back, per job, the vertices its target's flags mark;
+    /// with the bytes read.
     fn displace_round(
         &self,
         jobs: &[DentJob<'_>],
         plans: &[&DentPlan],
         first: bool,
-    ) -> Result<Vec<MovedVertices>, GpuBatchError> {
+    ) -> Result<(Vec<MovedVertices>, u64), GpuBatchError> {
         let context = &self.context;
         let recorded = context.scoped("dent batch", || -> Result<_, GpuError> {
             let mut encoder = context.device.create_command_encoder(&Default::default());
@@ -284,7 +297,8 @@ impl GpuDenter {
             Ok(pending)
         });
         let mut pending = recorded.and_then(|inner| inner)?;
-        Ok(wait_all(context, &mut pending)?)
+        let moved = wait_all(context, &mut pending)?;
+        Ok((moved, pending.iter().map(PendingMoved::bytes_read).sum()))
     }
 
     /// Writes back what the host stages changed of target `t`: every vertex the kernels moved

@@ -5,6 +5,7 @@
 mod readbacks;
 mod resident;
 mod skinned;
+mod staged;
 mod startup;
 mod system;
 

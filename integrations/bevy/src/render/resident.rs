@@ -6,7 +6,6 @@ use bevy::prelude::*;
 use bevy::render::mesh::allocator::MeshAllocator;
 use bevy::render::render_resource::BufferId;
 use dentbend::TriMesh;
-use dentbend::dent::DentJob;
 use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter, PendingMoved};
 
 use super::readbacks::{Mirrors, Readbacks};
@@ -15,16 +14,16 @@ use crate::link::{GpuJob, RenderLink, ToMain, ToRender};
 use crate::mesh_data::SlabLayout;
 
 /// One resident target, in slot order.
-struct Target {
-    entity: Entity,
+pub(super) struct Target {
+    pub(super) entity: Entity,
     asset: AssetId<Mesh>,
     /// The target as the GPU holds it (updated from the read-backs), to upload it again when
     /// the set of targets changes.
-    mirror: TriMesh,
+    pub(super) mirror: TriMesh,
     layout: SlabLayout,
     /// Its dents must be written into Bevy's vertex buffer (dented, or Bevy uploaded the asset
     /// again).
-    copy_needed: bool,
+    pub(super) copy_needed: bool,
     /// Where they were last written (slab buffer, first vertex).
     copied_at: Option<(BufferId, u32)>,
 }
@@ -178,53 +177,30 @@ impl ResidentDents {
         }
         let Some(denter) = &mut self.denter else {
             // No resident target (all despawned, or demoted to the CPU path): drop and count.
-            let dropped = std::mem::take(&mut self.jobs).len() as u64;
-            if dropped > 0 {
-                link.send(ToMain::Dropped { dents: dropped });
+            let dropped: Vec<u64> = std::mem::take(&mut self.jobs).iter().map(|j| j.id).collect();
+            if !dropped.is_empty() {
+                link.send(ToMain::Dropped { ids: dropped });
             }
             return Some((0, 0, Vec::new()));
         };
-        let mut jobs = std::mem::take(&mut self.jobs);
+        let jobs = std::mem::take(&mut self.jobs);
         let slots: Vec<Option<usize>> =
             jobs.iter().map(|j| self.targets.iter().position(|t| t.entity == j.target)).collect();
-        let gone = slots.iter().filter(|s| s.is_none()).count();
-        if gone > 0 {
-            debug!("bevy_dentbend: {gone} dent(s) on despawned bodies skipped");
-            link.send(ToMain::Dropped { dents: gone as u64 });
+        let gone: Vec<u64> = slots.iter().zip(&jobs).filter(|(s, _)| s.is_none()).map(|(_, j)| j.id).collect();
+        if !gone.is_empty() {
+            debug!("bevy_dentbend: {} dent(s) on despawned bodies skipped", gone.len());
+            link.send(ToMain::Dropped { ids: gone });
         }
-        let mut kept: Vec<(usize, GpuJob)> =
-            slots.into_iter().zip(jobs.drain(..)).filter_map(|(s, j)| Some((s?, j))).collect();
-        // An invalid dent is found before anything is recorded: drop it and record the rest.
-        let dents = loop {
-            let batch: Vec<DentJob<'_>> = kept
-                .iter()
-                .map(|(slot, j)| DentJob {
-                    target: *slot,
-                    projectile: &j.projectile,
-                    impact: j.impact,
-                    params: j.params.clone(),
-                })
-                .collect();
-            match denter.record_batch(encoder, &batch) {
-                Ok(_) => break kept.len() as u64,
-                Err(GpuBatchError::Job(bad)) => {
-                    let entity = kept[bad.job].1.target;
-                    warn!("bevy_dentbend: a dent on {entity} was refused ({}); the others go on", bad.error);
-                    link.send(ToMain::Dropped { dents: 1 });
-                    kept.remove(bad.job);
-                }
-                Err(error @ GpuBatchError::HostStages { job, .. }) => {
-                    let entity = kept[job].1.target;
-                    warn!("bevy_dentbend: a dent on {entity} cannot take the GPU path ({error}); the others go on");
-                    link.send(ToMain::Dropped { dents: 1 });
-                    kept.remove(job);
-                }
-                Err(GpuBatchError::Gpu(e)) => {
-                    error!("bevy_dentbend: a dent batch failed on the GPU ({e}); {} dent(s) dropped", kept.len());
-                    link.send(ToMain::Dropped { dents: kept.len() as u64 });
-                    return None;
-                }
-            }
+        let mut kept: Vec<(usize, GpuJob)> = slots.into_iter().zip(jobs).filter_map(|(s, j)| Some((s?, j))).collect();
+        // Dents with host stages run them now (waiting for the GPU) and every dent of the frame
+        // with them, in order; the paper's dents are recorded into the frame.
+        let staged = kept.iter().any(|(_, j)| !j.params.host_stages().is_empty());
+        let recorded = if staged { Kernels::NeedStages } else { record_kernels(denter, encoder, &mut kept, link) };
+        let stages_ran = matches!(recorded, Kernels::NeedStages);
+        let dents = match recorded {
+            Kernels::Recorded(dents) => dents,
+            Kernels::NeedStages => super::staged::make(denter, &mut self.targets, &mut kept, link)?,
+            Kernels::Failed => return None,
         };
         let mut dented: Vec<usize> = kept.iter().map(|(slot, _)| *slot).collect();
         dented.sort_unstable();
@@ -235,6 +211,11 @@ impl ResidentDents {
         let mut copies = 0;
         for (slot, t) in self.targets.iter_mut().enumerate() {
             let Some(slice) = allocator.mesh_vertex_slice(&t.asset) else { continue };
+            if slice.range.len() != t.mirror.vertex_count() {
+                // Refined: its slot in the slab is the old size until the main world's mesh
+                // asset, grown with it, is uploaded again (which marks it for a copy).
+                continue;
+            }
             let at = (slice.buffer.id(), slice.range.start);
             if !t.copy_needed && t.copied_at.is_none_or(|c| c == at) {
                 t.copied_at.get_or_insert(at);
@@ -252,6 +233,10 @@ impl ResidentDents {
                 ),
             }
         }
+        if stages_ran {
+            // The batch read back what it moved already (sent with its reports).
+            return Some((dents, copies, Vec::new()));
+        }
         let mut reads = Vec::with_capacity(dented.len());
         for &slot in &dented {
             match denter.record_moved(encoder, slot) {
@@ -259,11 +244,48 @@ impl ResidentDents {
                 Err(e) => {
                     // It may have left part of itself in the encoder: drop the frame's batch.
                     error!("bevy_dentbend: a collider read-back could not be recorded ({e}); {dents} dent(s) dropped");
-                    link.send(ToMain::Dropped { dents });
+                    link.send(ToMain::Dropped { ids: kept.iter().map(|(_, j)| j.id).collect() });
                     return None;
                 }
             }
         }
         Some((dents, copies, reads))
+    }
+}
+
+/// What recording a frame's paper dents came to.
+enum Kernels {
+    /// Recorded, this many.
+    Recorded(u64),
+    /// A dent needs a host stage (a falloff fitted to a wall): the frame's dents run with them.
+    NeedStages,
+    /// The GPU failed; the frame's dents are dropped.
+    Failed,
+}
+
+/// Records `kept`'s dents (the paper's) into `encoder`; an invalid dent is found before anything
+/// is recorded, dropped (logged and counted) and the rest recorded.
+fn record_kernels(
+    denter: &mut GpuDenter,
+    encoder: &mut dentbend::wgpu::CommandEncoder,
+    kept: &mut Vec<(usize, GpuJob)>,
+    link: &RenderLink,
+) -> Kernels {
+    loop {
+        let batch = super::staged::jobs(kept);
+        match denter.record_batch(encoder, &batch) {
+            Ok(_) => return Kernels::Recorded(kept.len() as u64),
+            Err(GpuBatchError::Job(bad)) => {
+                let (_, job) = kept.remove(bad.job);
+                warn!("bevy_dentbend: a dent on {} was refused ({}); the others go on", job.target, bad.error);
+                link.send(ToMain::Dropped { ids: vec![job.id] });
+            }
+            Err(GpuBatchError::HostStages { .. }) => return Kernels::NeedStages,
+            Err(GpuBatchError::Gpu(e)) => {
+                error!("bevy_dentbend: a dent batch failed on the GPU ({e}); {} dent(s) dropped", kept.len());
+                link.send(ToMain::Dropped { ids: kept.iter().map(|(_, j)| j.id).collect() });
+                return Kernels::Failed;
+            }
+        }
     }
 }

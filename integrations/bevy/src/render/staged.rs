@@ -1,0 +1,81 @@
+//! A frame's dents with host stages (refinement, the intersection guard, the volume rim, a
+//! falloff fitted to a wall) on the GPU path: `GpuDenter::dent_batch` runs them around the
+//! kernels on its copy of each mesh, waiting for the GPU and reading back only the vertices the
+//! kernels moved. Each dent's report goes to the main world by its job's id; a target that kept
+//! its triangles sends its moved vertices (for the collider), one that was refined sends its
+//! new mesh, which the main world writes into the entity's mesh asset for Bevy to upload again.
+
+use bevy::prelude::*;
+use dentbend::dent::DentJob;
+use dentbend::gpu::{GpuBatchError, GpuDenter, MovedVertices};
+
+use super::resident::Target;
+use crate::link::{GpuJob, RenderLink, ToMain};
+
+/// `kept`'s dents (each with its target's slot) as the denter takes them.
+pub(super) fn jobs(kept: &[(usize, GpuJob)]) -> Vec<DentJob<'_>> {
+    kept.iter()
+        .map(|(slot, j)| DentJob {
+            target: *slot,
+            projectile: &j.projectile,
+            impact: j.impact,
+            params: j.params.clone(),
+        })
+        .collect()
+}
+
+/// Makes `kept`'s dents with every stage they ask for, in order; an invalid dent is dropped
+/// (logged and counted) and the rest made. The number made; `None` when the GPU failed (the
+/// frame's dents dropped; the denter put every target back).
+pub(super) fn make(
+    denter: &mut GpuDenter,
+    targets: &mut [Target],
+    kept: &mut Vec<(usize, GpuJob)>,
+    link: &RenderLink,
+) -> Option<u64> {
+    let outcome = loop {
+        if kept.is_empty() {
+            return Some(0);
+        }
+        match denter.dent_batch(&jobs(kept)) {
+            Ok(outcome) => break outcome,
+            Err(GpuBatchError::Job(bad)) => {
+                let (_, job) = kept.remove(bad.job);
+                warn!("bevy_dentbend: a dent on {} was refused ({}); the others go on", job.target, bad.error);
+                link.send(ToMain::Dropped { ids: vec![job.id] });
+            }
+            Err(e) => {
+                error!("bevy_dentbend: a dent batch failed on the GPU ({e}); {} dent(s) dropped", kept.len());
+                link.send(ToMain::Dropped { ids: kept.iter().map(|(_, j)| j.id).collect() });
+                return None;
+            }
+        }
+    };
+    let reports = kept.iter().zip(&outcome.reports).map(|((_, j), r)| (j.id, r.clone())).collect();
+    link.send(ToMain::Made { reports, bytes: denter.bytes_read_back() });
+    let mut dented: Vec<usize> = kept.iter().map(|(slot, _)| *slot).collect();
+    dented.sort_unstable();
+    dented.dedup();
+    for slot in dented {
+        let target = &mut targets[slot];
+        let mesh = match denter.mesh(slot) {
+            Ok(mesh) => mesh.clone(),
+            Err(e) => {
+                error!("bevy_dentbend: {}'s dented mesh is unavailable ({e})", target.entity);
+                continue;
+            }
+        };
+        let moved = outcome.moved.get(slot).cloned().unwrap_or_default();
+        if outcome.topology_changed(slot) {
+            let refinement = outcome.refined[slot].clone();
+            link.send(ToMain::Refined { entity: target.entity, mesh: mesh.clone(), refinement, moved });
+        } else {
+            let positions = moved.iter().map(|&v| mesh.positions()[v as usize]).collect();
+            let moved = MovedVertices { indices: moved, positions };
+            link.send(ToMain::Moved { entity: target.entity, moved, bytes: 0 });
+        }
+        target.mirror = mesh;
+        target.copy_needed = true;
+    }
+    Some(kept.len() as u64)
+}
