@@ -1,6 +1,7 @@
 //! Bevy's own meshes as game assets: a UV sphere (a seam column computed at 2π, a row of
 //! vertices at each pole) and a `Cuboid` (24 vertices split at its hard edges) dent with the game
-//! settings (refinement, volume rim, guard) on the CPU path. Registration keeps their shading:
+//! settings (refinement, volume rim, guard) on the CPU path, and the `Cuboid` on the GPU path
+//! alike. Registration keeps their shading:
 //! the authored normals stay bit for bit until a dent moves the surface around them, and after
 //! one only the normals near it change. Reports tell the depth the dent really made.
 
@@ -40,11 +41,16 @@ fn normals_of(mesh: &Mesh) -> Vec<Vec3> {
 /// The scripted scene with `asset` (its top at the plate's top, y = 0 in the world) as the
 /// dentable body on the CPU path; registered.
 fn scene_with_asset(asset: Mesh) -> common::Scene {
-    let mut s = common::scene_dentable(false, game_dentable());
+    scene_with_asset_on(asset, false)
+}
+
+/// [`scene_with_asset`] on the GPU path (`gpu`) or the CPU path.
+fn scene_with_asset_on(asset: Mesh, gpu: bool) -> common::Scene {
+    let mut s = common::scene_dentable(gpu, game_dentable());
     let handle = s.app.world_mut().resource_mut::<Assets<Mesh>>().add(asset);
     s.app.world_mut().entity_mut(s.target).insert((Mesh3d(handle), Name::new("asset under test")));
     s.app.init_resource::<Seen>().add_systems(Update, collect);
-    s.warm_up(false);
+    s.warm_up(gpu);
     s
 }
 
@@ -105,6 +111,57 @@ fn a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges() {
     assert!(stats.refined_triangles > 0, "{stats:?}");
 }
 
+/// The game dent on the GPU path, on Bevy's `Cuboid` (one quad a side, split at its hard edges):
+/// refined and made on Bevy's device like on the CPU path (the same triangles, vertices within
+/// the kernels' tolerance, the same depth reported), with no CPU-path dent; the refined mesh
+/// grows through its asset (every vertex with a UV) and Bevy's vertex slab draws it.
+fn the_game_dent_on_the_gpu_path_matches_the_cpu_path() {
+    let cuboid = || Cuboid::new(1.0, 0.2, 1.0).mesh().build();
+    let run = |gpu: bool| {
+        let mut s = scene_with_asset_on(cuboid(), gpu);
+        s.hit(0.1, -0.05, SPEED_OK);
+        s.settle(1);
+        s.frames(3);
+        s
+    };
+    let (mut g, c) = (run(true), run(false));
+    let (gpu, cpu) = (g.target_now(), c.target_now());
+    assert_eq!(gpu.faces(), cpu.faces(), "the same refinement on both paths");
+    assert!(gpu.vertex_count() > 24, "the cuboid was not refined");
+    // Tolerance as tests/gpu_path.rs: one dent of at most 4 cm, the map's 2e-5·d error plus a
+    // few ulps of the coordinate, margin 3.
+    let tol = 3.0 * (2e-5 * 0.04 + 8.0 * f32::EPSILON * 1.5);
+    let worst = gpu.positions().iter().zip(cpu.positions()).map(|(a, b)| a.distance(*b)).fold(0.0, f32::max);
+    assert!(worst <= tol, "GPU and CPU vertices differ by {worst} (allowed {tol})");
+    let (gs, cs) = (g.stats(), c.stats());
+    assert_eq!((gs.gpu_dents, gs.cpu_dents, gs.empty_dents), (1, 0, 0), "{gs:?}");
+    assert_eq!(gs.refined_triangles, cs.refined_triangles);
+    let (ga, ca) = (g.app.world().resource::<Seen>().0.clone(), c.app.world().resource::<Seen>().0.clone());
+    assert_eq!((ga.len(), ca.len()), (1, 1), "one DentApplied on each path");
+    let (gd, cd) = (ga[0].depth_made.expect("the GPU path reports the depth"), ca[0].depth_made.unwrap());
+    assert!((gd - cd).abs() <= tol, "depth made {gd} on the GPU path, {cd} on the CPU path");
+    assert_eq!(ga[0].limited_to, ca[0].limited_to);
+    let asset = registered_asset(&g);
+    assert_eq!(g.target_asset_positions(), gpu.positions(), "the grown asset lacks the dent");
+    let Some(bevy::mesh::VertexAttributeValues::Float32x2(uvs)) = asset.attribute(Mesh::ATTRIBUTE_UV_0) else {
+        panic!("the grown asset lost its UVs")
+    };
+    assert_eq!(uvs.len(), gpu.vertex_count(), "a UV for every vertex");
+    let layout = bevy_dentbend::slab_layout(&asset).expect("a layout");
+    let handle = g.app.world().get::<Mesh3d>(g.target).expect("a mesh").0.clone();
+    g.probe.request(handle.id(), layout.stride);
+    g.frames(2);
+    let bytes = g.probe.take().expect("the slab was read");
+    assert_eq!(bytes.len() as u64, gpu.vertex_count() as u64 * layout.stride, "the slab slot did not grow");
+    let at = |v: usize, k: usize| {
+        let i = v * layout.stride as usize + layout.fields.position as usize + k * 4;
+        f32::from_le_bytes(bytes[i..i + 4].try_into().unwrap())
+    };
+    for (v, p) in gpu.positions().iter().enumerate() {
+        assert_eq!(Vec3::new(at(v, 0), at(v, 1), at(v, 2)), *p, "vertex {v}: position in the slab");
+    }
+}
+
 /// A `Cuboid` with the paper's dent (kernels only, the GPU path's `Dentable::new`) is named in
 /// one warning with its fix; the same cuboid with the game settings, and the scene's finely
 /// meshed plate, are not.
@@ -136,6 +193,7 @@ fn main() -> ExitCode {
             "a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges",
             a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges,
         ),
+        ("the_game_dent_on_the_gpu_path_matches_the_cpu_path", the_game_dent_on_the_gpu_path_matches_the_cpu_path),
         (
             "a_body_too_coarse_for_its_dents_is_named_with_the_fix",
             a_body_too_coarse_for_its_dents_is_named_with_the_fix,
