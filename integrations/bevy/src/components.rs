@@ -1,7 +1,7 @@
 //! The components a game puts on its entities.
 
 use bevy::prelude::*;
-use dentbend::dent::{DentParams, DentSettings};
+use dentbend::dent::{DentParams, DentSettings, VolumeMode};
 
 /// An entity whose mesh ([`Mesh3d`]) dents where things hit it. Its mesh becomes its own (the
 /// plug-in gives it a private copy, so other entities sharing the asset stay undented), in the
@@ -21,11 +21,28 @@ pub struct Dentable {
 
 impl Dentable {
     /// Dents faster than `threshold` m/s, `gain` m deep per m/s above it, at most `cap` m; the
-    /// paper's dent (the GPU kernels alone: no refinement, no volume rim, no guard).
+    /// game dent ([`DentSettings::new`]'s): the mesh refined where it is too coarse for the dent,
+    /// the falloff fitted to thin walls, the intersection guard, the volume lost (sheet metal;
+    /// [`with_volume`](Self::with_volume) keeps it for solid bodies). On the GPU path these run
+    /// around the kernels on the render world's copy of the mesh.
     pub fn new(threshold: f32, gain: f32, cap: f32) -> Self {
+        Self { settings: DentSettings::new(threshold, gain, cap) }
+    }
+
+    /// [`new`](Self::new)'s material with the paper's dent (the GPU kernels alone: no
+    /// refinement, no volume rim, no guard): recorded into Bevy's frame without waiting for the
+    /// GPU, the cheapest way to make many dents at once, for finely meshed bodies.
+    pub fn paper(threshold: f32, gain: f32, cap: f32) -> Self {
         let mut settings = DentSettings::new(threshold, gain, cap);
         settings.params = kernel_params(cap);
         Self { settings }
+    }
+
+    /// What a dent does to the body's volume: [`VolumeMode::Free`] loses the cavity (sheet
+    /// metal, the default), [`VolumeMode::Preserve`] puts it back as a raised rim (solids).
+    pub fn with_volume(mut self, volume: VolumeMode) -> Self {
+        self.settings.params.volume = volume;
+        self
     }
 
     /// The energy model instead of the gain: a hit dents as deep as makes the plastic work,

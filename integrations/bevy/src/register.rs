@@ -141,8 +141,8 @@ fn coarseness_advice(dentable: &Dentable, tri: &TriMesh) -> Option<String> {
     (dentable.kernels_only() && edge > COARSE_EDGE_CAPS * cap).then(|| {
         format!(
             "its mesh is too coarse for its dents (edges of {edge:.3} m on average, dents at most {cap:.3} m deep): \
-             they move few vertices or none; give it `Dentable::with_settings(DentSettings::new(..))`, whose \
-             refinement splits the faces under each dent, or a finer mesh"
+             they move few vertices or none; give it `Dentable::new` (the game dent), whose refinement \
+             splits the faces under each dent, or a finer mesh"
         )
     })
 }

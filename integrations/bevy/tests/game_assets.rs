@@ -162,12 +162,12 @@ fn the_game_dent_on_the_gpu_path_matches_the_cpu_path() {
     }
 }
 
-/// A `Cuboid` with the paper's dent (kernels only, the GPU path's `Dentable::new`) is named in
-/// one warning with its fix; the same cuboid with the game settings, and the scene's finely
-/// meshed plate, are not.
+/// A `Cuboid` with the paper's dent (kernels only, `Dentable::paper`) is named in one warning
+/// with its fix; the same cuboid with the game settings, and the scene's finely meshed plate,
+/// are not.
 fn a_body_too_coarse_for_its_dents_is_named_with_the_fix() {
     let cuboid = || Cuboid::new(1.0, 0.2, 1.0).mesh().build();
-    let mut s = common::scene_dentable(false, Dentable::new(1.0, 0.01, 0.08));
+    let mut s = common::scene_dentable(false, Dentable::paper(1.0, 0.01, 0.08));
     s.app.init_resource::<Seen>();
     s.warm_up(false);
     assert!(s.app.world().get::<DentAdvice>(s.target).is_none(), "the 48-cell plate is fine enough");
@@ -178,11 +178,11 @@ fn a_body_too_coarse_for_its_dents_is_named_with_the_fix() {
         s.frames(3);
         entity
     };
-    let coarse = spawn(Dentable::new(1.0, 0.01, 0.08), "paper crate");
+    let coarse = spawn(Dentable::paper(1.0, 0.01, 0.08), "paper crate");
     let game = spawn(game_dentable(), "game crate");
     let advice = s.app.world().get::<DentAdvice>(coarse).expect("the coarse body is named").0.clone();
     assert!(advice.contains("paper crate") && advice.contains("too coarse"), "{advice}");
-    assert!(advice.contains("Dentable::with_settings"), "the advice names no fix: {advice}");
+    assert!(advice.contains("Dentable::new"), "the advice names no fix: {advice}");
     assert!(s.app.world().get::<DentAdvice>(game).is_none(), "refinement serves the game crate");
 }
 

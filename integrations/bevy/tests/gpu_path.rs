@@ -10,7 +10,7 @@ use std::process::ExitCode;
 use bevy::prelude::*;
 use bevy_dentbend::demo::Frame;
 use bevy_dentbend::dentbend::TriMesh;
-use bevy_dentbend::slab_layout;
+use bevy_dentbend::{Dentable, slab_layout};
 use common::{Scene, scene};
 
 /// Where the scripted dents land (x, z on the plate's top face, m) and how fast the ball falls.
@@ -149,12 +149,14 @@ fn tolerance(dents: usize, d: f32) -> f32 {
 }
 
 /// The same contacts on both paths give the same dented plate (the main world's mesh: on the GPU
-/// path from the read-backs, which copy the buffer the slab writes come from): the same vertices moved, each
-/// within the kernels' tolerance. Three dents: two in one frame (one batch, overlapping), one
-/// later. On the CPU path the mesh asset holds the dents too.
-fn the_gpu_and_cpu_paths_make_the_same_dents() {
+/// path from the read-backs, which copy the buffer the slab writes come from): the same vertices
+/// moved, each within the kernels' tolerance. Three dents: two in one frame (one batch,
+/// overlapping), one later. On the CPU path the mesh asset holds the dents too. With `dentable`:
+/// the default settings (the game dent, host stages around the kernels) and the paper's dent
+/// (the kernels alone, recorded into the frame).
+fn the_gpu_and_cpu_paths_make_the_same_dents(dentable: fn() -> Dentable) {
     let run = |gpu: bool| -> (TriMesh, Vec<Vec3>, Scene) {
-        let mut s = scene(gpu, false);
+        let mut s = common::scene_dentable(gpu, dentable());
         s.warm_up(gpu);
         s.hit(HIT.0, HIT.1, SPEED);
         s.hit(HIT.0 + 0.1, HIT.1, 5.0);
@@ -197,13 +199,22 @@ fn the_energy_model_sets_the_depth() {
     eprintln!("deepest vertex: {soft} m (2 MPa), {hard} m (8 MPa)");
 }
 
+fn same_dents_game() {
+    the_gpu_and_cpu_paths_make_the_same_dents(|| Dentable::new(1.0, 0.01, 0.08));
+}
+
+fn same_dents_paper() {
+    the_gpu_and_cpu_paths_make_the_same_dents(|| Dentable::paper(1.0, 0.01, 0.08));
+}
+
 fn main() -> ExitCode {
     common::run(vec![
         ("the_frame_changes_at_the_dent_and_nowhere_far::gpu", frame_changes_gpu_path),
         ("the_frame_changes_at_the_dent_and_nowhere_far::cpu", frame_changes_cpu_path),
         ("no_render_read_back_on_the_gpu_path", no_render_read_back_on_the_gpu_path),
         ("the_slab_holds_the_dent_at_bevys_offset_and_stride", the_slab_holds_the_dent_at_bevys_offset_and_stride),
-        ("the_gpu_and_cpu_paths_make_the_same_dents", the_gpu_and_cpu_paths_make_the_same_dents),
+        ("the_gpu_and_cpu_paths_make_the_same_dents::game", same_dents_game),
+        ("the_gpu_and_cpu_paths_make_the_same_dents::paper", same_dents_paper),
         ("the_energy_model_sets_the_depth", the_energy_model_sets_the_depth),
     ])
 }

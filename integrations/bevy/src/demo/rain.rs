@@ -8,7 +8,7 @@ use bevy::window::ExitCondition;
 use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
 use dentbend::bend::auto_skeleton;
-use dentbend::dent::{DentSettings, Resolution, VolumeMode};
+use dentbend::dent::{Resolution, VolumeMode};
 use dentbend::glam::Vec3 as DVec3;
 use dentbend::mesh;
 
@@ -226,13 +226,11 @@ fn spawn_target(
         collider,
     ));
     if settings.dents {
-        // 2 m/s threshold, 8 mm per m/s above it, at most 6 cm.
+        // 2 m/s threshold, 8 mm per m/s above it, at most 6 cm; the game dent (refinement,
+        // guard), the crate (a solid) keeping its volume.
         let mut dentable = Dentable::new(2.0, 0.008, 0.06);
         if kind == Target::Crate {
-            // The game dent: refinement (the default), the volume rim and the guard.
-            let mut game = DentSettings::new(2.0, 0.008, 0.06);
-            game.params.volume = VolumeMode::Preserve;
-            dentable = Dentable::with_settings(game);
+            dentable = dentable.with_volume(VolumeMode::Preserve);
         }
         if let Some(side) = settings.resolution {
             dentable.settings.params.resolution = Resolution::Fixed(side);
