@@ -184,10 +184,10 @@ fn recorded_batches_take_only_the_papers_dent(context: &'static GpuContext) {
 /// (thousands of vertices, past 4,096 × 16 bytes) is an over-limit error, and the crate stays as
 /// it was on the host and on the device; the CPU refines the same dent.
 fn a_refined_target_past_the_buffer_limits_changes_nothing(_: &'static GpuContext) {
-    let limit = 64 << 10;
+    let limit: u64 = 64 << 10;
     let limits = wgpu::Limits {
         max_storage_buffer_binding_size: limit,
-        max_buffer_size: u64::from(limit),
+        max_buffer_size: limit,
         ..wgpu::Limits::downlevel_defaults()
     };
     let (device, queue) = common::gpu::own_device(limits);

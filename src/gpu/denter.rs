@@ -154,6 +154,8 @@ pub struct GpuDenter {
     vertices_read_back: usize,
     /// Bytes the last [`dent_batch`](Self::dent_batch) read back.
     bytes_read_back: u64,
+    /// Seconds the last [`dent_batch`](Self::dent_batch) waited for the device.
+    waited_s: f64,
 }
 
 /// How a [`GpuDenter`] creates its resident buffers.
@@ -212,6 +214,7 @@ impl GpuDenter {
             arena: Mutex::default(),
             vertices_read_back: 0,
             bytes_read_back: 0,
+            waited_s: 0.0,
         })
     }
 
@@ -227,6 +230,13 @@ impl GpuDenter {
     /// stages of each map a fold-prone falloff was fitted to.
     pub fn bytes_read_back(&self) -> u64 {
         self.bytes_read_back
+    }
+
+    /// Seconds the last [`dent_batch`](Self::dent_batch) spent waiting for the device (its
+    /// kernels and read-backs); the rest of its time is the host's: planning, refinement,
+    /// recording and the host stages.
+    pub fn waited_seconds(&self) -> f64 {
+        self.waited_s
     }
 
     /// The context (device and queue) the denter runs on.

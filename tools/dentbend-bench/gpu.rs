@@ -45,8 +45,9 @@ pub struct Row {
     pub gpu_dents_per_s: f64,
     /// Median seconds per batch the host spends planning, recording and submitting it (inside
     /// `gpu_dents_per_s`'s time; the rest is waiting for the GPU). With `--stages all` the
-    /// denter waits for its read-backs of the moved vertices and runs the host stages, so this
-    /// is the whole batch.
+    /// denter waits for its read-backs of the moved vertices between its stages: this is the
+    /// batch's time less those waits (`GpuDenter::waited_seconds`), so the host stages, the
+    /// refinement and the resetting of the targets are in it.
     pub gpu_host_s: f64,
     pub cpu_dents_per_s: f64,
     /// Seconds per batch of each kernel stage (GPU timestamps where the device has them, else
@@ -89,15 +90,14 @@ impl Scene {
     }
 }
 
-/// Median seconds of `f` over at least 3 runs and `min_time`.
-fn median(min_time: Duration, mut f: impl FnMut() -> Result<(), String>) -> Result<f64, String> {
+/// Median of the seconds `f` measures (its timed part), over at least 3 runs and `min_time`,
+/// after one run that is not counted.
+fn median(min_time: Duration, mut f: impl FnMut() -> Result<f64, String>) -> Result<f64, String> {
     f()?;
     let mut samples = Vec::new();
     let start = Instant::now();
     while samples.len() < 3 || start.elapsed() < min_time {
-        let t = Instant::now();
-        f()?;
-        samples.push(t.elapsed().as_secs_f64());
+        samples.push(f()?);
     }
     samples.sort_by(f64::total_cmp);
     Ok(samples[samples.len() / 2])
@@ -120,6 +120,14 @@ pub fn run(
             let jobs = scene.jobs(res, batch, stages);
             let mut host = Vec::new();
             let gpu_s = median(min_time, || {
+                if stages == Stages::All {
+                    // Every batch dents the undented blocks again, put back in their slices on
+                    // the device (an upload, not timed).
+                    for (t, block) in scene.targets.iter().enumerate() {
+                        denter.replace_target(t, block.clone()).map_err(|e| e.to_string())?;
+                    }
+                    context.wait().map_err(|e| e.to_string())?;
+                }
                 let start = Instant::now();
                 match stages {
                     Stages::Kernels => {
@@ -127,17 +135,12 @@ pub fn run(
                         denter.record_batch(&mut encoder, &jobs).map_err(|e| e.to_string())?;
                         context.queue.submit([encoder.finish()]);
                     }
-                    Stages::All => {
-                        // Every batch dents the undented blocks again (written back into their
-                        // slices on the device: an upload, no read-back).
-                        for (t, block) in scene.targets.iter().enumerate() {
-                            denter.replace_target(t, block.clone()).map_err(|e| e.to_string())?;
-                        }
-                        denter.dent_batch(&jobs).map_err(|e| e.to_string())?;
-                    }
+                    Stages::All => drop(denter.dent_batch(&jobs).map_err(|e| e.to_string())?),
                 }
-                host.push(start.elapsed().as_secs_f64());
-                context.wait().map_err(|e| e.to_string())
+                let waited = if stages == Stages::All { denter.waited_seconds() } else { 0.0 };
+                host.push(start.elapsed().as_secs_f64() - waited);
+                context.wait().map_err(|e| e.to_string())?;
+                Ok(start.elapsed().as_secs_f64())
             })?;
             // The first call is `median`'s warm-up (it allocates the denter's buffers): not a sample.
             host.remove(0);
@@ -145,7 +148,9 @@ pub fn run(
             let mut targets = scene.targets.clone();
             let cpu_s = median(min_time, || {
                 targets.clone_from(&scene.targets);
-                dent_batch(&mut targets, &jobs).map(|_| ()).map_err(|e| e.to_string())
+                let start = Instant::now();
+                dent_batch(&mut targets, &jobs).map_err(|e| e.to_string())?;
+                Ok(start.elapsed().as_secs_f64())
             })?;
             let kernels_s = match stages {
                 Stages::Kernels => denter.dent_batch_timed(&jobs).map_err(|e| e.to_string())?,

@@ -19,6 +19,8 @@
 //!
 //! A failure anywhere puts every target back as it was, on the device and on the host.
 
+use std::time::Instant;
+
 use glam::Vec3;
 
 use super::GpuDenter;
@@ -72,7 +74,7 @@ impl GpuDenter {
             return Err(BatchError { job, error }.into());
         }
         self.catch_up()?;
-        (self.vertices_read_back, self.bytes_read_back) = (0, 0);
+        (self.vertices_read_back, self.bytes_read_back, self.waited_s) = (0, 0, 0.0);
         let meshes: Vec<&TriMesh> = self.targets.iter().map(|r| &r.mesh).collect();
         let (edges, plans) = plan_jobs(&meshes, jobs)?;
         let refining: Vec<Option<&DentPlan>> =
@@ -191,7 +193,11 @@ impl GpuDenter {
             .collect();
         let mut reports = vec![DentReport::default(); jobs.len()];
         for (r, round) in rounds(jobs, self.targets.len()).into_iter().enumerate() {
+            let waiting = Instant::now();
             let fitted = self.fit_falloffs(&round, jobs, plans, &states)?;
+            if fitted.bytes > 0 {
+                self.waited_s += waiting.elapsed().as_secs_f64();
+            }
             self.bytes_read_back += fitted.bytes;
             let fitted = fitted.falloffs;
             let round_jobs: Vec<DentJob<'_>> = round
@@ -206,7 +212,8 @@ impl GpuDenter {
                 })
                 .collect();
             let round_plans: Vec<&DentPlan> = round.iter().map(|&j| &plans[j]).collect();
-            let (moved, bytes) = self.displace_round(&round_jobs, &round_plans, r == 0)?;
+            let (moved, bytes, waited) = self.displace_round(&round_jobs, &round_plans, r == 0)?;
+            self.waited_s += waited;
             self.vertices_read_back += moved.iter().map(|m| m.indices.len()).sum::<usize>();
             self.bytes_read_back += bytes;
             for ((&j, fit), moved) in round.iter().zip(fitted).zip(moved) {
@@ -269,13 +276,13 @@ impl GpuDenter {
 
     /// Builds the round's maps and displaces its targets (the moved flags cleared first in the
     /// batch's first round), then reads back, per job, the vertices its target's flags mark;
-    /// with the bytes read.
+    /// with the bytes read and the seconds spent waiting for them.
     fn displace_round(
         &self,
         jobs: &[DentJob<'_>],
         plans: &[&DentPlan],
         first: bool,
-    ) -> Result<(Vec<MovedVertices>, u64), GpuBatchError> {
+    ) -> Result<(Vec<MovedVertices>, u64, f64), GpuBatchError> {
         let context = &self.context;
         let recorded = context.scoped("dent batch", || -> Result<_, GpuError> {
             let mut encoder = context.device.create_command_encoder(&Default::default());
@@ -297,8 +304,10 @@ impl GpuDenter {
             Ok(pending)
         });
         let mut pending = recorded.and_then(|inner| inner)?;
+        let waiting = Instant::now();
         let moved = wait_all(context, &mut pending)?;
-        Ok((moved, pending.iter().map(PendingMoved::bytes_read).sum()))
+        let waited = waiting.elapsed().as_secs_f64();
+        Ok((moved, pending.iter().map(PendingMoved::bytes_read).sum(), waited))
     }
 
     /// Writes back what the host stages changed of target `t`: every vertex the kernels moved
