@@ -142,6 +142,41 @@ fn a_target_outgrowing_its_slice_is_laid_out_again(context: &'static GpuContext)
     assert_ne!(layouts[0], 0, "the block sits after the crate");
 }
 
+/// Targets added, replaced and removed after the denter is built: each keeps its own vertices on
+/// the device and on the host (a removed target's successors move down one index), a replaced
+/// target larger than its slice lays the others out again without disturbing them, an unknown
+/// index is an error that changes nothing, and the game dent still matches the CPU afterwards.
+fn targets_come_and_go(context: &'static GpuContext) {
+    let (block, crate_mesh, bunny) =
+        (mesh::builtin("block").unwrap(), mesh::builtin("crate").unwrap(), mesh::builtin("bunny").unwrap());
+    let mut denter = GpuDenter::new(context, std::slice::from_ref(&crate_mesh)).unwrap();
+    assert_eq!(denter.add_target(block.clone()).unwrap(), 1);
+    assert_eq!(denter.add_target(crate_mesh.clone()).unwrap(), 2);
+    denter.replace_target(0, bunny.clone()).unwrap();
+    let expect = [&bunny, &block, &crate_mesh];
+    for (t, mesh) in expect.iter().enumerate() {
+        assert_eq!(denter.read_positions(t).unwrap(), mesh.positions(), "target {t} on the device");
+        assert_eq!(denter.mesh(t).unwrap().faces(), mesh.faces(), "target {t} on the host");
+    }
+    assert!(matches!(denter.replace_target(3, block.clone()), Err(GpuError::OverLimit { .. })));
+    assert!(matches!(denter.remove_target(3), Err(GpuError::OverLimit { .. })));
+    assert_eq!(denter.remove_target(0).unwrap().positions(), bunny.positions());
+    assert_eq!(denter.target_count(), 2);
+    assert_eq!(denter.read_positions(0).unwrap(), block.positions());
+    assert_eq!(denter.read_positions(1).unwrap(), crate_mesh.positions());
+
+    let top = crate_mesh.bounds().1;
+    let point = Vec3::new(top.x - 0.2, top.y, 0.3);
+    let ball = ball_above(point, 0.2);
+    let jobs = [drop_on(1, &ball, point, game(0.1))];
+    let mut cpu = vec![block.clone(), crate_mesh.clone()];
+    let cpu_out = dent_batch_tracked(&mut cpu, &jobs).unwrap();
+    let gpu_out = denter.dent_batch(&jobs).unwrap();
+    let tol = parity_tolerance(1.0, 0.1, top.abs().max_element());
+    assert_matches_cpu(&mut denter, 1, (&cpu[1], &cpu_out), &gpu_out, (0.1, tol));
+    assert_eq!(denter.read_positions(0).unwrap(), block.positions());
+}
+
 /// `record_batch` cannot wait for the GPU, so a dent asking for host stages is refused by name
 /// (nothing recorded, the target unchanged); the paper's dent is recorded, and the next
 /// `dent_batch` starts from the host copy read back once: kernel dent then game dent as on the
@@ -236,6 +271,7 @@ gpu_test_main! {
         the_game_dent_on_a_split_crate_matches_the_cpu,
         only_the_moved_vertices_come_back,
         a_target_outgrowing_its_slice_is_laid_out_again,
+        targets_come_and_go,
         recorded_batches_take_only_the_papers_dent,
         a_refined_target_past_the_buffer_limits_changes_nothing,
         a_device_lost_between_stages_changes_nothing,
