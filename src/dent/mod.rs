@@ -59,11 +59,13 @@ pub use plan::{DentPlan, GLANCE_RESOLUTION_FLOOR, GLANCE_STRETCH_CAP, plan_dent}
 pub use progressive::ProgressiveDents;
 pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
 pub use refine_jobs::{RefinedTargets, refine_targets};
+#[cfg(feature = "gpu")]
 pub(crate) use refine_jobs::{plan_jobs, refine_planned};
 pub use refine_setting::{DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refine};
 pub use refine_target::{AUTO_COARSENESS, auto_coarse_edge, auto_max_edge, footprint_box};
 pub use settings::DentSettings;
 pub use target_set::TargetSet;
+#[cfg(feature = "gpu")]
 pub(crate) use thickness::FittedFalloff;
 pub use thickness::{FOLD_KEPT, MIN_WALL_KEPT};
 pub use volume_mode::VolumeMode;

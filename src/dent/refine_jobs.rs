@@ -49,6 +49,7 @@ pub fn refine_targets(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<Refin
 ///
 /// # Errors
 /// [`BatchError`] naming the first job (in job order) whose target index or plan is bad.
+#[cfg(feature = "gpu")]
 pub(crate) fn plan_jobs(
     targets: &[&TriMesh],
     jobs: &[DentJob<'_>],
