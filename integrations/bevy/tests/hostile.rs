@@ -1,7 +1,7 @@
 //! Hostile input never panics a Bevy system: meshes without positions or normals, of another
 //! topology, held only by the render world, not loaded yet, scaled bodies, invalid settings,
-//! contacts with NaN, bodies despawned mid-batch, a device without the kernels' limits, an app
-//! without a renderer. Each gets a clear outcome (refusal with a reason, the CPU path, or no
+//! contacts with NaN, bodies despawned mid-batch, a device without the kernels' limits, a body
+//! refined past the device's buffers, an app without a renderer. Each gets a clear outcome (refusal with a reason, the CPU path, or no
 //! dent) and the app goes on denting what it can.
 
 mod common;
@@ -13,7 +13,7 @@ use bevy::mesh::PrimitiveTopology;
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
 use bevy::render::settings::{RenderCreation, WgpuLimits, WgpuSettings};
-use bevy_dentbend::dentbend::dent::DentSettings;
+use bevy_dentbend::dentbend::dent::{DentSettings, Refine};
 use bevy_dentbend::{DentPath, DentRefused, DentRegistered, DentStats, DentWorld, Dentable, DentbendPlugin, GpuStatus};
 use common::{SPEED_OK, scene};
 
@@ -167,6 +167,29 @@ fn a_device_without_the_limits_takes_the_cpu_path() {
     assert_ne!(s.target_asset_positions(), s.target_mesh.positions());
 }
 
+/// A body whose mesh, refined under a dent, would outgrow what Bevy's device can hold (storage
+/// bindings of 512 KiB; the plate refined to 2 mm edges under the dent, tens of thousands of
+/// vertices at 16 bytes each) leaves the GPU path with a log line: that dent is dropped and
+/// counted, the body takes the CPU path, and a later hit dents it there (its asset updated).
+fn a_body_outgrowing_the_device_takes_the_cpu_path() {
+    let limits = WgpuLimits { max_storage_buffer_binding_size: 512 << 10, ..default() };
+    let settings = WgpuSettings { constrained_limits: Some(limits), ..default() };
+    let render = RenderPlugin { render_creation: RenderCreation::Automatic(Box::new(settings)), ..default() };
+    let mut s = common::scene_with(true, false, Some(render));
+    let mut dentable = Dentable::new(1.0, 0.01, 0.08);
+    dentable.settings.params.refine = Refine::MaxEdge(0.002);
+    s.app.world_mut().entity_mut(s.target).insert(dentable);
+    s.warm_up(true);
+    s.hit(0.0, 0.0, SPEED_OK);
+    let target = s.target;
+    s.until("the plate on the CPU path", 60, |w| w.resource::<DentWorld>().path(target) == Some(DentPath::Cpu));
+    let stats = s.stats();
+    assert_eq!((stats.dents, stats.rejected_contacts), (0, 1), "{stats:?}");
+    s.hit(0.3, 0.3, SPEED_OK);
+    s.until("a CPU dent", 60, |w| w.resource::<DentStats>().cpu_dents == 1);
+    assert_ne!(s.target_asset_positions().len(), s.target_mesh.vertex_count(), "the CPU dent refined the asset");
+}
+
 /// Without a renderer at all (a server): the CPU path, mesh assets updated.
 fn an_app_without_a_renderer_dents_on_the_cpu() {
     let mut app = App::new();
@@ -191,6 +214,7 @@ fn main() -> ExitCode {
         ("a_body_despawned_mid_batch", a_body_despawned_mid_batch),
         ("the_last_body_despawned_mid_batch", the_last_body_despawned_mid_batch),
         ("a_device_without_the_limits_takes_the_cpu_path", a_device_without_the_limits_takes_the_cpu_path),
+        ("a_body_outgrowing_the_device_takes_the_cpu_path", a_body_outgrowing_the_device_takes_the_cpu_path),
         ("an_app_without_a_renderer_dents_on_the_cpu", an_app_without_a_renderer_dents_on_the_cpu),
     ])
 }

@@ -39,6 +39,9 @@ pub(crate) struct ResidentDents {
     jobs: Vec<GpuJob>,
     reads: Readbacks,
     skinned: SkinnedMeshes,
+    /// Bodies the last batch found too large for the device once refined: they leave the GPU
+    /// path after the frame is recorded.
+    outgrown: Vec<Entity>,
 }
 
 /// The resident targets as the read-backs see them.
@@ -153,6 +156,17 @@ impl ResidentDents {
         };
         let skinned = self.skinned.record(&context, &mut encoder, allocator);
         context.queue.submit([encoder.finish()]);
+        let outgrown = std::mem::take(&mut self.outgrown);
+        if !outgrown.is_empty() {
+            for &entity in &outgrown {
+                warn!(
+                    "bevy_dentbend: {entity}'s mesh, refined under a dent, would outgrow what Bevy's device can hold; \
+                     it takes the CPU path from now on (its dent this frame was dropped)"
+                );
+                self.forget(entity);
+            }
+            link.send(ToMain::Demote(outgrown));
+        }
         self.reads.submitted(reads);
         if dents > 0 {
             link.send(ToMain::Batch { dents });
@@ -199,7 +213,11 @@ impl ResidentDents {
         let stages_ran = matches!(recorded, Kernels::NeedStages);
         let dents = match recorded {
             Kernels::Recorded(dents) => dents,
-            Kernels::NeedStages => super::staged::make(denter, &mut self.targets, &mut kept, link)?,
+            Kernels::NeedStages => {
+                let made = super::staged::make(denter, &mut self.targets, &mut kept, link)?;
+                self.outgrown = made.outgrown;
+                made.dents
+            }
             Kernels::Failed => return None,
         };
         let mut dented: Vec<usize> = kept.iter().map(|(slot, _)| *slot).collect();

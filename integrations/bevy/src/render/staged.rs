@@ -7,7 +7,7 @@
 
 use bevy::prelude::*;
 use dentbend::dent::DentJob;
-use dentbend::gpu::{GpuBatchError, GpuDenter, MovedVertices};
+use dentbend::gpu::{GpuBatchError, GpuDenter, GpuError, MovedVertices};
 
 use super::resident::Target;
 use crate::link::{GpuJob, RenderLink, ToMain};
@@ -24,33 +24,100 @@ pub(super) fn jobs(kept: &[(usize, GpuJob)]) -> Vec<DentJob<'_>> {
         .collect()
 }
 
+/// What [`make`] did: the dents made, and the bodies whose refined mesh outgrew what Bevy's
+/// device can hold (their dents dropped and counted; they are to take the CPU path).
+pub(super) struct Made {
+    pub(super) dents: u64,
+    pub(super) outgrown: Vec<Entity>,
+}
+
 /// Makes `kept`'s dents with every stage they ask for, in order; an invalid dent is dropped
-/// (logged and counted) and the rest made. The number made; `None` when the GPU failed (the
-/// frame's dents dropped; the denter put every target back).
+/// (logged and counted) and the rest made. When a refined mesh would outgrow the device's
+/// buffers, each body's dents run on their own to find the bodies that do; those are left out
+/// of `kept`. `None` when the GPU failed otherwise (the frame's dents dropped; the denter put
+/// every target back).
 pub(super) fn make(
     denter: &mut GpuDenter,
     targets: &mut [Target],
     kept: &mut Vec<(usize, GpuJob)>,
     link: &RenderLink,
-) -> Option<u64> {
-    let outcome = loop {
+) -> Option<Made> {
+    match batch(denter, kept, link) {
+        Batch::Made(outcome) => {
+            deliver(denter, targets, kept, &outcome, link);
+            Some(Made { dents: kept.len() as u64, outgrown: Vec::new() })
+        }
+        Batch::Failed => None,
+        Batch::Outgrown => {
+            let mut slots: Vec<usize> = kept.iter().map(|(slot, _)| *slot).collect();
+            slots.sort_unstable();
+            slots.dedup();
+            let (mut made, mut outgrown) = (Vec::new(), Vec::new());
+            for slot in slots {
+                let mut mine: Vec<(usize, GpuJob)> = kept.iter().filter(|(s, _)| *s == slot).cloned().collect();
+                match batch(denter, &mut mine, link) {
+                    Batch::Made(outcome) => {
+                        deliver(denter, targets, &mine, &outcome, link);
+                        made.extend(mine);
+                    }
+                    Batch::Outgrown => {
+                        link.send(ToMain::Dropped { ids: mine.iter().map(|(_, j)| j.id).collect() });
+                        outgrown.push(targets[slot].entity);
+                    }
+                    Batch::Failed => return None,
+                }
+            }
+            *kept = made;
+            Some(Made { dents: kept.len() as u64, outgrown })
+        }
+    }
+}
+
+/// How one `dent_batch` call ended.
+enum Batch {
+    Made(dentbend::dent::BatchOutcome),
+    /// A refined mesh would not fit the device's buffers; nothing changed.
+    Outgrown,
+    /// The GPU failed otherwise (logged, the dents dropped and counted).
+    Failed,
+}
+
+/// `dent_batch` over `kept`, dropping (logged and counted) each invalid dent until the rest
+/// can run.
+fn batch(denter: &mut GpuDenter, kept: &mut Vec<(usize, GpuJob)>, link: &RenderLink) -> Batch {
+    loop {
         if kept.is_empty() {
-            return Some(0);
+            return Batch::Made(Default::default());
         }
         match denter.dent_batch(&jobs(kept)) {
-            Ok(outcome) => break outcome,
+            Ok(outcome) => return Batch::Made(outcome),
             Err(GpuBatchError::Job(bad)) => {
                 let (_, job) = kept.remove(bad.job);
                 warn!("bevy_dentbend: a dent on {} was refused ({}); the others go on", job.target, bad.error);
                 link.send(ToMain::Dropped { ids: vec![job.id] });
             }
+            Err(GpuBatchError::Gpu(GpuError::OverLimit { .. })) => return Batch::Outgrown,
             Err(e) => {
                 error!("bevy_dentbend: a dent batch failed on the GPU ({e}); {} dent(s) dropped", kept.len());
                 link.send(ToMain::Dropped { ids: kept.iter().map(|(_, j)| j.id).collect() });
-                return None;
+                return Batch::Failed;
             }
         }
-    };
+    }
+}
+
+/// Sends what `outcome` (of `kept`'s dents) did to the main world and updates the targets'
+/// mirrors: each dent's report, then per dented target its moved vertices, or its refined mesh.
+fn deliver(
+    denter: &mut GpuDenter,
+    targets: &mut [Target],
+    kept: &[(usize, GpuJob)],
+    outcome: &dentbend::dent::BatchOutcome,
+    link: &RenderLink,
+) {
+    if kept.is_empty() {
+        return;
+    }
     let reports = kept.iter().zip(&outcome.reports).map(|((_, j), r)| (j.id, r.clone())).collect();
     link.send(ToMain::Made { reports, bytes: denter.bytes_read_back() });
     let mut dented: Vec<usize> = kept.iter().map(|(slot, _)| *slot).collect();
@@ -77,5 +144,4 @@ pub(super) fn make(
         target.mirror = mesh;
         target.copy_needed = true;
     }
-    Some(kept.len() as u64)
 }
