@@ -51,6 +51,7 @@ mod mesh_data;
 mod rapier;
 mod register;
 mod render;
+mod split_attributes;
 mod stats;
 mod world;
 

@@ -116,21 +116,20 @@ pub fn private_copy(mesh: &Mesh) -> Mesh {
     copy
 }
 
-/// Writes `dented`'s positions and normals into `mesh` (the CPU path: Bevy uploads the asset
-/// again). When a dent refined the mesh (`refinement` not empty), its new vertices get every
-/// other float attribute interpolated along their split edge, and the indices are replaced.
+/// Writes `dented`'s positions and normals into `mesh` (Bevy uploads the asset again). When a
+/// dent refined the mesh (`refinement` not empty), its new vertices get every other attribute
+/// from their split edge (`split_attributes.rs`: interpolated, tangents re-orthogonalised,
+/// integer ones and joint weights from the nearer parent), and the indices are replaced.
 ///
 /// # Errors
 /// [`MeshDataError::Extracted`] when the main world no longer holds the data.
 pub fn write_dented(mesh: &mut Mesh, dented: &TriMesh, refinement: &Refinement) -> Result<(), MeshDataError> {
     let extracted = |_| MeshDataError::Extracted;
     if !refinement.vertices.is_empty() {
-        let ids: Vec<_> = mesh.try_attributes().map_err(extracted)?.map(|(a, _)| a.id).collect();
-        for id in ids {
-            if let Ok(values) = mesh.try_attribute_mut(id) {
-                extend_split(values, refinement);
-            }
+        if mesh.try_attributes().is_err() {
+            return Err(MeshDataError::Extracted);
         }
+        crate::split_attributes::extend_attributes(mesh, refinement, dented.normals());
         let indices = dented.faces().iter().flatten().copied().collect();
         mesh.try_insert_indices(Indices::U32(indices)).map_err(extracted)?;
     }
@@ -158,24 +157,6 @@ pub fn moved_positions(mesh: &TriMesh, indices: &[u32], positions: &[Vec3]) -> O
         *out.get_mut(v as usize)? = p;
     }
     Some(out)
-}
-
-/// Appends one value per split vertex to float attribute `values`, interpolated between the
-/// ends of its edge (other formats get the first parent's value).
-fn extend_split(values: &mut VertexAttributeValues, refinement: &Refinement) {
-    fn extend<const N: usize>(v: &mut Vec<[f32; N]>, refinement: &Refinement) {
-        for split in &refinement.vertices {
-            let [a, b] = split.parents.map(|p| v.get(p as usize).copied().unwrap_or([0.0; N]));
-            let t = split.fraction;
-            v.push(std::array::from_fn(|k| a[k] + (b[k] - a[k]) * t));
-        }
-    }
-    match values {
-        VertexAttributeValues::Float32x2(v) => extend(v, refinement),
-        VertexAttributeValues::Float32x3(v) => extend(v, refinement),
-        VertexAttributeValues::Float32x4(v) => extend(v, refinement),
-        _ => log::warn!("bevy_dentbend: a refined mesh's non-float attribute was left short"),
-    }
 }
 
 /// `mesh` as a Bevy triangle-list mesh (positions, smooth normals, `u32` indices), kept in both
