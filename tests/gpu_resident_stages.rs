@@ -177,6 +177,43 @@ fn targets_come_and_go(context: &'static GpuContext) {
     assert_eq!(denter.read_positions(0).unwrap(), block.positions());
 }
 
+/// An empty batch does nothing; a batch with one bad dent (a NaN impact, an unknown target) is
+/// refused naming it, and even the good dent before it changes nothing, on the host or on the
+/// device.
+fn bad_batches_change_nothing(context: &'static GpuContext) {
+    let block = mesh::builtin("block").unwrap();
+    let point = Vec3::new(0.0, block.bounds().1.y, 0.0);
+    let ball = ball_above(point, 0.3);
+    let mut denter = GpuDenter::new(context, std::slice::from_ref(&block)).unwrap();
+    let empty = denter.dent_batch(&[]).unwrap();
+    assert!(empty.reports.is_empty() && empty.moved.iter().all(Vec::is_empty));
+    let good = drop_on(0, &ball, point, game(0.1));
+    let mut nan = drop_on(0, &ball, point, game(0.1));
+    nan.impact.point.x = f32::NAN;
+    let unknown = drop_on(1, &ball, point, game(0.1));
+    for (bad, name) in [(nan, "a NaN impact"), (unknown, "an unknown target")] {
+        let error = denter.dent_batch(&[good.clone(), bad]).unwrap_err();
+        assert!(matches!(error, GpuBatchError::Job(ref e) if e.job == 1), "{name}: {error}");
+        assert_eq!(denter.mesh(0).unwrap().positions(), block.positions(), "{name}");
+        assert_eq!(denter.read_positions(0).unwrap(), block.positions(), "{name}");
+    }
+    // A dent that would push the block past the coordinate range (±10⁶; the block moved 4·10⁵
+    // down, the dent 9·10⁵ deep, unguarded) fails in its own round, after two rounds of good
+    // dents on the same block went to the device: those are undone too.
+    let far: Vec<Vec3> = block.positions().iter().map(|p| *p - Vec3::Y * 4.0e5).collect();
+    let far = TriMesh::new(far, block.faces().to_vec()).unwrap();
+    denter.replace_target(0, far.clone()).unwrap();
+    let point = point - Vec3::Y * 4.0e5;
+    let ball = ball_above(point, 0.3);
+    let good = drop_on(0, &ball, point, game(0.1));
+    let unguarded = DentParams { refine: Refine::Off, guard_crossings: false, ..game(9.0e5) };
+    let deep = drop_on(0, &ball, point, unguarded);
+    let Err(error) = denter.dent_batch(&[good.clone(), good, deep]) else { panic!("the dent past the range was made") };
+    assert!(matches!(error, GpuBatchError::Job(ref e) if e.job == 2), "{error}");
+    assert_eq!(denter.mesh(0).unwrap().positions(), far.positions());
+    assert_eq!(denter.read_positions(0).unwrap(), far.positions(), "the first rounds were not undone");
+}
+
 /// `record_batch` cannot wait for the GPU, so a dent asking for host stages is refused by name
 /// (nothing recorded, the target unchanged); the paper's dent is recorded, and the next
 /// `dent_batch` starts from the host copy read back once: kernel dent then game dent as on the
@@ -272,6 +309,7 @@ gpu_test_main! {
         only_the_moved_vertices_come_back,
         a_target_outgrowing_its_slice_is_laid_out_again,
         targets_come_and_go,
+        bad_batches_change_nothing,
         recorded_batches_take_only_the_papers_dent,
         a_refined_target_past_the_buffer_limits_changes_nothing,
         a_device_lost_between_stages_changes_nothing,
