@@ -48,7 +48,9 @@ fn drop_on(target: usize, ball: &TriMesh, point: Vec3, params: DentParams) -> De
 /// The GPU's host copy against the CPU's mesh and outcome of dents of distance at most `d`: the
 /// same triangles (the same refinement), vertices within `tol` plus what a bisection step of
 /// `limited_to` moves (that fraction of d), the same moved vertices and refinement; and the
-/// device holds the host copy bit for bit.
+/// device holds the host copy bit for bit, with normals within 1e-3 per component of the host
+/// copy's (both recomputed around what moved from the same positions, in another order: the
+/// agreement tests/parity_pipeline.rs states).
 fn assert_matches_cpu(
     denter: &mut GpuDenter,
     t: usize,
@@ -57,7 +59,11 @@ fn assert_matches_cpu(
     (d, tol): (f32, f32),
 ) {
     let device = denter.read_positions(t).unwrap();
+    let device_normals = denter.read_normals(t).unwrap();
     let gpu = denter.mesh(t).unwrap();
+    let normal_error =
+        device_normals.iter().zip(gpu.normals()).map(|(a, b)| (*a - *b).abs().max_element()).fold(0.0, f32::max);
+    assert!(normal_error <= 1e-3, "target {t}: device normals differ from the host copy's by {normal_error}");
     assert_eq!(gpu.faces(), cpu.faces(), "target {t}: the same refinement on both paths");
     let mut slack = 0.0;
     for (c, g) in cpu_out.reports.iter().zip(&gpu_out.reports) {

@@ -94,6 +94,10 @@ impl<K: Copy + Eq + Hash> DentBackend<K> for GpuBackend<K> {
         targets: &mut [TriMesh],
         jobs: &[DentJob<'_>],
     ) -> Result<BatchOutcome, BatchError> {
+        if keys.len() != targets.len() {
+            let error = crate::dent::invalid("keys", keys.len(), "must hold one id per target mesh");
+            return Err(BatchError { job: 0, error });
+        }
         if let Some((job, bad)) = jobs.iter().enumerate().find(|(_, j)| j.target >= targets.len()) {
             let error = crate::dent::invalid("target", bad.target, "must index the batch's target list");
             return Err(BatchError { job, error });

@@ -1,8 +1,9 @@
 //! The attributes of the vertices a dent's refinement adds to a Bevy mesh: each new vertex sits
-//! at `fraction` along the edge between its two parents, so float and normalised attributes
-//! (UVs, colours, custom data) are interpolated there, tangents are interpolated, made
-//! perpendicular to the new normal and unit with their handedness kept, and integer attributes
-//! (joint indices) with the joint weights that go with them are the nearer parent's.
+//! at `fraction` along the edge between its two parents, so 32- and 64-bit float attributes (UVs,
+//! colours, custom data) and four-component unsigned normalised ones (packed colours) are
+//! interpolated there, tangents are interpolated, made perpendicular to the new normal and unit
+//! with their handedness kept, and every other format (joint indices, half floats, signed
+//! normalised data), and the joint weights that go with the indices, is the nearer parent's.
 
 use bevy::mesh::{Mesh, VertexAttributeValues};
 use dentbend::glam::{Vec3, Vec4};
@@ -21,8 +22,19 @@ pub(crate) fn extend_attributes(mesh: &mut Mesh, refinement: &Refinement, normal
             continue;
         }
         let nearest = id == Mesh::ATTRIBUTE_JOINT_WEIGHT.id;
-        if let Ok(values) = mesh.try_attribute_mut(id) {
+        let Ok(values) = mesh.try_attribute_mut(id) else { continue };
+        if values.len() == refinement.base_vertex_count {
             extend(values, refinement, nearest);
+        } else {
+            // Not one value per vertex (the asset was changed under the plug-in): no value of it
+            // can be trusted for the new vertices, and a short attribute would make the mesh
+            // invalid.
+            log::warn!(
+                "bevy_dentbend: a refined mesh's attribute {id:?} had {} values for {} vertices; removed",
+                values.len(),
+                refinement.base_vertex_count
+            );
+            mesh.remove_attribute(id);
         }
     }
     let first_new = normals.len() - refinement.vertices.len();

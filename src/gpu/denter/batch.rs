@@ -20,7 +20,10 @@ impl GpuDenter {
     /// A recording cannot wait for the GPU, so it takes only dents that need no host stage
     /// ([`DentParams::without_host_stages`](crate::DentParams::without_host_stages), with a
     /// falloff that cannot fold a wall); [`dent_batch`](Self::dent_batch) runs every stage. The
-    /// host's copy of a target dented here is read back once, the next time the host needs it.
+    /// host's copy of a target dented here is read back once, the next time the host needs it:
+    /// submit the encoder before the next call on this denter that reads the host copies
+    /// ([`mesh`](Self::mesh), [`dent_batch`](Self::dent_batch), adding, replacing or removing a
+    /// target), or that read finds the targets as they were and the recorded dents are lost.
     /// A dent whose profile vanishes on its grid (σ or d far outside the projectile's scale)
     /// leaves its target unchanged, where the CPU pipeline reports
     /// [`DentError::EmptyProfile`](crate::DentError::EmptyProfile): telling would need a

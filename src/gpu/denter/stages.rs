@@ -235,7 +235,10 @@ impl GpuDenter {
                 )
                 .map_err(|error| BatchError { job: j, error })?;
                 state.moved.iter_mut().zip(&done.moved).for_each(|(m, &d)| *m |= d);
-                self.write_back(t, &moved.indices, &after, &done.positions, &state.moved)?;
+                // Refinement's new vertices are flagged moved from the first round on, so the
+                // device refreshes their normals as the host does.
+                let new = if r == 0 { first_new[t]..state.moved.len() } else { 0..0 };
+                self.write_back(t, (&moved.indices, new), &after, &done.positions, &state.moved)?;
                 state.positions = done.positions;
                 reports[j] = done.report;
             }
@@ -311,17 +314,18 @@ impl GpuDenter {
     }
 
     /// Writes back what the host stages changed of target `t`: every vertex the kernels moved
-    /// (`read`) or the host stages moved elsewhere (`finished` differs from `after`), with its
-    /// moved flag from `moved`, in runs of consecutive vertices.
+    /// (`read.0`), the vertices `read.1` (new ones, to flag), and those the host stages moved
+    /// elsewhere (`finished` differs from `after`), each with its moved flag from `moved`, in
+    /// runs of consecutive vertices.
     fn write_back(
         &self,
         t: usize,
-        read: &[u32],
+        read: (&[u32], std::ops::Range<usize>),
         after: &[Vec3],
         finished: &[Vec3],
         moved: &[bool],
     ) -> Result<(), GpuError> {
-        let mut changed: Vec<usize> = read.iter().map(|&v| v as usize).collect();
+        let mut changed: Vec<usize> = read.0.iter().map(|&v| v as usize).chain(read.1).collect();
         changed.extend((0..finished.len()).filter(|&v| finished[v] != after[v]));
         changed.sort_unstable();
         changed.dedup();

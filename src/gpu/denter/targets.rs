@@ -73,13 +73,22 @@ impl GpuDenter {
     /// afresh; returns the host's copy of it.
     ///
     /// # Errors
-    /// [`GpuError::OverLimit`] for an unknown target; device errors.
+    /// [`GpuError::OverLimit`] for an unknown target; device errors (nothing changes then).
     pub fn remove_target(&mut self, target: usize) -> Result<TriMesh, GpuError> {
         self.check_target(target)?;
         self.catch_up()?;
         let removed = self.targets.remove(target);
-        self.buffers = ResidentBuffers::lay_out(&self.context, &mut self.targets, self.usage)?;
-        Ok(removed.mesh)
+        match ResidentBuffers::lay_out(&self.context, &mut self.targets, self.usage) {
+            Ok(buffers) => {
+                self.buffers = buffers;
+                Ok(removed.mesh)
+            }
+            Err(error) => {
+                // The old layout still holds every target where its offsets say.
+                self.targets.insert(target, removed);
+                Err(error)
+            }
+        }
     }
 
     /// Fails for a target index past the last.

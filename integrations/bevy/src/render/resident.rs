@@ -115,10 +115,30 @@ impl ResidentDents {
         }
     }
 
-    /// Advances the collider read-backs; sends each finished one to the main world.
+    /// Advances the collider read-backs; sends each finished one to the main world. While the
+    /// targets wait to be uploaded again their slots are not the denter's, so a failed read-back
+    /// is not replaced by a whole-mesh one then.
     pub fn poll_reads(&mut self, link: &RenderLink) {
-        let Self { reads, targets, denter, .. } = self;
-        reads.poll(&mut Slots(targets), denter.as_ref(), link);
+        let Self { reads, targets, denter, stale, .. } = self;
+        let denter = if *stale { None } else { denter.as_ref() };
+        reads.poll(&mut Slots(targets), denter, link);
+    }
+
+    /// Waits for the read-backs under way and applies them, so that a batch run now (whose
+    /// results reach the mirrors and the main world at once) lands after them.
+    fn settle_reads(&mut self, link: &RenderLink) {
+        // A count, then a list, each mapped after a wait.
+        for _ in 0..3 {
+            if self.reads.is_empty() {
+                return;
+            }
+            if let Some(context) = &self.context
+                && let Err(e) = context.wait()
+            {
+                warn!("bevy_dentbend: waiting for the collider read-backs failed ({e})");
+            }
+            self.poll_reads(link);
+        }
     }
 
     /// Uploads the targets again when they changed and no read-back is under way (so every
@@ -149,6 +169,11 @@ impl ResidentDents {
     /// queue (before Bevy's own frame, so this frame draws them).
     pub fn record(&mut self, allocator: &MeshAllocator, link: &RenderLink) -> Recorded {
         let Some(context) = self.context.clone() else { return Recorded::default() };
+        if self.jobs.iter().any(|j| !j.params.host_stages().is_empty()) {
+            // This frame's batch waits for the GPU and updates the mirrors at once: the older
+            // read-backs must land first.
+            self.settle_reads(link);
+        }
         let mut encoder = context.device.create_command_encoder(&Default::default());
         let Some((dents, copies, reads)) = self.record_dents(&mut encoder, allocator, link) else {
             // A failed batch may have left part of itself in the encoder: drop it.

@@ -53,8 +53,14 @@ pub(super) fn make(
             slots.sort_unstable();
             slots.dedup();
             let (mut made, mut outgrown) = (Vec::new(), Vec::new());
+            let mut failed = false;
             for slot in slots {
                 let mut mine: Vec<(usize, GpuJob)> = kept.iter().filter(|(s, _)| *s == slot).cloned().collect();
+                if failed {
+                    // The GPU failed for an earlier body: the rest are dropped and counted.
+                    link.send(ToMain::Dropped { ids: mine.iter().map(|(_, j)| j.id).collect() });
+                    continue;
+                }
                 match batch(denter, &mut mine, link) {
                     Batch::Made(outcome) => {
                         deliver(denter, targets, &mine, &outcome, link);
@@ -64,7 +70,7 @@ pub(super) fn make(
                         link.send(ToMain::Dropped { ids: mine.iter().map(|(_, j)| j.id).collect() });
                         outgrown.push(targets[slot].entity);
                     }
-                    Batch::Failed => return None,
+                    Batch::Failed => failed = true,
                 }
             }
             *kept = made;
