@@ -63,7 +63,7 @@ impl<K: Copy + Eq + Hash> GpuBackend<K> {
     fn resident(&mut self, keys: &[K], meshes: &[&TriMesh]) -> Result<Vec<usize>, DentError> {
         let backend = |e: super::GpuError| DentError::Backend(e.to_string());
         if self.denter.is_none() {
-            let fresh: Vec<TriMesh> = keys.iter().zip(meshes).map(|(_, &m)| m.clone()).collect();
+            let fresh: Vec<TriMesh> = meshes.iter().map(|&m| m.clone()).collect();
             self.denter = Some(GpuDenter::new(&self.context, &fresh).map_err(backend)?);
             self.slots = keys.iter().enumerate().map(|(slot, &key)| (key, slot)).collect();
         }

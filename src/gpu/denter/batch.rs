@@ -1,6 +1,8 @@
 //! Running a batch: recording it into the caller's encoder ([`GpuDenter::record_batch`]), or
 //! recording and submitting it ([`GpuDenter::dent_batch`], and stage by stage with timings).
 
+use std::borrow::Borrow;
+
 use super::chunks::chunks;
 use super::{GpuDentInfo, GpuDenter};
 use crate::dent::{DentJob, DentPlan, falloff_may_need_fit};
@@ -94,26 +96,48 @@ impl GpuDenter {
     /// device's limits) the map kernels and the displacement, then the normals of every target
     /// a job names. A timing sink submits what came before each chunk and the normals.
     fn encode_batch(&self, plans: &[DentPlan], jobs: &[DentJob<'_>], sink: &mut Sink<'_>) -> Result<(), GpuError> {
+        self.encode_dents(plans, jobs, sink, true)?;
+        self.encode_normals(jobs, sink)
+    }
+
+    /// Records, into `sink`, the clearing of the moved flags (when `clear_moved`), then per chunk
+    /// (cut to the device's limits) the map kernels and the displacement of `jobs` planned as
+    /// `plans`.
+    pub(super) fn encode_dents<P: Borrow<DentPlan>>(
+        &self,
+        plans: &[P],
+        jobs: &[DentJob<'_>],
+        sink: &mut Sink<'_>,
+        clear_moved: bool,
+    ) -> Result<(), GpuError> {
         let context = &self.context;
-        let mut clear = sink.recorder(context);
-        self.kernels.displace.encode_clear_moved(context, clear.encoder(), &self.buffers.positions)?;
-        let done = clear.finish();
-        sink.push(done);
+        if clear_moved {
+            let mut clear = sink.recorder(context);
+            self.kernels.displace.encode_clear_moved(context, clear.encoder(), &self.buffers.positions)?;
+            let done = clear.finish();
+            sink.push(done);
+        }
         let mut arena = self.arena();
         for chunk in chunks(plans, jobs, context) {
             sink.flush(context);
             let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
-            let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
+            let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| plans[k].borrow()).collect();
             let mut rec = sink.recorder(context);
             let maps = self.encode_maps(&mut rec, &mut arena, &chunk_jobs, &chunk_plans, false)?;
             self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
             let done = rec.finish();
             sink.push(done);
         }
-        let mut touched = vec![false; self.targets.len()];
-        jobs.iter().for_each(|j| touched[j.target] = true);
+        Ok(())
+    }
+
+    /// Records, into `sink`, the normals' refresh around the moved vertices of every target a
+    /// job of `jobs` names.
+    pub(super) fn encode_normals(&self, jobs: &[DentJob<'_>], sink: &mut Sink<'_>) -> Result<(), GpuError> {
+        let context = &self.context;
+        let dented = self.dented_targets(jobs);
         let normals: Vec<NormalsParams> =
-            (0..self.targets.len()).filter(|&t| touched[t]).map(|t| self.normals_params(t)).collect();
+            (0..self.targets.len()).filter(|&t| dented[t]).map(|t| self.normals_params(t)).collect();
         sink.flush(context);
         let mut rec = sink.recorder(context);
         let b = &self.buffers;
@@ -130,6 +154,13 @@ impl GpuDenter {
         let done = rec.finish();
         sink.push(done);
         Ok(())
+    }
+
+    /// Per target, whether a job of `jobs` dents it.
+    pub(super) fn dented_targets(&self, jobs: &[DentJob<'_>]) -> Vec<bool> {
+        let mut dented = vec![false; self.targets.len()];
+        jobs.iter().for_each(|j| dented[j.target] = true);
+        dented
     }
 }
 
@@ -148,7 +179,7 @@ fn infos(plans: &[DentPlan]) -> Vec<GpuDentInfo> {
 
 /// Where [`GpuDenter::encode_batch`] records: the caller's encoder, or command buffers of its own
 /// (submitted stage by stage when timing, else by the caller of `encode_batch`).
-enum Sink<'s> {
+pub(super) enum Sink<'s> {
     Caller(&'s mut wgpu::CommandEncoder),
     Own { timings: Option<&'s mut KernelTimes>, pending: Vec<wgpu::CommandBuffer> },
 }

@@ -24,14 +24,12 @@ use std::time::Instant;
 use glam::Vec3;
 
 use super::GpuDenter;
-use super::chunks::chunks;
+use super::batch::Sink;
 use crate::dent::{
     BatchError, BatchOutcome, DentJob, DentPlan, DentReport, FittedFalloff, Refine, RefinedTargets,
     falloff_may_need_fit, finish_displaced, fit_to_target, plan_jobs, refine_planned,
 };
 use crate::gpu::moved::{MovedVertices, PendingMoved, wait_all};
-use crate::gpu::normals::NormalsParams;
-use crate::gpu::recorder::Recorder;
 use crate::gpu::{GpuBatchError, GpuError};
 use crate::mesh::TriMesh;
 
@@ -69,10 +67,6 @@ impl GpuDenter {
     /// device.
     pub fn dent_batch(&mut self, jobs: &[DentJob<'_>]) -> Result<BatchOutcome, GpuBatchError> {
         self.context.check_alive()?;
-        if let Some((job, bad)) = jobs.iter().enumerate().find(|(_, j)| j.target >= self.targets.len()) {
-            let error = crate::dent::invalid("target", bad.target, "must index the denter's targets");
-            return Err(BatchError { job, error }.into());
-        }
         self.catch_up()?;
         (self.vertices_read_back, self.bytes_read_back, self.waited_s) = (0, 0, 0.0);
         let meshes: Vec<&TriMesh> = self.targets.iter().map(|r| &r.mesh).collect();
@@ -145,7 +139,7 @@ impl GpuDenter {
                 self.buffers.upload(&self.context, &self.targets[t])?;
             }
         } else {
-            self.buffers = super::ResidentBuffers::lay_out(&self.context, &mut self.targets, self.usage)?;
+            self.lay_out()?;
         }
         Ok(())
     }
@@ -161,8 +155,7 @@ impl GpuDenter {
         if self.context.check_alive().is_err() {
             return;
         }
-        let mut dented = vec![false; self.targets.len()];
-        jobs.iter().for_each(|j| dented[j.target] = true);
+        let dented = self.dented_targets(jobs);
         for (t, target) in self.targets.iter().enumerate() {
             // A target the failed layout never placed has no room yet: nothing on the device to
             // mend. A device failing now is reported by the next batch.
@@ -226,7 +219,7 @@ impl GpuDenter {
                 let mesh = &self.targets[t].mesh;
                 let done = finish_displaced(
                     &state.positions,
-                    after.clone(),
+                    after,
                     mesh.faces(),
                     mesh.normals(),
                     &plans[j],
@@ -238,7 +231,7 @@ impl GpuDenter {
                 // Refinement's new vertices are flagged moved from the first round on, so the
                 // device refreshes their normals as the host does.
                 let new = if r == 0 { first_new[t]..state.moved.len() } else { 0..0 };
-                self.write_back(t, (&moved.indices, new), &after, &done.positions, &state.moved)?;
+                self.write_back(t, (&moved.indices, new), &state.positions, &done.positions, &state.moved)?;
                 state.positions = done.positions;
                 reports[j] = done.report;
             }
@@ -289,18 +282,7 @@ impl GpuDenter {
         let context = &self.context;
         let recorded = context.scoped("dent batch", || -> Result<_, GpuError> {
             let mut encoder = context.device.create_command_encoder(&Default::default());
-            if first {
-                self.kernels.displace.encode_clear_moved(context, &mut encoder, &self.buffers.positions)?;
-            }
-            let mut arena = self.arena();
-            for chunk in chunks(plans, jobs, context) {
-                let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
-                let chunk_plans: Vec<&DentPlan> = chunk.map(|k| plans[k]).collect();
-                let mut rec = Recorder::caller(context, &mut encoder);
-                let maps = self.encode_maps(&mut rec, &mut arena, &chunk_jobs, &chunk_plans, false)?;
-                self.encode_displace(&mut rec, &chunk_jobs, &chunk_plans, &maps)?;
-                rec.finish();
-            }
+            self.encode_dents(plans, jobs, &mut Sink::Caller(&mut encoder), first)?;
             let pending: Vec<PendingMoved> =
                 jobs.iter().map(|j| self.record_moved(&mut encoder, j.target)).collect::<Result<_, _>>()?;
             context.queue.submit([encoder.finish()]);
@@ -313,20 +295,21 @@ impl GpuDenter {
         Ok((moved, pending.iter().map(PendingMoved::bytes_read).sum(), waited))
     }
 
-    /// Writes back what the host stages changed of target `t`: every vertex the kernels moved
-    /// (`read.0`), the vertices `read.1` (new ones, to flag), and those the host stages moved
-    /// elsewhere (`finished` differs from `after`), each with its moved flag from `moved`, in
-    /// runs of consecutive vertices.
+    /// Writes back what the round left of target `t` in `finished`: every vertex the kernels
+    /// moved (`read.0`), the vertices `read.1` (new ones, to flag), and those the host stages
+    /// moved (`finished` differs from `before`, the positions before the round; elsewhere the
+    /// kernels' positions are `before`'s), each with its moved flag from `moved`, in runs of
+    /// consecutive vertices.
     fn write_back(
         &self,
         t: usize,
         read: (&[u32], std::ops::Range<usize>),
-        after: &[Vec3],
+        before: &[Vec3],
         finished: &[Vec3],
         moved: &[bool],
     ) -> Result<(), GpuError> {
         let mut changed: Vec<usize> = read.0.iter().map(|&v| v as usize).chain(read.1).collect();
-        changed.extend((0..finished.len()).filter(|&v| finished[v] != after[v]));
+        changed.extend((0..finished.len()).filter(|&v| finished[v] != before[v]));
         changed.sort_unstable();
         changed.dedup();
         let target = &self.targets[t];
@@ -348,23 +331,10 @@ impl GpuDenter {
     /// Refreshes, on the device, the normals around every vertex the batch moved on the targets
     /// `jobs` dent.
     fn refresh_normals(&self, jobs: &[DentJob<'_>]) -> Result<(), GpuError> {
-        let mut dented = vec![false; self.targets.len()];
-        jobs.iter().for_each(|j| dented[j.target] = true);
-        let params: Vec<NormalsParams> =
-            (0..self.targets.len()).filter(|&t| dented[t]).map(|t| self.normals_params(t)).collect();
         let context = &self.context;
-        let b = &self.buffers;
         context.scoped("dent batch normals", || -> Result<(), GpuError> {
             let mut encoder = context.device.create_command_encoder(&Default::default());
-            self.kernels.normals.encode(
-                context,
-                &mut encoder,
-                &params,
-                &b.positions,
-                &b.faces,
-                &b.adjacency,
-                &b.normals,
-            )?;
+            self.encode_normals(jobs, &mut Sink::Caller(&mut encoder))?;
             context.queue.submit([encoder.finish()]);
             Ok(())
         })?

@@ -28,16 +28,11 @@ impl GpuDenter {
     pub fn add_target(&mut self, mesh: TriMesh) -> Result<usize, GpuError> {
         self.catch_up()?;
         self.targets.push(Resident::new(mesh));
-        match ResidentBuffers::lay_out(&self.context, &mut self.targets, self.usage) {
-            Ok(buffers) => {
-                self.buffers = buffers;
-                Ok(self.targets.len() - 1)
-            }
-            Err(error) => {
-                self.targets.pop();
-                Err(error)
-            }
+        if let Err(error) = self.lay_out() {
+            self.targets.pop();
+            return Err(error);
         }
+        Ok(self.targets.len() - 1)
     }
 
     /// Replaces target `target` by `mesh` (a mesh changed outside the denter, any number of
@@ -57,16 +52,7 @@ impl GpuDenter {
             return Ok(());
         }
         let old = std::mem::replace(&mut self.targets[target], Resident::new(mesh));
-        match ResidentBuffers::lay_out(&self.context, &mut self.targets, self.usage) {
-            Ok(buffers) => {
-                self.buffers = buffers;
-                Ok(())
-            }
-            Err(error) => {
-                self.targets[target] = old;
-                Err(error)
-            }
-        }
+        self.lay_out().inspect_err(|_| self.targets[target] = old)
     }
 
     /// Removes target `target` (later targets move down one index), laying the others out
@@ -78,17 +64,23 @@ impl GpuDenter {
         self.check_target(target)?;
         self.catch_up()?;
         let removed = self.targets.remove(target);
-        match ResidentBuffers::lay_out(&self.context, &mut self.targets, self.usage) {
-            Ok(buffers) => {
-                self.buffers = buffers;
-                Ok(removed.mesh)
-            }
-            Err(error) => {
-                // The old layout still holds every target where its offsets say.
-                self.targets.insert(target, removed);
-                Err(error)
-            }
+        if let Err(error) = self.lay_out() {
+            // The old layout still holds every target where its offsets say.
+            self.targets.insert(target, removed);
+            return Err(error);
         }
+        Ok(removed.mesh)
+    }
+
+    /// Lays every target out afresh in new buffers (each target's offsets set, its host copy
+    /// uploaded).
+    ///
+    /// # Errors
+    /// As [`ResidentBuffers::lay_out`]; the old buffers stay then, and the targets' offsets
+    /// with them.
+    pub(super) fn lay_out(&mut self) -> Result<(), GpuError> {
+        self.buffers = ResidentBuffers::lay_out(&self.context, &mut self.targets, self.usage)?;
+        Ok(())
     }
 
     /// Fails for a target index past the last.

@@ -318,15 +318,10 @@ fn record_kernels(
         let batch = super::staged::jobs(kept);
         match denter.record_batch(encoder, &batch) {
             Ok(_) => return Kernels::Recorded(kept.len() as u64),
-            Err(GpuBatchError::Job(bad)) => {
-                let (_, job) = kept.remove(bad.job);
-                warn!("bevy_dentbend: a dent on {} was refused ({}); the others go on", job.target, bad.error);
-                link.send(ToMain::Dropped { ids: vec![job.id] });
-            }
+            Err(GpuBatchError::Job(bad)) => super::staged::drop_refused(kept, &bad, link),
             Err(GpuBatchError::HostStages { .. }) => return Kernels::NeedStages,
-            Err(GpuBatchError::Gpu(e)) => {
-                error!("bevy_dentbend: a dent batch failed on the GPU ({e}); {} dent(s) dropped", kept.len());
-                link.send(ToMain::Dropped { ids: kept.iter().map(|(_, j)| j.id).collect() });
+            Err(e) => {
+                super::staged::drop_all(kept, &e, link);
                 return Kernels::Failed;
             }
         }

@@ -6,7 +6,7 @@
 //! new mesh, which the main world writes into the entity's mesh asset for Bevy to upload again.
 
 use bevy::prelude::*;
-use dentbend::dent::DentJob;
+use dentbend::dent::{BatchError, DentJob};
 use dentbend::gpu::{GpuBatchError, GpuDenter, GpuError, MovedVertices};
 
 use super::resident::Target;
@@ -97,19 +97,28 @@ fn batch(denter: &mut GpuDenter, kept: &mut Vec<(usize, GpuJob)>, link: &RenderL
         }
         match denter.dent_batch(&jobs(kept)) {
             Ok(outcome) => return Batch::Made(outcome),
-            Err(GpuBatchError::Job(bad)) => {
-                let (_, job) = kept.remove(bad.job);
-                warn!("bevy_dentbend: a dent on {} was refused ({}); the others go on", job.target, bad.error);
-                link.send(ToMain::Dropped { ids: vec![job.id] });
-            }
+            Err(GpuBatchError::Job(bad)) => drop_refused(kept, &bad, link),
             Err(GpuBatchError::Gpu(GpuError::OverLimit { .. })) => return Batch::Outgrown,
             Err(e) => {
-                error!("bevy_dentbend: a dent batch failed on the GPU ({e}); {} dent(s) dropped", kept.len());
-                link.send(ToMain::Dropped { ids: kept.iter().map(|(_, j)| j.id).collect() });
+                drop_all(kept, &e, link);
                 return Batch::Failed;
             }
         }
     }
+}
+
+/// Drops the dent of `kept` that a batch refused as `bad` (logged, counted by the main world).
+pub(super) fn drop_refused(kept: &mut Vec<(usize, GpuJob)>, bad: &BatchError, link: &RenderLink) {
+    let (_, job) = kept.remove(bad.job);
+    warn!("bevy_dentbend: a dent on {} was refused ({}); the others go on", job.target, bad.error);
+    link.send(ToMain::Dropped { ids: vec![job.id] });
+}
+
+/// Drops every dent of `kept` after the GPU failed with `error` (logged, counted by the main
+/// world).
+pub(super) fn drop_all(kept: &[(usize, GpuJob)], error: &GpuBatchError, link: &RenderLink) {
+    error!("bevy_dentbend: a dent batch failed on the GPU ({error}); {} dent(s) dropped", kept.len());
+    link.send(ToMain::Dropped { ids: kept.iter().map(|(_, j)| j.id).collect() });
 }
 
 /// Sends what `outcome` (of `kept`'s dents) did to the main world and updates the targets'
