@@ -9,18 +9,31 @@
 //!
 //! 1. every face projects wound counter-clockwise seen from `+e`, and
 //! 2. its boundary (the edges its faces do not pair off, counted with direction: a chain that
-//!    needs no manifold mesh) is one closed loop of single edges, each wound counter-clockwise
-//!    about the loop's vertex centroid `c`, going around `c` once.
+//!    needs no manifold mesh) is closed loops of single edges through distinct vertices (one
+//!    edge leaving each vertex), each a simple polygon: one outer loop wound counter-clockwise,
+//!    and any number of holes wound clockwise.
 //!
-//! By 2 the loop is a polygon star-shaped about `c`: simple, winding once about the points
-//! inside it and never about those outside. For a point `y` off the projected edges, the
-//! faces whose projections hold `y` (each counted +1 by 1) number the loop's winding about `y`
-//! (the boundary of a sum of faces winds about `y` as often as they cover it): 0 or 1. So the
-//! projected faces have disjoint interiors. Each face projects one-to-one, its relative
+//! A loop is shown simple either because every edge is wound the same way about the loop's
+//! vertex centroid, going around it once (a polygon star-shaped about it), or because no two
+//! of its edges meet but neighbours at their common end (tested with a sweep over the edges;
+//! an uncertain sign counts as meeting); its winding is then the sign of the turn at its
+//! lowest vertex. By 2 the outer loop winds once about the points inside it and never about
+//! those outside; each hole winds −1 about the points inside it and 0 about the others. For a point `y` off the projected edges, the
+//! faces whose projections hold `y` (each counted +1 by 1) number the boundary's winding about
+//! `y` (the boundary of a sum of faces winds about `y` as often as they cover it): the outer
+//! loop's 0 or 1 plus the holes' 0 or −1 each, so at most 1. So the projected faces have
+//! disjoint interiors. Each face projects one-to-one, its relative
 //! interior onto its projection's interior; two faces that cross (their relative interiors
 //! share a point, or they overlap in an area) would have projections whose interiors overlap.
 //! So two faces of a certified patch meet only where their boundaries do: they touch and do
 //! not cross, which is what [`triangles_cross`] decides too.
+//!
+//! A patch that fails as a whole (a dent through a thin wall moves both of its sides, joined
+//! around its edge; a crumpled surface faces many ways) is split and its parts tried apart:
+//! the faces wound counter-clockwise along its axis, taken by connected patches and tried along
+//! that axis; and the others, split the same way along their own axis, down to
+//! [`MAX_SPLIT_DEPTH`]. Each part is certified by the same two conditions, so each part's
+//! promise holds for it alone: pairs between parts are still the caller's to test.
 //!
 //! [`triangles_cross`]: super::tri_tri::triangles_cross
 
@@ -35,6 +48,10 @@ const NONE: u32 = u32::MAX;
 const MIN_PATCH_FACES: usize = 16;
 /// At most this many patches are tried, the largest first.
 const MAX_PATCHES: usize = 8;
+/// How many times a patch that fails is split in two along its axis (module documentation).
+const MAX_SPLIT_DEPTH: u32 = 2;
+/// At most this many certified patches, parts of split ones included.
+const MAX_LABELS: u32 = 64;
 
 /// Labels for the faces `candidates` and `around` (faces of `faces` at `positions`): the
 /// candidates' connected patches (faces joined through a shared vertex) that are certified
@@ -42,7 +59,8 @@ const MAX_PATCHES: usize = 8;
 /// and their faces get that number; the others [`UNCERTIFIED`]. Only the [`MAX_PATCHES`]
 /// largest patches of at least [`MIN_PATCH_FACES`] faces are tried. Each is tried first
 /// together with its ring, the faces of `around` that share a vertex with it (then those get
-/// its number too: no pair of the patch and its ring crosses either), and alone if that fails.
+/// its number too: no pair of the patch and its ring crosses either), then alone, then split
+/// (module documentation; each certified part numbered after the whole patches).
 pub(crate) fn certified_patches(
     positions: &[Vec3],
     faces: &[[u32; 3]],
@@ -71,21 +89,114 @@ pub(crate) fn certified_patches(
     tried.truncate(MAX_PATCHES);
     let mut labels = (vec![UNCERTIFIED; candidates.len()], vec![UNCERTIFIED; around.len()]);
     let mut next_label = 0;
+    let mut failed = Vec::new();
     for root in tried {
         let members: Vec<usize> = (0..candidates.len()).filter(|&k| roots[k] == root).collect();
         let ring_members: Vec<usize> = (0..around.len()).filter(|&k| ring_roots[k] == root).collect();
         let patch: Vec<u32> = members.iter().map(|&k| candidates[k]).collect();
         let with_ring: Vec<u32> = patch.iter().copied().chain(ring_members.iter().map(|&k| around[k])).collect();
-        let ring_too = !ring_members.is_empty() && is_embedded(positions, faces, &with_ring, &local);
-        if ring_too || is_embedded(positions, faces, &patch, &local) {
+        let embedded =
+            |faces_of: &[u32]| Projection::of(positions, faces, faces_of).is_some_and(|p| p.embeds(faces_of, &local));
+        let ring_too = !ring_members.is_empty() && embedded(&with_ring);
+        if ring_too || embedded(&patch) {
             members.iter().for_each(|&k| labels.0[k] = next_label);
             if ring_too {
                 ring_members.iter().for_each(|&k| labels.1[k] = next_label);
             }
             next_label += 1;
+        } else {
+            failed.push(members);
+        }
+    }
+    // The parts of the patches that failed, numbered after the whole ones.
+    let index_of: std::collections::HashMap<u32, usize> = candidates.iter().zip(0..).map(|(&f, k)| (f, k)).collect();
+    for members in failed {
+        let patch: Vec<u32> = members.iter().map(|&k| candidates[k]).collect();
+        for part in certified_parts(positions, faces, &local, &patch, MAX_SPLIT_DEPTH) {
+            if next_label == MAX_LABELS {
+                return labels;
+            }
+            part.iter().for_each(|f| labels.0[index_of[f]] = next_label);
+            next_label += 1;
         }
     }
     labels
+}
+
+/// The certified parts of `patch` (faces whose corners `local` numbers), a patch that failed
+/// as a whole: its faces wound counter-clockwise along its axis, by connected patches, tried
+/// along that axis; the others split again along their own axis, `depth` more times.
+fn certified_parts(
+    positions: &[Vec3],
+    faces: &[[u32; 3]],
+    local: &LocalVertices,
+    patch: &[u32],
+    depth: u32,
+) -> Vec<Vec<u32>> {
+    let Some(projection) = Projection::of(positions, faces, patch) else {
+        return Vec::new();
+    };
+    let (wound, others): (Vec<u32>, Vec<u32>) = patch.iter().partition(|&&f| projection.wound(f));
+    let mut parts = Vec::new();
+    if !others.is_empty() {
+        for part in connected_parts(local, faces, &wound) {
+            if projection.embeds(&part, local) {
+                parts.push(part);
+                continue;
+            }
+            // Where the part touches itself at a vertex (two boundary edges leave it), its
+            // boundary is not loops through distinct vertices: the faces there are left out.
+            let pinches = pinch_vertices(faces, &part, local);
+            if pinches.is_empty() {
+                continue;
+            }
+            let apart: Vec<u32> = part
+                .into_iter()
+                .filter(|&f| !faces[f as usize].iter().any(|v| pinches.binary_search(v).is_ok()))
+                .collect();
+            parts.extend(connected_parts(local, faces, &apart).into_iter().filter(|p| projection.embeds(p, local)));
+        }
+    }
+    if depth > 0 && others.len() >= MIN_PATCH_FACES {
+        for part in connected_parts(local, faces, &others) {
+            match Projection::of(positions, faces, &part) {
+                Some(own) if own.embeds(&part, local) => parts.push(part),
+                _ => parts.extend(certified_parts(positions, faces, local, &part, depth - 1)),
+            }
+        }
+    }
+    parts
+}
+
+/// The vertices that more than one boundary edge of the faces `part` leaves, ascending.
+fn pinch_vertices(faces: &[[u32; 3]], part: &[u32], local: &LocalVertices) -> Vec<u32> {
+    let Some(boundary) = boundary_edges(faces, part, local) else {
+        return Vec::new();
+    };
+    let mut leaving = vec![0u8; local.len()];
+    let mut pinches = Vec::new();
+    for &(a, _) in &boundary {
+        let count = &mut leaving[local.of(a)];
+        *count = count.saturating_add(1);
+        if *count == 2 {
+            pinches.push(a);
+        }
+    }
+    pinches.sort_unstable();
+    pinches
+}
+
+/// The connected patches of `chosen` (faces whose corners `local` numbers) with at least
+/// [`MIN_PATCH_FACES`] faces.
+fn connected_parts(local: &LocalVertices, faces: &[[u32; 3]], chosen: &[u32]) -> Vec<Vec<u32>> {
+    let roots = patch_roots(local, faces, chosen);
+    let mut by_root: std::collections::HashMap<u32, Vec<u32>> = std::collections::HashMap::new();
+    for &f in chosen {
+        by_root.entry(roots[local.of(faces[f as usize][0])]).or_default().push(f);
+    }
+    let mut parts: Vec<Vec<u32>> = by_root.into_values().filter(|p| p.len() >= MIN_PATCH_FACES).collect();
+    parts.sort_unstable_by_key(|p| (std::cmp::Reverse(p.len()), p[0]));
+    parts
 }
 
 /// The label of a face in no certified patch.
@@ -113,56 +224,144 @@ fn patch_roots(local: &LocalVertices, faces: &[[u32; 3]], chosen: &[u32]) -> Vec
     (0..parent.len() as u32).map(|x| root(&mut parent, x)).collect()
 }
 
-/// Whether the faces `patch` are certified embedded (conditions 1 and 2 of the module
-/// documentation); `local` numbers (at least) their vertices.
-fn is_embedded(positions: &[Vec3], faces: &[[u32; 3]], patch: &[u32], local: &LocalVertices) -> bool {
-    let normal: DVec3 = patch
-        .iter()
-        .map(|&f| {
-            let [a, b, c] = faces[f as usize].map(|v| positions[v as usize].as_dvec3());
-            (b - a).cross(c - a)
-        })
-        .sum();
-    let axis = normal.abs().max_position();
-    if normal[axis] == 0.0 {
-        return false;
+/// A patch's projection along the coordinate axis nearest its summed area normal, with the two
+/// coordinates kept ordered so that counter-clockwise means facing the patch's side.
+struct Projection<'a> {
+    positions: &'a [Vec3],
+    faces: &'a [[u32; 3]],
+    u: usize,
+    v: usize,
+}
+
+impl<'a> Projection<'a> {
+    /// The projection of the faces `patch`; `None` when their summed normal has no component
+    /// on any axis.
+    fn of(positions: &'a [Vec3], faces: &'a [[u32; 3]], patch: &[u32]) -> Option<Self> {
+        let normal: DVec3 = patch
+            .iter()
+            .map(|&f| {
+                let [a, b, c] = faces[f as usize].map(|v| positions[v as usize].as_dvec3());
+                (b - a).cross(c - a)
+            })
+            .sum();
+        let axis = normal.abs().max_position();
+        if normal[axis] == 0.0 {
+            return None;
+        }
+        // The two other coordinates, in the order that makes (u, v, e) right-handed, swapped
+        // when the patch faces −e.
+        let (mut u, mut v) = ((axis + 1) % 3, (axis + 2) % 3);
+        if normal[axis] < 0.0 {
+            std::mem::swap(&mut u, &mut v);
+        }
+        Some(Self { positions, faces, u, v })
     }
-    // The two other coordinates, in the order that makes (u, v, e) right-handed, swapped when
-    // the patch faces −e: counter-clockwise then means facing the patch's side.
-    let (mut u, mut v) = ((axis + 1) % 3, (axis + 2) % 3);
-    if normal[axis] < 0.0 {
-        std::mem::swap(&mut u, &mut v);
+
+    fn flat(&self, x: u32) -> [f64; 2] {
+        let p = self.positions[x as usize];
+        [f64::from(p[self.u]), f64::from(p[self.v])]
     }
-    let flat = |x: u32| {
-        let p = positions[x as usize];
-        [f64::from(p[u]), f64::from(p[v])]
-    };
-    let wound = patch.iter().all(|&f| {
-        let [a, b, c] = faces[f as usize].map(flat);
+
+    /// Whether face `f` projects wound counter-clockwise (condition 1).
+    fn wound(&self, f: u32) -> bool {
+        let [a, b, c] = self.faces[f as usize].map(|x| self.flat(x));
         orient2d(a, b, c) > 0
-    });
-    if !wound {
-        return false;
     }
-    let Some(boundary) = boundary_edges(faces, patch, local) else {
-        return false;
-    };
-    let Some(loop_vertices) = single_loop(&boundary, local) else {
-        return false;
-    };
-    let centre = loop_vertices.iter().map(|&x| flat(x)).fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
-    let centre = centre.map(|s| s / loop_vertices.len() as f64);
-    let mut turned = 0.0;
-    for &(a, b) in &boundary {
-        let (pa, pb) = (flat(a), flat(b));
-        if orient2d(centre, pa, pb) <= 0 {
+
+    /// Whether the faces `patch` (whose corners `local` numbers) are certified embedded in this
+    /// projection (conditions 1 and 2 of the module documentation).
+    fn embeds(&self, patch: &[u32], local: &LocalVertices) -> bool {
+        if !patch.iter().all(|&f| self.wound(f)) {
             return false;
         }
-        let (ra, rb) = ([pa[0] - centre[0], pa[1] - centre[1]], [pb[0] - centre[0], pb[1] - centre[1]]);
-        turned += (ra[0] * rb[1] - ra[1] * rb[0]).atan2(ra[0] * rb[0] + ra[1] * rb[1]);
+        let Some(boundary) = boundary_edges(self.faces, patch, local) else {
+            return false;
+        };
+        let Some(loops) = closed_loops(&boundary, local) else {
+            return false;
+        };
+        let mut outer = 0;
+        for walk in &loops {
+            match self.star_turns(walk).or_else(|| self.simple_turns(walk)) {
+                Some(1) => outer += 1,
+                Some(-1) => {}
+                _ => return false,
+            }
+        }
+        outer == 1
     }
-    // Each edge turns by an angle in (0, π), so the total is a whole number of turns.
-    (turned - std::f64::consts::TAU).abs() < std::f64::consts::PI
+
+    /// For a loop through the vertices `walk` (in order, closing back to the first): `1` when
+    /// every edge is wound counter-clockwise about the vertex centroid and the loop goes around
+    /// it once, `-1` for clockwise and once, `None` otherwise.
+    fn star_turns(&self, walk: &[u32]) -> Option<i8> {
+        let centre = walk.iter().map(|&x| self.flat(x)).fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
+        let centre = centre.map(|s| s / walk.len() as f64);
+        let edges = walk.iter().zip(walk.iter().cycle().skip(1));
+        let (mut turned, mut sign) = (0.0, 0);
+        for (&a, &b) in edges {
+            let (pa, pb) = (self.flat(a), self.flat(b));
+            let here = orient2d(centre, pa, pb).signum();
+            if here == 0 || (sign != 0 && here != sign) {
+                return None;
+            }
+            sign = here;
+            let (ra, rb) = ([pa[0] - centre[0], pa[1] - centre[1]], [pb[0] - centre[0], pb[1] - centre[1]]);
+            turned += (ra[0] * rb[1] - ra[1] * rb[0]).atan2(ra[0] * rb[0] + ra[1] * rb[1]);
+        }
+        // Each edge turns by an angle in (0, π) of one sign, so the total is a whole number of
+        // turns.
+        ((turned - f64::from(sign) * std::f64::consts::TAU).abs() < std::f64::consts::PI).then_some(sign)
+    }
+
+    /// For a loop through the distinct vertices `walk` (in order, closing back to the first):
+    /// its winding, `1` counter-clockwise or `-1` clockwise, when it is a simple polygon (no two
+    /// edges meet but neighbours at their common end, where they do not fold back); `None`
+    /// otherwise, or when a sign it needs is uncertain.
+    fn simple_turns(&self, walk: &[u32]) -> Option<i8> {
+        let n = walk.len();
+        let points: Vec<[f64; 2]> = walk.iter().map(|&x| self.flat(x)).collect();
+        let edge = |i: usize| (points[i], points[(i + 1) % n]);
+        // Neighbours meet only at their common end: a straight run goes on forward.
+        for i in 0..n {
+            let (a, b, c) = (points[i], points[(i + 1) % n], points[(i + 2) % n]);
+            let forward = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]) > 0.0;
+            if orient2d(a, b, c) == 0 && !forward {
+                return None;
+            }
+        }
+        // Other pairs: a sweep along u over the edges' spans.
+        let span = |i: usize| {
+            let (a, b) = edge(i);
+            (a[0].min(b[0]), a[0].max(b[0]), a[1].min(b[1]), a[1].max(b[1]))
+        };
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_unstable_by(|&i, &j| span(i).0.total_cmp(&span(j).0));
+        let mut open: Vec<usize> = Vec::new();
+        for &i in &order {
+            let (low, _, bottom, top) = span(i);
+            open.retain(|&j| span(j).1 >= low);
+            let (a, b) = edge(i);
+            for &j in &open {
+                let neighbours = (i + 1) % n == j || (j + 1) % n == i;
+                let (_, _, jb, jt) = span(j);
+                if neighbours || jt < bottom || jb > top {
+                    continue;
+                }
+                let (c, d) = edge(j);
+                let apart = orient2d(a, b, c) * orient2d(a, b, d) > 0 || orient2d(c, d, a) * orient2d(c, d, b) > 0;
+                if !apart {
+                    return None;
+                }
+            }
+            open.push(i);
+        }
+        // The turn at the lowest vertex (least u, then v) has the polygon's winding.
+        let lowest = (0..n)
+            .min_by(|&i, &j| points[i][0].total_cmp(&points[j][0]).then(points[i][1].total_cmp(&points[j][1])))?;
+        let turn = orient2d(points[(lowest + n - 1) % n], points[lowest], points[(lowest + 1) % n]);
+        (turn != 0).then_some(turn)
+    }
 }
 
 /// The patch's boundary chain as directed edges, each once; `None` when an edge is left over
@@ -209,12 +408,9 @@ fn boundary_edges(faces: &[[u32; 3]], patch: &[u32], local: &LocalVertices) -> O
     Some(boundary)
 }
 
-/// The vertices of `edges` when they form one closed loop through distinct vertices (each
-/// vertex leaving by one edge, the walk from the first edge coming back after all of them).
-fn single_loop(edges: &[(u32, u32)], local: &LocalVertices) -> Option<Vec<u32>> {
-    if edges.len() < 3 {
-        return None;
-    }
+/// `edges` as closed loops through distinct vertices, each as its vertices in order; `None`
+/// unless one edge leaves each of their vertices and every walk comes back to its start.
+fn closed_loops(edges: &[(u32, u32)], local: &LocalVertices) -> Option<Vec<Vec<u32>>> {
     let mut next = vec![NONE; local.len()];
     for &(a, b) in edges {
         let slot = &mut next[local.of(a)];
@@ -223,19 +419,36 @@ fn single_loop(edges: &[(u32, u32)], local: &LocalVertices) -> Option<Vec<u32>> 
         }
         *slot = b;
     }
-    let start = edges[0].0;
-    let mut walk = Vec::with_capacity(edges.len());
-    let mut at = start;
-    for step in 0..edges.len() {
-        walk.push(at);
-        at = next[local.of(at)];
-        // (With one edge out of each vertex, a walk that is back at its start after all the
-        // edges, and not before, visited distinct vertices.)
-        if at == NONE || (at == start) != (step + 1 == edges.len()) {
+    let mut walked = vec![false; local.len()];
+    let mut loops = Vec::new();
+    for &(start, _) in edges {
+        if walked[local.of(start)] {
+            continue;
+        }
+        let mut walk = Vec::new();
+        let mut at = start;
+        loop {
+            let k = local.of(at);
+            if walked[k] {
+                return None;
+            }
+            walked[k] = true;
+            walk.push(at);
+            at = next[k];
+            if at == NONE {
+                return None;
+            }
+            if at == start {
+                break;
+            }
+            local.get(at)?;
+        }
+        if walk.len() < 3 {
             return None;
         }
+        loops.push(walk);
     }
-    Some(walk)
+    Some(loops)
 }
 
 #[cfg(test)]
@@ -267,15 +480,70 @@ mod tests {
     }
 
     #[test]
-    fn a_fold_and_a_patch_with_a_hole_are_refused() {
+    fn a_fold_is_refused() {
         // A vertex pushed across its neighbours: faces turn over.
         let (mut positions, faces) = sheet(6, |_, _| 0.0);
         positions[3 * 7 + 3].x += 0.4;
         assert!(certified_patch(&positions, &faces, &all(&faces)).iter().all(|&f| !f));
-        // A sheet less two middle quads: its boundary is two loops.
-        let (positions, faces) = sheet(6, |_, _| 0.0);
+    }
+
+    /// A sheet less two middle quads: its boundary is two loops, the outer one counter-clockwise
+    /// and the hole clockwise, both simple. Certified; and refused once a face beside the hole
+    /// is pushed over it (its corner moved into the hole: it turns over).
+    #[test]
+    fn a_patch_with_a_hole_is_certified_and_refused_when_folded_into_it() {
+        let (mut positions, faces) = sheet(6, |_, _| 0.0);
         let holed: Vec<u32> = (0..faces.len() as u32).filter(|&f| !(28..=31).contains(&f)).collect();
+        assert!(certified_patch(&positions, &faces, &holed).iter().all(|&f| f));
+        positions[2 * 7 + 2] = Vec3::new(0.55, 0.0, 0.55);
         assert!(certified_patch(&positions, &faces, &holed).iter().all(|&f| !f));
+    }
+
+    /// A sheet whose outline is an L (not star-shaped about its centroid) is certified by the
+    /// simple-polygon test; a sheet folded so that its outline crosses itself is not.
+    #[test]
+    fn an_outline_that_is_simple_but_not_star_shaped_is_certified() {
+        let (positions, faces) = sheet(8, |_, _| 0.0);
+        // Quad (i, j) is faces 16i + 2j and 16i + 2j + 1: an L of the first two rows and the
+        // first two columns, and a U that also takes the last two columns.
+        let quads = |keep: &dyn Fn(u32, u32) -> bool| -> Vec<u32> {
+            (0..8u32)
+                .flat_map(|i| (0..8u32).map(move |j| (i, j)))
+                .filter(|&(i, j)| keep(i, j))
+                .flat_map(|(i, j)| [16 * i + 2 * j, 16 * i + 2 * j + 1])
+                .collect()
+        };
+        let l_shape = quads(&|i, j| i < 2 || j < 2);
+        assert!(certified_patch(&positions, &faces, &l_shape).iter().all(|&f| f));
+        let u_shape = quads(&|i, j| i < 2 || j < 2 || j >= 6);
+        assert!(certified_patch(&positions, &faces, &u_shape).iter().all(|&f| f));
+    }
+
+    /// A closed box dented through: its top, bottom and sides all move, so the patch faces
+    /// every way and fails whole. Split, the top and the bottom are certified each (and the
+    /// sides as their own parts), and no certified part has a crossing pair.
+    #[test]
+    fn a_patch_around_a_thin_wall_is_certified_in_parts() {
+        let plate = crate::mesh::primitives::subdivided_box(Vec3::new(1.0, 0.1, 1.0), [12, 2, 12]).expect("box");
+        let positions: Vec<Vec3> =
+            plate.positions().iter().map(|&p| p - Vec3::Y * 0.05 * (-(p.x * p.x + p.z * p.z) * 8.0).exp()).collect();
+        let faces = plate.faces();
+        let (labels, _) = certified_patches(&positions, faces, &all(faces), &[]);
+        let certified = labels.iter().filter(|&&l| l != UNCERTIFIED).count();
+        assert!(certified * 10 >= faces.len() * 9, "{certified} of {} faces certified", faces.len());
+        let top = labels
+            [(0..faces.len()).find(|&f| faces[f].iter().all(|&v| plate.positions()[v as usize].y > 0.04)).unwrap()];
+        let bottom = labels
+            [(0..faces.len()).find(|&f| faces[f].iter().all(|&v| plate.positions()[v as usize].y < -0.04)).unwrap()];
+        assert!(top != UNCERTIFIED && bottom != UNCERTIFIED && top != bottom);
+        let corners = |f: usize| faces[f].map(|v| positions[v as usize].as_dvec3());
+        for f in 0..faces.len() {
+            for g in f + 1..faces.len() {
+                if labels[f] != UNCERTIFIED && labels[f] == labels[g] {
+                    assert!(!triangles_cross(corners(f), corners(g)), "faces {f} and {g} of part {} cross", labels[f]);
+                }
+            }
+        }
     }
 
     /// Soundness against the exact test: dented sheets jittered enough to fold now and then,
@@ -284,7 +552,7 @@ mod tests {
     fn no_certified_patch_has_a_crossing_pair() {
         let mut next = crate::mesh::test_support::unit_floats(11);
         let (mut certified, mut refused) = (0, 0);
-        for round in 0..400 {
+        for round in 0..1000 {
             let (mut positions, faces) = sheet(7, |x, z| 0.2 * (-((x - 0.5).powi(2) + (z - 0.5).powi(2)) * 12.0).exp());
             // Up to 1.5 grid spacings of sideways jitter, and some of height.
             let amplitude = 0.2 * next() * (round % 4) as f32 / 3.0;
@@ -296,17 +564,17 @@ mod tests {
             let inside = |p: Vec3| ((p.x - cx) / rx).powi(2) + ((p.z - cz) / rz).powi(2) < 1.0;
             let chosen: Vec<u32> =
                 (0..faces.len() as u32).filter(|&f| inside(positions[faces[f as usize][0] as usize])).collect();
-            // The faces of the largest patch, if it is certified (each patch's promise is its own).
+            // Every certified patch or part (each one's promise is its own).
             let (labels, _) = certified_patches(&positions, &faces, &chosen, &[]);
-            let patch: Vec<u32> = chosen.iter().zip(&labels).filter(|(_, l)| **l == 0).map(|(&f, _)| f).collect();
-            if patch.is_empty() {
+            // Certified whole (one patch holds every face), or refused or split.
+            if labels.iter().all(|&l| l == 0) {
+                certified += 1;
+            } else {
                 refused += 1;
-                continue;
             }
-            certified += 1;
             let corners = |f: u32| faces[f as usize].map(|v| positions[v as usize].as_dvec3());
-            for (i, &f) in patch.iter().enumerate() {
-                for &g in &patch[i + 1..] {
+            for (i, (&f, &l)) in chosen.iter().zip(&labels).enumerate().filter(|(_, (_, l))| **l != UNCERTIFIED) {
+                for (&g, _) in chosen[i + 1..].iter().zip(&labels[i + 1..]).filter(|(_, m)| **m == l) {
                     assert!(!triangles_cross(corners(f), corners(g)), "round {round}: faces {f} and {g} cross");
                 }
             }
@@ -315,14 +583,22 @@ mod tests {
     }
 
     #[test]
-    fn a_sheet_folded_over_itself_past_its_boundary_is_refused() {
+    fn a_sheet_folded_over_itself_is_certified_only_in_parts_apart() {
         // A strip whose far half is folded back over its near half (upside down, so it faces
-        // −y there): the fold's faces are wound clockwise.
+        // −y there): the fold's faces are wound clockwise. The whole is refused; split, the
+        // flat half and the folded half may each be certified, but never in one part.
         let (mut positions, faces) = sheet(8, |_, _| 0.0);
+        let folded: Vec<bool> = faces.iter().map(|f| f.iter().any(|&v| positions[v as usize].x > 0.5)).collect();
         for p in positions.iter_mut().filter(|p| p.x > 0.5) {
             *p = Vec3::new(1.0 - p.x, 0.2, p.z);
         }
-        assert!(certified_patch(&positions, &faces, &all(&faces)).iter().all(|&f| !f));
+        let (labels, _) = certified_patches(&positions, &faces, &all(&faces), &[]);
+        assert!(labels.iter().any(|&l| l == UNCERTIFIED) || labels.iter().any(|&l| l != labels[0]), "not one patch");
+        for (f, &l) in labels.iter().enumerate().filter(|(_, l)| **l != UNCERTIFIED) {
+            for (g, _) in labels.iter().enumerate().filter(|(_, m)| **m == l) {
+                assert_eq!(folded[f], folded[g], "faces {f} and {g} of part {l}: one folded, one not");
+            }
+        }
     }
 
     /// A ramp that climbs around two turns: every face is wound counter-clockwise seen from

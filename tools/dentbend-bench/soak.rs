@@ -107,6 +107,8 @@ pub struct FirstLast<T> {
 pub struct Checkpoint {
     /// Dents done so far.
     pub dents: usize,
+    /// Triangles of the dented mesh now (refinement adds them).
+    pub triangles: usize,
     /// Worst triangle quality (see `triangle_quality`).
     pub min_triangle_quality: f64,
     /// Mean triangle quality.
@@ -334,6 +336,7 @@ fn checkpoint(dents: usize, mesh: &TriMesh) -> Checkpoint {
     let QualityStats { min, mean } = quality_stats(mesh);
     Checkpoint {
         dents,
+        triangles: mesh.face_count(),
         min_triangle_quality: min,
         mean_triangle_quality: mean,
         volume: mesh.volume(),
