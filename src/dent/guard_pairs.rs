@@ -158,7 +158,7 @@ fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces) -> Vec
         .collect();
     // Every patch face against the rest but its own ring; and against the moved faces of the
     // other patches, each such pair found once from its face in the patch numbered higher.
-    // A face is queried only if its box meets a patch it may cross (the box of its moved faces).
+    // A face is queried against a patch only if its box meets the box of the patch's faces.
     let mut patch_boxes: Vec<Aabb> = Vec::new();
     for &k in &patches {
         let l = label(k) as usize;
@@ -175,16 +175,30 @@ fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces) -> Vec
         own if (q as usize) < near.active => l < own,
         ring => l != ring,
     };
-    let may_meet = |q: u32| {
+    // Patch by patch, its faces against the faces that want pairs with it and whose boxes meet
+    // the patch's (no pair within a patch is ever listed).
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); patch_boxes.len()];
+    patches.iter().for_each(|&k| members[label(k) as usize].push(k));
+    let meeting = |q: u32| -> Vec<(u32, u32)> {
         let b = near.reached[q as usize];
-        patch_boxes.iter().zip(0..).any(|(p, l)| wanted(q, l) && p.overlaps(&b))
+        patch_boxes.iter().zip(0..).filter(|(p, l)| wanted(q, *l) && p.overlaps(&b)).map(|(_, l)| (l, q)).collect()
     };
-    let queries: Vec<u32> = rest.iter().chain(&patches).copied().filter(|&q| may_meet(q)).collect();
-    let query_boxes = boxes(&queries);
-    candidates.extend(pairs_between(&boxes(&patches), &query_boxes).into_iter().filter_map(|(i, j)| {
-        let (k, q) = (patches[i as usize], queries[j as usize]);
-        wanted(q, label(k)).then_some((k, q))
-    }));
+    let askers: Vec<u32> = rest.iter().chain(&patches).copied().collect();
+    let mut asked: Vec<(u32, u32)> = if askers.len() < PARALLEL_PAIRS {
+        askers.iter().flat_map(|&q| meeting(q)).collect()
+    } else {
+        askers.par_iter().with_min_len(PARALLEL_PAIRS / 2).flat_map_iter(|&q| meeting(q)).collect()
+    };
+    asked.sort_unstable();
+    for run in asked.chunk_by(|a, b| a.0 == b.0) {
+        let own = &members[run[0].0 as usize];
+        let queries: Vec<u32> = run.iter().map(|&(_, q)| q).collect();
+        candidates.extend(
+            pairs_between(&boxes(own), &boxes(&queries))
+                .into_iter()
+                .map(|(i, j)| (own[i as usize], queries[j as usize])),
+        );
+    }
     let face = |k: u32| near.faces[k as usize];
     let shared: Vec<u32> = candidates
         .iter()

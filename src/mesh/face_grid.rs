@@ -152,8 +152,9 @@ impl Level {
 
     /// Cell coordinates of a point, clamped into the grid (monotone in each coordinate).
     fn cell_of(&self, p: Vec3) -> [usize; 3] {
-        let r = (p - self.origin) * self.inv_cell;
-        [0, 1, 2].map(|a| (r[a].max(0.0) as usize).min(self.dims[a] - 1))
+        let r = ((p - self.origin) * self.inv_cell).max(Vec3::ZERO);
+        let [x, y, z] = self.dims;
+        [(r.x as usize).min(x - 1), (r.y as usize).min(y - 1), (r.z as usize).min(z - 1)]
     }
 
     fn linear(&self, c: [usize; 3]) -> usize {
