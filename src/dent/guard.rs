@@ -14,12 +14,17 @@
 //! dent overlap, and the exact test (see [`TriMesh::self_intersections`]) of each such pair at
 //! the full displacement, less the pairs of neighbours around a vertex whose umbrella is
 //! certified embedded (`mesh::umbrella`). Only for a dent
-//! that does make faces cross, the pairs whose swept boxes meet are found and those that their
-//! vertices' relative motion cannot clear (`guard_pairs`: neighbours moving together need no
-//! test; this is sound for every scale, no motion is too small to matter) are tested at each
-//! step of the bisection, up to the first that crosses; as the bisection's upper end falls, the
-//! pairs those bounds clear for the smaller displacement are dropped. A dent with a volume rim is checked once, dent and rim together; only
-//! when they cross is the dent limited first and its rim made again for what is left.
+//! that does make faces cross (or turn over), the bisection runs on the pairs found crossing
+//! at the full displacement, and the scale it finds is checked as the full displacement was
+//! (every pair whose boxes at that scale overlap); a pair crossing there joins the watched ones
+//! and the bisection goes on below it. The scale kept is always one at which that check found
+//! nothing. Only after several such rounds does the guard watch every pair that could cross at
+//! some scale: those whose swept boxes meet and that their vertices' relative motion cannot
+//! clear (`guard_pairs`: neighbours moving together need no test; this is sound for every
+//! scale, no motion is too small to matter), dropping, as the bisection's upper end falls, the
+//! pairs those bounds clear for the smaller displacement. A dent with a volume rim is checked
+//! once, dent and rim together; only when they cross is the dent limited first and its rim made
+//! again for what is left.
 //!
 //! [`TriMesh::self_intersections`]: crate::mesh::TriMesh::self_intersections
 
@@ -156,53 +161,103 @@ fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
 /// `None` when moving `before` to `after` makes no new face pair cross and turns no face over;
 /// otherwise the largest scale (to 2⁻¹²) of the displacement that does neither (0 at worst:
 /// nothing moves), and why.
+///
+/// The scale is searched first on the pairs known to cross (at the full displacement, to begin
+/// with), and the scale found is then checked against every pair as the full displacement was
+/// (pairs whose boxes at that scale overlap, less the certified ones). Where that finds a new
+/// crossing, its pairs join the watched ones and the search goes on below that scale. After
+/// [`MAX_VERIFIED_SEARCHES`] searches it falls back to watching every pair that could cross at
+/// any scale (`guard_pairs`' bounds), which needs no check afterwards.
 fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<Limit> {
     let moved_faces = faces_with_moved_corner(faces, moved);
     let turned_over_after = turned_over(faces, before, after, &moved_faces);
-    // The pairs whose boxes after the dent overlap, tested at the full displacement.
-    let pairs = pairs_to_test(faces, before, after, moved, Reach::Full, None);
-    let crossing_after = crossing_pairs(faces, after, &pairs);
-    if crossing_after.is_empty() && turned_over_after.is_empty() {
-        return None;
-    }
-    // Those that could cross at any scale (a superset), less those that crossed before. They are
-    // watched whenever the dent is limited, also for turned faces only: a scale below 1 may
-    // make a pair cross that the full dent does not.
-    let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled, None);
-    let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &pairs).into_iter().collect();
-    let crosses = !crossing_after.iter().all(|p| crossed_before.contains(p));
+    let new_crossings = |positions: &[Vec3]| {
+        let pairs = pairs_to_test(faces, before, positions, moved, Reach::Full, None);
+        let crossing = crossing_pairs(faces, positions, &pairs);
+        let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &crossing).into_iter().collect();
+        crossing.into_iter().filter(|p| !crossed_before.contains(p)).collect::<Vec<_>>()
+    };
+    let crossing_after = new_crossings(after);
+    let crosses = !crossing_after.is_empty();
     if !crosses && turned_over_after.is_empty() {
         return None;
     }
-    let mut watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
+    let limit = |scale| Some(Limit { scale, crosses, turned_over: turned_over_after.clone() });
     let mut positions = before.to_vec();
-    let (mut lo, mut hi) = (0.0f32, 1.0f32);
-    // Each step needs only whether some watched pair crosses: the last pair found crossing is
-    // tried first (it often crosses again), and the search stops at the first. Before a step
-    // scans the watched pairs, those that cannot cross at any scale up to `hi` are dropped if
-    // `hi` fell since the last such pass (`pairs_within_scale`: the same bounds, on the smaller
-    // displacement; later steps try only scales below `hi`; a hint dropped so cannot cross
-    // either). Neither changes a step's outcome, so the scale found is the same.
-    let (mut hint, mut filtered_at) = (None, 1.0f32);
+    let mut watched = crossing_after;
+    let mut hi = 1.0f32;
+    for _ in 0..MAX_VERIFIED_SEARCHES {
+        let lo = search_scale(faces, before, after, moved, &moved_faces, &watched, (0.0, hi), &mut positions);
+        if lo == 0.0 {
+            return limit(0.0);
+        }
+        // The search wrote the positions at `lo` last; every pair is checked there.
+        set_scale(&mut positions, before, after, moved, lo);
+        let found = new_crossings(&positions);
+        if found.is_empty() {
+            return limit(lo);
+        }
+        watched.extend(found);
+        hi = lo;
+    }
+    // Every pair that could cross at some scale, less those that crossed before.
+    let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled, None);
+    let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &pairs).into_iter().collect();
+    let watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
+    limit(search_scale(faces, before, after, moved, &moved_faces, &watched, (0.0, hi), &mut positions))
+}
+
+/// Searches at most this many times on the watched pairs before watching every pair.
+const MAX_VERIFIED_SEARCHES: usize = 8;
+
+/// `positions`' moved vertices at `scale` of the displacement from `before` to `after`.
+fn set_scale(positions: &mut [Vec3], before: &[Vec3], after: &[Vec3], moved: &[bool], scale: f32) {
+    for ((p, (&b, &a)), _) in positions.iter_mut().zip(before.iter().zip(after)).zip(moved).filter(|(_, m)| **m) {
+        *p = scaled(b, a, scale);
+    }
+}
+
+/// Bisects `bracket` (its lower end clear) for the largest scale, to 2⁻¹² of its width, at which
+/// no face of `moved_faces` is turned over and no pair of `watched` crosses; `positions` is
+/// left at the last scale tried.
+///
+/// Each step needs only whether some watched pair crosses: the last pair found crossing is
+/// tried first (it often crosses again), and the search stops at the first. With many watched
+/// pairs (every pair that could cross at some scale), before a step scans them those that
+/// cannot cross at any scale up to the bracket's upper end are dropped if it fell since the
+/// last such pass (`pairs_within_scale`: the same bounds, on the smaller displacement; later
+/// steps try only scales below it; a hint dropped so cannot cross either). Neither changes a
+/// step's outcome.
+#[allow(clippy::too_many_arguments)]
+fn search_scale(
+    faces: &[[u32; 3]],
+    before: &[Vec3],
+    after: &[Vec3],
+    moved: &[bool],
+    moved_faces: &[u32],
+    watched: &[(u32, u32)],
+    (mut lo, mut hi): (f32, f32),
+    positions: &mut [Vec3],
+) -> f32 {
+    let mut watched = watched.to_vec();
+    let (mut hint, mut filtered_at) = (None, hi);
     for _ in 0..BISECTION_STEPS {
         let mid = 0.5 * (lo + hi);
-        for ((p, (&b, &a)), _) in positions.iter_mut().zip(before.iter().zip(after)).zip(moved).filter(|(_, m)| **m) {
-            *p = scaled(b, a, mid);
-        }
-        let clear = turned_over(faces, before, &positions, &moved_faces).is_empty()
-            && !hint.is_some_and(|(f, g)| faces_cross(&positions, faces, f, g))
+        set_scale(positions, before, after, moved, mid);
+        let clear = turned_over(faces, before, positions, moved_faces).is_empty()
+            && !hint.is_some_and(|(f, g)| faces_cross(positions, faces, f, g))
             && {
-                if hi < filtered_at {
+                if hi < filtered_at && watched.len() >= PARALLEL_TESTS {
                     watched = pairs_within_scale(faces, before, after, &watched, hi);
                     filtered_at = hi;
                 }
-                let found = first_crossing(faces, &positions, &watched);
+                let found = first_crossing(faces, positions, &watched);
                 hint = found.or(hint);
                 found.is_none()
             };
         if clear { lo = mid } else { hi = mid }
     }
-    Some(Limit { scale: lo, crosses, turned_over: turned_over_after })
+    lo
 }
 
 /// Below this many faces the moved ones are listed on one thread.
@@ -215,6 +270,74 @@ const PARALLEL_TESTS: usize = 16384;
 mod tests {
     use super::*;
     use crate::dent::DisplaceReport;
+
+    /// Blades rising through still triangles: per blade `(height, rise)`, its base from z = −2
+    /// up by `rise` at the full displacement, so that it crosses its triangle (in z = 0) for
+    /// the scales `s` in `((2 − height) / rise, 2 / rise)`. Each blade and triangle pair sits
+    /// 10 apart along x. Faces `2k` and `2k + 1` are the k-th triangle and blade.
+    fn rising_blades(blades: &[(f32, f32)]) -> (Vec<Vec3>, Vec<[u32; 3]>, PendingDisplacement) {
+        let (mut before, mut faces, mut moved, mut rise) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (k, &(height, by)) in blades.iter().enumerate() {
+            let (x, first) = (10.0 * k as f32, before.len() as u32);
+            before.extend([Vec3::new(x - 1.0, -1.0, 0.0), Vec3::new(x + 1.0, -1.0, 0.0), Vec3::new(x, 1.0, 0.0)]);
+            before.extend([
+                Vec3::new(x - 0.3, 0.0, -2.0),
+                Vec3::new(x + 0.3, 0.0, -2.0),
+                Vec3::new(x, 0.0, height - 2.0),
+            ]);
+            faces.extend([[first, first + 1, first + 2], [first + 3, first + 4, first + 5]]);
+            moved.extend([false, false, false, true, true, true]);
+            rise.extend([0.0, 0.0, 0.0, by, by, by]);
+        }
+        let positions: Vec<Vec3> = before.iter().zip(&rise).map(|(p, &r)| *p + Vec3::Z * r).collect();
+        let report = DisplaceReport { moved_vertices: 3 * blades.len(), ..Default::default() };
+        (before, faces, PendingDisplacement { positions, moved, report })
+    }
+
+    /// A blade that crosses its triangle for the scales `(start, end)`.
+    fn blade(start: f32, end: f32) -> (f32, f32) {
+        let by = 2.0 / end;
+        (2.0 - by * start, by)
+    }
+
+    fn none_cross(positions: &[Vec3], faces: &[[u32; 3]]) -> bool {
+        (0..faces.len() as u32 / 2).all(|k| !faces_cross(positions, faces, 2 * k, 2 * k + 1))
+    }
+
+    /// Blade A crosses from s ≈ 0.556 on (at the full displacement too); blade B only for s in
+    /// (0.4, 0.7), so the full displacement shows A alone. Searching on A's pair finds
+    /// s ≈ 0.556, where B crosses: the check at that scale must catch it, and the scale kept is
+    /// where B begins to cross, 0.4 (within the second search's 2⁻¹² of its bracket, ≈ 0.556).
+    #[test]
+    fn a_pair_crossing_only_midway_is_caught_by_the_check_at_the_scale_found() {
+        let (before, faces, mut pending) = rising_blades(&[(1.0, 1.8), blade(0.4, 0.7)]);
+        assert!(faces_cross(&pending.positions, &faces, 0, 1) && !faces_cross(&pending.positions, &faces, 2, 3));
+        guard_crossings(&mut pending, &faces, &before);
+        let kept = pending.report.limited_to.expect("limited");
+        assert!((0.4 - 0.56 * 2f32.powi(-12) - 1e-5..=0.4 + 1e-5).contains(&kept), "kept {kept}");
+        assert!(none_cross(&pending.positions, &faces));
+    }
+
+    /// A chain of blades, each crossing from a little below where the previous one starts to
+    /// just past it: every check at a scale found finds the next blade, more times than the
+    /// guard searches on watched pairs, so it falls back to watching every pair that could
+    /// cross. The scale kept is where the last blade begins to cross.
+    #[test]
+    fn a_long_chain_of_midway_crossings_falls_back_to_every_pair() {
+        let mut blades = vec![(1.0, 1.8)];
+        let mut start = 2.0 - 1.0;
+        start /= 1.8;
+        for _ in 0..(MAX_VERIFIED_SEARCHES + 2) {
+            let next = start - 0.04;
+            blades.push(blade(next, start + 0.02));
+            start = next;
+        }
+        let (before, faces, mut pending) = rising_blades(&blades);
+        guard_crossings(&mut pending, &faces, &before);
+        let kept = pending.report.limited_to.expect("limited");
+        assert!((start - 2f32.powi(-12) - 1e-5..=start + 1e-5).contains(&kept), "kept {kept}, expected {start}");
+        assert!(none_cross(&pending.positions, &faces));
+    }
 
     /// A flap folded over its neighbour, hovering above it: nothing crosses (they share only
     /// their hinge edge), but the flap's normal is reversed. The guard limits the dent to where
