@@ -106,15 +106,27 @@ pub(crate) fn makes_new_crossings(
     presorted: Option<FaceSort>,
 ) -> bool {
     let moved_faces = faces_with_moved_corner(faces, &pending.moved);
-    if !turned_over(faces, before, &pending.positions, &moved_faces).is_empty() {
-        return true;
+    !turned_over(faces, before, &pending.positions, &moved_faces).is_empty()
+        || !new_crossing_pairs(faces, before, &pending.positions, &pending.moved, presorted).is_empty()
+}
+
+/// The pairs of faces that cross at `positions` (`before` with the vertices `moved` flags
+/// moved) but did not cross at `before`: every pair whose boxes at `positions` overlap, less
+/// the certified ones, tested exactly. `presorted` as `guard_pairs::pairs_to_test` takes it.
+fn new_crossing_pairs(
+    faces: &[[u32; 3]],
+    before: &[Vec3],
+    positions: &[Vec3],
+    moved: &[bool],
+    presorted: Option<FaceSort>,
+) -> Vec<(u32, u32)> {
+    let pairs = pairs_to_test(faces, before, positions, moved, Reach::Full, presorted);
+    let crossing = crossing_pairs(faces, positions, &pairs);
+    if crossing.is_empty() {
+        return crossing;
     }
-    let pairs = pairs_to_test(faces, before, &pending.positions, &pending.moved, Reach::Full, presorted);
-    let after = crossing_pairs(faces, &pending.positions, &pairs);
-    !after.is_empty() && {
-        let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &after).into_iter().collect();
-        after.iter().any(|p| !crossed_before.contains(p))
-    }
+    let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &crossing).into_iter().collect();
+    crossing.into_iter().filter(|p| !crossed_before.contains(p)).collect()
 }
 
 /// The faces with a moved corner, ascending: the only ones a displacement can turn over.
@@ -171,12 +183,7 @@ fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
 fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<Limit> {
     let moved_faces = faces_with_moved_corner(faces, moved);
     let turned_over_after = turned_over(faces, before, after, &moved_faces);
-    let new_crossings = |positions: &[Vec3]| {
-        let pairs = pairs_to_test(faces, before, positions, moved, Reach::Full, None);
-        let crossing = crossing_pairs(faces, positions, &pairs);
-        let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &crossing).into_iter().collect();
-        crossing.into_iter().filter(|p| !crossed_before.contains(p)).collect::<Vec<_>>()
-    };
+    let new_crossings = |positions: &[Vec3]| new_crossing_pairs(faces, before, positions, moved, None);
     let crossing_after = new_crossings(after);
     let crosses = !crossing_after.is_empty();
     if !crosses && turned_over_after.is_empty() {
@@ -187,7 +194,7 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
     let mut watched = crossing_after;
     let mut hi = 1.0f32;
     for _ in 0..MAX_VERIFIED_SEARCHES {
-        let lo = search_scale(faces, before, after, moved, &moved_faces, &watched, (0.0, hi), &mut positions);
+        let lo = search_scale(faces, before, after, moved, &moved_faces, watched.clone(), (0.0, hi), &mut positions);
         if lo == 0.0 {
             return limit(0.0);
         }
@@ -204,7 +211,7 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
     let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled, None);
     let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &pairs).into_iter().collect();
     let watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
-    limit(search_scale(faces, before, after, moved, &moved_faces, &watched, (0.0, hi), &mut positions))
+    limit(search_scale(faces, before, after, moved, &moved_faces, watched, (0.0, hi), &mut positions))
 }
 
 /// Searches at most this many times on the watched pairs before watching every pair.
@@ -235,11 +242,10 @@ fn search_scale(
     after: &[Vec3],
     moved: &[bool],
     moved_faces: &[u32],
-    watched: &[(u32, u32)],
+    mut watched: Vec<(u32, u32)>,
     (mut lo, mut hi): (f32, f32),
     positions: &mut [Vec3],
 ) -> f32 {
-    let mut watched = watched.to_vec();
     let (mut hint, mut filtered_at) = (None, hi);
     for _ in 0..BISECTION_STEPS {
         let mid = 0.5 * (lo + hi);
@@ -324,9 +330,9 @@ mod tests {
     /// cross. The scale kept is where the last blade begins to cross.
     #[test]
     fn a_long_chain_of_midway_crossings_falls_back_to_every_pair() {
+        // The first blade, of height 1 rising by 1.8, crosses from (2 − 1) / 1.8 on.
         let mut blades = vec![(1.0, 1.8)];
-        let mut start = 2.0 - 1.0;
-        start /= 1.8;
+        let mut start = (2.0 - 1.0) / 1.8;
         for _ in 0..(MAX_VERIFIED_SEARCHES + 2) {
             let next = start - 0.04;
             blades.push(blade(next, start + 0.02));

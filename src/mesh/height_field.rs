@@ -18,15 +18,15 @@
 //! of its edges meet but neighbours at their common end (tested with a sweep over the edges;
 //! an uncertain sign counts as meeting); its winding is then the sign of the turn at its
 //! lowest vertex. By 2 the outer loop winds once about the points inside it and never about
-//! those outside; each hole winds −1 about the points inside it and 0 about the others. For a point `y` off the projected edges, the
-//! faces whose projections hold `y` (each counted +1 by 1) number the boundary's winding about
-//! `y` (the boundary of a sum of faces winds about `y` as often as they cover it): the outer
-//! loop's 0 or 1 plus the holes' 0 or −1 each, so at most 1. So the projected faces have
-//! disjoint interiors. Each face projects one-to-one, its relative
-//! interior onto its projection's interior; two faces that cross (their relative interiors
-//! share a point, or they overlap in an area) would have projections whose interiors overlap.
-//! So two faces of a certified patch meet only where their boundaries do: they touch and do
-//! not cross, which is what [`triangles_cross`] decides too.
+//! those outside; each hole winds −1 about the points inside it and 0 about the others. For a
+//! point `y` off the projected edges, the faces whose projections hold `y` (each counted +1,
+//! by condition 1) number the boundary's winding about `y` (the boundary of a sum of faces
+//! winds about `y` as often as they cover it): the outer loop's 0 or 1 plus the holes' 0 or −1
+//! each, so at most one. So the projected faces have disjoint interiors. Each face projects
+//! one-to-one, its relative interior onto its projection's interior; two faces that cross
+//! (their relative interiors share a point, or they overlap in an area) would have projections
+//! whose interiors overlap. So two faces of a certified patch meet only where their boundaries
+//! do: they touch and do not cross, which is what [`triangles_cross`] decides too.
 //!
 //! A patch that fails as a whole (a dent through a thin wall moves both of its sides, joined
 //! around its edge; a crumpled surface faces many ways) is split and its parts tried apart:
