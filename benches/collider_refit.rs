@@ -1,4 +1,4 @@
-//! Collider refits after a dent on a 25,000-triangle target (issue 16 item 5): dentbend's refit
+//! Collider refits after a dent on a 25,000-triangle target: dentbend's refit
 //! against parry3d's `set_vertices` and a rebuild, and a whole CPU dent plus refit.
 //! Run on one core with `RAYON_NUM_THREADS=1 cargo bench --bench collider_refit`.
 

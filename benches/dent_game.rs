@@ -1,4 +1,4 @@
-//! What the game-proof stages cost together (issue 18, "Performance"): one CPU dent on
+//! What the game-proof stages cost together: one CPU dent on
 //! `block-fine` as the paper makes it (no refinement, volume free, no intersection guard) and
 //! with every stage on (refinement auto, volume kept, guard on), head-on and glancing at 60°,
 //! in the same run. The issue's budget: the stages add at most 30 % to a dent.

@@ -1,4 +1,4 @@
-//! What volume preservation costs (issue 18, "Performance"): one dent on `block-fine` (28,674
+//! What volume preservation costs: one dent on `block-fine` (28,674
 //! vertices, a ball of radius 0.4, d = 0.1) with `VolumeMode::Free` (the paper's dent; the
 //! volume stage only measures the change) and with `Preserve` (measures and raises the rim), in
 //! the same run; each iteration dents a fresh copy of the block (the copy is timed in both).

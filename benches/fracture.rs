@@ -1,4 +1,4 @@
-//! Prescored fracture (issue 18: "fracturing a wall into ≤ 50 pieces ≤ 5 ms"): the figure-3
+//! Prescored fracture (the goal: a wall into ≤ 50 pieces in ≤ 5 ms): the figure-3
 //! wall (3 × 2 × 0.2 m, 10,400 triangles) broken at its centre by a 40-cell and a 50-cell
 //! pattern of radius 0.45 m (40 and 50 pieces), and a 24-cell pattern on the 3,674-triangle
 //! bunny. `break_body` cuts the cells on all cores (rayon); run with

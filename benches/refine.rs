@@ -1,4 +1,4 @@
-//! The refine stage's cost (issue 18 item 1): one CPU dent on `block-fine` (fine already:
+//! The refine stage's cost: one CPU dent on `block-fine` (fine already:
 //! refinement auto should add nothing and cost little) and on a 12-triangle 2 m cube (refined
 //! to about 800 triangles under the dent), each with refinement auto and off, same run.
 //! Run with `cargo bench --bench refine`.

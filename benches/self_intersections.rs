@@ -1,4 +1,4 @@
-//! Issue 18 item 3: the self-intersection check on the bunny, and one dent on `block-fine` with
+//! The self-intersection check on the bunny, and one dent on `block-fine` with
 //! and without the intersection guard (the guard's share of a dent's cost).
 //! Run with `cargo bench --bench self_intersections`.
 

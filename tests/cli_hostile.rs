@@ -1,4 +1,4 @@
-//! The command line against hostile input (issue 17): every refusal is one `error:` line and exit
+//! The command line against hostile input: every refusal is one `error:` line and exit
 //! code 2, and leaves files as they were — existing files untouched, no partial or stray files.
 
 mod common;

@@ -1,4 +1,4 @@
-//! Collider refits after a dent (issue 16 item 5): a refitted parry3d triangle mesh answers
+//! Collider refits after a dent: a refitted parry3d triangle mesh answers
 //! queries exactly as a fresh build on the dented vertices does; bad updates are refused and
 //! leave the shape as it was; the world's dented colliders follow their meshes.
 

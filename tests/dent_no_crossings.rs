@@ -1,4 +1,4 @@
-//! Issue 18 item 3: no self-intersections however many dents. The mesh check itself
+//! No self-intersections however many dents. The mesh check itself
 //! (`TriMesh::self_intersections`), the falloff fitted to the wall's measured thickness, and the
 //! intersection guard over 1,000 accumulated random dents on a block and on a plank.
 

@@ -1,4 +1,4 @@
-//! Dents on low-poly targets (issue 18, item 1): a 12-triangle cube hit by a ball takes a dent
+//! Dents on low-poly targets: a 12-triangle cube hit by a ball takes a dent
 //! of depth d shaped like the ball, hit near a corner it loses the dent's volume and no face
 //! tilts; every dent path (one dent, pairs, batches, the damage API on the CPU and the GPU)
 //! refines the target first, tells the caller its faces changed, and refuses bad settings.

@@ -1,4 +1,4 @@
-//! Volume kept (issue 18, item 2): with `VolumeMode::Preserve` a dent raises a rim around its
+//! Volume kept: with `VolumeMode::Preserve` a dent raises a rim around its
 //! crater until the enclosed volume is back within 2 % of the cavity volume (the volume the
 //! same dent takes without the rim); the rim stays near the crater; every dent reports its
 //! volume change; errors leave the mesh unchanged.

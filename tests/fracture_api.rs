@@ -1,4 +1,4 @@
-//! The engine-neutral fracture API (issue 18 item 4): pieces and the rest are closed, volume is
+//! The engine-neutral fracture API: pieces and the rest are closed, volume is
 //! conserved, the result is deterministic and replayable, pieces keep a dent made first, and bad
 //! input is refused with a typed error.
 

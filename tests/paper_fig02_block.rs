@@ -75,7 +75,7 @@ fn gentle_falloff_keeps_the_block_free_of_self_intersections() {
 /// A plank thinner than d: the logistic falloff keeps it whole. A linear falloff five times
 /// steeper than 1 − z/d would push the top face through the bottom one (the paper's Figure 2d);
 /// the wall measured under the dent makes the falloff stretch to keep half of it, with a warning
-/// that names the fold it prevented, and no faces cross (issue 18: the warning reads the body).
+/// that names the fold it prevented, and no faces cross (the warning reads the body).
 #[test]
 fn steep_falloff_on_a_thin_wall_is_fitted_and_warned_about() {
     let plank = mesh::subdivided_box(Vec3::new(4.0, 0.25, 4.0), [64, 4, 64]).unwrap();

@@ -1,4 +1,4 @@
-//! Paper Figure 3 (issue 18 item 4): the built-in scene `wall`. Balls dent a prescored static
+//! Paper Figure 3: the built-in scene `wall`. Balls dent a prescored static
 //! wall one after another; when its dents add up past its limit it breaks along the pattern
 //! placed at the last hit: pieces fly on in the ball's direction, the rest stays one closed body.
 

@@ -1,4 +1,4 @@
-//! The README's commands (issue 17): every file they write goes under `out/`, and the dent-map
+//! The README's commands: every file they write goes under `out/`, and the dent-map
 //! command makes the Figure 7 pictures the README shows.
 
 mod common;

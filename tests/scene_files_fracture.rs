@@ -1,4 +1,4 @@
-//! `[body.fracture]` in scene files (issue 18 item 4): a breakable body is read with its
+//! `[body.fracture]` in scene files: a breakable body is read with its
 //! pattern and toughness, breaks in the simulation, and bad tables are refused by a message that
 //! names the file, the line of the offending value, the body and the field.
 
