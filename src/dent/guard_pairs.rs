@@ -41,7 +41,7 @@ use crate::mesh::cover_mask::CoverMask;
 use crate::mesh::face_grid::{Aabb, overlapping_pairs, pairs_between};
 use crate::mesh::face_sort::{FaceSort, MARK_A, out_code};
 use crate::mesh::height_field::{UNCERTIFIED, certified_patches};
-use crate::mesh::umbrella::{certified_umbrellas, share_certified_vertex};
+use crate::mesh::umbrella::Umbrellas;
 
 /// Which scales of the displacement the pairs are wanted for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -85,7 +85,7 @@ pub(crate) fn pairs_to_test(
     if reach == Reach::Full {
         return full_reach_pairs(faces, after, &near);
     }
-    let candidates = overlapping_pairs(&near.reached, near.active);
+    let candidates = overlapping_pairs(&near.reached, near.active, |_, _| true);
     let id = |(i, j): (u32, u32)| {
         let (f, g) = (near.faces[i as usize], near.faces[j as usize]);
         (f.min(g), f.max(g))
@@ -152,10 +152,16 @@ fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces) -> Vec
     rest.extend(near.active as u32..near.faces.len() as u32);
     let boxes = |indices: &[u32]| indices.iter().map(|&k| near.reached[k as usize]).collect::<Vec<_>>();
     let rest_boxes = boxes(&rest);
-    let mut candidates: Vec<(u32, u32)> = overlapping_pairs(&rest_boxes, rest_active)
-        .into_iter()
-        .map(|(i, j)| (rest[i as usize], rest[j as usize]))
-        .collect();
+    // Pairs sharing a vertex whose umbrella is certified only touch: they are dropped as they
+    // are found. Every such vertex is a corner of a moved face, whose faces are all near.
+    let face = |k: u32| near.faces[k as usize];
+    let umbrellas = Umbrellas::new(after, faces, &near.faces[..near.active], &near.faces);
+    let may_cross = |i: u32, j: u32| !umbrellas.only_touch(face(i), face(j));
+    let mut candidates: Vec<(u32, u32)> =
+        overlapping_pairs(&rest_boxes, rest_active, |i, j| may_cross(rest[i as usize], rest[j as usize]))
+            .into_iter()
+            .map(|(i, j)| (rest[i as usize], rest[j as usize]))
+            .collect();
     // Every patch face against the rest but its own ring; and against the moved faces of the
     // other patches, each such pair found once from its face in the patch numbered higher.
     // A face is queried against a patch only if its box meets the box of the patch's faces.
@@ -193,26 +199,20 @@ fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces) -> Vec
     for run in asked.chunk_by(|a, b| a.0 == b.0) {
         let own = &members[run[0].0 as usize];
         let queries: Vec<u32> = run.iter().map(|&(_, q)| q).collect();
+        let keep = |i: u32, j: u32| may_cross(own[i as usize], queries[j as usize]);
         candidates.extend(
-            pairs_between(&boxes(own), &boxes(&queries))
+            pairs_between(&boxes(own), &boxes(&queries), keep)
                 .into_iter()
                 .map(|(i, j)| (own[i as usize], queries[j as usize])),
         );
     }
-    let face = |k: u32| near.faces[k as usize];
-    let shared: Vec<u32> = candidates
-        .iter()
-        .flat_map(|&(i, j)| {
-            let q = faces[face(j) as usize];
-            faces[face(i) as usize].into_iter().filter(move |v| q.contains(v))
+    candidates
+        .into_iter()
+        .map(|(i, j)| {
+            let (f, g) = (face(i), face(j));
+            (f.min(g), f.max(g))
         })
-        .collect();
-    let certified = certified_umbrellas(after, faces, &near.faces, &shared);
-    let keep = |&(i, j): &(u32, u32)| {
-        let (f, g) = (face(i), face(j));
-        (!share_certified_vertex(faces, &certified, f, g)).then_some((f.min(g), f.max(g)))
-    };
-    candidates.iter().filter_map(keep).collect()
+        .collect()
 }
 
 /// Below this many candidate pairs the clearing runs on one thread (waking the pool costs more).

@@ -9,7 +9,7 @@
 //! one list of them all scanned by every query made the broad phase quadratic); only the last
 //! level's few largest boxes are scanned by every query.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
 /// An axis-aligned box, world units.
@@ -42,6 +42,27 @@ impl Aabb {
     }
 }
 
+/// A box as the grid files it: 16-byte lanes, so that an overlap test is two vector compares.
+#[derive(Debug, Clone, Copy)]
+struct LaneBox {
+    min: Vec3A,
+    max: Vec3A,
+}
+
+impl LaneBox {
+    const EMPTY: Self = Self { min: Vec3A::INFINITY, max: Vec3A::NEG_INFINITY };
+
+    fn of(b: &Aabb) -> Self {
+        Self { min: b.min.into(), max: b.max.into() }
+    }
+
+    /// Closed overlap, as [`Aabb::overlaps`].
+    #[inline]
+    fn overlaps(&self, other: &Self) -> bool {
+        (self.min.cmple(other.max) & other.min.cmple(self.max)).all()
+    }
+}
+
 /// Cell side in mean box sizes: a box up to this size is binned, a larger one listed apart.
 const CELL_IN_MEAN_BOXES: f32 = 1.0;
 /// At most this many grid cells per binned box, so memory stays linear in the box count.
@@ -55,7 +76,7 @@ const SCANNED_BOXES: usize = 32;
 /// and the few boxes left over, with their boxes.
 struct LooseGrid {
     levels: Vec<Level>,
-    large: Vec<(u32, Aabb)>,
+    large: Vec<(u32, LaneBox)>,
 }
 
 impl LooseGrid {
@@ -67,15 +88,16 @@ impl LooseGrid {
             levels.push(level);
             left = larger;
         }
-        Self { levels, large: left }
+        Self { levels, large: left.iter().map(|(k, b)| (*k, LaneBox::of(b))).collect() }
     }
 
-    /// Calls `visit(k, box)` for every box that may overlap `b` (a superset).
-    fn for_candidates(&self, b: &Aabb, mut visit: impl FnMut(u32, &Aabb)) {
+    /// Calls `visit(k)` for every box `k` that overlaps `b` (closed).
+    fn for_overlapping(&self, b: &Aabb, mut visit: impl FnMut(u32)) {
+        let lanes = LaneBox::of(b);
         for level in &self.levels {
-            level.for_candidates(b, &mut visit);
+            level.for_overlapping(b, &lanes, &mut visit);
         }
-        self.large.iter().for_each(|(k, item)| visit(*k, item));
+        self.large.iter().filter(|(_, item)| lanes.overlaps(item)).for_each(|(k, _)| visit(*k));
     }
 }
 
@@ -89,7 +111,7 @@ struct Level {
     reach: Vec3,
     starts: Vec<u32>,
     items: Vec<u32>,
-    item_boxes: Vec<Aabb>,
+    item_boxes: Vec<LaneBox>,
 }
 
 impl Level {
@@ -138,10 +160,11 @@ impl Level {
         }
         let mut fill = counts.clone();
         let mut items = vec![0u32; total as usize];
-        let mut item_boxes = vec![Aabb::EMPTY; total as usize];
+        let mut item_boxes = vec![LaneBox::EMPTY; total as usize];
         for (k, &c) in cell_of_box.iter().enumerate().filter(|(_, c)| **c != u32::MAX) {
             let slot = fill[c as usize] as usize;
-            (items[slot], item_boxes[slot]) = boxes[k];
+            items[slot] = boxes[k].0;
+            item_boxes[slot] = LaneBox::of(&boxes[k].1);
             fill[c as usize] += 1;
         }
         grid.starts = counts;
@@ -161,8 +184,8 @@ impl Level {
         (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
     }
 
-    /// Calls `visit(k, box)` for every box binned here that may overlap `b` (a superset).
-    fn for_candidates(&self, b: &Aabb, visit: &mut impl FnMut(u32, &Aabb)) {
+    /// Calls `visit(k)` for every box `k` binned here that overlaps `b` (closed; `lanes` is `b`).
+    fn for_overlapping(&self, b: &Aabb, lanes: &LaneBox, visit: &mut impl FnMut(u32)) {
         // A binned box overlapping `b` has its low corner in [b.min − reach, b.max]. The reach is
         // widened by a few ulps of the magnitudes involved, so that neither the rounding of
         // `b.min − reach` nor that of the binned boxes' extents can leave a corner just outside.
@@ -173,7 +196,9 @@ impl Level {
                 let row = self.linear([0, y, z]);
                 let range = self.starts[row + lo[0]] as usize..self.starts[row + hi[0] + 1] as usize;
                 for (&k, item) in self.items[range.clone()].iter().zip(&self.item_boxes[range]) {
-                    visit(k, item);
+                    if lanes.overlaps(item) {
+                        visit(k);
+                    }
                 }
             }
         }
@@ -181,8 +206,13 @@ impl Level {
 }
 
 /// Every pair `(a, c)` of boxes with `a < active` (an active box) and any `c ≠ a` whose boxes
-/// overlap (closed), each unordered pair once. Pairs come back in no particular order.
-pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: usize) -> Vec<(u32, u32)> {
+/// overlap (closed) and that `keep(a, c)` keeps, each unordered pair once. Pairs come back in
+/// no particular order.
+pub(crate) fn overlapping_pairs(
+    boxes: &[Aabb],
+    active: usize,
+    keep: impl Fn(u32, u32) -> bool + Sync,
+) -> Vec<(u32, u32)> {
     let active = active.min(boxes.len());
     if active == 0 || boxes.len() < 2 {
         return Vec::new();
@@ -191,9 +221,8 @@ pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: usize) -> Vec<(u32, u32)
     // A pair of two active boxes is reported from its smaller index only.
     let wanted = |a: u32, c: u32| c != a && (c as usize >= active || c > a);
     let visit = |found: &mut Vec<(u32, u32)>, a: u32| {
-        let box_a = boxes[a as usize];
-        grid.for_candidates(&box_a, |c, box_c| {
-            if box_a.overlaps(box_c) && wanted(a, c) {
+        grid.for_overlapping(&boxes[a as usize], |c| {
+            if wanted(a, c) && keep(a, c) {
                 found.push((a, c));
             }
         });
@@ -205,10 +234,10 @@ pub(crate) fn overlapping_pairs(boxes: &[Aabb], active: usize) -> Vec<(u32, u32)
     })
 }
 
-/// Every pair `(l, r)` of a box of `left` and a box of `right` that overlap (closed), each
-/// once, in no particular order. `left` is binned and `right` queried: the larger set should
-/// go left.
-pub(crate) fn pairs_between(left: &[Aabb], right: &[Aabb]) -> Vec<(u32, u32)> {
+/// Every pair `(l, r)` of a box of `left` and a box of `right` that overlap (closed) and that
+/// `keep(l, r)` keeps, each once, in no particular order. `left` is binned and `right`
+/// queried: the larger set should go left.
+pub(crate) fn pairs_between(left: &[Aabb], right: &[Aabb], keep: impl Fn(u32, u32) -> bool + Sync) -> Vec<(u32, u32)> {
     if left.is_empty() || right.is_empty() {
         return Vec::new();
     }
@@ -216,9 +245,8 @@ pub(crate) fn pairs_between(left: &[Aabb], right: &[Aabb]) -> Vec<(u32, u32)> {
     queried_in_chunks(right.len(), |range| {
         let mut found = Vec::new();
         for r in range {
-            let box_r = right[r as usize];
-            grid.for_candidates(&box_r, |l, box_l| {
-                if box_r.overlaps(box_l) {
+            grid.for_overlapping(&right[r as usize], |l| {
+                if keep(l, r) {
                     found.push((l, r));
                 }
             });
@@ -273,7 +301,7 @@ mod tests {
             if round >= 3 {
                 assert!(LooseGrid::new(&boxes).levels.len() >= 3, "round {round} takes several levels");
             }
-            let mut found = overlapping_pairs(&boxes, active);
+            let mut found = overlapping_pairs(&boxes, active, |_, _| true);
             let count = found.len();
             found.iter_mut().for_each(|p| *p = (p.0.min(p.1), p.0.max(p.1)));
             found.sort_unstable();
@@ -290,10 +318,17 @@ mod tests {
                 }
             }
             assert_eq!(found, expected, "round {round}");
+            // A pair `keep` refuses is left out, and only those.
+            let keep = |a: u32, c: u32| !(a + c).is_multiple_of(3);
+            let mut kept = overlapping_pairs(&boxes, active, keep);
+            kept.iter_mut().for_each(|p| *p = (p.0.min(p.1), p.0.max(p.1)));
+            kept.sort_unstable();
+            let expected_kept: Vec<(u32, u32)> = expected.iter().copied().filter(|&(a, c)| keep(a, c)).collect();
+            assert_eq!(kept, expected_kept, "round {round}, kept");
             // Between the active boxes and the others: the same pairs less those of two active.
             let (left, right) = boxes.split_at(active);
             let mut between: Vec<(u32, u32)> =
-                pairs_between(left, right).into_iter().map(|(l, r)| (l, r + active as u32)).collect();
+                pairs_between(left, right, |_, _| true).into_iter().map(|(l, r)| (l, r + active as u32)).collect();
             let between_count = between.len();
             between.sort_unstable();
             between.dedup();
@@ -303,6 +338,7 @@ mod tests {
         }
         // Boxes that only touch (a shared face of two grid cells) overlap.
         let boxes = [Aabb { min: Vec3::ZERO, max: Vec3::ONE }, Aabb { min: Vec3::X, max: Vec3::new(2.0, 1.0, 1.0) }];
-        assert_eq!(overlapping_pairs(&boxes, 1), vec![(0, 1)]);
+        assert_eq!(overlapping_pairs(&boxes, 1, |_, _| true), vec![(0, 1)]);
+        assert_eq!(overlapping_pairs(&boxes, 1, |_, _| false), vec![]);
     }
 }

@@ -89,7 +89,7 @@ pub(crate) fn crossing_pairs_among(positions: &[Vec3], faces: &[[u32; 3]], activ
             }
         }
     }
-    let candidates = overlapping_pairs(&boxes, active_count);
+    let candidates = overlapping_pairs(&boxes, active_count, |_, _| true);
     candidates
         .into_par_iter()
         .with_min_len(1024)

@@ -15,8 +15,9 @@
 //!
 //! [`triangles_cross`]: super::tri_tri::triangles_cross
 
+use std::sync::atomic::{AtomicU8, Ordering};
+
 use glam::{DVec3, Vec3};
-use rayon::prelude::*;
 
 use super::local_vertices::LocalVertices;
 
@@ -30,63 +31,72 @@ const REFERENCE_MARGIN: f64 = 1e-9;
 /// handle them).
 const MAX_FAN: usize = 32;
 
-/// Flags, one per vertex of `positions`, for the vertices `corners` (repeats allowed) whose
-/// umbrellas are certified (module documentation). `around` must list every face of `faces`
-/// that uses one of them (it may list others).
-pub(crate) fn certified_umbrellas(
-    positions: &[Vec3],
-    faces: &[[u32; 3]],
-    around: &[u32],
-    corners: &[u32],
-) -> Vec<bool> {
-    // The corners, numbered locally in the order met.
-    let mut local = LocalVertices::new(positions.len());
-    corners.iter().for_each(|&v| local.add(v));
-    let corners = &local.vertices;
-    // Faces around each corner, compressed rows.
-    let mut starts = vec![0u32; corners.len() + 1];
-    for &f in around {
-        for &v in &faces[f as usize] {
-            if let Some(k) = local.get(v) {
-                starts[k + 1] += 1;
-            }
+/// The umbrellas around the corners of some faces, each certified (module documentation) the
+/// first time it is asked about, on whichever thread asks.
+pub(crate) struct Umbrellas<'a> {
+    positions: &'a [Vec3],
+    faces: &'a [[u32; 3]],
+    /// The corners asked about, numbered locally.
+    local: LocalVertices,
+    /// Faces around each corner, compressed rows: `fans[starts[k]..starts[k + 1]]`.
+    starts: Vec<u32>,
+    fans: Vec<u32>,
+    /// Per corner: [`UNKNOWN`], [`OPEN`] (not certified) or [`CERTIFIED`].
+    verdicts: Vec<AtomicU8>,
+}
+
+const UNKNOWN: u8 = 0;
+const OPEN: u8 = 1;
+const CERTIFIED: u8 = 2;
+
+impl<'a> Umbrellas<'a> {
+    /// The umbrellas of the corners of the faces `owners`; `around` must list every face of
+    /// `faces` that uses one of them (it may list others). Nothing is certified yet.
+    pub(crate) fn new(positions: &'a [Vec3], faces: &'a [[u32; 3]], owners: &[u32], around: &[u32]) -> Self {
+        let mut local = LocalVertices::new(positions.len());
+        local.add_corners(faces, owners);
+        let corners = local.len();
+        let mut starts = vec![0u32; corners + 1];
+        let rows = |f: u32| faces[f as usize].into_iter().filter_map(|v| local.get(v));
+        around.iter().flat_map(|&f| rows(f)).for_each(|k| starts[k + 1] += 1);
+        for k in 0..corners {
+            starts[k + 1] += starts[k];
         }
-    }
-    for k in 0..corners.len() {
-        starts[k + 1] += starts[k];
-    }
-    let mut fill = starts.clone();
-    let mut fans = vec![0u32; starts[corners.len()] as usize];
-    for &f in around {
-        for &v in &faces[f as usize] {
-            if let Some(k) = local.get(v) {
+        let mut fill = starts.clone();
+        let mut fans = vec![0u32; starts[corners] as usize];
+        for &f in around {
+            for k in rows(f) {
                 fans[fill[k] as usize] = f;
                 fill[k] += 1;
             }
         }
+        let verdicts = (0..corners).map(|_| AtomicU8::new(UNKNOWN)).collect();
+        Self { positions, faces, local, starts, fans, verdicts }
     }
-    let check = |k: usize| {
-        let fan = &fans[starts[k] as usize..starts[k + 1] as usize];
-        fan_is_embedded(positions, faces, corners[k], fan)
-    };
-    let verdicts: Vec<bool> = if corners.len() < PARALLEL_FANS {
-        (0..corners.len()).map(check).collect()
-    } else {
-        (0..corners.len()).into_par_iter().with_min_len(PARALLEL_FANS / 2).map(check).collect()
-    };
-    let mut certified = vec![false; positions.len()];
-    corners.iter().zip(verdicts).for_each(|(&v, ok)| certified[v as usize] = ok);
-    certified
-}
 
-/// Below this many umbrellas they are checked on one thread (waking the pool costs more).
-const PARALLEL_FANS: usize = 4096;
+    /// Whether the umbrella of `v` is certified; `false` for a vertex that is not a corner of
+    /// the faces the umbrellas were made for.
+    pub(crate) fn certified(&self, v: u32) -> bool {
+        let Some(k) = self.local.get(v) else {
+            return false;
+        };
+        match self.verdicts[k].load(Ordering::Relaxed) {
+            UNKNOWN => {
+                let fan = &self.fans[self.starts[k] as usize..self.starts[k + 1] as usize];
+                let embedded = fan_is_embedded(self.positions, self.faces, v, fan);
+                self.verdicts[k].store(if embedded { CERTIFIED } else { OPEN }, Ordering::Relaxed);
+                embedded
+            }
+            verdict => verdict == CERTIFIED,
+        }
+    }
 
-/// Whether faces `f` and `g` share a vertex flagged in `certified` (by
-/// [`certified_umbrellas`]): then they touch there and do not cross.
-pub(crate) fn share_certified_vertex(faces: &[[u32; 3]], certified: &[bool], f: u32, g: u32) -> bool {
-    let q = faces[g as usize];
-    faces[f as usize].iter().any(|v| q.contains(v) && certified[*v as usize])
+    /// Whether faces `f` and `g` share a vertex whose umbrella is certified: then they touch
+    /// there and do not cross.
+    pub(crate) fn only_touch(&self, f: u32, g: u32) -> bool {
+        let q = self.faces[g as usize];
+        self.faces[f as usize].iter().any(|v| q.contains(v) && self.certified(*v))
+    }
 }
 
 /// Whether the faces `fan` (all the faces around `a`) form a closed fan whose projection is
@@ -187,7 +197,7 @@ mod tests {
 
     fn certified(positions: &[Vec3], faces: &[[u32; 3]]) -> bool {
         let around: Vec<u32> = (0..faces.len() as u32).collect();
-        certified_umbrellas(positions, faces, &around, &[0])[0]
+        Umbrellas::new(positions, faces, &around, &around).certified(0)
     }
 
     #[test]
@@ -218,9 +228,11 @@ mod tests {
         let flat = ring(6, 1.0, |_| 0.0);
         let all = fan_faces(6);
         let listed: Vec<u32> = (0..5).collect();
-        assert!(!certified_umbrellas(&flat, &all, &listed, &[0])[0]);
+        assert!(!Umbrellas::new(&flat, &all, &[0], &listed).certified(0));
         let every: Vec<u32> = (0..6).collect();
-        assert!(certified_umbrellas(&flat, &all, &every, &[0])[0]);
+        assert!(Umbrellas::new(&flat, &all, &[0], &every).certified(0));
+        // A vertex that is no corner of the faces asked about is not certified.
+        assert!(!Umbrellas::new(&flat, &all, &[], &every).certified(0));
     }
 
     /// Wherever a vertex is certified, no two faces around it cross by the exact test: random
