@@ -4,7 +4,9 @@
 //! vertex to `before + s·(after − before)`, the largest `s` found by bisection) until no new
 //! crossing and no turned face is left. Crossings that were there before the dent are not its
 //! business. Turned faces are looked for among the faces with a moved corner, at every step of
-//! the bisection (a face's orientation is quadratic in `s`: it can turn and turn back).
+//! the bisection (a face's orientation is quadratic in `s`: it can turn and turn back), less
+//! those whose corners move so nearly together that no scale turns them
+//! (`mesh::turned_over::may_turn_over`).
 //!
 //! Cost: one pass over the faces to find the moved ones and the unmoved ones near them (the
 //! volume stage's own pass, when it ran and its region holds them), a check
@@ -37,7 +39,7 @@ use super::guard_pairs::{Reach, pairs_to_test, pairs_within_scale};
 use super::map::PendingDisplacement;
 use crate::mesh::face_sort::FaceSort;
 use crate::mesh::self_intersect::faces_cross;
-use crate::mesh::turned_over::is_turned_over;
+use crate::mesh::turned_over::{is_turned_over, may_turn_over};
 
 /// Bisection steps: the scale found is within 2⁻¹² of the largest crossing-free one.
 const BISECTION_STEPS: u32 = 12;
@@ -139,6 +141,17 @@ fn faces_with_moved_corner(faces: &[[u32; 3]], moved: &[bool]) -> Vec<u32> {
     }
 }
 
+/// The faces of `candidates` (ascending) that some scale of the move from `before` to `after`
+/// could turn over (`mesh::turned_over::may_turn_over`: the others never turn).
+fn faces_that_may_turn_over(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], candidates: &[u32]) -> Vec<u32> {
+    let may_turn = |f: &u32| may_turn_over(faces[*f as usize], before, after);
+    if candidates.len() < PARALLEL_FACES {
+        candidates.iter().copied().filter(may_turn).collect()
+    } else {
+        candidates.par_iter().with_min_len(PARALLEL_FACES / 2).copied().filter(may_turn).collect()
+    }
+}
+
 /// The faces of `candidates` (ascending) that moving `before` to `positions` turns over.
 fn turned_over(faces: &[[u32; 3]], before: &[Vec3], positions: &[Vec3], candidates: &[u32]) -> Vec<u32> {
     let turned = |f: &&u32| is_turned_over(faces[**f as usize], before, positions);
@@ -190,11 +203,13 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
         return None;
     }
     let limit = |scale| Some(Limit { scale, crosses, turned_over: turned_over_after.clone() });
+    // The searches look for turned faces only among those a bound does not clear at every scale.
+    let may_turn = faces_that_may_turn_over(faces, before, after, &moved_faces);
     let mut positions = before.to_vec();
     let mut watched = crossing_after;
     let mut hi = 1.0f32;
     for _ in 0..MAX_VERIFIED_SEARCHES {
-        let lo = search_scale(faces, before, after, moved, &moved_faces, watched.clone(), (0.0, hi), &mut positions);
+        let lo = search_scale(faces, before, after, moved, &may_turn, watched.clone(), (0.0, hi), &mut positions);
         if lo == 0.0 {
             return limit(0.0);
         }
@@ -211,7 +226,7 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
     let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled, None);
     let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &pairs).into_iter().collect();
     let watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
-    limit(search_scale(faces, before, after, moved, &moved_faces, watched, (0.0, hi), &mut positions))
+    limit(search_scale(faces, before, after, moved, &may_turn, watched, (0.0, hi), &mut positions))
 }
 
 /// Searches at most this many times on the watched pairs before watching every pair.
@@ -225,7 +240,7 @@ fn set_scale(positions: &mut [Vec3], before: &[Vec3], after: &[Vec3], moved: &[b
 }
 
 /// Bisects `bracket` (its lower end clear) for the largest scale, to 2⁻¹² of its width, at which
-/// no face of `moved_faces` is turned over and no pair of `watched` crosses; `positions` is
+/// no face of `may_turn` is turned over and no pair of `watched` crosses; `positions` is
 /// left at the last scale tried.
 ///
 /// Each step needs only whether some watched pair crosses: the last pair found crossing is
@@ -241,7 +256,7 @@ fn search_scale(
     before: &[Vec3],
     after: &[Vec3],
     moved: &[bool],
-    moved_faces: &[u32],
+    may_turn: &[u32],
     mut watched: Vec<(u32, u32)>,
     (mut lo, mut hi): (f32, f32),
     positions: &mut [Vec3],
@@ -250,7 +265,7 @@ fn search_scale(
     for _ in 0..BISECTION_STEPS {
         let mid = 0.5 * (lo + hi);
         set_scale(positions, before, after, moved, mid);
-        let clear = turned_over(faces, before, positions, moved_faces).is_empty()
+        let clear = turned_over(faces, before, positions, may_turn).is_empty()
             && !hint.is_some_and(|(f, g)| faces_cross(positions, faces, f, g))
             && {
                 if hi < filtered_at && watched.len() >= PARALLEL_TESTS {
