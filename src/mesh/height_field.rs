@@ -113,14 +113,18 @@ pub(crate) fn certified_patches(
         }
     }
     // The parts of the patches that failed, numbered after the whole ones.
-    let index_of: std::collections::HashMap<u32, usize> = candidates.iter().zip(0..).map(|(&f, k)| (f, k)).collect();
+    if failed.is_empty() {
+        return labels;
+    }
+    let mut index_of = vec![NONE; faces.len()];
+    candidates.iter().zip(0..).for_each(|(&f, k)| index_of[f as usize] = k);
     for members in failed {
         let patch: Vec<u32> = members.iter().map(|&k| candidates[k]).collect();
         for part in certified_parts(positions, faces, &local, &patch, MAX_SPLIT_DEPTH) {
             if next_label == MAX_LABELS {
                 return labels;
             }
-            part.iter().for_each(|f| labels.0[index_of[f]] = next_label);
+            part.iter().for_each(|&f| labels.0[index_of[f as usize] as usize] = next_label);
             next_label += 1;
         }
     }
@@ -189,11 +193,15 @@ fn peeled_until_certified(
 /// [`MIN_PATCH_FACES`] faces.
 fn connected_parts(local: &LocalVertices, faces: &[[u32; 3]], chosen: &[u32]) -> Vec<Vec<u32>> {
     let roots = patch_roots(local, faces, chosen);
-    let mut by_root: std::collections::HashMap<u32, Vec<u32>> = std::collections::HashMap::new();
-    for &f in chosen {
-        by_root.entry(roots[local.of(faces[f as usize][0])]).or_default().push(f);
-    }
-    let mut parts: Vec<Vec<u32>> = by_root.into_values().filter(|p| p.len() >= MIN_PATCH_FACES).collect();
+    // Faces by root, each patch's in the order chosen.
+    let mut by_root: Vec<(u32, u32)> =
+        chosen.iter().zip(0..).map(|(&f, k)| (roots[local.of(faces[f as usize][0])], k)).collect();
+    by_root.sort_unstable();
+    let mut parts: Vec<Vec<u32>> = by_root
+        .chunk_by(|a, b| a.0 == b.0)
+        .filter(|run| run.len() >= MIN_PATCH_FACES)
+        .map(|run| run.iter().map(|&(_, k)| chosen[k as usize]).collect())
+        .collect();
     parts.sort_unstable_by_key(|p| (std::cmp::Reverse(p.len()), p[0]));
     parts
 }
