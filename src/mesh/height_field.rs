@@ -72,10 +72,10 @@ pub(crate) fn certified_patches(
 ) -> (Vec<u32>, Vec<u32>) {
     let mut local = LocalVertices::new(positions.len());
     local.add_corners(faces, candidates);
-    let vertex_roots = patch_roots(&local, faces, candidates);
+    let vertex_roots = patch_roots(local.len(), |v| local.of(v), faces, candidates);
     let root_of = |f: u32| vertex_roots[local.of(faces[f as usize][0])];
     let roots: Vec<u32> = candidates.iter().map(|&f| root_of(f)).collect();
-    // The patch each face of `around` touches first, if any; then their other corners numbered.
+    // The patch each face of `around` touches first, if any.
     let ring_roots: Vec<u32> = around
         .iter()
         .map(|&f| {
@@ -83,8 +83,6 @@ pub(crate) fn certified_patches(
             touching.map_or(NONE, |k| vertex_roots[k])
         })
         .collect();
-    let ring: Vec<u32> = around.iter().zip(&ring_roots).filter(|(_, r)| **r != NONE).map(|(&f, _)| f).collect();
-    local.add_corners(faces, &ring);
     let mut sizes = vec![0usize; vertex_roots.len()];
     roots.iter().for_each(|&r| sizes[r as usize] += 1);
     let mut tried: Vec<u32> = (0..sizes.len() as u32).filter(|&r| sizes[r as usize] >= MIN_PATCH_FACES).collect();
@@ -92,14 +90,17 @@ pub(crate) fn certified_patches(
     tried.truncate(MAX_PATCHES);
     let mut labels = (vec![UNCERTIFIED; candidates.len()], vec![UNCERTIFIED; around.len()]);
     let mut next_label = 0;
+    // Numbers the corners of one patch or part at a time.
+    let mut scratch = LocalVertices::new(positions.len());
     let mut failed = Vec::new();
     for root in tried {
         let members: Vec<usize> = (0..candidates.len()).filter(|&k| roots[k] == root).collect();
         let ring_members: Vec<usize> = (0..around.len()).filter(|&k| ring_roots[k] == root).collect();
         let patch: Vec<u32> = members.iter().map(|&k| candidates[k]).collect();
         let with_ring: Vec<u32> = patch.iter().copied().chain(ring_members.iter().map(|&k| around[k])).collect();
-        let embedded = |faces_of: &[u32]| {
-            Projection::of(positions, faces, faces_of).is_some_and(|p| p.check(faces_of, &local) == Check::Embedded)
+        let mut embedded = |faces_of: &[u32]| {
+            Projection::of(positions, faces, faces_of)
+                .is_some_and(|p| p.check(faces_of, &mut scratch) == Check::Embedded)
         };
         let ring_too = !ring_members.is_empty() && embedded(&with_ring);
         if ring_too || embedded(&patch) {
@@ -120,7 +121,7 @@ pub(crate) fn certified_patches(
     candidates.iter().zip(0..).for_each(|(&f, k)| index_of[f as usize] = k);
     for members in failed {
         let patch: Vec<u32> = members.iter().map(|&k| candidates[k]).collect();
-        for part in certified_parts(positions, faces, &local, &patch, MAX_SPLIT_DEPTH) {
+        for part in certified_parts(positions, faces, &patch, MAX_SPLIT_DEPTH, &mut scratch) {
             if next_label == MAX_LABELS {
                 return labels;
             }
@@ -131,15 +132,14 @@ pub(crate) fn certified_patches(
     labels
 }
 
-/// The certified parts of `patch` (faces whose corners `local` numbers), a patch that failed
-/// as a whole: its faces wound counter-clockwise along its axis, by connected patches, tried
+/// The certified parts of `patch`, a patch that failed as a whole: its faces wound counter-clockwise along its axis, by connected patches, tried
 /// along that axis; the others split again along their own axis, `depth` more times.
 fn certified_parts(
     positions: &[Vec3],
     faces: &[[u32; 3]],
-    local: &LocalVertices,
     patch: &[u32],
     depth: u32,
+    scratch: &mut LocalVertices,
 ) -> Vec<Vec<u32>> {
     let Some(projection) = Projection::of(positions, faces, patch) else {
         return Vec::new();
@@ -147,15 +147,15 @@ fn certified_parts(
     let (wound, others): (Vec<u32>, Vec<u32>) = patch.iter().partition(|&&f| projection.wound(f));
     let mut parts = Vec::new();
     if !others.is_empty() {
-        for part in connected_parts(local, faces, &wound) {
-            parts.extend(peeled_until_certified(&projection, faces, local, part, MAX_PEELS));
+        for part in connected_parts(faces, &wound, scratch) {
+            parts.extend(peeled_until_certified(&projection, faces, part, MAX_PEELS, scratch));
         }
     }
     if depth > 0 && others.len() >= MIN_PATCH_FACES {
-        for part in connected_parts(local, faces, &others) {
+        for part in connected_parts(faces, &others, scratch) {
             match Projection::of(positions, faces, &part) {
-                Some(own) if own.check(&part, local) == Check::Embedded => parts.push(part),
-                _ => parts.extend(certified_parts(positions, faces, local, &part, depth - 1)),
+                Some(own) if own.check(&part, scratch) == Check::Embedded => parts.push(part),
+                _ => parts.extend(certified_parts(positions, faces, &part, depth - 1, scratch)),
             }
         }
     }
@@ -170,32 +170,36 @@ fn certified_parts(
 fn peeled_until_certified(
     projection: &Projection,
     faces: &[[u32; 3]],
-    local: &LocalVertices,
     part: Vec<u32>,
     peels: u32,
+    scratch: &mut LocalVertices,
 ) -> Vec<Vec<u32>> {
-    match projection.check(&part, local) {
+    match projection.check(&part, scratch) {
         Check::Embedded => vec![part],
         Check::Boundary(mut failing) if peels > 0 => {
             failing.sort_unstable();
             let touches = |f: &u32| faces[*f as usize].iter().any(|v| failing.binary_search(v).is_ok());
             let rest: Vec<u32> = part.into_iter().filter(|f| !touches(f)).collect();
-            connected_parts(local, faces, &rest)
-                .into_iter()
-                .flat_map(|p| peeled_until_certified(projection, faces, local, p, peels - 1))
-                .collect()
+            let mut certified = Vec::new();
+            for p in connected_parts(faces, &rest, scratch) {
+                certified.extend(peeled_until_certified(projection, faces, p, peels - 1, scratch));
+            }
+            certified
         }
         _ => Vec::new(),
     }
 }
 
-/// The connected patches of `chosen` (faces whose corners `local` numbers) with at least
-/// [`MIN_PATCH_FACES`] faces.
-fn connected_parts(local: &LocalVertices, faces: &[[u32; 3]], chosen: &[u32]) -> Vec<Vec<u32>> {
-    let roots = patch_roots(local, faces, chosen);
+/// The connected patches of `chosen` with at least [`MIN_PATCH_FACES`] faces (`scratch`
+/// numbers their corners on the way, and is left cleared).
+fn connected_parts(faces: &[[u32; 3]], chosen: &[u32], scratch: &mut LocalVertices) -> Vec<Vec<u32>> {
+    scratch.add_corners(faces, chosen);
+    let corners = &*scratch;
+    let roots = patch_roots(corners.len(), |v| corners.of(v), faces, chosen);
     // Faces by root, each patch's in the order chosen.
     let mut by_root: Vec<(u32, u32)> =
-        chosen.iter().zip(0..).map(|(&f, k)| (roots[local.of(faces[f as usize][0])], k)).collect();
+        chosen.iter().zip(0..).map(|(&f, k)| (roots[corners.of(faces[f as usize][0])], k)).collect();
+    scratch.clear();
     by_root.sort_unstable();
     let mut parts: Vec<Vec<u32>> = by_root
         .chunk_by(|a, b| a.0 == b.0)
@@ -211,8 +215,8 @@ pub(crate) const UNCERTIFIED: u32 = u32::MAX;
 
 /// For each numbered vertex, one that stands for its connected patch among the faces
 /// `chosen` (whose corners are all numbered).
-fn patch_roots(local: &LocalVertices, faces: &[[u32; 3]], chosen: &[u32]) -> Vec<u32> {
-    let mut parent: Vec<u32> = (0..local.len() as u32).collect();
+fn patch_roots(count: usize, number: impl Fn(u32) -> usize, faces: &[[u32; 3]], chosen: &[u32]) -> Vec<u32> {
+    let mut parent: Vec<u32> = (0..count as u32).collect();
     fn root(parent: &mut [u32], mut x: u32) -> u32 {
         while parent[x as usize] != x {
             let up = parent[parent[x as usize] as usize];
@@ -222,7 +226,7 @@ fn patch_roots(local: &LocalVertices, faces: &[[u32; 3]], chosen: &[u32]) -> Vec
         x
     }
     for &f in chosen {
-        let [a, b, c] = faces[f as usize].map(|v| local.of(v) as u32);
+        let [a, b, c] = faces[f as usize].map(|v| number(v) as u32);
         for other in [b, c] {
             let (ra, ro) = (root(&mut parent, a), root(&mut parent, other));
             parent[ra.max(ro) as usize] = ra.min(ro);
@@ -287,16 +291,26 @@ impl<'a> Projection<'a> {
         orient2d(a, b, c) > 0
     }
 
-    /// Whether the faces `patch` (whose corners `local` numbers) are certified embedded in this
-    /// projection (conditions 1 and 2 of the module documentation), and if not, where.
-    fn check(&self, patch: &[u32], local: &LocalVertices) -> Check {
+    /// Whether the faces `patch` are certified embedded in this projection (conditions 1 and 2
+    /// of the module documentation), and if not, where (`scratch` numbers their corners on
+    /// the way, and is left cleared).
+    fn check(&self, patch: &[u32], scratch: &mut LocalVertices) -> Check {
         if !patch.iter().all(|&f| self.wound(f)) {
             return Check::Refused;
         }
-        let Some(boundary) = boundary_edges(self.faces, patch, local) else {
+        scratch.add_corners(self.faces, patch);
+        let found = self.check_boundary(patch, scratch);
+        scratch.clear();
+        found
+    }
+
+    /// Condition 2 for the faces `patch`, wound counter-clockwise, whose corners `corners`
+    /// numbers.
+    fn check_boundary(&self, patch: &[u32], corners: &LocalVertices) -> Check {
+        let Some(boundary) = boundary_edges(self.faces, patch, corners) else {
             return Check::Refused;
         };
-        let loops = match closed_loops(&boundary, local) {
+        let loops = match closed_loops(&boundary, corners) {
             Ok(loops) => loops,
             Err(pinches) => return Check::Boundary(pinches),
         };
@@ -396,33 +410,33 @@ impl<'a> Projection<'a> {
 
 /// The patch's boundary chain as directed edges, each once; `None` when an edge is left over
 /// more than once in one direction (the chain is not a set of single edges).
-fn boundary_edges(faces: &[[u32; 3]], patch: &[u32], local: &LocalVertices) -> Option<Vec<(u32, u32)>> {
+fn boundary_edges(faces: &[[u32; 3]], patch: &[u32], corners: &LocalVertices) -> Option<Vec<(u32, u32)>> {
     // Every directed edge filed under its smaller end (compressed rows), with +1 when it runs
     // from the smaller end and −1 otherwise.
-    let mut starts = vec![0u32; local.len() + 1];
+    let mut starts = vec![0u32; corners.len() + 1];
     let edges = |f: u32| {
         let [a, b, c] = faces[f as usize];
         [(a, b), (b, c), (c, a)]
     };
     for &f in patch {
         for (a, b) in edges(f) {
-            starts[local.of(a.min(b)) + 1] += 1;
+            starts[corners.of(a.min(b)) + 1] += 1;
         }
     }
-    for k in 0..local.len() {
+    for k in 0..corners.len() {
         starts[k + 1] += starts[k];
     }
     let mut fill = starts.clone();
     let mut filed = vec![(0u32, 0i32); 3 * patch.len()];
     for &f in patch {
         for (a, b) in edges(f) {
-            let row = local.of(a.min(b));
+            let row = corners.of(a.min(b));
             filed[fill[row] as usize] = (a.max(b), if a < b { 1 } else { -1 });
             fill[row] += 1;
         }
     }
     let mut boundary = Vec::new();
-    for (row, &low) in local.vertices.iter().enumerate() {
+    for (row, &low) in corners.vertices.iter().enumerate() {
         let edges = &mut filed[starts[row] as usize..starts[row + 1] as usize];
         edges.sort_unstable_by_key(|e| e.0);
         for run in edges.chunk_by(|x, y| x.0 == y.0) {
@@ -440,11 +454,11 @@ fn boundary_edges(faces: &[[u32; 3]], patch: &[u32], local: &LocalVertices) -> O
 
 /// `edges` as closed loops through distinct vertices, each as its vertices in order; otherwise
 /// the vertices that more than one edge leaves (empty when the edges do not close up).
-fn closed_loops(edges: &[(u32, u32)], local: &LocalVertices) -> Result<Vec<Vec<u32>>, Vec<u32>> {
-    let mut next = vec![NONE; local.len()];
+fn closed_loops(edges: &[(u32, u32)], corners: &LocalVertices) -> Result<Vec<Vec<u32>>, Vec<u32>> {
+    let mut next = vec![NONE; corners.len()];
     let mut pinches = Vec::new();
     for &(a, b) in edges {
-        let slot = &mut next[local.of(a)];
+        let slot = &mut next[corners.of(a)];
         if *slot != NONE {
             pinches.push(a);
         }
@@ -453,23 +467,23 @@ fn closed_loops(edges: &[(u32, u32)], local: &LocalVertices) -> Result<Vec<Vec<u
     if !pinches.is_empty() {
         return Err(pinches);
     }
-    let mut walked = vec![false; local.len()];
+    let mut walked = vec![false; corners.len()];
     let mut loops = Vec::new();
     for &(start, _) in edges {
-        if walked[local.of(start)] {
+        if walked[corners.of(start)] {
             continue;
         }
         let mut walk = Vec::new();
         let mut at = start;
         loop {
-            let k = local.of(at);
+            let k = corners.of(at);
             if walked[k] {
                 return Err(Vec::new());
             }
             walked[k] = true;
             walk.push(at);
             at = next[k];
-            if at == NONE || local.get(at).is_none() {
+            if at == NONE || corners.get(at).is_none() {
                 return Err(Vec::new());
             }
             if at == start {

@@ -46,6 +46,12 @@ impl LocalVertices {
     pub(crate) fn len(&self) -> usize {
         self.vertices.len()
     }
+
+    /// Forgets every number, at the cost of the vertices numbered (not of the mesh).
+    pub(crate) fn clear(&mut self) {
+        self.vertices.iter().for_each(|&v| self.number[v as usize] = NONE);
+        self.vertices.clear();
+    }
 }
 
 #[cfg(test)]
@@ -61,5 +67,10 @@ mod tests {
         assert_eq!(local.vertices, [4, 2, 7, 9, 0]);
         assert_eq!((local.of(9), local.get(0), local.get(3), local.get(99)), (3, Some(4), None, None));
         assert_eq!(local.len(), 5);
+        // Cleared, every number is forgotten and numbering starts again.
+        local.clear();
+        assert_eq!((local.len(), local.get(4), local.get(9)), (0, None, None));
+        local.add(9);
+        assert_eq!((local.of(9), local.vertices.as_slice()), (0, &[9][..]));
     }
 }
