@@ -35,7 +35,7 @@ use std::collections::HashSet;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::guard_pairs::{Reach, pairs_to_test, pairs_within_scale};
+use super::guard_pairs::{KnownPatches, Reach, pairs_to_test, pairs_within_scale};
 use super::map::PendingDisplacement;
 use crate::mesh::face_sort::FaceSort;
 use crate::mesh::self_intersect::faces_cross;
@@ -109,7 +109,15 @@ pub(crate) fn makes_new_crossings(
 ) -> bool {
     let moved_faces = faces_with_moved_corner(faces, &pending.moved);
     !turned_over(faces, before, &pending.positions, &moved_faces).is_empty()
-        || !new_crossing_pairs(faces, before, &pending.positions, &pending.moved, presorted).is_empty()
+        || !new_crossing_pairs(
+            faces,
+            before,
+            &pending.positions,
+            &pending.moved,
+            presorted,
+            &mut KnownPatches::default(),
+        )
+        .is_empty()
 }
 
 /// The pairs of faces that cross at `positions` (`before` with the vertices `moved` flags
@@ -121,8 +129,9 @@ fn new_crossing_pairs(
     positions: &[Vec3],
     moved: &[bool],
     presorted: Option<FaceSort>,
+    known: &mut KnownPatches,
 ) -> Vec<(u32, u32)> {
-    let pairs = pairs_to_test(faces, before, positions, moved, Reach::Full, presorted);
+    let pairs = pairs_to_test(faces, before, positions, moved, Reach::Full, presorted, known);
     let crossing = crossing_pairs(faces, positions, &pairs);
     if crossing.is_empty() {
         return crossing;
@@ -196,7 +205,9 @@ fn scaled(before: Vec3, after: Vec3, s: f32) -> Vec3 {
 fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], moved: &[bool]) -> Option<Limit> {
     let moved_faces = faces_with_moved_corner(faces, moved);
     let turned_over_after = turned_over(faces, before, after, &moved_faces);
-    let new_crossings = |positions: &[Vec3]| new_crossing_pairs(faces, before, positions, moved, None);
+    // The checks at the scales the search finds try the patches the first one certified.
+    let mut known = KnownPatches::default();
+    let mut new_crossings = |positions: &[Vec3]| new_crossing_pairs(faces, before, positions, moved, None, &mut known);
     let crossing_after = new_crossings(after);
     let crosses = !crossing_after.is_empty();
     if !crosses && turned_over_after.is_empty() {
@@ -223,7 +234,7 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
         hi = lo;
     }
     // Every pair that could cross at some scale, less those that crossed before.
-    let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled, None);
+    let pairs = pairs_to_test(faces, before, after, moved, Reach::Scaled, None, &mut KnownPatches::default());
     let crossed_before: HashSet<(u32, u32)> = crossing_pairs(faces, before, &pairs).into_iter().collect();
     let watched: Vec<(u32, u32)> = pairs.into_iter().filter(|p| !crossed_before.contains(p)).collect();
     limit(search_scale(faces, before, after, moved, &may_turn, watched, (0.0, hi), &mut positions))

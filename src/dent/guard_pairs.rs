@@ -40,8 +40,15 @@ use rayon::prelude::*;
 use crate::mesh::cover_mask::CoverMask;
 use crate::mesh::face_grid::{Aabb, overlapping_pairs, pairs_between};
 use crate::mesh::face_sort::{FaceSort, MARK_A, out_code};
-use crate::mesh::height_field::{UNCERTIFIED, certified_patches};
+use crate::mesh::height_field::{CertifiedPart, PatchLabels, UNCERTIFIED, certified_again, certified_patches};
 use crate::mesh::umbrella::Umbrellas;
+
+/// The height-field patches the first check of a dent at the full displacement certified,
+/// kept for its checks at other scales (the guard's bisection): those try these patches alone,
+/// each checked again at its own positions, instead of searching for patches anew. Empty until
+/// a check fills it.
+#[derive(Debug, Default)]
+pub(crate) struct KnownPatches(Option<Vec<CertifiedPart>>);
 
 /// Which scales of the displacement the pairs are wanted for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,7 +71,9 @@ pub(crate) enum Reach {
 /// as `(smaller, larger)` index. `presorted`, when given, is a sort of the faces made
 /// beforehand (for example in the volume stage's pass) whose marked faces include every face
 /// with a moved corner (they may include unmoved ones); it saves a pass over the faces when
-/// every marked face's corners lie in its region before and after the move.
+/// every marked face's corners lie in its region before and after the move. `known`: for
+/// [`Reach::Full`], the patches an earlier check of the same dent certified, tried alone
+/// instead of searching anew; an empty one is filled with the patches this check certifies.
 pub(crate) fn pairs_to_test(
     faces: &[[u32; 3]],
     before: &[Vec3],
@@ -72,6 +81,7 @@ pub(crate) fn pairs_to_test(
     moved: &[bool],
     reach: Reach,
     presorted: Option<FaceSort>,
+    known: &mut KnownPatches,
 ) -> Vec<(u32, u32)> {
     // The near set's completeness (every face around a corner of a moved face) rests on this.
     debug_assert!(
@@ -83,7 +93,7 @@ pub(crate) fn pairs_to_test(
         return Vec::new();
     }
     if reach == Reach::Full {
-        return full_reach_pairs(faces, after, &near);
+        return full_reach_pairs(faces, after, &near, known);
     }
     let candidates = overlapping_pairs(&near.reached, near.active, |_, _| true);
     let id = |(i, j): (u32, u32)| {
@@ -139,9 +149,13 @@ pub(crate) fn pairs_within_scale(
 /// unmoved faces where that is certified too (`mesh::height_field`: none of its faces cross;
 /// its pairs are not even enumerated), and those sharing a vertex whose umbrella is certified
 /// after the move (`mesh::umbrella`: they only touch).
-fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces) -> Vec<(u32, u32)> {
-    let (moved_labels, ring_labels) =
-        certified_patches(after, faces, &near.faces[..near.active], &near.faces[near.active..]);
+fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces, known: &mut KnownPatches) -> Vec<(u32, u32)> {
+    let (moved, ring) = (&near.faces[..near.active], &near.faces[near.active..]);
+    let PatchLabels { moved: moved_labels, ring: ring_labels, parts } = match &known.0 {
+        Some(patches) => certified_again(after, faces, moved, ring, patches),
+        None => certified_patches(after, faces, moved, ring),
+    };
+    known.0.get_or_insert(parts);
     let label = |k: u32| match (k as usize).checked_sub(near.active) {
         None => moved_labels[k as usize],
         Some(unmoved) => ring_labels[unmoved],
@@ -522,20 +536,33 @@ mod tests {
         after[3].z = -1.0;
         let moved = [false, false, false, true, false, false];
         for reach in [Reach::Full, Reach::Scaled] {
-            assert_eq!(pairs_to_test(&faces, &before, &after, &moved, reach, None), vec![(0, 1)], "{reach:?}");
+            assert_eq!(
+                pairs_to_test(&faces, &before, &after, &moved, reach, None, &mut KnownPatches::default()),
+                vec![(0, 1)],
+                "{reach:?}"
+            );
         }
         // With a repeated corner the moved face has no area and crosses nothing.
         let collapsed = [[0, 1, 2], [3, 3, 5]];
         after[3].z = -1.0;
-        assert_eq!(pairs_to_test(&collapsed, &before, &after, &moved, Reach::Scaled, None), vec![]);
+        assert_eq!(
+            pairs_to_test(&collapsed, &before, &after, &moved, Reach::Scaled, None, &mut KnownPatches::default()),
+            vec![]
+        );
         // A sort made beforehand around where the moved vertex was (say, before a rim rose) does
         // not hold where it went: it is not used, and the pair is still found.
         let stale = sort_faces(&faces, &before, &moved, Aabb { min: Vec3::splat(0.9), max: Vec3::splat(2.1) });
         assert_eq!((&stale.marked[..], &stale.maybe[..]), (&[1][..], &[][..]), "face 0 lies outside");
-        assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Full, Some(stale)), vec![(0, 1)]);
+        assert_eq!(
+            pairs_to_test(&faces, &before, &after, &moved, Reach::Full, Some(stale), &mut KnownPatches::default()),
+            vec![(0, 1)]
+        );
         // Pushed only halfway down to the large face: cleared by the gap.
         after[3].z = 0.6;
-        assert_eq!(pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled, None), vec![]);
+        assert_eq!(
+            pairs_to_test(&faces, &before, &after, &moved, Reach::Scaled, None, &mut KnownPatches::default()),
+            vec![]
+        );
     }
 
     /// Two parallel sheets 0.1 apart, the upper one's middle pushed down through the lower one
@@ -569,10 +596,10 @@ mod tests {
             let active: Vec<u32> =
                 (0..faces.len() as u32).filter(|&f| faces[f as usize].iter().any(|&v| moved[v as usize])).collect();
             let unmoved: Vec<u32> = (0..faces.len() as u32).filter(|f| !active.contains(f)).collect();
-            let (labels, ring) = certified_patches(&after, &faces, &active, &unmoved);
+            let PatchLabels { moved: labels, ring, .. } = certified_patches(&after, &faces, &active, &unmoved);
             assert!(labels.iter().all(|&l| l != UNCERTIFIED), "the height-field path is taken");
             assert!(ring.iter().filter(|&&l| l != UNCERTIFIED).count() >= 40, "with the rings");
-            let pairs = pairs_to_test(&faces, &before, &after, &moved, Reach::Full, None);
+            let pairs = pairs_to_test(&faces, &before, &after, &moved, Reach::Full, None, &mut KnownPatches::default());
             let crossing: Vec<(u32, u32)> =
                 pairs.iter().copied().filter(|&(f, g)| faces_cross(&after, &faces, f, g)).collect();
             assert!(crossing.iter().all(|&(f, g)| (f as usize) < upper_faces && g as usize >= upper_faces));
@@ -599,7 +626,8 @@ mod tests {
                 .collect();
             let sort = FaceSort::new(&faces, &codes, Some(region));
             assert!(sort.marked.len() > active.len());
-            let presorted = pairs_to_test(&faces, &before, &after, &moved, Reach::Full, Some(sort));
+            let presorted =
+                pairs_to_test(&faces, &before, &after, &moved, Reach::Full, Some(sort), &mut KnownPatches::default());
             let mut found: Vec<(u32, u32)> =
                 presorted.into_iter().filter(|&(f, g)| faces_cross(&after, &faces, f, g)).collect();
             let mut expected = crossing.clone();

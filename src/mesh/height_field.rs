@@ -56,6 +56,26 @@ const MAX_PEELS: u32 = 3;
 /// At most this many certified patches, parts of split ones included.
 const MAX_LABELS: u32 = 64;
 
+/// Certified patches: a label per face, and the patches themselves.
+#[derive(Debug, Default)]
+pub(crate) struct PatchLabels {
+    /// Per face of the candidates, its patch's number or [`UNCERTIFIED`].
+    pub(crate) moved: Vec<u32>,
+    /// Per face of `around`, the number of the patch it was certified with, or [`UNCERTIFIED`].
+    pub(crate) ring: Vec<u32>,
+    /// Each certified patch, by number.
+    pub(crate) parts: Vec<CertifiedPart>,
+}
+
+/// A certified patch: its faces and the coordinate plane it was certified a height field over.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct CertifiedPart {
+    pub(crate) faces: Vec<u32>,
+    /// The projection's two coordinates, in the order that makes counter-clockwise the side
+    /// the patch faces.
+    plane: [usize; 2],
+}
+
 /// Labels for the faces `candidates` and `around` (faces of `faces` at `positions`): the
 /// candidates' connected patches (faces joined through a shared vertex) that are certified
 /// (module documentation) are numbered, 0 for the largest, counting up as the patches shrink,
@@ -69,7 +89,7 @@ pub(crate) fn certified_patches(
     faces: &[[u32; 3]],
     candidates: &[u32],
     around: &[u32],
-) -> (Vec<u32>, Vec<u32>) {
+) -> PatchLabels {
     let mut local = LocalVertices::new(positions.len());
     local.add_corners(faces, candidates);
     let vertex_roots = patch_roots(local.len(), |v| local.of(v), faces, candidates);
@@ -88,7 +108,11 @@ pub(crate) fn certified_patches(
     let mut tried: Vec<u32> = (0..sizes.len() as u32).filter(|&r| sizes[r as usize] >= MIN_PATCH_FACES).collect();
     tried.sort_unstable_by_key(|&r| std::cmp::Reverse(sizes[r as usize]));
     tried.truncate(MAX_PATCHES);
-    let mut labels = (vec![UNCERTIFIED; candidates.len()], vec![UNCERTIFIED; around.len()]);
+    let mut labels = PatchLabels {
+        moved: vec![UNCERTIFIED; candidates.len()],
+        ring: vec![UNCERTIFIED; around.len()],
+        parts: Vec::new(),
+    };
     let mut next_label = 0;
     // Numbers the corners of one patch or part at a time.
     let mut scratch = LocalVertices::new(positions.len());
@@ -99,15 +123,17 @@ pub(crate) fn certified_patches(
         let patch: Vec<u32> = members.iter().map(|&k| candidates[k]).collect();
         let with_ring: Vec<u32> = patch.iter().copied().chain(ring_members.iter().map(|&k| around[k])).collect();
         let mut embedded = |faces_of: &[u32]| {
-            Projection::of(positions, faces, faces_of)
-                .is_some_and(|p| p.check(faces_of, &mut scratch) == Check::Embedded)
+            let projection = Projection::of(positions, faces, faces_of)?;
+            (projection.check(faces_of, &mut scratch) == Check::Embedded).then_some(projection.plane())
         };
-        let ring_too = !ring_members.is_empty() && embedded(&with_ring);
-        if ring_too || embedded(&patch) {
-            members.iter().for_each(|&k| labels.0[k] = next_label);
+        let ring_plane = if ring_members.is_empty() { None } else { embedded(&with_ring) };
+        let ring_too = ring_plane.is_some();
+        if let Some(plane) = ring_plane.or_else(|| embedded(&patch)) {
+            members.iter().for_each(|&k| labels.moved[k] = next_label);
             if ring_too {
-                ring_members.iter().for_each(|&k| labels.1[k] = next_label);
+                ring_members.iter().for_each(|&k| labels.ring[k] = next_label);
             }
+            labels.parts.push(CertifiedPart { faces: if ring_too { with_ring } else { patch }, plane });
             next_label += 1;
         } else {
             failed.push(members);
@@ -125,22 +151,66 @@ pub(crate) fn certified_patches(
             if next_label == MAX_LABELS {
                 return labels;
             }
-            part.iter().for_each(|&f| labels.0[index_of[f as usize] as usize] = next_label);
+            part.faces.iter().for_each(|&f| labels.moved[index_of[f as usize] as usize] = next_label);
+            labels.parts.push(part);
             next_label += 1;
         }
     }
     labels
 }
 
-/// The certified parts of `patch`, a patch that failed as a whole: its faces wound counter-clockwise along its axis, by connected patches, tried
-/// along that axis; the others split again along their own axis, `depth` more times.
+/// Labels for the faces `candidates` and `around`, as [`certified_patches`] gives them, from
+/// the patches `known` (certified by an earlier call for other positions of the same faces):
+/// each is checked again at `positions`, alone and over its own plane, and those still
+/// certified are numbered in turn
+/// (their faces among `candidates` and `around` get the number). No new patch is searched for.
+pub(crate) fn certified_again(
+    positions: &[Vec3],
+    faces: &[[u32; 3]],
+    candidates: &[u32],
+    around: &[u32],
+    known: &[CertifiedPart],
+) -> PatchLabels {
+    let mut labels = PatchLabels {
+        moved: vec![UNCERTIFIED; candidates.len()],
+        ring: vec![UNCERTIFIED; around.len()],
+        parts: Vec::new(),
+    };
+    // Where each face sits: in `candidates` (k) or in `around` (candidates.len() + k).
+    let mut place = vec![NONE; faces.len()];
+    candidates.iter().chain(around).zip(0..).for_each(|(&f, k)| place[f as usize] = k);
+    let mut scratch = LocalVertices::new(positions.len());
+    for part in known {
+        let projection = Projection::along(positions, faces, part.plane);
+        if projection.check(&part.faces, &mut scratch) != Check::Embedded {
+            continue;
+        }
+        let label = labels.parts.len() as u32;
+        for &f in &part.faces {
+            let k = place[f as usize];
+            if k == NONE {
+                continue;
+            }
+            match (k as usize).checked_sub(candidates.len()) {
+                None => labels.moved[k as usize] = label,
+                Some(r) => labels.ring[r] = label,
+            }
+        }
+        labels.parts.push(part.clone());
+    }
+    labels
+}
+
+/// The certified parts of `patch`, a patch that failed as a whole: its faces wound
+/// counter-clockwise along its axis, by connected patches, tried along that axis; the others
+/// split again along their own axis, `depth` more times.
 fn certified_parts(
     positions: &[Vec3],
     faces: &[[u32; 3]],
     patch: &[u32],
     depth: u32,
     scratch: &mut LocalVertices,
-) -> Vec<Vec<u32>> {
+) -> Vec<CertifiedPart> {
     let Some(projection) = Projection::of(positions, faces, patch) else {
         return Vec::new();
     };
@@ -154,7 +224,9 @@ fn certified_parts(
     if depth > 0 && others.len() >= MIN_PATCH_FACES {
         for part in connected_parts(faces, &others, scratch) {
             match Projection::of(positions, faces, &part) {
-                Some(own) if own.check(&part, scratch) == Check::Embedded => parts.push(part),
+                Some(own) if own.check(&part, scratch) == Check::Embedded => {
+                    parts.push(CertifiedPart { faces: part, plane: own.plane() })
+                }
                 _ => parts.extend(certified_parts(positions, faces, &part, depth - 1, scratch)),
             }
         }
@@ -173,9 +245,9 @@ fn peeled_until_certified(
     part: Vec<u32>,
     peels: u32,
     scratch: &mut LocalVertices,
-) -> Vec<Vec<u32>> {
+) -> Vec<CertifiedPart> {
     match projection.check(&part, scratch) {
-        Check::Embedded => vec![part],
+        Check::Embedded => vec![CertifiedPart { faces: part, plane: projection.plane() }],
         Check::Boundary(mut failing) if peels > 0 => {
             failing.sort_unstable();
             let touches = |f: &u32| faces[*f as usize].iter().any(|v| failing.binary_search(v).is_ok());
@@ -278,6 +350,16 @@ impl<'a> Projection<'a> {
             std::mem::swap(&mut u, &mut v);
         }
         Some(Self { positions, faces, u, v })
+    }
+
+    /// The projection onto `plane` (as [`plane`](Self::plane) gives it).
+    fn along(positions: &'a [Vec3], faces: &'a [[u32; 3]], plane: [usize; 2]) -> Self {
+        Self { positions, faces, u: plane[0], v: plane[1] }
+    }
+
+    /// The two coordinates kept, in order.
+    fn plane(&self) -> [usize; 2] {
+        [self.u, self.v]
     }
 
     fn flat(&self, x: u32) -> [f64; 2] {
@@ -510,7 +592,7 @@ mod tests {
 
     /// Whether each of `chosen` lies in a certified patch.
     fn certified_patch(positions: &[Vec3], faces: &[[u32; 3]], chosen: &[u32]) -> Vec<bool> {
-        certified_patches(positions, faces, chosen, &[]).0.into_iter().map(|l| l != UNCERTIFIED).collect()
+        certified_patches(positions, faces, chosen, &[]).moved.into_iter().map(|l| l != UNCERTIFIED).collect()
     }
 
     #[test]
@@ -533,7 +615,7 @@ mod tests {
         positions[3 * 7 + 3].x += 0.4;
         let corners = |f: usize| faces[f].map(|v| positions[v as usize].as_dvec3());
         assert!((0..faces.len()).any(|f| (0..faces.len()).any(|g| triangles_cross(corners(f), corners(g)))));
-        let (labels, _) = certified_patches(&positions, &faces, &all(&faces), &[]);
+        let PatchLabels { moved: labels, .. } = certified_patches(&positions, &faces, &all(&faces), &[]);
         assert!(labels.iter().any(|&l| l != 0), "not certified whole");
         for f in (0..faces.len()).filter(|&f| labels[f] != UNCERTIFIED) {
             for g in (f + 1..faces.len()).filter(|&g| labels[g] == labels[f]) {
@@ -583,7 +665,7 @@ mod tests {
         let positions: Vec<Vec3> =
             plate.positions().iter().map(|&p| p - Vec3::Y * 0.05 * (-(p.x * p.x + p.z * p.z) * 8.0).exp()).collect();
         let faces = plate.faces();
-        let (labels, _) = certified_patches(&positions, faces, &all(faces), &[]);
+        let PatchLabels { moved: labels, .. } = certified_patches(&positions, faces, &all(faces), &[]);
         let certified = labels.iter().filter(|&&l| l != UNCERTIFIED).count();
         assert!(certified * 10 >= faces.len() * 9, "{certified} of {} faces certified", faces.len());
         let top = labels
@@ -599,6 +681,52 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The parts certified at one dent depth, checked again: at the same positions all of them,
+    /// in order, each with its faces' labels (ring faces too); at half the depth, only parts
+    /// with no crossing pair; with a vertex pushed across its neighbours, the parts holding it
+    /// are refused (their faces left uncertified) and the others keep theirs.
+    #[test]
+    fn known_parts_are_checked_again_and_a_folded_one_is_refused() {
+        let plate = crate::mesh::primitives::subdivided_box(Vec3::new(1.0, 0.1, 1.0), [12, 2, 12]).expect("box");
+        let dented = |depth: f32| -> Vec<Vec3> {
+            plate.positions().iter().map(|&p| p - Vec3::Y * depth * (-(p.x * p.x + p.z * p.z) * 8.0).exp()).collect()
+        };
+        let faces = plate.faces();
+        let (candidates, around): (Vec<u32>, Vec<u32>) = (0..faces.len() as u32).partition(|f| f % 7 != 0);
+        let first = certified_patches(&dented(0.05), faces, &candidates, &around);
+        assert!(first.parts.len() >= 2, "{} parts", first.parts.len());
+        let same = certified_again(&dented(0.05), faces, &candidates, &around, &first.parts);
+        assert_eq!(same.parts, first.parts);
+        let label_of = |labels: &PatchLabels, f: u32| match candidates.iter().position(|&c| c == f) {
+            Some(k) => labels.moved[k],
+            None => labels.ring[around.iter().position(|&a| a == f).unwrap()],
+        };
+        for (l, part) in same.parts.iter().enumerate() {
+            assert!(part.faces.iter().all(|&f| label_of(&same, f) == l as u32), "part {l}");
+        }
+        let no_crossing = |positions: &[Vec3], labels: &PatchLabels| {
+            let corners = |f: u32| faces[f as usize].map(|v| positions[v as usize].as_dvec3());
+            labels.parts.iter().map(|part| &part.faces).all(|part| {
+                part.iter()
+                    .enumerate()
+                    .all(|(i, &f)| part[i + 1..].iter().all(|&g| !triangles_cross(corners(f), corners(g))))
+            })
+        };
+        let half = dented(0.025);
+        assert!(no_crossing(&half, &certified_again(&half, faces, &candidates, &around, &first.parts)));
+        // One top vertex pushed far across its neighbours: the parts around it fold.
+        let mut folded = dented(0.05);
+        let top = (0..folded.len()).filter(|&v| plate.positions()[v].y > 0.04).nth(40).unwrap();
+        folded[top] += Vec3::new(0.3, 0.0, 0.3);
+        let again = certified_again(&folded, faces, &candidates, &around, &first.parts);
+        let holding = |part: &CertifiedPart| part.faces.iter().any(|&f| faces[f as usize].contains(&(top as u32)));
+        let (broken, kept): (Vec<&CertifiedPart>, Vec<&CertifiedPart>) = first.parts.iter().partition(|p| holding(p));
+        assert!(!broken.is_empty() && !kept.is_empty());
+        assert!(broken.iter().flat_map(|p| p.faces.iter()).all(|&f| label_of(&again, f) == UNCERTIFIED));
+        assert_eq!(again.parts, kept.into_iter().cloned().collect::<Vec<_>>());
+        assert!(no_crossing(&folded, &again));
     }
 
     /// Soundness against the exact test: dented sheets jittered enough to fold now and then,
@@ -620,7 +748,7 @@ mod tests {
             let chosen: Vec<u32> =
                 (0..faces.len() as u32).filter(|&f| inside(positions[faces[f as usize][0] as usize])).collect();
             // Every certified patch or part (each one's promise is its own).
-            let (labels, _) = certified_patches(&positions, &faces, &chosen, &[]);
+            let PatchLabels { moved: labels, .. } = certified_patches(&positions, &faces, &chosen, &[]);
             // Certified whole (one patch holds every face), or refused or split.
             if labels.iter().all(|&l| l == 0) {
                 certified += 1;
@@ -651,7 +779,7 @@ mod tests {
             for p in positions.iter_mut() {
                 *p += Vec3::new(next() - 0.5, 0.6 * (next() - 0.5), next() - 0.5) * amplitude;
             }
-            let (labels, _) = certified_patches(&positions, &faces, &all(&faces), &[]);
+            let PatchLabels { moved: labels, .. } = certified_patches(&positions, &faces, &all(&faces), &[]);
             let parts: std::collections::HashSet<u32> = labels.iter().copied().filter(|&l| l != UNCERTIFIED).collect();
             rounds_with_parts += usize::from(parts.len() > 1 || labels.contains(&UNCERTIFIED) && !parts.is_empty());
             let corners = |f: usize| faces[f].map(|v| positions[v as usize].as_dvec3());
@@ -674,7 +802,7 @@ mod tests {
         for p in positions.iter_mut().filter(|p| p.x > 0.5) {
             *p = Vec3::new(1.0 - p.x, 0.2, p.z);
         }
-        let (labels, _) = certified_patches(&positions, &faces, &all(&faces), &[]);
+        let PatchLabels { moved: labels, .. } = certified_patches(&positions, &faces, &all(&faces), &[]);
         assert!(labels.contains(&UNCERTIFIED) || labels.iter().any(|&l| l != labels[0]), "not one patch");
         for (f, &l) in labels.iter().enumerate().filter(|(_, l)| **l != UNCERTIFIED) {
             for (g, _) in labels.iter().enumerate().filter(|(_, m)| **m == l) {
@@ -740,7 +868,7 @@ mod tests {
         let patch: Vec<u32> = (0..faces.len() as u32).filter(|&f| raised(&faces[f as usize])).collect();
         let others: Vec<u32> = (0..faces.len() as u32).filter(|f| !patch.contains(f)).collect();
         let touches = |f: u32| faces[f as usize].iter().any(|v| patch.iter().any(|&g| faces[g as usize].contains(v)));
-        let (labels, ring) = certified_patches(&positions, &faces, &patch, &others);
+        let PatchLabels { moved: labels, ring, .. } = certified_patches(&positions, &faces, &patch, &others);
         assert!(labels.iter().all(|&l| l == 0));
         assert!(others.iter().zip(&ring).all(|(&f, &l)| (l == 0) == touches(f)), "the ring is the faces touching");
         // A vertex of the ring, away from the patch, pushed across its neighbours.
@@ -752,7 +880,7 @@ mod tests {
                 && !patch.iter().any(|&g| faces[g as usize].contains(&(v as u32)))
         });
         positions[far.expect("a ring vertex off the patch")].x += 0.3;
-        let (labels, ring) = certified_patches(&positions, &faces, &patch, &others);
+        let PatchLabels { moved: labels, ring, .. } = certified_patches(&positions, &faces, &patch, &others);
         assert!(labels.iter().all(|&l| l == 0) && ring.iter().all(|&l| l == UNCERTIFIED));
     }
 
@@ -765,7 +893,7 @@ mod tests {
             rows.flat_map(move |i| columns.clone().flat_map(move |j| [16 * i + 2 * j, 16 * i + 2 * j + 1]))
         };
         let chosen: Vec<u32> = quads(0..1, 0..1).chain(quads(2..4, 0..6)).chain(quads(5..8, 0..8)).collect();
-        let (labels, _) = certified_patches(&positions, &faces, &chosen, &[]);
+        let PatchLabels { moved: labels, .. } = certified_patches(&positions, &faces, &chosen, &[]);
         assert_eq!(labels[..2], [UNCERTIFIED; 2]);
         assert!(labels[2..26].iter().all(|&l| l == 1));
         assert!(labels[26..].iter().all(|&l| l == 0));
