@@ -98,7 +98,8 @@ fn soak_refuses_bad_input_and_writes_nothing() {
 /// `--projectile-scale`, `--depth` and `--cone-deg` on the block (4 × 1 × 4: size 4, thickness
 /// 1): every ball's radius and dent distance are drawn up to the stated maxima, which the report
 /// names; big, deep, steep hits turn no face over (the guard limits a dent that would); the
-/// medians of the first and last dents are there and ordered like the others.
+/// medians of the first and last dents (times and vertices moved) are there and ordered like
+/// the others.
 #[test]
 fn soak_draws_sizes_and_depths_and_turns_no_face_over() {
     let dir = TempDir::new("soak-drawn");
@@ -120,6 +121,14 @@ fn soak_draws_sizes_and_depths_and_turns_no_face_over() {
     for key in ["median_first_ms", "median_last_ms"] {
         let m = number(&r, &[key]);
         assert!(0.0 < m && m <= max, "{key} {m}, max {max}");
+    }
+    // Every dent moved something, and no median exceeds the vertices the closed block has at
+    // the end (T/2 + 2 for T triangles, refinement included).
+    let checkpoints = r["checkpoints"].as_array().expect("checkpoints");
+    let vertices_at_end = number(checkpoints.last().expect("a checkpoint"), &["triangles"]) / 2.0 + 2.0;
+    for end in ["first", "last"] {
+        let moved = number(&r, &["moved_vertices_median", end]);
+        assert!(0.0 < moved && moved <= vertices_at_end, "moved_vertices_median.{end} {moved} of {vertices_at_end}");
     }
 }
 

@@ -173,7 +173,7 @@ enum Command {
         #[arg(long, default_value = "cpu")]
         backend: String,
         /// Write the report as JSON: {"dents","errors","non_finite","median_ms","p99_ms","max_ms",
-        /// "median_first_ms","median_last_ms","flipped_faces","target_size","target_thickness",
+        /// "median_first_ms","median_last_ms","moved_vertices_median":{"first","last"},"flipped_faces","target_size","target_thickness",
         /// "min_triangle_quality":{"first","last"},"volume_change","peak_rss_mb":{"first","last"},..}.
         #[arg(long)]
         json: Option<PathBuf>,

@@ -175,6 +175,10 @@ pub struct Report {
     pub cone_deg: f32,
     /// Vertices moved, mean per dent.
     pub moved_vertices_mean: f64,
+    /// Median vertices moved per dent over the first and the last [`TIME_WINDOW`] dents (a
+    /// failed dent counts 0): how much work each dent had, beside `median_first_ms` and
+    /// `median_last_ms`.
+    pub moved_vertices_median: FirstLast<f64>,
     /// Faces turned over by the dents, summed over the run: the normal reversed beyond
     /// `dentbend::mesh::SHAPE_TOLERANCE` (`mesh::turned_over_faces`; refined faces compared with
     /// where refinement made them).
@@ -252,12 +256,13 @@ pub fn run(options: &Options) -> Result<Report, String> {
     // Every page of the times written now, so that filling them in does not read as growth in
     // the memory windows.
     let mut times_ms = vec![f64::NAN; dents];
+    let mut moved_counts = vec![0.0f64; dents];
     let (mut dented, mut errors, mut non_finite, mut moved_total, mut flipped) = (0, 0, 0, 0usize, 0);
     let mut error_messages = Vec::new();
     let mut memory = MemoryWindows { dents, first: None, last: None };
     let mut checkpoints = Vec::new();
     let checkpoint_every = (dents / 10).max(1);
-    for (k, time_ms) in times_ms.iter_mut().enumerate() {
+    for (k, (time_ms, moved_count)) in times_ms.iter_mut().zip(&mut moved_counts).enumerate() {
         let outcome = target_body.hit(&mut rng, k as u64)?;
         *time_ms = outcome.elapsed.as_secs_f64() * 1e3;
         flipped += outcome.flipped_faces;
@@ -265,6 +270,7 @@ pub fn run(options: &Options) -> Result<Report, String> {
             Ok((made, moved)) => {
                 dented += usize::from(made > 0);
                 moved_total += moved;
+                *moved_count = moved as f64;
             }
             Err(message) => {
                 errors += 1;
@@ -292,6 +298,8 @@ pub fn run(options: &Options) -> Result<Report, String> {
     let window = TIME_WINDOW.min(dents);
     let median_first_ms = median(&times_ms[..window]);
     let median_last_ms = median(&times_ms[dents - window..]);
+    let moved_vertices_median =
+        FirstLast { first: median(&moved_counts[..window]), last: median(&moved_counts[dents - window..]) };
     let mut sorted = times_ms;
     sorted.sort_by(f64::total_cmp);
     Ok(Report {
@@ -321,6 +329,7 @@ pub fn run(options: &Options) -> Result<Report, String> {
         depth: options.depth,
         cone_deg: options.cone_deg,
         moved_vertices_mean: moved_total as f64 / dents as f64,
+        moved_vertices_median,
         flipped_faces: flipped,
         min_triangle_quality: FirstLast { first: quality_first.min, last: quality_last.min },
         mean_triangle_quality: FirstLast { first: quality_first.mean, last: quality_last.mean },
@@ -345,8 +354,8 @@ fn checkpoint(dents: usize, mesh: &TriMesh) -> Checkpoint {
 }
 
 /// The median (nearest rank) of `times` (non-empty, any order).
-fn median(times: &[f64]) -> f64 {
-    let mut sorted = times.to_vec();
+fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
     sorted.sort_by(f64::total_cmp);
     nearest_rank(&sorted, 0.5)
 }
@@ -368,6 +377,7 @@ pub fn render(r: &Report) -> String {
     format!(
         "soak {}: {} dents ({} dented, {} errors, {} non-finite) on {} triangles in {:.1} s\n  \
          per dent: median {:.3} ms (first {TIME_WINDOW}: {:.3}, last {TIME_WINDOW}: {:.3}), p99 {:.3} ms, max {:.3} ms\n  \
+         vertices moved per dent, median: {:.0} over the first {TIME_WINDOW}, {:.0} over the last\n  \
          min triangle quality {:.4} → {:.4}, volume change {:+.2} %, {} faces turned over\n  {rss}\n",
         r.target,
         r.dents,
@@ -381,6 +391,8 @@ pub fn render(r: &Report) -> String {
         r.median_last_ms,
         r.p99_ms,
         r.max_ms,
+        r.moved_vertices_median.first,
+        r.moved_vertices_median.last,
         r.min_triangle_quality.first,
         r.min_triangle_quality.last,
         100.0 * r.volume_change,
