@@ -12,6 +12,12 @@ pub(crate) fn unit_floats(mut seed: u32) -> impl FnMut() -> f32 {
     }
 }
 
+/// Uniform numbers in `[−½, ½]`, as [`unit_floats`] less a half.
+pub(crate) fn centred_floats(seed: u32) -> impl FnMut() -> f32 {
+    let mut unit = unit_floats(seed);
+    move || unit() - 0.5
+}
+
 /// A grid of `n × n` quads (two faces each, quad `(i, j)` being faces `2(n·i + j)` and
 /// `2(n·i + j) + 1`) over the unit square of the xz-plane at height `h(x, z)`, wound to face +y.
 pub(crate) fn sheet(n: usize, h: impl Fn(f32, f32) -> f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
