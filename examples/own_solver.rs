@@ -28,15 +28,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     bodies.insert_rigid(BALL);
     let ball = mesh::icosphere(0.3, 3)?;
 
-    // One step's contacts, as the solver reported them before resolving them.
-    let ball_state =
-        BodyState::moving(Vec3::new(0.0, 0.55, 0.0), Vec3::new(1.0, -8.0, 0.0), Vec3::ZERO, 2.0, Mat3::IDENTITY * 50.0);
+    // One step's contacts, as the solver reported them before resolving them. The states take
+    // the world inverse inertia: a solid 2 kg ball of radius 0.3 m has I = 0.4·m·r², a 10 kg
+    // cube of side 1 m has I = m·(1² + 1²)/12 about each axis.
+    let (ball_mass, crate_mass) = (2.0, 10.0);
+    let ball_inverse_inertia = Mat3::IDENTITY / (0.4 * ball_mass * 0.3 * 0.3);
+    let crate_inverse_inertia = Mat3::IDENTITY / (crate_mass * 2.0 / 12.0);
+    let ball_state = BodyState::moving(
+        Vec3::new(0.0, 0.55, 0.0),
+        Vec3::new(1.0, -8.0, 0.0),
+        Vec3::ZERO,
+        ball_mass,
+        ball_inverse_inertia,
+    );
     let crate_state = BodyState::moving(
         crate_at.translation.into(),
         Vec3::new(0.0, -3.0, 0.0),
         Vec3::new(0.0, 0.0, 2.0),
-        10.0,
-        Mat3::IDENTITY * 1.2,
+        crate_mass,
+        crate_inverse_inertia,
     );
     let crate_mesh = bodies.mesh(CRATE).expect("inserted").clone();
     let contacts = [
