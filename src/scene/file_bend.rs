@@ -7,7 +7,7 @@ use serde::Deserialize;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use toml::Spanned;
 
-use super::file::Triple;
+use super::file_values::Triple;
 
 /// `[body.bend]`: present = the body bends (paper §4).
 #[derive(Debug, Deserialize)]

@@ -174,6 +174,7 @@ mod figures;
 mod file;
 mod file_bend;
 mod file_fracture;
+mod file_values;
 mod kit;
 mod options;
 mod parse;

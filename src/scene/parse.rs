@@ -9,7 +9,8 @@ use glam::{Affine3A, Quat, Vec3};
 use toml::Spanned;
 
 use super::Camera;
-use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, MaterialSpec, ResolutionSpec, SceneFile, Triple};
+use super::file::{AttenuationSpec, BodyFile, CameraFile, DentFile, MaterialSpec, ResolutionSpec, SceneFile};
+use super::file_values::Triple;
 use super::parse_bend::{add_error as bend_add_error, bendable_desc};
 use super::source::Source;
 use super::{DEFAULT_FRAMES, LoadOptions, MeshPaths, Scene, SceneError, framing_camera};

@@ -173,7 +173,7 @@ fn skeleton_spec(
         .iter()
         .map(|b| {
             let b = b.get_ref();
-            let point = |p: &Spanned<super::file::Triple>| Vec3::from_array(p.get_ref().0);
+            let point = |p: &Spanned<super::file_values::Triple>| Vec3::from_array(p.get_ref().0);
             BoneDesc::new(point(&b.head), point(&b.tail), b.parent.as_ref().map(|p| *p.get_ref()))
         })
         .collect();
