@@ -12,9 +12,10 @@ use dentbend::TriMesh;
 use dentbend::record::{DamageFile, DentForm, MAX_FILE_BYTES, Projectiles, hex64, replay_body_with_pieces};
 use dentbend::scene::{LoadOptions, MeshPaths, SceneSize, load_with};
 
-use crate::cmd_run::{MeshChoice, Shown, SizeChoice, write_meshes};
+use crate::cmd_run::{MeshChoice, Shown, write_meshes};
 use crate::damage_output::scene_ref;
 use crate::error::CliError;
+use crate::options::SizeChoice;
 
 /// Arguments of `dentbend replay`.
 #[derive(Debug, Args)]

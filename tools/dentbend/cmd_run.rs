@@ -19,6 +19,7 @@ use crate::backend::BackendOption;
 use crate::damage_output::{DamageSummary, write_damage};
 use crate::error::CliError;
 use crate::file_names::{check_distinct_stems, file_stem};
+use crate::options::SizeChoice;
 use crate::output::{write_json, write_mesh, write_picture};
 use crate::rest_output::write_rest_files;
 use crate::run_budget::{self, BodyOutput, RunShape};
@@ -87,15 +88,6 @@ pub struct RunArgs {
 
     #[command(flatten)]
     pub backend: BackendOption,
-}
-
-/// `--size`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum SizeChoice {
-    /// The paper's sizes.
-    Full,
-    /// Small and quick.
-    Demo,
 }
 
 /// `summary.json`.

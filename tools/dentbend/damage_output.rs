@@ -10,8 +10,8 @@ use dentbend::record::SceneRef;
 use dentbend::scene::BUILTIN_SCENES;
 use serde::Serialize;
 
-use crate::cmd_run::SizeChoice;
 use crate::error::CliError;
+use crate::options::SizeChoice;
 
 /// The damage file's name in the output directory.
 pub const DAMAGE_FILE: &str = "damage.json";

@@ -1,13 +1,22 @@
-//! Arguments shared by the subcommands: the projectile, the dent-map knobs, and helpers to
-//! turn them into library values.
+//! Arguments shared by the subcommands: the scene size, the projectile, the dent-map knobs, and
+//! helpers to turn them into library values.
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 use dentbend::dent::Refine;
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::{DentParams, Resolution, TriMesh, mesh};
 
 use crate::error::{CliError, flag_error};
 use crate::vector::parse_vec3;
+
+/// `--size` of a built-in scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SizeChoice {
+    /// The paper's sizes.
+    Full,
+    /// Small and quick.
+    Demo,
+}
 
 /// The projectile mesh and its placement.
 #[derive(Debug, Args)]
