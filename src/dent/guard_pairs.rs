@@ -169,7 +169,7 @@ fn full_reach_pairs(faces: &[[u32; 3]], after: &[Vec3], near: &NearFaces, known:
     // Pairs sharing a vertex whose umbrella is certified only touch: they are dropped as they
     // are found. Every such vertex is a corner of a moved face, whose faces are all near.
     let face = |k: u32| near.faces[k as usize];
-    let umbrellas = Umbrellas::new(after, faces, &near.faces[..near.active], &near.faces);
+    let umbrellas = Umbrellas::new(after, faces, moved, &near.faces);
     let may_cross = |i: u32, j: u32| !umbrellas.only_touch(face(i), face(j));
     let mut candidates: Vec<(u32, u32)> =
         overlapping_pairs(&rest_boxes, rest_active, |i, j| may_cross(rest[i as usize], rest[j as usize]))

@@ -67,6 +67,13 @@ pub(crate) struct PatchLabels {
     pub(crate) parts: Vec<CertifiedPart>,
 }
 
+impl PatchLabels {
+    /// No patch yet, for `candidates` and `around` faces: every label [`UNCERTIFIED`].
+    fn none(candidates: usize, around: usize) -> Self {
+        Self { moved: vec![UNCERTIFIED; candidates], ring: vec![UNCERTIFIED; around], parts: Vec::new() }
+    }
+}
+
 /// A certified patch: its faces and the coordinate plane it was certified a height field over.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct CertifiedPart {
@@ -108,11 +115,7 @@ pub(crate) fn certified_patches(
     let mut tried: Vec<u32> = (0..sizes.len() as u32).filter(|&r| sizes[r as usize] >= MIN_PATCH_FACES).collect();
     tried.sort_unstable_by_key(|&r| std::cmp::Reverse(sizes[r as usize]));
     tried.truncate(MAX_PATCHES);
-    let mut labels = PatchLabels {
-        moved: vec![UNCERTIFIED; candidates.len()],
-        ring: vec![UNCERTIFIED; around.len()],
-        parts: Vec::new(),
-    };
+    let mut labels = PatchLabels::none(candidates.len(), around.len());
     let mut next_label = 0;
     // Numbers the corners of one patch or part at a time.
     let mut scratch = LocalVertices::new(positions.len());
@@ -162,8 +165,8 @@ pub(crate) fn certified_patches(
 /// Labels for the faces `candidates` and `around`, as [`certified_patches`] gives them, from
 /// the patches `known` (certified by an earlier call for other positions of the same faces):
 /// each is checked again at `positions`, alone and over its own plane, and those still
-/// certified are numbered in turn
-/// (their faces among `candidates` and `around` get the number). No new patch is searched for.
+/// certified are numbered in turn (their faces among `candidates` and `around` get the
+/// number). No new patch is searched for.
 pub(crate) fn certified_again(
     positions: &[Vec3],
     faces: &[[u32; 3]],
@@ -171,11 +174,7 @@ pub(crate) fn certified_again(
     around: &[u32],
     known: &[CertifiedPart],
 ) -> PatchLabels {
-    let mut labels = PatchLabels {
-        moved: vec![UNCERTIFIED; candidates.len()],
-        ring: vec![UNCERTIFIED; around.len()],
-        parts: Vec::new(),
-    };
+    let mut labels = PatchLabels::none(candidates.len(), around.len());
     // Where each face sits: in `candidates` (k) or in `around` (candidates.len() + k).
     let mut place = vec![NONE; faces.len()];
     candidates.iter().chain(around).zip(0..).for_each(|(&f, k)| place[f as usize] = k);
