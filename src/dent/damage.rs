@@ -11,10 +11,10 @@ use std::hash::Hash;
 use glam::{Affine3A, Vec3};
 
 use super::decide::{decide_dent_distance, projectile_offset};
-use super::reach::{projectile_near_impact, projectile_reach};
+use super::reach::projectile_reach;
 use super::{
-    BatchError, BatchOutcome, BodyState, DentError, DentJob, DentParams, DentSettings, Impact, ProgressiveDents,
-    Surface, dent_batch_tracked,
+    BatchError, BatchOutcome, BodyState, DentError, DentJob, DentParams, DentSettings, Impact, LocalContact,
+    ProgressiveDents, Surface, dent_batch_tracked,
 };
 use crate::mesh::{Refinement, TriMesh};
 
@@ -123,6 +123,11 @@ pub struct AppliedDent<K> {
     pub projectile: K,
     /// The contact (world), normal into the target.
     pub impact: Impact,
+    /// The contact and the projectile's pose in the target's mesh coordinates, in the exact
+    /// form the dent was made from (what a replication message carries).
+    pub local: LocalContact,
+    /// How far from the contact the projectile was cropped, m ([`projectile_reach`]).
+    pub reach: f32,
     /// Dent distance, m (a progressive dent's accumulated distance).
     pub dent_distance: f32,
     /// How far to move the projectile into the dent, world, m (zero unless the target's
@@ -182,6 +187,8 @@ struct Decided<'a, K> {
     hit: usize,
     data: Hit<'a, K>,
     distance: f32,
+    /// The contact in the target's coordinates.
+    local: LocalContact,
 }
 
 /// Engine-neutral denting state: progressive dents under way, keyed by the caller's ids.
@@ -286,7 +293,8 @@ fn decide<'a, K: Copy + std::fmt::Debug>(
         )
         .map_err(error)?;
         if let Some(distance) = distance {
-            out.push(Decided { hit: k, data: *hit, distance });
+            let local = LocalContact::new(&hit.impact, target.to_world, hit.projectile_surface.to_world);
+            out.push(Decided { hit: k, data: *hit, distance, local });
         }
     }
     Ok(out)
@@ -301,19 +309,17 @@ fn job<'p, K>(
     projectile: &'p TriMesh,
     slot: usize,
 ) -> DentJob<'p> {
-    let impact = d.data.impact.transformed(target.to_world.inverse());
     DentJob {
         target: slot,
         projectile,
-        impact,
+        impact: d.local.impact(),
         params: DentParams { dent_distance: distance, ..target.settings.params.clone() },
     }
 }
 
 /// The projectile of `d` cropped to what can shape a `distance` m dent in `target`.
 fn cropped<K>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) -> Option<TriMesh> {
-    let reach = projectile_reach(target.settings, target.radius, distance);
-    projectile_near_impact(&d.data.projectile_surface, d.data.impact.point, reach, target.to_world)
+    d.local.crop(d.data.projectile_surface.mesh, projectile_reach(target.settings, target.radius, distance))
 }
 
 fn applied<K: Copy>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) -> AppliedDent<K> {
@@ -321,6 +327,8 @@ fn applied<K: Copy>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) 
         target: d.data.target,
         projectile: d.data.projectile,
         impact: d.data.impact,
+        local: d.local,
+        reach: projectile_reach(target.settings, target.radius, distance),
         dent_distance: distance,
         projectile_offset: projectile_offset(target.settings, &d.data.impact, distance),
         volume_change: 0.0,

@@ -18,6 +18,7 @@ mod guard_pairs;
 #[cfg(feature = "gpu")]
 mod host_stages;
 mod impact;
+mod local_contact;
 mod map;
 mod material;
 mod params;
@@ -51,13 +52,14 @@ pub use grid::{DentFrame, Grid};
 #[cfg(feature = "gpu")]
 pub(crate) use host_stages::{falloff_may_need_fit, finish_displaced, fit_to_target};
 pub use impact::{Impact, MAX_SPEED};
+pub use local_contact::{LocalContact, OctDirection, PoseRotation};
 pub use map::{DentMap, DisplaceReport};
 pub use material::DentMaterial;
 pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, MIN_COS_FLOOR, Resolution};
 pub use pipeline::{DentStages, dent_map, dent_map_stages};
 pub use plan::{DentPlan, GLANCE_RESOLUTION_FLOOR, GLANCE_STRETCH_CAP, plan_dent};
 pub use progressive::ProgressiveDents;
-pub use reach::{Surface, crop_to_ball, projectile_near_impact, projectile_reach, radius_about_origin};
+pub use reach::{Surface, crop_to_ball, projectile_reach, radius_about_origin};
 pub use refine_jobs::{RefinedTargets, refine_targets};
 #[cfg(feature = "gpu")]
 pub(crate) use refine_jobs::{plan_jobs, refine_planned};

@@ -36,23 +36,6 @@ pub fn projectile_reach(settings: &DentSettings, target_radius: f32, dent_distan
     2.0 * target_radius + cap + 4.0 * sigma
 }
 
-/// The part of `projectile` within `reach` m of the world `impact_point`, in the coordinates of
-/// a target whose mesh → world transform is `target_to_world`: the projectile as a
-/// [`DentJob`](super::DentJob) against the target's own mesh wants it. `None` when nothing of
-/// the projectile is that close.
-pub fn projectile_near_impact(
-    projectile: &Surface<'_>,
-    impact_point: Vec3,
-    reach: f32,
-    target_to_world: Affine3A,
-) -> Option<TriMesh> {
-    let centre = projectile.to_world.inverse().transform_point3(impact_point);
-    let mut mesh = crop_to_ball(projectile.mesh, centre, reach)?;
-    // A rigid motion of a valid mesh stays finite.
-    let _ = mesh.transform(target_to_world.inverse() * projectile.to_world);
-    Some(mesh)
-}
-
 /// The triangles of `mesh` with a corner within `radius` of `centre` (same coordinates), their
 /// vertices renumbered in first-use order; the whole mesh (cloned) when all of it is that
 /// close; `None` when no triangle is.

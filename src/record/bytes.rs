@@ -17,6 +17,10 @@ impl ByteWriter {
     pub fn u8(&mut self, v: u8) {
         self.bytes.push(v);
     }
+    /// A u16, 2 bytes.
+    pub fn u16(&mut self, v: u16) {
+        self.bytes.extend_from_slice(&v.to_le_bytes());
+    }
     /// A u32, 4 bytes.
     pub fn u32(&mut self, v: u32) {
         self.bytes.extend_from_slice(&v.to_le_bytes());
@@ -97,6 +101,11 @@ impl<'a> ByteReader<'a> {
     /// One byte.
     pub fn u8(&mut self, what: &'static str) -> Result<u8, RecordError> {
         Ok(self.take(1, what)?[0])
+    }
+    /// A u16.
+    pub fn u16(&mut self, what: &'static str) -> Result<u16, RecordError> {
+        let b = self.take(2, what)?;
+        Ok(u16::from_le_bytes([b[0], b[1]]))
     }
     /// A u32.
     pub fn u32(&mut self, what: &'static str) -> Result<u32, RecordError> {

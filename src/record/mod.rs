@@ -10,7 +10,8 @@
 //! another mesh or tampered with is refused with a typed [`RecordError`]. [`DamageRecorder`]
 //! records what a user of [`Damage`](crate::dent::Damage) applies; `coupling::DamageLog`
 //! records a simulation. On disk ([`DamageFile::to_json`], `io` feature) the records are
-//! little-endian binary in base64 inside a small JSON object.
+//! little-endian binary in base64 inside a small JSON object. [`replication`] streams a server's
+//! dents to clients as they happen.
 
 mod bytes;
 mod edit_codec;
@@ -22,6 +23,7 @@ mod params_codec;
 mod recorder;
 mod records;
 mod replay;
+pub mod replication;
 
 pub use bytes::{base64_decode, base64_encode};
 pub use edit_codec::MAX_EDIT_ITEMS;

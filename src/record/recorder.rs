@@ -73,6 +73,15 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> DamageRecorder<K> {
         }
     }
 
+    /// Continues recording body `key` from `body`, damage recorded before (a restored save):
+    /// the body's mesh is now `body`'s final mesh.
+    pub fn resume(&mut self, key: K, body: BodyDamage) {
+        match self.bodies.iter_mut().find(|(k, _)| *k == key) {
+            Some(entry) => entry.1 = body,
+            None => self.bodies.push((key, body)),
+        }
+    }
+
     /// Records `plan` (made by [`Damage::plan`](crate::dent::Damage::plan) from `hits` on
     /// `targets`), before the caller applies it: `targets` must still hold the meshes the plan
     /// started from. Untracked bodies are skipped.

@@ -7,7 +7,7 @@ use glam::{Affine3A, Vec3};
 
 use super::records::{DamageRecord, DentBatch, FractureRecord, ImpactDent, ProjectileRef};
 use super::{BodyDamage, MeshStamp, RecordError, hex64};
-use crate::dent::{DentJob, Surface, dent_batch_tracked, projectile_near_impact};
+use crate::dent::{DentJob, LocalContact, dent_batch_tracked};
 use crate::mesh::{TriMesh, builtin, content_hash};
 
 /// Which form of a dent batch a replay uses when the file carries both.
@@ -234,7 +234,7 @@ fn replay_batch(
         .map(|(d, projectile)| DentJob {
             target: 0,
             projectile,
-            impact: d.impact.transformed(d.target_to_world.inverse()),
+            impact: LocalContact::impact_in_target(&d.impact, d.target_to_world),
             params: d.params.clone(),
         })
         .collect();
@@ -247,6 +247,5 @@ fn replay_batch(
 /// The projectile of `d`, cropped and in the target's coordinates as the damage API cropped it.
 fn crop(d: &ImpactDent, projectiles: &Projectiles) -> Result<Option<TriMesh>, RecordError> {
     let mesh = projectiles.resolve(&d.projectile)?;
-    let surface = Surface { mesh: &mesh, to_world: d.projectile.to_world };
-    Ok(projectile_near_impact(&surface, d.impact.point, d.reach, d.target_to_world))
+    Ok(LocalContact::new(&d.impact, d.target_to_world, d.projectile.to_world).crop(&mesh, d.reach))
 }

@@ -8,7 +8,8 @@ use glam::Affine3A;
 
 use super::{BodyKind, CollisionEvent, DentRecord, DentSettings, RigidBody, SimError, World};
 use crate::dent::{
-    BodyState, DentJob, DentParams, Impact, Surface, decide_dent_distance, projectile_offset, projectile_reach,
+    BodyState, DentJob, DentParams, Impact, LocalContact, Surface, decide_dent_distance, projectile_offset,
+    projectile_reach,
 };
 use crate::mesh::TriMesh;
 
@@ -190,7 +191,7 @@ pub fn decide_dent(
 }
 
 /// The part of `projectile` that can shape `dent`, in the target's mesh coordinates
-/// ([`crate::dent::projectile_near_impact`] within [`projectile_reach`]); `None` when nothing
+/// ([`LocalContact::crop`] within [`projectile_reach`]); `None` when nothing
 /// is that close.
 pub fn projectile_near_impact(
     target: &DentTarget<'_>,
@@ -198,7 +199,7 @@ pub fn projectile_near_impact(
     projectile: &DentSurface<'_>,
 ) -> Option<TriMesh> {
     let reach = projectile_reach(target.settings, target.radius, dent.dent_distance);
-    crate::dent::projectile_near_impact(&projectile.surface(), dent.impact.point, reach, target.to_world)
+    LocalContact::new(&dent.impact, target.to_world, projectile.to_world).crop(projectile.mesh, reach)
 }
 
 /// The job of `dent` (its distance: `dent_distance`, m) in the target's mesh coordinates, with
@@ -210,6 +211,6 @@ pub fn dent_job<'a>(
     projectile: &'a TriMesh,
     slot: usize,
 ) -> DentJob<'a> {
-    let impact = dent.impact.transformed(target.to_world.inverse());
+    let impact = LocalContact::impact_in_target(&dent.impact, target.to_world);
     DentJob { target: slot, projectile, impact, params: DentParams { dent_distance, ..target.settings.params.clone() } }
 }

@@ -15,8 +15,13 @@ pub struct StepReport {
     pub contacts: Vec<Contact>,
     /// Dents made.
     pub dents: Vec<AppliedDent<ColliderHandle>>,
-    /// Colliders refitted, with their moved vertex counts.
-    pub refitted: Vec<(ColliderHandle, usize)>,
+    /// Colliders refitted, with the vertices that moved, ascending (a bendable body's pieces:
+    /// its rest mesh's).
+    pub refitted: Vec<(ColliderHandle, Vec<u32>)>,
+    /// Contacts left out because a collider or body they name was removed after the step.
+    pub skipped: Vec<Contact>,
+    /// Dentable or projectile colliders no longer in the collider set, forgotten.
+    pub forgotten: Vec<ColliderHandle>,
     /// Joints made by dynamic articulation.
     pub joints_created: usize,
     /// Plastic joints that yielded.
@@ -97,16 +102,24 @@ impl Adapter {
         contacts: Vec<Contact>,
         physics_seconds: f64,
     ) -> Result<StepReport, AdapterError> {
-        // Every contact and every body it names is checked before anything changes.
+        // Every contact and every body it names is checked before anything changes; contacts
+        // naming a collider or body removed since the step are left out (and reported).
         let checks = Instant::now();
         for c in &contacts {
             c.validate()?;
             for handle in [c.collider1, c.collider2] {
-                if let Some(body) = states.collider(handle, &world.bodies, &world.colliders)?.parent() {
-                    states.body(body, &world.bodies)?;
+                let parent = match states.collider(handle, &world.bodies, &world.colliders) {
+                    Ok(collider) => collider.parent(),
+                    Err(AdapterError::RemovedBody(_) | AdapterError::RemovedCollider(_)) => None,
+                    Err(e) => return Err(e),
+                };
+                match parent.map(|body| states.body(body, &world.bodies)) {
+                    Some(Err(AdapterError::RemovedBody(_))) | None | Some(Ok(_)) => {}
+                    Some(Err(e)) => return Err(e),
                 }
             }
         }
+        let (contacts, skipped) = crate::dentable::live_contacts(&contacts, states, &world.bodies, &world.colliders);
         let checked = checks.elapsed().as_secs_f64();
         let start = Instant::now();
         let mut report = StepReport { physics_seconds, ..StepReport::default() };
@@ -127,6 +140,8 @@ impl Adapter {
             self.dentables.process(&live, states, &mut world.bodies, &mut world.colliders, self.backend.as_mut())?;
         report.dents = dents.dents;
         report.refitted = dents.refitted;
+        report.skipped = skipped;
+        report.forgotten = dents.forgotten;
         report.dent_seconds = dents.dent_seconds;
         report.collider_seconds = dents.collider_seconds;
         let start = Instant::now();
@@ -135,7 +150,7 @@ impl Adapter {
         for b in bendables.iter_mut() {
             let r = b.dent_parent(world, states, &live, |h| dentables.surface(h), backend.as_mut())?;
             report.dents.extend(r.dents);
-            report.refitted.extend(r.refitted.into_iter().map(|c| (c, r.moved)));
+            report.refitted.extend(r.refitted.into_iter().map(|c| (c, r.moved.clone())));
             bend_colliders += r.collider_seconds;
         }
         report.dent_seconds += start.elapsed().as_secs_f64() - bend_colliders + checked;

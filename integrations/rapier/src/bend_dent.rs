@@ -40,8 +40,8 @@ pub(crate) struct BendDent {
 pub struct BendDentReport {
     /// Dents made (target: the hit piece's collider).
     pub dents: Vec<dentbend::dent::AppliedDent<ColliderHandle>>,
-    /// Rest vertices that moved.
-    pub moved: usize,
+    /// Rest vertices that moved, ascending.
+    pub moved: Vec<u32>,
     /// Pieces whose colliders were refitted.
     pub refitted: Vec<ColliderHandle>,
     /// Seconds spent on the pieces' new hulls (wall clock).
@@ -137,7 +137,7 @@ impl Bendable {
 
         // Checked: commit.
         let commit_start = std::time::Instant::now();
-        let mut report = BendDentReport { moved: dented.moved.len(), ..BendDentReport::default() };
+        let mut report = BendDentReport { moved: dented.moved.clone(), ..BendDentReport::default() };
         for (collider, shape) in refits {
             if let Some(c) = world.colliders.get_mut(collider) {
                 c.set_shape(shape);

@@ -9,10 +9,14 @@
 use std::collections::HashMap;
 use std::time::Instant;
 
-use dentbend::dent::{AppliedDent, BodyState, Damage, DentBackend, DentSettings, Hit, Impact, Surface, TargetSet};
+use dentbend::dent::{
+    AppliedDent, BodyState, Damage, DentBackend, DentSettings, DentedTarget, Hit, Impact, Surface, TargetSet,
+    moved_vertices,
+};
 use dentbend::mesh::TriMesh;
+use dentbend::record::{BodyDamage, DamageFile, DamageRecorder, DentForm, Projectiles, RecordForms, replay_body};
 use glam::{Affine3A, Vec3};
-use rapier3d::prelude::{ColliderHandle, ColliderSet, RigidBodySet};
+use rapier3d::prelude::{Collider, ColliderHandle, ColliderSet, RigidBodySet};
 
 use crate::refit::{Refit, ShapeKind, prepare_refit, rebuild_trimesh, shape_kind};
 use crate::{AdapterError, BodyStates, Contact};
@@ -22,8 +26,13 @@ use crate::{AdapterError, BodyStates, Contact};
 pub struct DentReport {
     /// Every dent made (target and projectile are colliders).
     pub dents: Vec<AppliedDent<ColliderHandle>>,
-    /// Colliders refitted, with the number of vertices that moved.
-    pub refitted: Vec<(ColliderHandle, usize)>,
+    /// Colliders refitted, with the vertices that moved (ascending; a refined mesh's new
+    /// vertices included).
+    pub refitted: Vec<(ColliderHandle, Vec<u32>)>,
+    /// Contacts left out because a collider or body they name was removed after the step.
+    pub skipped: Vec<Contact>,
+    /// Dentable or projectile colliders no longer in the collider set, forgotten.
+    pub forgotten: Vec<ColliderHandle>,
     /// Seconds spent deciding and computing the dents (wall clock).
     pub dent_seconds: f64,
     /// Seconds spent refitting colliders (wall clock).
@@ -31,13 +40,27 @@ pub struct DentReport {
 }
 
 /// The dentable colliders of a Rapier world, and the surfaces of the others that hit them.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct Dentables {
     targets: TargetSet<ColliderHandle>,
     kinds: HashMap<ColliderHandle, ShapeKind>,
     surfaces: HashMap<ColliderHandle, TriMesh>,
     damage: Damage<ColliderHandle>,
+    recorder: DamageRecorder<ColliderHandle>,
     step: u64,
+}
+
+impl Default for Dentables {
+    fn default() -> Self {
+        Self {
+            targets: TargetSet::default(),
+            kinds: HashMap::new(),
+            surfaces: HashMap::new(),
+            damage: Damage::default(),
+            recorder: DamageRecorder::new(RecordForms::EDITS),
+            step: 0,
+        }
+    }
 }
 
 impl Dentables {
@@ -51,21 +74,23 @@ impl Dentables {
     /// and [`convex_collider`](crate::convex_collider)) and `settings`.
     ///
     /// # Errors
-    /// [`AdapterError::UnknownCollider`], [`AdapterError::Refit`] for a shape that is neither a
-    /// tri-mesh nor convex (or a tri-mesh of another vertex count), or invalid settings; nothing
+    /// [`AdapterError::UnknownCollider`]; [`AdapterError::Refit`] naming the fix for a shape
+    /// that is neither a tri-mesh nor convex (a primitive, a compound, a height field), for a
+    /// convex collider on a body that is not dynamic (its hull cannot follow a dent inward),
+    /// and for a collider that was not built from `mesh` (another mesh, a scaled shape, a
+    /// dented mesh given back without [`restore`](Self::restore)); invalid settings; nothing
     /// changes then.
     pub fn insert(
         &mut self,
         colliders: &ColliderSet,
+        bodies: &RigidBodySet,
         handle: ColliderHandle,
         mesh: TriMesh,
         settings: DentSettings,
     ) -> Result<(), AdapterError> {
         let collider = colliders.get(handle).ok_or(AdapterError::UnknownCollider(handle))?;
-        let kind = shape_kind(collider).ok_or_else(|| AdapterError::Refit {
-            collider: handle,
-            reason: "only tri-mesh and convex colliders can dent".into(),
-        })?;
+        let kind = dentable_kind(handle, collider, bodies)?;
+        check_built_from(handle, collider, kind, &mesh)?;
         prepare_refit(handle, collider, kind, &mesh, &[])?;
         self.targets.insert(handle, mesh, crate::to_affine(collider.position()), settings)?;
         self.kinds.insert(handle, kind);
@@ -90,13 +115,71 @@ impl Dentables {
         Ok(())
     }
 
-    /// Forgets collider `handle` (call when removing it from Rapier); returns its mesh when
-    /// it was dentable.
+    /// Forgets collider `handle` (colliders removed from Rapier are forgotten by the next
+    /// [`process`](Self::process) anyway); returns its mesh when it was dentable. Its recorded
+    /// damage stays in [`damage_file`](Self::damage_file).
     pub fn remove(&mut self, handle: ColliderHandle) -> Option<TriMesh> {
         self.kinds.remove(&handle);
         self.surfaces.remove(&handle);
         self.damage.forget(handle);
         self.targets.remove(handle)
+    }
+
+    /// Records dentable collider `handle`'s damage from now on, as the body `name` of
+    /// [`damage_file`](Self::damage_file): its mesh now is the base a restore starts from.
+    ///
+    /// # Errors
+    /// [`AdapterError::Refit`] when `handle` does not dent.
+    pub fn record_damage(&mut self, handle: ColliderHandle, name: impl Into<String>) -> Result<(), AdapterError> {
+        let mesh = self.targets.mesh(handle).ok_or_else(|| not_dentable(handle))?;
+        self.recorder.track(handle, name, mesh);
+        Ok(())
+    }
+
+    /// Every recorded collider's damage (exact mesh edits, whatever backend dented), for a save
+    /// file ([`DamageFile::to_json`] with dentbend's `io` feature).
+    pub fn damage_file(&self) -> DamageFile {
+        self.recorder.file()
+    }
+
+    /// Gives dentable collider `handle` the damage `body` recorded (saved from a collider
+    /// inserted with the mesh this one has now): replays it on the mesh, refits the collider
+    /// (rebuilds a tri-mesh whose faces changed) and, when the collider's damage is recorded,
+    /// continues its record from `body`. Returns the vertices that moved.
+    ///
+    /// # Errors
+    /// [`AdapterError::Record`] when the damage was recorded on another mesh or does not
+    /// replay, [`AdapterError::Refit`]; nothing changes then.
+    pub fn restore(
+        &mut self,
+        colliders: &mut ColliderSet,
+        handle: ColliderHandle,
+        body: &BodyDamage,
+    ) -> Result<Vec<u32>, AdapterError> {
+        let now = self.targets.mesh(handle).ok_or_else(|| not_dentable(handle))?;
+        let restored = replay_body(body, now, DentForm::Edits, &Projectiles::new())?;
+        let mut moved = moved_vertices(now.positions(), restored.positions());
+        moved.extend(now.vertex_count().min(restored.vertex_count()) as u32..restored.vertex_count() as u32);
+        let topology_changed = now.faces() != restored.faces();
+        let collider = colliders.get(handle).ok_or(AdapterError::UnknownCollider(handle))?;
+        let refit = match self.kinds[&handle] {
+            ShapeKind::TriMesh if topology_changed => rebuild_trimesh(handle, collider, &restored)?,
+            kind => prepare_refit(handle, collider, kind, &restored, &moved)?,
+        };
+        self.damage.forget(handle);
+        if self.recorder.body(handle).is_some() {
+            self.recorder.resume(handle, body.clone());
+        }
+        let refinement = Default::default();
+        self.targets.apply(vec![DentedTarget {
+            key: handle,
+            mesh: restored,
+            moved: moved.clone(),
+            refinement,
+            topology_changed,
+        }]);
+        commit(colliders, handle, refit);
+        Ok(moved)
     }
 
     /// Dentable collider `handle`'s current mesh (collider frame, m).
@@ -123,12 +206,13 @@ impl Dentables {
     /// Dents the dentable colliders hit in `contacts` (one step's impacts, world coordinates at
     /// the start of the step, with the bodies' states then in `states`), on `backend`, then
     /// refits their colliders and moves dynamic projectiles into their dents when the
-    /// target's settings ask for it.
+    /// target's settings ask for it. Contacts naming a collider or body removed since the step
+    /// are skipped and reported; dentable and projectile colliders no longer in `colliders`
+    /// are forgotten.
     ///
     /// # Errors
-    /// A contact with NaN/∞ or a zero normal, a collider or body that is unknown or was
-    /// removed, a failed dent or refit: the error names it and no mesh, collider or body
-    /// changed.
+    /// A contact with NaN/∞ or a zero normal, a collider or body that was never known, a
+    /// failed dent or refit: the error names it and no mesh, collider or body changed.
     pub fn process(
         &mut self,
         contacts: &[Contact],
@@ -139,7 +223,10 @@ impl Dentables {
     ) -> Result<DentReport, AdapterError> {
         let started = Instant::now();
         let step = self.step + 1;
-        let sides = self.sides(contacts, states, bodies, colliders)?;
+        let (live, skipped) = live_contacts(contacts, states, bodies, colliders);
+        let forgotten: Vec<ColliderHandle> =
+            self.kinds.keys().chain(self.surfaces.keys()).copied().filter(|&h| !colliders.contains(h)).collect();
+        let sides = self.sides(&live, states, bodies, colliders)?;
         // Poses are bookkeeping, refreshed on every call: setting them changes no mesh.
         for side in &sides {
             self.targets.set_pose(side.target, side.target_pose)?;
@@ -149,7 +236,9 @@ impl Dentables {
         if hits.is_empty() {
             // Nothing to dent; progressive dents gone stale end at the next hit's planning.
             self.step = step;
-            return Ok(DentReport { dent_seconds: started.elapsed().as_secs_f64(), ..DentReport::default() });
+            self.forget(&forgotten);
+            let dent_seconds = started.elapsed().as_secs_f64();
+            return Ok(DentReport { dent_seconds, skipped, forgotten, ..DentReport::default() });
         }
         let mut damage = self.damage.clone();
         let plan = damage.plan(targets, &hits, step, backend)?;
@@ -164,16 +253,30 @@ impl Dentables {
                 ShapeKind::TriMesh if t.topology_changed => rebuild_trimesh(t.key, collider, &t.mesh)?,
                 kind => prepare_refit(t.key, collider, kind, &t.mesh, &t.moved)?,
             };
-            refits.push((t.key, refit, t.moved.len()));
+            refits.push((t.key, refit, t.moved.clone()));
         }
         let refit_seconds = refit_start.elapsed().as_secs_f64();
+        // The record is staged last: it fails (changing nothing) on a mesh changed behind the
+        // recorder's back.
+        let record_start = Instant::now();
+        let mut recorder = None;
+        if plan.targets.iter().any(|t| self.recorder.body(t.key).is_some()) {
+            let mut staged = self.recorder.clone();
+            staged.record(targets, &hits, &plan)?;
+            recorder = Some(staged);
+        }
 
         // Everything checked: commit.
         let commit_start = Instant::now();
         self.damage = damage;
         self.step = step;
+        if let Some(r) = recorder {
+            self.recorder = r;
+        }
         self.targets.apply(plan.targets);
-        let dent_seconds = dent_seconds + commit_start.elapsed().as_secs_f64();
+        self.forget(&forgotten);
+        let dent_seconds =
+            dent_seconds + commit_start.elapsed().as_secs_f64() + (commit_start - record_start).as_secs_f64();
         let commit_start = Instant::now();
         let mut refitted = Vec::with_capacity(refits.len());
         for (key, refit, moved) in refits {
@@ -182,7 +285,14 @@ impl Dentables {
         }
         move_projectiles(&plan.dents, bodies, colliders);
         let collider_seconds = refit_seconds + commit_start.elapsed().as_secs_f64();
-        Ok(DentReport { dents: plan.dents, refitted, dent_seconds, collider_seconds })
+        Ok(DentReport { dents: plan.dents, refitted, skipped, forgotten, dent_seconds, collider_seconds })
+    }
+
+    /// Forgets colliders removed from Rapier.
+    fn forget(&mut self, gone: &[ColliderHandle]) {
+        for &h in gone {
+            self.remove(h);
+        }
     }
 
     /// Every (target, projectile) side of `contacts` whose target dents and whose projectile
@@ -232,6 +342,107 @@ impl Dentables {
             projectile_surface: Surface { mesh, to_world: side.projectile_pose },
         })
     }
+}
+
+/// `contacts` split into those whose colliders and bodies are all still there and those that
+/// name one removed since the step.
+pub(crate) fn live_contacts(
+    contacts: &[Contact],
+    states: &BodyStates,
+    bodies: &RigidBodySet,
+    colliders: &ColliderSet,
+) -> (Vec<Contact>, Vec<Contact>) {
+    let present = |h: ColliderHandle| match states.collider(h, bodies, colliders) {
+        Ok(c) => c.parent().is_none_or(|b| bodies.contains(b)),
+        Err(AdapterError::RemovedBody(_) | AdapterError::RemovedCollider(_)) => false,
+        // Never known: kept, so that the error names it.
+        Err(_) => true,
+    };
+    contacts.iter().partition(|c| present(c.collider1) && present(c.collider2))
+}
+
+/// The refit kind of a collider that may dent, or why it may not (with the fix).
+fn dentable_kind(
+    handle: ColliderHandle,
+    collider: &Collider,
+    bodies: &RigidBodySet,
+) -> Result<ShapeKind, AdapterError> {
+    let refused = |reason: String| AdapterError::Refit { collider: handle, reason };
+    let Some(kind) = shape_kind(collider) else {
+        let shape = collider.shape().shape_type();
+        let part =
+            if collider.shape().as_compound().is_some() { " (give each part a collider of its own)" } else { "" };
+        return Err(refused(format!(
+            "a {shape:?} collider cannot dent: only tri-mesh and convex colliders follow a mesh; build it from the \
+             mesh with trimesh_collider(&mesh) (fixed and kinematic bodies) or convex_collider(&mesh) (dynamic \
+             bodies){part}"
+        )));
+    };
+    let dynamic = collider.parent().and_then(|b| bodies.get(b)).is_some_and(|b| b.is_dynamic());
+    if kind == ShapeKind::Convex && !dynamic {
+        return Err(refused(
+            "a convex collider on a fixed or kinematic body cannot follow a dent: its hull stays over the crater; \
+             build it with trimesh_collider(&mesh)"
+                .into(),
+        ));
+    }
+    Ok(kind)
+}
+
+/// Checks that `collider` was built from `mesh` as it is: a tri-mesh with its vertices, or a
+/// hull with its bounds (a scale, another mesh or a dented mesh given back would leave the
+/// collider off the surface).
+fn check_built_from(
+    handle: ColliderHandle,
+    collider: &Collider,
+    kind: ShapeKind,
+    mesh: &TriMesh,
+) -> Result<(), AdapterError> {
+    let refused = |what: String| AdapterError::Refit {
+        collider: handle,
+        reason: format!(
+            "{what}: the collider was not built from this mesh (scaled, or another mesh); build it with \
+             trimesh_collider(&mesh) or convex_collider(&mesh) from the mesh given here, and to continue from saved \
+             damage insert the undamaged mesh and call Dentables::restore"
+        ),
+    };
+    let extent = mesh.positions().iter().fold(0.0f32, |m, p| m.max(p.abs().max_element()));
+    // f32 rounding of an exact copy is zero; a few ulps of the mesh's extent leave room for a
+    // shape that stores its vertices through another type.
+    let tolerance = 4.0 * f32::EPSILON * extent.max(1e-6);
+    match kind {
+        ShapeKind::TriMesh => {
+            let Some(shape) = collider.shape().as_trimesh() else { return Ok(()) };
+            if let Some((k, (a, b))) = shape
+                .vertices()
+                .iter()
+                .zip(mesh.positions())
+                .enumerate()
+                .find(|(_, (a, b))| (**a - **b).abs().max_element() > tolerance)
+            {
+                return Err(refused(format!("collider vertex {k} is at {a}, the mesh's at {b}")));
+            }
+        }
+        ShapeKind::Convex => {
+            let aabb = collider.shape().compute_local_aabb();
+            let (lo, hi) = mesh
+                .positions()
+                .iter()
+                .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+            let off = (aabb.mins - lo).abs().max((aabb.maxs - hi).abs()).max_element();
+            if off > tolerance.max(1e-5 * extent) {
+                return Err(refused(format!(
+                    "the collider's hull spans {:?}..{:?}, the mesh {lo}..{hi}",
+                    aabb.mins, aabb.maxs
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn not_dentable(handle: ColliderHandle) -> AdapterError {
+    AdapterError::Refit { collider: handle, reason: "not a dentable collider (Dentables::insert it first)".into() }
 }
 
 /// One side of a contact: the target, what hit it, and both states.

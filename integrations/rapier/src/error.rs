@@ -3,6 +3,7 @@
 
 use dentbend::dent::{DamageError, DentError};
 use dentbend::mesh::MeshError;
+use dentbend::record::RecordError;
 use rapier3d::prelude::{ColliderHandle, ImpulseJointHandle, RigidBodyHandle};
 
 /// What went wrong in the adapter; nothing of the caller's changed.
@@ -63,6 +64,10 @@ pub enum AdapterError {
     /// A mesh could not be built.
     #[error(transparent)]
     Mesh(#[from] MeshError),
+    /// Damage records that do not restore (recorded on another mesh, corrupt), or a record
+    /// that cannot be made.
+    #[error(transparent)]
+    Record(#[from] RecordError),
     /// The rig (skeleton, weights, sub-bodies) could not be built.
     #[error("bending rig: {0}")]
     Rig(String),

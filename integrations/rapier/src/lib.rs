@@ -27,7 +27,7 @@
 //! let block = trimesh_collider(&block_mesh)?.active_events(events).contact_force_event_threshold(0.0);
 //! let block = world.colliders.insert_with_parent(block, fixed, &mut world.bodies);
 //! // 2 m/s threshold, 1 cm per m/s above it, at most 5 cm.
-//! adapter.dentables.insert(&world.colliders, block, block_mesh, DentSettings::new(2.0, 0.01, 0.05))?;
+//! adapter.dentables.insert(&world.colliders, &world.bodies, block, block_mesh, DentSettings::new(2.0, 0.01, 0.05))?;
 //!
 //! let ball_mesh = mesh::icosphere(0.1, 2)?;
 //! let ball = RigidBodyBuilder::dynamic().translation(Vec3::new(0.0, 0.4, 0.0)).linvel(-6.0 * Vec3::Y);

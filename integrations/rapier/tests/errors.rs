@@ -1,5 +1,6 @@
-//! Bad contacts and vanished bodies: a typed error naming what was wrong, and no mesh,
-//! collider, body or joint changed.
+//! Bad contacts and unknown bodies: a typed error naming what was wrong, and no mesh,
+//! collider, body or joint changed. Contacts of bodies removed after the step are skipped and
+//! reported, and the step's other dents made.
 
 use dentbend::dent::CpuBackend;
 use dentbend::mesh::{self, TriMesh};
@@ -30,8 +31,8 @@ fn scene() -> Scene {
     let collider = convex_collider(&ball_mesh).unwrap().active_events(ActiveEvents::CONTACT_FORCE_EVENTS);
     let ball = world.colliders.insert_with_parent(collider, ball_body, &mut world.bodies);
     let mut dentables = Dentables::new();
-    dentables.insert(&world.colliders, block, block_mesh, target_dent()).unwrap();
-    dentables.insert(&world.colliders, ball, ball_mesh, ball_dent()).unwrap();
+    dentables.insert(&world.colliders, &world.bodies, block, block_mesh, target_dent()).unwrap();
+    dentables.insert(&world.colliders, &world.bodies, ball, ball_mesh, ball_dent()).unwrap();
     Scene { world, dentables, block, ball_body, ball }
 }
 
@@ -130,24 +131,32 @@ fn an_unknown_collider_is_named_and_changes_nothing() {
 }
 
 #[test]
-fn a_body_removed_between_steps_is_named_and_changes_nothing() {
+fn a_body_removed_after_the_step_is_skipped_and_reported_and_the_other_dents_are_made() {
     let mut s = scene();
-    // A second ball, recorded with the others, then removed before the contacts are processed.
+    // A second ball, recorded with the others, then removed before the contacts are processed
+    // (a game that despawns a ball as it lands).
     let body = s.world.bodies.insert(RigidBodyBuilder::dynamic().translation(Vec3::new(0.5, 0.4, 0.0)));
-    let gone = s.world.colliders.insert_with_parent(
-        convex_collider(&mesh::icosphere(0.1, 1).unwrap()).unwrap(),
-        body,
-        &mut s.world.bodies,
-    );
+    let gone_mesh = mesh::icosphere(0.1, 1).unwrap();
+    let gone = s.world.colliders.insert_with_parent(convex_collider(&gone_mesh).unwrap(), body, &mut s.world.bodies);
+    s.dentables.insert_projectile(&s.world.colliders, gone, gone_mesh).unwrap();
     let states = BodyStates::record(&s.world.bodies, &s.world.colliders);
     let before = snapshot(&s);
     assert!(s.world.remove_body(body));
     let bad = Contact { collider2: gone, point: Vec3::new(0.5, 0.25, 0.0), ..good_contact(&s) };
     let good = good_contact(&s);
-    let err = process(&mut s, &states, &[good, bad]).unwrap_err();
-    assert!(matches!(err, AdapterError::RemovedBody(h) if h == body), "{err}");
-    assert_unchanged(&s, &before);
+    let Scene { world, dentables, .. } = &mut s;
+    let report =
+        dentables.process(&[good, bad], &states, &mut world.bodies, &mut world.colliders, &mut CpuBackend).unwrap();
+    assert_eq!(report.dents.len(), 2, "the good contact still dents the block and the ball");
+    assert_eq!(report.skipped, vec![bad]);
+    // The removed collider is forgotten: no leak.
+    assert_eq!(report.forgotten, vec![gone]);
+    assert!(s.dentables.surface(gone).is_none());
+    assert_ne!(snapshot(&s).0.positions(), before.0.positions());
 
+    let mut s = scene();
+    let states = BodyStates::record(&s.world.bodies, &s.world.colliders);
+    let before = snapshot(&s);
     // A body added after the record has no state before the step: named too.
     let late = s.world.bodies.insert(RigidBodyBuilder::dynamic());
     let late_collider = s.world.colliders.insert_with_parent(
@@ -165,17 +174,10 @@ fn a_body_removed_between_steps_is_named_and_changes_nothing() {
 fn the_adapter_checks_every_contact_before_it_splits_bends_or_dents() {
     use dentbend_rapier::demo::plank::Plank;
     // The plank scene just before the ball lands: a good contact on a piece and a contact
-    // naming a removed body; the adapter names the removed body and changes nothing.
+    // naming a collider that never existed; the adapter names it and changes nothing.
     let mut p = Plank::new(64).unwrap();
     p.run(2).unwrap();
-    let extra = p.world.bodies.insert(RigidBodyBuilder::dynamic().translation(Vec3::new(3.0, 3.0, 0.0)));
-    let extra_collider = p.world.colliders.insert_with_parent(
-        convex_collider(&mesh::icosphere(0.1, 1).unwrap()).unwrap(),
-        extra,
-        &mut p.world.bodies,
-    );
     let states = BodyStates::record(&p.world.bodies, &p.world.colliders);
-    p.world.remove_body(extra);
     let piece = p.plank().pieces()[0];
     let ball = p.world.bodies.get(p.ball).unwrap().colliders()[0];
     let hit = Contact {
@@ -187,10 +189,11 @@ fn the_adapter_checks_every_contact_before_it_splits_bends_or_dents() {
         started: true,
     };
     // Not on the plank: only the up-front check stops the split the first contact asks for.
-    let gone = Contact { collider1: ball, collider2: extra_collider, ..hit };
+    let stranger = ColliderHandle::from_raw_parts(999, 0);
+    let bad = Contact { collider1: ball, collider2: stranger, ..hit };
     let pieces_before = p.plank().pieces().to_vec();
-    let err = p.adapter.after_step(&mut p.world, &states, vec![hit, gone], 0.0).unwrap_err();
-    assert!(matches!(err, AdapterError::RemovedBody(h) if h == extra), "{err}");
+    let err = p.adapter.after_step(&mut p.world, &states, vec![hit, bad], 0.0).unwrap_err();
+    assert!(matches!(err, AdapterError::UnknownCollider(h) if h == stranger), "{err}");
     assert_eq!(p.plank().pieces(), &pieces_before[..]);
     assert!(p.plank().joints().is_empty());
     assert_eq!(p.plank().rest_mesh().positions(), mesh::plank(4.0, 0.3, 0.1, 64).unwrap().positions());
@@ -205,11 +208,23 @@ fn unknown_ids_are_named() {
     assert!(matches!(err, AdapterError::UnknownBody(h) if h == stranger), "{err}");
     // Registering an unknown collider changes nothing.
     let collider = ColliderHandle::from_raw_parts(999, 0);
-    let err = s.dentables.insert(&s.world.colliders, collider, mesh::icosphere(0.1, 1).unwrap(), target_dent());
+    let err = s.dentables.insert(
+        &s.world.colliders,
+        &s.world.bodies,
+        collider,
+        mesh::icosphere(0.1, 1).unwrap(),
+        target_dent(),
+    );
     assert!(matches!(err, Err(AdapterError::UnknownCollider(h)) if h == collider));
     assert!(!s.dentables.is_dentable(collider));
     // A mesh that does not match its tri-mesh collider is refused.
-    let err = s.dentables.insert(&s.world.colliders, s.block, mesh::icosphere(0.1, 1).unwrap(), target_dent());
+    let err = s.dentables.insert(
+        &s.world.colliders,
+        &s.world.bodies,
+        s.block,
+        mesh::icosphere(0.1, 1).unwrap(),
+        target_dent(),
+    );
     assert!(matches!(err, Err(AdapterError::Refit { .. })), "{err:?}");
     let block = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16]).unwrap();
     assert_eq!(s.dentables.mesh(s.block).unwrap().positions(), block.positions());

@@ -29,8 +29,8 @@ fn context() -> Option<&'static GpuContext> {
 fn dent_once(backend: &mut dyn DentBackend<ColliderHandle>) -> (TriMesh, TriMesh) {
     let (mut world, (block, block_mesh), (ball, ball_mesh)) = common::block_and_ball(Vec3::new(0.0, -9.81, 0.0), 0.36);
     let mut dentables = Dentables::new();
-    dentables.insert(&world.colliders, block, block_mesh, target_dent()).unwrap();
-    dentables.insert(&world.colliders, ball, ball_mesh, ball_dent()).unwrap();
+    dentables.insert(&world.colliders, &world.bodies, block, block_mesh, target_dent()).unwrap();
+    dentables.insert(&world.colliders, &world.bodies, ball, ball_mesh, ball_dent()).unwrap();
     let states = BodyStates::record(&world.bodies, &world.colliders);
     let contact = common::top_contact(block, ball, true);
     let report = dentables.process(&[contact], &states, &mut world.bodies, &mut world.colliders, backend).unwrap();

@@ -12,7 +12,7 @@ use glam::Vec3;
 fn push_twice(settings: DentSettings) -> (Vec<f32>, Vec<f32>) {
     let (mut world, (block, block_mesh), (ball, ball_mesh)) = common::block_and_ball(Vec3::ZERO, 0.35);
     let mut dentables = Dentables::new();
-    dentables.insert(&world.colliders, block, block_mesh, settings).unwrap();
+    dentables.insert(&world.colliders, &world.bodies, block, block_mesh, settings).unwrap();
     dentables.insert_projectile(&world.colliders, ball, ball_mesh).unwrap();
     let states = BodyStates::record(&world.bodies, &world.colliders);
     let contact = |started| common::top_contact(block, ball, started);

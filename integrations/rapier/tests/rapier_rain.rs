@@ -89,7 +89,7 @@ fn balls_dent_the_bunny_and_the_block_where_they_land_and_nowhere_else() {
 fn one_dent_per_impact_while_a_ball_rests_on_the_block() {
     // One ball over the block: it lands at about 5.6 m/s (a dent), bounces at most at
     // 0.3 × that (1.7 m/s, under the 2 m/s threshold), then rests: one dent on the block.
-    let settings = RainSettings { steps: 150, balls: 2, waves: 1, wave_interval: 1000, seed: 3 };
+    let settings = RainSettings { steps: 150, balls: 2, waves: 1, wave_interval: 1000, seed: 3, rigid_balls: false };
     let mut rain = Rain::new(settings).unwrap();
     let totals = rain.run().unwrap();
     let block: Vec<ColliderHandle> =

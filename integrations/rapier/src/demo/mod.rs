@@ -1,5 +1,7 @@
-//! The scenes of the examples `rapier_rain` and `rapier_plank`, shared with their tests.
+//! The scenes of the examples `rapier_rain`, `rapier_plank` and `rapier_network`, shared with
+//! their tests.
 
+pub mod network;
 pub mod plank;
 pub mod rain;
 pub mod report;

@@ -1,6 +1,6 @@
 //! `rapier_rain`: balls rain in waves on the bunny and a block, both fixed tri-mesh colliders;
 //! everything dents (the balls are convex hulls of icospheres that the bunny and the block dent
-//! back). 60 Hz.
+//! back, unless the settings make them rigid). 60 Hz.
 
 use std::collections::HashMap;
 
@@ -51,11 +51,13 @@ pub struct RainSettings {
     pub wave_interval: usize,
     /// Jitter seed.
     pub seed: u64,
+    /// Whether the balls are rigid projectiles (they dent the targets and are not dented).
+    pub rigid_balls: bool,
 }
 
 impl Default for RainSettings {
     fn default() -> Self {
-        Self { steps: 300, balls: 32, waves: 4, wave_interval: 45, seed: 7 }
+        Self { steps: 300, balls: 32, waves: 4, wave_interval: 45, seed: 7, rigid_balls: false }
     }
 }
 
@@ -123,12 +125,17 @@ impl Rain {
         let block_mesh = mesh::subdivided_box(BLOCK_SIZE, [32, 10, 32])?;
         let block = add_fixed(&mut world, &block_mesh, BLOCK_AT)?;
         for (handle, mesh) in [(bunny, bunny_mesh), (block, block_mesh)] {
-            adapter.dentables.insert(&world.colliders, handle, mesh.clone(), target_dent())?;
+            adapter.dentables.insert(&world.colliders, &world.bodies, handle, mesh.clone(), target_dent())?;
             initial.insert(handle, mesh);
         }
         let ball_mesh = mesh::icosphere(BALL_RADIUS, 2)?;
         let rng = Lcg::new(settings.seed);
         Ok(Self { world, adapter, bunny, block, balls: Vec::new(), initial, settings, rng, ball_mesh, step: 0 })
+    }
+
+    /// The balls' mesh (collider frame, m).
+    pub fn ball_mesh(&self) -> &TriMesh {
+        &self.ball_mesh
     }
 
     /// The run's settings.
@@ -193,8 +200,18 @@ impl Rain {
                 .active_events(ActiveEvents::CONTACT_FORCE_EVENTS)
                 .contact_force_event_threshold(0.0);
             let collider = self.world.colliders.insert_with_parent(collider, body, &mut self.world.bodies);
-            self.adapter.dentables.insert(&self.world.colliders, collider, self.ball_mesh.clone(), ball_dent())?;
-            self.initial.insert(collider, self.ball_mesh.clone());
+            if self.settings.rigid_balls {
+                self.adapter.dentables.insert_projectile(&self.world.colliders, collider, self.ball_mesh.clone())?;
+            } else {
+                self.adapter.dentables.insert(
+                    &self.world.colliders,
+                    &self.world.bodies,
+                    collider,
+                    self.ball_mesh.clone(),
+                    ball_dent(),
+                )?;
+                self.initial.insert(collider, self.ball_mesh.clone());
+            }
             self.balls.push((body, collider));
         }
         Ok(())

@@ -1,0 +1,231 @@
+//! A client's side: the bodies' base meshes and settings and the projectile meshes, given up
+//! front; a snapshot to join; then every message in order, each recomputed on the CPU and
+//! checked against the server's result.
+
+use std::collections::BTreeMap;
+
+use super::wire::{BodyForm, Group, GroupChange, ProjectileId, check_of, read_message, read_snapshot};
+use super::{ReplicationError, settings_digest};
+use crate::dent::{DentJob, DentParams, DentSettings, dent_batch_tracked, moved_vertices};
+use crate::mesh::{TriMesh, content_hash};
+use crate::record::hex64;
+
+/// One body a message changed on the client.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplicaChange {
+    /// The body's wire id.
+    pub id: u32,
+    /// Vertices whose position changed, ascending (new vertices included): refit over these.
+    pub moved: Vec<u32>,
+    /// Whether the faces changed too (a refined dent): rebuild the collider and the render mesh.
+    pub topology_changed: bool,
+}
+
+#[derive(Debug, Clone)]
+struct ClientBody {
+    base: TriMesh,
+    base_hash: u64,
+    params: DentParams,
+    settings: u64,
+    mesh: TriMesh,
+}
+
+/// A client's replica of the server's damage.
+#[derive(Debug, Clone, Default)]
+pub struct ReplicationClient {
+    bodies: BTreeMap<u32, ClientBody>,
+    shapes: BTreeMap<u32, TriMesh>,
+    /// The next message's number; `None` before the snapshot.
+    next: Option<u64>,
+}
+
+impl ReplicationClient {
+    /// No body yet, not joined.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Gives body `id` its base mesh (the one the server tracks it from, its own coordinates)
+    /// and dent settings (the server's); its mesh is the base until the snapshot says otherwise.
+    ///
+    /// # Errors
+    /// [`ReplicationError::DuplicateId`], [`ReplicationError::NotReplicable`].
+    pub fn add_body(&mut self, id: u32, base: TriMesh, settings: &DentSettings) -> Result<(), ReplicationError> {
+        if self.bodies.contains_key(&id) {
+            return Err(ReplicationError::DuplicateId { what: "body", id });
+        }
+        let body = ClientBody {
+            base_hash: content_hash(&base),
+            params: settings.params.clone(),
+            settings: settings_digest(settings)?,
+            mesh: base.clone(),
+            base,
+        };
+        self.bodies.insert(id, body);
+        Ok(())
+    }
+
+    /// Registers projectile mesh `id` (its own coordinates), as the server did.
+    ///
+    /// # Errors
+    /// [`ReplicationError::DuplicateId`] when `id` names another mesh.
+    pub fn add_projectile(&mut self, id: u32, mesh: TriMesh) -> Result<(), ReplicationError> {
+        if self.shapes.get(&id).is_some_and(|m| content_hash(m) != content_hash(&mesh)) {
+            return Err(ReplicationError::DuplicateId { what: "projectile", id });
+        }
+        self.shapes.insert(id, mesh);
+        Ok(())
+    }
+
+    /// Body `id`'s mesh now.
+    pub fn mesh(&self, id: u32) -> Option<&TriMesh> {
+        self.bodies.get(&id).map(|b| &b.mesh)
+    }
+
+    /// The number of the next message to apply; `None` before [`join`](Self::join).
+    pub fn next_message(&self) -> Option<u64> {
+        self.next
+    }
+
+    /// Joins the stream at `snapshot` ([`ReplicationServer::snapshot`](super::ReplicationServer::snapshot)):
+    /// every body the snapshot names takes the mesh it gives.
+    ///
+    /// # Errors
+    /// [`ReplicationError::MissingBase`] for a body not added, [`ReplicationError::OtherMesh`]
+    /// for a base mesh or settings other than the server's or a mesh that does not hash as the
+    /// snapshot says, [`ReplicationError::Truncated`] / [`ReplicationError::Malformed`]; nothing
+    /// changes then.
+    pub fn join(&mut self, snapshot: &[u8]) -> Result<Vec<ReplicaChange>, ReplicationError> {
+        let snapshot = read_snapshot(snapshot)?;
+        let mut staged = Vec::with_capacity(snapshot.bodies.len());
+        for s in &snapshot.bodies {
+            let body = self.bodies.get(&s.id).ok_or(ReplicationError::MissingBase { id: s.id })?;
+            let found = (body.base.vertex_count() as u32, body.base.face_count() as u32, body.base_hash);
+            if found != s.base {
+                let show = |b: (u32, u32, u64)| format!("{} vertices, {} faces, hash {}", b.0, b.1, hex64(b.2));
+                return Err(other(s.id, "the base mesh", show(s.base), show(found)));
+            }
+            if body.settings != s.settings {
+                return Err(other(s.id, "the dent settings' digest", hex64(s.settings), hex64(body.settings)));
+            }
+            let mesh = match &s.form {
+                BodyForm::Edit(edit) => {
+                    edit.apply(&body.base).map_err(|error| ReplicationError::Mesh { id: s.id, error })?
+                }
+                BodyForm::Whole(mesh) => mesh.clone(),
+            };
+            let hash = content_hash(&mesh);
+            if hash != s.hash {
+                return Err(other(s.id, "the joined mesh's hash", hex64(s.hash), hex64(hash)));
+            }
+            staged.push((s.id, mesh));
+        }
+        let changes = staged.iter().map(|(id, mesh)| change(*id, &self.bodies[id].mesh, mesh)).collect();
+        for (id, mesh) in staged {
+            if let Some(body) = self.bodies.get_mut(&id) {
+                body.mesh = mesh;
+            }
+        }
+        self.next = Some(snapshot.next);
+        Ok(changes)
+    }
+
+    /// Applies the next message: each body's dents recomputed on the CPU (every map from the
+    /// meshes before the message), or its edit applied, and checked against the server's
+    /// result. Returns what changed, for the caller's colliders and render meshes.
+    ///
+    /// # Errors
+    /// [`ReplicationError::NotJoined`], [`ReplicationError::OutOfOrder`],
+    /// [`ReplicationError::Repeated`], [`ReplicationError::Truncated`],
+    /// [`ReplicationError::Malformed`], [`ReplicationError::MissingBase`],
+    /// [`ReplicationError::UnknownProjectile`], [`ReplicationError::OtherMesh`] (a result that
+    /// differs from the server's: the message was made for another mesh), or a dent or edit that
+    /// fails; nothing changes then.
+    pub fn apply(&mut self, message: &[u8]) -> Result<Vec<ReplicaChange>, ReplicationError> {
+        let expected = self.next.ok_or(ReplicationError::NotJoined)?;
+        let message = read_message(message)?;
+        if message.number < expected {
+            return Err(ReplicationError::Repeated { expected, found: message.number });
+        }
+        if message.number > expected {
+            return Err(ReplicationError::OutOfOrder { expected, found: message.number });
+        }
+        let staged: Vec<(u32, TriMesh)> =
+            message.groups.iter().map(|g| Ok((g.id, self.changed(g)?))).collect::<Result<_, ReplicationError>>()?;
+        let changes = staged.iter().map(|(id, mesh)| change(*id, &self.bodies[id].mesh, mesh)).collect();
+        for (id, mesh) in staged {
+            if let Some(body) = self.bodies.get_mut(&id) {
+                body.mesh = mesh;
+            }
+        }
+        self.next = Some(expected + 1);
+        Ok(changes)
+    }
+
+    /// Body `g.id`'s mesh after its group, checked against the group's hash.
+    fn changed(&self, g: &Group) -> Result<TriMesh, ReplicationError> {
+        let body = self.bodies.get(&g.id).ok_or(ReplicationError::MissingBase { id: g.id })?;
+        let mesh = match &g.change {
+            GroupChange::Edit(edit) => {
+                edit.apply(&body.mesh).map_err(|error| ReplicationError::Mesh { id: g.id, error })?
+            }
+            GroupChange::Dents(dents) => {
+                let mut cropped = Vec::with_capacity(dents.len());
+                for d in dents {
+                    let projectile = match d.projectile {
+                        ProjectileId::Body(id) => {
+                            &self.bodies.get(&id).ok_or(ReplicationError::MissingBase { id })?.mesh
+                        }
+                        ProjectileId::Shape(id) => self.shapes.get(&id).ok_or_else(|| {
+                            ReplicationError::UnknownProjectile(format!(
+                                "projectile mesh {id} is not registered on this client \
+                                 (ReplicationClient::add_projectile with the server's mesh)"
+                            ))
+                        })?,
+                    };
+                    cropped.push(d.contact.crop(projectile, d.reach));
+                }
+                let jobs: Vec<DentJob<'_>> = dents
+                    .iter()
+                    .zip(&cropped)
+                    .filter_map(|(d, c)| {
+                        Some(DentJob {
+                            target: 0,
+                            projectile: c.as_ref()?,
+                            impact: d.contact.impact(),
+                            params: DentParams { dent_distance: d.distance, ..body.params.clone() },
+                        })
+                    })
+                    .collect();
+                let mut meshes = vec![body.mesh.clone()];
+                dent_batch_tracked(&mut meshes, &jobs).map_err(|e| ReplicationError::Dent {
+                    id: g.id,
+                    dent: e.job,
+                    error: e.error,
+                })?;
+                meshes.pop().unwrap_or_else(|| body.mesh.clone())
+            }
+        };
+        let found = check_of(content_hash(&mesh));
+        if found != g.check {
+            return Err(other(
+                g.id,
+                "the result's hash (low 32 bits)",
+                format!("{:08x}", g.check),
+                format!("{found:08x}"),
+            ));
+        }
+        Ok(mesh)
+    }
+}
+
+fn other(id: u32, what: &'static str, expected: String, found: String) -> ReplicationError {
+    ReplicationError::OtherMesh { id, what, expected, found }
+}
+
+/// What changed from `before` to `after`.
+fn change(id: u32, before: &TriMesh, after: &TriMesh) -> ReplicaChange {
+    let mut moved = moved_vertices(before.positions(), after.positions());
+    moved.extend(before.vertex_count().min(after.vertex_count()) as u32..after.vertex_count() as u32);
+    ReplicaChange { id, moved, topology_changed: before.faces() != after.faces() }
+}

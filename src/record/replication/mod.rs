@@ -1,0 +1,45 @@
+//! Network replication of damage: a server sends each step's dents as small messages (about
+//! 54 bytes a dent: the contact in the target's coordinates as [`LocalContact`] codes it, the
+//! dent distance and the crop reach), and each client recomputes them on the CPU from the same
+//! meshes, getting bit-identical meshes; every group of dents carries the low 32 bits of the
+//! server's resulting mesh hash, and a client that would differ refuses the message. A client
+//! that joins late starts from a snapshot whose size is bounded by the meshes, not by the hits
+//! that came before: each body is sent as the smaller of its edit from the base mesh and its
+//! whole mesh.
+//!
+//! Both sides are given every body's base mesh and dent settings and the projectile meshes
+//! up front (game assets); the stream names them by small ids. The server must dent on the CPU
+//! backend: a GPU's f32 results are not the CPU's, and clients would refuse them. A progressive
+//! body's dents are rebuilt from a pre-dent surface the clients do not have: its groups are
+//! exact mesh edits instead.
+//!
+//! [`LocalContact`]: crate::dent::LocalContact
+
+mod client;
+mod error;
+mod server;
+mod wire;
+
+pub use client::{ReplicaChange, ReplicationClient};
+pub use error::ReplicationError;
+pub use server::{ReplicationServer, SnapshotBytes};
+pub use wire::{MESSAGE_TAG, SNAPSHOT_TAG, SNAPSHOT_VERSION};
+
+use super::bytes::ByteWriter;
+use super::params_codec::write_params;
+use crate::dent::{DentParams, DentSettings};
+use crate::mesh::{fnv1a64, fnv1a64_start};
+
+/// A digest of what a client needs of a body's settings to dent as the server: its dent
+/// parameters (every field but the distance, which each dent carries) and whether it is
+/// progressive.
+///
+/// # Errors
+/// [`ReplicationError::NotReplicable`] for a custom falloff (a function, not data).
+fn settings_digest(settings: &DentSettings) -> Result<u64, ReplicationError> {
+    let mut out = ByteWriter::default();
+    write_params(&mut out, &DentParams { dent_distance: 0.0, ..settings.params.clone() })
+        .map_err(|e| ReplicationError::NotReplicable(format!("these dent settings: {e}")))?;
+    out.u8(u8::from(settings.progressive));
+    Ok(fnv1a64(fnv1a64_start(), &out.bytes))
+}

@@ -1,0 +1,225 @@
+//! The server's side: after each step's dents are applied, one message for every client; a
+//! snapshot for a client that joins late.
+
+use std::hash::Hash;
+
+use super::wire::{
+    BodyForm, Group, GroupChange, Message, ProjectileId, Snapshot, SnapshotBody, WireDent, check_of, write_message,
+    write_snapshot,
+};
+use super::{ReplicationError, settings_digest};
+use crate::dent::{AppliedDent, DentSettings};
+use crate::mesh::{MeshEdit, TriMesh, content_hash};
+
+/// A late joiner's start, with what sending every mesh whole would have cost.
+#[derive(Debug, Clone)]
+pub struct SnapshotBytes {
+    /// The snapshot ([`ReplicationClient::join`](super::ReplicationClient::join)).
+    pub bytes: Vec<u8>,
+    /// Bytes of the same snapshot with every body's mesh sent whole: `bytes.len()` is never
+    /// more, however many dents came before (each body takes the smaller of its edit from the
+    /// base and its whole mesh).
+    pub full_mesh_bytes: usize,
+}
+
+#[derive(Debug, Clone)]
+struct ServerBody<K> {
+    key: K,
+    id: u32,
+    base: TriMesh,
+    base_hash: u64,
+    settings: u64,
+    /// Progressive bodies: the mesh the clients have (their groups are edits from it).
+    sent: Option<TriMesh>,
+}
+
+/// The server's replication state: which of its bodies the stream carries (keyed by the
+/// caller's ids, named on the wire by small ids), the projectile meshes clients know, and the
+/// next message's number.
+#[derive(Debug, Clone)]
+pub struct ReplicationServer<K> {
+    bodies: Vec<ServerBody<K>>,
+    /// Registered projectile meshes: (content hash, id).
+    shapes: Vec<(u64, u32)>,
+    next: u64,
+}
+
+impl<K> Default for ReplicationServer<K> {
+    fn default() -> Self {
+        Self { bodies: Vec::new(), shapes: Vec::new(), next: 0 }
+    }
+}
+
+impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
+    /// No body tracked, no message sent.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Carries body `key` as wire id `id`, its mesh now `base` (its own coordinates; clients
+    /// are given the same mesh), denting with `settings` (clients are given the same).
+    ///
+    /// # Errors
+    /// [`ReplicationError::DuplicateId`] for an id another body has,
+    /// [`ReplicationError::NotReplicable`] for a custom falloff; nothing changes then.
+    pub fn track(&mut self, key: K, id: u32, base: &TriMesh, settings: &DentSettings) -> Result<(), ReplicationError> {
+        if self.bodies.iter().any(|b| b.id == id && b.key != key) {
+            return Err(ReplicationError::DuplicateId { what: "body", id });
+        }
+        let digest = settings_digest(settings)?;
+        let body = ServerBody {
+            key,
+            id,
+            base: base.clone(),
+            base_hash: content_hash(base),
+            settings: digest,
+            sent: settings.progressive.then(|| base.clone()),
+        };
+        match self.bodies.iter_mut().find(|b| b.key == key) {
+            Some(slot) => *slot = body,
+            None => self.bodies.push(body),
+        }
+        Ok(())
+    }
+
+    /// Stops carrying body `key` (removed from the game).
+    pub fn forget(&mut self, key: K) {
+        self.bodies.retain(|b| b.key != key);
+    }
+
+    /// Registers a projectile mesh (its own coordinates, as its surface dents) as id `id`:
+    /// dents by bodies with this mesh name it by id. Clients register the same mesh.
+    ///
+    /// # Errors
+    /// [`ReplicationError::DuplicateId`] when `id` names another mesh.
+    pub fn add_projectile(&mut self, id: u32, mesh: &TriMesh) -> Result<(), ReplicationError> {
+        let hash = content_hash(mesh);
+        if self.shapes.iter().any(|&(h, i)| i == id && h != hash) {
+            return Err(ReplicationError::DuplicateId { what: "projectile", id });
+        }
+        if !self.shapes.contains(&(hash, id)) {
+            self.shapes.push((hash, id));
+        }
+        Ok(())
+    }
+
+    /// The number the next message will carry.
+    pub fn next_message(&self) -> u64 {
+        self.next
+    }
+
+    /// The message of one step's `dents` (from [`Damage::plan`](crate::dent::Damage::plan) on
+    /// the CPU backend, already applied): `mesh` gives each tracked body's mesh now, and
+    /// `surface` each projectile's surface as it dented (its mesh, own coordinates). Dents on
+    /// bodies the stream does not carry are left out; `None` when no dent is carried (no
+    /// message is numbered then).
+    ///
+    /// # Errors
+    /// [`ReplicationError::UnknownProjectile`] for a projectile that is neither tracked nor
+    /// registered, [`ReplicationError::UnknownBody`] for a tracked body `mesh` does not know;
+    /// nothing changes then.
+    pub fn message<'m>(
+        &mut self,
+        dents: &[AppliedDent<K>],
+        mesh: impl Fn(K) -> Option<&'m TriMesh>,
+        surface: impl Fn(K) -> Option<&'m TriMesh>,
+    ) -> Result<Option<Vec<u8>>, ReplicationError> {
+        let mut groups: Vec<(usize, Group)> = Vec::new();
+        for d in dents {
+            let Some(slot) = self.bodies.iter().position(|b| b.key == d.target) else { continue };
+            let body = &self.bodies[slot];
+            let wire = if body.sent.is_some() { None } else { Some(self.wire_dent(d, &surface)?) };
+            match groups.iter_mut().find(|(s, _)| *s == slot) {
+                Some((_, Group { change: GroupChange::Dents(list), .. })) => list.extend(wire),
+                Some(_) => {}
+                None => {
+                    let change = match wire {
+                        Some(w) => GroupChange::Dents(vec![w]),
+                        None => GroupChange::Edit(MeshEdit::default()),
+                    };
+                    groups.push((slot, Group { id: body.id, check: 0, change }));
+                }
+            }
+        }
+        if groups.is_empty() {
+            return Ok(None);
+        }
+        let mut sent = Vec::new();
+        for (slot, group) in &mut groups {
+            let body = &self.bodies[*slot];
+            let now = mesh(body.key).ok_or_else(|| ReplicationError::UnknownBody(format!("{:?}", body.key)))?;
+            group.check = check_of(content_hash(now));
+            if let Some(before) = &body.sent {
+                let edit =
+                    MeshEdit::between(before, now).map_err(|error| ReplicationError::Mesh { id: body.id, error })?;
+                group.change = GroupChange::Edit(edit);
+                sent.push((*slot, now.clone()));
+            }
+        }
+        let message = Message { number: self.next, groups: groups.into_iter().map(|(_, g)| g).collect() };
+        // Everything built: commit.
+        for (slot, now) in sent {
+            self.bodies[slot].sent = Some(now);
+        }
+        self.next += 1;
+        Ok(Some(write_message(&message)))
+    }
+
+    /// A late joiner's start: every tracked body's mesh now (`mesh` gives it) as the smaller of
+    /// its edit from the base and the whole mesh, and the next message's number.
+    ///
+    /// # Errors
+    /// [`ReplicationError::UnknownBody`] for a tracked body `mesh` does not know,
+    /// [`ReplicationError::Mesh`] for one whose mesh is no edit of its base (track it again
+    /// after changing it otherwise than by dents).
+    pub fn snapshot<'m>(&self, mesh: impl Fn(K) -> Option<&'m TriMesh>) -> Result<SnapshotBytes, ReplicationError> {
+        let mut bodies = Vec::with_capacity(self.bodies.len());
+        let mut whole = Vec::with_capacity(self.bodies.len());
+        for b in &self.bodies {
+            let now = mesh(b.key).ok_or_else(|| ReplicationError::UnknownBody(format!("{:?}", b.key)))?;
+            let base = (b.base.vertex_count() as u32, b.base.face_count() as u32, b.base_hash);
+            let edit = MeshEdit::between(&b.base, now).ok();
+            let entry = |form| SnapshotBody { id: b.id, base, settings: b.settings, form, hash: content_hash(now) };
+            let whole_entry = entry(BodyForm::Whole(now.clone()));
+            let size = |body: &SnapshotBody| write_snapshot(&Snapshot { next: 0, bodies: vec![body.clone()] }).len();
+            let chosen = match edit.map(|e| entry(BodyForm::Edit(e))) {
+                Some(as_edit) if size(&as_edit) <= size(&whole_entry) => as_edit,
+                _ => whole_entry.clone(),
+            };
+            bodies.push(chosen);
+            whole.push(whole_entry);
+        }
+        let bytes = write_snapshot(&Snapshot { next: self.next, bodies });
+        let full_mesh_bytes = write_snapshot(&Snapshot { next: self.next, bodies: whole }).len();
+        Ok(SnapshotBytes { bytes, full_mesh_bytes })
+    }
+
+    /// `d` as the stream carries it.
+    fn wire_dent<'m>(
+        &self,
+        d: &AppliedDent<K>,
+        surface: &impl Fn(K) -> Option<&'m TriMesh>,
+    ) -> Result<WireDent, ReplicationError> {
+        let projectile = match self.bodies.iter().find(|b| b.key == d.projectile) {
+            Some(b) => ProjectileId::Body(b.id),
+            None => {
+                let mesh = surface(d.projectile).ok_or_else(|| {
+                    ReplicationError::UnknownProjectile(format!(
+                        "the surface of projectile {:?} is unknown",
+                        d.projectile
+                    ))
+                })?;
+                let hash = content_hash(mesh);
+                let id = self.shapes.iter().find(|(h, _)| *h == hash).map(|&(_, id)| id).ok_or_else(|| {
+                    ReplicationError::UnknownProjectile(format!(
+                        "projectile {:?} dented {:?} with a mesh no id names: register it with \
+                         ReplicationServer::add_projectile (and on every client)",
+                        d.projectile, d.target
+                    ))
+                })?;
+                ProjectileId::Shape(id)
+            }
+        };
+        Ok(WireDent { projectile, distance: d.dent_distance, reach: d.reach, contact: d.local })
+    }
+}

@@ -1,0 +1,344 @@
+//! The bytes of the replication stream.
+//!
+//! A **message** (one server step): tag `0xD1`, message number (varint), group count (varint),
+//! then per dented body: its id (varint), `count << 1 | kind` (varint; kind 0: `count` dents,
+//! kind 1: one mesh edit), the low 32 bits of the body's content hash after the group (u32),
+//! then the dents or the edit ([`write_edit`]).
+//!
+//! A **dent** (54 bytes for a rotation, 78 for a scaled pose): flags (u8: bits 0–1 the
+//! rotation's dropped component, bit 2 a whole matrix, bit 3 the projectile is a tracked body),
+//! the projectile's id (varint), dent distance and crop reach (f32, m), contact point (3 × f32),
+//! normal and view codes (2 × 2 × u16), rotation (3 × f32, or 9 × f32), translation (3 × f32).
+//!
+//! A **snapshot** (a late joiner's start): tag `0xD5`, version (u8), the next message number
+//! (varint), body count (varint), then per body: id (varint), base mesh stamp (vertex and face
+//! counts as varints, content hash u64), settings digest (u64), form (u8: 0 an edit from the
+//! base, 1 the whole mesh), the edit or the mesh, content hash of the body's mesh (u64).
+
+use glam::{Mat3A, Vec3};
+
+use super::super::bytes::{ByteReader, ByteWriter};
+use super::super::edit_codec::{MAX_EDIT_ITEMS, read_edit, write_edit};
+use super::ReplicationError;
+use crate::dent::{LocalContact, OctDirection, PoseRotation};
+use crate::mesh::{MeshEdit, TriMesh};
+
+/// First byte of a message.
+pub const MESSAGE_TAG: u8 = 0xD1;
+/// First byte of a snapshot.
+pub const SNAPSHOT_TAG: u8 = 0xD5;
+/// Snapshot format version.
+pub const SNAPSHOT_VERSION: u8 = 1;
+
+/// Most bodies or groups one message or snapshot may declare.
+pub const MAX_BODIES: u64 = 1 << 20;
+/// Most dents one group may declare.
+pub const MAX_GROUP_DENTS: u64 = 1 << 20;
+
+/// What dented a body: a tracked body (its mesh before the message's dents) or a registered
+/// projectile mesh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProjectileId {
+    /// A body the stream tracks, by id.
+    Body(u32),
+    /// A projectile mesh both sides registered, by id.
+    Shape(u32),
+}
+
+/// One dent as the stream carries it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WireDent {
+    /// What dented the body.
+    pub projectile: ProjectileId,
+    /// Dent distance, m.
+    pub distance: f32,
+    /// How far from the contact the projectile is cropped, m.
+    pub reach: f32,
+    /// The contact, target mesh coordinates.
+    pub contact: LocalContact,
+}
+
+/// One body's change in a message.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GroupChange {
+    /// Dents recomputed on the client, in order, every map from the body's mesh before them.
+    Dents(Vec<WireDent>),
+    /// An exact edit of the body's mesh (a progressive dent, rebuilt from a pre-dent surface).
+    Edit(MeshEdit),
+}
+
+/// One body's part of a message.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Group {
+    /// The body's id.
+    pub id: u32,
+    /// Low 32 bits of the body's content hash after the change.
+    pub check: u32,
+    /// The change.
+    pub change: GroupChange,
+}
+
+/// A decoded message.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Message {
+    /// Its number in the stream (0 = the first).
+    pub number: u64,
+    /// The bodies it changes, each once.
+    pub groups: Vec<Group>,
+}
+
+/// The form of one body in a snapshot.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BodyForm {
+    /// An edit of the base mesh.
+    Edit(MeshEdit),
+    /// The whole mesh.
+    Whole(TriMesh),
+}
+
+/// One body in a snapshot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SnapshotBody {
+    /// The body's id.
+    pub id: u32,
+    /// Base mesh: vertex count, face count, content hash.
+    pub base: (u32, u32, u64),
+    /// Digest of the body's dent settings.
+    pub settings: u64,
+    /// Its mesh now.
+    pub form: BodyForm,
+    /// Content hash of its mesh now.
+    pub hash: u64,
+}
+
+/// A decoded snapshot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// The number of the first message to apply after it.
+    pub next: u64,
+    /// Every tracked body.
+    pub bodies: Vec<SnapshotBody>,
+}
+
+/// The low 32 bits of a content hash, as a group's check.
+pub fn check_of(hash: u64) -> u32 {
+    hash as u32
+}
+
+/// Encodes `message`.
+pub fn write_message(message: &Message) -> Vec<u8> {
+    let mut out = ByteWriter::default();
+    out.u8(MESSAGE_TAG);
+    out.varint(message.number);
+    out.varint(message.groups.len() as u64);
+    for g in &message.groups {
+        out.varint(u64::from(g.id));
+        match &g.change {
+            GroupChange::Dents(dents) => {
+                out.varint((dents.len() as u64) << 1);
+                out.u32(g.check);
+                dents.iter().for_each(|d| write_dent(&mut out, d));
+            }
+            GroupChange::Edit(edit) => {
+                out.varint((1 << 1) | 1);
+                out.u32(g.check);
+                write_edit(&mut out, edit);
+            }
+        }
+    }
+    out.bytes
+}
+
+/// Decodes a message, checking every length before it reads.
+///
+/// # Errors
+/// [`ReplicationError::Truncated`], [`ReplicationError::Malformed`].
+pub fn read_message(bytes: &[u8]) -> Result<Message, ReplicationError> {
+    let mut r = ByteReader::new(bytes);
+    let tag = r.u8("message tag")?;
+    if tag != MESSAGE_TAG {
+        return Err(ReplicationError::Malformed(format!("tag {tag:#04x} is no replication message's")));
+    }
+    let number = r.varint("message number")?;
+    // A group takes at least an id, a header and a check: 6 bytes.
+    let n = r.count("message groups", 6, MAX_BODIES)?;
+    let mut groups = Vec::with_capacity(n);
+    for _ in 0..n {
+        let id = r.varint32("body id")?;
+        let header = r.varint("group header")?;
+        let check = r.u32("group check")?;
+        let change = if header & 1 == 1 {
+            if header >> 1 != 1 {
+                return Err(ReplicationError::Malformed(format!("body {id}: an edit group of {} edits", header >> 1)));
+            }
+            GroupChange::Edit(read_edit(&mut r)?)
+        } else {
+            let count = header >> 1;
+            if count == 0 || count > MAX_GROUP_DENTS {
+                return Err(ReplicationError::Malformed(format!("body {id}: a group of {count} dents")));
+            }
+            let mut dents = Vec::with_capacity((count as usize).min(r.remaining() / 54));
+            for _ in 0..count {
+                dents.push(read_dent(&mut r)?);
+            }
+            GroupChange::Dents(dents)
+        };
+        if groups.iter().any(|g: &Group| g.id == id) {
+            return Err(ReplicationError::Malformed(format!("body {id} appears twice in message {number}")));
+        }
+        groups.push(Group { id, check, change });
+    }
+    if r.remaining() != 0 {
+        return Err(ReplicationError::Malformed(format!("{} bytes after the message's end", r.remaining())));
+    }
+    Ok(Message { number, groups })
+}
+
+fn write_dent(out: &mut ByteWriter, d: &WireDent) {
+    let (rotation_bits, matrix) = match d.contact.rotation {
+        PoseRotation::Quaternion { largest, .. } => (largest & 3, false),
+        PoseRotation::Matrix(_) => (0, true),
+    };
+    let (body, id) = match d.projectile {
+        ProjectileId::Body(id) => (true, id),
+        ProjectileId::Shape(id) => (false, id),
+    };
+    out.u8(rotation_bits | (u8::from(matrix) << 2) | (u8::from(body) << 3));
+    out.varint(u64::from(id));
+    out.f32(d.distance);
+    out.f32(d.reach);
+    out.vec3(d.contact.point);
+    d.contact.normal.0.iter().chain(&d.contact.view.0).for_each(|&c| out.u16(c));
+    match d.contact.rotation {
+        PoseRotation::Quaternion { rest, .. } => rest.iter().for_each(|&c| out.f32(c)),
+        PoseRotation::Matrix(m) => m.to_cols_array().iter().for_each(|&c| out.f32(c)),
+    }
+    out.vec3(d.contact.translation);
+}
+
+fn read_dent(r: &mut ByteReader<'_>) -> Result<WireDent, ReplicationError> {
+    let flags = r.u8("dent flags")?;
+    if flags >> 4 != 0 {
+        return Err(ReplicationError::Malformed(format!("dent flags {flags:#04x}")));
+    }
+    let id = r.varint32("projectile id")?;
+    let projectile = if flags & 8 != 0 { ProjectileId::Body(id) } else { ProjectileId::Shape(id) };
+    let distance = r.f32("dent distance")?;
+    let reach = r.f32("crop reach")?;
+    let point = r.vec3("contact point")?;
+    let normal = OctDirection([r.u16("normal")?, r.u16("normal")?]);
+    let view = OctDirection([r.u16("view")?, r.u16("view")?]);
+    let rotation = if flags & 4 != 0 {
+        let mut cols = [0.0f32; 9];
+        for c in &mut cols {
+            *c = r.f32("rotation matrix")?;
+        }
+        PoseRotation::Matrix(Mat3A::from_cols_array(&cols))
+    } else {
+        let rest = [r.f32("rotation")?, r.f32("rotation")?, r.f32("rotation")?];
+        PoseRotation::Quaternion { largest: flags & 3, rest }
+    };
+    let translation = r.vec3("translation")?;
+    let finite = [distance, reach].iter().all(|v| v.is_finite())
+        && point.is_finite()
+        && translation.is_finite()
+        && match rotation {
+            PoseRotation::Matrix(m) => m.is_finite(),
+            PoseRotation::Quaternion { rest, .. } => rest.iter().all(|c| c.is_finite() && c.abs() <= 1.0),
+        };
+    if !finite || distance < 0.0 || reach <= 0.0 {
+        return Err(ReplicationError::Malformed(format!(
+            "a dent with distance {distance}, reach {reach}, point {point}, translation {translation}"
+        )));
+    }
+    let contact = LocalContact { point, normal, view, rotation, translation };
+    Ok(WireDent { projectile, distance, reach, contact })
+}
+
+/// Encodes `snapshot`.
+pub fn write_snapshot(snapshot: &Snapshot) -> Vec<u8> {
+    let mut out = ByteWriter::default();
+    out.u8(SNAPSHOT_TAG);
+    out.u8(SNAPSHOT_VERSION);
+    out.varint(snapshot.next);
+    out.varint(snapshot.bodies.len() as u64);
+    for b in &snapshot.bodies {
+        out.varint(u64::from(b.id));
+        out.varint(u64::from(b.base.0));
+        out.varint(u64::from(b.base.1));
+        out.u64(b.base.2);
+        out.u64(b.settings);
+        match &b.form {
+            BodyForm::Edit(edit) => {
+                out.u8(0);
+                write_edit(&mut out, edit);
+            }
+            BodyForm::Whole(mesh) => {
+                out.u8(1);
+                write_whole(&mut out, mesh);
+            }
+        }
+        out.u64(b.hash);
+    }
+    out.bytes
+}
+
+/// Decodes a snapshot.
+///
+/// # Errors
+/// [`ReplicationError::Truncated`], [`ReplicationError::Malformed`] (a mesh in it that is no
+/// valid mesh included).
+pub fn read_snapshot(bytes: &[u8]) -> Result<Snapshot, ReplicationError> {
+    let mut r = ByteReader::new(bytes);
+    let tag = r.u8("snapshot tag")?;
+    if tag != SNAPSHOT_TAG {
+        return Err(ReplicationError::Malformed(format!("tag {tag:#04x} is no replication snapshot's")));
+    }
+    let version = r.u8("snapshot version")?;
+    if version != SNAPSHOT_VERSION {
+        return Err(ReplicationError::Malformed(format!(
+            "snapshot version {version}; this build reads version {SNAPSHOT_VERSION}"
+        )));
+    }
+    let next = r.varint("next message number")?;
+    // A body takes at least 1 + 1 + 1 + 8 + 8 + 1 + 2 + 8 bytes.
+    let n = r.count("snapshot bodies", 30, MAX_BODIES)?;
+    let mut bodies = Vec::with_capacity(n);
+    for _ in 0..n {
+        let id = r.varint32("body id")?;
+        let base = (r.varint32("base vertex count")?, r.varint32("base face count")?, r.u64("base hash")?);
+        let settings = r.u64("settings digest")?;
+        let form = match r.u8("body form")? {
+            0 => BodyForm::Edit(read_edit(&mut r)?),
+            1 => BodyForm::Whole(read_whole(&mut r)?),
+            other => return Err(ReplicationError::Malformed(format!("body {id}: form {other}"))),
+        };
+        let hash = r.u64("body hash")?;
+        if bodies.iter().any(|b: &SnapshotBody| b.id == id) {
+            return Err(ReplicationError::Malformed(format!("body {id} appears twice in the snapshot")));
+        }
+        bodies.push(SnapshotBody { id, base, settings, form, hash });
+    }
+    if r.remaining() != 0 {
+        return Err(ReplicationError::Malformed(format!("{} bytes after the snapshot's end", r.remaining())));
+    }
+    Ok(Snapshot { next, bodies })
+}
+
+fn write_whole(out: &mut ByteWriter, mesh: &TriMesh) {
+    out.varint(mesh.vertex_count() as u64);
+    out.varint(mesh.face_count() as u64);
+    mesh.positions().iter().for_each(|&p| out.vec3(p));
+    mesh.faces().iter().flatten().for_each(|&v| out.u32(v));
+}
+
+fn read_whole(r: &mut ByteReader<'_>) -> Result<TriMesh, ReplicationError> {
+    let nv = r.count("mesh vertices", 12, MAX_EDIT_ITEMS)?;
+    let nf = r.count("mesh faces", 12, MAX_EDIT_ITEMS)?;
+    let positions: Vec<Vec3> = (0..nv).map(|_| r.vec3("mesh vertex")).collect::<Result<_, _>>()?;
+    let mut faces = Vec::with_capacity(nf);
+    for _ in 0..nf {
+        faces.push([r.u32("mesh face")?, r.u32("mesh face")?, r.u32("mesh face")?]);
+    }
+    TriMesh::new(positions, faces).map_err(|e| ReplicationError::Malformed(format!("a whole mesh: {e}")))
+}
