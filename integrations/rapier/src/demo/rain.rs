@@ -2,10 +2,11 @@
 //! everything dents (the balls are convex hulls of icospheres that the bunny and the block dent
 //! back, unless the settings make them rigid). 60 Hz.
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 use dentbend::dent::{AppliedDent, CpuBackend, DentBackend, DentSettings};
-use dentbend::mesh::{self, TriMesh};
+use dentbend::mesh::{self, TriMesh, content_hash};
+use dentbend::record::DamageFile;
 use glam::{Affine3A, Vec3};
 use rapier3d::prelude::{ActiveEvents, ColliderBuilder, ColliderHandle, RigidBodyBuilder, RigidBodyHandle};
 
@@ -94,6 +95,8 @@ pub struct Rain {
     rng: Lcg,
     ball_mesh: TriMesh,
     step: usize,
+    /// Whether the bodies' damage is recorded (balls as they are launched).
+    recording: bool,
 }
 
 impl Rain {
@@ -130,7 +133,71 @@ impl Rain {
         }
         let ball_mesh = mesh::icosphere(BALL_RADIUS, 2)?;
         let rng = Lcg::new(settings.seed);
-        Ok(Self { world, adapter, bunny, block, balls: Vec::new(), initial, settings, rng, ball_mesh, step: 0 })
+        let balls = Vec::new();
+        Ok(Self { world, adapter, bunny, block, balls, initial, settings, rng, ball_mesh, step: 0, recording: false })
+    }
+
+    /// Records every body's damage from now on ([`Dentables::damage_file`](crate::Dentables::damage_file)):
+    /// the bunny as `bunny`, the block as `block`, dentable balls as `ball-0`, `ball-1`, … in
+    /// launch order.
+    ///
+    /// # Errors
+    /// None for the scene's own colliders.
+    pub fn record_damage(&mut self) -> Result<(), AdapterError> {
+        self.recording = true;
+        self.adapter.dentables.record_damage(self.bunny, "bunny")?;
+        self.adapter.dentables.record_damage(self.block, "block")?;
+        for k in 0..self.balls.len() {
+            if self.adapter.dentables.is_dentable(self.balls[k].1) {
+                self.adapter.dentables.record_damage(self.balls[k].1, format!("ball-{k}"))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Gives the scene the damage `file` recorded (from a run of the same settings), with no
+    /// simulation: the bunny and the block take theirs, and each recorded ball is placed
+    /// beside the scene and takes its own; colliders follow.
+    ///
+    /// # Errors
+    /// A body the scene does not have, damage that does not replay on it.
+    pub fn restore(&mut self, file: &DamageFile) -> Result<(), AdapterError> {
+        for body in &file.bodies {
+            let handle = match body.name.as_str() {
+                "bunny" => self.bunny,
+                "block" => self.block,
+                name => {
+                    let k: usize = name.strip_prefix("ball-").and_then(|k| k.parse().ok()).ok_or_else(|| {
+                        AdapterError::InvalidParameter {
+                            name: "body",
+                            value: name.to_owned(),
+                            reason: "the rain scene has bodies bunny, block and ball-<n>",
+                        }
+                    })?;
+                    while self.balls.len() <= k {
+                        let at = Vec3::new(4.0 + 0.3 * self.balls.len() as f32, BALL_RADIUS, 3.0);
+                        self.add_ball(at, Vec3::ZERO)?;
+                    }
+                    self.balls[k].1
+                }
+            };
+            self.adapter.dentables.restore(&mut self.world.colliders, handle, body)?;
+        }
+        Ok(())
+    }
+
+    /// Content hash of every dentable body's mesh, by the names of
+    /// [`record_damage`](Self::record_damage).
+    pub fn mesh_hashes(&self) -> BTreeMap<String, u64> {
+        let mut out = BTreeMap::new();
+        let mut named = vec![("bunny".to_owned(), self.bunny), ("block".to_owned(), self.block)];
+        named.extend(self.balls.iter().enumerate().map(|(k, b)| (format!("ball-{k}"), b.1)));
+        for (name, handle) in named {
+            if let Some(mesh) = self.adapter.dentables.mesh(handle) {
+                out.insert(name, content_hash(mesh));
+            }
+        }
+        out
     }
 
     /// The balls' mesh (collider frame, m).
@@ -177,7 +244,6 @@ impl Rain {
     /// their tops, falling at 1 m/s.
     fn launch_wave(&mut self) -> Result<(), AdapterError> {
         let per_wave = self.settings.balls.div_ceil(self.settings.waves.max(1));
-        let density = BALL_MASS / self.ball_mesh.volume();
         for k in 0..per_wave {
             if self.balls.len() >= self.settings.balls {
                 break;
@@ -190,30 +256,39 @@ impl Rain {
             let x = centre.x + self.rng.range(-half, half);
             let z = centre.z + self.rng.range(-half, half);
             let y = top + self.rng.range(1.2, 2.2);
-            let body = self
-                .world
-                .bodies
-                .insert(RigidBodyBuilder::dynamic().translation(Vec3::new(x, y, z)).linvel(Vec3::new(0.0, -1.0, 0.0)));
-            let collider = convex_collider(&self.ball_mesh)?
-                .density(density)
-                .restitution(0.3)
-                .active_events(ActiveEvents::CONTACT_FORCE_EVENTS)
-                .contact_force_event_threshold(0.0);
-            let collider = self.world.colliders.insert_with_parent(collider, body, &mut self.world.bodies);
-            if self.settings.rigid_balls {
-                self.adapter.dentables.insert_projectile(&self.world.colliders, collider, self.ball_mesh.clone())?;
-            } else {
-                self.adapter.dentables.insert(
-                    &self.world.colliders,
-                    &self.world.bodies,
-                    collider,
-                    self.ball_mesh.clone(),
-                    ball_dent(),
-                )?;
-                self.initial.insert(collider, self.ball_mesh.clone());
-            }
-            self.balls.push((body, collider));
+            self.add_ball(Vec3::new(x, y, z), Vec3::new(0.0, -1.0, 0.0))?;
         }
+        Ok(())
+    }
+
+    /// A ball at `at` moving at `velocity` (world, m and m/s): dentable, or a rigid projectile
+    /// when the settings say so; its damage recorded when the scene's is.
+    fn add_ball(&mut self, at: Vec3, velocity: Vec3) -> Result<(), AdapterError> {
+        let density = BALL_MASS / self.ball_mesh.volume();
+        let body = self.world.bodies.insert(RigidBodyBuilder::dynamic().translation(at).linvel(velocity));
+        let collider = convex_collider(&self.ball_mesh)?
+            .density(density)
+            .restitution(0.3)
+            .active_events(ActiveEvents::CONTACT_FORCE_EVENTS)
+            .contact_force_event_threshold(0.0);
+        let collider = self.world.colliders.insert_with_parent(collider, body, &mut self.world.bodies);
+        let dentables = &mut self.adapter.dentables;
+        if self.settings.rigid_balls {
+            dentables.insert_projectile(&self.world.colliders, collider, self.ball_mesh.clone())?;
+        } else {
+            dentables.insert(
+                &self.world.colliders,
+                &self.world.bodies,
+                collider,
+                self.ball_mesh.clone(),
+                ball_dent(),
+            )?;
+            self.initial.insert(collider, self.ball_mesh.clone());
+            if self.recording {
+                dentables.record_damage(collider, format!("ball-{}", self.balls.len()))?;
+            }
+        }
+        self.balls.push((body, collider));
         Ok(())
     }
 }
