@@ -4,9 +4,9 @@
 use std::time::Instant;
 
 use dentbend::dent::{AppliedDent, CpuBackend, DentBackend};
-use rapier3d::prelude::ColliderHandle;
+use rapier3d::prelude::{ColliderHandle, EventHandler, PhysicsHooks};
 
-use crate::{AdapterError, Bendable, BodyStates, Contact, Dentables, ImpactCollector, PhysicsWorld};
+use crate::{AdapterError, Bendable, BodyStates, Contact, Dentables, ImpactReader, PhysicsWorld};
 
 /// What one [`Adapter::step`] did, with wall-clock timings (s).
 #[derive(Debug, Clone, Default)]
@@ -42,7 +42,7 @@ pub struct Adapter {
     pub dentables: Dentables,
     /// The bendable bodies.
     pub bendables: Vec<Bendable>,
-    collector: ImpactCollector,
+    reader: ImpactReader,
     backend: Box<dyn DentBackend<ColliderHandle>>,
 }
 
@@ -66,11 +66,13 @@ impl Adapter {
 
     /// As [`new`](Self::new), dents on `backend` (the GPU one, or your own).
     pub fn with_backend(backend: Box<dyn DentBackend<ColliderHandle>>) -> Self {
-        Self { dentables: Dentables::new(), bendables: Vec::new(), collector: ImpactCollector::new(), backend }
+        Self { dentables: Dentables::new(), bendables: Vec::new(), reader: ImpactReader::new(), backend }
     }
 
     /// Steps `world` once, then splits and bends the bendable bodies and dents the dentable
-    /// colliders from the step's impacts.
+    /// colliders from the step's impacts (read from the narrow phase: the colliders' event
+    /// settings play no part). [`step_with`](Self::step_with) passes the game's hooks and
+    /// event handler to Rapier.
     ///
     /// # Errors
     /// A bad contact, an unknown or removed body or collider: Rapier's step has run, the adapter
@@ -78,12 +80,28 @@ impl Adapter {
     /// before anything else). A dent that fails on the backend (a lost GPU) after the bendable
     /// bodies were split and bent leaves the meshes and colliders unchanged.
     pub fn step(&mut self, world: &mut PhysicsWorld) -> Result<StepReport, AdapterError> {
+        self.step_with(world, &(), &())
+    }
+
+    /// As [`step`](Self::step), Rapier's step running the game's `hooks` (contact filters and
+    /// modifiers) and reporting to the game's `events` handler, as it would without the adapter.
+    ///
+    /// # Errors
+    /// As [`step`](Self::step).
+    pub fn step_with(
+        &mut self,
+        world: &mut PhysicsWorld,
+        hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+    ) -> Result<StepReport, AdapterError> {
         let states = BodyStates::record(&world.bodies, &world.colliders);
         let start = Instant::now();
-        world.step(&self.collector);
+        world.step_with(hooks, events);
         let physics_seconds = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        let contacts = self.collector.take_contacts(&states);
+        let known =
+            self.dentables.known().chain(self.bendables.iter().flat_map(|b| b.pieces().iter().map(|p| p.collider)));
+        let contacts = self.reader.read(&world.narrow_phase, known, &states, &world.colliders);
         let extraction = start.elapsed().as_secs_f64();
         let mut report = self.after_step(world, &states, contacts, physics_seconds)?;
         report.dent_seconds += extraction;
@@ -91,7 +109,8 @@ impl Adapter {
     }
 
     /// The adapter's half of a step, for callers who step Rapier themselves: `states` recorded
-    /// before the step, `contacts` its impacts ([`ImpactCollector::take_contacts`]).
+    /// before the step, `contacts` its impacts ([`ImpactReader::read`], or
+    /// [`ImpactCollector::take_contacts`] from contact force events).
     ///
     /// # Errors
     /// As [`step`](Self::step).

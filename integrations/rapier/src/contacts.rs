@@ -1,6 +1,13 @@
 //! Contacts from Rapier's solver, one per impact.
 //!
-//! Which contacts count as impacts: Rapier's [`ContactForceEvent::started`] is true on the step
+//! [`ImpactReader`] reads them from the narrow phase after the step, for the colliders the
+//! adapter knows: the game's event settings (`ActiveEvents`, `contact_force_event_threshold`)
+//! play no part, and the game keeps its own event handler and hooks. A pair's impact starts on
+//! the first step its solver contacts push (after a step they did not), again after every
+//! bounce; pairs that go on pushing are kept, flagged not `started`, for progressive targets.
+//!
+//! [`ImpactCollector`] is an event handler for engines that hand over contact force events
+//! instead of the narrow phase: Rapier's [`ContactForceEvent::started`] is true on the step
 //! a pair's total contact force first exceeds the collider's
 //! `contact_force_event_threshold` (coming from below or from not touching). With
 //! [`ActiveEvents::CONTACT_FORCE_EVENTS`] and a threshold of 0 N that is the first step a pair
@@ -10,12 +17,13 @@
 //! The contact itself comes from the pair's *solver* manifolds (Rapier may cluster manifolds;
 //! only the solver's carry impulses): the impulse-weighted mean of the contacts that pushed.
 
+use std::collections::HashSet;
 use std::sync::Mutex;
 
 use glam::Vec3;
 use rapier3d::prelude::{
-    ColliderHandle, ColliderSet, CollisionEvent, ContactForceEvent, ContactPair, EventHandler, Real, RigidBodySet,
-    SoftBodySet, SoftBodyTearEvent,
+    ColliderHandle, ColliderSet, CollisionEvent, ContactForceEvent, ContactPair, EventHandler, NarrowPhase, Real,
+    RigidBodySet, SoftBodySet, SoftBodyTearEvent,
 };
 
 use crate::{AdapterError, BodyStates};
@@ -97,6 +105,48 @@ impl ImpactCollector {
     }
 }
 
+/// Reads each step's impacts from Rapier's narrow phase (see the module doc), remembering which
+/// pairs pushed on the step before.
+#[derive(Debug, Default)]
+pub struct ImpactReader {
+    pushing: HashSet<(ColliderHandle, ColliderHandle)>,
+}
+
+impl ImpactReader {
+    /// No pair pushing yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The impacts of the step just taken between `colliders` (those the adapter knows:
+    /// dentable, projectile and bendable colliders) and anything, world coordinates at the start
+    /// of the step (`states`' poses; a collider not recorded there, fixed, at its pose now in
+    /// `set`). Cost: the pairs of `colliders` only.
+    pub fn read(
+        &mut self,
+        narrow_phase: &NarrowPhase,
+        colliders: impl IntoIterator<Item = ColliderHandle>,
+        states: &BodyStates,
+        set: &ColliderSet,
+    ) -> Vec<Contact> {
+        let mut pushing = HashSet::with_capacity(self.pushing.len());
+        let mut out = Vec::new();
+        for handle in colliders {
+            for pair in narrow_phase.contact_pairs_with(handle) {
+                let key = (pair.collider1, pair.collider2);
+                if pushing.contains(&key) {
+                    continue;
+                }
+                let Some(raw) = raw_impact(pair, !self.pushing.contains(&key)) else { continue };
+                pushing.insert(key);
+                out.extend(to_contact_with(&raw, states, set));
+            }
+        }
+        self.pushing = pushing;
+        out
+    }
+}
+
 impl EventHandler for ImpactCollector {
     fn handle_collision_event(&self, _: &RigidBodySet, _: &ColliderSet, _: CollisionEvent, _: Option<&ContactPair>) {}
 
@@ -140,21 +190,39 @@ fn raw_impact(pair: &ContactPair, started: bool) -> Option<RawImpact> {
     })
 }
 
-/// `raw` in world coordinates: the impulse-weighted mean of the midpoints of the two
-/// colliders' contact points.
+/// As [`to_contact`], a collider not recorded in `states` at its pose now when it does not move
+/// (no body, or a fixed one).
+fn to_contact_with(raw: &RawImpact, states: &BodyStates, set: &ColliderSet) -> Option<Contact> {
+    let fixed_pose = |h: ColliderHandle| {
+        let c = set.get(h)?;
+        c.parent().is_none().then(|| crate::to_affine(c.position()))
+    };
+    let pose1 = states.collider_pose(raw.collider1).or_else(|| fixed_pose(raw.collider1))?;
+    let pose2 = states.collider_pose(raw.collider2).or_else(|| fixed_pose(raw.collider2))?;
+    Some(world_contact(raw, pose1, pose2))
+}
+
+/// `raw` in world coordinates from `states`' poses; `None` when either collider was not
+/// recorded.
 fn to_contact(raw: &RawImpact, states: &BodyStates) -> Option<Contact> {
     let pose1 = states.collider_pose(raw.collider1)?;
     let pose2 = states.collider_pose(raw.collider2)?;
+    Some(world_contact(raw, pose1, pose2))
+}
+
+/// `raw` at the colliders' poses `pose1` and `pose2`: the impulse-weighted mean of the
+/// midpoints of the two colliders' contact points.
+fn world_contact(raw: &RawImpact, pose1: glam::Affine3A, pose2: glam::Affine3A) -> Contact {
     let impulse: f32 = raw.points.iter().map(|p| p.2).sum();
     let point = raw.points.iter().fold(Vec3::ZERO, |acc, (p1, p2, j)| {
         acc + 0.5 * (pose1.transform_point3(*p1) + pose2.transform_point3(*p2)) * *j
     }) / impulse;
-    Some(Contact {
+    Contact {
         collider1: raw.collider1,
         collider2: raw.collider2,
         point,
         normal: raw.normal,
         impulse,
         started: raw.started,
-    })
+    }
 }

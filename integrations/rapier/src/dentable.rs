@@ -203,6 +203,11 @@ impl Dentables {
         self.kinds.keys().copied()
     }
 
+    /// Every collider the adapter dents or dents with: the dentable ones and the projectiles.
+    pub fn known(&self) -> impl Iterator<Item = ColliderHandle> + '_ {
+        self.kinds.keys().chain(self.surfaces.keys()).copied()
+    }
+
     /// Dents the dentable colliders hit in `contacts` (one step's impacts, world coordinates at
     /// the start of the step, with the bodies' states then in `states`), on `backend`, then
     /// refits their colliders and moves dynamic projectiles into their dents when the

@@ -1,9 +1,12 @@
 //! dentbend for Rapier 0.36: dentable colliders and bendable bodies.
 //!
-//! Denting (paper §3): record the bodies' states before `PhysicsPipeline::step`
-//! ([`BodyStates::record`]), step with an [`ImpactCollector`] as the event handler, then hand
-//! its impacts to [`Dentables::process`], which dents the dentable colliders' meshes (on the
-//! CPU or any [`DentBackend`](dentbend::dent::DentBackend)) and refits their colliders.
+//! Denting (paper §3): [`Adapter::step`] (or [`Adapter::step_with`], with the game's hooks and
+//! event handler) records the bodies' states before `PhysicsPipeline::step`
+//! ([`BodyStates::record`]), reads the step's impacts from the narrow phase ([`ImpactReader`]:
+//! the colliders' event settings play no part) and hands them to [`Dentables::process`], which
+//! dents the dentable colliders' meshes (on the CPU or any
+//! [`DentBackend`](dentbend::dent::DentBackend)) and refits their colliders. A game with its
+//! own loop does the same three calls around its own step.
 //!
 //! Bending (paper §4): [`Bendable`] drives a body split into Rapier bodies joined by impulse
 //! joints whose plasticity and elasticity the adapter applies each step, splits a body where a
@@ -15,7 +18,7 @@
 //! A ball falls on a dentable block; the block's collider is refitted to its dent.
 //! ```
 //! use dentbend_rapier::dentbend::{dent::DentSettings, mesh};
-//! use dentbend_rapier::rapier3d::prelude::{ActiveEvents, RigidBodyBuilder};
+//! use dentbend_rapier::rapier3d::prelude::RigidBodyBuilder;
 //! use dentbend_rapier::{Adapter, PhysicsWorld, convex_collider, trimesh_collider};
 //! use glam::Vec3;
 //!
@@ -23,8 +26,7 @@
 //! let mut adapter = Adapter::new();
 //! let block_mesh = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16])?;
 //! let fixed = world.bodies.insert(RigidBodyBuilder::fixed());
-//! let events = ActiveEvents::CONTACT_FORCE_EVENTS;
-//! let block = trimesh_collider(&block_mesh)?.active_events(events).contact_force_event_threshold(0.0);
+//! let block = trimesh_collider(&block_mesh)?;
 //! let block = world.colliders.insert_with_parent(block, fixed, &mut world.bodies);
 //! // 2 m/s threshold, 1 cm per m/s above it, at most 5 cm.
 //! adapter.dentables.insert(&world.colliders, &world.bodies, block, block_mesh, DentSettings::new(2.0, 0.01, 0.05))?;
@@ -62,7 +64,7 @@ pub use adapter::{Adapter, StepReport};
 pub use bend_dent::{BendDentReport, SINGULAR_BLEND};
 pub use bendable::{BendJoint, BendReport, BendSettings, Bendable, JointKind, JointRule, Piece};
 pub mod demo;
-pub use contacts::{Contact, ImpactCollector};
+pub use contacts::{Contact, ImpactCollector, ImpactReader};
 pub use dentable::{DentReport, Dentables};
 pub use dentbend::gpu::GpuBackend;
 pub use elastic::ElasticJoint;

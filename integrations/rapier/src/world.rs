@@ -5,7 +5,7 @@
 use glam::Vec3;
 use rapier3d::prelude::{
     BroadPhaseBvh, CCDSolver, ColliderSet, EventHandler, ImpulseJointSet, IntegrationParameters, IslandManager,
-    MultibodyJointSet, NarrowPhase, PhysicsPipeline, RigidBodyHandle, RigidBodySet, SoftBodySet,
+    MultibodyJointSet, NarrowPhase, PhysicsHooks, PhysicsPipeline, RigidBodyHandle, RigidBodySet, SoftBodySet,
 };
 
 /// Everything `PhysicsPipeline::step` takes, owned.
@@ -46,6 +46,12 @@ impl PhysicsWorld {
 
     /// One Rapier step, reporting to `events`.
     pub fn step(&mut self, events: &dyn EventHandler) {
+        self.step_with(&(), events);
+    }
+
+    /// One Rapier step with the game's `hooks` (contact filters and modifiers), reporting to
+    /// `events`.
+    pub fn step_with(&mut self, hooks: &dyn PhysicsHooks, events: &dyn EventHandler) {
         self.pipeline.step(
             self.gravity,
             &self.params,
@@ -58,7 +64,7 @@ impl PhysicsWorld {
             &mut self.multibody_joints,
             &mut self.soft_bodies,
             &mut self.ccd,
-            &(),
+            hooks,
             events,
         );
     }
