@@ -101,7 +101,7 @@ impl Adapter {
         let start = Instant::now();
         let known =
             self.dentables.known().chain(self.bendables.iter().flat_map(|b| b.pieces().iter().map(|p| p.collider)));
-        let contacts = self.reader.read(&world.narrow_phase, known, &states, &world.colliders);
+        let contacts = self.reader.read(&world.narrow_phase, known, &states, &world.bodies, &world.colliders);
         let extraction = start.elapsed().as_secs_f64();
         let mut report = self.after_step(world, &states, contacts, physics_seconds)?;
         report.dent_seconds += extraction;

@@ -20,7 +20,7 @@
 use std::collections::HashSet;
 use std::sync::Mutex;
 
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 use rapier3d::prelude::{
     ColliderHandle, ColliderSet, CollisionEvent, ContactForceEvent, ContactPair, EventHandler, NarrowPhase, Real,
     RigidBodySet, SoftBodySet, SoftBodyTearEvent,
@@ -81,6 +81,9 @@ struct RawImpact {
     /// World normal, 1 → 2.
     normal: Vec3,
     started: bool,
+    /// Each collider's pose when it cannot move (no body, or a fixed one), read during or
+    /// after the step: the states do not record such colliders.
+    still: [Option<Affine3A>; 2],
 }
 
 /// A Rapier [`EventHandler`] that keeps the pairs with a contact force event this step, with
@@ -120,13 +123,14 @@ impl ImpactReader {
 
     /// The impacts of the step just taken between `colliders` (those the adapter knows:
     /// dentable, projectile and bendable colliders) and anything, world coordinates at the start
-    /// of the step (`states`' poses; a collider not recorded there, fixed, at its pose now in
-    /// `set`). Cost: the pairs of `colliders` only.
+    /// of the step (`states`' poses; a collider on a fixed body or none at its pose now).
+    /// Cost: the pairs of `colliders` only.
     pub fn read(
         &mut self,
         narrow_phase: &NarrowPhase,
         colliders: impl IntoIterator<Item = ColliderHandle>,
         states: &BodyStates,
+        bodies: &RigidBodySet,
         set: &ColliderSet,
     ) -> Vec<Contact> {
         let mut pushing = HashSet::with_capacity(self.pushing.len());
@@ -137,9 +141,9 @@ impl ImpactReader {
                 if pushing.contains(&key) {
                     continue;
                 }
-                let Some(raw) = raw_impact(pair, !self.pushing.contains(&key)) else { continue };
+                let Some(raw) = raw_impact(pair, !self.pushing.contains(&key), bodies, set) else { continue };
                 pushing.insert(key);
-                out.extend(to_contact_with(&raw, states, set));
+                out.extend(to_contact(&raw, states));
             }
         }
         self.pushing = pushing;
@@ -153,13 +157,13 @@ impl EventHandler for ImpactCollector {
     fn handle_contact_force_event(
         &self,
         dt: Real,
-        _: &RigidBodySet,
-        _: &ColliderSet,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
         pair: &ContactPair,
         total_force_magnitude: Real,
     ) {
         let started = ContactForceEvent::from_contact_pair(dt, pair, total_force_magnitude).started;
-        if let Some(raw) = raw_impact(pair, started) {
+        if let Some(raw) = raw_impact(pair, started, bodies, colliders) {
             self.raw.lock().unwrap_or_else(|e| e.into_inner()).push(raw);
         }
     }
@@ -169,7 +173,7 @@ impl EventHandler for ImpactCollector {
 
 /// The contacts of `pair`'s solver manifolds that pushed, and the normal of the manifold that
 /// pushed most; `None` when none pushed.
-fn raw_impact(pair: &ContactPair, started: bool) -> Option<RawImpact> {
+fn raw_impact(pair: &ContactPair, started: bool, bodies: &RigidBodySet, colliders: &ColliderSet) -> Option<RawImpact> {
     let mut points = Vec::new();
     let (mut best, mut normal) = (0.0, Vec3::ZERO);
     for m in pair.solver_manifolds() {
@@ -181,38 +185,32 @@ fn raw_impact(pair: &ContactPair, started: bool) -> Option<RawImpact> {
             m.contacts().iter().filter(|c| c.data.impulse > 0.0).map(|c| (c.local_p1, c.local_p2, c.data.impulse)),
         );
     }
-    (!points.is_empty()).then_some(RawImpact {
+    let still = |h: ColliderHandle| {
+        let c = colliders.get(h)?;
+        let fixed = c.parent().is_none_or(|b| bodies.get(b).is_none_or(|rb| rb.is_fixed()));
+        fixed.then(|| crate::to_affine(c.position()))
+    };
+    (!points.is_empty()).then(|| RawImpact {
         collider1: pair.collider1,
         collider2: pair.collider2,
         points,
         normal,
         started,
+        still: [still(pair.collider1), still(pair.collider2)],
     })
 }
 
-/// As [`to_contact`], a collider not recorded in `states` at its pose now when it does not move
-/// (no body, or a fixed one).
-fn to_contact_with(raw: &RawImpact, states: &BodyStates, set: &ColliderSet) -> Option<Contact> {
-    let fixed_pose = |h: ColliderHandle| {
-        let c = set.get(h)?;
-        c.parent().is_none().then(|| crate::to_affine(c.position()))
-    };
-    let pose1 = states.collider_pose(raw.collider1).or_else(|| fixed_pose(raw.collider1))?;
-    let pose2 = states.collider_pose(raw.collider2).or_else(|| fixed_pose(raw.collider2))?;
-    Some(world_contact(raw, pose1, pose2))
-}
-
-/// `raw` in world coordinates from `states`' poses; `None` when either collider was not
-/// recorded.
+/// `raw` in world coordinates from `states`' poses (a still collider's own); `None` when a
+/// moving collider was not recorded.
 fn to_contact(raw: &RawImpact, states: &BodyStates) -> Option<Contact> {
-    let pose1 = states.collider_pose(raw.collider1)?;
-    let pose2 = states.collider_pose(raw.collider2)?;
+    let pose1 = states.collider_pose(raw.collider1).or(raw.still[0])?;
+    let pose2 = states.collider_pose(raw.collider2).or(raw.still[1])?;
     Some(world_contact(raw, pose1, pose2))
 }
 
 /// `raw` at the colliders' poses `pose1` and `pose2`: the impulse-weighted mean of the
 /// midpoints of the two colliders' contact points.
-fn world_contact(raw: &RawImpact, pose1: glam::Affine3A, pose2: glam::Affine3A) -> Contact {
+fn world_contact(raw: &RawImpact, pose1: Affine3A, pose2: Affine3A) -> Contact {
     let impulse: f32 = raw.points.iter().map(|p| p.2).sum();
     let point = raw.points.iter().fold(Vec3::ZERO, |acc, (p1, p2, j)| {
         acc + 0.5 * (pose1.transform_point3(*p1) + pose2.transform_point3(*p2)) * *j

@@ -12,7 +12,9 @@ use rapier3d::prelude::{Collider, ColliderHandle, ColliderSet, RigidBody, RigidB
 
 use crate::AdapterError;
 
-/// Every body's state and every collider's pose, world coordinates, taken before a step.
+/// Every moving body's state and its colliders' poses, world coordinates, taken before a step.
+/// Fixed bodies and colliders without a body are not recorded: a step never moves them, so
+/// their state and pose are read when asked (a fixed body has no velocity).
 #[derive(Debug, Clone, Default)]
 pub struct BodyStates {
     bodies: HashMap<RigidBodyHandle, BodyState>,
@@ -22,36 +24,49 @@ pub struct BodyStates {
 }
 
 impl BodyStates {
-    /// Records `bodies` and `colliders` as they are now (call right before the step).
+    /// Records the dynamic and kinematic bodies of `bodies` and their colliders as they are now
+    /// (call right before the step). Cost: a pass over the bodies, and a record of each moving
+    /// one: a world of thousands of fixed bodies costs a few microseconds.
     pub fn record(bodies: &RigidBodySet, colliders: &ColliderSet) -> Self {
-        let poses = bodies.iter().map(|(h, rb)| (h, *rb.position())).collect();
-        let bodies = bodies.iter().map(|(h, rb)| (h, body_state(rb))).collect();
-        let parents = colliders.iter().filter_map(|(h, c)| c.parent().map(|b| (h, b))).collect();
-        let colliders = colliders.iter().map(|(h, c)| (h, to_affine(c.position()))).collect();
-        Self { bodies, poses, colliders, parents }
+        let mut out = Self::default();
+        for (h, rb) in bodies.iter().filter(|(_, rb)| !rb.is_fixed()) {
+            out.poses.insert(h, *rb.position());
+            out.bodies.insert(h, body_state(rb));
+            for &c in rb.colliders() {
+                if let Some(collider) = colliders.get(c) {
+                    out.colliders.insert(c, to_affine(collider.position()));
+                    out.parents.insert(c, h);
+                }
+            }
+        }
+        out
     }
 
-    /// Body `handle`'s recorded state: [`AdapterError::RemovedBody`] when it was recorded but
-    /// `bodies` no longer has it, [`AdapterError::NotRecorded`] when it was added after the
-    /// record, [`AdapterError::UnknownBody`] when neither knows it.
+    /// Body `handle`'s state before the step: recorded, or read now for a fixed body;
+    /// [`AdapterError::RemovedBody`] when it was recorded but `bodies` no longer has it,
+    /// [`AdapterError::NotRecorded`] for a moving body added after the record,
+    /// [`AdapterError::UnknownBody`] when neither knows it.
     ///
     /// # Errors
     /// As above.
     pub fn body(&self, handle: RigidBodyHandle, bodies: &RigidBodySet) -> Result<BodyState, AdapterError> {
-        match (self.bodies.get(&handle), bodies.contains(handle)) {
-            (Some(state), true) => Ok(*state),
-            (Some(_), false) => Err(AdapterError::RemovedBody(handle)),
-            (None, true) => Err(AdapterError::NotRecorded(handle)),
-            (None, false) => Err(AdapterError::UnknownBody(handle)),
+        match (self.bodies.get(&handle), bodies.get(handle)) {
+            (Some(state), Some(_)) => Ok(*state),
+            (Some(_), None) => Err(AdapterError::RemovedBody(handle)),
+            (None, Some(rb)) if rb.is_fixed() => Ok(body_state(rb)),
+            (None, Some(_)) => Err(AdapterError::NotRecorded(handle)),
+            (None, None) => Err(AdapterError::UnknownBody(handle)),
         }
     }
 
-    /// Body `handle`'s recorded pose (body frame → world).
+    /// Body `handle`'s recorded pose (body frame → world); `None` for a body not recorded (a
+    /// fixed one: its pose now is its pose then).
     pub fn body_pose(&self, handle: RigidBodyHandle) -> Option<Pose> {
         self.poses.get(&handle).copied()
     }
 
-    /// Collider `handle`'s recorded pose (collider frame → world).
+    /// Collider `handle`'s recorded pose (collider frame → world); `None` for one not recorded
+    /// (on a fixed body or none: its pose now is its pose then).
     pub fn collider_pose(&self, handle: ColliderHandle) -> Option<Affine3A> {
         self.colliders.get(&handle).copied()
     }
