@@ -360,3 +360,24 @@ fn a_server_refuses_an_unregistered_projectile_and_duplicate_ids() {
     let error = game.server.add_projectile(BALL_SHAPE, &plate).unwrap_err();
     assert!(matches!(error, ReplicationError::DuplicateId { what: "projectile", .. }), "{error}");
 }
+
+#[test]
+fn a_dent_deeper_than_the_bodys_cap_is_refused_before_it_is_computed() {
+    // A hostile message asking for a 1 km dent would take the client minutes; the server never
+    // sends one deeper than the body's cap (8 cm here).
+    let mut game = Game::new();
+    game.server.forget(SOFT);
+    let mut client = game.client();
+    client.join(&game.snapshot()).unwrap();
+    while game.messages.is_empty() {
+        game.step().unwrap();
+    }
+    let mut bytes = game.messages[0].clone();
+    // Tag, number 0, one group, body id, group header, check (4), flags, projectile id: the
+    // first dent's distance starts at byte 11.
+    assert_eq!(f32::from_le_bytes(bytes[11..15].try_into().unwrap()).to_bits() >> 31, 0);
+    assert!(f32::from_le_bytes(bytes[11..15].try_into().unwrap()) <= 0.08);
+    bytes[11..15].copy_from_slice(&1000.0f32.to_le_bytes());
+    refused(&mut client, &bytes, |e| matches!(e, ReplicationError::Malformed(m) if m.contains("cap")));
+    client.apply(&game.messages[0]).unwrap();
+}

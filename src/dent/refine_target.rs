@@ -47,6 +47,12 @@ pub fn auto_coarse_edge(grid: &Grid, sigma: f32) -> f32 {
     (AUTO_COARSENESS * auto_max_edge(grid, sigma)).max(grid.extent() / AUTO_EDGES_ACROSS)
 }
 
+/// The shortest edge [`Refine::Auto`] refines to, as a fraction of the target's diagonal
+/// (2⁻¹⁴: 61 µm on a 1 m body, 128 ulps of f32 at its size). Below it a dent's map (a dent of
+/// a micrometre) is finer than the target can take: refining toward it only piles triangles
+/// around one point.
+pub(crate) const MIN_EDGE_OF_SIZE: f32 = 1.0 / 16384.0;
+
 /// How many times longer than [`auto_max_edge`] an edge under a dent must be for
 /// [`Refine::Auto`] to refine the target (see [`auto_coarse_edge`]).
 pub const AUTO_COARSENESS: f32 = 4.0;
@@ -208,9 +214,11 @@ pub(crate) fn refine_for_dents(
                 out.per_dent.push(DentRefinement::default());
                 continue;
             }
+            // A dent's map can be far smaller than the target (a dent of a micrometre): its
+            // edges are never asked to be shorter than f32 resolves well at the target's size.
             Refine::Auto { max_new_triangles } => (
-                auto_max_edge(&dent.grid, dent.sigma),
-                auto_coarse_edge(&dent.grid, dent.sigma),
+                auto_max_edge(&dent.grid, dent.sigma).max(size * MIN_EDGE_OF_SIZE),
+                auto_coarse_edge(&dent.grid, dent.sigma).max(size * MIN_EDGE_OF_SIZE),
                 max_new_triangles as usize,
                 true,
             ),

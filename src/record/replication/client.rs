@@ -26,6 +26,9 @@ struct ClientBody {
     base: TriMesh,
     base_hash: u64,
     params: DentParams,
+    /// The deepest dent its settings allow, m: a message's deeper dent is refused before it
+    /// is computed.
+    cap: f32,
     settings: u64,
     mesh: TriMesh,
 }
@@ -57,6 +60,7 @@ impl ReplicationClient {
         let body = ClientBody {
             base_hash: content_hash(&base),
             params: settings.params.clone(),
+            cap: settings.material.cap,
             settings: settings_digest(settings)?,
             mesh: base.clone(),
             base,
@@ -172,6 +176,12 @@ impl ReplicationClient {
             GroupChange::Dents(dents) => {
                 let mut cropped = Vec::with_capacity(dents.len());
                 for d in dents {
+                    if d.distance > body.cap {
+                        return Err(ReplicationError::Malformed(format!(
+                            "body {}: a dent of {} m, deeper than its settings' cap of {} m",
+                            g.id, d.distance, body.cap
+                        )));
+                    }
                     let projectile = match d.projectile {
                         ProjectileId::Body(id) => {
                             &self.bodies.get(&id).ok_or(ReplicationError::MissingBase { id })?.mesh

@@ -31,8 +31,8 @@ use crate::dent::{DentParams, DentSettings};
 use crate::mesh::{fnv1a64, fnv1a64_start};
 
 /// A digest of what a client needs of a body's settings to dent as the server: its dent
-/// parameters (every field but the distance, which each dent carries) and whether it is
-/// progressive.
+/// parameters (every field but the distance, which each dent carries), its cap (the deepest
+/// dent a message may carry) and whether it is progressive.
 ///
 /// # Errors
 /// [`ReplicationError::NotReplicable`] for a custom falloff (a function, not data).
@@ -40,6 +40,7 @@ fn settings_digest(settings: &DentSettings) -> Result<u64, ReplicationError> {
     let mut out = ByteWriter::default();
     write_params(&mut out, &DentParams { dent_distance: 0.0, ..settings.params.clone() })
         .map_err(|e| ReplicationError::NotReplicable(format!("these dent settings: {e}")))?;
+    out.f32(settings.material.cap);
     out.u8(u8::from(settings.progressive));
     Ok(fnv1a64(fnv1a64_start(), &out.bytes))
 }

@@ -1,0 +1,95 @@
+//! Hostile replication bytes on a client that has joined a small world: arbitrary bytes as a
+//! message or a snapshot, or one of the world's real messages with bytes flipped. A refused call
+//! leaves the client's meshes bit for bit and its place in the stream as they were; an accepted
+//! one leaves every vertex and normal finite.
+#![no_main]
+
+use std::sync::OnceLock;
+
+use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Impact, Surface, TargetSet};
+use dentbend::glam::{Affine3A, Mat3, Vec3};
+use dentbend::mesh;
+use dentbend::record::replication::{ReplicationClient, ReplicationServer};
+use dentbend_fuzz::{assert_finite_mesh, fingerprint};
+use libfuzzer_sys::fuzz_target;
+
+/// The plate's wire id.
+const PLATE: u32 = 1;
+/// The ball's projectile id.
+const BALL: u32 = 2;
+
+/// A client joined at the start of a plate's stream, and the stream's first messages.
+struct World {
+    client: ReplicationClient,
+    messages: Vec<Vec<u8>>,
+}
+
+fn world() -> &'static World {
+    static WORLD: OnceLock<World> = OnceLock::new();
+    WORLD.get_or_init(|| {
+        let plate = mesh::subdivided_box(Vec3::new(1.0, 0.2, 1.0), [6, 1, 6]).expect("a box");
+        let ball = mesh::icosphere(0.2, 1).expect("a sphere");
+        let mut settings = DentSettings::new(1.0, 0.02, 0.08);
+        settings.params.resolution = dentbend::Resolution::Auto { min: 16, max: 32 };
+        let mut set = TargetSet::new();
+        set.insert(PLATE, plate.clone(), Affine3A::IDENTITY, settings.clone()).expect("a target");
+        set.insert_rigid(BALL);
+        let mut server = ReplicationServer::new();
+        server.track(PLATE, PLATE, &plate, &settings).expect("tracked");
+        server.add_projectile(BALL, &ball).expect("registered");
+        let mut client = ReplicationClient::new();
+        client.add_body(PLATE, plate, &settings).expect("a body");
+        client.add_projectile(BALL, ball.clone()).expect("a projectile");
+        client.join(&server.snapshot(|k| set.mesh(k)).expect("a snapshot").bytes).expect("joined");
+        let mut damage = Damage::new();
+        let mut messages = Vec::new();
+        for (step, x) in [-0.2f32, 0.1, 0.3].into_iter().enumerate() {
+            let state = BodyState::moving(Vec3::new(x, 0.3, 0.0), Vec3::new(0.5, -4.0, 0.0), Vec3::ZERO, 1.0, Mat3::IDENTITY);
+            let point = Vec3::new(x, 0.1, 0.0);
+            let hit = Hit {
+                target: PLATE,
+                projectile: BALL,
+                impact: Impact::from_contact(point, -Vec3::Y, &BodyState::FIXED, &state).expect("an impact"),
+                target_state: BodyState::FIXED,
+                projectile_state: state,
+                projectile_surface: Surface { mesh: &ball, to_world: Affine3A::from_translation(state.center_of_mass) },
+            };
+            let plan = damage.plan(&set, &[hit], step as u64 + 1, &mut CpuBackend).expect("a plan");
+            let dents = plan.dents.clone();
+            set.apply(plan.targets);
+            let ball = &ball;
+            let message = server.message(&dents, |k| set.mesh(k), |k| (k == BALL).then_some(ball)).expect("a message");
+            messages.extend(message);
+        }
+        World { client, messages }
+    })
+}
+
+fuzz_target!(|data: &[u8]| {
+    let Some((&mode, rest)) = data.split_first() else { return };
+    let world = world();
+    let mut client = world.client.clone();
+    let before = fingerprint(client.mesh(PLATE).expect("the plate"));
+    let next = client.next_message();
+    let result = match mode % 3 {
+        0 => client.apply(rest),
+        1 => client.join(rest),
+        _ => {
+            // A real message with the rest of the input XORed over it from its second byte.
+            let Some(message) = world.messages.first() else { return };
+            let mut bytes = message.clone();
+            for (b, flip) in bytes.iter_mut().skip(1).zip(rest) {
+                *b ^= flip;
+            }
+            client.apply(&bytes)
+        }
+    };
+    let plate = client.mesh(PLATE).expect("the plate");
+    match result {
+        Err(_) => {
+            assert_eq!(fingerprint(plate), before, "a refused call changed the mesh");
+            assert_eq!(client.next_message(), next, "a refused call moved the client in the stream");
+        }
+        Ok(_) => assert_finite_mesh(plate),
+    }
+});
