@@ -3,7 +3,7 @@
 
 mod common;
 
-use dentbend::gpu::{Backend, Binding, GpuContext, GpuError, Kernel, buffers};
+use dentbend::gpu::{Binding, GpuContext, GpuError, Kernel, KernelDevice, buffers};
 
 const DOUBLE: &str = "
 @group(0) @binding(0) var<storage, read_write> values: array<f32>;
@@ -33,11 +33,11 @@ fn a_broken_shader_is_a_validation_error(context: &'static GpuContext) {
 }
 
 fn backend_names_parse() {
-    assert_eq!(Backend::parse("cpu").unwrap(), Backend::Cpu);
-    assert_eq!(Backend::parse("GPU").unwrap(), Backend::Gpu);
-    assert_eq!(Backend::parse("auto").unwrap(), Backend::Auto);
-    assert!(matches!(Backend::parse("cuda"), Err(GpuError::BadBackend(_))));
-    assert!(Backend::Cpu.context().unwrap().is_none());
+    assert_eq!(KernelDevice::parse("cpu").unwrap(), KernelDevice::Cpu);
+    assert_eq!(KernelDevice::parse("GPU").unwrap(), KernelDevice::Gpu);
+    assert_eq!(KernelDevice::parse("auto").unwrap(), KernelDevice::Auto);
+    assert!(matches!(KernelDevice::parse("cuda"), Err(GpuError::BadBackend(_))));
+    assert!(KernelDevice::Cpu.context().unwrap().is_none());
 }
 
 gpu_test_main! {

@@ -33,18 +33,23 @@ impl OctDirection {
         if v.z < 0.0 {
             p = fold(p);
         }
-        let q = |c: f32| ((c.clamp(-1.0, 1.0) * 0.5 + 0.5) * 65535.0).round() as u16;
+        let q = |c: f32| ((c.clamp(-1.0, 1.0) * 0.5 + 0.5) * STEPS).round() as u16;
         Self([q(p.x), q(p.y)])
     }
 
     /// The unit direction the code stands for.
     pub fn decode(self) -> Vec3 {
-        let p = Vec2::new(f32::from(self.0[0]), f32::from(self.0[1])) / 65535.0 * 2.0 - 1.0;
+        let p = Vec2::new(f32::from(self.0[0]), f32::from(self.0[1])) / STEPS * 2.0 - 1.0;
         let z = 1.0 - p.x.abs() - p.y.abs();
         let p = if z < 0.0 { fold(p) } else { p };
         Vec3::new(p.x, p.y, z).normalize()
     }
 }
+
+/// Steps of a code over [−1, 1]: an even number, so that 0 is a code (32767) and the axes and
+/// the diagonals of the coordinate planes are coded exactly (a head-on hit along an axis stays
+/// along it).
+const STEPS: f32 = 65534.0;
 
 /// The octahedron's lower half folded onto the square's corners (an involution).
 fn fold(p: Vec2) -> Vec2 {
@@ -202,6 +207,9 @@ mod tests {
         }
         assert_eq!(OctDirection::encode(Vec3::ZERO), OctDirection::encode(Vec3::Z));
         assert_eq!(OctDirection::encode(Vec3::NAN), OctDirection::encode(Vec3::Z));
+        for axis in [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z] {
+            assert_eq!(OctDirection::encode(axis).decode(), axis, "an axis is coded exactly");
+        }
     }
 
     #[test]

@@ -1,12 +1,12 @@
 //! Choosing the renderer: the GPU one when a context is available, else the CPU rasterizer,
-//! following [`Backend`] (`DENTBEND_BACKEND=cpu|gpu|auto`) like the dent kernels do.
+//! following [`KernelDevice`] (`DENTBEND_BACKEND=cpu|gpu|auto`) like the dent kernels do.
 
 use std::sync::OnceLock;
 
 use image::RgbImage;
 
 use super::{Camera, GpuRenderer, RenderError, Shaded, render};
-use crate::gpu::{Backend, GpuContext};
+use crate::gpu::{GpuContext, KernelDevice};
 
 /// A renderer of either kind; both draw the same inputs into pictures of the same size.
 #[derive(Debug)]
@@ -74,10 +74,10 @@ impl Renderer<'static> {
     ///
     /// # Errors
     /// For `Gpu`, [`RenderError::Gpu`] when no device or pipeline can be created.
-    pub fn from_backend(backend: Backend) -> Result<Self, RenderError> {
+    pub fn from_backend(backend: KernelDevice) -> Result<Self, RenderError> {
         let context = backend.context()?;
         match (backend, Self::new(context)) {
-            (Backend::Auto, Err(error)) => {
+            (KernelDevice::Auto, Err(error)) => {
                 static NOTICE: OnceLock<()> = OnceLock::new();
                 NOTICE.get_or_init(|| log::warn!("{error}; drawing pictures on the CPU instead"));
                 Self::new(None)
@@ -98,7 +98,7 @@ pub fn render_auto(meshes: &[Shaded<'_>], camera: &Camera, width: u32, height: u
     let renderer = match RENDERER.get() {
         Some(renderer) => renderer,
         None => {
-            let renderer = Renderer::from_backend(Backend::from_env()?)?;
+            let renderer = Renderer::from_backend(KernelDevice::from_env()?)?;
             RENDERER.get_or_init(|| renderer)
         }
     };

@@ -229,7 +229,7 @@ fn run(cli: Cli) -> Result<(), String> {
             )
         }
         Command::Scene { name, json, frames, demo, backend, skin } => {
-            let backend = dentbend::gpu::Backend::parse(&backend).map_err(|e| e.to_string())?;
+            let backend = dentbend::gpu::KernelDevice::parse(&backend).map_err(|e| e.to_string())?;
             let gpu = backend.context().map_err(|e| e.to_string())?;
             let size = if demo { dentbend::scene::SceneSize::Demo } else { dentbend::scene::SceneSize::Full };
             let report = scene::run(&name, size, frames, gpu, skin)?;

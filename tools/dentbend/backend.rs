@@ -3,7 +3,7 @@
 
 use clap::{Args, ValueEnum};
 use dentbend::dent::{BatchOutcome, DentBackend, DentJob, DentStages, dent_batch_tracked, plan_dent};
-use dentbend::gpu::{Backend, GpuBackend, GpuContext, GpuDenter};
+use dentbend::gpu::{GpuBackend, GpuContext, GpuDenter, KernelDevice};
 use dentbend::mesh::Refinement;
 use dentbend::render::Renderer;
 use dentbend::{DentError, DentParams, DentReport, Impact, TriMesh};
@@ -31,14 +31,14 @@ pub struct BackendOption {
 
 impl BackendOption {
     /// The backend the flag, else `DENTBEND_BACKEND`, else `cpu` selects.
-    pub fn backend(&self) -> Result<Backend, CliError> {
+    pub fn backend(&self) -> Result<KernelDevice, CliError> {
         Ok(match self.backend {
-            Some(BackendChoice::Cpu) => Backend::Cpu,
-            Some(BackendChoice::Gpu) => Backend::Gpu,
-            Some(BackendChoice::Auto) => Backend::Auto,
+            Some(BackendChoice::Cpu) => KernelDevice::Cpu,
+            Some(BackendChoice::Gpu) => KernelDevice::Gpu,
+            Some(BackendChoice::Auto) => KernelDevice::Auto,
             // The command line opts in to the GPU: an adapter's driver may print to stderr.
-            None if std::env::var_os("DENTBEND_BACKEND").is_none() => Backend::Cpu,
-            None => Backend::from_env().map_err(|e| CliError::Usage(e.to_string()))?,
+            None if std::env::var_os("DENTBEND_BACKEND").is_none() => KernelDevice::Cpu,
+            None => KernelDevice::from_env().map_err(|e| CliError::Usage(e.to_string()))?,
         })
     }
 

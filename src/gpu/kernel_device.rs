@@ -6,7 +6,7 @@ use super::{GpuContext, GpuError};
 
 /// Where the dent kernels run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Backend {
+pub enum KernelDevice {
     /// The CPU twins.
     Cpu,
     /// The WGSL kernels; an error when no adapter exists.
@@ -16,7 +16,7 @@ pub enum Backend {
     Auto,
 }
 
-impl Backend {
+impl KernelDevice {
     /// Parses `cpu`, `gpu` or `auto` (any case).
     ///
     /// # Errors
