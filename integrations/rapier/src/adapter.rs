@@ -110,7 +110,8 @@ impl Adapter {
 
     /// The adapter's half of a step, for callers who step Rapier themselves: `states` recorded
     /// before the step, `contacts` its impacts ([`ImpactReader::read`], or
-    /// [`ImpactCollector::take_contacts`] from contact force events).
+    /// [`ImpactCollector::take_contacts`](crate::ImpactCollector::take_contacts) from contact
+    /// force events).
     ///
     /// # Errors
     /// As [`step`](Self::step).
