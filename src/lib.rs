@@ -42,6 +42,7 @@
 //! assert!((report.max_displacement - 0.2).abs() < 0.01);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+#![warn(missing_docs)]
 
 pub mod bend;
 #[cfg(feature = "sim")]

@@ -13,6 +13,10 @@ use crate::cpu::{self, SkinBone, SkinParams};
 use crate::mesh::TriMesh;
 use crate::sim::{GpuDevice, SimError, World};
 
+/// Most vertices of one group of bodies skinned together on the GPU (unless a single body has
+/// more): what one change uploads again, 64 bytes of rest data per vertex (4 MiB).
+pub const GROUP_VERTICES: usize = 1 << 16;
+
 /// Skins the bending bodies of a [`Bending`] on the GPU or the CPU and keeps the results.
 ///
 /// ```no_run
@@ -27,10 +31,6 @@ use crate::sim::{GpuDevice, SimError, World};
 /// }
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-/// Most vertices of one group of bodies skinned together on the GPU (unless a single body has
-/// more): what one change uploads again, 64 bytes of rest data per vertex (4 MiB).
-pub const GROUP_VERTICES: usize = 1 << 16;
-
 #[derive(Debug)]
 pub struct Skinner {
     context: Option<&'static GpuDevice>,

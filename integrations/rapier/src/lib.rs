@@ -45,6 +45,7 @@
 //! assert_eq!(dents, 1);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+#![warn(missing_docs)]
 
 mod adapter;
 mod bend_dent;
