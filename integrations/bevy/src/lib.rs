@@ -24,16 +24,35 @@
 //! Units: metres, seconds, kilograms; a dentable's mesh is in its entity's own coordinates, and
 //! dentable and bendable entities have unit scale.
 //!
+//! A ball falls on a block and dents it (with `rapier`: bevy_rapier3d steps the bodies):
+//!
 //! ```no_run
 //! use bevy::prelude::*;
-//! use bevy_dentbend::{DentProjectile, Dentable, DentbendPlugin};
+//! use bevy_dentbend::{DentProjectile, Dentable, DentbendPlugin, bevy_mesh, dentbend};
+//! use bevy_rapier3d::prelude::*;
 //!
 //! fn setup(mut commands: Commands, mut meshes: ResMut<Assets<Mesh>>) {
+//!     // A fixed block whose tri-mesh collider has the render mesh's vertices.
+//!     let block = dentbend::mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16]).expect("a box");
+//!     let collider = Collider::trimesh(block.positions().to_vec(), block.faces().to_vec()).expect("a tri-mesh");
 //!     // 2 m/s threshold, 1 cm per m/s above it, at most 5 cm.
-//!     commands.spawn((Mesh3d(meshes.add(Cuboid::new(2.0, 0.5, 2.0).mesh().build())), Dentable::new(2.0, 0.01, 0.05)));
-//!     commands.spawn((Mesh3d(meshes.add(Sphere::new(0.1).mesh().ico(2).unwrap())), DentProjectile));
+//!     let dentable = Dentable::new(2.0, 0.01, 0.05);
+//!     commands.spawn((Mesh3d(meshes.add(bevy_mesh(&block))), RigidBody::Fixed, collider, dentable));
+//!     // A ball dropped on it at 6 m/s.
+//!     commands.spawn((
+//!         Mesh3d(meshes.add(Sphere::new(0.1).mesh().ico(2).expect("a sphere"))),
+//!         Transform::from_xyz(0.0, 1.0, 0.0),
+//!         RigidBody::Dynamic,
+//!         Collider::ball(0.1),
+//!         Velocity::linear(Vec3::new(0.0, -6.0, 0.0)),
+//!         DentProjectile,
+//!     ));
 //! }
-//! App::new().add_plugins((DefaultPlugins, DentbendPlugin::default())).add_systems(Startup, setup).run();
+//!
+//! App::new()
+//!     .add_plugins((DefaultPlugins, RapierPhysicsPlugin::<NoUserData>::default(), DentbendPlugin::default()))
+//!     .add_systems(Startup, setup)
+//!     .run();
 //! ```
 
 mod backend;
