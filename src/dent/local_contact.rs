@@ -224,7 +224,7 @@ mod tests {
             let code = PoseRotation::encode(Mat3A::from_quat(q));
             assert!(matches!(code, PoseRotation::Quaternion { .. }));
             let back = Quat::from_mat3a(&code.decode());
-            // 15 bits over ±1/√2 per component: 2e-5 each; the angle is at most about 4× that.
+            // f32 components: the angle is a few 1e-7 rad of rounding.
             // q and −q are one rotation: the angle of q⁻¹·back, whichever sign.
             let rel = q.inverse() * back;
             let angle = 2.0 * rel.xyz().length().atan2(rel.w.abs());

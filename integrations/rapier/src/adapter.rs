@@ -59,6 +59,11 @@ impl std::fmt::Debug for Adapter {
 }
 
 impl Adapter {
+    /// Whether collider `handle` is one the adapter dents, dents with or bends.
+    fn knows(&self, handle: ColliderHandle) -> bool {
+        self.dentables.knows(handle) || self.bendables.iter().any(|b| b.owns(handle))
+    }
+
     /// Nothing dentable or bendable yet; dents on all CPU cores.
     pub fn new() -> Self {
         Self::with_backend(Box::new(CpuBackend))
@@ -131,6 +136,7 @@ impl Adapter {
                 let parent = match states.collider(handle, &world.bodies, &world.colliders) {
                     Ok(collider) => collider.parent(),
                     Err(AdapterError::RemovedBody(_) | AdapterError::RemovedCollider(_)) => None,
+                    Err(AdapterError::UnknownCollider(_)) if self.knows(handle) => None,
                     Err(e) => return Err(e),
                 };
                 match parent.map(|body| states.body(body, &world.bodies)) {
@@ -139,7 +145,8 @@ impl Adapter {
                 }
             }
         }
-        let (contacts, skipped) = crate::dentable::live_contacts(&contacts, states, &world.bodies, &world.colliders);
+        let (contacts, skipped) =
+            crate::dentable::live_contacts(&contacts, states, &world.bodies, &world.colliders, |h| self.knows(h));
         let checked = checks.elapsed().as_secs_f64();
         let start = Instant::now();
         let mut report = StepReport { physics_seconds, ..StepReport::default() };

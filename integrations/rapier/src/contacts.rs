@@ -142,8 +142,12 @@ impl ImpactReader {
                     continue;
                 }
                 let Some(raw) = raw_impact(pair, !self.pushing.contains(&key), bodies, set) else { continue };
-                pushing.insert(key);
-                out.extend(to_contact(&raw, states));
+                // A pair whose contact cannot be placed (a moving collider added after the
+                // states were recorded) is not marked: its impact starts on the next step.
+                if let Some(contact) = to_contact(&raw, states) {
+                    pushing.insert(key);
+                    out.push(contact);
+                }
             }
         }
         self.pushing = pushing;

@@ -203,6 +203,11 @@ impl Dentables {
         self.kinds.keys().copied()
     }
 
+    /// Whether the adapter dents collider `handle` or dents with it.
+    pub fn knows(&self, handle: ColliderHandle) -> bool {
+        self.kinds.contains_key(&handle) || self.surfaces.contains_key(&handle)
+    }
+
     /// Every collider the adapter dents or dents with: the dentable ones and the projectiles.
     pub fn known(&self) -> impl Iterator<Item = ColliderHandle> + '_ {
         self.kinds.keys().chain(self.surfaces.keys()).copied()
@@ -212,8 +217,9 @@ impl Dentables {
     /// the start of the step, with the bodies' states then in `states`), on `backend`, then
     /// refits their colliders and moves dynamic projectiles into their dents when the
     /// target's settings ask for it. Contacts naming a collider or body removed since the step
-    /// are skipped and reported; dentable and projectile colliders no longer in `colliders`
-    /// are forgotten.
+    /// are skipped and reported (one on a moving body, or one the adapter dents or dents with;
+    /// a fixed collider it does not know, removed after the step, is named as unknown);
+    /// dentable and projectile colliders no longer in `colliders` are forgotten.
     ///
     /// # Errors
     /// A contact with NaN/∞ or a zero normal, a collider or body that was never known, a
@@ -228,7 +234,7 @@ impl Dentables {
     ) -> Result<DentReport, AdapterError> {
         let started = Instant::now();
         let step = self.step + 1;
-        let (live, skipped) = live_contacts(contacts, states, bodies, colliders);
+        let (live, skipped) = live_contacts(contacts, states, bodies, colliders, |h| self.knows(h));
         let forgotten: Vec<ColliderHandle> =
             self.kinds.keys().chain(self.surfaces.keys()).copied().filter(|&h| !colliders.contains(h)).collect();
         let sides = self.sides(&live, states, bodies, colliders)?;
@@ -236,8 +242,8 @@ impl Dentables {
         for side in &sides {
             self.targets.set_pose(side.target, side.target_pose)?;
         }
-        let targets = &self.targets;
-        let hits: Vec<Hit<'_, ColliderHandle>> = sides.iter().filter_map(|s| self.hit(s)).collect();
+        let (targets, surfaces) = (&self.targets, &self.surfaces);
+        let hits: Vec<Hit<'_, ColliderHandle>> = sides.iter().filter_map(|s| hit(targets, surfaces, s)).collect();
         if hits.is_empty() {
             // Nothing to dent; progressive dents gone stale end at the next hit's planning.
             self.step = step;
@@ -261,23 +267,15 @@ impl Dentables {
             refits.push((t.key, refit, t.moved.clone()));
         }
         let refit_seconds = refit_start.elapsed().as_secs_f64();
-        // The record is staged last: it fails (changing nothing) on a mesh changed behind the
-        // recorder's back.
+        // The record comes last of what may fail: it fails (recording nothing) on a mesh changed
+        // behind the recorder's back; nothing after it can.
         let record_start = Instant::now();
-        let mut recorder = None;
-        if plan.targets.iter().any(|t| self.recorder.body(t.key).is_some()) {
-            let mut staged = self.recorder.clone();
-            staged.record(targets, &hits, &plan)?;
-            recorder = Some(staged);
-        }
+        self.recorder.record(targets, &hits, &plan)?;
 
         // Everything checked: commit.
         let commit_start = Instant::now();
         self.damage = damage;
         self.step = step;
-        if let Some(r) = recorder {
-            self.recorder = r;
-        }
         self.targets.apply(plan.targets);
         self.forget(&forgotten);
         let dent_seconds =
@@ -333,20 +331,6 @@ impl Dentables {
         }
         Ok(sides)
     }
-
-    /// The hit of `side`; `None` when its impact separates by more than rounding.
-    fn hit(&self, side: &Side) -> Option<Hit<'_, ColliderHandle>> {
-        let mesh = self.targets.mesh(side.projectile).or_else(|| self.surfaces.get(&side.projectile))?;
-        let impact = Impact::from_contact(side.point, side.normal, &side.target_state, &side.projectile_state).ok()?;
-        Some(Hit {
-            target: side.target,
-            projectile: side.projectile,
-            impact,
-            target_state: side.target_state,
-            projectile_state: side.projectile_state,
-            projectile_surface: Surface { mesh, to_world: side.projectile_pose },
-        })
-    }
 }
 
 /// `contacts` split into those whose colliders and bodies are all still there and those that
@@ -356,10 +340,15 @@ pub(crate) fn live_contacts(
     states: &BodyStates,
     bodies: &RigidBodySet,
     colliders: &ColliderSet,
+    known: impl Fn(ColliderHandle) -> bool,
 ) -> (Vec<Contact>, Vec<Contact>) {
     let present = |h: ColliderHandle| match states.collider(h, bodies, colliders) {
-        Ok(c) => c.parent().is_none_or(|b| bodies.contains(b)),
+        // A collider whose body was removed without it is left without a parent: its recorded
+        // parent is gone.
+        Ok(c) => c.parent().or(states.collider_parent(h)).is_none_or(|b| bodies.contains(b)),
         Err(AdapterError::RemovedBody(_) | AdapterError::RemovedCollider(_)) => false,
+        // A fixed collider the adapter knows is not recorded: gone, it was removed.
+        Err(AdapterError::UnknownCollider(_)) if known(h) => false,
         // Never known: kept, so that the error names it.
         Err(_) => true,
     };
@@ -395,8 +384,9 @@ fn dentable_kind(
 }
 
 /// Checks that `collider` was built from `mesh` as it is: a tri-mesh with its vertices, or a
-/// hull with its bounds (a scale, another mesh or a dented mesh given back would leave the
-/// collider off the surface).
+/// hull with its bounds (a scale or another mesh would leave the collider off the surface). A
+/// dented mesh given back to a hull built undented is caught only when the dent changed the
+/// hull's bounds; for a tri-mesh, always.
 fn check_built_from(
     handle: ColliderHandle,
     collider: &Collider,
@@ -448,6 +438,25 @@ fn check_built_from(
 
 fn not_dentable(handle: ColliderHandle) -> AdapterError {
     AdapterError::Refit { collider: handle, reason: "not a dentable collider (Dentables::insert it first)".into() }
+}
+
+/// The hit of `side`, the projectile's surface from `targets` or `surfaces`; `None` when its
+/// impact separates by more than rounding.
+fn hit<'a>(
+    targets: &'a TargetSet<ColliderHandle>,
+    surfaces: &'a HashMap<ColliderHandle, TriMesh>,
+    side: &Side,
+) -> Option<Hit<'a, ColliderHandle>> {
+    let mesh = targets.mesh(side.projectile).or_else(|| surfaces.get(&side.projectile))?;
+    let impact = Impact::from_contact(side.point, side.normal, &side.target_state, &side.projectile_state).ok()?;
+    Some(Hit {
+        target: side.target,
+        projectile: side.projectile,
+        impact,
+        target_state: side.target_state,
+        projectile_state: side.projectile_state,
+        projectile_surface: Surface { mesh, to_world: side.projectile_pose },
+    })
 }
 
 /// One side of a contact: the target, what hit it, and both states.

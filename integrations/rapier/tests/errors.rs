@@ -229,3 +229,19 @@ fn unknown_ids_are_named() {
     let block = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16]).unwrap();
     assert_eq!(s.dentables.mesh(s.block).unwrap().positions(), block.positions());
 }
+
+#[test]
+fn a_fixed_dentable_removed_after_the_step_is_skipped_and_forgotten() {
+    // The block is on a fixed body, so the states do not record it; the adapter knows it.
+    let mut s = scene();
+    let states = BodyStates::record(&s.world.bodies, &s.world.colliders);
+    let good = good_contact(&s);
+    let PhysicsWorld { colliders, islands, bodies, soft_bodies, .. } = &mut s.world;
+    assert!(colliders.remove(s.block, islands, bodies, soft_bodies, false).is_some());
+    let Scene { world, dentables, block, .. } = &mut s;
+    let report = dentables.process(&[good], &states, &mut world.bodies, &mut world.colliders, &mut CpuBackend).unwrap();
+    assert!(report.dents.is_empty());
+    assert_eq!(report.skipped, vec![good]);
+    assert_eq!(report.forgotten, vec![*block]);
+    assert!(!dentables.is_dentable(*block));
+}

@@ -162,7 +162,11 @@ impl ReplicationClient {
                 body.mesh = mesh;
             }
         }
-        self.next = Some(expected + 1);
+        self.next = Some(
+            expected
+                .checked_add(1)
+                .ok_or_else(|| ReplicationError::Malformed("the stream's message numbers are used up".into()))?,
+        );
         Ok(changes)
     }
 

@@ -166,12 +166,12 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
     }
 
     /// A late joiner's start: every tracked body's mesh now (`mesh` gives it) as the smaller of
-    /// its edit from the base and the whole mesh, and the next message's number.
+    /// its edit from the base and the whole mesh (the whole mesh when it is no edit of the
+    /// base), and the next message's number. Take it after the [`message`](Self::message) of
+    /// the last step applied, so that the joiner starts where the stream goes on.
     ///
     /// # Errors
-    /// [`ReplicationError::UnknownBody`] for a tracked body `mesh` does not know,
-    /// [`ReplicationError::Mesh`] for one whose mesh is no edit of its base (track it again
-    /// after changing it otherwise than by dents).
+    /// [`ReplicationError::UnknownBody`] for a tracked body `mesh` does not know.
     pub fn snapshot<'m>(&self, mesh: impl Fn(K) -> Option<&'m TriMesh>) -> Result<SnapshotBytes, ReplicationError> {
         let mut bodies = Vec::with_capacity(self.bodies.len());
         let mut whole = Vec::with_capacity(self.bodies.len());

@@ -163,6 +163,7 @@ pub fn read_message(bytes: &[u8]) -> Result<Message, ReplicationError> {
     // A group takes at least an id, a header and a check: 6 bytes.
     let n = r.count("message groups", 6, MAX_BODIES)?;
     let mut groups = Vec::with_capacity(n);
+    let mut ids = std::collections::HashSet::with_capacity(n);
     for _ in 0..n {
         let id = r.varint32("body id")?;
         let header = r.varint("group header")?;
@@ -183,7 +184,7 @@ pub fn read_message(bytes: &[u8]) -> Result<Message, ReplicationError> {
             }
             GroupChange::Dents(dents)
         };
-        if groups.iter().any(|g: &Group| g.id == id) {
+        if !ids.insert(id) {
             return Err(ReplicationError::Malformed(format!("body {id} appears twice in message {number}")));
         }
         groups.push(Group { id, check, change });
@@ -304,6 +305,7 @@ pub fn read_snapshot(bytes: &[u8]) -> Result<Snapshot, ReplicationError> {
     // A body takes at least 1 + 1 + 1 + 8 + 8 + 1 + 2 + 8 bytes.
     let n = r.count("snapshot bodies", 30, MAX_BODIES)?;
     let mut bodies = Vec::with_capacity(n);
+    let mut ids = std::collections::HashSet::with_capacity(n);
     for _ in 0..n {
         let id = r.varint32("body id")?;
         let base = (r.varint32("base vertex count")?, r.varint32("base face count")?, r.u64("base hash")?);
@@ -314,7 +316,7 @@ pub fn read_snapshot(bytes: &[u8]) -> Result<Snapshot, ReplicationError> {
             other => return Err(ReplicationError::Malformed(format!("body {id}: form {other}"))),
         };
         let hash = r.u64("body hash")?;
-        if bodies.iter().any(|b: &SnapshotBody| b.id == id) {
+        if !ids.insert(id) {
             return Err(ReplicationError::Malformed(format!("body {id} appears twice in the snapshot")));
         }
         bodies.push(SnapshotBody { id, base, settings, form, hash });
