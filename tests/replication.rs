@@ -43,6 +43,11 @@ fn settings(progressive: bool) -> DentSettings {
 
 impl Game {
     fn new() -> Self {
+        Self::with(|_| {}, |m| m)
+    }
+
+    /// The game with every body's settings changed by `change` and its mesh by `author`.
+    fn with(change: impl Fn(&mut DentSettings), author: impl Fn(TriMesh) -> TriMesh) -> Self {
         let plate = mesh::subdivided_box(Vec3::new(2.0, 0.2, 2.0), [16, 2, 16]).unwrap();
         let block = mesh::subdivided_box(Vec3::new(1.0, 0.6, 1.0), [8, 5, 8]).unwrap();
         let soft = mesh::subdivided_box(Vec3::new(1.0, 0.4, 1.0), [8, 3, 8]).unwrap();
@@ -51,8 +56,12 @@ impl Game {
             Affine3A::from_rotation_translation(Quat::from_rotation_y(0.7), Vec3::new(3.0, 0.2, 0.0)),
             Affine3A::from_translation(Vec3::new(-3.0, 0.1, 0.0)),
         ];
-        let bases =
+        let mut bases =
             vec![(PLATE, plate, settings(false)), (BLOCK, block, settings(false)), (SOFT, soft, settings(true))];
+        for b in &mut bases {
+            change(&mut b.2);
+            b.1 = author(b.1.clone());
+        }
         let mut set = TargetSet::new();
         let mut server = ReplicationServer::new();
         for ((id, mesh, s), pose) in bases.iter().zip(poses) {
@@ -380,4 +389,36 @@ fn a_dent_deeper_than_the_bodys_cap_is_refused_before_it_is_computed() {
     bytes[11..15].copy_from_slice(&1000.0f32.to_le_bytes());
     refused(&mut client, &bytes, |e| matches!(e, ReplicationError::Malformed(m) if m.contains("cap")));
     client.apply(&game.messages[0]).unwrap();
+}
+
+#[test]
+fn a_late_joiner_of_bodies_that_keep_their_volume_ends_bit_identical_normals_included() {
+    // The rim of VolumeMode::Preserve pushes along the vertex normals, which a dent refreshes
+    // only around what it moved, and a late joiner rebuilds its meshes from positions and
+    // faces: its normals, and so its next dents, must still be the server's (here with
+    // authored normals, an asset's, tilted 0.1 rad).
+    let authored = |m: TriMesh| {
+        let normals = m.normals().iter().map(|n| (*n + 0.1 * Vec3::X).normalize()).collect();
+        TriMesh::with_normals(m.positions().to_vec(), m.faces().to_vec(), normals).unwrap()
+    };
+    let mut game = Game::with(|s| s.params.volume = dentbend::dent::VolumeMode::Preserve, authored);
+    game.server.forget(SOFT);
+    while game.dents_on[0] + game.dents_on[1] < 40 {
+        game.step().unwrap();
+    }
+    let before_join = game.messages.len();
+    let mut late = game.client();
+    late.join(&game.snapshot()).unwrap();
+    while game.dents_on[0] + game.dents_on[1] < 80 {
+        game.step().unwrap();
+    }
+    for m in &game.messages[before_join..] {
+        late.apply(m).unwrap();
+    }
+    let bits = |v: &[Vec3]| v.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+    for id in [PLATE, BLOCK] {
+        let (c, s) = (late.mesh(id).unwrap(), game.set.mesh(id).unwrap());
+        assert_eq!(content_hash(c), content_hash(s), "body {id}");
+        assert_eq!(bits(c.normals()), bits(s.normals()), "body {id}: normals bit for bit");
+    }
 }

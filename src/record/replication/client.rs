@@ -118,6 +118,15 @@ impl ReplicationClient {
                 }
                 BodyForm::Whole(mesh) => mesh.clone(),
             };
+            // The server's normals where the dents read them (a rebuilt mesh has the ones its
+            // positions and faces give).
+            let mesh = match &s.normals {
+                Some(normals) => {
+                    TriMesh::with_normals(mesh.positions().to_vec(), mesh.faces().to_vec(), normals.clone())
+                        .map_err(|error| ReplicationError::Mesh { id: s.id, error })?
+                }
+                None => mesh,
+            };
             let hash = content_hash(&mesh);
             if hash != s.hash {
                 return Err(other(s.id, "the joined mesh's hash", hex64(s.hash), hex64(hash)));
@@ -177,6 +186,7 @@ impl ReplicationClient {
             GroupChange::Edit(edit) => {
                 edit.apply(&body.mesh).map_err(|error| ReplicationError::Mesh { id: g.id, error })?
             }
+            GroupChange::Whole(mesh) => mesh.clone(),
             GroupChange::Dents(dents) => {
                 let mut cropped = Vec::with_capacity(dents.len());
                 for d in dents {

@@ -8,7 +8,7 @@ use super::wire::{
     write_snapshot,
 };
 use super::{ReplicationError, settings_digest};
-use crate::dent::{AppliedDent, DentSettings};
+use crate::dent::{AppliedDent, DentSettings, VolumeMode};
 use crate::mesh::{MeshEdit, TriMesh, content_hash};
 
 /// A late joiner's start, with what sending every mesh whole would have cost.
@@ -31,6 +31,9 @@ struct ServerBody<K> {
     settings: u64,
     /// Progressive bodies: the mesh the clients have (their groups are edits from it).
     sent: Option<TriMesh>,
+    /// Whether its dents read its vertex normals (the rim of `VolumeMode::Preserve`), which a
+    /// snapshot then sends.
+    normals: bool,
 }
 
 /// The server's replication state: which of its bodies the stream carries (keyed by the
@@ -74,6 +77,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
             base_hash: content_hash(base),
             settings: digest,
             sent: settings.progressive.then(|| base.clone()),
+            normals: settings.params.volume == VolumeMode::Preserve,
         };
         match self.bodies.iter_mut().find(|b| b.key == key) {
             Some(slot) => *slot = body,
@@ -150,9 +154,10 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
             let now = mesh(body.key).ok_or_else(|| ReplicationError::UnknownBody(format!("{:?}", body.key)))?;
             group.check = check_of(content_hash(now));
             if let Some(before) = &body.sent {
-                let edit =
-                    MeshEdit::between(before, now).map_err(|error| ReplicationError::Mesh { id: body.id, error })?;
-                group.change = GroupChange::Edit(edit);
+                group.change = match MeshEdit::between(before, now) {
+                    Ok(edit) => GroupChange::Edit(edit),
+                    Err(_) => GroupChange::Whole(now.clone()),
+                };
                 sent.push((*slot, now.clone()));
             }
         }
@@ -179,7 +184,15 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
             let now = mesh(b.key).ok_or_else(|| ReplicationError::UnknownBody(format!("{:?}", b.key)))?;
             let base = (b.base.vertex_count() as u32, b.base.face_count() as u32, b.base_hash);
             let edit = MeshEdit::between(&b.base, now).ok();
-            let entry = |form| SnapshotBody { id: b.id, base, settings: b.settings, form, hash: content_hash(now) };
+            let normals = b.normals.then(|| now.normals().to_vec());
+            let entry = |form| SnapshotBody {
+                id: b.id,
+                base,
+                settings: b.settings,
+                form,
+                normals: normals.clone(),
+                hash: content_hash(now),
+            };
             let whole_entry = entry(BodyForm::Whole(now.clone()));
             let size = |body: &SnapshotBody| write_snapshot(&Snapshot { next: 0, bodies: vec![body.clone()] }).len();
             let chosen = match edit.map(|e| entry(BodyForm::Edit(e))) {

@@ -1,9 +1,10 @@
 //! The bytes of the replication stream.
 //!
 //! A **message** (one server step): tag `0xD1`, message number (varint), group count (varint),
-//! then per dented body: its id (varint), `count << 1 | kind` (varint; kind 0: `count` dents,
-//! kind 1: one mesh edit), the low 32 bits of the body's content hash after the group (u32),
-//! then the dents or the edit ([`write_edit`]).
+//! then per dented body: its id (varint), a header (varint: `count << 1` for `count` dents,
+//! `3` for a mesh edit, `5` for the whole mesh), the low 32 bits of the body's content hash
+//! after the group (u32), then the dents, the edit ([`write_edit`]) or the mesh (as in a
+//! snapshot).
 //!
 //! A **dent** (54 bytes for a rotation, 78 for a scaled pose): flags (u8: bits 0–1 the
 //! rotation's dropped component, bit 2 a whole matrix, bit 3 the projectile is a tracked body),
@@ -13,7 +14,8 @@
 //! A **snapshot** (a late joiner's start): tag `0xD5`, version (u8), the next message number
 //! (varint), body count (varint), then per body: id (varint), base mesh stamp (vertex and face
 //! counts as varints, content hash u64), settings digest (u64), form (u8: 0 an edit from the
-//! base, 1 the whole mesh), the edit or the mesh, content hash of the body's mesh (u64).
+//! base, 1 the whole mesh; plus 2 when every vertex normal follows), the edit or the mesh, the
+//! normals (a varint count, 3 × f32 each), content hash of the body's mesh (u64).
 
 use glam::{Mat3A, Vec3};
 
@@ -65,6 +67,9 @@ pub enum GroupChange {
     Dents(Vec<WireDent>),
     /// An exact edit of the body's mesh (a progressive dent, rebuilt from a pre-dent surface).
     Edit(MeshEdit),
+    /// The body's whole mesh (a progressive dent rebuilt with fewer vertices than the mesh it
+    /// replaces, which no edit can express).
+    Whole(TriMesh),
 }
 
 /// One body's part of a message.
@@ -107,6 +112,10 @@ pub struct SnapshotBody {
     pub settings: u64,
     /// Its mesh now.
     pub form: BodyForm,
+    /// Its vertex normals now, for a body whose dents read them (the rim of
+    /// `VolumeMode::Preserve`): a dent refreshes normals only around what it moved, so they are
+    /// not always the ones the positions and faces give (authored normals).
+    pub normals: Option<Vec<Vec3>>,
     /// Content hash of its mesh now.
     pub hash: u64,
 }
@@ -119,6 +128,14 @@ pub struct Snapshot {
     /// Every tracked body.
     pub bodies: Vec<SnapshotBody>,
 }
+
+/// A snapshot body's form bit: its vertex normals follow its mesh.
+const NORMALS_FOLLOW: u8 = 2;
+
+/// A group header: one mesh edit.
+const EDIT_HEADER: u64 = 3;
+/// A group header: the whole mesh.
+const WHOLE_HEADER: u64 = 5;
 
 /// The low 32 bits of a content hash, as a group's check.
 pub fn check_of(hash: u64) -> u32 {
@@ -140,9 +157,14 @@ pub fn write_message(message: &Message) -> Vec<u8> {
                 dents.iter().for_each(|d| write_dent(&mut out, d));
             }
             GroupChange::Edit(edit) => {
-                out.varint((1 << 1) | 1);
+                out.varint(EDIT_HEADER);
                 out.u32(g.check);
                 write_edit(&mut out, edit);
+            }
+            GroupChange::Whole(mesh) => {
+                out.varint(WHOLE_HEADER);
+                out.u32(g.check);
+                write_whole(&mut out, mesh);
             }
         }
     }
@@ -168,11 +190,12 @@ pub fn read_message(bytes: &[u8]) -> Result<Message, ReplicationError> {
         let id = r.varint32("body id")?;
         let header = r.varint("group header")?;
         let check = r.u32("group check")?;
-        let change = if header & 1 == 1 {
-            if header >> 1 != 1 {
-                return Err(ReplicationError::Malformed(format!("body {id}: an edit group of {} edits", header >> 1)));
-            }
+        let change = if header == EDIT_HEADER {
             GroupChange::Edit(read_edit(&mut r)?)
+        } else if header == WHOLE_HEADER {
+            GroupChange::Whole(read_whole(&mut r)?)
+        } else if header & 1 == 1 {
+            return Err(ReplicationError::Malformed(format!("body {id}: group header {header}")));
         } else {
             let count = header >> 1;
             if count == 0 || count > MAX_GROUP_DENTS {
@@ -269,15 +292,20 @@ pub fn write_snapshot(snapshot: &Snapshot) -> Vec<u8> {
         out.varint(u64::from(b.base.1));
         out.u64(b.base.2);
         out.u64(b.settings);
+        let with_normals = if b.normals.is_some() { NORMALS_FOLLOW } else { 0 };
         match &b.form {
             BodyForm::Edit(edit) => {
-                out.u8(0);
+                out.u8(with_normals);
                 write_edit(&mut out, edit);
             }
             BodyForm::Whole(mesh) => {
-                out.u8(1);
+                out.u8(1 | with_normals);
                 write_whole(&mut out, mesh);
             }
+        }
+        if let Some(normals) = &b.normals {
+            out.varint(normals.len() as u64);
+            normals.iter().for_each(|&n| out.vec3(n));
         }
         out.u64(b.hash);
     }
@@ -310,16 +338,23 @@ pub fn read_snapshot(bytes: &[u8]) -> Result<Snapshot, ReplicationError> {
         let id = r.varint32("body id")?;
         let base = (r.varint32("base vertex count")?, r.varint32("base face count")?, r.u64("base hash")?);
         let settings = r.u64("settings digest")?;
-        let form = match r.u8("body form")? {
+        let form_byte = r.u8("body form")?;
+        let form = match form_byte & !NORMALS_FOLLOW {
             0 => BodyForm::Edit(read_edit(&mut r)?),
             1 => BodyForm::Whole(read_whole(&mut r)?),
             other => return Err(ReplicationError::Malformed(format!("body {id}: form {other}"))),
+        };
+        let normals = if form_byte & NORMALS_FOLLOW != 0 {
+            let n = r.count("body normals", 12, MAX_EDIT_ITEMS)?;
+            Some((0..n).map(|_| r.vec3("body normal")).collect::<Result<Vec<_>, _>>()?)
+        } else {
+            None
         };
         let hash = r.u64("body hash")?;
         if !ids.insert(id) {
             return Err(ReplicationError::Malformed(format!("body {id} appears twice in the snapshot")));
         }
-        bodies.push(SnapshotBody { id, base, settings, form, hash });
+        bodies.push(SnapshotBody { id, base, settings, form, normals, hash });
     }
     if r.remaining() != 0 {
         return Err(ReplicationError::Malformed(format!("{} bytes after the snapshot's end", r.remaining())));
@@ -343,4 +378,32 @@ fn read_whole(r: &mut ByteReader<'_>) -> Result<TriMesh, ReplicationError> {
         faces.push([r.u32("mesh face")?, r.u32("mesh face")?, r.u32("mesh face")?]);
     }
     TriMesh::new(positions, faces).map_err(|e| ReplicationError::Malformed(format!("a whole mesh: {e}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_whole_mesh_group_round_trips_and_a_bad_header_is_refused() {
+        let mesh = crate::mesh::icosphere(0.5, 1).expect("a sphere");
+        let message = Message {
+            number: 7,
+            groups: vec![Group { id: 3, check: 0xdead_beef, change: GroupChange::Whole(mesh.clone()) }],
+        };
+        let bytes = write_message(&message);
+        let back = read_message(&bytes).expect("read back");
+        assert_eq!(back.number, 7);
+        match &back.groups[0].change {
+            GroupChange::Whole(m) => {
+                assert_eq!(m.positions(), mesh.positions());
+                assert_eq!(m.faces(), mesh.faces());
+            }
+            other => panic!("{other:?}"),
+        }
+        // Tag, number, group count, id, then the header: 7 is no header a writer makes.
+        let mut bad = bytes.clone();
+        bad[4] = 7;
+        assert!(matches!(read_message(&bad), Err(ReplicationError::Malformed(_))));
+    }
 }
