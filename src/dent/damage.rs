@@ -248,8 +248,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
             // Rebuilt from the pre-dent surface: what moved is what differs from the surface now
             // (and every vertex past the shorter of the two).
             let now = latest(&plan, key).unwrap_or(target.mesh);
-            let mut moved = moved_vertices(now.positions(), mesh.positions());
-            moved.extend(now.vertex_count().min(mesh.vertex_count()) as u32..mesh.vertex_count() as u32);
+            let moved = changed_vertices(now, &mesh);
             let topology_changed = now.faces() != mesh.faces();
             staged.record(key, projectile, pre_dent, distance, step);
             plan.dents.push(with_report(applied(&target, d, distance), &report));
@@ -429,6 +428,15 @@ fn with_report<K>(dent: AppliedDent<K>, report: &super::DentReport) -> AppliedDe
 pub fn moved_vertices(before: &[Vec3], after: &[Vec3]) -> Vec<u32> {
     let same = |a: Vec3, b: Vec3| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
     (0..before.len().min(after.len()) as u32).filter(|&i| !same(before[i as usize], after[i as usize])).collect()
+}
+
+/// The vertices of `after` a caller's copy of `before` must update: those whose position differs
+/// ([`moved_vertices`]) and every vertex past `before`'s count (appended by a refinement),
+/// ascending.
+pub fn changed_vertices(before: &TriMesh, after: &TriMesh) -> Vec<u32> {
+    let mut changed = moved_vertices(before.positions(), after.positions());
+    changed.extend(before.vertex_count().min(after.vertex_count()) as u32..after.vertex_count() as u32);
+    changed
 }
 
 /// The newest surface the plan has for `key`.

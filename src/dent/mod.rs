@@ -41,7 +41,7 @@ pub use batch::{BatchError, BatchOutcome, DentJob, dent_batch, dent_batch_tracke
 pub use body_state::BodyState;
 pub use damage::{
     AppliedDent, CpuBackend, Damage, DamageError, DamagePlan, DentBackend, DentTargets, DentedTarget, Hit, TargetView,
-    moved_vertices,
+    changed_vertices, moved_vertices,
 };
 pub use decide::{decide_dent_distance, projectile_offset};
 pub use energy::{energy_dent_distance, normal_energy_lost};

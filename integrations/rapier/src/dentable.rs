@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use dentbend::dent::{
     AppliedDent, BodyState, Damage, DentBackend, DentSettings, DentedTarget, Hit, Impact, Surface, TargetSet,
-    moved_vertices,
+    changed_vertices,
 };
 use dentbend::mesh::TriMesh;
 use dentbend::record::{BodyDamage, DamageFile, DamageRecorder, DentForm, Projectiles, RecordForms, replay_body};
@@ -158,8 +158,7 @@ impl Dentables {
     ) -> Result<Vec<u32>, AdapterError> {
         let now = self.targets.mesh(handle).ok_or_else(|| not_dentable(handle))?;
         let restored = replay_body(body, now, DentForm::Edits, &Projectiles::new())?;
-        let mut moved = moved_vertices(now.positions(), restored.positions());
-        moved.extend(now.vertex_count().min(restored.vertex_count()) as u32..restored.vertex_count() as u32);
+        let moved = changed_vertices(now, &restored);
         let topology_changed = now.faces() != restored.faces();
         let collider = colliders.get(handle).ok_or(AdapterError::UnknownCollider(handle))?;
         let refit = match self.kinds[&handle] {
@@ -401,7 +400,8 @@ fn check_built_from(
              damage insert the undamaged mesh and call Dentables::restore"
         ),
     };
-    let extent = mesh.positions().iter().fold(0.0f32, |m, p| m.max(p.abs().max_element()));
+    let (lo, hi) = mesh.bounds();
+    let extent = lo.abs().max(hi.abs()).max_element();
     // f32 rounding of an exact copy is zero; a few ulps of the mesh's extent leave room for a
     // shape that stores its vertices through another type.
     let tolerance = 4.0 * f32::EPSILON * extent.max(1e-6);
@@ -420,10 +420,6 @@ fn check_built_from(
         }
         ShapeKind::Convex => {
             let aabb = collider.shape().compute_local_aabb();
-            let (lo, hi) = mesh
-                .positions()
-                .iter()
-                .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
             let off = (aabb.mins - lo).abs().max((aabb.maxs - hi).abs()).max_element();
             if off > tolerance.max(1e-5 * extent) {
                 return Err(refused(format!(

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use super::wire::{BodyForm, Group, GroupChange, ProjectileId, check_of, read_message, read_snapshot};
 use super::{ReplicationError, settings_digest};
-use crate::dent::{DentJob, DentParams, DentSettings, dent_batch_tracked, moved_vertices};
+use crate::dent::{DentJob, DentParams, DentSettings, changed_vertices, dent_batch_tracked};
 use crate::mesh::{TriMesh, content_hash};
 use crate::record::hex64;
 
@@ -133,12 +133,7 @@ impl ReplicationClient {
             }
             staged.push((s.id, mesh));
         }
-        let changes = staged.iter().map(|(id, mesh)| change(*id, &self.bodies[id].mesh, mesh)).collect();
-        for (id, mesh) in staged {
-            if let Some(body) = self.bodies.get_mut(&id) {
-                body.mesh = mesh;
-            }
-        }
+        let changes = self.commit(staged);
         self.next = Some(snapshot.next);
         Ok(changes)
     }
@@ -165,18 +160,24 @@ impl ReplicationClient {
         }
         let staged: Vec<(u32, TriMesh)> =
             message.groups.iter().map(|g| Ok((g.id, self.changed(g)?))).collect::<Result<_, ReplicationError>>()?;
-        let changes = staged.iter().map(|(id, mesh)| change(*id, &self.bodies[id].mesh, mesh)).collect();
+        let next = expected
+            .checked_add(1)
+            .ok_or_else(|| ReplicationError::Malformed("the stream's message numbers are used up".into()))?;
+        let changes = self.commit(staged);
+        self.next = Some(next);
+        Ok(changes)
+    }
+
+    /// Gives each staged body its new mesh; returns what changed.
+    fn commit(&mut self, staged: Vec<(u32, TriMesh)>) -> Vec<ReplicaChange> {
+        let mut changes = Vec::with_capacity(staged.len());
         for (id, mesh) in staged {
             if let Some(body) = self.bodies.get_mut(&id) {
+                changes.push(change(id, &body.mesh, &mesh));
                 body.mesh = mesh;
             }
         }
-        self.next = Some(
-            expected
-                .checked_add(1)
-                .ok_or_else(|| ReplicationError::Malformed("the stream's message numbers are used up".into()))?,
-        );
-        Ok(changes)
+        changes
     }
 
     /// Body `g.id`'s mesh after its group, checked against the group's hash.
@@ -249,7 +250,5 @@ fn other(id: u32, what: &'static str, expected: String, found: String) -> Replic
 
 /// What changed from `before` to `after`.
 fn change(id: u32, before: &TriMesh, after: &TriMesh) -> ReplicaChange {
-    let mut moved = moved_vertices(before.positions(), after.positions());
-    moved.extend(before.vertex_count().min(after.vertex_count()) as u32..after.vertex_count() as u32);
-    ReplicaChange { id, moved, topology_changed: before.faces() != after.faces() }
+    ReplicaChange { id, moved: changed_vertices(before, after), topology_changed: before.faces() != after.faces() }
 }
