@@ -4,7 +4,8 @@
 //! vertices that moved (refit your collider over those) and how far to push each projectile
 //! into its dent. Nothing of yours changes until you apply them.
 
-use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Impact, Surface, TargetSet};
+use dentbend::damage::{CpuBackend, Damage, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Impact, Surface};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh;
 

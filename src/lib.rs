@@ -4,7 +4,7 @@
 //! Aanjaneya, Bartle, Lee and Fedkiw, *Efficient Denting and Bending of Rigid Bodies* (SCA 2014).
 //!
 //! Denting works with any rigid-body solver: feed your contacts to the world-free damage API
-//! ([`dent::Damage`], keyed by your own body ids) and apply the meshes, moved vertices and
+//! ([`Damage`], keyed by your own body ids) and apply the meshes, moved vertices and
 //! projectile offsets it returns; `dentbend-rapier` does this for Rapier. The rig and the
 //! plastic / elastic joint rules are in [`bend`]. See ARCHITECTURE.md for the layers.
 //!
@@ -48,6 +48,7 @@ pub mod bend;
 #[cfg(feature = "sim")]
 pub mod coupling;
 pub mod cpu;
+pub mod damage;
 pub mod dent;
 pub mod fracture;
 #[cfg(feature = "gpu")]
@@ -63,6 +64,7 @@ pub mod scene;
 #[cfg(feature = "sim")]
 pub mod sim;
 
+pub use damage::{Damage, DamagePlan, DentTargets, Hit, TargetSet};
 pub use dent::{
     Attenuation, DentError, DentMap, DentParams, DentReport, Impact, Resolution, VolumeMode, dent, dent_map,
     dent_map_stages, dent_pair,

@@ -1,4 +1,4 @@
-//! Damage as data through the engine-neutral API: a `dent::Damage` user records the dents it
+//! Damage as data through the engine-neutral API: a `damage::Damage` user records the dents it
 //! applies (`record::DamageRecorder`), writes them as a damage file and replays them onto a
 //! fresh copy of the base mesh — bit-identical as mesh edits and as impacts (the multiplayer
 //! form), and refused with a typed error, changing nothing, when the file is truncated, of
@@ -9,7 +9,8 @@ mod common;
 
 use common::SplitMix64;
 use dentbend::coupling::{DamageLog, Simulation};
-use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Impact, Surface, TargetSet};
+use dentbend::damage::{CpuBackend, Damage, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Impact, Surface};
 use dentbend::glam::{Affine3A, Mat3, Quat, Vec3};
 use dentbend::mesh::{self, TriMesh, content_hash};
 use dentbend::record::{
@@ -366,7 +367,7 @@ fn a_custom_falloff_cannot_be_recorded_as_an_impact_and_nothing_is_recorded() {
     let replayed = replay_body(edits.body(TARGET).unwrap(), &block, DentForm::Edits, &Projectiles::new()).unwrap();
     assert_bit_identical(&replayed, set.mesh(TARGET).unwrap(), "custom falloff as an edit");
     // The set's mesh changed outside the recorder: the next plan is refused.
-    set.apply(vec![dentbend::dent::DentedTarget {
+    set.apply(vec![dentbend::damage::DentedTarget {
         key: TARGET,
         mesh: block.clone(),
         moved: Vec::new(),

@@ -1,11 +1,10 @@
-//! The world-free damage API (`dent::Damage`), fed a hand-written contact list as "your own
+//! The world-free damage API (`damage::Damage`), fed a hand-written contact list as "your own
 //! solver" would: dent decisions keyed by the caller's ids, moved vertices for collider refits,
 //! projectile placement, progressive dents, Jacobi pairs, the energy model from both bodies'
 //! states, and errors that change nothing.
 
-use dentbend::dent::{
-    BodyState, CpuBackend, Damage, DamageError, DentSettings, Hit, Impact, Surface, TargetSet, moved_vertices,
-};
+use dentbend::damage::{CpuBackend, Damage, DamageError, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Impact, Surface, moved_vertices};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh::{self, TriMesh};
 

@@ -7,10 +7,8 @@
 mod common;
 
 use common::cube12 as cube;
-use dentbend::dent::{
-    BodyState, CpuBackend, Damage, DentBackend, DentJob, DentSettings, Hit, Refine, Surface, TargetSet,
-    dent_batch_tracked,
-};
+use dentbend::damage::{CpuBackend, Damage, DentBackend, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentJob, DentSettings, Refine, Surface, dent_batch_tracked};
 use dentbend::glam::{Affine3A, Mat3, Quat, Vec3};
 use dentbend::gpu::{GpuBackend, GpuContext};
 use dentbend::mesh::{self, TriMesh};
@@ -297,7 +295,7 @@ fn a_batch_lists_new_vertices_as_moved_and_says_the_faces_changed() {
 
 /// The damage API on `backend`: the plan's target says its faces changed and carries the
 /// provenance of the new vertices, which interpolates a per-vertex attribute.
-fn plan_on(backend: &mut dyn DentBackend<u32>) -> dentbend::dent::DentedTarget<u32> {
+fn plan_on(backend: &mut dyn DentBackend<u32>) -> dentbend::damage::DentedTarget<u32> {
     let mut set = TargetSet::new();
     set.insert(1, cube(), Affine3A::IDENTITY, DentSettings::new(1.0, 0.05, 0.3)).unwrap();
     set.insert_rigid(2);

@@ -12,7 +12,8 @@ use std::collections::HashMap;
 
 use common::cube12;
 use common::seams::{key, unpaired_edges};
-use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Surface, TargetSet};
+use dentbend::damage::{CpuBackend, Damage, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Surface};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh::{self, TriMesh};
 use dentbend::{DentError, DentParams, Impact, VolumeMode};

@@ -9,7 +9,8 @@ mod common;
 
 use std::sync::Arc;
 
-use dentbend::dent::{BatchOutcome, CpuBackend, DentBackend, DentJob, VolumeMode};
+use dentbend::damage::{CpuBackend, DentBackend};
+use dentbend::dent::{BatchOutcome, DentJob, VolumeMode};
 use dentbend::glam::Vec3;
 use dentbend::gpu::{GpuBackend, GpuContext};
 use dentbend::mesh::{self, TriMesh};

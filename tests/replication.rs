@@ -1,4 +1,4 @@
-//! Network replication through the engine-neutral API: a server denting with `dent::Damage`
+//! Network replication through the engine-neutral API: a server denting with `damage::Damage`
 //! sends each step's dents as messages; a client that joined at the start and one that joined
 //! late (from a snapshot) end with meshes bit-identical to the server's, at most 64 bytes a
 //! dent on the wire, and a late join no bigger than the meshes sent whole. Out-of-order,
@@ -8,7 +8,8 @@
 mod common;
 
 use common::SplitMix64;
-use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, DentTargets, Hit, Impact, Surface, TargetSet};
+use dentbend::damage::{CpuBackend, Damage, DentTargets, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Impact, Surface};
 use dentbend::glam::{Affine3A, Mat3, Quat, Vec3};
 use dentbend::mesh::{self, TriMesh, content_hash};
 use dentbend::record::replication::{ReplicationClient, ReplicationError, ReplicationServer};

@@ -6,7 +6,8 @@
 
 use std::sync::OnceLock;
 
-use dentbend::dent::{BodyState, CpuBackend, Damage, DentSettings, Hit, Impact, Surface, TargetSet};
+use dentbend::damage::{CpuBackend, Damage, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Impact, Surface};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh;
 use dentbend::record::replication::{ReplicationClient, ReplicationServer};

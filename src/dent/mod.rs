@@ -1,14 +1,12 @@
-//! Denting (paper §3): impact → dent frame → dent map → displaced target mesh, and the
-//! world-free damage API on top ([`Damage`]): contacts from any solver, keyed by the caller's
-//! own body ids, → dent decisions (threshold / gain / cap or the energy model) → cropped
-//! projectiles → one batch on the CPU or the GPU → new meshes, moved vertices and projectile
-//! offsets for the caller to apply.
+//! Denting (paper §3): impact → dent frame → dent map → displaced target mesh; the dent
+//! decision (threshold / gain / cap or the energy model), projectile cropping and batches on all
+//! cores. The world-free damage API built on it is [`crate::damage`].
 
 mod apply;
 mod artist;
 mod batch;
 mod body_state;
-mod damage;
+mod changed;
 mod decide;
 mod energy;
 mod error;
@@ -30,7 +28,6 @@ mod refine_jobs;
 mod refine_setting;
 mod refine_target;
 mod settings;
-mod target_set;
 mod thickness;
 mod volume;
 mod volume_mode;
@@ -39,14 +36,10 @@ pub use apply::{DentReport, dent, dent_pair};
 pub use artist::gaussian_heights;
 pub use batch::{BatchError, BatchOutcome, DentJob, dent_batch, dent_batch_tracked};
 pub use body_state::BodyState;
-pub use damage::{
-    AppliedDent, CpuBackend, Damage, DamageError, DamagePlan, DentBackend, DentTargets, DentedTarget, Hit, TargetView,
-    changed_vertices, moved_vertices,
-};
+pub use changed::{changed_vertices, moved_vertices};
 pub use decide::{decide_dent_distance, projectile_offset};
 pub use energy::{energy_dent_distance, normal_energy_lost};
 pub use error::DentError;
-#[cfg(feature = "gpu")]
 pub(crate) use error::invalid;
 pub use grid::{DentFrame, Grid};
 #[cfg(feature = "gpu")]
@@ -66,7 +59,6 @@ pub(crate) use refine_jobs::{plan_jobs, refine_planned};
 pub use refine_setting::{DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refine};
 pub use refine_target::{AUTO_COARSENESS, auto_coarse_edge, auto_max_edge, footprint_box};
 pub use settings::DentSettings;
-pub use target_set::TargetSet;
 #[cfg(feature = "gpu")]
 pub(crate) use thickness::FittedFalloff;
 pub use thickness::{FOLD_KEPT, MIN_WALL_KEPT};

@@ -13,7 +13,8 @@ use std::collections::HashMap;
 use std::hash::Hash;
 
 use super::{GpuBatchError, GpuContext, GpuDenter};
-use crate::dent::{BatchError, BatchOutcome, DentBackend, DentError, DentJob};
+use crate::damage::DentBackend;
+use crate::dent::{BatchError, BatchOutcome, DentError, DentJob};
 use crate::mesh::TriMesh;
 
 /// Batches on a GPU, targets resident there, keyed by the caller's ids.

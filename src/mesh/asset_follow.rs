@@ -19,7 +19,7 @@ const SAME_SIDE_COS: f32 = 0.999_85;
 impl Asset {
     /// Follows a dent of this asset's mesh: `dented` is the dented mesh (this one's vertices and
     /// faces first, then what `refinement` appended), `moved` the vertices the dent moved (as
-    /// `dent::DentedTarget::moved` lists them; new vertices count as moved either way).
+    /// `damage::DentedTarget::moved` lists them; new vertices count as moved either way).
     ///
     /// - A new vertex's attributes blend its two parents' at its `fraction` t: UVs and colours
     ///   linearly (its parents lie on its own side of any seam, so this is right per side);

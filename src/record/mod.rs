@@ -8,7 +8,7 @@
 //! bent body's skinned surface) and names its final mesh the same way. [`replay_body`] rebuilds
 //! the final mesh, checking every step; a file that is truncated, of another version, from
 //! another mesh or tampered with is refused with a typed [`RecordError`]. [`DamageRecorder`]
-//! records what a user of [`Damage`](crate::dent::Damage) applies; `coupling::DamageLog`
+//! records what a user of [`Damage`](crate::damage::Damage) applies; `coupling::DamageLog`
 //! records a simulation. On disk ([`DamageFile::to_json`], `io` feature) the records are
 //! little-endian binary in base64 inside a small JSON object. [`replication`] streams a server's
 //! dents to clients as they happen.

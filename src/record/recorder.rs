@@ -1,5 +1,5 @@
 //! Recording the dents a user of the engine-neutral damage API applies: after each
-//! [`Damage::plan`](crate::dent::Damage::plan), before the plan's meshes replace the targets',
+//! [`Damage::plan`](crate::damage::Damage::plan), before the plan's meshes replace the targets',
 //! [`DamageRecorder::record`] notes every tracked body's new dents (as a mesh edit, as impacts,
 //! or both), and [`DamageRecorder::file`] gives the damage file.
 
@@ -7,7 +7,8 @@ use std::hash::Hash;
 
 use super::records::{DamageRecord, DentBatch, ImpactDent, ProjectileRef};
 use super::{BodyDamage, DamageFile, MeshStamp, RecordError, hex64};
-use crate::dent::{AppliedDent, Attenuation, DamagePlan, DentParams, DentTargets, Hit, projectile_reach};
+use crate::damage::{AppliedDent, DamagePlan, DentTargets, Hit};
+use crate::dent::{Attenuation, DentParams, projectile_reach};
 use crate::mesh::{MeshEdit, TriMesh, content_hash};
 
 /// Which forms of each dent batch the recorder keeps (at least one).
@@ -82,7 +83,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> DamageRecorder<K> {
         }
     }
 
-    /// Records `plan` (made by [`Damage::plan`](crate::dent::Damage::plan) from `hits` on
+    /// Records `plan` (made by [`Damage::plan`](crate::damage::Damage::plan) from `hits` on
     /// `targets`), before the caller applies it: `targets` must still hold the meshes the plan
     /// started from. Untracked bodies are skipped.
     ///

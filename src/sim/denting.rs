@@ -8,7 +8,8 @@ use glam::Vec3;
 use serde::Serialize;
 
 use super::{BodyKind, CollisionEvent, GpuDevice, SimError, StepContext, World, body_state};
-use crate::dent::{CpuBackend, Damage, DamageError, DentBackend, DentError, DentTargets, Hit, TargetView};
+use crate::damage::{CpuBackend, Damage, DamageError, DentBackend, DentTargets, Hit, TargetView};
+use crate::dent::DentError;
 #[cfg(feature = "gpu")]
 use crate::gpu::GpuBackend;
 #[cfg(feature = "gpu")]

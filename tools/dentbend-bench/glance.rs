@@ -4,7 +4,7 @@
 //! [`PROJECTILE_FRACTION`] of the diagonal, a dent distance of [`DENT_FRACTION`] of it times
 //! cos θ, at seeded random points of the current surface).
 
-use dentbend::dent::CpuBackend;
+use dentbend::damage::CpuBackend;
 use dentbend::glam::Vec3;
 use dentbend::mesh;
 use serde::Serialize;

@@ -3,7 +3,8 @@
 
 use std::time::{Duration, Instant};
 
-use dentbend::dent::{BodyState, CpuBackend, Damage, DentBackend, DentSettings, Hit, Impact, Surface, TargetSet};
+use dentbend::damage::{CpuBackend, Damage, DentBackend, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Impact, Surface};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh::Refinement;
 use dentbend::{TriMesh, mesh};

@@ -2,7 +2,8 @@
 //! pictures from the GPU renderer.
 
 use clap::{Args, ValueEnum};
-use dentbend::dent::{BatchOutcome, DentBackend, DentJob, DentStages, dent_batch_tracked, plan_dent};
+use dentbend::damage::DentBackend;
+use dentbend::dent::{BatchOutcome, DentJob, DentStages, dent_batch_tracked, plan_dent};
 use dentbend::gpu::{GpuBackend, GpuContext, GpuDenter, KernelDevice};
 use dentbend::mesh::Refinement;
 use dentbend::render::Renderer;

@@ -5,7 +5,8 @@ use std::collections::{HashMap, HashSet};
 
 use bevy::prelude::Entity;
 use dentbend::TriMesh;
-use dentbend::dent::{BatchError, BatchOutcome, DentBackend, DentJob, dent_batch_tracked};
+use dentbend::damage::DentBackend;
+use dentbend::dent::{BatchError, BatchOutcome, DentJob, dent_batch_tracked};
 
 use crate::link::GpuJob;
 

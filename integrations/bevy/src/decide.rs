@@ -5,7 +5,8 @@ use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use std::collections::HashSet;
 
-use dentbend::dent::{AppliedDent, Hit, Impact, Surface};
+use dentbend::damage::{AppliedDent, Hit};
+use dentbend::dent::{Impact, Surface};
 
 use crate::backend::SplitBackend;
 use crate::link::{MainLink, ToMain, ToRender};

@@ -5,7 +5,8 @@ use std::collections::{HashMap, HashSet};
 
 use bevy::prelude::*;
 use dentbend::TriMesh;
-use dentbend::dent::{Damage, DentSettings, DentedTarget, TargetSet};
+use dentbend::damage::{Damage, DentedTarget, TargetSet};
+use dentbend::dent::DentSettings;
 use dentbend::glam::Affine3A;
 use dentbend::mesh::Refinement;
 

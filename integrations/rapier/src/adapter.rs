@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use dentbend::dent::{AppliedDent, CpuBackend, DentBackend};
+use dentbend::damage::{AppliedDent, CpuBackend, DentBackend};
 use rapier3d::prelude::{ColliderHandle, EventHandler, PhysicsHooks};
 
 use crate::{AdapterError, Bendable, BodyStates, Contact, Dentables, ImpactReader, PhysicsWorld};

@@ -7,7 +7,8 @@
 //! new hull.
 
 use dentbend::bend::SubBodies;
-use dentbend::dent::{BodyState, Damage, DentBackend, DentSettings, Hit, Impact, Refine, Surface, TargetSet};
+use dentbend::damage::{Damage, DentBackend, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Impact, Refine, Surface};
 use dentbend::mesh::TriMesh;
 use glam::{Affine3A, Mat3, Vec3};
 use rapier3d::prelude::{ColliderHandle, SharedShape};
@@ -39,7 +40,7 @@ pub(crate) struct BendDent {
 #[derive(Debug, Clone, Default)]
 pub struct BendDentReport {
     /// Dents made (target: the hit piece's collider).
-    pub dents: Vec<dentbend::dent::AppliedDent<ColliderHandle>>,
+    pub dents: Vec<dentbend::damage::AppliedDent<ColliderHandle>>,
     /// Rest vertices that moved, ascending.
     pub moved: Vec<u32>,
     /// Pieces whose colliders were refitted.
@@ -154,7 +155,7 @@ impl Bendable {
         report.dents = plan
             .dents
             .into_iter()
-            .map(|d| dentbend::dent::AppliedDent { target: piece_of(d.impact.point), ..d })
+            .map(|d| dentbend::damage::AppliedDent { target: piece_of(d.impact.point), ..d })
             .collect();
         Ok(report)
     }

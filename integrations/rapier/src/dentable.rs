@@ -1,4 +1,4 @@
-//! Dentable colliders: a step's impacts → hits → dents ([`dentbend::dent::Damage`]) → collider
+//! Dentable colliders: a step's impacts → hits → dents ([`dentbend::damage::Damage`]) → collider
 //! refits, all or nothing.
 //!
 //! A dentable collider's mesh is in the collider's own frame (m); its pose is the collider's
@@ -9,10 +9,8 @@
 use std::collections::HashMap;
 use std::time::Instant;
 
-use dentbend::dent::{
-    AppliedDent, BodyState, Damage, DentBackend, DentSettings, DentedTarget, Hit, Impact, Surface, TargetSet,
-    changed_vertices,
-};
+use dentbend::damage::{AppliedDent, Damage, DentBackend, DentedTarget, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Impact, Surface, changed_vertices};
 use dentbend::mesh::TriMesh;
 use dentbend::record::{BodyDamage, DamageFile, DamageRecorder, DentForm, Projectiles, RecordForms, replay_body};
 use glam::{Affine3A, Vec3};

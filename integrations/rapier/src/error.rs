@@ -1,7 +1,8 @@
 //! The adapter's one error type. Every failing entry point returns it before changing any
 //! mesh, collider, body or joint.
 
-use dentbend::dent::{DamageError, DentError};
+use dentbend::damage::DamageError;
+use dentbend::dent::DentError;
 use dentbend::mesh::MeshError;
 use dentbend::record::RecordError;
 use rapier3d::prelude::{ColliderHandle, ImpulseJointHandle, RigidBodyHandle};

@@ -5,7 +5,7 @@
 //! ([`BodyStates::record`]), reads the step's impacts from the narrow phase ([`ImpactReader`]:
 //! the colliders' event settings play no part) and hands them to [`Dentables::process`], which
 //! dents the dentable colliders' meshes (on the CPU or any
-//! [`DentBackend`](dentbend::dent::DentBackend)) and refits their colliders. A game with its
+//! [`DentBackend`](dentbend::damage::DentBackend)) and refits their colliders. A game with its
 //! own loop does the same three calls around its own step.
 //!
 //! Bending (paper §4): [`Bendable`] drives a body split into Rapier bodies joined by impulse

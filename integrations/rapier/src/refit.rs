@@ -125,7 +125,7 @@ impl Refit {
 }
 
 /// A new tri-mesh shape for `collider` from `mesh` (same flags as its shape now), for a dent
-/// that refined the mesh ([`DentedTarget::topology_changed`](dentbend::dent::DentedTarget)):
+/// that refined the mesh ([`DentedTarget::topology_changed`](dentbend::damage::DentedTarget)):
 /// its vertices and faces changed, so the shape is rebuilt instead of refitted.
 ///
 /// # Errors

@@ -2,7 +2,7 @@
 //! collider, body or joint changed. Contacts of bodies removed after the step are skipped and
 //! reported, and the step's other dents made.
 
-use dentbend::dent::CpuBackend;
+use dentbend::damage::CpuBackend;
 use dentbend::mesh::{self, TriMesh};
 use dentbend_rapier::demo::rain::{ball_dent, target_dent};
 use dentbend_rapier::rapier3d::prelude::{ActiveEvents, ColliderHandle, RigidBodyBuilder, RigidBodyHandle};

@@ -4,7 +4,7 @@
 
 mod common;
 
-use dentbend::dent::{CpuBackend, DentBackend};
+use dentbend::damage::{CpuBackend, DentBackend};
 use dentbend::gpu::{GpuContext, shared_context};
 use dentbend::mesh::TriMesh;
 use dentbend_rapier::demo::rain::{Rain, RainSettings, ball_dent, target_dent};

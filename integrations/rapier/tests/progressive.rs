@@ -3,7 +3,8 @@
 
 mod common;
 
-use dentbend::dent::{CpuBackend, DentSettings};
+use dentbend::damage::CpuBackend;
+use dentbend::dent::DentSettings;
 use dentbend_rapier::{BodyStates, Dentables};
 use glam::Vec3;
 

@@ -46,7 +46,7 @@ fn balls_dent_the_bunny_and_the_block_where_they_land_and_nowhere_else() {
             // Any motion lies within reach of an impact's axis (the dent map is laid across the
             // viewing direction; vertices behind the surface move by the depth falloff, below
             // 1 % of the dent past a few dent distances deep) ...
-            let lateral = |d: &dentbend::dent::AppliedDent<ColliderHandle>| {
+            let lateral = |d: &dentbend::damage::AppliedDent<ColliderHandle>| {
                 let r = world - d.impact.point;
                 (r - r.dot(d.impact.view_direction()) * d.impact.view_direction()).length()
             };

@@ -8,7 +8,8 @@ use super::wire::{
     write_snapshot,
 };
 use super::{ReplicationError, settings_digest};
-use crate::dent::{AppliedDent, DentSettings, VolumeMode};
+use crate::damage::AppliedDent;
+use crate::dent::{DentSettings, VolumeMode};
 use crate::mesh::{MeshEdit, TriMesh, content_hash};
 
 /// A late joiner's start, with what sending every mesh whole would have cost.
@@ -112,7 +113,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
         self.next
     }
 
-    /// The message of one step's `dents` (from [`Damage::plan`](crate::dent::Damage::plan) on
+    /// The message of one step's `dents` (from [`Damage::plan`](crate::damage::Damage::plan) on
     /// the CPU backend, already applied): `mesh` gives each tracked body's mesh now, and
     /// `surface` each projectile's surface as it dented (its mesh, own coordinates). Dents on
     /// bodies the stream does not carry are left out; `None` when no dent is carried (no

@@ -4,7 +4,8 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use dentbend::dent::{AppliedDent, CpuBackend, DentBackend, DentSettings};
+use dentbend::damage::{AppliedDent, CpuBackend, DentBackend};
+use dentbend::dent::DentSettings;
 use dentbend::mesh::{self, TriMesh, content_hash};
 use dentbend::record::DamageFile;
 use glam::{Affine3A, Vec3};

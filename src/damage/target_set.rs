@@ -7,8 +7,8 @@ use std::hash::Hash;
 
 use glam::Affine3A;
 
-use super::reach::radius_about_origin;
-use super::{DentError, DentSettings, DentTargets, DentedTarget, TargetView};
+use super::{DentTargets, DentedTarget, TargetView};
+use crate::dent::{DentError, DentSettings, radius_about_origin};
 use crate::mesh::TriMesh;
 
 /// One dentable body.
@@ -79,7 +79,7 @@ impl<K: Copy + Eq + Hash> TargetSet<K> {
     pub fn set_pose(&mut self, key: K, to_world: Affine3A) -> Result<(), DentError> {
         check_pose(to_world)?;
         let entry =
-            self.targets.get_mut(&key).ok_or_else(|| super::error::invalid("key", "?", "is not a dentable body"))?;
+            self.targets.get_mut(&key).ok_or_else(|| crate::dent::invalid("key", "?", "is not a dentable body"))?;
         entry.to_world = to_world;
         Ok(())
     }
@@ -122,5 +122,5 @@ impl<K: Copy + Eq + Hash> DentTargets<K> for TargetSet<K> {
 }
 
 fn check_pose(to_world: Affine3A) -> Result<(), DentError> {
-    if to_world.is_finite() { Ok(()) } else { Err(super::error::invalid("to_world", to_world, "must be finite")) }
+    if to_world.is_finite() { Ok(()) } else { Err(crate::dent::invalid("to_world", to_world, "must be finite")) }
 }

@@ -1,118 +1,16 @@
-//! The world-free damage API: dents from any rigid-body solver's contacts, keyed by the caller's
-//! own body ids. The caller reports hits ([`Hit`]) and exposes its dentable bodies
-//! ([`DentTargets`]); [`Damage::plan`] decides every dent, crops each projectile to the part that
-//! hit, builds the maps from the undented surfaces (Jacobi) and dents copies of the targets on
-//! a [`DentBackend`] (all CPU cores, or the GPU) — changing nothing until the caller takes the
-//! [`DamagePlan`]: new meshes, the vertices that moved (for a collider refit) and how far to move
-//! each projectile into its dent.
+//! [`Damage`]: one step's hits → decided dents → one batch of plain dents on the caller's
+//! backend and progressive dents rebuilt from their pre-dent surfaces → a [`DamagePlan`].
 
 use std::hash::Hash;
 
-use glam::{Affine3A, Vec3};
+use glam::Vec3;
 
-use super::decide::{decide_dent_distance, projectile_offset};
-use super::reach::projectile_reach;
-use super::{
-    BatchError, BatchOutcome, BodyState, DentError, DentJob, DentParams, DentSettings, Impact, LocalContact,
-    ProgressiveDents, Surface, dent_batch_tracked,
+use super::{DamageError, DentBackend, DentTargets, Hit, TargetView};
+use crate::dent::{
+    DentJob, DentParams, DentReport, Impact, LocalContact, ProgressiveDents, changed_vertices, decide_dent_distance,
+    dent_batch_tracked, projectile_offset, projectile_reach,
 };
 use crate::mesh::{Refinement, TriMesh};
-
-/// One contact a solver reported, as denting sees it from the target's side.
-#[derive(Debug, Clone, Copy)]
-pub struct Hit<'a, K> {
-    /// The body that may dent (the caller's id).
-    pub target: K,
-    /// The body that hit it.
-    pub projectile: K,
-    /// The contact, world coordinates consistent with the target's `to_world`: normal into the
-    /// target, the projectile's velocity relative to the target before the step
-    /// ([`Impact::from_contact`] builds it from both bodies' states).
-    pub impact: Impact,
-    /// The target's state before the step (for the energy model).
-    pub target_state: BodyState,
-    /// The projectile's state before the step.
-    pub projectile_state: BodyState,
-    /// The projectile's surface where it hit (mesh and mesh → world transform).
-    pub projectile_surface: Surface<'a>,
-}
-
-/// A dentable body as the caller's world holds it.
-#[derive(Debug, Clone, Copy)]
-pub struct TargetView<'a> {
-    /// Its surface, in its own (mesh) coordinates, m.
-    pub mesh: &'a TriMesh,
-    /// Mesh coordinates → world, consistent with its hits' impacts.
-    pub to_world: Affine3A,
-    /// How it dents.
-    pub settings: &'a DentSettings,
-    /// Radius of a ball about the mesh's origin that holds the mesh, m
-    /// ([`radius_about_origin`](super::radius_about_origin), or the collider's bounding sphere).
-    pub radius: f32,
-}
-
-/// The caller's bodies, as the damage API asks about them.
-pub trait DentTargets<K> {
-    /// Whether `key` names a body the caller has (dentable or not).
-    fn contains(&self, key: K) -> bool;
-    /// `key` as a dentable target; `None` for a body that does not dent.
-    fn target(&self, key: K) -> Option<TargetView<'_>>;
-}
-
-/// Where a batch of dents runs: dents `meshes` (copies of the targets' meshes; `keys[i]` is the
-/// caller's id of `meshes[i]`) by `jobs` (whose `target` indexes `meshes`) in place.
-pub trait DentBackend<K> {
-    /// Runs the batch.
-    ///
-    /// # Errors
-    /// [`BatchError`] naming the first bad job; the meshes are unchanged then.
-    fn dent_batch(
-        &mut self,
-        keys: &[K],
-        meshes: &mut [TriMesh],
-        jobs: &[DentJob<'_>],
-    ) -> Result<BatchOutcome, BatchError>;
-}
-
-/// Batches on all CPU cores ([`dent_batch_tracked`]).
-#[derive(Debug, Clone, Copy, Default)]
-pub struct CpuBackend;
-
-impl<K> DentBackend<K> for CpuBackend {
-    fn dent_batch(
-        &mut self,
-        _: &[K],
-        meshes: &mut [TriMesh],
-        jobs: &[DentJob<'_>],
-    ) -> Result<BatchOutcome, BatchError> {
-        dent_batch_tracked(meshes, jobs)
-    }
-}
-
-/// What went wrong in [`Damage::plan`]; nothing of the caller's changed.
-#[derive(Debug, thiserror::Error)]
-pub enum DamageError {
-    /// A hit names a body the caller does not have (removed between steps?).
-    #[error("hit {hit}: unknown body {body}")]
-    UnknownBody {
-        /// Index of the hit.
-        hit: usize,
-        /// The id, formatted.
-        body: String,
-    },
-    /// A hit's contact or body states are unusable (NaN, ∞, zero normal), or its dent failed
-    /// ([`DentError::Backend`] when the backend did: a GPU lost mid-batch).
-    #[error("hit {hit} (target {target}): {error}")]
-    Dent {
-        /// Index of the hit.
-        hit: usize,
-        /// The target's id, formatted.
-        target: String,
-        /// What was wrong.
-        #[source]
-        error: DentError,
-    },
-}
 
 /// One dent the plan makes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -134,7 +32,7 @@ pub struct AppliedDent<K> {
     /// settings ask for it; only move dynamic projectiles).
     pub projectile_offset: Vec3,
     /// Enclosed volume the dent changed, target mesh units³, signed (after the rim of
-    /// [`VolumeMode::Preserve`](super::VolumeMode::Preserve)); a progressive dent's is measured
+    /// [`VolumeMode::Preserve`](crate::dent::VolumeMode::Preserve)); a progressive dent's is measured
     /// from its pre-dent surface. Zero from a backend that does not measure it (the GPU).
     pub volume_change: f64,
     /// The dent's cavity (|volume change| before any rim), target mesh units³.
@@ -396,7 +294,7 @@ fn dent_one<K: std::fmt::Debug>(
     d: &Decided<'_, K>,
     distance: f32,
     pre_dent: &TriMesh,
-) -> Result<Option<(TriMesh, Refinement, super::DentReport)>, DamageError> {
+) -> Result<Option<(TriMesh, Refinement, DentReport)>, DamageError> {
     let Some(projectile) = cropped(target, d, distance) else { return Ok(None) };
     let mut meshes = vec![pre_dent.clone()];
     let outcome = dent_batch_tracked(&mut meshes, &[job(target, d, distance, &projectile, 0)])
@@ -408,7 +306,7 @@ fn dent_one<K: std::fmt::Debug>(
 
 /// `dent` with what its batch report measured: volume, depth, moved vertices and the guard's
 /// limit.
-fn with_report<K>(dent: AppliedDent<K>, report: &super::DentReport) -> AppliedDent<K> {
+fn with_report<K>(dent: AppliedDent<K>, report: &DentReport) -> AppliedDent<K> {
     AppliedDent {
         volume_change: report.volume_change,
         cavity_volume: report.cavity_volume,
@@ -417,26 +315,6 @@ fn with_report<K>(dent: AppliedDent<K>, report: &super::DentReport) -> AppliedDe
         limited_to: report.limited_to,
         ..dent
     }
-}
-
-/// The vertices whose position differs between `before` and `after` (bitwise), as indices, for a
-/// caller that knows the old and new positions but not which vertices a dent moved
-/// ([`DentReport`](super::DentReport) only counts them). `O(n)`: about 20 µs for 12,500
-/// vertices.
-///
-/// Indices past the shorter slice are not compared.
-pub fn moved_vertices(before: &[Vec3], after: &[Vec3]) -> Vec<u32> {
-    let same = |a: Vec3, b: Vec3| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
-    (0..before.len().min(after.len()) as u32).filter(|&i| !same(before[i as usize], after[i as usize])).collect()
-}
-
-/// The vertices of `after` a caller's copy of `before` must update: those whose position differs
-/// ([`moved_vertices`]) and every vertex past `before`'s count (appended by a refinement),
-/// ascending.
-pub fn changed_vertices(before: &TriMesh, after: &TriMesh) -> Vec<u32> {
-    let mut changed = moved_vertices(before.positions(), after.positions());
-    changed.extend(before.vertex_count().min(after.vertex_count()) as u32..after.vertex_count() as u32);
-    changed
 }
 
 /// The newest surface the plan has for `key`.
