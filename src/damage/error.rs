@@ -2,7 +2,7 @@
 
 use crate::dent::DentError;
 
-/// What went wrong in [`Damage::plan`]; nothing of the caller's changed.
+/// What went wrong in [`Damage::plan`](super::Damage::plan); nothing of the caller's changed.
 #[derive(Debug, thiserror::Error)]
 pub enum DamageError {
     /// A hit names a body the caller does not have (removed between steps?).

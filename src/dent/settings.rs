@@ -37,7 +37,7 @@ impl DentSettings {
 
     /// Whether a hit at `impact` can dent at all: its speed along the denting normal is above the
     /// material's threshold (m/s). A cheap test to run on every contact before gathering the
-    /// bodies' states for [`Hit`](super::Hit)s; [`decide_dent_distance`](super::decide_dent_distance)
+    /// bodies' states for [`Hit`](crate::damage::Hit)s; [`decide_dent_distance`](super::decide_dent_distance)
     /// makes the same test first, so skipping what fails it changes nothing.
     pub fn may_dent(&self, impact: &Impact) -> bool {
         impact.relative_velocity.dot(impact.unit_normal()) > self.material.threshold
