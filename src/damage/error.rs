@@ -1,6 +1,7 @@
 //! What can go wrong planning a step's damage.
 
 use crate::dent::DentError;
+use crate::fracture::FractureError;
 
 /// What went wrong in [`Damage::plan`](super::Damage::plan); nothing of the caller's changed.
 #[derive(Debug, thiserror::Error)]
@@ -24,5 +25,17 @@ pub enum DamageError {
         /// What was wrong.
         #[source]
         error: DentError,
+    },
+    /// A breakable body could not break at its hit: its mesh is not closed, its transform
+    /// scales, or the placement is degenerate.
+    #[error("hit {hit} (body {target}) cannot break: {error}")]
+    Fracture {
+        /// Index of the breaking hit.
+        hit: usize,
+        /// The body's id, formatted.
+        target: String,
+        /// What was wrong.
+        #[source]
+        error: FractureError,
     },
 }

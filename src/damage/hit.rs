@@ -4,6 +4,7 @@
 use glam::Affine3A;
 
 use crate::dent::{BodyState, DentSettings, Impact, Surface};
+use crate::fracture::FractureSettings;
 use crate::mesh::TriMesh;
 
 /// One contact a solver reported, as denting sees it from the target's side.
@@ -37,6 +38,9 @@ pub struct TargetView<'a> {
     /// Radius of a ball about the mesh's origin that holds the mesh, m
     /// ([`radius_about_origin`](crate::dent::radius_about_origin), or the collider's bounding sphere).
     pub radius: f32,
+    /// How it breaks (`None`: it never does). A breakable body's mesh must be closed and its
+    /// `to_world` rigid.
+    pub fracture: Option<&'a FractureSettings>,
 }
 
 /// The caller's bodies, as the damage API asks about them.

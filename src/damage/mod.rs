@@ -10,12 +10,14 @@
 
 mod backend;
 mod error;
+mod fracture;
 mod hit;
 mod plan;
 mod target_set;
 
 pub use backend::{CpuBackend, DentBackend};
 pub use error::DamageError;
+pub use fracture::{BodyFracture, BrokenPiece, PieceId};
 pub use hit::{DentTargets, Hit, TargetView};
 pub use plan::{AppliedDent, Damage, DamagePlan, DentedTarget};
 pub use target_set::TargetSet;

@@ -5,11 +5,13 @@ use std::hash::Hash;
 
 use glam::Vec3;
 
+use super::fracture::{BodyFracture, break_at, breaking_hits};
 use super::{DamageError, DentBackend, DentTargets, Hit, TargetView};
 use crate::dent::{
     DentJob, DentParams, DentReport, Impact, LocalContact, ProgressiveDents, changed_vertices, decide_dent_distance,
     dent_batch_tracked, projectile_offset, projectile_reach,
 };
+use crate::fracture::DentTally;
 use crate::mesh::{Refinement, TriMesh};
 
 /// One dent the plan makes.
@@ -70,13 +72,17 @@ pub struct DentedTarget<K> {
     pub topology_changed: bool,
 }
 
-/// The result of one step's hits, not yet applied to the caller's bodies.
+/// The result of one step's hits, not yet applied to the caller's bodies: apply
+/// [`targets`](Self::targets), then [`fractures`](Self::fractures) (a broken body's rest
+/// replaces its dented mesh).
 #[derive(Debug, Clone)]
 pub struct DamagePlan<K> {
     /// Every dent made, plain ones first, each group in hit order.
     pub dents: Vec<AppliedDent<K>>,
     /// Every dented body's new surface, once each.
     pub targets: Vec<DentedTarget<K>>,
+    /// Every body that broke (at most once each), in order of its first breaking hit.
+    pub fractures: Vec<BodyFracture<K>>,
 }
 
 /// A hit that dents, with its distance.
@@ -89,15 +95,18 @@ struct Decided<'a, K> {
     local: LocalContact,
 }
 
-/// Engine-neutral denting state: progressive dents under way, keyed by the caller's ids.
+/// Engine-neutral damage state, keyed by the caller's ids: progressive dents under way, the
+/// breakable bodies' accumulated dents, and how many fractures it has made (pieces' ids).
 #[derive(Debug, Clone)]
 pub struct Damage<K> {
     progress: ProgressiveDents<K, TriMesh>,
+    tally: DentTally<K>,
+    fractures_made: u64,
 }
 
 impl<K> Default for Damage<K> {
     fn default() -> Self {
-        Self { progress: ProgressiveDents::default() }
+        Self { progress: ProgressiveDents::default(), tally: DentTally::default(), fractures_made: 0 }
     }
 }
 
@@ -107,15 +116,31 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
         Self::default()
     }
 
-    /// Forgets `body`'s progressive dents (call when the caller removes it).
+    /// Forgets `body`'s progressive dents and accumulated dent (call when the caller removes
+    /// it).
     pub fn forget(&mut self, body: K) {
         self.progress.forget(body);
+        self.tally.forget(body);
+    }
+
+    /// Breakable body `body`'s accumulated dent, m (what its
+    /// [`dent_limit`](crate::fracture::FractureSettings::dent_limit) is compared with).
+    pub fn accumulated_dent(&self, body: K) -> f32 {
+        self.tally.total(body)
+    }
+
+    /// How many fractures this state has made: the next one's [`PieceId::fracture`].
+    pub fn fractures_made(&self) -> u64 {
+        self.fractures_made
     }
 
     /// Decides and computes the dents `hits` (of the step numbered `step`) make on `targets`,
     /// ordinary ones as one batch on `backend`, progressive ones from their pre-dent surfaces;
     /// every map comes from the undented surfaces. Hits on bodies that do not dent, and hits too
-    /// slow to dent, are skipped. Progressive state advances only when the whole plan succeeds.
+    /// slow to dent, are skipped. Then each breakable body that a hit, or its accumulated dent,
+    /// breaks is broken at its most energetic breaking hit, its dents of the step kept in the
+    /// pieces. State (progressive dents, accumulated dents, the fracture count) advances only
+    /// when the whole plan succeeds.
     ///
     /// # Errors
     /// [`DamageError`] naming the hit; nothing changes then.
@@ -156,9 +181,47 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
                 None => plan.targets.push(dented),
             }
         }
+        let mut tally = self.tally.clone();
+        for dent in &plan.dents {
+            if let Some(target) = targets.target(dent.target).filter(|t| t.fracture.is_some()) {
+                tally.add(dent.target, dent.projectile, dent.dent_distance, step, target.settings.progressive);
+            }
+        }
+        plan.fractures = self.fractures(targets, hits, &tally, &plan)?;
+        for fracture in &plan.fractures {
+            tally.forget(fracture.body);
+            staged.forget(fracture.body);
+        }
         self.progress.end_stale(step);
         self.progress.absorb(staged);
+        for fracture in &plan.fractures {
+            self.progress.forget(fracture.body);
+        }
+        self.tally = tally;
+        self.fractures_made += plan.fractures.len() as u64;
         Ok(plan)
+    }
+
+    /// The fractures of `hits` on `targets` after `plan`'s dents, numbered from
+    /// [`fractures_made`](Self::fractures_made).
+    fn fractures(
+        &self,
+        targets: &impl DentTargets<K>,
+        hits: &[Hit<'_, K>],
+        tally: &DentTally<K>,
+        plan: &DamagePlan<K>,
+    ) -> Result<Vec<BodyFracture<K>>, DamageError> {
+        let mut made = Vec::new();
+        for b in breaking_hits(targets, hits, tally) {
+            let Some(target) = targets.target(b.target) else { continue };
+            let Some(settings) = target.fracture else { continue };
+            let mesh = latest(plan, b.target).unwrap_or(target.mesh);
+            let number = self.fractures_made + made.len() as u64;
+            let fracture = break_at(mesh, target.to_world, settings, &b, number)
+                .map_err(|error| DamageError::Fracture { hit: b.hit, target: format!("{:?}", b.target), error })?;
+            made.extend(fracture);
+        }
+        Ok(made)
     }
 }
 
@@ -264,7 +327,7 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
         jobs.push(job(&view(targets, d), d, d.distance, projectile, slot));
     }
     if jobs.is_empty() {
-        return Ok(DamagePlan { dents: Vec::new(), targets: Vec::new() });
+        return Ok(DamagePlan { dents: Vec::new(), targets: Vec::new(), fractures: Vec::new() });
     }
     let outcome = backend.dent_batch(&keys, &mut meshes, &jobs).map_err(|e| {
         let d = &kept[e.job];
@@ -284,7 +347,7 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
             DentedTarget { key, mesh, moved, refinement, topology_changed }
         })
         .collect();
-    Ok(DamagePlan { dents, targets })
+    Ok(DamagePlan { dents, targets, fractures: Vec::new() })
 }
 
 /// A progressive dent of `d`, `distance` m deep, rebuilt from `pre_dent`, with what refinement

@@ -7,8 +7,9 @@ use std::hash::Hash;
 
 use glam::Affine3A;
 
-use super::{DentTargets, DentedTarget, TargetView};
+use super::{BodyFracture, DentTargets, DentedTarget, TargetView};
 use crate::dent::{DentError, DentSettings, radius_about_origin};
+use crate::fracture::{FractureError, FractureSettings, check_mesh_closed};
 use crate::mesh::TriMesh;
 
 /// One dentable body.
@@ -18,6 +19,7 @@ struct Entry {
     to_world: Affine3A,
     settings: DentSettings,
     radius: f32,
+    fracture: Option<FractureSettings>,
 }
 
 /// Dentable bodies (mesh, pose, settings) and other known bodies, by the caller's ids.
@@ -55,7 +57,7 @@ impl<K: Copy + Eq + Hash> TargetSet<K> {
         check_pose(to_world)?;
         let radius = radius_about_origin(&mesh);
         self.others.remove(&key);
-        self.targets.insert(key, Entry { mesh, to_world, settings, radius });
+        self.targets.insert(key, Entry { mesh, to_world, settings, radius, fracture: None });
         Ok(())
     }
 
@@ -82,6 +84,42 @@ impl<K: Copy + Eq + Hash> TargetSet<K> {
             self.targets.get_mut(&key).ok_or_else(|| crate::dent::invalid("key", "?", "is not a dentable body"))?;
         entry.to_world = to_world;
         Ok(())
+    }
+
+    /// Makes dentable body `key` breakable with `settings` (`None`: never breaks).
+    ///
+    /// # Errors
+    /// An unknown key, invalid settings, or a mesh that is not closed (it bounds no solid to
+    /// break; [`FractureError::OpenMesh`]); nothing changes then.
+    pub fn set_fracture(&mut self, key: K, settings: Option<FractureSettings>) -> Result<(), FractureError> {
+        let entry = self.targets.get_mut(&key).ok_or_else(|| FractureError::InvalidParameter {
+            name: "key",
+            value: "?".into(),
+            reason: "is not a dentable body: insert it first",
+        })?;
+        if let Some(settings) = &settings {
+            settings.validate()?;
+            check_mesh_closed(&entry.mesh)?;
+        }
+        entry.fracture = settings;
+        Ok(())
+    }
+
+    /// Takes a plan's fracture (after its [`apply`](Self::apply)): the body's rest becomes its
+    /// mesh, or the body is removed when the pattern took it whole. The pieces are the
+    /// caller's to add (with [`insert`](Self::insert) under ids of its own, to dent them too).
+    pub fn apply_fracture(&mut self, fracture: &BodyFracture<K>) {
+        match &fracture.rest {
+            Some(rest) => {
+                if let Some(entry) = self.targets.get_mut(&fracture.body) {
+                    entry.radius = radius_about_origin(rest);
+                    entry.mesh = rest.clone();
+                }
+            }
+            None => {
+                self.targets.remove(&fracture.body);
+            }
+        }
     }
 
     /// Dentable body `key`'s mesh, its own coordinates.
@@ -117,7 +155,13 @@ impl<K: Copy + Eq + Hash> DentTargets<K> for TargetSet<K> {
 
     fn target(&self, key: K) -> Option<TargetView<'_>> {
         let e = self.targets.get(&key)?;
-        Some(TargetView { mesh: &e.mesh, to_world: e.to_world, settings: &e.settings, radius: e.radius })
+        Some(TargetView {
+            mesh: &e.mesh,
+            to_world: e.to_world,
+            settings: &e.settings,
+            radius: e.radius,
+            fracture: e.fracture.as_ref(),
+        })
     }
 }
 

@@ -25,3 +25,4 @@ pub use pattern::{BOUND_SIDES, Cell, CellSide, FracturePattern, MAX_CELLS, Patte
 pub use placement::Placement;
 pub use settings::{FractureCause, FractureSettings};
 pub use tally::DentTally;
+pub(crate) use weld::check_mesh_closed;

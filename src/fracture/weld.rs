@@ -55,6 +55,16 @@ pub(crate) fn weld(mesh: &TriMesh) -> Soup {
 ///
 /// # Errors
 /// [`FractureError::OpenMesh`] naming the first offending edge in face order.
+/// Checks that `mesh` bounds a solid a pattern can break: once coincident vertices are welded,
+/// every edge is shared by two faces of opposite orientation.
+///
+/// # Errors
+/// [`FractureError::OpenMesh`] naming an edge that is not.
+pub(crate) fn check_mesh_closed(mesh: &TriMesh) -> Result<(), FractureError> {
+    let soup = weld(mesh);
+    check_closed(&soup.faces, soup.positions.len())
+}
+
 pub(crate) fn check_closed(faces: &[[u32; 3]], vertex_count: usize) -> Result<(), FractureError> {
     let mut start = vec![0u32; vertex_count + 1];
     for face in faces {

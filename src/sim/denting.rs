@@ -64,7 +64,8 @@ impl DentTargets<usize> for WorldTargets<'_> {
         let body = self.0.bodies().get(key)?;
         let settings = body.dent.as_ref()?;
         let radius = body.shape().compute_local_bounding_sphere().radius;
-        Some(TargetView { mesh: body.mesh(), to_world: body.transform(), settings, radius })
+        // The world breaks its bodies after the step's dents (`coupling`'s fracture step).
+        Some(TargetView { mesh: body.mesh(), to_world: body.transform(), settings, radius, fracture: None })
     }
 }
 
@@ -211,5 +212,6 @@ fn damage_error(world: &World, hits: &[Hit<'_, usize>], error: DamageError) -> S
         DamageError::Dent { error: DentError::Backend(message), .. } => SimError::Gpu(message),
         DamageError::Dent { hit, error, .. } => SimError::Dent { body: name(hits[hit].target), error },
         DamageError::UnknownBody { body, .. } => super::error::invalid("dent body", body, "is not in the world"),
+        DamageError::Fracture { hit, error, .. } => SimError::Fracture { body: name(hits[hit].target), error },
     }
 }
