@@ -240,3 +240,29 @@ fn a_body_that_cannot_break_correctly_is_refused() {
     assert!(error.to_string().contains("bake its scale into the mesh"), "{error}");
     assert_eq!((damage.fractures_made(), damage.accumulated_dent(WALL)), (0, 0.0));
 }
+
+/// A recorded breakable body records its dents and its fracture: replaying its damage file on
+/// its undamaged mesh gives the rest the plan gave, bit for bit, and each piece under the name
+/// `<name>/piece<index>`.
+#[test]
+fn a_recorded_fracture_replays_to_the_same_rest_and_pieces() {
+    use dentbend::record::{DamageRecorder, DentForm, Projectiles, RecordForms, replay_body_with_pieces};
+    let to_world = Affine3A::IDENTITY;
+    let set = wall_set(to_world, Some(100.0), None);
+    let base = set.mesh(WALL).unwrap().clone();
+    let mut recorder = DamageRecorder::new(RecordForms::EDITS);
+    recorder.track(WALL, "wall", &base);
+    let ball = ball_mesh();
+    let hits = [front_hit(&ball, BodyState::FIXED, to_world, 12.0)];
+    let plan = plan(&set, &mut Damage::new(), &hits, 4);
+    recorder.record(&set, &hits, &plan).unwrap();
+    let file = recorder.file();
+    let replayed = replay_body_with_pieces(&file.bodies[0], &base, DentForm::Edits, &Projectiles::new()).unwrap();
+    let f = &plan.fractures[0];
+    assert_eq!(Some(&replayed.mesh), f.rest.as_ref());
+    assert_eq!(replayed.pieces.len(), f.pieces.len());
+    for ((name, mesh), piece) in replayed.pieces.iter().zip(&f.pieces) {
+        assert_eq!(name, &format!("wall/piece{}", piece.id.index));
+        assert_eq!(mesh, &piece.mesh);
+    }
+}

@@ -83,6 +83,8 @@ pub struct DamagePlan<K> {
     pub targets: Vec<DentedTarget<K>>,
     /// Every body that broke (at most once each), in order of its first breaking hit.
     pub fractures: Vec<BodyFracture<K>>,
+    /// The step the plan was made for (as given to [`Damage::plan`]).
+    pub step: u64,
 }
 
 /// A hit that dents, with its distance.
@@ -155,6 +157,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
         let (progressive, plain): (Vec<_>, Vec<_>) =
             decided.into_iter().partition(|d| view(targets, d).settings.progressive);
         let mut plan = plain_dents(targets, &plain, backend)?;
+        plan.step = step;
         // Progressive state changes only once the whole plan stands: this step's contacts are
         // staged (a contact hit twice in one step deepens its staged dent).
         let mut staged: ProgressiveDents<K, TriMesh> = ProgressiveDents::new();
@@ -327,7 +330,7 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
         jobs.push(job(&view(targets, d), d, d.distance, projectile, slot));
     }
     if jobs.is_empty() {
-        return Ok(DamagePlan { dents: Vec::new(), targets: Vec::new(), fractures: Vec::new() });
+        return Ok(DamagePlan { dents: Vec::new(), targets: Vec::new(), fractures: Vec::new(), step: 0 });
     }
     let outcome = backend.dent_batch(&keys, &mut meshes, &jobs).map_err(|e| {
         let d = &kept[e.job];
@@ -347,7 +350,7 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
             DentedTarget { key, mesh, moved, refinement, topology_changed }
         })
         .collect();
-    Ok(DamagePlan { dents, targets, fractures: Vec::new() })
+    Ok(DamagePlan { dents, targets, fractures: Vec::new(), step: 0 })
 }
 
 /// A progressive dent of `d`, `distance` m deep, rebuilt from `pre_dent`, with what refinement

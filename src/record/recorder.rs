@@ -5,7 +5,9 @@
 
 use std::hash::Hash;
 
-use super::records::{DamageRecord, DentBatch, ImpactDent, ProjectileRef};
+use glam::Vec3;
+
+use super::records::{DamageRecord, DentBatch, FracturePiece, FractureRecord, ImpactDent, ProjectileRef};
 use super::{BodyDamage, DamageFile, MeshStamp, RecordError, hex64};
 use crate::damage::{AppliedDent, DamagePlan, DentTargets, Hit};
 use crate::dent::{Attenuation, DentParams, projectile_reach};
@@ -85,7 +87,9 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> DamageRecorder<K> {
 
     /// Records `plan` (made by [`Damage::plan`](crate::damage::Damage::plan) from `hits` on
     /// `targets`), before the caller applies it: `targets` must still hold the meshes the plan
-    /// started from. Untracked bodies are skipped.
+    /// started from. Untracked bodies are skipped. A tracked body that broke records its
+    /// fracture (its rest is its mesh from then on; its pieces are named `<name>/piece<index>`);
+    /// one the pattern took whole stops being tracked.
     ///
     /// # Errors
     /// [`RecordError::Tampered`] when a tracked body's mesh is not the one the recorder last
@@ -123,10 +127,44 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> DamageRecorder<K> {
             let batch = DentBatch { dents: dents.len() as u32, impacts, edit, after: after.hash };
             staged.push((slot, batch, after));
         }
+        let mut ended = Vec::new();
         for (slot, batch, after) in staged {
             let body = &mut self.bodies[slot].1;
             body.records.push(DamageRecord::Dents(batch));
             body.final_mesh = after;
+        }
+        for fracture in &plan.fractures {
+            let Some(slot) = self.bodies.iter().position(|(k, _)| *k == fracture.body) else { continue };
+            let body = &mut self.bodies[slot].1;
+            let Some(rest) = &fracture.rest else {
+                // No mesh is left to record: the body's damage ends with its last dents.
+                log::warn!("{}: the fracture pattern took the whole body; its record ends here", body.name);
+                ended.push(slot);
+                continue;
+            };
+            let pieces = fracture
+                .pieces
+                .iter()
+                .map(|piece| FracturePiece {
+                    name: format!("{}/piece{}", body.name, piece.id.index),
+                    index: piece.id.index,
+                    shift: Vec3::ZERO,
+                    hash: content_hash(&piece.mesh),
+                })
+                .collect();
+            let after = MeshStamp::of(rest);
+            body.records.push(DamageRecord::Fracture(FractureRecord {
+                frame: plan.step,
+                fracture: fracture.record,
+                to_model: Vec3::ZERO,
+                rest_shift: Vec3::ZERO,
+                pieces,
+                after: after.hash,
+            }));
+            body.final_mesh = after;
+        }
+        for slot in ended.into_iter().rev() {
+            self.bodies.remove(slot);
         }
         Ok(())
     }
