@@ -6,7 +6,7 @@ use std::time::Instant;
 use dentbend::damage::{AppliedDent, CpuBackend, DentBackend};
 use rapier3d::prelude::{ColliderHandle, EventHandler, PhysicsHooks};
 
-use crate::{AdapterError, Bendable, BodyStates, Contact, Dentables, ImpactReader, PhysicsWorld};
+use crate::{AdapterError, Bendable, BodyStates, BrokenCollider, Contact, Dentables, ImpactReader, PhysicsWorld};
 
 /// What one [`Adapter::step`] did, with wall-clock timings (s).
 #[derive(Debug, Clone, Default)]
@@ -22,6 +22,9 @@ pub struct StepReport {
     pub skipped: Vec<Contact>,
     /// Dentable or projectile colliders no longer in the collider set, forgotten.
     pub forgotten: Vec<ColliderHandle>,
+    /// Breakable colliders that broke, with the bodies made of their pieces (a collider the
+    /// pattern took whole is removed, with its body when that had no other collider).
+    pub fractures: Vec<BrokenCollider>,
     /// Joints made by dynamic articulation.
     pub joints_created: usize,
     /// Plastic joints that yielded.
@@ -169,6 +172,10 @@ impl Adapter {
         report.refitted = dents.refitted;
         report.skipped = skipped;
         report.forgotten = dents.forgotten;
+        for broken in dents.fractures.iter().filter(|b| b.whole) {
+            remove_whole(world, broken.collider);
+        }
+        report.fractures = dents.fractures;
         report.dent_seconds = dents.dent_seconds;
         report.collider_seconds = dents.collider_seconds;
         let start = Instant::now();
@@ -184,5 +191,16 @@ impl Adapter {
         report.collider_seconds += bend_colliders;
         report.contacts = contacts;
         Ok(report)
+    }
+}
+
+/// Removes `collider`, which a fracture took whole, and its body when it has no other collider.
+fn remove_whole(world: &mut PhysicsWorld, collider: ColliderHandle) {
+    let parent = world.colliders.get(collider).and_then(|c| c.parent());
+    world.colliders.remove(collider, &mut world.islands, &mut world.bodies, &mut world.soft_bodies, true);
+    if let Some(body) = parent
+        && world.bodies.get(body).is_some_and(|b| b.colliders().is_empty())
+    {
+        world.remove_body(body);
     }
 }

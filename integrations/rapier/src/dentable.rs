@@ -11,11 +11,13 @@ use std::time::Instant;
 
 use dentbend::damage::{AppliedDent, Damage, DentBackend, DentedTarget, Hit, TargetSet};
 use dentbend::dent::{BodyState, DentSettings, Impact, Surface, changed_vertices};
+use dentbend::fracture::FractureSettings;
 use dentbend::mesh::TriMesh;
 use dentbend::record::{BodyDamage, DamageFile, DamageRecorder, DentForm, Projectiles, RecordForms, replay_body};
 use glam::{Affine3A, Vec3};
 use rapier3d::prelude::{Collider, ColliderHandle, ColliderSet, RigidBodySet};
 
+use crate::fracture::{self, BrokenCollider, PreparedFracture};
 use crate::refit::{Refit, ShapeKind, prepare_refit, rebuild_trimesh, shape_kind};
 use crate::{AdapterError, BodyStates, Contact};
 
@@ -31,6 +33,8 @@ pub struct DentReport {
     pub skipped: Vec<Contact>,
     /// Dentable or projectile colliders no longer in the collider set, forgotten.
     pub forgotten: Vec<ColliderHandle>,
+    /// Breakable colliders that broke, with the bodies made of their pieces.
+    pub fractures: Vec<BrokenCollider>,
     /// Seconds spent deciding and computing the dents (wall clock).
     pub dent_seconds: f64,
     /// Seconds spent refitting colliders (wall clock).
@@ -94,6 +98,21 @@ impl Dentables {
         self.kinds.insert(handle, kind);
         self.surfaces.remove(&handle);
         Ok(())
+    }
+
+    /// Makes dentable collider `handle` breakable with `settings` (`None`: never breaks): a hit
+    /// whose energy passes its toughness, or dents adding up past its dent limit, break it
+    /// along its pattern placed at the hit ([`DentReport::fractures`]).
+    ///
+    /// # Errors
+    /// [`AdapterError::Fracture`] for a collider that does not dent, invalid settings or a mesh
+    /// that is not closed; nothing changes then.
+    pub fn set_fracture(
+        &mut self,
+        handle: ColliderHandle,
+        settings: Option<FractureSettings>,
+    ) -> Result<(), AdapterError> {
+        self.targets.set_fracture(handle, settings).map_err(|error| AdapterError::Fracture { collider: handle, error })
     }
 
     /// Gives collider `handle`, which does not dent, the surface `mesh` (collider frame, m) it
@@ -254,7 +273,8 @@ impl Dentables {
 
         let refit_start = Instant::now();
         let mut refits = Vec::with_capacity(plan.targets.len());
-        for t in &plan.targets {
+        let broken = |key| plan.fractures.iter().any(|f| f.body == key);
+        for t in plan.targets.iter().filter(|t| !broken(t.key)) {
             let collider = colliders.get(t.key).ok_or(AdapterError::UnknownCollider(t.key))?;
             // A refined mesh has new vertices and faces: its tri-mesh collider is rebuilt.
             let refit = match self.kinds[&t.key] {
@@ -263,6 +283,11 @@ impl Dentables {
             };
             refits.push((t.key, refit, t.moved.clone()));
         }
+        let fractures: Vec<PreparedFracture> = plan
+            .fractures
+            .iter()
+            .map(|f| fracture::prepare(colliders, self.kinds[&f.body], f))
+            .collect::<Result<_, _>>()?;
         let refit_seconds = refit_start.elapsed().as_secs_f64();
         // The record comes last of what may fail: it fails (recording nothing) on a mesh changed
         // behind the recorder's back; nothing after it can.
@@ -284,8 +309,34 @@ impl Dentables {
             refitted.push((key, moved));
         }
         move_projectiles(&plan.dents, bodies, colliders);
+        let mut broken = Vec::with_capacity(fractures.len());
+        for (prepared, fracture) in fractures.into_iter().zip(&plan.fractures) {
+            self.targets.apply_fracture(fracture);
+            let (made, pieces) = prepared.commit(bodies, colliders);
+            if made.whole {
+                self.remove(made.collider);
+            } else {
+                refitted.push((
+                    made.collider,
+                    (0..self.targets.mesh(made.collider).map_or(0, |m| m.vertex_count() as u32)).collect(),
+                ));
+            }
+            for (collider, mesh) in pieces {
+                self.targets.insert_rigid(collider);
+                self.surfaces.insert(collider, mesh);
+            }
+            broken.push(made);
+        }
         let collider_seconds = refit_seconds + commit_start.elapsed().as_secs_f64();
-        Ok(DentReport { dents: plan.dents, refitted, skipped, forgotten, dent_seconds, collider_seconds })
+        Ok(DentReport {
+            dents: plan.dents,
+            refitted,
+            skipped,
+            forgotten,
+            fractures: broken,
+            dent_seconds,
+            collider_seconds,
+        })
     }
 
     /// Forgets colliders removed from Rapier.

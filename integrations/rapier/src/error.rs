@@ -3,6 +3,7 @@
 
 use dentbend::damage::DamageError;
 use dentbend::dent::DentError;
+use dentbend::fracture::FractureError;
 use dentbend::mesh::MeshError;
 use dentbend::record::RecordError;
 use rapier3d::prelude::{ColliderHandle, ImpulseJointHandle, RigidBodyHandle};
@@ -69,6 +70,15 @@ pub enum AdapterError {
     /// that cannot be made.
     #[error(transparent)]
     Record(#[from] RecordError),
+    /// A collider cannot be made breakable (bad settings, a mesh that bounds no solid).
+    #[error("collider {collider:?} cannot break: {error}")]
+    Fracture {
+        /// The collider.
+        collider: ColliderHandle,
+        /// Why.
+        #[source]
+        error: FractureError,
+    },
     /// The rig (skeleton, weights, sub-bodies) could not be built.
     #[error("bending rig: {0}")]
     Rig(String),

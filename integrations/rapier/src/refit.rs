@@ -131,11 +131,22 @@ impl Refit {
 /// # Errors
 /// [`AdapterError::Refit`] when the collider is not a tri-mesh or parry refuses the mesh.
 pub fn rebuild_trimesh(handle: ColliderHandle, collider: &Collider, mesh: &TriMesh) -> Result<Refit, AdapterError> {
+    trimesh_shape(handle, collider, mesh).map(Refit::Shape)
+}
+
+/// A tri-mesh shape of `mesh` with the flags of `collider`'s tri-mesh.
+///
+/// # Errors
+/// As [`rebuild_trimesh`].
+pub(crate) fn trimesh_shape(
+    handle: ColliderHandle,
+    collider: &Collider,
+    mesh: &TriMesh,
+) -> Result<SharedShape, AdapterError> {
     let bad = |reason: String| AdapterError::Refit { collider: handle, reason };
     let shape = collider.shape().as_trimesh().ok_or_else(|| bad("shape is not a tri-mesh".into()))?;
     SharedShape::trimesh_with_flags(mesh.positions().to_vec(), mesh.faces().to_vec(), shape.flags())
-        .map(Refit::Shape)
-        .map_err(|e| bad(format!("the refined mesh: {e}")))
+        .map_err(|e| bad(format!("the new mesh: {e}")))
 }
 
 /// Refits `collider` to `mesh` at once ([`prepare_refit`] then [`Refit::commit`]).

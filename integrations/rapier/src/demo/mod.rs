@@ -1,10 +1,11 @@
-//! The scenes of the examples `rapier_rain`, `rapier_plank` and `rapier_network`, shared with
+//! The scenes of the examples `rapier_rain`, `rapier_plank`, `rapier_network` and `rapier_wall`, shared with
 //! their tests.
 
 pub mod network;
 pub mod plank;
 pub mod rain;
 pub mod report;
+pub mod wall;
 
 /// A small deterministic generator (64-bit LCG) for scene jitter: no dependency, same numbers
 /// on every platform.

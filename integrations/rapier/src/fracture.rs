@@ -1,0 +1,168 @@
+//! Fracture in a Rapier world, from the damage API's [`BodyFracture`]s: the broken collider
+//! takes its rest (a tri-mesh rebuilt, a hull rebuilt with the rest's own mass properties), each
+//! piece becomes a dynamic body at the collider's pose with a convex-hull collider carrying the
+//! piece's mass properties and moving as the body's material moved, and the projectile that broke
+//! it carries on with what the break left of its energy. Prepared (every shape built and
+//! checked) before anything changes, then committed.
+
+use dentbend::damage::{BodyFracture, PieceId};
+use dentbend::fracture::FractureCause;
+use dentbend::mesh::{MassProperties, TriMesh};
+use rapier3d::prelude::{
+    ColliderBuilder, ColliderHandle, ColliderSet, MassProperties as RapierMass, RigidBodyBuilder, RigidBodyHandle,
+    RigidBodySet, SharedShape,
+};
+
+use crate::AdapterError;
+use crate::refit::{ShapeKind, trimesh_shape};
+
+/// How much of its size a piece's collider keeps: its hull shrunk toward its centre of mass
+/// (the piece's mesh and mass properties are unchanged), so that pieces start apart.
+pub const PIECE_HULL_SCALE: f32 = 0.97;
+
+/// One piece that became a Rapier body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PieceBody {
+    /// The piece's id from the damage API (deterministic: a client replaying the same hits
+    /// names its pieces alike).
+    pub id: PieceId,
+    /// Its new dynamic body.
+    pub body: RigidBodyHandle,
+    /// Its convex-hull collider (a projectile the adapter dents others with).
+    pub collider: ColliderHandle,
+}
+
+/// A dentable collider that broke during a step.
+#[derive(Debug, Clone)]
+pub struct BrokenCollider {
+    /// The collider that broke; it keeps its handle with its rest as its shape.
+    pub collider: ColliderHandle,
+    /// The collider that broke it.
+    pub projectile: ColliderHandle,
+    /// Why it broke.
+    pub cause: FractureCause,
+    /// The energy the breaking hit removed along its normal, J.
+    pub energy: f32,
+    /// Whether the pattern took the whole collider: it is disabled and forgotten, for the
+    /// caller to remove ([`Adapter`](crate::Adapter) removes it, and its body when it has no
+    /// other collider).
+    pub whole: bool,
+    /// The pieces that became bodies, in the fracture's order.
+    pub pieces: Vec<PieceBody>,
+    /// Pieces left out: slivers with no convex hull (their volume is lost).
+    pub left_out: usize,
+}
+
+/// A fracture's Rapier edits, built and checked.
+pub(crate) struct PreparedFracture {
+    broken: BrokenCollider,
+    rest: Option<(SharedShape, Option<RapierMass>)>,
+    pieces: Vec<(PieceId, ColliderBuilder, TriMesh, glam::Vec3, glam::Vec3)>,
+    projectile_velocity: Option<(glam::Vec3, glam::Vec3)>,
+}
+
+/// Builds the edits of `fracture` of collider `handle` (of `kind`); nothing changes.
+///
+/// # Errors
+/// [`AdapterError::UnknownCollider`], or [`AdapterError::Refit`] when the rest's shape cannot
+/// be built.
+pub(crate) fn prepare(
+    colliders: &ColliderSet,
+    kind: ShapeKind,
+    fracture: &BodyFracture<ColliderHandle>,
+) -> Result<PreparedFracture, AdapterError> {
+    let handle = fracture.body;
+    let collider = colliders.get(handle).ok_or(AdapterError::UnknownCollider(handle))?;
+    let rest = match &fracture.rest {
+        None => None,
+        Some(rest) => {
+            let shape = match kind {
+                ShapeKind::TriMesh => trimesh_shape(handle, collider, rest)?,
+                ShapeKind::Convex => SharedShape::convex_hull(rest.positions()).ok_or_else(|| AdapterError::Refit {
+                    collider: handle,
+                    reason: "no convex hull of the fracture's rest".into(),
+                })?,
+            };
+            // A hull spans the rest's bite: its mass is the rest's, not the hull's.
+            let mass = match kind {
+                ShapeKind::Convex => fracture.rest_mass.map(|m| rapier_mass(&m)),
+                ShapeKind::TriMesh => None,
+            };
+            Some((shape, mass))
+        }
+    };
+    let mut pieces = Vec::with_capacity(fracture.pieces.len());
+    let mut left_out = 0;
+    for piece in &fracture.pieces {
+        // Pieces fill the hole they leave exactly; hulls shrunk toward their centres start
+        // clear of the rest and of each other instead of wedged in, touching on every side.
+        let centre = piece.mass.center;
+        let shrunk: Vec<glam::Vec3> =
+            piece.mesh.positions().iter().map(|&p| centre + (p - centre) * PIECE_HULL_SCALE).collect();
+        match ColliderBuilder::convex_hull(&shrunk) {
+            Some(builder) => pieces.push((
+                piece.id,
+                builder.mass_properties(rapier_mass(&piece.mass)),
+                piece.mesh.clone(),
+                piece.linear_velocity,
+                piece.angular_velocity,
+            )),
+            None => left_out += 1,
+        }
+    }
+    let broken = BrokenCollider {
+        collider: handle,
+        projectile: fracture.projectile,
+        cause: fracture.cause,
+        energy: fracture.energy,
+        whole: fracture.rest.is_none(),
+        pieces: Vec::new(),
+        left_out,
+    };
+    Ok(PreparedFracture { broken, rest, pieces, projectile_velocity: fracture.projectile_velocity })
+}
+
+impl PreparedFracture {
+    /// Applies the edits: the rest's shape (or the collider disabled), a body and collider per
+    /// piece at the collider's pose, the projectile's velocity. Returns what broke and each
+    /// piece's collider with its mesh (for the caller to dent others with).
+    pub(crate) fn commit(
+        self,
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+    ) -> (BrokenCollider, Vec<(ColliderHandle, TriMesh)>) {
+        let Self { mut broken, rest, pieces, projectile_velocity } = self;
+        let Some(collider) = colliders.get_mut(broken.collider) else { return (broken, Vec::new()) };
+        let pose = *collider.position();
+        match rest {
+            Some((shape, mass)) => {
+                collider.set_shape(shape);
+                if let Some(mass) = mass {
+                    collider.set_mass_properties(mass);
+                }
+            }
+            None => collider.set_enabled(false),
+        }
+        let mut surfaces = Vec::with_capacity(pieces.len());
+        for (id, builder, mesh, linear, angular) in pieces {
+            let body = bodies.insert(RigidBodyBuilder::dynamic().pose(pose).linvel(linear).angvel(angular));
+            let collider = colliders.insert_with_parent(builder, body, bodies);
+            broken.pieces.push(PieceBody { id, body, collider });
+            surfaces.push((collider, mesh));
+        }
+        if let Some((linear, angular)) = projectile_velocity
+            && let Some(body) = colliders.get(broken.projectile).and_then(|c| c.parent())
+            && let Some(rb) = bodies.get_mut(body)
+            && rb.is_dynamic()
+        {
+            rb.set_linvel(linear, true);
+            rb.set_angvel(angular, true);
+        }
+        (broken, surfaces)
+    }
+}
+
+/// dentbend's mass properties (mesh coordinates) as Rapier's (collider frame: the same).
+fn rapier_mass(m: &MassProperties) -> RapierMass {
+    RapierMass::with_inertia_matrix(m.center, m.mass, m.inertia)
+}
