@@ -10,6 +10,7 @@
 use glam::{Affine3A, Vec3};
 use serde::Serialize;
 
+use crate::damage::velocity_after_giving_way;
 use crate::dent::Impact;
 use crate::fracture::{
     DentTally, FractureCause, FractureOutcome, FractureRecord, FractureSettings, Placement, break_body,
@@ -274,14 +275,15 @@ fn apply(
 /// The projectile of break `b` gets back its velocity from before the step, its kinetic energy
 /// less the toughness an energy break used up (a dent break: the dents took theirs).
 fn give_way(world: &mut World, b: &Break, settings: &FractureSettings, velocities_before: &[(Vec3, Vec3)]) {
-    let Some(&(linear, angular)) = velocities_before.get(b.projectile) else { return };
+    let Some(&(linear_velocity, angular_velocity)) = velocities_before.get(b.projectile) else { return };
     let projectile: &mut RigidBody = &mut world.bodies_mut()[b.projectile];
     if projectile.kind != BodyKind::Dynamic || projectile.is_condensed() {
         return;
     }
-    let before = projectile.kinetic_energy_at(linear, angular);
+    let before = crate::dent::BodyState { linear_velocity, angular_velocity, ..body_state(projectile) };
     let used = if b.cause == FractureCause::Energy { settings.toughness.unwrap_or(0.0) } else { 0.0 };
-    let keep = if before > 0.0 { ((before - used) / before).clamp(0.0, 1.0).sqrt() } else { 0.0 };
-    projectile.linear_velocity = linear * keep;
-    projectile.angular_velocity = angular * keep;
+    if let Some((linear, angular)) = velocity_after_giving_way(&before, used) {
+        projectile.linear_velocity = linear;
+        projectile.angular_velocity = angular;
+    }
 }
