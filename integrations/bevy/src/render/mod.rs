@@ -8,6 +8,7 @@ mod skinned;
 mod staged;
 mod startup;
 mod system;
+mod target;
 
 pub(crate) use resident::ResidentDents;
 pub(crate) use startup::start_on_bevys_device;

@@ -4,29 +4,13 @@
 
 use bevy::prelude::*;
 use bevy::render::mesh::allocator::MeshAllocator;
-use bevy::render::render_resource::BufferId;
 use dentbend::TriMesh;
 use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter, PendingMoved};
 
 use super::readbacks::{Mirrors, Readbacks};
 use super::skinned::SkinnedMeshes;
+use super::target::Target;
 use crate::link::{GpuJob, RenderLink, ToMain, ToRender};
-use crate::mesh_data::SlabLayout;
-
-/// One resident target, in slot order.
-pub(super) struct Target {
-    pub(super) entity: Entity,
-    asset: AssetId<Mesh>,
-    /// The target as the GPU holds it (updated from the read-backs), to upload it again when
-    /// the set of targets changes.
-    pub(super) mirror: TriMesh,
-    layout: SlabLayout,
-    /// Its dents must be written into Bevy's vertex buffer (dented, or Bevy uploaded the asset
-    /// again).
-    pub(super) copy_needed: bool,
-    /// Where they were last written (slab buffer, first vertex).
-    copied_at: Option<(BufferId, u32)>,
-}
 
 /// Render-world state of the GPU path.
 #[derive(Resource, Default)]

@@ -9,7 +9,7 @@ use bevy::prelude::*;
 use dentbend::dent::{BatchError, DentJob};
 use dentbend::gpu::{GpuBatchError, GpuDenter, GpuError, MovedVertices};
 
-use super::resident::Target;
+use super::target::Target;
 use crate::link::{GpuJob, RenderLink, ToMain};
 
 /// `kept`'s dents (each with its target's slot) as the denter takes them.
