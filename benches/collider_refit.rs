@@ -3,8 +3,9 @@
 //! Run on one core with `RAYON_NUM_THREADS=1 cargo bench --bench collider_refit`.
 
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
+use dentbend::collider::refit_trimesh;
+use dentbend::dent::moved_vertices;
 use dentbend::glam::{Affine3A, Vec3};
-use dentbend::sim::{moved_vertices, refit_trimesh};
 use dentbend::{DentParams, Impact, TriMesh, dent, mesh};
 use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 
@@ -46,7 +47,7 @@ fn refits(c: &mut Criterion) {
     for (name, flags) in FLAGS {
         // The world flags merge vertices, so parry renumbers them: the map translates.
         let shape = collider(&target, flags);
-        let map = dentbend::sim::VertexMap::new(&shape, target.positions(), target.faces()).expect("map");
+        let map = dentbend::collider::VertexMap::new(&shape, target.positions(), target.faces()).expect("map");
         let (moved, positions) = map.moved_between(target.positions(), dented.positions());
 
         let mut group = c.benchmark_group("refit_partial");

@@ -45,6 +45,8 @@
 #![warn(missing_docs)]
 
 pub mod bend;
+#[cfg(feature = "parry")]
+pub mod collider;
 #[cfg(feature = "sim")]
 pub mod coupling;
 pub mod cpu;

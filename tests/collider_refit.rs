@@ -2,12 +2,11 @@
 //! queries exactly as a fresh build on the dented vertices does; bad updates are refused and
 //! leave the shape as it was; the world's dented colliders follow their meshes.
 
+use dentbend::collider::{RefitError, VertexMap, refit_shared_trimesh, refit_trimesh};
 use dentbend::coupling::Simulation;
+use dentbend::dent::moved_vertices;
 use dentbend::glam::{Affine3A, Vec3};
-use dentbend::sim::{
-    BodyDesc, BodyKind, ColliderKind, DentSettings, RefitError, VertexMap, World, WorldSettings, moved_vertices,
-    refit_shared_trimesh, refit_trimesh,
-};
+use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, World, WorldSettings};
 use dentbend::{DentParams, Impact, TriMesh, dent, mesh};
 use parry3d::query::{PointQuery, Ray, RayCast};
 use parry3d::shape::{SharedShape, TriMesh as ParryMesh, TriMeshFlags};

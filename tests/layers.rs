@@ -8,8 +8,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// Bottom to top. `lib.rs` may name any of them.
-const LAYERS: [&str; 13] =
-    ["mesh", "io", "cpu", "dent", "fracture", "damage", "record", "gpu", "bend", "sim", "coupling", "scene", "render"];
+const LAYERS: [&str; 14] = [
+    "mesh", "io", "cpu", "dent", "fracture", "damage", "record", "gpu", "bend", "collider", "sim", "coupling", "scene",
+    "render",
+];
 
 fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap() {

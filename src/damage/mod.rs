@@ -17,6 +17,7 @@ mod target_set;
 
 pub use backend::{CpuBackend, DentBackend};
 pub use error::DamageError;
+#[cfg(feature = "sim")]
 pub(crate) use fracture::velocity_after_giving_way;
 pub use fracture::{BodyFracture, BrokenPiece, PieceId};
 pub use hit::{DentTargets, Hit, TargetView};

@@ -6,7 +6,7 @@ use parry3d::shape::{SharedShape, TriMeshFlags};
 
 use super::BodyKind;
 use super::capsule_fit::capsule_shape;
-use super::collider_refit::{VertexMap, refit_shared_trimesh};
+use crate::collider::{VertexMap, refit_shared_trimesh};
 use crate::mesh::TriMesh;
 
 /// Which parry3d shape collides for a body.

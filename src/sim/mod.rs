@@ -7,7 +7,6 @@ mod broad_phase;
 mod capsule_fit;
 mod cluster;
 mod collider;
-mod collider_refit;
 mod contact_parts;
 mod contacts;
 mod dent_impact;
@@ -29,7 +28,6 @@ pub use crate::mesh::{MassProperties, mass_properties};
 pub use body::{BodyDesc, BodyKind, MAX_ANGULAR_SPEED, MAX_DENSITY, RigidBody, SurfaceMaterial};
 pub use broad_phase::{Aabb, overlapping_pairs};
 pub use collider::ColliderKind;
-pub use collider_refit::{RefitError, RefitStats, VertexMap, refit_shared_trimesh, refit_trimesh, validate_refit};
 pub use contacts::{ContactPoint, PairContacts, find_contacts};
 pub use dent_impact::{
     DecidedDent, DentSurface, DentTarget, StepContext, body_state, decide_dent, dent_job, projectile_near_impact,

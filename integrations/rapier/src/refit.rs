@@ -1,13 +1,13 @@
 //! Collider refits after a dent: the one place the adapter changes a collider's shape.
 //!
 //! - Tri-mesh colliders are refitted in place over the moved vertices only
-//!   ([`dentbend::sim::refit_trimesh`]: validated, then parry's `update_vertices`, which refits
+//!   ([`dentbend::collider::refit_trimesh`]: validated, then parry's `update_vertices`, which refits
 //!   the tree keeping its structure); build them with [`trimesh_collider`] (deformable, no
 //!   pseudo-normals, vertices in the mesh's order) so the refit stays cheap.
 //! - Convex colliders (dynamic bodies) get the convex hull of the dented vertices.
 
+use dentbend::collider::{refit_trimesh, validate_refit};
 use dentbend::mesh::TriMesh;
-use dentbend::sim::{refit_trimesh, validate_refit};
 use glam::Vec3;
 use rapier3d::parry::shape::TriMeshFlags;
 use rapier3d::prelude::{Collider, ColliderBuilder, ColliderHandle, SharedShape};

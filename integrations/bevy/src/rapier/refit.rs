@@ -4,7 +4,7 @@ use bevy::prelude::*;
 use bevy_rapier3d::prelude::Collider;
 use bevy_rapier3d::rapier::prelude::SharedShape;
 use dentbend::TriMesh;
-use dentbend_rapier::dentbend::sim::refit_shared_trimesh;
+use dentbend_rapier::dentbend::collider::refit_shared_trimesh;
 
 use crate::{DentWorld, MeshDented};
 
