@@ -152,7 +152,6 @@ const KNOWN_CYCLES: &[(&str, &[&str])] = &[
     ("coupling", &["bendable", "joint_override"]),
     ("coupling", &["articulated", "bending", "rest_revision", "skinning"]),
     ("coupling", &["dent_coupling", "pose_dent"]),
-    ("scene", &["builtin", "error", "parse", "parse_bend", "source"]),
     ("render", &["check", "raster"]),
 ];
 

@@ -65,7 +65,7 @@ pub fn builtin_scene(name: &str, size: SceneSize) -> Result<Scene, SceneError> {
         "bunny-bones" => bunny_bones::bunny_bones,
         "arm" => arm::arm,
         "wall" => wall::wall,
-        _ => return Err(SceneError::UnknownScene { name: name.into() }),
+        _ => return Err(unknown(name)),
     };
     build(size).map_err(|source| SceneError::Builtin { scene: name.into(), source })
 }
@@ -100,5 +100,10 @@ pub fn load_with(spec: &str, options: &LoadOptions) -> Result<Scene, SceneError>
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) || path.is_file() {
         return load_scene_with(path, options);
     }
-    Err(SceneError::UnknownScene { name: spec.into() })
+    Err(unknown(spec))
+}
+
+/// [`SceneError::UnknownScene`] for `name`, listing the built-in scenes.
+fn unknown(name: &str) -> SceneError {
+    SceneError::UnknownScene { name: name.into(), builtins: BUILTIN_SCENES.join(", ") }
 }

@@ -38,10 +38,12 @@ pub enum SceneError {
         message: String,
     },
     /// A name that is neither a built-in scene nor a `.toml` scene file.
-    #[error("unknown scene \"{name}\": expected a built-in scene ({}) or the path of a .toml scene file", super::BUILTIN_SCENES.join(", "))]
+    #[error("unknown scene \"{name}\": expected a built-in scene ({builtins}) or the path of a .toml scene file")]
     UnknownScene {
         /// The name or path given.
         name: String,
+        /// The built-in scenes' names, comma-separated.
+        builtins: String,
     },
     /// A built-in scene could not be built (a mesh or body the simulation refused).
     #[error("built-in scene \"{scene}\": {source}")]

@@ -179,6 +179,7 @@ mod kit;
 mod options;
 mod parse;
 mod parse_bend;
+mod parse_body;
 mod rain;
 mod source;
 mod tetrahedra;
@@ -193,10 +194,8 @@ pub use camera::Camera;
 pub use error::SceneError;
 pub use file_fracture::DEFAULT_FRACTURE_CELLS;
 pub use options::{DEFAULT_MAX_BODIES, DEFAULT_MAX_FILE_BYTES, LoadOptions, MeshPaths};
-pub use parse::{
-    DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, MeshResolver, load_scene, load_scene_with,
-    parse_scene, parse_scene_with, parse_scene_with_meshes,
-};
+pub use parse::{load_scene, load_scene_with, parse_scene, parse_scene_with, parse_scene_with_meshes};
+pub use parse_body::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, MeshResolver};
 pub use tetrahedra::tetrahedra_grid;
 pub use types::{DEFAULT_FRAMES, FRAMING_ASPECT, Scene, SceneSize, fit_camera, framing_camera};
 pub use wall::{WALL_DENT_LIMIT, WALL_SIZE};

@@ -10,7 +10,7 @@ use toml::Spanned;
 use super::SceneError;
 use super::file::BodyFile;
 use super::file_bend::{BendFile, BoneFile, DynamicFile, JointFile, JointKindSpec, SkeletonFile};
-use super::parse::{MeshCache, body_desc, number, positive, sim_error};
+use super::parse_body::{MeshCache, body_desc, number, positive, sim_error};
 use super::source::Source;
 use crate::bend::{BendError, BoneDesc, MAX_AUTO_BONES, Skeleton, WeightParams, auto_skeleton};
 use crate::coupling::{BendableDesc, DynamicArticulation, JointOverride, SkeletonSpec};
