@@ -13,6 +13,63 @@
 
 use glam::{Mat3, Vec3};
 
+use super::BendError;
+
+/// How a bendable body's joints turn: the one rule every engine's bendable joints apply.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JointRule {
+    /// Plastic (paper §4.1): rigid until the angular impulse that keeps it rigid for a step
+    /// passes `strength`; then it bends and stays bent, the bend damped after the hit.
+    Plastic {
+        /// Largest angular impulse transmitted in one step before it bends, N·m·s (finite,
+        /// > 0).
+        strength: f32,
+        /// Constant part of the post-bend damping, rad/s² (finite, ≥ 0).
+        damping_constant: f32,
+        /// Proportional part of the post-bend damping, 1/s (finite, ≥ 0).
+        damping_proportional: f32,
+    },
+    /// Elastic (paper §4.3): a torsional spring and damper pull the joint back to its rest
+    /// orientation.
+    Elastic {
+        /// Spring constant, N·m/rad (finite, > 0).
+        stiffness: f32,
+        /// Damping coefficient, N·m·s/rad (finite, ≥ 0).
+        damping: f32,
+    },
+}
+
+impl JointRule {
+    /// Plastic joints of `strength` N·m·s with the paper's Figure 14 post-bend damping
+    /// (0.5 rad/s² + 10/s).
+    pub fn plastic(strength: f32) -> Self {
+        Self::Plastic { strength, damping_constant: 0.5, damping_proportional: 10.0 }
+    }
+
+    /// Checks every value.
+    ///
+    /// # Errors
+    /// [`BendError::InvalidParameter`] naming the value.
+    pub fn validate(&self) -> Result<(), BendError> {
+        let check = |name: &'static str, v: f32, strict: bool| {
+            let ok = v.is_finite() && if strict { v > 0.0 } else { v >= 0.0 };
+            let reason = if strict { "must be finite and > 0" } else { "must be finite and >= 0" };
+            if ok { Ok(()) } else { Err(BendError::InvalidParameter { name, value: v.to_string(), reason }) }
+        };
+        match *self {
+            Self::Plastic { strength, damping_constant, damping_proportional } => {
+                check("strength", strength, true)?;
+                check("damping_constant", damping_constant, false)?;
+                check("damping_proportional", damping_proportional, false)
+            }
+            Self::Elastic { stiffness, damping } => {
+                check("stiffness", stiffness, true)?;
+                check("damping", damping, false)
+            }
+        }
+    }
+}
+
 /// The accumulated angular impulse `wanted` (N·m·s) clamped onto the sphere of radius `strength`
 /// (N·m·s): the impulse the joint may take, and whether it clamped (the joint bends).
 pub fn clamp_to_strength(wanted: Vec3, strength: f32) -> (Vec3, bool) {

@@ -16,6 +16,7 @@ mod geodesic;
 mod geometry;
 mod joint_rules;
 mod level_set;
+mod rig;
 mod skeleton;
 mod skeleton_check;
 mod sub_bodies;
@@ -26,10 +27,11 @@ mod weights_solve;
 pub use auto_skeleton::{AUTO_INSET, MAX_AUTO_BONES, auto_skeleton};
 pub use bunny::{BUNNY_BODY, BUNNY_HEAD, BUNNY_LEFT_EAR, BUNNY_RIGHT_EAR, bunny_bones, bunny_skeleton};
 pub use error::BendError;
-pub use joint_rules::{clamp_to_strength, damped_bend_rate, effective_inertia, spring, spring_impulse};
+pub use joint_rules::{JointRule, clamp_to_strength, damped_bend_rate, effective_inertia, spring, spring_impulse};
 pub use level_set::{
     BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,
 };
+pub use rig::{Rig, RigSplit, SINGULAR_BLEND};
 pub use skeleton::{
     Bone, BoneDesc, BoneJoint, JOINT_GAP_FRACTION, MIN_BONE_FRACTION, MIN_BONE_LENGTH, SPLIT_END_FRACTION, Skeleton,
 };

@@ -2,16 +2,14 @@
 //! joints, and its rest mesh skinned to the sub-bodies' poses every frame (paper Algorithm 2,
 //! steps 1–3 and 13).
 
-use std::sync::Arc;
-
 use glam::{Affine3A, Quat, Vec3};
 
 use super::bendable::bend_error;
 use super::skinning::{skin_error, skin_mesh_on_cpu};
 use super::{BendableDesc, DynamicArticulation};
-use crate::bend::{LevelSet, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
+use crate::bend::{LevelSet, Rig, Skeleton, SkinWeights, SubBodies, WeightParams};
+use crate::cpu::SkinBone;
 use crate::cpu::Skinned;
-use crate::cpu::{SkinBone, SkinInfluence};
 use crate::mesh::TriMesh;
 use crate::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, SimError, SurfaceMaterial, World};
 
@@ -29,15 +27,10 @@ use crate::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, SimError, Surfa
 #[derive(Debug, Clone)]
 pub struct ArticulatedBody {
     pub(crate) name: String,
-    pub(crate) rest_mesh: TriMesh,
-    pub(crate) skeleton: Skeleton,
-    /// Shared by copies of one body (see [`new_like`](Self::new_like)).
-    pub(crate) cache: Arc<WeightCache>,
-    pub(crate) weights: SkinWeights,
-    pub(crate) sub_bodies: Arc<SubBodies>,
-    pub(crate) influences: Vec<SkinInfluence>,
+    /// Rest mesh, skeleton, weights and sub-bodies (its weight cache shared by copies of one
+    /// body: see [`new_like`](Self::new_like)).
+    pub(crate) rig: Rig,
     pub(crate) bodies: Vec<usize>,
-    pub(crate) density: f32,
     pub(crate) surface: SurfaceMaterial,
     /// Each sub-body's collider kind (convex hull or capsule, fitted to its part).
     pub(crate) collider: ColliderKind,
@@ -78,10 +71,10 @@ impl ArticulatedBody {
     pub fn new_like(world: &mut World, desc: BendableDesc, template: &Self) -> Result<Self, SimError> {
         desc.validate()?;
         let same = template.added_joints == 0
-            && template.density == desc.density
-            && template.cache.params() == desc.weights
-            && template.rest_mesh == desc.mesh
-            && desc.build_skeleton()? == template.skeleton;
+            && template.rig.density() == desc.density
+            && template.rig.cache().params() == desc.weights
+            && *template.rig.rest() == desc.mesh
+            && desc.build_skeleton()? == *template.rig.skeleton();
         if !same {
             return Self::new(world, desc);
         }
@@ -101,19 +94,11 @@ impl ArticulatedBody {
         desc.validate()?;
         let skeleton = desc.build_skeleton()?;
         let fail = |e| bend_error(&desc.name, e);
-        let cache = WeightCache::new(&desc.mesh, desc.weights).map_err(fail)?;
-        let weights = SkinWeights::compute(&desc.mesh, &skeleton, &cache).map_err(fail)?;
-        let sub_bodies = SubBodies::compute(&desc.mesh, &weights, cache.level_set(), desc.density).map_err(fail)?;
+        let rig = Rig::new(desc.mesh.clone(), skeleton, desc.weights, desc.density).map_err(fail)?;
         let mut body = Self {
             name: desc.name.clone(),
-            rest_mesh: desc.mesh.clone(),
-            skeleton,
-            cache: Arc::new(cache),
-            weights,
-            sub_bodies: Arc::new(sub_bodies),
-            influences: Vec::new(),
+            rig,
             bodies: Vec::new(),
-            density: desc.density,
             surface: desc.surface,
             collider: desc.collider.resolve(BodyKind::Dynamic),
             color: desc.color,
@@ -124,11 +109,10 @@ impl ArticulatedBody {
             rest_revision: super::rest_revision::next_rest_revision(),
         };
         let exact = crate::sim::mass_properties(&desc.mesh, desc.density).map(|m| m.mass);
-        let voxels = body.sub_bodies.total().mass;
+        let voxels = body.rig.sub_bodies().total().mass;
         if let Some(exact) = exact.filter(|&m| m.is_finite() && m > 0.0 && voxels > 0.0) {
             body.mass_scale = exact / voxels;
         }
-        body.influences = skin_influences(&body.weights);
         Ok(body)
     }
 
@@ -137,9 +121,9 @@ impl ArticulatedBody {
     fn place(mut self, world: &mut World, desc: &BendableDesc) -> Result<Self, SimError> {
         let rotation = desc.orientation.normalize();
         let pose = Affine3A::from_rotation_translation(rotation, desc.position);
-        let centre = pose.transform_point3(self.sub_bodies.total().center);
+        let centre = pose.transform_point3(self.rig.sub_bodies().total().center);
         let motion = RigidMotion { velocity: desc.linear_velocity, angular: desc.angular_velocity, centre };
-        let descs = (0..self.skeleton.len())
+        let descs = (0..self.rig.skeleton().len())
             .map(|bone| self.sub_body_desc(bone, (desc.position, rotation), motion))
             .collect::<Result<Vec<_>, _>>()?;
         if let Some(taken) = descs.iter().find(|d| world.find(&d.name).is_some()) {
@@ -154,7 +138,7 @@ impl ArticulatedBody {
             for d in descs {
                 self.bodies.push(world.add(d)?);
             }
-            for joint in self.skeleton.joints() {
+            for joint in self.rig.skeleton().joints() {
                 let anchor = pose.transform_point3(joint.point);
                 let kind = desc.joint_kind(joint.child);
                 world.add_joint(self.bodies[joint.parent], self.bodies[joint.child], anchor, kind)?;
@@ -175,27 +159,32 @@ impl ArticulatedBody {
 
     /// The rest mesh, model frame, m.
     pub fn rest_mesh(&self) -> &TriMesh {
-        &self.rest_mesh
+        self.rig.rest()
     }
 
     /// The skeleton now (grows by one bone per dynamic joint).
     pub fn skeleton(&self) -> &Skeleton {
-        &self.skeleton
+        self.rig.skeleton()
     }
 
     /// The skinning weights now.
     pub fn weights(&self) -> &SkinWeights {
-        &self.weights
+        self.rig.weights()
     }
 
     /// The sub-bodies now.
     pub fn sub_bodies(&self) -> &SubBodies {
-        &self.sub_bodies
+        self.rig.sub_bodies()
+    }
+
+    /// The rig: rest mesh, skeleton, weights, sub-bodies.
+    pub fn rig(&self) -> &Rig {
+        &self.rig
     }
 
     /// The level set of the rest mesh (model frame) that the sub-bodies' cells come from.
     pub fn level_set(&self) -> &LevelSet {
-        self.cache.level_set()
+        self.rig.cache().level_set()
     }
 
     /// Every bone's open sub-body surface ([`SubBodies::sub_mesh`]) in the model frame, m, in
@@ -205,20 +194,20 @@ impl ArticulatedBody {
     /// [`SimError::BadShape`] if a bone owns no triangle (never for a body built by
     /// [`new`](Self::new), which refuses that).
     pub fn sub_meshes(&self) -> Result<Vec<TriMesh>, SimError> {
-        (0..self.skeleton.len())
-            .map(|bone| self.sub_bodies.sub_mesh(&self.rest_mesh, bone).map(|(mesh, _)| mesh))
+        (0..self.rig.skeleton().len())
+            .map(|bone| self.rig.part(bone))
             .collect::<Result<_, _>>()
             .map_err(|e| bend_error(&self.name, e))
     }
 
     /// The weight parameters (level-set resolution…).
     pub fn weight_params(&self) -> WeightParams {
-        self.cache.params()
+        self.rig.cache().params()
     }
 
     /// Level-set cell size, m.
     pub fn cell_size(&self) -> f32 {
-        self.cache.level_set().cell_size()
+        self.rig.cache().level_set().cell_size()
     }
 
     /// World body index of each bone.
@@ -264,7 +253,7 @@ impl ArticulatedBody {
     /// # Errors
     /// As [`bone_transforms`](Self::bone_transforms); [`SimError::BadShape`] if skinning fails.
     pub fn skinned_mesh(&self, world: &World) -> Result<TriMesh, SimError> {
-        self.skin_rest(&self.rest_mesh, &self.bone_transforms(world)?)
+        self.skin_rest(self.rig.rest(), &self.bone_transforms(world)?)
     }
 
     /// `rest` (a mesh with the rest mesh's vertices and faces) skinned with the weights to the
@@ -290,14 +279,15 @@ impl ArticulatedBody {
         motion: RigidMotion,
     ) -> Result<BodyDesc, SimError> {
         let fail = |e| bend_error(&self.name, e);
-        let (mesh, _) = self.sub_bodies.sub_mesh(&self.rest_mesh, bone).map_err(fail)?;
-        let mut mass = self.sub_bodies.bodies().get(bone).and_then(|s| s.mass).ok_or_else(|| SimError::BadShape {
-            body: self.name.clone(),
-            reason: format!(
-                "bending: bone {bone} owns no inside cell of the level set (resolution {}): raise the resolution",
-                self.cache.params().resolution
-            ),
-        })?;
+        let mesh = self.rig.part(bone).map_err(fail)?;
+        let mut mass =
+            self.rig.sub_bodies().bodies().get(bone).and_then(|s| s.mass).ok_or_else(|| SimError::BadShape {
+                body: self.name.clone(),
+                reason: format!(
+                    "bending: bone {bone} owns no inside cell of the level set (resolution {}): raise the resolution",
+                    self.rig.cache().params().resolution
+                ),
+            })?;
         mass.mass *= self.mass_scale;
         mass.volume *= self.mass_scale;
         mass.inertia *= self.mass_scale;
@@ -309,7 +299,7 @@ impl ArticulatedBody {
             .velocity(motion.at(centre));
         desc.orientation = rotation;
         desc.angular_velocity = motion.angular;
-        desc.density = self.density;
+        desc.density = self.rig.density();
         desc.surface = self.surface;
         desc.color = self.color;
         Ok(desc)
@@ -342,9 +332,4 @@ pub(crate) fn ignore_own_collisions(world: &mut World, bodies: &[usize]) -> Resu
         }
     }
     Ok(())
-}
-
-/// The weights as the skinning kernel's four influences per vertex.
-pub(crate) fn skin_influences(weights: &SkinWeights) -> Vec<SkinInfluence> {
-    weights.influences4().into_iter().map(|(bones, weights)| SkinInfluence { bones, weights }).collect()
 }

@@ -198,7 +198,7 @@ impl StagedBendDents {
         let mut records = Vec::new();
         for (k, pose, made) in self.dents {
             let body = &mut bending.bodies[k];
-            body.set_rest_mesh(pose.rest_mesh);
+            body.set_rest_mesh(pose.rest_mesh)?;
             for m in made {
                 records.push(m.dent.record(&body.name, &m.projectile, m.distance, self.step));
                 if let Some(settings) = &body.dent {
@@ -221,7 +221,7 @@ fn stage_plain(
 ) -> Result<(PoseDent, Vec<Made>), SimError> {
     let body = &bending.bodies[k];
     let pairs: Vec<_> = list.iter().map(|&d| (d, DentSurface::lookup(world, d.projectile, surfaces))).collect();
-    let pose = body.dent_in_pose(world, &body.rest_mesh, &pairs)?;
+    let pose = body.dent_in_pose(world, body.rig.rest(), &pairs)?;
     let made = pose.applied.iter().map(|&i| Made::of(list[i], list[i].dent_distance, world, surfaces)).collect();
     Ok((pose, made))
 }
@@ -242,7 +242,7 @@ fn stage_progressive(
     let mut current: Option<PoseDent> = None;
     let mut made = Vec::new();
     for &d in list {
-        let rest = current.as_ref().map_or(&body.rest_mesh, |c| &c.rest_mesh);
+        let rest = current.as_ref().map_or(body.rig.rest(), |c| &c.rest_mesh);
         let index = match progress.iter().position(|p| p.body == k && p.projectile == d.projectile) {
             Some(index) => index,
             None => {

@@ -32,7 +32,7 @@ pub use fracture_step::{FractureEvent, Fracturer};
 #[cfg(feature = "gpu")]
 pub use gpu_skinning::GpuSkinner;
 pub use joint_override::JointOverride;
-pub use pose_dent::{PoseDent, SINGULAR_BLEND};
+pub use pose_dent::PoseDent;
 pub use simulation::{Simulation, StepTiming};
 pub use skinning::{GROUP_VERTICES, Skinner};
 pub use split::SplitOutcome;

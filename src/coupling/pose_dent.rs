@@ -11,7 +11,7 @@
 //! use. What changes: the rest mesh, and the open sub-mesh and convex-hull collider of every
 //! bone owning a moved vertex.
 
-use glam::{Affine3A, Mat3, Vec3};
+use glam::Affine3A;
 
 use super::ArticulatedBody;
 use crate::dent::{Refine, dent_batch};
@@ -19,11 +19,6 @@ use crate::mesh::TriMesh;
 use crate::sim::{
     DecidedDent, DentSettings, DentSurface, DentTarget, RigidBody, SimError, World, dent_job, projectile_near_impact,
 };
-
-/// Determinant below which a vertex's blended linear part counts as singular (bones turned by
-/// nearly 180° against each other: two bones at ½ each turned by θ give cos²(θ/2), 10⁻³ at
-/// θ ≈ 176°); the vertex's dominant bone's rotation is inverted instead.
-pub const SINGULAR_BLEND: f32 = 1e-3;
 
 /// A dent of a bending body computed in its current pose, not yet applied
 /// ([`ArticulatedBody::apply_pose_dent`]).
@@ -91,7 +86,8 @@ impl ArticulatedBody {
         if let Some((d, _)) = dents.iter().find(|(d, _)| self.bone_of(d.target).is_none()) {
             return Err(invalid("dent target", d.target.to_string(), "is not one of its sub-bodies"));
         }
-        if base.vertex_count() != self.rest_mesh.vertex_count() || base.faces() != self.rest_mesh.faces() {
+        let rest_now = self.rig.rest();
+        if base.vertex_count() != rest_now.vertex_count() || base.faces() != rest_now.faces() {
             return Err(invalid("dent base mesh", base.vertex_count().to_string(), "does not match the rest mesh"));
         }
         let transforms = self.bone_transforms(world)?;
@@ -134,19 +130,16 @@ impl ArticulatedBody {
         }
         let dented = dented.pop().unwrap_or_else(|| skinned.clone());
 
-        let linear: Vec<Mat3> = relative.iter().map(|t| Mat3::from(t.matrix3)).collect();
-        let mut positions = base.positions().to_vec();
-        for (v, (after, before)) in dented.positions().iter().zip(skinned.positions()).enumerate() {
-            if after != before {
-                positions[v] += self.unblend(v, &linear, *after - *before);
-            }
-        }
-        let mut rest_mesh = base.clone();
         let bad = |e: crate::mesh::MeshError| SimError::BadShape { body: self.name.clone(), reason: e.to_string() };
-        rest_mesh.set_positions(positions).map_err(bad)?;
-        let moved: Vec<usize> = (0..rest_mesh.vertex_count())
-            .filter(|&v| rest_mesh.positions()[v] != self.rest_mesh.positions()[v])
+        let displaced: Vec<u32> = (0..skinned.vertex_count() as u32)
+            .filter(|&v| dented.positions()[v as usize] != skinned.positions()[v as usize])
             .collect();
+        let rest_mesh = self
+            .rig
+            .rest_after_pose_dent(base, &skinned, &dented, &displaced, &relative)
+            .map_err(|e| super::bendable::bend_error(&self.name, e))?;
+        let moved: Vec<usize> =
+            (0..rest_mesh.vertex_count()).filter(|&v| rest_mesh.positions()[v] != rest_now.positions()[v]).collect();
         let (bones, sub_meshes) = self.changed_sub_meshes(world, &rest_mesh, &moved)?;
         let to_world_mesh = |mut mesh: TriMesh| mesh.transform(to_world).map(|_| mesh).map_err(bad);
         Ok(PoseDent {
@@ -173,13 +166,12 @@ impl ArticulatedBody {
         for (index, body) in refitted {
             world.bodies_mut()[index] = body;
         }
-        self.set_rest_mesh(dent.rest_mesh);
-        Ok(())
+        self.set_rest_mesh(dent.rest_mesh)
     }
 
     /// Copies of the sub-bodies of `dent` with their new meshes and hulls (the world unchanged).
     pub(crate) fn refit_sub_bodies(&self, world: &World, dent: &PoseDent) -> Result<Vec<(usize, RigidBody)>, SimError> {
-        if dent.rest_mesh.vertex_count() != self.rest_mesh.vertex_count()
+        if dent.rest_mesh.vertex_count() != self.rig.rest().vertex_count()
             || dent.sub_meshes.iter().any(|(index, _)| self.bone_of(*index).is_none())
         {
             return Err(SimError::Invalid {
@@ -198,30 +190,6 @@ impl ArticulatedBody {
             .collect()
     }
 
-    /// Displacement `delta` of skinned vertex `v` mapped back to the rest pose through the
-    /// inverse of its blended linear part (`linear`: each bone's), as the skinning kernel blends
-    /// it (weight missing from 1 on the identity).
-    fn unblend(&self, v: usize, linear: &[Mat3], delta: Vec3) -> Vec3 {
-        let influence = &self.influences[v];
-        let mut blend = Mat3::ZERO;
-        let mut total = 0.0;
-        let mut dominant = (f32::NEG_INFINITY, Mat3::IDENTITY);
-        for (&bone, &w) in influence.bones.iter().zip(&influence.weights) {
-            let Some(&m) = linear.get(bone as usize) else { continue };
-            blend += m * w;
-            total += w;
-            if w > dominant.0 {
-                dominant = (w, m);
-            }
-        }
-        blend += Mat3::IDENTITY * (1.0 - total);
-        if blend.determinant().abs() > SINGULAR_BLEND {
-            blend.inverse() * delta
-        } else {
-            dominant.1.transpose() * delta
-        }
-    }
-
     /// The bones owning a vertex of `moved` (ascending) and each one's world body index and
     /// sub-mesh of `rest` in that body's coordinates.
     fn changed_sub_meshes(
@@ -230,22 +198,13 @@ impl ArticulatedBody {
         rest: &TriMesh,
         moved: &[usize],
     ) -> Result<(Vec<usize>, SubMeshes), SimError> {
-        let mut flags = vec![false; rest.vertex_count()];
-        moved.iter().for_each(|&v| flags[v] = true);
-        let mut owns = vec![false; self.bodies.len()];
-        for (face, &bone) in rest.faces().iter().zip(self.sub_bodies.triangle_bones()) {
-            if face.iter().any(|&v| flags[v as usize])
-                && let Some(o) = owns.get_mut(bone as usize)
-            {
-                *o = true;
-            }
-        }
-        let bones: Vec<usize> = (0..owns.len()).filter(|&k| owns[k]).collect();
+        let moved: Vec<u32> = moved.iter().map(|&v| v as u32).collect();
+        let bones = self.rig.bones_owning(&moved);
         let fail = |e| super::bendable::bend_error(&self.name, e);
         let meshes = bones
             .iter()
             .map(|&bone| {
-                let (mut mesh, _) = self.sub_bodies.sub_mesh(rest, bone).map_err(fail)?;
+                let (mut mesh, _) = self.rig.sub_bodies().sub_mesh(rest, bone).map_err(fail)?;
                 let index = self.bodies[bone];
                 let offset = world.bodies()[index].model_offset;
                 mesh.transform(Affine3A::from_translation(offset))

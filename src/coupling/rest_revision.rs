@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use super::ArticulatedBody;
 use crate::cpu::SkinInfluence;
 use crate::mesh::TriMesh;
+use crate::sim::SimError;
 
 /// A revision no body has had yet in this process: numbers come from one process-wide counter,
 /// so two bodies share a revision only when one is a copy of the other with the same rest data.
@@ -24,21 +25,19 @@ impl ArticulatedBody {
         self.rest_revision
     }
 
-    /// Replaces the rest mesh (a dent's) and takes a new [`rest_revision`](Self::rest_revision).
-    pub(crate) fn set_rest_mesh(&mut self, mesh: TriMesh) {
-        self.rest_mesh = mesh;
-        self.rest_revision = next_rest_revision();
-    }
-
-    /// Replaces the skinning influences (after a split's re-weighting) and takes a new
+    /// Replaces the rest mesh (a dent's: the same faces) and takes a new
     /// [`rest_revision`](Self::rest_revision).
-    pub(crate) fn set_influences(&mut self, influences: Vec<SkinInfluence>) {
-        self.influences = influences;
+    ///
+    /// # Errors
+    /// [`SimError::BadShape`] for a mesh with other faces; nothing changes then.
+    pub(crate) fn set_rest_mesh(&mut self, mesh: TriMesh) -> Result<(), SimError> {
+        self.rig.set_rest(mesh).map_err(|e| super::bendable::bend_error(&self.name, e))?;
         self.rest_revision = next_rest_revision();
+        Ok(())
     }
 
     /// The four bone influences of every rest vertex, as the skinning kernel reads them.
     pub fn influences(&self) -> &[SkinInfluence] {
-        &self.influences
+        self.rig.influences()
     }
 }

@@ -5,9 +5,8 @@
 use glam::Vec3;
 
 use super::ArticulatedBody;
-use super::articulated::{RigidMotion, ignore_own_collisions, skin_influences};
+use super::articulated::{RigidMotion, ignore_own_collisions};
 use super::bendable::bend_error;
-use crate::bend::{BendError, SubBodies};
 use crate::sim::{SimError, World};
 
 /// What a split did.
@@ -54,52 +53,29 @@ impl ArticulatedBody {
         }
         let transforms = self.bone_transforms(world)?;
         let rest_point = transforms[hit_bone].inverse().transform_point3(point);
-        let Some((bone, t, _)) = self.skeleton.nearest_bone(rest_point) else { return Ok(None) };
-        let length = self.skeleton.bones()[bone].length();
-        if t * length < dynamic.min_bone_length || (1.0 - t) * length < dynamic.min_bone_length {
-            return Ok(None);
-        }
+        let Some((bone, _, _)) = self.rig.skeleton().nearest_bone(rest_point) else { return Ok(None) };
         let fail = |e| bend_error(&self.name, e);
-        let mut skeleton = self.skeleton.clone();
-        let (first, second) = match skeleton.split_bone(bone, rest_point) {
-            Ok(halves) => halves,
-            Err(BendError::SplitNearEnd { .. }) => return Ok(None),
-            Err(e) => return Err(fail(e)),
-        };
-        let weights = self.weights.after_split(&self.rest_mesh, &skeleton, bone, (first, second), &self.cache);
-        let weights = weights.map_err(fail)?;
-        let sub_bodies = SubBodies::compute(&self.rest_mesh, &weights, self.cache.level_set(), self.density);
-        let sub_bodies = sub_bodies.map_err(fail)?;
-        if sub_bodies.bodies().iter().any(|s| s.mass.is_none() || s.triangles.is_empty()) {
-            log::debug!("{}: split of bone {bone} skipped: a half owns no cell or triangle", self.name);
+        let Some(split) = self.rig.split(bone, rest_point, dynamic.min_bone_length).map_err(fail)? else {
             return Ok(None);
-        }
-        let split_point = skeleton.bones()[second].head;
-        let changed: Vec<usize> = (0..self.skeleton.len())
-            .filter(|&k| {
-                let (old, new) = (&self.sub_bodies.bodies()[k], &sub_bodies.bodies()[k]);
-                k == bone || old.triangles != new.triangles || old.cell_count != new.cell_count
-            })
-            .collect();
-        // Stage: the new state in self and the edits on the world, both put back on error (the
+        };
+        let (second, split_point, changed) = (split.new_bone, split.joint_point, split.changed.clone());
+        let mut rig = self.rig.clone();
+        rig.apply_split(split).map_err(fail)?;
+        // Stage: the new rig in self and the edits on the world, both put back on error (the
         // edits rebuild this body's sub-bodies and add one: recording those is enough).
-        let old_state = (
-            std::mem::replace(&mut self.skeleton, skeleton),
-            std::mem::replace(&mut self.weights, weights),
-            std::mem::replace(&mut self.sub_bodies, std::sync::Arc::new(sub_bodies)),
-        );
+        let old_rig = std::mem::replace(&mut self.rig, rig);
         let undo = world.record_edit(&self.bodies);
         match self.apply_split(world, &changed, bone, second, transforms[bone].transform_point3(split_point)) {
             Ok((new_body, joint)) => {
                 self.bodies.push(new_body);
-                self.set_influences(skin_influences(&self.weights));
+                self.rest_revision = super::rest_revision::next_rest_revision();
                 self.added_joints += 1;
                 let world_point = transforms[bone].transform_point3(split_point);
                 Ok(Some(SplitOutcome { bone, new_bone: second, new_body, joint, rest_point: split_point, world_point }))
             }
             Err(e) => {
                 world.undo_edit(undo);
-                (self.skeleton, self.weights, self.sub_bodies) = old_state;
+                self.rig = old_rig;
                 Err(e)
             }
         }
@@ -137,7 +113,7 @@ impl ArticulatedBody {
         // Every joint on the old bone's far half moves to the new body: the skeleton's joints
         // to the split bone's children, and joints to other bodies (a strut's end caps).
         let to_rest = world.bodies()[old_body].model_transform().inverse();
-        let (first_bone, second_bone) = (&self.skeleton.bones()[bone], &self.skeleton.bones()[second]);
+        let (first_bone, second_bone) = (&self.rig.skeleton().bones()[bone], &self.rig.skeleton().bones()[second]);
         for joint in 0..world.joints().len() {
             let j = &world.joints()[joint];
             let Some((on_a, on_b)) = j.anchors(world.bodies()) else { continue };

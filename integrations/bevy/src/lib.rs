@@ -84,7 +84,8 @@ pub use bend::{BendPiece, Bendable, Bends};
 pub use components::{DentProjectile, Dentable, kernel_params};
 pub use contact::{DentBody, DentContact};
 #[cfg(feature = "rapier")]
-pub use dentbend_rapier::{BendSettings, JointKind};
+pub use dentbend::bend::JointRule;
+pub use dentbend_rapier::BendSettings;
 pub use events::{DentApplied, MeshDented};
 pub use link::GpuStatus;
 pub use mesh_data::{MeshDataError, SlabLayout, bevy_mesh, slab_layout, tri_mesh};

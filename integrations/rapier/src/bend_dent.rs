@@ -6,18 +6,13 @@
 //! moves the surface by less than a cell); Rapier recomputes each refitted piece's mass from its
 //! new hull.
 
-use dentbend::bend::SubBodies;
 use dentbend::damage::{Damage, DentBackend, Hit, TargetSet};
 use dentbend::dent::{BodyState, DentSettings, Impact, Refine, Surface};
 use dentbend::mesh::TriMesh;
-use glam::{Affine3A, Mat3, Vec3};
+use glam::{Affine3A, Vec3};
 use rapier3d::prelude::{ColliderHandle, SharedShape};
 
 use crate::{AdapterError, Bendable, BodyStates, Contact, PhysicsWorld};
-
-/// Determinant under which a vertex's blended linear part counts as singular (bones turned
-/// nearly 180° against each other); its dominant bone's rotation is inverted instead.
-pub const SINGULAR_BLEND: f32 = 1e-3;
 
 /// The key of the parent mesh in the dent planning (projectiles are keyed by their colliders).
 fn parent_key() -> ColliderHandle {
@@ -131,7 +126,11 @@ impl Bendable {
             }
             return Ok(BendDentReport::default());
         };
-        let rest = self.mapped_back(&skinned, &dented.mesh, &dented.moved, &transforms)?;
+        let rig = |e: dentbend::bend::BendError| AdapterError::Rig(e.to_string());
+        let rest = self
+            .rig
+            .rest_after_pose_dent(self.rig.rest(), &skinned, &dented.mesh, &dented.moved, &transforms)
+            .map_err(rig)?;
         let refit_start = std::time::Instant::now();
         let refits = self.refits(&rest, &dented.moved)?;
         let mut collider_seconds = refit_start.elapsed().as_secs_f64();
@@ -147,7 +146,7 @@ impl Bendable {
         }
         collider_seconds += commit_start.elapsed().as_secs_f64();
         report.collider_seconds = collider_seconds;
-        self.rest = rest;
+        self.rig.set_rest(rest).map_err(rig)?;
         if let Some(d) = &mut self.dent {
             (d.damage, d.step) = (damage, step);
         }
@@ -170,49 +169,13 @@ impl Bendable {
         Ok(out)
     }
 
-    /// The rest mesh with the displacements `dented − skinned` of `moved` mapped back through
-    /// each vertex's blended linear part.
-    fn mapped_back(
-        &self,
-        skinned: &TriMesh,
-        dented: &TriMesh,
-        moved: &[u32],
-        transforms: &[Affine3A],
-    ) -> Result<TriMesh, AdapterError> {
-        let mut positions = self.rest.positions().to_vec();
-        for &v in moved {
-            let v = v as usize;
-            let (bones, weights) = self.weights.influences(v);
-            let blend: Mat3 =
-                bones.iter().zip(weights).map(|(&b, &w)| Mat3::from(transforms[b as usize].matrix3) * w).sum();
-            let inverse = if blend.determinant().abs() > SINGULAR_BLEND {
-                blend.inverse()
-            } else {
-                let b = self.weights.dominant_bone(v).unwrap_or(0);
-                Mat3::from(transforms[b].matrix3).transpose()
-            };
-            positions[v] += inverse * (dented.positions()[v] - skinned.positions()[v]);
-        }
-        let mut rest = self.rest.clone();
-        rest.set_positions(positions)?;
-        Ok(rest)
-    }
-
     /// New hulls for the pieces owning a vertex of `moved`, from `rest`.
     fn refits(&self, rest: &TriMesh, moved: &[u32]) -> Result<Vec<(ColliderHandle, SharedShape)>, AdapterError> {
         let rig = |e: dentbend::bend::BendError| AdapterError::Rig(e.to_string());
-        let subs =
-            SubBodies::compute(rest, &self.weights, self.cache.level_set(), self.settings.density).map_err(rig)?;
-        let owners = subs.triangle_bones();
-        let mut bones: Vec<usize> = Vec::new();
-        for (t, face) in rest.faces().iter().enumerate() {
-            if face.iter().any(|v| moved.binary_search(v).is_ok()) && !bones.contains(&(owners[t] as usize)) {
-                bones.push(owners[t] as usize);
-            }
-        }
+        let bones = self.rig.bones_owning(moved);
         let mut out = Vec::new();
         for p in self.pieces.iter().filter(|p| bones.contains(&p.bone)) {
-            let (sub, _) = subs.sub_mesh(rest, p.bone).map_err(rig)?;
+            let (sub, _) = self.rig.sub_bodies().sub_mesh(rest, p.bone).map_err(rig)?;
             let hull = SharedShape::convex_hull(sub.positions()).ok_or_else(|| AdapterError::Refit {
                 collider: p.collider,
                 reason: "no convex hull of the dented sub-body".into(),

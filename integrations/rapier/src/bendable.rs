@@ -7,7 +7,7 @@
 //! Frames: every piece's body frame is the bendable's rest frame (the mesh's coordinates), so a
 //! piece's Rapier pose *is* its bone's skinning transform (rest → world).
 
-use dentbend::bend::{Skeleton, SkinWeights, WeightCache, WeightParams};
+use dentbend::bend::{JointRule, Rig, Skeleton, WeightParams};
 use dentbend::mesh::TriMesh;
 use glam::{Quat, Vec3};
 use rapier3d::math::Pose;
@@ -23,28 +23,6 @@ use crate::split::{Split, hulls};
 use crate::world::PhysicsWorld;
 use crate::{AdapterError, BodyStates};
 
-/// The angular rule of a bendable body's joints.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum JointKind {
-    /// Plastic: strength N·m·s per step, post-bend damping constant (rad/s²) and proportional
-    /// (1/s).
-    Plastic {
-        /// N·m·s.
-        strength: f32,
-        /// rad/s².
-        damping_constant: f32,
-        /// 1/s.
-        damping_proportional: f32,
-    },
-    /// Elastic: stiffness N·m/rad, damping N·m·s/rad.
-    Elastic {
-        /// N·m/rad.
-        stiffness: f32,
-        /// N·m·s/rad.
-        damping: f32,
-    },
-}
-
 /// How a bendable body is built and how it bends.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BendSettings {
@@ -53,7 +31,7 @@ pub struct BendSettings {
     /// Friction coefficient of the pieces' colliders.
     pub friction: f32,
     /// The joints' rule (the skeleton's joints and the ones dynamic articulation adds).
-    pub joint: JointKind,
+    pub joint: JointRule,
     /// Dynamic articulation: a hit whose normal approach speed (m/s, before the step) reaches
     /// this splits the bone it lands on; `None`: never split.
     pub split_speed: Option<f32>,
@@ -70,7 +48,7 @@ impl BendSettings {
         Self {
             density,
             friction: 0.5,
-            joint: JointKind::Plastic { strength, damping_constant: 0.5, damping_proportional: 10.0 },
+            joint: JointRule::plastic(strength),
             split_speed: None,
             min_joint_spacing: 0.3,
             weights: WeightParams::default(),
@@ -89,9 +67,9 @@ pub struct Piece {
     pub collider: ColliderHandle,
 }
 
-/// A joint's angular rule and state.
+/// A joint's angular rule with its state (rest orientation, accumulated bend).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum JointRule {
+pub enum JointState {
     /// Plastic.
     Plastic(PlasticJoint),
     /// Elastic.
@@ -109,18 +87,31 @@ pub struct BendJoint {
     pub rest_point: Vec3,
     /// The Rapier joint (spherical: anchors only).
     pub handle: ImpulseJointHandle,
-    /// Its angular rule.
-    pub rule: JointRule,
+    /// Its angular rule and state.
+    pub rule: JointState,
     /// Whether dynamic articulation made it.
     pub dynamic: bool,
 }
 
-impl JointRule {
+impl JointState {
+    /// `rule` at rest in the relative orientation `rest` (child in parent).
+    ///
+    /// # Errors
+    /// [`AdapterError::InvalidParameter`] for a rule with bad values.
+    pub fn new(rule: JointRule, rest: Quat) -> Result<Self, AdapterError> {
+        Ok(match rule {
+            JointRule::Plastic { strength, damping_constant, damping_proportional } => {
+                Self::Plastic(PlasticJoint::new(strength, damping_constant, damping_proportional, rest)?)
+            }
+            JointRule::Elastic { stiffness, damping } => Self::Elastic(ElasticJoint::new(stiffness, damping, rest)?),
+        })
+    }
+
     /// Net plastic bend since the joint was made, rad (0 for elastic joints).
     pub fn bend_angle(&self) -> f32 {
         match self {
-            JointRule::Plastic(p) => p.bend_angle(),
-            JointRule::Elastic(_) => 0.0,
+            JointState::Plastic(p) => p.bend_angle(),
+            JointState::Elastic(_) => 0.0,
         }
     }
 }
@@ -147,10 +138,7 @@ pub struct BendReport {
 /// A bendable body in a Rapier world.
 #[derive(Debug)]
 pub struct Bendable {
-    pub(crate) rest: TriMesh,
-    pub(crate) skeleton: Skeleton,
-    pub(crate) weights: SkinWeights,
-    pub(crate) cache: WeightCache,
+    pub(crate) rig: Rig,
     pub(crate) pieces: Vec<Piece>,
     pub(crate) joints: Vec<BendJoint>,
     pub(crate) settings: BendSettings,
@@ -179,16 +167,14 @@ impl Bendable {
                 reason: "must be finite",
             });
         }
-        let cache = WeightCache::new(&mesh, settings.weights).map_err(rig)?;
-        let weights = SkinWeights::compute(&mesh, &skeleton, &cache).map_err(rig)?;
-        let hulls = hulls(&mesh, &weights, &cache, settings.density, &(0..skeleton.len()).collect::<Vec<_>>())?;
-        let mut this =
-            Self { rest: mesh, skeleton, weights, cache, pieces: Vec::new(), joints: Vec::new(), settings, dent: None };
+        let rig = Rig::new(mesh, skeleton, settings.weights, settings.density).map_err(rig_error)?;
+        let hulls = hulls(&rig, &(0..rig.skeleton().len()).collect::<Vec<_>>())?;
+        let mut this = Self { rig, pieces: Vec::new(), joints: Vec::new(), settings, dent: None };
         for (bone, hull) in hulls {
             let piece = this.add_piece(world, bone, hull, pose, (Vec3::ZERO, Vec3::ZERO), None);
             this.pieces.push(piece);
         }
-        for j in this.skeleton.joints() {
+        for j in this.rig.skeleton().joints() {
             let joint = this.add_joint(world, j.parent, j.child, j.point, false)?;
             this.joints.push(joint);
         }
@@ -197,12 +183,17 @@ impl Bendable {
 
     /// The rest mesh (rest frame, m).
     pub fn rest_mesh(&self) -> &TriMesh {
-        &self.rest
+        self.rig.rest()
     }
 
     /// The skeleton (rest frame).
     pub fn skeleton(&self) -> &Skeleton {
-        &self.skeleton
+        self.rig.skeleton()
+    }
+
+    /// The rig: rest mesh, skeleton, weights and sub-bodies.
+    pub fn rig(&self) -> &Rig {
+        &self.rig
     }
 
     /// The pieces, one per bone, in bone order (`pieces()[b].bone == b`).
@@ -266,8 +257,8 @@ impl Bendable {
             let (b1, b2) = (self.pieces[j.parent].body, self.pieces[j.child].body);
             let (Some(rb1), Some(rb2)) = world.bodies.get_pair_mut(b1, b2) else { continue };
             match &mut j.rule {
-                JointRule::Plastic(p) => report.plastic_bends += usize::from(p.apply(rb1, rb2, dt).yielded),
-                JointRule::Elastic(e) => {
+                JointState::Plastic(p) => report.plastic_bends += usize::from(p.apply(rb1, rb2, dt).yielded),
+                JointState::Elastic(e) => {
                     e.apply(rb1, rb2, dt);
                 }
             }
@@ -317,14 +308,7 @@ impl Bendable {
         let r1 = *world.bodies.get(b1).ok_or(AdapterError::UnknownBody(b1))?.rotation();
         let r2 = *world.bodies.get(b2).ok_or(AdapterError::UnknownBody(b2))?.rotation();
         let rest: Quat = r1.inverse() * r2;
-        let rule = match self.settings.joint {
-            JointKind::Plastic { strength, damping_constant, damping_proportional } => {
-                JointRule::Plastic(PlasticJoint::new(strength, damping_constant, damping_proportional, rest)?)
-            }
-            JointKind::Elastic { stiffness, damping } => {
-                JointRule::Elastic(ElasticJoint::new(stiffness, damping, rest)?)
-            }
-        };
+        let rule = JointState::new(self.settings.joint, rest)?;
         let joint: GenericJoint = SphericalJointBuilder::new()
             .local_anchor1(rest_point)
             .local_anchor2(rest_point)
@@ -336,7 +320,7 @@ impl Bendable {
     }
 }
 
-pub(crate) fn rig(e: dentbend::bend::BendError) -> AdapterError {
+pub(crate) fn rig_error(e: dentbend::bend::BendError) -> AdapterError {
     AdapterError::Rig(e.to_string())
 }
 

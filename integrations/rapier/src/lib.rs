@@ -63,8 +63,8 @@ mod states;
 mod world;
 
 pub use adapter::{Adapter, StepReport};
-pub use bend_dent::{BendDentReport, SINGULAR_BLEND};
-pub use bendable::{BendJoint, BendReport, BendSettings, Bendable, JointKind, JointRule, Piece};
+pub use bend_dent::BendDentReport;
+pub use bendable::{BendJoint, BendReport, BendSettings, Bendable, JointState, Piece};
 pub mod demo;
 pub use contacts::{Contact, ImpactCollector, ImpactReader};
 pub use dentable::{DentReport, Dentables};

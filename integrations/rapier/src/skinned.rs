@@ -3,7 +3,7 @@
 //! blend skinning over the body's weights on the CPU (dentbend's `skin` twin of the GPU
 //! kernel).
 
-use dentbend::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
+use dentbend::cpu::{SkinBone, SkinParams, skin};
 use dentbend::mesh::TriMesh;
 use glam::{Affine3A, Vec3};
 
@@ -15,7 +15,7 @@ impl Bendable {
     /// # Errors
     /// [`AdapterError::UnknownBody`] when a piece's body was removed.
     pub fn bone_transforms(&self, world: &PhysicsWorld) -> Result<Vec<Affine3A>, AdapterError> {
-        let mut out = vec![Affine3A::IDENTITY; self.skeleton.len()];
+        let mut out = vec![Affine3A::IDENTITY; self.rig.skeleton().len()];
         for p in &self.pieces {
             let rb = world.bodies.get(p.body).ok_or(AdapterError::UnknownBody(p.body))?;
             out[p.bone] = crate::to_affine(rb.position());
@@ -35,13 +35,13 @@ impl Bendable {
     /// The rest mesh skinned by `transforms` (one per bone, rest frame → world), m.
     pub(crate) fn skin_with(&self, transforms: &[Affine3A]) -> Result<TriMesh, AdapterError> {
         let bones: Vec<SkinBone> = transforms.iter().copied().map(SkinBone::from_affine).collect();
-        let influences: Vec<SkinInfluence> =
-            self.weights.influences4().into_iter().map(|(bones, weights)| SkinInfluence { bones, weights }).collect();
-        let n = self.rest.vertex_count();
+        let rest = self.rig.rest();
+        let n = rest.vertex_count();
         let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
         let params = SkinParams::new(n as u32, bones.len() as u32);
-        skin(&params, &bones, self.rest.positions(), self.rest.normals(), &influences, &mut positions, &mut normals)
+        let influences = self.rig.influences();
+        skin(&params, &bones, rest.positions(), rest.normals(), influences, &mut positions, &mut normals)
             .map_err(|e| AdapterError::Rig(e.to_string()))?;
-        Ok(TriMesh::new(positions, self.rest.faces().to_vec())?)
+        Ok(TriMesh::new(positions, rest.faces().to_vec())?)
     }
 }

@@ -2,12 +2,11 @@
 //! speed splits the bone it lands on at the contact's projection, replacing the hit piece by
 //! two Rapier bodies joined by a new joint.
 
-use dentbend::bend::{SkinWeights, SubBodies, WeightCache};
-use dentbend::mesh::TriMesh;
+use dentbend::bend::Rig;
 use glam::Vec3;
-use rapier3d::prelude::{ColliderBuilder, RigidBodyHandle};
+use rapier3d::prelude::{ColliderBuilder, RigidBodyHandle, SharedShape};
 
-use crate::bendable::{BendJoint, BendReport, rig};
+use crate::bendable::{BendJoint, BendReport, rig_error};
 use crate::{AdapterError, Bendable, BodyStates, Contact, PhysicsWorld, convex_collider};
 
 impl Bendable {
@@ -39,10 +38,9 @@ impl Bendable {
         }
         let Some(pose) = states.body_pose(self.pieces[piece].body) else { return Ok(None) };
         let rest_point = pose.inverse_transform_point(c.point);
-        let bone = self.pieces[piece].bone;
-        let b = &self.skeleton.bones()[bone];
-        let on_bone = b.point_at(b.project(rest_point).clamp(0.0, 1.0));
-        if self.joints.iter().any(|j| j.rest_point.distance(on_bone) < self.settings.min_joint_spacing) {
+        let joints = self.joints.iter().map(|j| j.rest_point);
+        if self.rig.split_point(self.pieces[piece].bone, rest_point, self.settings.min_joint_spacing, joints).is_none()
+        {
             return Ok(None);
         }
         Ok(Some(Split { piece, rest_point, projectile: hitter.map(|(b, _)| b) }))
@@ -58,11 +56,16 @@ impl Bendable {
         report: &mut BendReport,
     ) -> Result<(), AdapterError> {
         let old = self.pieces[split.piece];
-        let mut skeleton = self.skeleton.clone();
-        let Ok((first, second)) = skeleton.split_bone(old.bone, split.rest_point) else { return Ok(()) };
-        let weights =
-            self.weights.after_split(&self.rest, &skeleton, old.bone, (first, second), &self.cache).map_err(rig)?;
-        let hulls = hulls(&self.rest, &weights, &self.cache, self.settings.density, &[first, second])?;
+        let Some(rig_split) = self.rig.split(old.bone, split.rest_point, 0.0).map_err(rig_error)? else {
+            return Ok(());
+        };
+        let (first, second, at) = (rig_split.bone, rig_split.new_bone, rig_split.joint_point);
+        let mut after = self.rig.clone();
+        let recut: Vec<usize> = rig_split.changed.iter().copied().filter(|&k| k != first).collect();
+        after.apply_split(rig_split).map_err(rig_error)?;
+        let hulls = hulls(&after, &[first, second])?;
+        // Other bones whose sub-body the split recut get hulls of their new parts.
+        let recut_hulls = hulls_shapes(&after, &recut)?;
         let (Some(pose), state) = (states.body_pose(old.body), states.body(old.body, &world.bodies)?) else {
             return Ok(());
         };
@@ -72,8 +75,14 @@ impl Bendable {
             .collect();
         world.remove_body(old.body);
         report.removed_colliders.push(old.collider);
-        self.skeleton = skeleton;
-        self.weights = weights;
+        self.rig = after;
+        for (bone, shape) in recut_hulls {
+            if let Some(piece) = self.pieces.iter().find(|p| p.bone == bone)
+                && let Some(collider) = world.colliders.get_mut(piece.collider)
+            {
+                collider.set_shape(shape);
+            }
+        }
         let mut made = Vec::new();
         for (bone, hull) in hulls {
             let velocity = (state.linear_velocity, state.angular_velocity);
@@ -83,13 +92,12 @@ impl Bendable {
         self.pieces.push(made[1]);
         for j in attached {
             let mut joint = self.joints[j];
-            if joint.parent == old.bone && self.skeleton.bones()[joint.child].parent == Some(second) {
+            if joint.parent == old.bone && self.rig.skeleton().bones()[joint.child].parent == Some(second) {
                 joint.parent = second;
             }
             let rebuilt = self.add_joint(world, joint.parent, joint.child, joint.rest_point, joint.dynamic)?;
             self.joints[j] = BendJoint { handle: rebuilt.handle, ..joint };
         }
-        let at = self.skeleton.bones()[second].head;
         let joint = self.add_joint(world, first, second, at, true)?;
         self.joints.push(joint);
         report.joints_created += 1;
@@ -114,20 +122,20 @@ pub(crate) struct Split {
     projectile: Option<RigidBodyHandle>,
 }
 
-/// The convex-hull collider of each of `bones`' sub-bodies.
-pub(crate) fn hulls(
-    mesh: &TriMesh,
-    weights: &SkinWeights,
-    cache: &WeightCache,
-    density: f32,
-    bones: &[usize],
-) -> Result<Vec<(usize, ColliderBuilder)>, AdapterError> {
-    let subs = SubBodies::compute(mesh, weights, cache.level_set(), density).map_err(rig)?;
+/// The convex-hull collider of each of `bones`' parts of `rig`.
+pub(crate) fn hulls(rig: &Rig, bones: &[usize]) -> Result<Vec<(usize, ColliderBuilder)>, AdapterError> {
+    bones.iter().map(|&bone| Ok((bone, convex_collider(&rig.part(bone).map_err(rig_error)?)?))).collect()
+}
+
+/// The convex hull of each of `bones`' parts of `rig`, as shapes.
+fn hulls_shapes(rig: &Rig, bones: &[usize]) -> Result<Vec<(usize, SharedShape)>, AdapterError> {
     bones
         .iter()
         .map(|&bone| {
-            let (sub, _) = subs.sub_mesh(mesh, bone).map_err(rig)?;
-            Ok((bone, convex_collider(&sub)?))
+            let part = rig.part(bone).map_err(rig_error)?;
+            let shape = SharedShape::convex_hull(part.positions())
+                .ok_or_else(|| AdapterError::Rig(format!("bone {bone}'s recut part has no convex hull")))?;
+            Ok((bone, shape))
         })
         .collect()
 }

@@ -4,8 +4,9 @@
 
 use dentbend::bend::{WeightParams, auto_skeleton};
 use dentbend::mesh;
+use dentbend_rapier::dentbend::bend::JointRule;
 use dentbend_rapier::rapier3d::math::Pose;
-use dentbend_rapier::{Adapter, BendSettings, Bendable, JointKind, PhysicsWorld};
+use dentbend_rapier::{Adapter, BendSettings, Bendable, PhysicsWorld};
 use glam::{Mat3, Quat, Vec3};
 
 fn bar() -> (PhysicsWorld, Adapter) {
@@ -13,7 +14,7 @@ fn bar() -> (PhysicsWorld, Adapter) {
     let mesh = mesh::plank(2.0, 0.2, 0.2, 32).unwrap();
     let skeleton = auto_skeleton(&mesh, 2).unwrap();
     let settings = BendSettings {
-        joint: JointKind::Elastic { stiffness: 100.0, damping: 3.0 },
+        joint: JointRule::Elastic { stiffness: 100.0, damping: 3.0 },
         weights: WeightParams { resolution: 48, ..WeightParams::default() },
         ..BendSettings::plastic(700.0, 1.0)
     };

@@ -2,7 +2,7 @@
 //! plank bends plastically and stays bent after the ball is gone, and its ends stay straight.
 
 use dentbend_rapier::demo::plank::{HIT_X, PLANK_SIZE, Plank};
-use dentbend_rapier::{AdapterError, BodyStates, Contact, JointRule};
+use dentbend_rapier::{AdapterError, BodyStates, Contact, JointState};
 use glam::{Quat, Vec3};
 
 /// Steps until the bend has settled (the post-bend rate decays as e^(−10 t): 1 s is plenty).
@@ -31,7 +31,7 @@ fn a_joint_appears_where_the_ball_hits() {
     assert!((at - Vec3::new(HIT_X, 0.0, 0.0)).length() < 0.01, "joint at {at}");
     // The ball lands within the first 0.1 s.
     assert!(totals.split_step.is_some_and(|s| s <= 6), "split at {:?}", totals.split_step);
-    assert!(joints[0].dynamic && matches!(joints[0].rule, JointRule::Plastic(_)));
+    assert!(joints[0].dynamic && matches!(joints[0].rule, JointState::Plastic(_)));
 }
 
 #[test]

@@ -4,7 +4,7 @@
 
 use bevy::prelude::*;
 use bevy_rapier3d::plugin::context::{RapierContextSimulation, RapierRigidBodySet};
-use dentbend_rapier::JointRule;
+use dentbend_rapier::JointState;
 
 use super::Bends;
 
@@ -22,10 +22,10 @@ pub(crate) fn apply_joint_rules(
             let [Some(h1), Some(h2)] = handles else { continue };
             let (Some(b1), Some(b2)) = set.bodies.get_pair_mut(h1, h2) else { continue };
             match &mut joint.rule {
-                JointRule::Plastic(p) => {
+                JointState::Plastic(p) => {
                     p.apply(b1, b2, dt);
                 }
-                JointRule::Elastic(e) => {
+                JointState::Elastic(e) => {
                     e.apply(b1, b2, dt);
                 }
             }

@@ -19,7 +19,7 @@ use dentbend::TriMesh;
 use dentbend::bend::Skeleton;
 use dentbend::cpu::{SkinBone, SkinInfluence};
 use dentbend::glam::Affine3A;
-use dentbend_rapier::{BendSettings, JointRule};
+use dentbend_rapier::{BendSettings, JointState};
 
 use crate::{DentPath, DentSystems};
 
@@ -48,7 +48,7 @@ pub struct BendPiece {
 pub(crate) struct Joint {
     pub parent: usize,
     pub child: usize,
-    pub rule: JointRule,
+    pub rule: JointState,
 }
 
 /// One registered bendable body.

@@ -4,10 +4,10 @@
 use bevy::prelude::*;
 use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
-use dentbend::bend::{SkinWeights, SubBodies, WeightCache};
+use dentbend::bend;
 use dentbend::cpu::SkinInfluence;
 use dentbend::glam::Quat;
-use dentbend_rapier::{ElasticJoint, JointKind, JointRule, PlasticJoint};
+use dentbend_rapier::JointState;
 
 use super::{BendPiece, Bendable, Bends, Joint, Rig};
 use crate::link::{GpuStatus, MainLink, ToRender};
@@ -19,7 +19,7 @@ struct Built {
     rest: TriMesh,
     influences: Vec<SkinInfluence>,
     hulls: Vec<Collider>,
-    rules: Vec<(usize, usize, Vec3, JointRule)>,
+    rules: Vec<(usize, usize, Vec3, JointState)>,
 }
 
 /// Registers each new bendable body once its mesh is loaded and the GPU's status is known.
@@ -110,32 +110,22 @@ pub(crate) fn register_bendables(
 
 /// Weights, sub-body hulls and joint rules of `bendable` over `rest`.
 fn build(rest: TriMesh, bendable: &Bendable) -> Result<Built, String> {
-    let (skeleton, settings) = (&bendable.skeleton, &bendable.settings);
-    let rig = |e: dentbend::bend::BendError| format!("its rig cannot be built: {e}");
-    let cache = WeightCache::new(&rest, settings.weights).map_err(rig)?;
-    let weights = SkinWeights::compute(&rest, skeleton, &cache).map_err(rig)?;
-    let subs = SubBodies::compute(&rest, &weights, cache.level_set(), settings.density).map_err(rig)?;
-    let mut hulls = Vec::with_capacity(skeleton.len());
-    for bone in 0..skeleton.len() {
-        let (sub, _) = subs.sub_mesh(&rest, bone).map_err(rig)?;
-        hulls.push(Collider::convex_hull(sub.positions()).ok_or(format!("bone {bone}'s sub-body has no convex hull"))?);
+    let (skeleton, settings) = (bendable.skeleton.clone(), &bendable.settings);
+    let error = |e: dentbend::bend::BendError| format!("its rig cannot be built: {e}");
+    let rig = bend::Rig::new(rest, skeleton, settings.weights, settings.density).map_err(error)?;
+    let mut hulls = Vec::with_capacity(rig.skeleton().len());
+    for bone in 0..rig.skeleton().len() {
+        let part = rig.part(bone).map_err(error)?;
+        hulls
+            .push(Collider::convex_hull(part.positions()).ok_or(format!("bone {bone}'s sub-body has no convex hull"))?);
     }
     let mut rules = Vec::new();
-    for j in skeleton.joints() {
-        let rule = match settings.joint {
-            JointKind::Plastic { strength, damping_constant, damping_proportional } => JointRule::Plastic(
-                PlasticJoint::new(strength, damping_constant, damping_proportional, Quat::IDENTITY)
-                    .map_err(|e| e.to_string())?,
-            ),
-            JointKind::Elastic { stiffness, damping } => {
-                JointRule::Elastic(ElasticJoint::new(stiffness, damping, Quat::IDENTITY).map_err(|e| e.to_string())?)
-            }
-        };
+    for j in rig.skeleton().joints() {
+        let rule = JointState::new(settings.joint, Quat::IDENTITY).map_err(|e| e.to_string())?;
         rules.push((j.parent, j.child, j.point, rule));
     }
-    let influences =
-        weights.influences4().into_iter().map(|(bones, weights)| SkinInfluence { bones, weights }).collect();
-    Ok(Built { rest, influences, hulls, rules })
+    let influences = rig.influences().to_vec();
+    Ok(Built { rest: rig.rest().clone(), influences, hulls, rules })
 }
 
 /// Despawns the bones of bendable bodies that were despawned or lost their component.
