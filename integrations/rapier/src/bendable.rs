@@ -19,9 +19,8 @@ use rapier3d::prelude::{
 use crate::contacts::Contact;
 use crate::elastic::ElasticJoint;
 use crate::plastic::PlasticJoint;
-use crate::split::{Split, hulls};
 use crate::world::PhysicsWorld;
-use crate::{AdapterError, BodyStates};
+use crate::{AdapterError, BodyStates, convex_collider};
 
 /// How a bendable body is built and how it bends.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -235,22 +234,7 @@ impl Bendable {
         }
         let mut report = BendReport::default();
         if let Some(speed) = self.settings.split_speed {
-            for c in contacts {
-                c.validate()?;
-            }
-            // Every split decided (and every contact checked) before any is made; one split per
-            // piece per step.
-            let mut splits: Vec<Split> = Vec::new();
-            for c in contacts.iter().filter(|c| c.started) {
-                if let Some(split) = self.split_of(c, speed, states, world)?
-                    && !splits.iter().any(|s| s.piece == split.piece)
-                {
-                    splits.push(split);
-                }
-            }
-            for split in splits {
-                self.split(world, states, split, &mut report)?;
-            }
+            self.split_where_hit(world, states, contacts, speed, &mut report)?;
         }
         let dt = world.params.dt;
         for j in &mut self.joints {
@@ -318,6 +302,11 @@ impl Bendable {
         let handle = world.impulse_joints.insert(b1, b2, joint, true);
         Ok(BendJoint { parent, child, rest_point, handle, rule, dynamic })
     }
+}
+
+/// The convex-hull collider of each of `bones`' parts of `rig`.
+pub(crate) fn hulls(rig: &Rig, bones: &[usize]) -> Result<Vec<(usize, ColliderBuilder)>, AdapterError> {
+    bones.iter().map(|&bone| Ok((bone, convex_collider(&rig.part(bone).map_err(rig_error)?)?))).collect()
 }
 
 pub(crate) fn rig_error(e: dentbend::bend::BendError) -> AdapterError {

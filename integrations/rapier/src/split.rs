@@ -4,14 +4,45 @@
 
 use dentbend::bend::Rig;
 use glam::Vec3;
-use rapier3d::prelude::{ColliderBuilder, RigidBodyHandle, SharedShape};
+use rapier3d::prelude::{RigidBodyHandle, SharedShape};
 
-use crate::bendable::{BendJoint, BendReport, rig_error};
-use crate::{AdapterError, Bendable, BodyStates, Contact, PhysicsWorld, convex_collider};
+use crate::bendable::{BendJoint, BendReport, hulls, rig_error};
+use crate::{AdapterError, Bendable, BodyStates, Contact, PhysicsWorld};
 
 impl Bendable {
+    /// Splits bones where the fast hits of `contacts` (normal approach speed ≥ `speed` m/s)
+    /// landed: every split decided (and every contact checked) before any is made, one split
+    /// per piece per step.
+    ///
+    /// # Errors
+    /// A contact with NaN/∞ or a zero normal, a removed body; nothing changed then.
+    pub(crate) fn split_where_hit(
+        &mut self,
+        world: &mut PhysicsWorld,
+        states: &BodyStates,
+        contacts: &[Contact],
+        speed: f32,
+        report: &mut BendReport,
+    ) -> Result<(), AdapterError> {
+        for c in contacts {
+            c.validate()?;
+        }
+        let mut splits: Vec<Split> = Vec::new();
+        for c in contacts.iter().filter(|c| c.started) {
+            if let Some(split) = self.split_of(c, speed, states, world)?
+                && !splits.iter().any(|s| s.piece == split.piece)
+            {
+                splits.push(split);
+            }
+        }
+        for split in splits {
+            self.split(world, states, split, report)?;
+        }
+        Ok(())
+    }
+
     /// The split a contact asks for: (piece index, rest point, projectile body).
-    pub(crate) fn split_of(
+    fn split_of(
         &self,
         c: &Contact,
         speed: f32,
@@ -48,7 +79,7 @@ impl Bendable {
 
     /// Splits the bone of `split.piece` at `split.rest_point`; a point too near the bone's ends
     /// is no split.
-    pub(crate) fn split(
+    fn split(
         &mut self,
         world: &mut PhysicsWorld,
         states: &BodyStates,
@@ -116,15 +147,10 @@ impl Bendable {
 
 /// A split to make.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Split {
-    pub(crate) piece: usize,
+struct Split {
+    piece: usize,
     rest_point: Vec3,
     projectile: Option<RigidBodyHandle>,
-}
-
-/// The convex-hull collider of each of `bones`' parts of `rig`.
-pub(crate) fn hulls(rig: &Rig, bones: &[usize]) -> Result<Vec<(usize, ColliderBuilder)>, AdapterError> {
-    bones.iter().map(|&bone| Ok((bone, convex_collider(&rig.part(bone).map_err(rig_error)?)?))).collect()
 }
 
 /// The convex hull of each of `bones`' parts of `rig`, as shapes.
