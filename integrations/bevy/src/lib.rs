@@ -74,6 +74,7 @@ mod split_attributes;
 mod stats;
 mod world;
 
+use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 use bevy::render::mesh::allocator::MeshAllocatorSettings;
 use bevy::render::render_resource::BufferUsages;
@@ -107,23 +108,46 @@ pub enum DentSystems {
 }
 
 /// Dents (and, with the `rapier` feature, contacts from bevy_rapier3d) for a Bevy app.
+///
+/// With `rapier`, the plug-in records the bodies' states before each bevy_rapier3d step, reads
+/// its impacts after it and applies the bendable bodies' joint rules, in the schedule that
+/// step runs in: `PostUpdate` by default, `FixedUpdate` with bevy_rapier3d's
+/// `in_fixed_schedule()`. It finds that schedule itself; [`in_schedule`](Self::in_schedule)
+/// names it when bevy_rapier3d's systems are set up by hand. Dents are decided and applied
+/// once a frame in `PostUpdate` (every fixed step's impacts of the frame together).
 #[derive(Debug, Clone, Copy)]
 pub struct DentbendPlugin {
     /// Let dents run on Bevy's GPU device when it can (default); `false` keeps every body on
     /// the CPU path.
     pub gpu: bool,
+    /// The schedule bevy_rapier3d steps in, for an app that sets up bevy_rapier3d's systems
+    /// after this plug-in is finished; `None` (default): `PostUpdate`. The schedule whose
+    /// `PhysicsSet::StepSimulation` holds bevy_rapier3d's step always wins (with a warning when
+    /// it is not the one named here).
+    pub physics_schedule: Option<InternedScheduleLabel>,
 }
 
 impl Default for DentbendPlugin {
     fn default() -> Self {
-        Self { gpu: true }
+        Self { gpu: true, physics_schedule: None }
     }
 }
 
 impl DentbendPlugin {
     /// Every dent on the CPU, updating mesh assets.
     pub fn cpu_only() -> Self {
-        Self { gpu: false }
+        Self { gpu: false, ..Self::default() }
+    }
+
+    /// bevy_rapier3d steps in `schedule` (as its own `in_schedule`).
+    pub fn in_schedule(mut self, schedule: impl ScheduleLabel) -> Self {
+        self.physics_schedule = Some(schedule.intern());
+        self
+    }
+
+    /// bevy_rapier3d steps in `FixedUpdate` (as its own `in_fixed_schedule()`).
+    pub fn in_fixed_schedule(self) -> Self {
+        self.in_schedule(FixedUpdate)
     }
 }
 
@@ -169,11 +193,6 @@ impl Plugin for DentbendPlugin {
                 PostUpdate,
                 (decide::receive_from_render, decide::decide_dents).chain().in_set(DentSystems::Decide),
             );
-        #[cfg(feature = "rapier")]
-        {
-            rapier::build(app);
-            bend::build(app);
-        }
         match app.get_sub_app_mut(RenderApp) {
             Some(render_app) => {
                 render_app
@@ -187,6 +206,23 @@ impl Plugin for DentbendPlugin {
     }
 
     fn finish(&self, app: &mut App) {
+        // Every plug-in is built now: bevy_rapier3d's step is in its schedule.
+        #[cfg(feature = "rapier")]
+        {
+            let found = rapier::physics_schedule(app);
+            if let (Some(named), Some(found)) = (self.physics_schedule, found)
+                && named != found
+            {
+                warn!(
+                    "bevy_rapier3d steps in {found:?} but DentbendPlugin was told {named:?}: its impacts would be \
+                     missed and nothing would dent; use DentbendPlugin::in_schedule({found:?}) (dentbend follows \
+                     bevy_rapier3d's schedule)"
+                );
+            }
+            let schedule = found.or(self.physics_schedule).unwrap_or(PostUpdate.intern());
+            rapier::build(app, schedule);
+            bend::build(app, schedule);
+        }
         // The dent kernels write into Bevy's vertex slabs, which need STORAGE usage.
         if let Some(render_app) = app.get_sub_app_mut(RenderApp)
             && let Some(mut settings) = render_app.world_mut().get_resource_mut::<MeshAllocatorSettings>()

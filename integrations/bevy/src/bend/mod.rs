@@ -13,6 +13,7 @@ mod skinning;
 
 use std::collections::HashMap;
 
+use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy_rapier3d::plugin::PhysicsSet;
 use dentbend::TriMesh;
@@ -103,12 +104,13 @@ impl Bends {
     }
 }
 
-/// Adds bending to the app (with the `rapier` feature).
-pub(crate) fn build(app: &mut App) {
+/// Adds bending to the app (with the `rapier` feature): the joint rules before every step of
+/// `physics` (the schedule bevy_rapier3d steps in).
+pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
     app.init_resource::<Bends>()
         .add_systems(PostUpdate, rig::register_bendables.in_set(DentSystems::Register))
         .add_systems(
-            PostUpdate,
+            physics,
             joints::apply_joint_rules.after(PhysicsSet::SyncBackend).before(PhysicsSet::StepSimulation),
         )
         .add_systems(PostUpdate, (rig::forget_removed, skinning::pose_bendables).chain().in_set(DentSystems::Apply));

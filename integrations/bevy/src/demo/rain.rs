@@ -100,7 +100,7 @@ pub fn headless_app_with(gpu: bool, render: RenderPlugin) -> App {
     app.add_plugins(plugins)
         .add_plugins(ScheduleRunnerPlugin::run_loop(std::time::Duration::ZERO))
         .add_plugins(RapierPhysicsPlugin::<NoUserData>::default())
-        .add_plugins(DentbendPlugin { gpu })
+        .add_plugins(DentbendPlugin { gpu, ..default() })
         .insert_resource(TimestepMode::Fixed { dt: 1.0 / 60.0, substeps: 1 });
     app
 }
