@@ -127,6 +127,11 @@ impl<K: Copy + Eq + Hash> TargetSet<K> {
         self.targets.get(&key).map(|e| &e.mesh)
     }
 
+    /// Dentable body `key`'s mesh → world transform.
+    pub fn pose(&self, key: K) -> Option<Affine3A> {
+        self.targets.get(&key).map(|e| e.to_world)
+    }
+
     /// Dentable body `key`'s settings.
     pub fn settings(&self, key: K) -> Option<&DentSettings> {
         self.targets.get(&key).map(|e| &e.settings)

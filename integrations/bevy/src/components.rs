@@ -1,7 +1,10 @@
 //! The components a game puts on its entities.
 
 use bevy::prelude::*;
+use dentbend::damage::PieceId;
 use dentbend::dent::{DentParams, DentSettings, VolumeMode};
+use dentbend::fracture::FractureSettings;
+use dentbend::mesh::MassProperties;
 
 /// An entity whose mesh ([`Mesh3d`]) dents where things hit it. Its mesh becomes its own (the
 /// plug-in gives it a private copy, so other entities sharing the asset stay undented), in the
@@ -17,6 +20,8 @@ use dentbend::dent::{DentParams, DentSettings, VolumeMode};
 pub struct Dentable {
     /// How it dents (material, shape of the dent, projectile handling).
     pub settings: DentSettings,
+    /// How it breaks ([`breaking`](Self::breaking)); `None`: it never does.
+    pub fracture: Option<FractureSettings>,
 }
 
 impl Dentable {
@@ -26,7 +31,7 @@ impl Dentable {
     /// [`with_volume`](Self::with_volume) keeps it for solid bodies). On the GPU path these run
     /// around the kernels on the render world's copy of the mesh.
     pub fn new(threshold: f32, gain: f32, cap: f32) -> Self {
-        Self { settings: DentSettings::new(threshold, gain, cap) }
+        Self { settings: DentSettings::new(threshold, gain, cap), fracture: None }
     }
 
     /// [`new`](Self::new)'s material with the paper's dent (the GPU kernels alone: no
@@ -35,7 +40,7 @@ impl Dentable {
     pub fn paper(threshold: f32, gain: f32, cap: f32) -> Self {
         let mut settings = DentSettings::new(threshold, gain, cap);
         settings.params = kernel_params(cap);
-        Self { settings }
+        Self { settings, fracture: None }
     }
 
     /// What a dent does to the body's volume: [`VolumeMode::Free`] loses the cavity (sheet
@@ -55,7 +60,18 @@ impl Dentable {
 
     /// Any settings (host stages too; see the type's doc for which path they take).
     pub fn with_settings(settings: DentSettings) -> Self {
-        Self { settings }
+        Self { settings, fracture: None }
+    }
+
+    /// The body also breaks (prescored fracture): when a hit's energy passes the settings'
+    /// toughness or its dents add up past their limit, it breaks along the pattern placed at the
+    /// hit, after its dents. Its mesh becomes the rest (positions and normals: other attributes
+    /// are not kept on a broken body), and each piece an entity with a [`DentPiece`] (with the
+    /// `rapier` feature, a dynamic body with a convex-hull collider). Its mesh must be closed.
+    /// A breakable body dents on the CPU path.
+    pub fn breaking(mut self, fracture: FractureSettings) -> Self {
+        self.fracture = Some(fracture);
+        self
     }
 
     /// Whether the GPU kernels alone make this body's dents (the paper's dent: no host stage).
@@ -66,7 +82,7 @@ impl Dentable {
     /// Whether the GPU path can make this body's dents: every setting but progressive dents
     /// (which rebuild each dent from the surface before the contact, on the CPU path).
     pub fn gpu_servable(&self) -> bool {
-        !self.settings.progressive
+        !self.settings.progressive && self.fracture.is_none()
     }
 }
 
@@ -79,3 +95,21 @@ pub fn kernel_params(dent_distance: f32) -> DentParams {
 /// its [`Mesh3d`] in its own coordinates.
 #[derive(Component, Debug, Clone, Copy, Default)]
 pub struct DentProjectile;
+
+/// A piece a breakable body broke into: spawned with its [`Mesh3d`] and the broken body's
+/// [`Transform`] (its mesh is in the broken body's coordinates). With the `rapier` feature it
+/// also gets a dynamic bevy_rapier3d body, a convex-hull collider with the piece's mass
+/// properties and its velocity; without, a physics engine of the game's takes these from here.
+#[derive(Component, Debug, Clone)]
+pub struct DentPiece {
+    /// The body it broke from.
+    pub from: Entity,
+    /// Its id from the damage API (deterministic for the same hits).
+    pub id: PieceId,
+    /// Mass, kg, centre of mass and inertia about it (the mesh's coordinates).
+    pub mass: MassProperties,
+    /// Velocity of its centre of mass when it broke loose, world, m/s.
+    pub linear_velocity: Vec3,
+    /// Angular velocity when it broke loose, world, rad/s.
+    pub angular_velocity: Vec3,
+}

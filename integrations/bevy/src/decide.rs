@@ -9,6 +9,7 @@ use dentbend::damage::{AppliedDent, Hit};
 use dentbend::dent::{Impact, Surface};
 
 use crate::backend::SplitBackend;
+use crate::fracture::{Breaking, break_bodies};
 use crate::link::{MainLink, ToMain, ToRender};
 use crate::mesh_data::write_dented;
 use crate::world::surface_in;
@@ -30,6 +31,7 @@ pub(crate) fn decide_dents(
     mut meshes: ResMut<Assets<Mesh>>,
     mut stats: ResMut<DentStats>,
     mut reports: DentReports,
+    mut breaking: Breaking,
 ) {
     let contacts: Vec<DentContact> = contacts.read().copied().collect();
     world.step += 1;
@@ -140,6 +142,7 @@ pub(crate) fn decide_dents(
         });
     }
     world.targets.apply(cpu_targets);
+    break_bodies(world, plan.fractures, &mut breaking, (&mut meshes, &mut reports.dented, &mut stats));
 }
 
 /// Counts a dent made on the CPU path.

@@ -2,6 +2,7 @@
 
 use bevy::prelude::*;
 use dentbend::dent::Impact;
+use dentbend::fracture::FractureCause;
 
 use crate::DentPath;
 
@@ -40,4 +41,26 @@ pub struct MeshDented {
     pub moved: Vec<u32>,
     /// Whether the faces changed (a refining dent on the CPU path): rebuild, do not refit.
     pub topology_changed: bool,
+}
+
+/// A breakable dentable entity broke (on the CPU path, the step its hit was decided): its mesh is
+/// now the rest (or the entity was despawned, the pattern having taken it whole), and each piece
+/// is a new entity with a [`DentPiece`](crate::DentPiece).
+#[derive(Message, Debug, Clone)]
+pub struct BodyBroken {
+    /// The entity that broke.
+    pub entity: Entity,
+    /// What broke it.
+    pub projectile: Entity,
+    /// Why.
+    pub cause: FractureCause,
+    /// The pieces' entities, in the fracture's order.
+    pub pieces: Vec<Entity>,
+    /// Whether the pattern took the whole body (the entity was despawned).
+    pub whole: bool,
+    /// The projectile's (linear m/s, angular rad/s) velocity from before the step, less the
+    /// energy the break used up: the body gave way instead of stopping it (with the `rapier`
+    /// feature the projectile's `Velocity` is set to it); `None` for a projectile that takes no
+    /// impulse.
+    pub projectile_velocity: Option<(Vec3, Vec3)>,
 }

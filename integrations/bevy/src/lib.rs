@@ -64,6 +64,7 @@ mod decide;
 #[cfg(feature = "rapier")]
 pub mod demo;
 mod events;
+mod fracture;
 mod link;
 mod mesh_data;
 #[cfg(feature = "rapier")]
@@ -82,12 +83,12 @@ use bevy::render::{Render, RenderApp, RenderStartup, RenderSystems};
 
 #[cfg(feature = "rapier")]
 pub use bend::{BendPiece, Bendable, Bends};
-pub use components::{DentProjectile, Dentable, kernel_params};
+pub use components::{DentPiece, DentProjectile, Dentable, kernel_params};
 pub use contact::{DentBody, DentContact};
 #[cfg(feature = "rapier")]
 pub use dentbend::bend::JointRule;
 pub use dentbend_rapier::BendSettings;
-pub use events::{DentApplied, MeshDented};
+pub use events::{BodyBroken, DentApplied, MeshDented};
 pub use link::GpuStatus;
 pub use mesh_data::{MeshDataError, SlabLayout, bevy_mesh, slab_layout, tri_mesh};
 pub use register::{DentAdvice, DentRefused, DentRegistered};
@@ -175,6 +176,7 @@ impl Plugin for DentbendPlugin {
             .add_message::<DentContact>()
             .add_message::<DentApplied>()
             .add_message::<MeshDented>()
+            .add_message::<BodyBroken>()
             .configure_sets(PostUpdate, (DentSystems::Register, DentSystems::Decide, DentSystems::Apply).chain())
             // Registration reads each body's global transform (its pose, its scale).
             .configure_sets(PostUpdate, DentSystems::Register.after(TransformSystems::Propagate))

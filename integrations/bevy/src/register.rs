@@ -123,12 +123,16 @@ pub(crate) fn register_dentables(
         let handle = meshes.add(copy);
         let info = BodyInfo { mesh: handle.clone(), path: DentPath::Cpu, gpu_servable: dentable.gpu_servable() };
         let settings = dentable.settings.clone();
-        match world.insert_dentable(entity, tri, transform.affine(), settings, info) {
-            Ok(()) => {
-                commands.entity(entity).insert((Mesh3d(handle), DentRegistered));
-            }
-            Err(e) => refuse(&mut commands, entity, format!("its dent settings are invalid: {e}")),
+        if let Err(e) = world.insert_dentable(entity, tri, transform.affine(), settings, info) {
+            refuse(&mut commands, entity, format!("its dent settings are invalid: {e}"));
+            continue;
         }
+        if let Err(e) = world.targets.set_fracture(entity, dentable.fracture.clone()) {
+            world.remove(entity);
+            refuse(&mut commands, entity, format!("it cannot break: {e} (give it a closed mesh, or no fracture)"));
+            continue;
+        }
+        commands.entity(entity).insert((Mesh3d(handle), DentRegistered));
     }
 }
 

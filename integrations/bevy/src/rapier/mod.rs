@@ -7,6 +7,7 @@
 //! point and normal); body states are recorded just before Rapier's step.
 
 mod contacts;
+mod pieces;
 mod refit;
 
 use bevy::ecs::schedule::graph::Direction;
@@ -30,7 +31,10 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
                 .before(PhysicsSet::StepSimulation),
         )
         .add_systems(physics, contacts::send_contacts.after(PhysicsSet::StepSimulation).before(PhysicsSet::Writeback))
-        .add_systems(PostUpdate, refit::refit_colliders.in_set(DentSystems::Apply));
+        .add_systems(
+            PostUpdate,
+            (refit::refit_colliders, pieces::give_bodies, pieces::give_way).in_set(DentSystems::Apply),
+        );
     if physics == PostUpdate.intern() {
         app.configure_sets(PostUpdate, DentSystems::Decide.after(PhysicsSet::Writeback));
     }

@@ -1,0 +1,79 @@
+//! Breakable dentable bodies: a plan's fractures become the broken entity's new mesh (its rest)
+//! and one entity per piece, with a [`DentPiece`] a physics engine makes a body of.
+
+use bevy::ecs::system::SystemParam;
+use bevy::prelude::*;
+use dentbend::damage::BodyFracture;
+
+use crate::mesh_data::bevy_mesh;
+use crate::{BodyBroken, DentPiece, DentStats, DentWorld, MeshDented};
+
+/// What breaking bodies needs: commands to spawn pieces, the broken bodies' materials, and its
+/// message.
+#[derive(SystemParam)]
+pub(crate) struct Breaking<'w, 's> {
+    commands: Commands<'w, 's>,
+    materials: Query<'w, 's, &'static MeshMaterial3d<StandardMaterial>>,
+    broken: MessageWriter<'w, BodyBroken>,
+}
+
+/// Applies `fractures` (after the plan's dents): each broken entity's mesh asset becomes its
+/// rest (a body the pattern took whole is despawned), and each piece a new entity at the
+/// body's pose with its mesh, the body's material and a [`DentPiece`].
+pub(crate) fn break_bodies(
+    world: &mut DentWorld,
+    fractures: Vec<BodyFracture<Entity>>,
+    out: &mut Breaking,
+    (meshes, dented, stats): (&mut Assets<Mesh>, &mut MessageWriter<MeshDented>, &mut DentStats),
+) {
+    for fracture in fractures {
+        let entity = fracture.body;
+        let Some(pose) = world.targets.pose(entity) else { continue };
+        let transform = Transform::from_matrix(Mat4::from(pose));
+        let material = out.materials.get(entity).ok().cloned();
+        world.targets.apply_fracture(&fracture);
+        let whole = fracture.rest.is_none();
+        match &fracture.rest {
+            Some(rest) => {
+                if let Some(body) = world.bodies.get(&entity)
+                    && let Some(mut asset) = meshes.get_mut(&body.mesh)
+                {
+                    *asset = bevy_mesh(rest);
+                }
+                let moved = (0..rest.vertex_count() as u32).collect();
+                dented.write(MeshDented { entity, moved, topology_changed: true });
+            }
+            None => {
+                world.remove(entity);
+                out.commands.entity(entity).try_despawn();
+            }
+        }
+        let mut pieces = Vec::with_capacity(fracture.pieces.len());
+        for piece in fracture.pieces {
+            let mesh = meshes.add(bevy_mesh(&piece.mesh));
+            let component = DentPiece {
+                from: entity,
+                id: piece.id,
+                mass: piece.mass,
+                linear_velocity: piece.linear_velocity,
+                angular_velocity: piece.angular_velocity,
+            };
+            let mut spawned = out.commands.spawn((Mesh3d(mesh), transform, component));
+            if let Some(material) = &material {
+                spawned.insert(material.clone());
+            }
+            pieces.push(spawned.id());
+        }
+        stats.fractures += 1;
+        stats.pieces += pieces.len() as u64;
+        info!("bevy_dentbend: {entity} broke ({:?}) into {} pieces", fracture.cause, pieces.len());
+        out.broken.write(BodyBroken {
+            entity,
+            projectile: fracture.projectile,
+            cause: fracture.cause,
+            pieces,
+            whole,
+            projectile_velocity: fracture.projectile_velocity,
+        });
+    }
+}
