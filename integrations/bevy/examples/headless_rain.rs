@@ -4,7 +4,9 @@
 //!
 //! Flags: `--cpu` (every dent on the CPU path), `--no-dents` (the same rain, nothing dents: the
 //! baseline frame time), `--size WxH` (default 640x360), `--balls-per-frame F` (default 0.5),
-//! `--no-png` (render every frame, write none).
+//! `--no-png` (render every frame, write none), `--no-wall` (no breakable wall: by default a
+//! wrecking ball breaks one behind the block, counted in `summary.json`'s `fractures` and
+//! `pieces`).
 //!
 //! Throughput: `--burst N` stops the rain and instead writes N contacts a frame on the block
 //! through the contact hook (a hidden ball landing at 3 m/s at random points: one batch of N
@@ -35,6 +37,7 @@ struct Args {
     png: bool,
     burst: u32,
     resolution: Option<u32>,
+    wall: bool,
 }
 
 fn parse() -> Result<Args, String> {
@@ -48,6 +51,7 @@ fn parse() -> Result<Args, String> {
         png: true,
         burst: 0,
         resolution: None,
+        wall: true,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -68,13 +72,14 @@ fn parse() -> Result<Args, String> {
                     value("--balls-per-frame")?.parse().map_err(|e| format!("--balls-per-frame: {e}"))?;
             }
             "--no-png" => args.png = false,
+            "--no-wall" => args.wall = false,
             "--burst" => args.burst = value("--burst")?.parse().map_err(|e| format!("--burst: {e}"))?,
             "--resolution" => {
                 args.resolution = Some(value("--resolution")?.parse().map_err(|e| format!("--resolution: {e}"))?);
             }
             "--help" | "-h" => {
                 return Err("usage: headless_rain [--frames N] [--out DIR] [--cpu] [--no-dents] [--size WxH] \
-                            [--balls-per-frame F] [--no-png] [--burst N] [--resolution R]"
+                            [--balls-per-frame F] [--no-png] [--no-wall] [--burst N] [--resolution R]"
                     .into());
             }
             other => return Err(format!("unknown flag {other} (try --help)")),
@@ -96,6 +101,8 @@ fn parse() -> Result<Args, String> {
         args.balls_per_frame = 0.0;
         args.resolution = args.resolution.or(Some(100));
     }
+    // A burst measures the GPU path's throughput: no CPU-path wall in it.
+    args.wall &= args.burst == 0;
     Ok(args)
 }
 
@@ -122,6 +129,7 @@ fn main() -> ExitCode {
         dents: args.dents,
         balls_per_frame: args.balls_per_frame,
         resolution: args.resolution,
+        wall: args.wall,
         ..default()
     };
     app.insert_resource(rain)

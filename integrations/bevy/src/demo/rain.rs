@@ -9,6 +9,7 @@ use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
 use dentbend::bend::auto_skeleton;
 use dentbend::dent::{Resolution, VolumeMode};
+use dentbend::fracture::{FractureSettings, PatternParams};
 use dentbend::glam::Vec3 as DVec3;
 use dentbend::mesh;
 
@@ -31,6 +32,9 @@ pub struct RainSettings {
     pub plank: bool,
     /// Z-buffer side of the block's and the bunny's dents, cells (`None`: from the meshes).
     pub resolution: Option<u32>,
+    /// A breakable wall behind the block, broken by a wrecking ball at frame
+    /// [`WRECKING_FRAME`] (its dents and fracture take the CPU path).
+    pub wall: bool,
 }
 
 impl Default for RainSettings {
@@ -43,6 +47,7 @@ impl Default for RainSettings {
             seed: 7,
             plank: true,
             resolution: None,
+            wall: false,
         }
     }
 }
@@ -60,6 +65,8 @@ pub enum Target {
     /// game asset's), dented with the game settings (refinement, volume rim, guard) on the CPU
     /// path.
     Crate,
+    /// The breakable wall behind the block.
+    Wall,
 }
 
 /// A ball and the frame it was spawned.
@@ -75,7 +82,7 @@ impl Plugin for RainPlugin {
         app.init_resource::<RainSettings>()
             .insert_resource(TimestepMode::Fixed { dt: 1.0 / 60.0, substeps: 1 })
             .add_systems(Startup, setup)
-            .add_systems(Update, (spawn_balls, despawn_balls));
+            .add_systems(Update, (spawn_balls, despawn_balls, launch_wrecking_ball));
     }
 }
 
@@ -162,6 +169,58 @@ fn setup(
     if settings.plank {
         spawn_plank(&mut commands, &mut meshes, &mut materials);
     }
+    if settings.wall && settings.dents {
+        spawn_wall(&mut commands, &mut meshes, &mut materials);
+    }
+}
+
+/// The frame the wrecking ball is launched at the wall.
+pub const WRECKING_FRAME: u32 = 20;
+/// Where the wall stands: centre, m (2 × 1.2 × 0.15 m, behind the block, its front face looking
+/// along +z).
+const WALL_CENTRE: Vec3 = Vec3::new(0.3, 0.6, -2.4);
+
+/// A fixed prescored wall (300 kg/m³, toughness 1 kJ, 40 cells within 0.4 m of the hit).
+fn spawn_wall(commands: &mut Commands, meshes: &mut Assets<Mesh>, materials: &mut Assets<StandardMaterial>) {
+    let tri = mesh::subdivided_box(DVec3::new(2.0, 1.2, 0.15), [40, 24, 2]).expect("a valid box");
+    let pattern = PatternParams { cells: 40, seed: 3, radius: 0.4 };
+    let mut fracture = FractureSettings::new(pattern, Some(1000.0), None).expect("valid fracture settings");
+    fracture.density = 300.0;
+    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec()).expect("a valid tri-mesh");
+    let color = Color::srgb(0.75, 0.72, 0.68);
+    commands.spawn((
+        Target::Wall,
+        Mesh3d(meshes.add(bevy_mesh(&tri))),
+        MeshMaterial3d(materials.add(StandardMaterial { base_color: color, perceptual_roughness: 0.8, ..default() })),
+        Transform::from_translation(WALL_CENTRE),
+        RigidBody::Fixed,
+        collider,
+        Dentable::new(2.0, 0.002, 0.03).breaking(fracture),
+    ));
+}
+
+/// At [`WRECKING_FRAME`], a 50 kg ball (radius 0.2 m) flies at 12 m/s (3.6 kJ) into the wall.
+fn launch_wrecking_ball(
+    mut commands: Commands,
+    mut meshes: ResMut<Assets<Mesh>>,
+    settings: Res<RainSettings>,
+    mut frame: Local<u32>,
+) {
+    *frame += 1;
+    if *frame != WRECKING_FRAME || !(settings.wall && settings.dents) {
+        return;
+    }
+    let radius = 0.2;
+    let volume = 4.0 / 3.0 * std::f32::consts::PI * radius * radius * radius;
+    commands.spawn((
+        Mesh3d(meshes.add(Sphere::new(radius).mesh().ico(3).expect("a sphere"))),
+        Transform::from_translation(WALL_CENTRE + Vec3::new(0.1, 0.1, 1.0)),
+        RigidBody::Dynamic,
+        Collider::ball(radius),
+        ColliderMassProperties::Density(50.0 / volume),
+        Velocity::linear(Vec3::new(0.0, 0.0, -12.0)),
+        DentProjectile,
+    ));
 }
 
 /// Height of the plank's posts above the block, m.
@@ -214,7 +273,7 @@ fn spawn_target(
     let color = match kind {
         Target::Block => Color::srgb(0.55, 0.6, 0.7),
         Target::Bunny | Target::Plank => Color::srgb(0.85, 0.7, 0.5),
-        Target::Crate => Color::srgb(0.6, 0.45, 0.3),
+        Target::Crate | Target::Wall => Color::srgb(0.6, 0.45, 0.3),
     };
     let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec()).expect("a valid tri-mesh");
     let mut entity = commands.spawn((

@@ -59,6 +59,8 @@ impl Summary {
             "refined_triangles": s.refined_triangles,
             "limited_dents": s.limited_dents,
             "empty_dents": s.empty_dents,
+            "fractures": s.fractures,
+            "pieces": s.pieces,
             "dents_enabled": self.dents_enabled,
             "path": path,
             "adapter": adapter,
