@@ -95,44 +95,82 @@ fn close_seams(tri: &mut TriMesh) -> usize {
     tri.snap_seams(SEAM_SNAP_FRACTION * lo.distance(hi)).unwrap_or(0)
 }
 
-/// Registers each new dentable body once its mesh asset is loaded ([`prepare_mesh`]).
+/// Registers each new dentable body once its mesh asset is loaded ([`prepare_mesh`]): the
+/// mesh on the [`Dentable`]'s own entity, or, when it has none, on the one descendant that has
+/// one (a glTF scene puts each mesh on a child of its node).
 pub(crate) fn register_dentables(
     mut commands: Commands,
     mut world: ResMut<DentWorld>,
     mut meshes: ResMut<Assets<Mesh>>,
-    new: Query<(Entity, &Dentable, &Mesh3d, &GlobalTransform, Option<&Name>), Unregistered>,
+    new: Query<(Entity, &Dentable, Option<&Name>), Unregistered>,
+    with_mesh: Query<(&Mesh3d, &GlobalTransform)>,
+    children: Query<&Children>,
 ) {
-    for (entity, dentable, mesh3d, transform, name) in &new {
+    for (owner, dentable, name) in &new {
+        let entity = match mesh_entity(owner, &with_mesh, &children) {
+            Ok(Some(entity)) => entity,
+            Ok(None) => continue,
+            Err(reason) => {
+                refuse(&mut commands, owner, reason);
+                continue;
+            }
+        };
+        let Ok((mesh3d, transform)) = with_mesh.get(entity) else { continue };
         if let Some(reason) = scale_refusal(transform) {
-            refuse(&mut commands, entity, reason);
+            refuse(&mut commands, owner, reason);
             continue;
         }
         let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
         let (copy, tri, _) = match prepare_mesh(entity, mesh, "dent") {
             Ok(done) => done,
             Err(reason) => {
-                refuse(&mut commands, entity, reason);
+                refuse(&mut commands, owner, reason);
                 continue;
             }
         };
         if let Some(advice) = coarseness_advice(dentable, &tri) {
-            let who = name.map_or_else(|| format!("{entity}"), |n| format!("{n} ({entity})"));
+            let who = name.map_or_else(|| format!("{owner}"), |n| format!("{n} ({owner})"));
             warn!("bevy_dentbend: {who}: {advice}");
-            commands.entity(entity).insert(DentAdvice(format!("{who}: {advice}")));
+            commands.entity(owner).insert(DentAdvice(format!("{who}: {advice}")));
         }
         let handle = meshes.add(copy);
-        let info = BodyInfo { mesh: handle.clone(), path: DentPath::Cpu, gpu_servable: dentable.gpu_servable() };
+        let info = BodyInfo { mesh: handle.clone(), path: DentPath::Cpu, gpu_servable: dentable.gpu_servable(), owner };
         let settings = dentable.settings.clone();
         if let Err(e) = world.insert_dentable(entity, tri, transform.affine(), settings, info) {
-            refuse(&mut commands, entity, format!("its dent settings are invalid: {e}"));
+            refuse(&mut commands, owner, format!("its dent settings are invalid: {e}"));
             continue;
         }
         if let Err(e) = world.targets.set_fracture(entity, dentable.fracture.clone()) {
             world.remove(entity);
-            refuse(&mut commands, entity, format!("it cannot break: {e} (give it a closed mesh, or no fracture)"));
+            refuse(&mut commands, owner, format!("it cannot break: {e} (give it a closed mesh, or no fracture)"));
             continue;
         }
-        commands.entity(entity).insert((Mesh3d(handle), DentRegistered));
+        commands.entity(entity).insert(Mesh3d(handle));
+        commands.entity(owner).insert(DentRegistered);
+    }
+}
+
+/// The entity whose mesh the [`Dentable`] on `owner` dents: `owner` when it has a [`Mesh3d`],
+/// else its one descendant that has one; `None` while there is none (a scene still spawning).
+///
+/// # Errors
+/// Several descendants with meshes: which one is meant, and the fix.
+fn mesh_entity(
+    owner: Entity,
+    with_mesh: &Query<(&Mesh3d, &GlobalTransform)>,
+    children: &Query<&Children>,
+) -> Result<Option<Entity>, String> {
+    if with_mesh.contains(owner) {
+        return Ok(Some(owner));
+    }
+    let found: Vec<Entity> = children.iter_descendants(owner).filter(|&c| with_mesh.contains(c)).collect();
+    match found.as_slice() {
+        [] => Ok(None),
+        [one] => Ok(Some(*one)),
+        many => Err(format!(
+            "it has no Mesh3d and {} descendants do ({many:?}): put a Dentable on each mesh entity that should dent",
+            many.len()
+        )),
     }
 }
 
@@ -214,11 +252,12 @@ pub(crate) fn forget_removed(
     mut dentables: RemovedComponents<Dentable>,
     mut projectiles: RemovedComponents<DentProjectile>,
 ) {
-    for entity in dentables.read() {
+    for owner in dentables.read() {
+        let entity = world.mesh_of_owner(owner).unwrap_or(owner);
         if world.remove(entity) {
             link.send(ToRender::Forget(entity));
         }
-        commands.entity(entity).try_remove::<(DentRegistered, DentRefused, DentAdvice)>();
+        commands.entity(owner).try_remove::<(DentRegistered, DentRefused, DentAdvice)>();
     }
     for entity in projectiles.read() {
         // A dentable body's surface is its dentable mesh: only a plain projectile goes.

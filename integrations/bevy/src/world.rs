@@ -22,6 +22,19 @@ pub(crate) struct BodyInfo {
     /// Whether the GPU path can make its dents (all but progressive ones, which rebuild each
     /// dent from the surface before the contact).
     pub gpu_servable: bool,
+    /// The entity carrying its [`Dentable`](crate::Dentable) (itself, or an ancestor whose mesh
+    /// sits on this child, as in a glTF scene).
+    pub owner: Entity,
+}
+
+/// A collider on another entity than the mesh it follows (a glTF node's collider over its
+/// mesh child, or a parent body's): contacts naming `collider` are the mesh entity's.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ColliderAlias {
+    /// The mesh entity.
+    pub mesh: Entity,
+    /// Mesh coordinates → the collider entity's coordinates (rigid).
+    pub to_collider: Affine3A,
 }
 
 /// Every body the plug-in knows, by entity.
@@ -41,6 +54,8 @@ pub struct DentWorld {
     /// GPU-path dents made with their host stages whose report has not come back yet, by id:
     /// their [`DentApplied`](crate::DentApplied) is written when it does.
     pub(crate) awaiting_report: HashMap<u64, crate::DentApplied>,
+    /// Colliders on other entities than their dentable meshes, by collider entity.
+    pub(crate) aliases: HashMap<Entity, ColliderAlias>,
 }
 
 impl DentWorld {
@@ -66,6 +81,11 @@ impl DentWorld {
         surface_in(&self.targets, &self.surfaces, entity)
     }
 
+    /// The mesh entity a collider on `entity` stands for (its dentable child's, or its own).
+    pub fn mesh_entity(&self, entity: Entity) -> Entity {
+        self.aliases.get(&entity).map_or(entity, |a| a.mesh)
+    }
+
     /// Adds dentable `entity`.
     pub(crate) fn insert_dentable(
         &mut self,
@@ -88,8 +108,29 @@ impl DentWorld {
         self.surfaces.insert(entity, mesh);
     }
 
+    /// The mesh entity whose collider sits on `collider` and how its mesh maps there; `None`
+    /// when `collider` is not such an entity.
+    pub(crate) fn alias(&self, collider: Entity) -> Option<ColliderAlias> {
+        self.aliases.get(&collider).copied()
+    }
+
+    /// The collider entity of mesh entity `mesh` and its mesh → collider transform: the alias
+    /// pointing at it, else `mesh` itself.
+    pub(crate) fn collider_of(&self, mesh: Entity) -> (Entity, Affine3A) {
+        self.aliases
+            .iter()
+            .find(|(_, a)| a.mesh == mesh)
+            .map_or((mesh, Affine3A::IDENTITY), |(&collider, a)| (collider, a.to_collider))
+    }
+
+    /// The mesh entity registered for the [`Dentable`](crate::Dentable) on `owner`.
+    pub(crate) fn mesh_of_owner(&self, owner: Entity) -> Option<Entity> {
+        self.bodies.iter().find(|(_, b)| b.owner == owner).map(|(&e, _)| e)
+    }
+
     /// Forgets `entity`; whether it was on the GPU path.
     pub(crate) fn remove(&mut self, entity: Entity) -> bool {
+        self.aliases.retain(|_, a| a.mesh != entity);
         self.targets.remove(entity);
         self.surfaces.remove(&entity);
         self.damage.forget(entity);

@@ -68,13 +68,19 @@ pub(crate) fn install_collector(
 /// Dentable colliders whose force events are not on yet.
 type NewDentableCollider = (With<Dentable>, With<Collider>, Without<ForceEventsOn>);
 
+/// Colliders whose force events are not on yet.
+type NewCollider = (With<Collider>, Without<ForceEventsOn>);
+
 /// Dentable colliders report every push (0 N threshold), so the first step of each impact is
 /// seen.
 pub(crate) fn enable_force_events(
     mut commands: Commands,
+    world: Res<DentWorld>,
     new: Query<(Entity, Option<&ActiveEvents>), NewDentableCollider>,
+    others: Query<(Entity, Option<&ActiveEvents>), NewCollider>,
 ) {
-    for (entity, events) in &new {
+    let aliased = world.aliases.keys().filter_map(|&e| others.get(e).ok());
+    for (entity, events) in new.iter().chain(aliased) {
         let events = events.copied().unwrap_or_default() | ActiveEvents::CONTACT_FORCE_EVENTS;
         commands.entity(entity).insert((events, ContactForceEventThreshold(0.0), ForceEventsOn));
     }
@@ -104,12 +110,21 @@ pub(crate) fn send_contacts(
     let contacts = impacts.collector.take_contacts(&impacts.states);
     let Some((colliders, bodies)) = contexts.iter().next() else { return };
     for c in contacts {
-        let side = |handle| body(handle, &impacts.states, colliders, bodies);
+        let side = |handle| body(handle, &impacts.states, colliders, bodies).map(|b| as_mesh(&world, b));
         let (Some(a), Some(b)) = (side(c.collider1), side(c.collider2)) else { continue };
         if world.surface(a.entity).is_none() && world.surface(b.entity).is_none() {
             continue;
         }
         out.write(DentContact { a, b, point: c.point, normal: c.normal, started: c.started });
+    }
+}
+
+/// `body` as its mesh entity's: a collider standing for a dentable mesh on another entity names
+/// that entity, posed as its mesh.
+fn as_mesh(world: &DentWorld, body: DentBody) -> DentBody {
+    match world.alias(body.entity) {
+        Some(alias) => DentBody { entity: alias.mesh, pose: body.pose * alias.to_collider, state: body.state },
+        None => body,
     }
 }
 

@@ -6,6 +6,7 @@
 //! [`ImpactCollector`](dentbend_rapier::ImpactCollector) turns the solver's contacts into one
 //! point and normal); body states are recorded just before Rapier's step.
 
+mod alias;
 mod contacts;
 mod pieces;
 mod refit;
@@ -31,6 +32,10 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
                 .before(PhysicsSet::StepSimulation),
         )
         .add_systems(physics, contacts::send_contacts.after(PhysicsSet::StepSimulation).before(PhysicsSet::Writeback))
+        .add_systems(
+            PostUpdate,
+            alias::find_colliders.after(crate::register::register_dentables).in_set(DentSystems::Register),
+        )
         .add_systems(
             PostUpdate,
             (refit::refit_colliders, pieces::give_bodies, pieces::give_way).in_set(DentSystems::Apply),

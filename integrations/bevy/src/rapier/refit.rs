@@ -4,19 +4,33 @@ use bevy::prelude::*;
 use bevy_rapier3d::prelude::Collider;
 use bevy_rapier3d::rapier::prelude::SharedShape;
 use dentbend::TriMesh;
+use dentbend::glam::Affine3A;
 use dentbend_rapier::dentbend::collider::refit_shared_trimesh;
 
 use crate::{DentWorld, MeshDented};
 
 /// Refits (tri-mesh with the same vertices), rebuilds (refined tri-mesh, or another vertex
-/// numbering) or re-hulls (convex) each dented entity's collider.
+/// numbering) or re-hulls (convex) each dented entity's collider (on the entity itself, or on
+/// the entity its collider sits on, in that entity's coordinates).
 pub(crate) fn refit_colliders(
     mut dented: MessageReader<MeshDented>,
     world: Res<DentWorld>,
     mut colliders: Query<&mut Collider>,
 ) {
     for d in dented.read() {
-        let (Some(mesh), Ok(mut collider)) = (world.mesh(d.entity), colliders.get_mut(d.entity)) else { continue };
+        let (entity, to_collider) = world.collider_of(d.entity);
+        let (Some(mesh), Ok(mut collider)) = (world.mesh(d.entity), colliders.get_mut(entity)) else { continue };
+        let placed;
+        let mesh = if to_collider == Affine3A::IDENTITY {
+            mesh
+        } else {
+            let mut moved = mesh.clone();
+            if moved.transform(to_collider).is_err() {
+                continue;
+            }
+            placed = moved;
+            &placed
+        };
         match refitted(&collider.raw, mesh, d) {
             Ok(shape) => *collider = Collider::from(shape),
             Err(reason) => warn!("bevy_dentbend: {}'s collider keeps its shape: {reason}", d.entity),
