@@ -12,6 +12,7 @@ use crate::backend::SplitBackend;
 use crate::fracture::{Breaking, break_bodies};
 use crate::link::{MainLink, ToMain, ToRender};
 use crate::mesh_data::write_dented;
+use crate::scale::{rigid_pose, unscaled};
 use crate::world::surface_in;
 use crate::{DentApplied, DentContact, DentPath, DentStats, DentWorld, MeshDented};
 
@@ -45,7 +46,8 @@ pub(crate) fn decide_dents(
             if world.surface(projectile.entity).is_none() || !(c.started || progressive) {
                 continue;
             }
-            if let Err(e) = world.targets.set_pose(target.entity, target.pose) {
+            // Poses are rigid (a body's scale is in the mesh the plug-in keeps).
+            if let Err(e) = world.targets.set_pose(target.entity, rigid_pose(target.pose)) {
                 debug!("bevy_dentbend: a contact on {} has an unusable pose ({e})", target.entity);
                 stats.rejected_contacts += 1;
                 continue;
@@ -130,8 +132,18 @@ pub(crate) fn decide_dents(
     let cpu_targets: Vec<_> = plan.targets.into_iter().filter(|t| !world.on_gpu.contains(&t.key)).collect();
     for t in &cpu_targets {
         let Some(body) = world.bodies.get(&t.key) else { continue };
+        let written = match body.scale {
+            Some(s) => match unscaled(&t.mesh, s) {
+                Ok(mesh) => std::borrow::Cow::Owned(mesh),
+                Err(e) => {
+                    error!("bevy_dentbend: {}'s dented mesh could not be unscaled ({e})", t.key);
+                    continue;
+                }
+            },
+            None => std::borrow::Cow::Borrowed(&t.mesh),
+        };
         if let Some(mut mesh) = meshes.get_mut(&body.mesh)
-            && let Err(e) = write_dented(&mut mesh, &t.mesh, &t.refinement)
+            && let Err(e) = write_dented(&mut mesh, &written, &t.refinement)
         {
             error!("bevy_dentbend: {}'s dented mesh could not be written ({e})", t.key);
         }

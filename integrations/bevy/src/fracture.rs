@@ -6,6 +6,7 @@ use bevy::prelude::*;
 use dentbend::damage::BodyFracture;
 
 use crate::mesh_data::bevy_mesh;
+use crate::scale::unscaled;
 use crate::{BodyBroken, DentPiece, DentStats, DentWorld, MeshDented};
 
 /// What breaking bodies needs: commands to spawn pieces, the broken bodies' materials, and its
@@ -38,7 +39,12 @@ pub(crate) fn break_bodies(
                 if let Some(body) = world.bodies.get(&entity)
                     && let Some(mut asset) = meshes.get_mut(&body.mesh)
                 {
-                    *asset = bevy_mesh(rest);
+                    // The asset holds the mesh without its entity's scale, which Bevy applies.
+                    match body.scale.map(|s| unscaled(rest, s)) {
+                        Some(Ok(mesh)) => *asset = bevy_mesh(&mesh),
+                        Some(Err(e)) => error!("bevy_dentbend: {entity}'s rest could not be unscaled ({e})"),
+                        None => *asset = bevy_mesh(rest),
+                    }
                 }
                 let moved = (0..rest.vertex_count() as u32).collect();
                 dented.write(MeshDented { entity, moved, topology_changed: true });

@@ -21,8 +21,10 @@
 //! skinned from the bones every frame they move, on the GPU path by dentbend's `skin` kernel
 //! straight into Bevy's vertex slab.
 //!
-//! Units: metres, seconds, kilograms; a dentable's mesh is in its entity's own coordinates, and
-//! dentable and bendable entities have unit scale.
+//! Units: metres, seconds, kilograms; a dentable's mesh is in its entity's own coordinates. A
+//! scaled dentable or projectile (uniform or not; not mirrored) dents in metres on the CPU path:
+//! the plug-in keeps its mesh with the scale baked in and writes the asset back without it;
+//! bendable entities have unit scale.
 //!
 //! A ball falls on a block and dents it (with `rapier`: bevy_rapier3d steps the bodies):
 //!
@@ -71,6 +73,7 @@ mod mesh_data;
 mod rapier;
 mod register;
 mod render;
+mod scale;
 mod split_attributes;
 mod stats;
 mod world;

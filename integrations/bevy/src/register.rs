@@ -7,6 +7,7 @@ use crate::link::{GpuStatus, MainLink, ToRender};
 use dentbend::TriMesh;
 
 use crate::mesh_data::{SlabLayout, add_missing_normals, private_copy, slab_layout, tri_mesh, write_vertices};
+use crate::scale::{entity_scale, rigid, scaled};
 use crate::world::BodyInfo;
 use crate::{DentPath, DentProjectile, DentWorld, Dentable};
 use bevy::mesh::VertexAttributeValues;
@@ -116,12 +117,19 @@ pub(crate) fn register_dentables(
             }
         };
         let Ok((mesh3d, transform)) = with_mesh.get(entity) else { continue };
-        if let Some(reason) = scale_refusal(transform) {
-            refuse(&mut commands, owner, reason);
-            continue;
-        }
+        let scale = match entity_scale(transform) {
+            Ok(scale) => scale,
+            Err(reason) => {
+                refuse(&mut commands, owner, reason);
+                continue;
+            }
+        };
         let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
-        let (copy, tri, _) = match prepare_mesh(entity, mesh, "dent") {
+        let prepared = prepare_mesh(entity, mesh, "dent").and_then(|(copy, tri, layout)| match scale {
+            Some(s) => scaled(&tri, s).map(|tri| (copy, tri, layout)).map_err(|e| format!("its scaled mesh: {e}")),
+            None => Ok((copy, tri, layout)),
+        });
+        let (copy, tri, _) = match prepared {
             Ok(done) => done,
             Err(reason) => {
                 refuse(&mut commands, owner, reason);
@@ -134,9 +142,11 @@ pub(crate) fn register_dentables(
             commands.entity(owner).insert(DentAdvice(format!("{who}: {advice}")));
         }
         let handle = meshes.add(copy);
-        let info = BodyInfo { mesh: handle.clone(), path: DentPath::Cpu, gpu_servable: dentable.gpu_servable(), owner };
+        // The GPU path writes the dented mesh straight into Bevy's slab: unscaled bodies only.
+        let gpu_servable = dentable.gpu_servable() && scale.is_none();
+        let info = BodyInfo { mesh: handle.clone(), path: DentPath::Cpu, gpu_servable, owner, scale };
         let settings = dentable.settings.clone();
-        if let Err(e) = world.insert_dentable(entity, tri, transform.affine(), settings, info) {
+        if let Err(e) = world.insert_dentable(entity, tri, rigid(transform), settings, info) {
             refuse(&mut commands, owner, format!("its dent settings are invalid: {e}"));
             continue;
         }
@@ -194,11 +204,18 @@ pub(crate) fn register_projectiles(
     mut commands: Commands,
     mut world: ResMut<DentWorld>,
     meshes: Res<Assets<Mesh>>,
-    new: Query<(Entity, &Mesh3d), NewProjectile>,
+    new: Query<(Entity, &Mesh3d, &GlobalTransform), NewProjectile>,
 ) {
-    for (entity, mesh3d) in &new {
+    for (entity, mesh3d, transform) in &new {
         let Some(mesh) = meshes.get(&mesh3d.0) else { continue };
-        match tri_mesh(mesh) {
+        let surface = entity_scale(transform).and_then(|scale| {
+            let tri = tri_mesh(mesh).map_err(|e| e.to_string())?;
+            match scale {
+                Some(s) => scaled(&tri, s).map_err(|e| e.to_string()),
+                None => Ok(tri),
+            }
+        });
+        match surface {
             Ok(tri) => {
                 world.insert_projectile(entity, tri);
                 commands.entity(entity).insert(DentRegistered);

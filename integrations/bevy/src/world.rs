@@ -25,6 +25,9 @@ pub(crate) struct BodyInfo {
     /// The entity carrying its [`Dentable`](crate::Dentable) (itself, or an ancestor whose mesh
     /// sits on this child, as in a glTF scene).
     pub owner: Entity,
+    /// Its entity's scale, baked into the mesh the plug-in keeps (`None`: unscaled); the asset
+    /// and the collider hold the mesh without it.
+    pub scale: Option<Vec3>,
 }
 
 /// A collider on another entity than the mesh it follows (a glTF node's collider over its
@@ -59,8 +62,9 @@ pub struct DentWorld {
 }
 
 impl DentWorld {
-    /// Dentable `entity`'s mesh as the main world knows it (its own coordinates, m). On the GPU
-    /// path it follows the GPU a few frames behind (as the collider read-backs arrive).
+    /// Dentable `entity`'s mesh as the main world knows it (its own coordinates with its
+    /// entity's scale baked in, m). On the GPU path it follows the GPU a few frames behind (as
+    /// the collider read-backs arrive).
     pub fn mesh(&self, entity: Entity) -> Option<&TriMesh> {
         self.targets.mesh(entity)
     }
@@ -79,6 +83,11 @@ impl DentWorld {
     /// coordinates, m); `None` for an entity the plug-in has not registered.
     pub fn surface(&self, entity: Entity) -> Option<&TriMesh> {
         surface_in(&self.targets, &self.surfaces, entity)
+    }
+
+    /// The scale baked into dentable `entity`'s mesh (`None`: unscaled or unknown).
+    pub(crate) fn scale(&self, entity: Entity) -> Option<Vec3> {
+        self.bodies.get(&entity).and_then(|b| b.scale)
     }
 
     /// The mesh entity a collider on `entity` stands for (its dentable child's, or its own).

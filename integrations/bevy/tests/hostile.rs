@@ -1,5 +1,5 @@
 //! Hostile input never panics a Bevy system: meshes without positions or normals, of another
-//! topology, held only by the render world, not loaded yet, scaled bodies, invalid settings,
+//! topology, held only by the render world, not loaded yet, mirrored bodies, invalid settings,
 //! contacts with NaN, bodies despawned mid-batch, a device without the kernels' limits, a body
 //! refined past the device's buffers, an app without a renderer. Each gets a clear outcome (refusal with a reason, the CPU path, or no
 //! dent) and the app goes on denting what it can.
@@ -62,8 +62,9 @@ fn meshes_that_cannot_dent_are_refused_with_a_reason() {
     s.frames(3);
     assert!(refusal(&s, e).expect("refused").contains("render world"));
 
-    let e = spawn(&mut s, common::with_uvs(&tri), ok.clone(), Transform::from_scale(Vec3::splat(2.0)));
-    assert!(refusal(&s, e).expect("refused").contains("scaled"));
+    // A scaled body dents (tests/scaled.rs); a mirrored one cannot (its faces would turn inside out).
+    let e = spawn(&mut s, common::with_uvs(&tri), ok.clone(), Transform::from_scale(Vec3::new(-1.0, 1.0, 1.0)));
+    assert!(refusal(&s, e).expect("refused").contains("mirrors"));
 
     let bad = Dentable::with_settings(DentSettings::new(-1.0, 0.01, 0.08));
     let e = spawn(&mut s, common::with_uvs(&tri), bad, Transform::default());

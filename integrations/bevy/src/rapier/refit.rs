@@ -20,16 +20,26 @@ pub(crate) fn refit_colliders(
     for d in dented.read() {
         let (entity, to_collider) = world.collider_of(d.entity);
         let (Some(mesh), Ok(mut collider)) = (world.mesh(d.entity), colliders.get_mut(entity)) else { continue };
+        // bevy_rapier3d scales a scaled entity's collider itself: it takes the mesh without the
+        // scale, rebuilt whole (its scaled copy is not the one to refit).
+        let scale = world.scale(d.entity);
         let placed;
-        let mesh = if to_collider == Affine3A::IDENTITY {
+        let mesh = if to_collider == Affine3A::IDENTITY && scale.is_none() {
             mesh
         } else {
             let mut moved = mesh.clone();
-            if moved.transform(to_collider).is_err() {
+            if moved.transform(to_collider * Affine3A::from_scale(scale.unwrap_or(Vec3::ONE).recip())).is_err() {
                 continue;
             }
             placed = moved;
             &placed
+        };
+        let rebuilt;
+        let d = if scale.is_some() {
+            rebuilt = MeshDented { topology_changed: true, ..d.clone() };
+            &rebuilt
+        } else {
+            d
         };
         match refitted(&collider.raw, mesh, d) {
             Ok(shape) => *collider = Collider::from(shape),
