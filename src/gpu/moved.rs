@@ -298,6 +298,9 @@ fn read_words(staging: &wgpu::Buffer, range: Range<u64>) -> Result<Vec<u32>, Gpu
     words
 }
 
+/// Waits for the device at most this many times for a batch's read-backs (two are needed).
+const MAX_WAIT_ROUNDS: usize = 8;
+
 /// Waits for `pending` read-backs, recorded into one submission the caller has made, and returns
 /// each one's vertices (in `pending`'s order): two waits for the device however many there are
 /// (the counts, then the lists).
@@ -307,8 +310,10 @@ fn read_words(staging: &wgpu::Buffer, range: Range<u64>) -> Result<Vec<u32>, Gpu
 pub(crate) fn wait_all(context: &GpuContext, pending: &mut [PendingMoved]) -> Result<Vec<MovedVertices>, GpuError> {
     pending.iter_mut().for_each(PendingMoved::submitted);
     let mut out: Vec<Option<MovedVertices>> = vec![None; pending.len()];
-    // A count, then a list, each mapped after a wait: two rounds; a third finds nothing new.
-    for _ in 0..3 {
+    // A count, then a list, each mapped after a wait: two rounds. A loaded software device
+    // (lavapipe on a busy 2-core machine) has been seen to deliver a mapping one wait late, so a
+    // few more rounds are allowed (each a poll of an idle device, microseconds) before giving up.
+    for _ in 0..MAX_WAIT_ROUNDS {
         context.wait()?;
         for (read, slot) in pending.iter_mut().zip(&mut out) {
             if slot.is_none() {

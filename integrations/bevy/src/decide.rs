@@ -103,6 +103,7 @@ pub(crate) fn decide_dents(
                 let Some(job) = queued.next() else { continue };
                 let staged = !job.params.host_stages().is_empty();
                 let id = job.id;
+                world.records.queued(dent.target);
                 link.send(ToRender::Dent(job));
                 if staged {
                     world.awaiting_report.insert(id, applied);
@@ -152,6 +153,10 @@ pub(crate) fn decide_dents(
             moved: t.moved.clone(),
             topology_changed: t.topology_changed,
         });
+    }
+    for t in &cpu_targets {
+        let dents = plan.dents.iter().filter(|d| d.target == t.key).count() as u32;
+        world.records.changed(t.key, &t.mesh, dents);
     }
     world.targets.apply(cpu_targets);
     break_bodies(world, plan.fractures, &mut breaking, (&mut meshes, &mut reports.dented, &mut stats));

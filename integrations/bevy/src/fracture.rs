@@ -32,6 +32,7 @@ pub(crate) fn break_bodies(
         let Some(pose) = world.targets.pose(entity) else { continue };
         let transform = Transform::from_matrix(Mat4::from(pose));
         let material = out.materials.get(entity).ok().cloned();
+        world.records.fractured(&fracture, world.step);
         world.targets.apply_fracture(&fracture);
         let whole = fracture.rest.is_none();
         match &fracture.rest {

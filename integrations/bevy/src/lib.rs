@@ -73,6 +73,7 @@ mod mesh_data;
 mod rapier;
 mod register;
 mod render;
+mod save;
 mod scale;
 mod split_attributes;
 mod stats;
@@ -95,6 +96,7 @@ pub use events::{BodyBroken, DentApplied, MeshDented};
 pub use link::GpuStatus;
 pub use mesh_data::{MeshDataError, SlabLayout, bevy_mesh, slab_layout, tri_mesh};
 pub use register::{DentAdvice, DentRefused, DentRegistered};
+pub use save::{DamageRestored, RestoreDamage};
 pub use stats::{DentPath, DentStats};
 pub use world::DentWorld;
 
@@ -180,6 +182,8 @@ impl Plugin for DentbendPlugin {
             .add_message::<DentApplied>()
             .add_message::<MeshDented>()
             .add_message::<BodyBroken>()
+            .add_message::<RestoreDamage>()
+            .add_message::<DamageRestored>()
             .configure_sets(PostUpdate, (DentSystems::Register, DentSystems::Decide, DentSystems::Apply).chain())
             // Registration reads each body's global transform (its pose, its scale).
             .configure_sets(PostUpdate, DentSystems::Register.after(TransformSystems::Propagate))
@@ -190,6 +194,7 @@ impl Plugin for DentbendPlugin {
                     register::register_dentables,
                     register::register_projectiles,
                     register::promote_to_gpu,
+                    save::restore_damage,
                 )
                     .chain()
                     .in_set(DentSystems::Register),

@@ -59,6 +59,8 @@ pub struct DentWorld {
     pub(crate) awaiting_report: HashMap<u64, crate::DentApplied>,
     /// Colliders on other entities than their dentable meshes, by collider entity.
     pub(crate) aliases: HashMap<Entity, ColliderAlias>,
+    /// The bodies whose damage is recorded.
+    pub(crate) records: crate::save::Records,
 }
 
 impl DentWorld {
@@ -83,6 +85,32 @@ impl DentWorld {
     /// coordinates, m); `None` for an entity the plug-in has not registered.
     pub fn surface(&self, entity: Entity) -> Option<&TriMesh> {
         surface_in(&self.targets, &self.surfaces, entity)
+    }
+
+    /// Records dentable `entity`'s damage from now on (the mesh entity, or the entity carrying
+    /// its `Dentable`), as the body `name` of [`damage_file`](Self::damage_file): its mesh now
+    /// is the base a [`RestoreDamage`](crate::RestoreDamage) starts from.
+    ///
+    /// # Errors
+    /// A message when `entity` is not a registered dentable body (yet).
+    pub fn record_damage(&mut self, entity: Entity, name: impl Into<String>) -> Result<(), String> {
+        let entity = self.mesh_of_owner(entity).unwrap_or(entity);
+        let mesh = self.targets.mesh(entity).ok_or_else(|| format!("{entity} is not a registered dentable body"))?;
+        self.records.track(entity, name.into(), &mesh.clone());
+        Ok(())
+    }
+
+    /// Every recorded body's damage (exact mesh edits, whatever path dented it, and its
+    /// fractures), for a save file (`DamageFile::to_json` with dentbend's `io` feature).
+    pub fn damage_file(&self) -> dentbend::record::DamageFile {
+        self.records.file()
+    }
+
+    /// Replaces `entity`'s mesh wholesale (a restored one).
+    pub(crate) fn replace_mesh(&mut self, entity: Entity, mesh: TriMesh) {
+        let moved = (0..mesh.vertex_count() as u32).collect();
+        let dented = DentedTarget { key: entity, mesh, moved, refinement: Default::default(), topology_changed: true };
+        self.targets.apply(vec![dented]);
     }
 
     /// The scale baked into dentable `entity`'s mesh (`None`: unscaled or unknown).
@@ -140,6 +168,7 @@ impl DentWorld {
     /// Forgets `entity`; whether it was on the GPU path.
     pub(crate) fn remove(&mut self, entity: Entity) -> bool {
         self.aliases.retain(|_, a| a.mesh != entity);
+        self.records.forget(entity);
         self.targets.remove(entity);
         self.surfaces.remove(&entity);
         self.damage.forget(entity);
@@ -174,6 +203,7 @@ impl DentWorld {
         if mesh.set_positions(moved).is_err() {
             return false;
         }
+        self.records.changed(entity, &mesh, 0);
         let dented = DentedTarget {
             key: entity,
             mesh,
@@ -197,6 +227,7 @@ impl DentWorld {
         if self.targets.mesh(entity).is_none() {
             return false;
         }
+        self.records.changed(entity, &mesh, 0);
         let dented = DentedTarget { key: entity, mesh, moved, refinement, topology_changed: true };
         self.targets.apply(vec![dented]);
         true

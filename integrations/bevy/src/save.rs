@@ -1,0 +1,203 @@
+//! Save and restore: the damage of the dentable bodies a game asked to record, as dentbend's
+//! damage file (exact mesh edits, whatever path made the dents, and fractures), and the
+//! [`RestoreDamage`] message that replays a saved body's damage onto a body spawned undamaged.
+
+use bevy::prelude::*;
+use dentbend::TriMesh;
+use dentbend::damage::BodyFracture;
+use dentbend::mesh::{MeshEdit, content_hash};
+use dentbend::record::{
+    BodyDamage, DamageFile, DamageRecord, DentBatch, DentForm, FracturePiece, FractureRecord, MeshStamp, Projectiles,
+    replay_body,
+};
+
+use crate::link::{MainLink, ToRender};
+use crate::mesh_data::{slab_layout, write_dented};
+use crate::scale::unscaled;
+use crate::{DentPath, DentWorld, MeshDented};
+
+/// One recorded body: its damage so far, its mesh when last recorded, and dents queued on the
+/// GPU path whose result has not come back yet.
+#[derive(Debug, Clone)]
+struct Recorded {
+    entity: Entity,
+    damage: BodyDamage,
+    last: TriMesh,
+    pending: u32,
+}
+
+/// The bodies being recorded.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Records {
+    bodies: Vec<Recorded>,
+}
+
+impl Records {
+    /// Starts (or restarts) recording `entity`, called `name`, whose mesh is now `mesh`.
+    pub fn track(&mut self, entity: Entity, name: String, mesh: &TriMesh) {
+        self.bodies.retain(|r| r.entity != entity);
+        let damage = BodyDamage::new(name, mesh);
+        self.bodies.push(Recorded { entity, damage, last: mesh.clone(), pending: 0 });
+    }
+
+    /// Continues recording `entity` from `damage` (restored), its mesh now `mesh`.
+    fn resume(&mut self, entity: Entity, damage: BodyDamage, mesh: &TriMesh) {
+        if let Some(r) = self.bodies.iter_mut().find(|r| r.entity == entity) {
+            (r.damage, r.last, r.pending) = (damage, mesh.clone(), 0);
+        }
+    }
+
+    /// A dent of `entity` was queued on the GPU path.
+    pub fn queued(&mut self, entity: Entity) {
+        if let Some(r) = self.bodies.iter_mut().find(|r| r.entity == entity) {
+            r.pending += 1;
+        }
+    }
+
+    /// `entity`'s mesh is now `now`, after `dents` dents (plus those queued on the GPU path).
+    pub fn changed(&mut self, entity: Entity, now: &TriMesh, dents: u32) {
+        let Some(r) = self.bodies.iter_mut().find(|r| r.entity == entity) else { return };
+        let edit = match MeshEdit::between(&r.last, now) {
+            Ok(edit) => edit,
+            Err(e) => {
+                error!(
+                    "bevy_dentbend: {entity}'s damage record stops: its mesh changed in a way no record holds ({e})"
+                );
+                self.bodies.retain(|r| r.entity != entity);
+                return;
+            }
+        };
+        let after = MeshStamp::of(now);
+        let dents = dents + std::mem::take(&mut r.pending);
+        r.damage.records.push(DamageRecord::Dents(DentBatch {
+            dents,
+            impacts: Vec::new(),
+            edit: Some(edit),
+            after: after.hash,
+        }));
+        r.damage.final_mesh = after;
+        r.last = now.clone();
+    }
+
+    /// `fracture` broke a body at `step`: its rest is its mesh from then on (a body the pattern
+    /// took whole stops being recorded).
+    pub fn fractured(&mut self, fracture: &BodyFracture<Entity>, step: u64) {
+        let Some(r) = self.bodies.iter_mut().find(|r| r.entity == fracture.body) else { return };
+        let Some(rest) = &fracture.rest else {
+            warn!("bevy_dentbend: {} broke whole; its damage record ends with its last dents", fracture.body);
+            self.bodies.retain(|r| r.entity != fracture.body);
+            return;
+        };
+        let name = &r.damage.name;
+        let pieces = fracture
+            .pieces
+            .iter()
+            .map(|p| FracturePiece {
+                name: format!("{name}/piece{}", p.id.index),
+                index: p.id.index,
+                shift: Vec3::ZERO,
+                hash: content_hash(&p.mesh),
+            })
+            .collect();
+        let after = MeshStamp::of(rest);
+        r.damage.records.push(DamageRecord::Fracture(FractureRecord {
+            frame: step,
+            fracture: fracture.record,
+            to_model: Vec3::ZERO,
+            rest_shift: Vec3::ZERO,
+            pieces,
+            after: after.hash,
+        }));
+        r.damage.final_mesh = after;
+        r.last = rest.clone();
+    }
+
+    /// Forgets `entity` (despawned).
+    pub fn forget(&mut self, entity: Entity) {
+        self.bodies.retain(|r| r.entity != entity);
+    }
+
+    /// Every recorded body's damage, in the order recording started.
+    pub fn file(&self) -> DamageFile {
+        DamageFile { scene: None, bodies: self.bodies.iter().map(|r| r.damage.clone()).collect() }
+    }
+}
+
+/// Replays `damage` (saved from a body spawned with the mesh `entity` has now: its dents'
+/// exact edits and its fractures) onto `entity`, a registered dentable body (or the entity
+/// carrying its `Dentable`). Answered by a [`DamageRestored`].
+#[derive(Message, Debug, Clone)]
+pub struct RestoreDamage {
+    /// The body.
+    pub entity: Entity,
+    /// Its saved damage (one body of a [`DamageFile`]).
+    pub damage: BodyDamage,
+}
+
+/// The outcome of a [`RestoreDamage`]: `Err` names why nothing changed (another mesh, a body
+/// not registered yet, a damage file that does not replay).
+#[derive(Message, Debug, Clone)]
+pub struct DamageRestored {
+    /// The body.
+    pub entity: Entity,
+    /// What happened.
+    pub result: Result<(), String>,
+}
+
+/// Replays each [`RestoreDamage`] onto its body: the main world's mesh, the asset (without the
+/// entity's scale), the collider (through [`MeshDented`]) and, on the GPU path, the resident
+/// copy; the body's record, when it is recorded, continues from the restored damage.
+pub(crate) fn restore_damage(
+    mut requests: MessageReader<RestoreDamage>,
+    mut world: ResMut<DentWorld>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    link: Res<MainLink>,
+    mut dented: MessageWriter<MeshDented>,
+    mut restored: MessageWriter<DamageRestored>,
+) {
+    for request in requests.read() {
+        let entity = world.mesh_of_owner(request.entity).unwrap_or(request.entity);
+        let result = restore_one(&mut world, &mut meshes, &link, entity, &request.damage);
+        match &result {
+            Ok(moved) => {
+                let moved = moved.clone();
+                dented.write(MeshDented { entity, moved, topology_changed: true });
+            }
+            Err(e) => warn!("bevy_dentbend: {} keeps its mesh: {e}", request.entity),
+        }
+        restored.write(DamageRestored { entity: request.entity, result: result.map(|_| ()) });
+    }
+}
+
+/// Restores `damage` onto registered body `entity`; the vertices of its new mesh.
+fn restore_one(
+    world: &mut DentWorld,
+    meshes: &mut Assets<Mesh>,
+    link: &MainLink,
+    entity: Entity,
+    damage: &BodyDamage,
+) -> Result<Vec<u32>, String> {
+    let now = world.mesh(entity).ok_or("it is not a registered dentable body (yet)")?;
+    let mesh = replay_body(damage, now, DentForm::Edits, &Projectiles::new()).map_err(|e| e.to_string())?;
+    let body = world.bodies.get(&entity).ok_or("it is not a registered dentable body")?;
+    let written = match body.scale {
+        Some(s) => unscaled(&mesh, s).map_err(|e| e.to_string())?,
+        None => mesh.clone(),
+    };
+    let mut asset = meshes.get_mut(&body.mesh).ok_or("its mesh asset is gone")?;
+    let fresh = crate::mesh_data::bevy_mesh(&written);
+    if asset.count_vertices() == written.vertex_count() {
+        write_dented(&mut asset, &written, &Default::default()).map_err(|e| e.to_string())?;
+    } else {
+        *asset = fresh;
+    }
+    let layout = slab_layout(&asset).map_err(|e| e.to_string())?;
+    let (handle, path) = (body.mesh.clone(), body.path);
+    world.replace_mesh(entity, mesh.clone());
+    world.damage.forget(entity);
+    world.records.resume(entity, damage.clone(), &mesh);
+    if path == DentPath::Gpu {
+        link.send(ToRender::Register { entity, asset: handle.id(), mesh: mesh.clone(), layout });
+    }
+    Ok((0..mesh.vertex_count() as u32).collect())
+}
