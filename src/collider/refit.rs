@@ -130,13 +130,13 @@ pub fn validate_refit(vertex_count: usize, moved: &[u32], positions: &[Vec3]) ->
 /// # Example
 /// ```
 /// use dentbend::glam::Vec3;
-/// use dentbend::sim::refit_trimesh;
+/// use dentbend::collider::refit_trimesh;
 /// use parry3d::shape::TriMesh;
 /// let mut shape = TriMesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 2]]).unwrap();
 /// refit_trimesh(&mut shape, &[2], &[Vec3::new(0.0, 1.0, 2.0)])?;
 /// assert_eq!(shape.local_aabb().maxs, Vec3::new(1.0, 1.0, 2.0));
 /// assert!(refit_trimesh(&mut shape, &[3], &[Vec3::ONE]).is_err());
-/// # Ok::<(), dentbend::sim::RefitError>(())
+/// # Ok::<(), dentbend::collider::RefitError>(())
 /// ```
 pub fn refit_trimesh(shape: &mut TriMesh, moved: &[u32], positions: &[Vec3]) -> Result<RefitStats, RefitError> {
     validate_refit(shape.vertices().len(), moved, positions)?;
