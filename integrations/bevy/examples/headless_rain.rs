@@ -4,9 +4,9 @@
 //!
 //! Flags: `--cpu` (every dent on the CPU path), `--no-dents` (the same rain, nothing dents: the
 //! baseline frame time), `--size WxH` (default 640x360), `--balls-per-frame F` (default 0.5),
-//! `--no-png` (render every frame, write none), `--no-wall` (no breakable wall: by default a
-//! wrecking ball breaks one behind the block, counted in `summary.json`'s `fractures` and
-//! `pieces`).
+//! `--no-png` (render every frame, write none), `--no-wall` (no breakable wall and no dents on the
+//! plank: by default a wrecking ball breaks a wall behind the block, counted in `summary.json`'s
+//! `fractures` and `pieces`, and balls dent the bendable plank, `bendable_dents`).
 //!
 //! Throughput: `--burst N` stops the rain and instead writes N contacts a frame on the block
 //! through the contact hook (a hidden ball landing at 3 m/s at random points: one batch of N
@@ -130,6 +130,7 @@ fn main() -> ExitCode {
         balls_per_frame: args.balls_per_frame,
         resolution: args.resolution,
         wall: args.wall,
+        dent_plank: args.wall,
         ..default()
     };
     app.insert_resource(rain)

@@ -11,9 +11,10 @@ use bevy::prelude::*;
 use bevy_dentbend::demo::headless_app;
 use bevy_dentbend::dentbend::bend::auto_skeleton;
 use bevy_dentbend::dentbend::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
+use bevy_dentbend::dentbend::dent::DentSettings;
 use bevy_dentbend::dentbend::glam::Vec3 as DVec3;
 use bevy_dentbend::dentbend::mesh;
-use bevy_dentbend::{BendSettings, Bendable, Bends, DentPath, bevy_mesh, slab_layout};
+use bevy_dentbend::{BendSettings, Bendable, Bends, DentPath, DentProjectile, DentStats, bevy_mesh, slab_layout};
 use bevy_rapier3d::prelude::*;
 
 /// Plastic joints of strength 40 N·m·s over a 700 kg/m³ plank (dentbend-rapier's Figure 14).
@@ -25,6 +26,12 @@ fn plastic() -> BendSettings {
 /// supports 3.8 m apart, the ground 0.6 m below, a 60 kg ball (radius 0.2 m) falling at 6 m/s
 /// onto it 0.3 m off the middle.
 fn plank_scene(gpu: bool) -> (common::Scene, Entity) {
+    plank_scene_with(gpu, false)
+}
+
+/// [`plank_scene`], the plank dentable (2 m/s threshold, 5 mm per m/s, at most 2 cm) and the
+/// ball a projectile with a mesh when `dents`.
+fn plank_scene_with(gpu: bool, dents: bool) -> (common::Scene, Entity) {
     let mut app = headless_app(gpu);
     let probe = common::slab::SlabProbe::install(&mut app);
     app.finish();
@@ -40,16 +47,24 @@ fn plank_scene(gpu: bool) -> (common::Scene, Entity) {
     }
     world.spawn((Transform::from_xyz(0.0, -0.7, 0.0), RigidBody::Fixed, Collider::cuboid(4.0, 0.1, 1.5)));
     let asset = world.resource_mut::<Assets<Mesh>>().add(bevy_mesh(&plank));
-    let body = world
-        .spawn((Mesh3d(asset), Transform::from_xyz(0.0, 0.052, 0.0), Bendable { skeleton, settings: plastic() }))
+    let mut bendable = Bendable::new(skeleton, plastic());
+    if dents {
+        bendable = bendable.dentable(DentSettings::new(2.0, 0.005, 0.02));
+    }
+    let body = world.spawn((Mesh3d(asset), Transform::from_xyz(0.0, 0.052, 0.0), bendable)).id();
+    let ball = world
+        .spawn((
+            RigidBody::Dynamic,
+            Collider::ball(0.2),
+            ColliderMassProperties::Mass(60.0),
+            Velocity::linear(Vec3::new(0.0, -6.0, 0.0)),
+            Transform::from_xyz(0.3, 0.7, 0.0),
+        ))
         .id();
-    world.spawn((
-        RigidBody::Dynamic,
-        Collider::ball(0.2),
-        ColliderMassProperties::Mass(60.0),
-        Velocity::linear(Vec3::new(0.0, -6.0, 0.0)),
-        Transform::from_xyz(0.3, 0.7, 0.0),
-    ));
+    if dents {
+        let sphere = world.resource_mut::<Assets<Mesh>>().add(Sphere::new(0.2).mesh().ico(3).expect("a sphere"));
+        world.entity_mut(ball).insert((Mesh3d(sphere), DentProjectile));
+    }
     let scene = common::Scene {
         app,
         target: body,
@@ -169,8 +184,39 @@ fn the_cpu_path_bends_the_same() {
     }
 }
 
+/// A dentable plank keeps the ball's dent while it bends, on both paths: the dent lands in its
+/// rest mesh (the same vertices and faces; at most the 2 cm cap deep, at least 2 mm), it is
+/// counted as a bendable dent, and the mesh drawn is the new rest mesh skinned (on the CPU
+/// path, the asset exactly).
+fn a_dentable_plank_keeps_its_dent() {
+    for gpu in [true, false] {
+        let (mut s, body) = plank_scene_with(gpu, true);
+        let path = if gpu { DentPath::Gpu } else { DentPath::Cpu };
+        s.until("the plank registered", 100, |w| w.resource::<Bends>().skinning_path(body) == Some(path));
+        let original = s.app.world().resource::<Bends>().rest(body).unwrap().0.clone();
+        s.frames(60);
+        let stats = s.app.world().resource::<DentStats>().clone();
+        assert!(stats.bendable_dents >= 1, "{stats:?}");
+        let bends = s.app.world().resource::<Bends>();
+        let (rest, influences) = bends.rest(body).unwrap();
+        assert_eq!((rest.vertex_count(), rest.faces()), (original.vertex_count(), original.faces()));
+        let deepest =
+            rest.positions().iter().zip(original.positions()).map(|(a, b)| a.distance(*b)).fold(0.0, f32::max);
+        assert!((0.002..=0.0201).contains(&deepest), "gpu {gpu}: the rest mesh's dent is {deepest} m");
+        if !gpu {
+            let bones = bends.skinned_with(body).unwrap();
+            let n = rest.vertex_count();
+            let (mut positions, mut normals) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
+            let params = SkinParams::new(n as u32, bones.len() as u32);
+            skin(&params, bones, rest.positions(), rest.normals(), influences, &mut positions, &mut normals).unwrap();
+            assert_eq!(s.target_asset_positions(), positions, "the asset is not the dented rest mesh skinned");
+        }
+    }
+}
+
 fn main() -> ExitCode {
     common::run(vec![
+        ("a_dentable_plank_keeps_its_dent", a_dentable_plank_keeps_its_dent),
         ("the_plank_bends_and_the_slab_is_skinned", the_plank_bends_and_the_slab_is_skinned),
         ("the_cpu_path_bends_the_same", the_cpu_path_bends_the_same),
     ])

@@ -4,9 +4,13 @@
 //! body's own mesh is skinned from the bones' poses every frame, on Bevy's GPU by dentbend's
 //! `skin` kernel straight into Bevy's vertex slab (or on the CPU into the mesh asset).
 //!
-//! Not yet in Bevy: dynamic articulation (splitting a bone where a fast hit lands) and dents on
-//! bendable bodies; dentbend-rapier's `Bendable` has both.
+//! A bendable body given dent settings ([`Bendable::dentable`]) dents where its bones are hit:
+//! its rest mesh skinned to the bones' poses is dented, the dent mapped back to the rest mesh
+//! through each vertex's blended bone rotation ([`dentbend::bend::Rig`]), and the bones owning
+//! a moved vertex get new hulls. Not yet in Bevy: dynamic articulation (splitting a bone where a
+//! fast hit lands); dentbend-rapier's `Bendable` has it.
 
+mod dents;
 mod joints;
 mod rig;
 mod skinning;
@@ -17,8 +21,10 @@ use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
 use bevy_rapier3d::plugin::PhysicsSet;
 use dentbend::TriMesh;
-use dentbend::bend::Skeleton;
+use dentbend::bend::{self, Skeleton};
 use dentbend::cpu::{SkinBone, SkinInfluence};
+use dentbend::damage::Damage;
+use dentbend::dent::{DentSettings, Refine};
 use dentbend::glam::Affine3A;
 use dentbend_rapier::{BendSettings, JointState};
 
@@ -33,6 +39,23 @@ pub struct Bendable {
     pub skeleton: Skeleton,
     /// Density, friction, the joints' rule, skinning weights.
     pub settings: BendSettings,
+    /// How its mesh dents where its bones are hit (`None`: it does not; never refined: the
+    /// skinning weights belong to its vertices).
+    pub dent: Option<DentSettings>,
+}
+
+impl Bendable {
+    /// A body of `skeleton`'s bones with `settings`, that does not dent.
+    pub fn new(skeleton: Skeleton, settings: BendSettings) -> Self {
+        Self { skeleton, settings, dent: None }
+    }
+
+    /// The body also dents with `settings` (refinement is turned off).
+    pub fn dentable(mut self, mut settings: DentSettings) -> Self {
+        settings.params.refine = Refine::Off;
+        self.dent = Some(settings);
+        self
+    }
 }
 
 /// One bone of a bendable body: a dynamic rigid body whose frame is the body's rest frame.
@@ -60,9 +83,10 @@ pub(crate) struct Rig {
     /// One entity per bone, in bone order.
     pub pieces: Vec<Entity>,
     pub joints: Vec<Joint>,
-    /// The rest mesh (rest frame) and its influences.
-    pub rest: TriMesh,
-    pub influences: Vec<SkinInfluence>,
+    /// Rest mesh, skeleton, weights, influences and sub-bodies.
+    pub core: bend::Rig,
+    /// Its dents (`None`: it does not dent), their progressive state and step count.
+    pub dent: Option<(DentSettings, Damage<Entity>, u64)>,
     pub path: DentPath,
     /// Its private mesh asset.
     pub mesh: Handle<Mesh>,
@@ -89,7 +113,7 @@ impl Bends {
 
     /// The rest mesh of `entity` (rest frame, m) and each vertex's bone influences.
     pub fn rest(&self, entity: Entity) -> Option<(&TriMesh, &[SkinInfluence])> {
-        self.rigs.get(&entity).map(|r| (&r.rest, r.influences.as_slice()))
+        self.rigs.get(&entity).map(|r| (r.core.rest(), r.core.influences()))
     }
 
     /// The bone matrices `entity` was last skinned with (rest frame → its own coordinates).
@@ -113,5 +137,6 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
             physics,
             joints::apply_joint_rules.after(PhysicsSet::SyncBackend).before(PhysicsSet::StepSimulation),
         )
+        .add_systems(PostUpdate, dents::dent_bendables.in_set(DentSystems::Decide).after(crate::decide::decide_dents))
         .add_systems(PostUpdate, (rig::forget_removed, skinning::pose_bendables).chain().in_set(DentSystems::Apply));
 }

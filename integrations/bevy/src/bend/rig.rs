@@ -5,7 +5,7 @@ use bevy::prelude::*;
 use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
 use dentbend::bend;
-use dentbend::cpu::SkinInfluence;
+use dentbend::damage::Damage;
 use dentbend::glam::Quat;
 use dentbend_rapier::JointState;
 
@@ -16,8 +16,7 @@ use crate::{DentPath, DentRegistered};
 
 /// The rig of a bendable body, before anything is spawned.
 struct Built {
-    rest: TriMesh,
-    influences: Vec<SkinInfluence>,
+    core: bend::Rig,
     hulls: Vec<Collider>,
     rules: Vec<(usize, usize, Vec3, JointState)>,
 }
@@ -65,6 +64,9 @@ pub(crate) fn register_bendables(
                         Friction::coefficient(bendable.settings.friction),
                         Transform::from_matrix(Mat4::from(pose)),
                         Velocity::zero(),
+                        // A dentable body's bones report every push (its impacts dent it).
+                        ActiveEvents::CONTACT_FORCE_EVENTS,
+                        ContactForceEventThreshold(0.0),
                     ))
                     .id()
             })
@@ -78,17 +80,7 @@ pub(crate) fn register_bendables(
         let handle = meshes.add(copy);
         let path = match status {
             GpuStatus::Ready(_) => {
-                let (positions, normals) = (built.rest.positions().to_vec(), built.rest.normals().to_vec());
-                let (influences, bones) = (built.influences.clone(), pieces.len() as u32);
-                link.send(ToRender::RegisterSkin {
-                    entity,
-                    asset: handle.id(),
-                    positions,
-                    normals,
-                    influences,
-                    bones,
-                    layout,
-                });
+                register_skin(&link, entity, handle.id(), &built.core, layout);
                 DentPath::Gpu
             }
             _ => DentPath::Cpu,
@@ -98,14 +90,35 @@ pub(crate) fn register_bendables(
             pose,
             pieces,
             joints,
-            rest: built.rest,
-            influences: built.influences,
+            core: built.core,
+            dent: bendable.dent.clone().map(|settings| (settings, Damage::new(), 0)),
             path,
             mesh: handle,
             last: Vec::new(),
         };
         bends.rigs.insert(entity, rig);
     }
+}
+
+/// Puts `core`'s rest mesh and influences on the render world's skinner for `entity`'s mesh
+/// `asset` (laid out as `layout`), replacing what it had.
+pub(crate) fn register_skin(
+    link: &MainLink,
+    entity: Entity,
+    asset: AssetId<Mesh>,
+    core: &bend::Rig,
+    layout: crate::SlabLayout,
+) {
+    let rest = core.rest();
+    link.send(ToRender::RegisterSkin {
+        entity,
+        asset,
+        positions: rest.positions().to_vec(),
+        normals: rest.normals().to_vec(),
+        influences: core.influences().to_vec(),
+        bones: core.skeleton().len() as u32,
+        layout,
+    });
 }
 
 /// Weights, sub-body hulls and joint rules of `bendable` over `rest`.
@@ -124,8 +137,7 @@ fn build(rest: TriMesh, bendable: &Bendable) -> Result<Built, String> {
         let rule = JointState::new(settings.joint, Quat::IDENTITY).map_err(|e| e.to_string())?;
         rules.push((j.parent, j.child, j.point, rule));
     }
-    let influences = rig.influences().to_vec();
-    Ok(Built { rest: rig.rest().clone(), influences, hulls, rules })
+    Ok(Built { core: rig, hulls, rules })
 }
 
 /// Despawns the bones of bendable bodies that were despawned or lost their component.

@@ -32,15 +32,16 @@ pub(crate) fn pose_bendables(
         if bones == rig.last {
             continue;
         }
-        commands.entity(entity).try_insert(skinned_bounds(&rig.rest, &bones));
+        commands.entity(entity).try_insert(skinned_bounds(rig.core.rest(), &bones));
         match rig.path {
             DentPath::Gpu => link.send(ToRender::Pose { entity, bones: bones.clone() }),
             DentPath::Cpu => {
-                let n = rig.rest.vertex_count();
+                let n = rig.core.rest().vertex_count();
                 let (mut positions, mut normals) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
                 let params = SkinParams::new(n as u32, bones.len() as u32);
-                let rest = (rig.rest.positions(), rig.rest.normals());
-                if let Err(e) = skin(&params, &bones, rest.0, rest.1, &rig.influences, &mut positions, &mut normals) {
+                let rest = (rig.core.rest().positions(), rig.core.rest().normals());
+                let influences = rig.core.influences();
+                if let Err(e) = skin(&params, &bones, rest.0, rest.1, influences, &mut positions, &mut normals) {
                     error!("bevy_dentbend: {entity} could not be skinned ({e})");
                     continue;
                 }

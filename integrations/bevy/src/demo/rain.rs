@@ -8,7 +8,7 @@ use bevy::window::ExitCondition;
 use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
 use dentbend::bend::auto_skeleton;
-use dentbend::dent::{Resolution, VolumeMode};
+use dentbend::dent::{DentSettings, Resolution, VolumeMode};
 use dentbend::fracture::{FractureSettings, PatternParams};
 use dentbend::glam::Vec3 as DVec3;
 use dentbend::mesh;
@@ -35,6 +35,8 @@ pub struct RainSettings {
     /// A breakable wall behind the block, broken by a wrecking ball at frame
     /// [`WRECKING_FRAME`] (its dents and fracture take the CPU path).
     pub wall: bool,
+    /// The plank dents where balls land on it (bendable dents, on the CPU path).
+    pub dent_plank: bool,
 }
 
 impl Default for RainSettings {
@@ -48,6 +50,7 @@ impl Default for RainSettings {
             plank: true,
             resolution: None,
             wall: false,
+            dent_plank: false,
         }
     }
 }
@@ -167,7 +170,7 @@ fn setup(
         Vec3::new(-1.0, 0.35, -1.0),
     );
     if settings.plank {
-        spawn_plank(&mut commands, &mut meshes, &mut materials);
+        spawn_plank(&mut commands, &mut meshes, &mut materials, settings.dents && settings.dent_plank);
     }
     if settings.wall && settings.dents {
         spawn_wall(&mut commands, &mut meshes, &mut materials);
@@ -228,7 +231,12 @@ const POST: f32 = 0.4;
 
 /// A 3.4 × 0.1 × 0.3 m plank of two bones (plastic joint of 40 N·m·s, 700 kg/m³) on two posts
 /// near the block's front edge: balls that land on it bend it at the joint.
-fn spawn_plank(commands: &mut Commands, meshes: &mut Assets<Mesh>, materials: &mut Assets<StandardMaterial>) {
+fn spawn_plank(
+    commands: &mut Commands,
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<StandardMaterial>,
+    dents: bool,
+) {
     let wood = materials.add(StandardMaterial { base_color: Color::srgb(0.6, 0.42, 0.25), ..default() });
     let post = meshes.add(Cuboid::new(0.2, POST, 0.3));
     for x in [-1.5, 1.5] {
@@ -242,12 +250,17 @@ fn spawn_plank(commands: &mut Commands, meshes: &mut Assets<Mesh>, materials: &m
     }
     let plank = mesh::plank(3.4, 0.3, 0.1, 68).expect("a valid plank");
     let skeleton = auto_skeleton(&plank, 2).expect("a two-bone plank");
+    let mut bendable = Bendable::new(skeleton, BendSettings::plastic(700.0, 40.0));
+    if dents {
+        // Dented where balls land on it: 2 m/s threshold, 5 mm per m/s above it, at most 2 cm.
+        bendable = bendable.dentable(DentSettings::new(2.0, 0.005, 0.02));
+    }
     commands.spawn((
         Target::Plank,
         Mesh3d(meshes.add(bevy_mesh(&plank))),
         MeshMaterial3d(wood),
         Transform::from_xyz(0.0, POST + 0.052, 1.2),
-        Bendable { skeleton, settings: BendSettings::plastic(700.0, 40.0) },
+        bendable,
     ));
 }
 

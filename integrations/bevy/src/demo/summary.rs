@@ -60,6 +60,7 @@ impl Summary {
             "limited_dents": s.limited_dents,
             "empty_dents": s.empty_dents,
             "fractures": s.fractures,
+            "bendable_dents": s.bendable_dents,
             "pieces": s.pieces,
             "dents_enabled": self.dents_enabled,
             "path": path,
