@@ -14,11 +14,9 @@
 use glam::Affine3A;
 
 use super::ArticulatedBody;
-use crate::dent::{Refine, dent_batch};
+use crate::dent::{LocalContact, Refine, dent_batch, projectile_reach};
 use crate::mesh::TriMesh;
-use crate::sim::{
-    DecidedDent, DentSettings, DentSurface, DentTarget, RigidBody, SimError, World, dent_job, projectile_near_impact,
-};
+use crate::sim::{DecidedDent, DentSettings, DentSurface, DentTarget, RigidBody, SimError, World};
 
 /// A dent of a bending body computed in its current pose, not yet applied
 /// ([`ArticulatedBody::apply_pose_dent`]).
@@ -109,16 +107,21 @@ impl ArticulatedBody {
             motion: Affine3A::IDENTITY,
             radius: 0.5 * lo.distance(hi),
         };
+        let locals: Vec<LocalContact> =
+            dents.iter().map(|(d, surface)| LocalContact::new(&d.impact, to_world, surface.to_world)).collect();
         let projectiles: Vec<(usize, TriMesh)> = dents
             .iter()
             .enumerate()
-            .filter_map(|(k, (d, surface))| Some((k, projectile_near_impact(&target(d), d, surface)?)))
+            .filter_map(|(k, (d, surface))| {
+                let reach = projectile_reach(settings, target(d).radius, d.dent_distance);
+                Some((k, locals[k].crop(surface.mesh, reach)?))
+            })
             .collect();
         let jobs: Vec<_> = projectiles
             .iter()
             .map(|(k, mesh)| {
                 let d = &dents[*k].0;
-                let mut job = dent_job(&target(d), d, d.dent_distance, mesh, 0);
+                let mut job = locals[*k].job(mesh, &settings.params, d.dent_distance, 0);
                 // Never refined: weights, bones and sub-bodies are per rest-mesh vertex.
                 job.params.refine = Refine::Off;
                 job

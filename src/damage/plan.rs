@@ -8,8 +8,8 @@ use glam::Vec3;
 use super::fracture::{BodyFracture, break_at, breaking_hits};
 use super::{DamageError, DentBackend, DentTargets, Hit, TargetView};
 use crate::dent::{
-    DentJob, DentParams, DentReport, Impact, LocalContact, ProgressiveDents, changed_vertices, decide_dent_distance,
-    dent_batch_tracked, projectile_offset, projectile_reach,
+    DentReport, Impact, LocalContact, ProgressiveDents, changed_vertices, decide_dent_distance, dent_batch_tracked,
+    projectile_offset, projectile_reach,
 };
 use crate::fracture::DentTally;
 use crate::mesh::{Refinement, TriMesh};
@@ -263,23 +263,6 @@ fn decide<'a, K: Copy + std::fmt::Debug>(
     Ok(out)
 }
 
-/// The job of decided hit `d` with `distance` m against batch target `slot`, its projectile
-/// cropped (in the target's mesh coordinates, kept alive in `projectile`).
-fn job<'p, K>(
-    target: &TargetView<'_>,
-    d: &Decided<'_, K>,
-    distance: f32,
-    projectile: &'p TriMesh,
-    slot: usize,
-) -> DentJob<'p> {
-    DentJob {
-        target: slot,
-        projectile,
-        impact: d.local.impact(),
-        params: DentParams { dent_distance: distance, ..target.settings.params.clone() },
-    }
-}
-
 /// The projectile of `d` cropped to what can shape a `distance` m dent in `target`.
 fn cropped<K>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) -> Option<TriMesh> {
     d.local.crop(d.data.projectile_surface.mesh, projectile_reach(target.settings, target.radius, distance))
@@ -327,7 +310,7 @@ fn plain_dents<K: Copy + Eq + Hash + std::fmt::Debug>(
                 keys.len() - 1
             }
         };
-        jobs.push(job(&view(targets, d), d, d.distance, projectile, slot));
+        jobs.push(d.local.job(projectile, &view(targets, d).settings.params, d.distance, slot));
     }
     if jobs.is_empty() {
         return Ok(DamagePlan { dents: Vec::new(), targets: Vec::new(), fractures: Vec::new(), step: 0 });
@@ -363,7 +346,7 @@ fn dent_one<K: std::fmt::Debug>(
 ) -> Result<Option<(TriMesh, Refinement, DentReport)>, DamageError> {
     let Some(projectile) = cropped(target, d, distance) else { return Ok(None) };
     let mut meshes = vec![pre_dent.clone()];
-    let outcome = dent_batch_tracked(&mut meshes, &[job(target, d, distance, &projectile, 0)])
+    let outcome = dent_batch_tracked(&mut meshes, &[d.local.job(&projectile, &target.settings.params, distance, 0)])
         .map_err(|e| DamageError::Dent { hit: d.hit, target: format!("{:?}", d.data.target), error: e.error })?;
     let refinement = outcome.refined.into_iter().next().unwrap_or_default();
     let report = outcome.reports.into_iter().next().unwrap_or_default();

@@ -14,7 +14,7 @@
 
 use glam::{Affine3A, Mat3A, Quat, Vec2, Vec3};
 
-use super::{Impact, crop_to_ball};
+use super::{DentJob, DentParams, Impact, crop_to_ball};
 use crate::mesh::TriMesh;
 
 /// A unit direction as an octahedral code (2 × 16 bits).
@@ -155,6 +155,23 @@ impl LocalContact {
     /// Projectile mesh → target mesh coordinates.
     pub fn projectile_pose(&self) -> Affine3A {
         Affine3A { matrix3: self.rotation.decode(), translation: self.translation.into() }
+    }
+
+    /// The dent job of this contact against batch target `slot`: `projectile` already in target
+    /// mesh coordinates ([`crop`](Self::crop)), the target's `params` at `dent_distance` m.
+    pub fn job<'p>(
+        &self,
+        projectile: &'p TriMesh,
+        params: &DentParams,
+        dent_distance: f32,
+        slot: usize,
+    ) -> DentJob<'p> {
+        DentJob {
+            target: slot,
+            projectile,
+            impact: self.impact(),
+            params: DentParams { dent_distance, ..params.clone() },
+        }
     }
 
     /// The triangles of `projectile` (its own coordinates) within `reach` m of the contact, in

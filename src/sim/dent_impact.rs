@@ -1,16 +1,12 @@
-//! One collision's dent in world terms, through the world-free damage API of [`crate::dent`]:
-//! whether a hit dents its target and how deep ([`decide_dent`]), the part of the projectile
-//! that shapes it ([`projectile_near_impact`]) and the dent job in the target's mesh coordinates
-//! ([`dent_job`]), with world body indices as the ids. The [`Denter`](super::Denter) dents plain
-//! bodies with them, and a bending body's sub-body hit dents its skinned mesh with them.
+//! One collision's dent in world terms: whether a hit dents its target and how deep
+//! ([`decide_dent`]), with world body indices as the ids; the contact then takes the exact form
+//! every dent job is made from ([`LocalContact`](crate::dent::LocalContact): its crop of the
+//! projectile and its job). A bending body's sub-body hit dents its skinned mesh with them.
 
 use glam::Affine3A;
 
 use super::{BodyKind, CollisionEvent, DentRecord, DentSettings, RigidBody, SimError, World};
-use crate::dent::{
-    BodyState, DentJob, DentParams, Impact, LocalContact, Surface, decide_dent_distance, projectile_offset,
-    projectile_reach,
-};
+use crate::dent::{BodyState, Impact, Surface, decide_dent_distance, projectile_offset};
 use crate::mesh::TriMesh;
 
 /// A surface as it dents others: a mesh and its mesh → world transform (rigid).
@@ -188,29 +184,4 @@ pub fn decide_dent(
         decide_dent_distance(target.settings, &impact, &target_state, &projectile_state, &projectile.surface())
             .map_err(|error| SimError::Dent { body: target.name.to_owned(), error })?;
     Ok(distance.map(|dent_distance| DecidedDent { target: target.body, projectile: other, impact, dent_distance }))
-}
-
-/// The part of `projectile` that can shape `dent`, in the target's mesh coordinates
-/// ([`LocalContact::crop`] within [`projectile_reach`]); `None` when nothing
-/// is that close.
-pub fn projectile_near_impact(
-    target: &DentTarget<'_>,
-    dent: &DecidedDent,
-    projectile: &DentSurface<'_>,
-) -> Option<TriMesh> {
-    let reach = projectile_reach(target.settings, target.radius, dent.dent_distance);
-    LocalContact::new(&dent.impact, target.to_world, projectile.to_world).crop(projectile.mesh, reach)
-}
-
-/// The job of `dent` (its distance: `dent_distance`, m) in the target's mesh coordinates, with
-/// `projectile` already there (from [`projectile_near_impact`]), against batch target `slot`.
-pub fn dent_job<'a>(
-    target: &DentTarget<'_>,
-    dent: &DecidedDent,
-    dent_distance: f32,
-    projectile: &'a TriMesh,
-    slot: usize,
-) -> DentJob<'a> {
-    let impact = LocalContact::impact_in_target(&dent.impact, target.to_world);
-    DentJob { target: slot, projectile, impact, params: DentParams { dent_distance, ..target.settings.params.clone() } }
 }

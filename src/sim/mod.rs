@@ -22,16 +22,13 @@ mod union_find;
 mod warm_start;
 mod world;
 
-pub use crate::dent::energy_dent_distance;
-pub use crate::dent::{DentSettings, moved_vertices};
+pub use crate::dent::DentSettings;
 pub use crate::mesh::{MassProperties, mass_properties};
 pub use body::{BodyDesc, BodyKind, MAX_ANGULAR_SPEED, MAX_DENSITY, RigidBody, SurfaceMaterial};
 pub use broad_phase::{Aabb, overlapping_pairs};
 pub use collider::ColliderKind;
 pub use contacts::{ContactPoint, PairContacts, find_contacts};
-pub use dent_impact::{
-    DecidedDent, DentSurface, DentTarget, StepContext, body_state, decide_dent, dent_job, projectile_near_impact,
-};
+pub use dent_impact::{DecidedDent, DentSurface, DentTarget, StepContext, body_state, decide_dent};
 pub use denting::{DentRecord, Denter};
 pub use error::SimError;
 pub use events::{CollisionEvent, StepReport};
