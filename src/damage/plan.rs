@@ -131,7 +131,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
         self.tally.total(body)
     }
 
-    /// How many fractures this state has made: the next one's [`PieceId::fracture`].
+    /// How many fractures this state has made: the next one's [`PieceId::fracture`](super::PieceId::fracture).
     pub fn fractures_made(&self) -> u64 {
         self.fractures_made
     }

@@ -25,7 +25,7 @@ pub const DEFAULT_DENT_GAIN: f32 = 0.04;
 /// Dent cap when `[body.dent]` gives none, m.
 pub const DEFAULT_DENT_CAP: f32 = 0.3;
 
-/// A mesh supplier for [`parse_scene_with_meshes`]: given a body's `mesh` string as written, its
+/// A mesh supplier for [`parse_scene_with_meshes`](super::parse_scene_with_meshes): given a body's `mesh` string as written, its
 /// mesh, or a message saying why there is none.
 pub type MeshResolver<'r> = dyn FnMut(&str) -> Result<TriMesh, String> + 'r;
 
