@@ -33,7 +33,7 @@ pub struct RainSettings {
     /// Z-buffer side of the block's and the bunny's dents, cells (`None`: from the meshes).
     pub resolution: Option<u32>,
     /// A breakable wall behind the block, broken by a wrecking ball at frame
-    /// [`WRECKING_FRAME`] (its dents and fracture take the CPU path).
+    /// 20 (its dents and fracture take the CPU path).
     pub wall: bool,
     /// The plank dents where balls land on it (bendable dents, on the CPU path).
     pub dent_plank: bool,
@@ -178,7 +178,7 @@ fn setup(
 }
 
 /// The frame the wrecking ball is launched at the wall.
-pub const WRECKING_FRAME: u32 = 20;
+const WRECKING_FRAME: u32 = 20;
 /// Where the wall stands: centre, m (2 × 1.2 × 0.15 m, behind the block, its front face looking
 /// along +z).
 const WALL_CENTRE: Vec3 = Vec3::new(0.3, 0.6, -2.4);
