@@ -4,6 +4,9 @@
 //! projectile carries on less the energy used; a bad breakable body is refused and changes
 //! nothing.
 
+mod common;
+
+use common::closed::assert_closed;
 use dentbend::damage::{CpuBackend, Damage, DamageError, DamagePlan, Hit, TargetSet};
 use dentbend::dent::{BodyState, DentSettings, Impact, Surface};
 use dentbend::fracture::{FractureCause, FractureError, FractureSettings, PatternParams, replay};
@@ -65,34 +68,6 @@ fn volume(mesh: &TriMesh) -> f64 {
 
 fn plan(set: &TargetSet<u64>, damage: &mut Damage<u64>, hits: &[Hit<'_, u64>], step: u64) -> DamagePlan<u64> {
     damage.plan(set, hits, step, &mut CpuBackend).unwrap()
-}
-
-/// Every edge used by two faces in opposite directions (after welding bit-equal positions).
-fn assert_closed(mesh: &TriMesh, what: &str) {
-    use std::collections::HashMap;
-    let mut id: HashMap<[u32; 3], u32> = HashMap::new();
-    let welded: Vec<u32> = mesh
-        .positions()
-        .iter()
-        .map(|p| {
-            let n = id.len() as u32;
-            *id.entry(p.to_array().map(|x| (x + 0.0).to_bits())).or_insert(n)
-        })
-        .collect();
-    let mut count: HashMap<(u32, u32), i32> = HashMap::new();
-    for f in mesh.faces() {
-        let f = f.map(|v| welded[v as usize]);
-        if f[0] == f[1] || f[1] == f[2] || f[2] == f[0] {
-            continue;
-        }
-        for k in 0..3 {
-            *count.entry((f[k], f[(k + 1) % 3])).or_default() += 1;
-        }
-    }
-    for (&(a, b), &n) in &count {
-        assert_eq!(n, 1, "{what}: edge ({a}, {b}) used {n} times");
-        assert_eq!(count.get(&(b, a)), Some(&1), "{what}: edge ({a}, {b}) has no twin");
-    }
 }
 
 /// A 12 m/s ball (360 J) on a fixed wall of toughness 100 J: the wall dents, then breaks

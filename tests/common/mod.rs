@@ -2,6 +2,7 @@
 #![allow(dead_code, unused_imports, reason = "each test binary uses a different subset")]
 
 pub mod cli;
+pub mod closed;
 pub mod envelope;
 pub mod geometry;
 pub mod gpu;

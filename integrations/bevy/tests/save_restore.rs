@@ -3,16 +3,14 @@
 //! the same mesh bit for bit, its collider too. Damage saved from another mesh is refused and
 //! changes nothing.
 
+mod common;
+
 use std::process::ExitCode;
-use std::time::Duration;
 
 use bevy::prelude::*;
-use bevy::time::TimeUpdateStrategy;
 use bevy_dentbend::dentbend::record::DamageFile;
 use bevy_dentbend::dentbend::{TriMesh, mesh};
-use bevy_dentbend::{
-    DamageRestored, DentProjectile, DentStats, DentWorld, Dentable, DentbendPlugin, RestoreDamage, bevy_mesh,
-};
+use bevy_dentbend::{DamageRestored, DentStats, DentWorld, Dentable, DentbendPlugin, RestoreDamage, bevy_mesh};
 use bevy_rapier3d::prelude::*;
 use libtest_mimic::{Arguments, Trial};
 
@@ -24,15 +22,8 @@ fn collect(mut restored: MessageReader<DamageRestored>, mut out: ResMut<Outcomes
 }
 
 fn app() -> App {
-    let mut app = App::new();
-    app.add_plugins((MinimalPlugins, AssetPlugin::default(), TransformPlugin))
-        .init_asset::<Mesh>()
-        .add_plugins((RapierPhysicsPlugin::<NoUserData>::default(), DentbendPlugin::cpu_only()))
-        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
-        .init_resource::<Outcomes>()
-        .add_systems(Last, collect);
-    app.finish();
-    app.cleanup();
+    let mut app = common::physics_app(RapierPhysicsPlugin::default(), DentbendPlugin::cpu_only());
+    app.init_resource::<Outcomes>().add_systems(Last, collect);
     app
 }
 
@@ -59,17 +50,9 @@ fn dented_and_saved() -> (DamageFile, TriMesh) {
     let mut app = app();
     let block_entity = spawn_block(&mut app, &block());
     app.world_mut().resource_mut::<DentWorld>().record_damage(block_entity, "block").expect("registered");
-    let ball = app.world_mut().resource_mut::<Assets<Mesh>>().add(Sphere::new(0.1).mesh().ico(2).expect("a sphere"));
     for (k, (x, z)) in [(-0.5, 0.3), (0.4, -0.2), (0.1, 0.6)].into_iter().enumerate() {
-        app.world_mut().spawn((
-            Mesh3d(ball.clone()),
-            Transform::from_xyz(x, 0.6 + 0.3 * k as f32, z),
-            RigidBody::Dynamic,
-            Collider::ball(0.1),
-            ColliderMassProperties::Density(2000.0),
-            Velocity::linear(Vec3::new(0.0, -6.0, 0.0)),
-            DentProjectile,
-        ));
+        let at = Vec3::new(x, 0.6 + 0.3 * k as f32, z);
+        common::launch_ball(&mut app, at, 0.1, 2000.0, Vec3::new(0.0, -6.0, 0.0));
     }
     for _ in 0..60 {
         app.update();

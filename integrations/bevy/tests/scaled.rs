@@ -3,13 +3,13 @@
 //! ball hits it, sized in metres: the plug-in's mesh is the asset's times the scale, the dent's
 //! depth is the one decided (world metres), and the collider bevy_rapier3d scales follows it.
 
+mod common;
+
 use std::process::ExitCode;
-use std::time::Duration;
 
 use bevy::prelude::*;
-use bevy::time::TimeUpdateStrategy;
 use bevy_dentbend::dentbend::mesh;
-use bevy_dentbend::{DentApplied, DentPath, DentProjectile, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh};
+use bevy_dentbend::{DentApplied, DentPath, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh};
 use bevy_rapier3d::prelude::*;
 use libtest_mimic::{Arguments, Trial};
 
@@ -23,15 +23,8 @@ fn collect(mut applied: MessageReader<DentApplied>, mut out: ResMut<Applied>) {
 /// A 2 × 0.5 × 2 m block (unscaled) spawned with `scale`, its top at y = 0.25·scale.y; a 6 m/s
 /// ball dropped on it (threshold 2 m/s, 1 cm per m/s: a 4 cm dent).
 fn dents_scaled(scale: Vec3) {
-    let mut app = App::new();
-    app.add_plugins((MinimalPlugins, AssetPlugin::default(), TransformPlugin))
-        .init_asset::<Mesh>()
-        .add_plugins((RapierPhysicsPlugin::<NoUserData>::default(), DentbendPlugin::default()))
-        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
-        .init_resource::<Applied>()
-        .add_systems(Last, collect);
-    app.finish();
-    app.cleanup();
+    let mut app = common::physics_app(RapierPhysicsPlugin::default(), DentbendPlugin::default());
+    app.init_resource::<Applied>().add_systems(Last, collect);
     let tri = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [24, 6, 24]).expect("a box");
     let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec()).expect("a tri-mesh");
     let asset = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
@@ -45,16 +38,8 @@ fn dents_scaled(scale: Vec3) {
             Dentable::new(2.0, 0.01, 0.05),
         ))
         .id();
-    let ball = app.world_mut().resource_mut::<Assets<Mesh>>().add(Sphere::new(0.1).mesh().ico(2).expect("a sphere"));
-    app.world_mut().spawn((
-        Mesh3d(ball),
-        Transform::from_xyz(0.1, 0.25 * scale.y + 0.4, 0.2),
-        RigidBody::Dynamic,
-        Collider::ball(0.1),
-        ColliderMassProperties::Density(2000.0),
-        Velocity::linear(Vec3::new(0.0, -6.0, 0.0)),
-        DentProjectile,
-    ));
+    let at = Vec3::new(0.1, 0.25 * scale.y + 0.4, 0.2);
+    common::launch_ball(&mut app, at, 0.1, 2000.0, Vec3::new(0.0, -6.0, 0.0));
     for _ in 0..60 {
         app.update();
     }

@@ -4,12 +4,12 @@
 //! fixed block dents it once in every set-up: Rapier in `PostUpdate`, in `FixedUpdate` found or
 //! named, and named wrongly (Rapier's own schedule wins, with a warning).
 
+mod common;
+
 use std::process::ExitCode;
-use std::time::Duration;
 
 use bevy::prelude::*;
-use bevy::time::TimeUpdateStrategy;
-use bevy_dentbend::{DentProjectile, DentStats, Dentable, DentbendPlugin, bevy_mesh, dentbend};
+use bevy_dentbend::{DentStats, Dentable, DentbendPlugin, bevy_mesh, dentbend};
 use bevy_rapier3d::prelude::*;
 use libtest_mimic::{Arguments, Trial};
 
@@ -25,7 +25,6 @@ enum Setup {
 /// Dents of a 6 m/s ball dropped on a fixed 2 × 0.5 × 2 m block (threshold 2 m/s), after 90
 /// frames of 1/60 s, every dent on the CPU.
 fn dents(setup: Setup) -> u64 {
-    let mut app = App::new();
     let rapier = RapierPhysicsPlugin::<NoUserData>::default();
     let (rapier, dentbend) = match setup {
         Setup::PostUpdate => (rapier, DentbendPlugin::cpu_only()),
@@ -33,13 +32,8 @@ fn dents(setup: Setup) -> u64 {
         Setup::FixedNamed => (rapier.in_fixed_schedule(), DentbendPlugin::cpu_only().in_fixed_schedule()),
         Setup::Misnamed => (rapier.in_fixed_schedule(), DentbendPlugin::cpu_only().in_schedule(PostUpdate)),
     };
-    app.add_plugins((MinimalPlugins, AssetPlugin::default(), TransformPlugin))
-        .init_asset::<Mesh>()
-        .add_plugins((rapier, dentbend))
-        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)))
-        .insert_resource(Time::<Fixed>::from_hz(60.0));
-    app.finish();
-    app.cleanup();
+    let mut app = common::physics_app(rapier, dentbend);
+    app.insert_resource(Time::<Fixed>::from_hz(60.0));
     let block = dentbend::mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16]).expect("a box");
     let collider = Collider::trimesh(block.positions().to_vec(), block.faces().to_vec()).expect("a tri-mesh");
     let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&block));
@@ -50,16 +44,7 @@ fn dents(setup: Setup) -> u64 {
         collider,
         Dentable::new(2.0, 0.01, 0.05),
     ));
-    let ball = app.world_mut().resource_mut::<Assets<Mesh>>().add(Sphere::new(0.1).mesh().ico(2).expect("a sphere"));
-    app.world_mut().spawn((
-        Mesh3d(ball),
-        Transform::from_xyz(0.0, 0.6, 0.0),
-        RigidBody::Dynamic,
-        Collider::ball(0.1),
-        ColliderMassProperties::Density(2000.0),
-        Velocity::linear(Vec3::new(0.0, -6.0, 0.0)),
-        DentProjectile,
-    ));
+    common::launch_ball(&mut app, Vec3::new(0.0, 0.6, 0.0), 0.1, 2000.0, Vec3::new(0.0, -6.0, 0.0));
     for _ in 0..90 {
         app.update();
     }

@@ -4,13 +4,13 @@
 //! both, and the collider on the other entity follows the dent in its own coordinates. A
 //! `Dentable` over several meshes is refused, naming them.
 
+mod common;
+
 use std::process::ExitCode;
-use std::time::Duration;
 
 use bevy::prelude::*;
-use bevy::time::TimeUpdateStrategy;
 use bevy_dentbend::dentbend::{TriMesh, mesh};
-use bevy_dentbend::{DentProjectile, DentRefused, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh};
+use bevy_dentbend::{DentRefused, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh};
 use bevy_rapier3d::prelude::*;
 use libtest_mimic::{Arguments, Trial};
 
@@ -27,32 +27,11 @@ enum Layout {
 const CHILD_OFFSET: Vec3 = Vec3::new(0.3, 0.25, -0.2);
 
 fn app() -> App {
-    let mut app = App::new();
-    app.add_plugins((MinimalPlugins, AssetPlugin::default(), TransformPlugin))
-        .init_asset::<Mesh>()
-        .add_plugins((RapierPhysicsPlugin::<NoUserData>::default(), DentbendPlugin::cpu_only()))
-        .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(1.0 / 60.0)));
-    app.finish();
-    app.cleanup();
-    app
+    common::physics_app(RapierPhysicsPlugin::default(), DentbendPlugin::cpu_only())
 }
 
 fn block() -> TriMesh {
     mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16]).expect("a box")
-}
-
-/// Drops a 6 m/s ball (threshold 2 m/s) on the block's top at x, z = `at` (world).
-fn drop_ball(app: &mut App, at: Vec3) {
-    let ball = app.world_mut().resource_mut::<Assets<Mesh>>().add(Sphere::new(0.1).mesh().ico(2).expect("a sphere"));
-    app.world_mut().spawn((
-        Mesh3d(ball),
-        Transform::from_translation(at),
-        RigidBody::Dynamic,
-        Collider::ball(0.1),
-        ColliderMassProperties::Density(2000.0),
-        Velocity::linear(Vec3::new(0.0, -6.0, 0.0)),
-        DentProjectile,
-    ));
 }
 
 /// One dent through a collider on another entity; the collider's vertices (its entity's
@@ -75,7 +54,7 @@ fn dents_through_the_other_entity(layout: Layout) {
     } else {
         app.world_mut().entity_mut(child).insert(dentable);
     }
-    drop_ball(&mut app, offset + Vec3::new(0.1, 0.8, 0.2));
+    common::launch_ball(&mut app, offset + Vec3::new(0.1, 0.8, 0.2), 0.1, 2000.0, Vec3::new(0.0, -6.0, 0.0));
     for _ in 0..60 {
         app.update();
     }

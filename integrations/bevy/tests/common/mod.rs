@@ -290,3 +290,39 @@ impl Scene {
         camera.world_to_viewport(transform, p).expect("a visible point")
     }
 }
+
+/// A windowless app without a renderer stepping `rapier` and `dentbend` at 1/60 s a frame
+/// (manual time, so every frame is one fixed step), finished and ready to spawn into.
+pub fn physics_app(
+    rapier: bevy_rapier3d::plugin::RapierPhysicsPlugin<bevy_rapier3d::plugin::NoUserData>,
+    dentbend: bevy_dentbend::DentbendPlugin,
+) -> App {
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, AssetPlugin::default(), TransformPlugin))
+        .init_asset::<Mesh>()
+        .add_plugins((rapier, dentbend))
+        .insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(std::time::Duration::from_secs_f64(
+            1.0 / 60.0,
+        )));
+    app.finish();
+    app.cleanup();
+    app
+}
+
+/// Spawns a dynamic ball projectile of `radius` m and `density` kg/m³ at `at`, moving at
+/// `velocity` m/s; its entity.
+pub fn launch_ball(app: &mut App, at: Vec3, radius: f32, density: f32, velocity: Vec3) -> Entity {
+    use bevy_rapier3d::prelude::{Collider, ColliderMassProperties, RigidBody, Velocity};
+    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(Sphere::new(radius).mesh().ico(3).expect("a sphere"));
+    app.world_mut()
+        .spawn((
+            Mesh3d(mesh),
+            Transform::from_translation(at),
+            RigidBody::Dynamic,
+            Collider::ball(radius),
+            ColliderMassProperties::Density(density),
+            Velocity::linear(velocity),
+            DentProjectile,
+        ))
+        .id()
+}
