@@ -1,6 +1,7 @@
 //! Bending bodies in a world: the skinned mesh at rest, an elastic joint that springs back, joints
 //! given their own kind, and clear errors (never panics) for bad bending descriptions.
 
+use dentbend::bend::JointRule;
 use dentbend::bend::{BoneDesc, WeightParams};
 use dentbend::coupling::Simulation;
 use dentbend::coupling::{BendableDesc, Bending, DynamicArticulation, JointOverride, SkeletonSpec};
@@ -13,7 +14,7 @@ fn bar() -> BendableDesc {
     let mut desc = BendableDesc::new("bar", dentbend::mesh::plank(2.0, 0.2, 0.2, 16).unwrap());
     desc.skeleton = SkeletonSpec::Auto { bones: 2 };
     desc.weights = WeightParams { resolution: 32, ..WeightParams::default() };
-    desc.joint = JointKind::Elastic { stiffness: 100.0, damping: 3.0 };
+    desc.joint = JointKind::Bend(JointRule::Elastic { stiffness: 100.0, damping: 3.0 });
     desc
 }
 
@@ -91,7 +92,10 @@ fn bad_bending_descriptions_are_refused_with_errors() {
     refused(BendableDesc { position: Vec3::NAN, ..bar() }, "NaN position");
     refused(BendableDesc { name: String::new(), ..bar() }, "empty name");
     refused(BendableDesc { weights: WeightParams { resolution: 1, ..WeightParams::default() }, ..bar() }, "resolution");
-    refused(BendableDesc { joint: JointKind::Elastic { stiffness: -1.0, damping: 0.0 }, ..bar() }, "bad joint");
+    refused(
+        BendableDesc { joint: JointKind::Bend(JointRule::Elastic { stiffness: -1.0, damping: 0.0 }), ..bar() },
+        "bad joint",
+    );
     let dynamic = |threshold, length| Some(DynamicArticulation::new(threshold, JointKind::Rigid, length));
     refused(BendableDesc { dynamic: dynamic(f32::NAN, 0.1), ..bar() }, "NaN threshold");
     refused(BendableDesc { dynamic: dynamic(1.0, 0.0), ..bar() }, "zero minimum bone length");
@@ -110,7 +114,8 @@ fn bad_bending_descriptions_are_refused_with_errors() {
 /// numbers.
 #[test]
 fn joint_overrides_give_single_joints_their_own_kind() {
-    let plastic = JointKind::Plastic { strength: 2.0, damping_constant: 0.5, damping_proportional: 4.0 };
+    let plastic =
+        JointKind::Bend(JointRule::Plastic { strength: 2.0, damping_constant: 0.5, damping_proportional: 4.0 });
     let three = |overrides: Vec<JointOverride>| BendableDesc {
         skeleton: SkeletonSpec::Auto { bones: 3 },
         joint: JointKind::Rigid,
@@ -138,8 +143,9 @@ fn joint_overrides_give_single_joints_their_own_kind() {
     refused_with(vec![at(usize::MAX, JointKind::Ball)], &["joint_overrides[0].child", "not a bone"]);
     refused_with(vec![at(0, JointKind::Ball)], &["joint_overrides[0].child", "root bone"]);
     refused_with(vec![at(2, JointKind::Ball), at(2, plastic)], &["joint_overrides[1].child", "second kind"]);
-    let nan = JointKind::Plastic { strength: f32::NAN, damping_constant: 0.5, damping_proportional: 4.0 };
+    let nan =
+        JointKind::Bend(JointRule::Plastic { strength: f32::NAN, damping_constant: 0.5, damping_proportional: 4.0 });
     refused_with(vec![at(1, nan)], &["joint_overrides[0].joint.strength", "NaN"]);
-    let negative = JointKind::Elastic { stiffness: 10.0, damping: -1.0 };
+    let negative = JointKind::Bend(JointRule::Elastic { stiffness: 10.0, damping: -1.0 });
     refused_with(vec![at(2, negative)], &["joint_overrides[0].joint.damping", "-1"]);
 }

@@ -2,6 +2,7 @@
 //! strut rest on the ground at their radius, a strut's split halves get capsules fitted to their
 //! own parts, and a bending body refuses colliders that cannot be fitted to a part.
 
+use dentbend::bend::JointRule;
 use dentbend::bend::WeightParams;
 use dentbend::coupling::Simulation;
 use dentbend::coupling::{BendableDesc, Bending, DynamicArticulation, SkeletonSpec};
@@ -86,7 +87,8 @@ fn a_capsule_rod_and_a_capsule_strut_rest_on_the_ground_at_their_radius() {
 #[test]
 fn a_split_strut_collides_as_two_capsules_fitted_to_its_halves() {
     let mut world = World::new(WorldSettings { gravity: Vec3::ZERO, ..WorldSettings::default() }).unwrap();
-    let plastic = JointKind::Plastic { strength: 1.0, damping_constant: 1.0, damping_proportional: 6.0 };
+    let plastic =
+        JointKind::Bend(JointRule::Plastic { strength: 1.0, damping_constant: 1.0, damping_proportional: 6.0 });
     let mut desc = strut(0.0);
     desc.density = 1500.0;
     desc.dynamic = Some(DynamicArticulation { max_joints: 1, ..DynamicArticulation::new(3.0, plastic, 0.1) });

@@ -3,6 +3,7 @@
 //! bodies on either side of the joint that bends collapse into two clusters while it bends, and
 //! the whole body condenses again once it is quiet, keeping its bend.
 
+use dentbend::bend::JointRule;
 use dentbend::bend::WeightParams;
 use dentbend::coupling::{BendableDesc, Bending, CondenseSettings, SkeletonSpec};
 use dentbend::glam::{Affine3A, Vec3};
@@ -75,7 +76,8 @@ fn a_condensed_body_moves_like_the_same_body_with_rigid_joints() {
 /// keeps its bend.
 #[test]
 fn a_hit_uncondenses_and_each_side_of_the_bending_joint_collapses() {
-    let joint = JointKind::Plastic { strength: 10.0, damping_constant: 0.5, damping_proportional: 2.0 };
+    let joint =
+        JointKind::Bend(JointRule::Plastic { strength: 10.0, damping_constant: 0.5, damping_proportional: 2.0 });
     let (mut world, mut bending) = thrown_bar(joint);
     for body in world.bodies_mut() {
         body.linear_velocity = Vec3::ZERO;

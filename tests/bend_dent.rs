@@ -8,6 +8,7 @@
 //! mistake they guard against (a frame or map-back missing, a dent applied twice or to the wrong
 //! mesh) moves vertices by a sizeable part of the dent.
 
+use dentbend::bend::JointRule;
 use dentbend::bend::WeightParams;
 use dentbend::coupling::Simulation;
 use dentbend::coupling::{ArticulatedBody, BendDenter, BendableDesc, Bending, SkeletonSpec, dent_step};
@@ -163,7 +164,8 @@ fn a_bending_body_at_rest_dents_like_a_plain_body() {
 fn bent_bar(angle: f32) -> (World, ArticulatedBody, [usize; 2], Quat, Vec3) {
     let mut world = world();
     let mut desc = bendable(Some(settings(false)));
-    desc.joint = JointKind::Plastic { strength: 1e-3, damping_constant: 0.0, damping_proportional: 0.0 };
+    desc.joint =
+        JointKind::Bend(JointRule::Plastic { strength: 1e-3, damping_constant: 0.0, damping_proportional: 0.0 });
     let body = ArticulatedBody::new(&mut world, desc).unwrap();
     let joint = body.skeleton().joints()[0].point;
     let turn = Quat::from_rotation_z(angle);

@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
+use dentbend::bend::JointRule;
 use dentbend::bend::{BoneDesc, auto_skeleton};
 use dentbend::coupling::{ArticulatedBody, DynamicArticulation};
 use dentbend::glam::{Affine3A, Quat, Vec3};
@@ -110,11 +111,11 @@ fn every_joint_kind_is_parsed_with_its_numbers() {
         ("joint = { kind = \"ball\" }", JointKind::Ball),
         (
             "joint = { kind = \"plastic\", strength = 40.0, damping_constant = 0.5, damping_proportional = 4.0 }",
-            JointKind::Plastic { strength: 40.0, damping_constant: 0.5, damping_proportional: 4.0 },
+            JointKind::Bend(JointRule::Plastic { strength: 40.0, damping_constant: 0.5, damping_proportional: 4.0 }),
         ),
         (
             "[body.bend.joint]\nkind = \"elastic\"\nstiffness = 100.0\ndamping = 3.0",
-            JointKind::Elastic { stiffness: 100.0, damping: 3.0 },
+            JointKind::Bend(JointRule::Elastic { stiffness: 100.0, damping: 3.0 }),
         ),
         (
             "joint = { kind = \"elastic-prismatic\", axis = [1.0, 0.0, 0.0], stiffness = 2000.0, damping = 0.0 }",
@@ -133,7 +134,8 @@ fn every_joint_kind_is_parsed_with_its_numbers() {
 /// `[[body.bend.bone]]` and the inline `skeleton = [ … ]` forms.
 #[test]
 fn a_bones_own_joint_overrides_the_bodys() {
-    let plastic = JointKind::Plastic { strength: 3.0, damping_constant: 0.5, damping_proportional: 2.0 };
+    let plastic =
+        JointKind::Bend(JointRule::Plastic { strength: 3.0, damping_constant: 0.5, damping_proportional: 2.0 });
     let own = "joint = { kind = \"plastic\", strength = 3.0, damping_constant = 0.5, damping_proportional = 2.0 }";
     let tables = format!(
         "[[body.bend.bone]]\nhead = [-1.8, 0.0, 0.0]\ntail = [-0.6, 0.0, 0.0]\n\
@@ -165,7 +167,8 @@ fn a_bones_own_joint_overrides_the_bodys() {
 /// library's 16.
 #[test]
 fn dynamic_articulation_is_parsed() {
-    let plastic = JointKind::Plastic { strength: 12.0, damping_constant: 0.25, damping_proportional: 2.0 };
+    let plastic =
+        JointKind::Bend(JointRule::Plastic { strength: 12.0, damping_constant: 0.25, damping_proportional: 2.0 });
     let table = "[body.bend.dynamic]\nspeed_threshold = 2.5\nmin_bone_length = 0.3\n\
                  joint = { kind = \"plastic\", strength = 12.0, damping_constant = 0.25, damping_proportional = 2.0 }";
     let scene = parse(&bar("", &format!("{table}\nmax_joints = 3")));
@@ -192,7 +195,8 @@ fn the_example_file_runs_and_bends() {
     let heads: Vec<f32> = bar.skeleton().bones().iter().map(|b| b.head.x).collect();
     assert_eq!(heads, [-1.8, -0.6, 0.6]);
     let rest_vertices = bar.rest_mesh().vertex_count();
-    let plastic = JointKind::Plastic { strength: 10.0, damping_constant: 0.5, damping_proportional: 4.0 };
+    let plastic =
+        JointKind::Bend(JointRule::Plastic { strength: 10.0, damping_constant: 0.5, damping_proportional: 4.0 });
     assert!(world.joints().iter().all(|j| *j.kind() == plastic) && world.joints().len() == 2);
     for _ in 0..40 {
         bending.step(&mut world).unwrap();

@@ -6,6 +6,7 @@
 
 use std::collections::BTreeMap;
 
+use dentbend::bend::JointRule;
 use dentbend::coupling::Simulation;
 use dentbend::glam::Vec3;
 use dentbend::mesh;
@@ -199,7 +200,7 @@ fn a_hard_hit_on_a_plastic_joint_leaves_no_spin_past_max_turn() {
     };
     let left = world.add(box_at("left", -0.075)).expect("left");
     let right = world.add(box_at("right", 0.075)).expect("right");
-    let kind = JointKind::Plastic { strength: 0.01, damping_constant: 1.0, damping_proportional: 6.0 };
+    let kind = JointKind::Bend(JointRule::Plastic { strength: 0.01, damping_constant: 1.0, damping_proportional: 6.0 });
     world.add_joint(left, right, Vec3::ZERO, kind).expect("joint");
     let mut ball = BodyDesc::new("ball", mesh::icosphere(0.05, 2).expect("ball"))
         .at(Vec3::new(0.27, 0.2, 0.0))

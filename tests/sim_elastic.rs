@@ -2,6 +2,7 @@
 //! period of its effective inertia, decays with damping and keeps its amplitude without; the
 //! prismatic spring likewise along its axis.
 
+use dentbend::bend::JointRule;
 use dentbend::glam::{Quat, Vec3};
 use dentbend::mesh;
 use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, World, WorldSettings};
@@ -58,7 +59,7 @@ fn box_on_a_spring(stiffness: f32, damping: f32) -> (World, usize, f32) {
     let base = world.add(block("base", Vec3::splat(0.1), Vec3::ZERO).kind(BodyKind::Static)).unwrap();
     let arm = world.add(block("arm", Vec3::new(0.4, 0.1, 0.1), Vec3::new(0.25, 0.0, 0.0))).unwrap();
     let anchor = Vec3::new(0.05, 0.0, 0.0);
-    world.add_joint(base, arm, anchor, JointKind::Elastic { stiffness, damping }).unwrap();
+    world.add_joint(base, arm, anchor, JointKind::Bend(JointRule::Elastic { stiffness, damping })).unwrap();
     turn_about(&mut world, arm, anchor, 5f32.to_radians());
     let body = &world.bodies()[arm];
     let inertia = body.inertia.z_axis.z + body.mass * 0.2 * 0.2;
@@ -130,7 +131,7 @@ fn two_free_bodies_swing_with_the_reduced_inertia() {
     let left = world.add(block("left", size, Vec3::new(-0.25, 0.0, 0.0))).unwrap();
     let right = world.add(block("right", size, Vec3::new(0.25, 0.0, 0.0))).unwrap();
     let stiffness = 20.0;
-    world.add_joint(left, right, Vec3::ZERO, JointKind::Elastic { stiffness, damping: 0.0 }).unwrap();
+    world.add_joint(left, right, Vec3::ZERO, JointKind::Bend(JointRule::Elastic { stiffness, damping: 0.0 })).unwrap();
     turn_about(&mut world, left, Vec3::ZERO, -3f32.to_radians());
     turn_about(&mut world, right, Vec3::ZERO, 3f32.to_radians());
     let body = &world.bodies()[right];

@@ -1,6 +1,7 @@
 //! Articulated bodies in maximal coordinates: rigid and ball joints hold under gravity while
 //! swinging, jointed bodies still collide with others and sleep as a group, bad joints are refused.
 
+use dentbend::bend::JointRule;
 use dentbend::glam::{Quat, Vec3};
 use dentbend::mesh;
 use dentbend::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, SimError, World, WorldSettings};
@@ -240,18 +241,22 @@ fn bad_joints_are_refused() {
     refused(world.add_joint(post, wall, at, JointKind::Rigid), "two static bodies");
     refused(world.add_joint(a, b, Vec3::new(f32::NAN, 0.0, 0.0), JointKind::Rigid), "NaN anchor");
     refused(world.add_joint(a, b, Vec3::splat(f32::INFINITY), JointKind::Ball), "infinite anchor");
-    let plastic = |strength, damping_constant, damping_proportional| JointKind::Plastic {
-        strength,
-        damping_constant,
-        damping_proportional,
+    let plastic = |strength, damping_constant, damping_proportional| {
+        JointKind::Bend(JointRule::Plastic { strength, damping_constant, damping_proportional })
     };
     refused(world.add_joint(a, b, at, plastic(-1.0, 0.0, 0.0)), "negative strength");
     refused(world.add_joint(a, b, at, plastic(0.0, 0.0, 0.0)), "zero strength");
     refused(world.add_joint(a, b, at, plastic(f32::NAN, 0.0, 0.0)), "NaN strength");
     refused(world.add_joint(a, b, at, plastic(1.0, -1.0, 0.0)), "negative constant damping");
     refused(world.add_joint(a, b, at, plastic(1.0, 0.0, f32::INFINITY)), "infinite proportional damping");
-    refused(world.add_joint(a, b, at, JointKind::Elastic { stiffness: -1.0, damping: 0.0 }), "negative stiffness");
-    refused(world.add_joint(a, b, at, JointKind::Elastic { stiffness: 1.0, damping: f32::NAN }), "NaN damping");
+    refused(
+        world.add_joint(a, b, at, JointKind::Bend(JointRule::Elastic { stiffness: -1.0, damping: 0.0 })),
+        "negative stiffness",
+    );
+    refused(
+        world.add_joint(a, b, at, JointKind::Bend(JointRule::Elastic { stiffness: 1.0, damping: f32::NAN })),
+        "NaN damping",
+    );
     let prismatic = |axis| JointKind::ElasticPrismatic { axis, stiffness: 1.0, damping: 0.0 };
     refused(world.add_joint(a, b, at, prismatic(Vec3::ZERO)), "zero axis");
     refused(world.add_joint(a, b, at, prismatic(Vec3::new(f32::NAN, 1.0, 0.0))), "NaN axis");

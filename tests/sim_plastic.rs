@@ -2,6 +2,7 @@
 //! end by a steel ball in free space, keeps its shape below the joint's strength and takes a
 //! lasting bend above it, more for faster hits; the bend goes on briefly after the hit, damped.
 
+use dentbend::bend::JointRule;
 use dentbend::glam::Vec3;
 use dentbend::mesh;
 use dentbend::sim::{BendEvent, BodyDesc, ColliderKind, JointKind, SurfaceMaterial, World, WorldSettings};
@@ -30,7 +31,8 @@ fn hit(speed: f32, steps: usize) -> Hit {
     };
     let left = world.add(box_at("left", -0.25)).unwrap();
     let right = world.add(box_at("right", 0.25)).unwrap();
-    let kind = JointKind::Plastic { strength: STRENGTH, damping_constant: 5.0, damping_proportional: 20.0 };
+    let kind =
+        JointKind::Bend(JointRule::Plastic { strength: STRENGTH, damping_constant: 5.0, damping_proportional: 20.0 });
     let joint = world.add_joint(left, right, Vec3::ZERO, kind).unwrap();
     let mut ball = BodyDesc::new("ball", mesh::icosphere(0.05, 2).unwrap())
         .at(Vec3::new(0.45, 0.2, 0.0))

@@ -30,7 +30,7 @@ pub enum SkeletonSpec {
 pub struct DynamicArticulation {
     /// Closing normal speed above which a hit adds a joint, m/s (finite, ≥ 0).
     pub speed_threshold: f32,
-    /// Kind of the joints added (usually [`JointKind::Plastic`]).
+    /// Kind of the joints added (usually a plastic [`JointKind::Bend`]).
     pub joint: JointKind,
     /// No split leaves a bone shorter than this, m (finite, > 0): hits closer than this to a
     /// joint or a bone's end add nothing.

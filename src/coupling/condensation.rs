@@ -7,6 +7,7 @@
 use glam::Vec3;
 use serde::Serialize;
 
+use crate::bend::JointRule;
 use crate::sim::{CollisionEvent, JointKind, SimError, StepReport, World};
 
 /// How condensation decides.
@@ -194,7 +195,7 @@ impl Condenser {
                 swings_about_anchor(j.anchors(bodies), centres, relative_spin, self.settings.quiet_spin)
             }
             _ if relative_spin.length() > self.settings.quiet_spin => true,
-            JointKind::Elastic { .. } => {
+            JointKind::Bend(JointRule::Elastic { .. }) => {
                 j.deviation(bodies).is_some_and(|d| d.length() > self.settings.quiet_deflection)
             }
             JointKind::ElasticPrismatic { .. } => {

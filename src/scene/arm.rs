@@ -9,6 +9,7 @@ use super::arm_shape::{Centreline, tube};
 use super::kit::frames;
 use super::kit::{GROUND, ORANGE, ball, finish, launch, world};
 use super::{Scene, SceneSize};
+use crate::bend::JointRule;
 use crate::bend::WeightParams;
 use crate::coupling::{BendableDesc, Bending, CondenseSettings, JointOverride, SkeletonSpec};
 use crate::mesh::subdivided_box;
@@ -22,7 +23,7 @@ pub const ARM_LENGTH: f32 = 1.6;
 /// The torso's joints: plastic, but so strong (an angular impulse of 200 N·m·s in one step,
 /// 12,000 N·m as a torque) that the ball's hit, which bends the arm's, leaves them whole.
 pub const ARM_TORSO_JOINT: JointKind =
-    JointKind::Plastic { strength: 200.0, damping_constant: 1.0, damping_proportional: 3.0 };
+    JointKind::Bend(JointRule::Plastic { strength: 200.0, damping_constant: 1.0, damping_proportional: 3.0 });
 
 /// The arm's four plastic joints, shoulder first: weaker towards the hand (angular impulses of
 /// 10.5 to 1.7 N·m·s in a step), so that all four give under the ball's hit. A bend goes on
@@ -31,10 +32,10 @@ pub const ARM_TORSO_JOINT: JointKind =
 /// search for values around which ±7 % on any strength or ±10 % on the ball's speed, mass or
 /// hit point still bends every joint by 17–33°.
 pub const ARM_JOINTS: [JointKind; ARM_BONES] = [
-    JointKind::Plastic { strength: 10.5, damping_constant: 1.0, damping_proportional: 8.0 },
-    JointKind::Plastic { strength: 6.6, damping_constant: 1.0, damping_proportional: 25.0 },
-    JointKind::Plastic { strength: 5.3, damping_constant: 1.0, damping_proportional: 25.0 },
-    JointKind::Plastic { strength: 1.7, damping_constant: 1.0, damping_proportional: 25.0 },
+    JointKind::Bend(JointRule::Plastic { strength: 10.5, damping_constant: 1.0, damping_proportional: 8.0 }),
+    JointKind::Bend(JointRule::Plastic { strength: 6.6, damping_constant: 1.0, damping_proportional: 25.0 }),
+    JointKind::Bend(JointRule::Plastic { strength: 5.3, damping_constant: 1.0, damping_proportional: 25.0 }),
+    JointKind::Bend(JointRule::Plastic { strength: 1.7, damping_constant: 1.0, damping_proportional: 25.0 }),
 ];
 
 /// The body's centreline before its corners are rounded (xy plane, m): a tail at the left, the

@@ -6,6 +6,7 @@ use glam::Vec3;
 use super::kit::frames;
 use super::kit::{BLUE, GROUND, ORANGE, SAND, STEEL, ball, finish, world};
 use super::{Scene, SceneSize};
+use crate::bend::JointRule;
 use crate::bend::WeightParams;
 use crate::coupling::{BendableDesc, Bending, DynamicArticulation, SkeletonSpec};
 use crate::mesh::{plank as plank_mesh, subdivided_box};
@@ -68,7 +69,8 @@ pub(super) fn plank(size: SceneSize) -> Result<Scene, SimError> {
     desc.color = SAND;
     desc.skeleton = SkeletonSpec::Auto { bones: 1 };
     desc.weights = WeightParams { resolution, ..WeightParams::default() };
-    let joint = JointKind::Plastic { strength: 40.0, damping_constant: 0.5, damping_proportional: 10.0 };
+    let joint =
+        JointKind::Bend(JointRule::Plastic { strength: 40.0, damping_constant: 0.5, damping_proportional: 10.0 });
     desc.dynamic = Some(DynamicArticulation::new(2.0, joint, 0.3));
     let (threshold, gain, cap) = PLANK_DENT;
     desc.dent = Some(DentSettings::new(threshold, gain, cap));
@@ -85,7 +87,7 @@ pub(super) fn plank(size: SceneSize) -> Result<Scene, SimError> {
 /// Elastic joint stiffness (N·m/rad) and damping (N·m·s/rad) of the `spring` scene's bar: with the two
 /// halves' reduced inertia of about 1.2 kg·m² it rings at about 1.5 Hz and loses 70 % of its
 /// amplitude per second.
-pub const SPRING_JOINT: JointKind = JointKind::Elastic { stiffness: 100.0, damping: 3.0 };
+pub const SPRING_JOINT: JointKind = JointKind::Bend(JointRule::Elastic { stiffness: 100.0, damping: 3.0 });
 
 /// An elastic bar: a 2 × 0.2 × 0.2 m bar (700 kg/m³, two bones joined by an elastic joint) floats
 /// without gravity; a 10 kg ball hits one end sideways at 4 m/s, the bar bends at its middle and

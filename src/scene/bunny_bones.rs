@@ -7,6 +7,7 @@ use glam::Vec3;
 use super::kit::frames;
 use super::kit::{GROUND, ORANGE, finish, launch, world};
 use super::{Scene, SceneSize};
+use crate::bend::JointRule;
 use crate::bend::{BUNNY_BODY, WeightParams};
 use crate::coupling::{BendableDesc, Bending, SkeletonSpec};
 use crate::mesh::{builtin as builtin_mesh, subdivided_box};
@@ -19,7 +20,7 @@ pub const BUNNY_SCALE: f32 = 0.15;
 /// in a step (30 N·m as a torque at 60 steps/s), which the balls' hits exceed; a bend goes on
 /// briefly after a hit, its rate losing (1 rad/s² + 4/s × rate) as it slows.
 pub const BUNNY_JOINT: JointKind =
-    JointKind::Plastic { strength: 0.5, damping_constant: 1.0, damping_proportional: 4.0 };
+    JointKind::Bend(JointRule::Plastic { strength: 0.5, damping_constant: 1.0, damping_proportional: 4.0 });
 
 /// Falloff exponent of the bunny's skinning weights (w ∝ d⁻⁸): sharper than the default 4, so
 /// that each ear moves with its own bone only. The ear bones start inside the head, about 0.2 m

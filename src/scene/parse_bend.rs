@@ -12,6 +12,7 @@ use super::file::BodyFile;
 use super::file_bend::{BendFile, BoneFile, DynamicFile, JointFile, JointKindSpec, SkeletonFile};
 use super::parse_body::{MeshCache, body_desc, number, positive, sim_error};
 use super::source::Source;
+use crate::bend::JointRule;
 use crate::bend::{BendError, BoneDesc, MAX_AUTO_BONES, Skeleton, WeightParams, auto_skeleton};
 use crate::coupling::{BendableDesc, DynamicArticulation, JointOverride, SkeletonSpec};
 use crate::mesh::TriMesh;
@@ -276,15 +277,15 @@ fn joint_kind(src: &Source<'_>, body: &str, prefix: &str, joint: &Spanned<JointF
     let result = match kind {
         JointKindSpec::Rigid => JointKind::Rigid,
         JointKindSpec::Ball => JointKind::Ball,
-        JointKindSpec::Plastic => JointKind::Plastic {
+        JointKindSpec::Plastic => JointKind::Bend(JointRule::Plastic {
             strength: need("strength", &file.strength)?,
             damping_constant: need("damping_constant", &file.damping_constant)?,
             damping_proportional: need("damping_proportional", &file.damping_proportional)?,
-        },
-        JointKindSpec::Elastic => JointKind::Elastic {
+        }),
+        JointKindSpec::Elastic => JointKind::Bend(JointRule::Elastic {
             stiffness: need("stiffness", &file.stiffness)?,
             damping: need("damping", &file.damping)?,
-        },
+        }),
         JointKindSpec::ElasticPrismatic => JointKind::ElasticPrismatic {
             axis: file
                 .axis

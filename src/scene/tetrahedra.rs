@@ -8,6 +8,7 @@ use glam::{Quat, Vec3};
 use super::kit::frames;
 use super::kit::{GRAVITY, GROUND, Lcg, STEEL, ball, finish, world};
 use super::{Scene, SceneSize};
+use crate::bend::JointRule;
 use crate::bend::WeightParams;
 use crate::coupling::{BendableDesc, Bending, CondenseSettings, DynamicArticulation, SkeletonSpec};
 use crate::mesh::{self, TriMesh};
@@ -29,7 +30,8 @@ const FRAME_BAR: f32 = 0.08;
 const SPLIT_SPEED: f32 = 3.0;
 /// The plastic joints made in struts: a strut bends where a hit of a few metres per second
 /// lands, not under its tetrahedron's weight.
-const STRUT_JOINT: JointKind = JointKind::Plastic { strength: 1.0, damping_constant: 1.0, damping_proportional: 6.0 };
+const STRUT_JOINT: JointKind =
+    JointKind::Bend(JointRule::Plastic { strength: 1.0, damping_constant: 1.0, damping_proportional: 6.0 });
 
 /// Full: 400 tetrahedra (8 × 8 in each of 7 layers, the last one partly filled) over four
 /// frames; demo: 16 (4 × 4 in one layer). Each tetrahedron has 10 bodies and 12 joints.

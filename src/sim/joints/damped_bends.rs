@@ -149,6 +149,7 @@ mod tests {
 
     use super::kept_fraction;
     use super::recorded;
+    use crate::bend::JointRule;
     use crate::sim::joints::poststabilize::hold_velocities;
     use crate::sim::joints::system::{Motion, mobilities};
     use crate::sim::joints::{Joint, JointKind, poststabilize};
@@ -168,7 +169,7 @@ mod tests {
 
     const STRENGTH: f32 = 0.5;
     const PLASTIC: JointKind =
-        JointKind::Plastic { strength: STRENGTH, damping_constant: 1.0, damping_proportional: 6.0 };
+        JointKind::Bend(JointRule::Plastic { strength: STRENGTH, damping_constant: 1.0, damping_proportional: 6.0 });
 
     /// Bars 0.5 m × 5 cm × 5 cm (steel-like density 1,000 kg/m³) centred at `centres`, along
     /// `axes`, spinning at `spins` (rad/s).
@@ -283,7 +284,9 @@ mod tests {
         joint.clamped = true;
         let mut joints = vec![joint];
         let settings = WorldSettings::default();
-        let JointKind::Plastic { damping_constant, damping_proportional, .. } = PLASTIC else { unreachable!() };
+        let JointKind::Bend(JointRule::Plastic { damping_constant, damping_proportional, .. }) = PLASTIC else {
+            unreachable!()
+        };
         poststabilize(&mut joints, &mut bodies, &settings);
         let turning = bodies[1].angular_velocity - bodies[0].angular_velocity;
         let speed = 8.0 - (damping_constant + damping_proportional * 8.0) * settings.dt;

@@ -6,6 +6,7 @@
 
 use glam::{Mat3, Quat, Vec3};
 
+use crate::bend::JointRule;
 use crate::mesh::MassProperties;
 use crate::sim::joints::{Joint, JointKind};
 use crate::sim::{BodyDesc, RigidBody};
@@ -59,7 +60,8 @@ const JOINTS: [RecordedJoint; 16] = [
 ];
 
 /// The scene's strut joint (`tetrahedra.rs`).
-const STRUT_JOINT: JointKind = JointKind::Plastic { strength: 1.0, damping_constant: 1.0, damping_proportional: 6.0 };
+const STRUT_JOINT: JointKind =
+    JointKind::Bend(JointRule::Plastic { strength: 1.0, damping_constant: 1.0, damping_proportional: 6.0 });
 
 /// The recorded bodies and joints.
 pub(super) fn group() -> (Vec<RigidBody>, Vec<Joint>) {

@@ -26,6 +26,7 @@ use glam::{DVec3, Vec3};
 
 use super::system::{self, Frame, Matrix, Mobility, Motion};
 use super::{Joint, JointKind, rotation_vector};
+use crate::bend::JointRule;
 use crate::bend::spring;
 use crate::sim::solver::SolverBody;
 use crate::sim::{RigidBody, WorldSettings};
@@ -40,7 +41,10 @@ pub(crate) fn apply_springs(
     solver: &mut [SolverBody],
     settings: &WorldSettings,
 ) {
-    if !joints.iter().any(|j| matches!(j.kind, JointKind::Elastic { .. } | JointKind::ElasticPrismatic { .. })) {
+    if !joints
+        .iter()
+        .any(|j| matches!(j.kind, JointKind::Bend(JointRule::Elastic { .. }) | JointKind::ElasticPrismatic { .. }))
+    {
         return;
     }
     let mob = system::mobilities(bodies, settings);
@@ -52,7 +56,7 @@ pub(crate) fn apply_springs(
         let (ma, mb) = (&mob[joint.a], &mob[joint.b]);
         let f = system::frame(joint, bodies, &mob, &v, None, 0.0);
         match joint.kind {
-            JointKind::Elastic { stiffness, damping } => {
+            JointKind::Bend(JointRule::Elastic { stiffness, damping }) => {
                 angular_spring(joint, &f, (ma, mb), &mob, &mut v, stiffness, damping, settings.dt);
             }
             JointKind::ElasticPrismatic { stiffness, damping, .. } => {

@@ -4,6 +4,7 @@
 use glam::{Quat, Vec3};
 use serde::Serialize;
 
+use crate::bend::JointRule;
 use crate::sim::error::invalid;
 use crate::sim::{BodyKind, RigidBody, SimError};
 
@@ -16,28 +17,12 @@ pub enum JointKind {
     Ball,
     /// Rigid joint: the anchors coincide and the relative orientation is locked at its target.
     Rigid,
-    /// Plastic joint (paper §4.1): rigid until the angular impulse needed to keep it rigid within
-    /// one step exceeds `strength`; then it bends, and the bent orientation becomes its new target.
-    Plastic {
-        /// Largest angular impulse the joint transmits in one step before it bends, N·m·s
-        /// (finite, > 0). As a torque this is `strength / dt`.
-        strength: f32,
-        /// Constant part of the damping of a bend that goes on after the hit: the relative
-        /// angular speed loses this much per second, rad/s² (finite, ≥ 0).
-        damping_constant: f32,
-        /// Proportional part: the relative angular speed loses this fraction of itself per
-        /// second, 1/s (finite, ≥ 0).
-        damping_proportional: f32,
-    },
-    /// Elastic angular joint (paper §4.3): a point joint with a torsional spring and damper that
-    /// pull the relative orientation back to its target (the rest orientation, captured when
-    /// the joint is made), integrated analytically.
-    Elastic {
-        /// Spring constant κ, N·m/rad (finite, > 0).
-        stiffness: f32,
-        /// Damping coefficient C, N·m·s/rad (finite, ≥ 0).
-        damping: f32,
-    },
+    /// A bending joint (paper §4.1, §4.3): a point joint whose relative orientation follows the
+    /// rule, plastic (rigid until the angular impulse needed to keep it rigid within one step
+    /// exceeds its strength, then bent to a new target) or elastic (a torsional spring and
+    /// damper pulling it back to the rest orientation captured when the joint is made,
+    /// integrated analytically).
+    Bend(JointRule),
     /// Elastic prismatic joint (paper §4.3, "both angular and prismatic"): the relative
     /// orientation is locked, the anchors may slide apart along `axis` only, and a linear spring
     /// and damper pull them back together, integrated analytically.
@@ -74,12 +59,12 @@ impl JointKind {
         };
         match *self {
             Self::Ball | Self::Rigid => Ok(()),
-            Self::Plastic { strength, damping_constant, damping_proportional } => {
+            Self::Bend(JointRule::Plastic { strength, damping_constant, damping_proportional }) => {
                 positive("strength", strength)?;
                 non_negative("damping_constant", damping_constant)?;
                 non_negative("damping_proportional", damping_proportional)
             }
-            Self::Elastic { stiffness, damping } => {
+            Self::Bend(JointRule::Elastic { stiffness, damping }) => {
                 positive("stiffness", stiffness)?;
                 non_negative("damping", damping)
             }
@@ -96,7 +81,7 @@ impl JointKind {
     /// Whether the relative orientation is held by the joint's impulses (rigid, plastic,
     /// prismatic) rather than left free or to a spring.
     pub(crate) fn locks_rotation(&self) -> bool {
-        matches!(self, Self::Rigid | Self::Plastic { .. } | Self::ElasticPrismatic { .. })
+        matches!(self, Self::Rigid | Self::Bend(JointRule::Plastic { .. }) | Self::ElasticPrismatic { .. })
     }
 }
 

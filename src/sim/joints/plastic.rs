@@ -18,6 +18,7 @@ use glam::Vec3;
 
 use super::system::{self, Matrix};
 use super::{BendEvent, Joint, JointKind, angle_between};
+use crate::bend::JointRule;
 use crate::bend::damped_bend_rate;
 use crate::sim::{RigidBody, WorldSettings};
 
@@ -60,7 +61,7 @@ pub(crate) fn after_step(joints: &mut [Joint], bodies: &[RigidBody], settings: &
     let dt = settings.dt;
     let mut bends = Vec::new();
     for (index, joint) in joints.iter_mut().enumerate() {
-        let JointKind::Plastic { damping_constant, damping_proportional, .. } = joint.kind else {
+        let JointKind::Bend(JointRule::Plastic { damping_constant, damping_proportional, .. }) = joint.kind else {
             continue;
         };
         if !joint.clamped && !joint.is_bending() {

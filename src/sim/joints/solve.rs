@@ -17,6 +17,7 @@ use glam::Vec3;
 
 use super::system::{self, Frame, Matrix, Mobility, Motion};
 use super::{Joint, JointKind, band, plastic};
+use crate::bend::JointRule;
 use crate::sim::union_find::UnionFind;
 
 /// Most Gauss–Seidel sweeps over a group that cannot be solved directly.
@@ -254,7 +255,7 @@ fn direct(
         if let Some(fixed) = fixed {
             l = fixed;
         }
-        if clamp && matches!(joints[k].kind, JointKind::Plastic { .. }) {
+        if clamp && matches!(joints[k].kind, JointKind::Bend(JointRule::Plastic { .. })) {
             joints[k].clamped = fixed.is_some();
             joints[k].accumulated += l;
         }
@@ -275,7 +276,7 @@ fn clamp_plastic(
 ) -> bool {
     let mut changed = false;
     for (&k, fixed) in group.iter().zip(fixed.iter_mut()) {
-        let JointKind::Plastic { strength, .. } = joints[k].kind else { continue };
+        let JointKind::Bend(JointRule::Plastic { strength, .. }) = joints[k].kind else { continue };
         if fixed.is_some() {
             continue;
         }
@@ -395,7 +396,7 @@ fn visit(joint: &mut Joint, r: &Rows, mob: &[Mobility], v: &mut [Motion], start:
     let rhs: [f64; 6] = error.map(|e| -e);
     let mut rows = held(joint);
     let solution = match (clamp, joint.kind) {
-        (true, JointKind::Plastic { strength, .. }) => {
+        (true, JointKind::Bend(JointRule::Plastic { strength, .. })) => {
             plastic::clamped_solve(&r.matrix, &rhs, rows, joint.accumulated, strength).map(|(x, clamped)| {
                 joint.clamped = clamped;
                 if clamped {
