@@ -6,7 +6,8 @@
 //! baseline frame time), `--size WxH` (default 640x360), `--balls-per-frame F` (default 0.5),
 //! `--no-png` (render every frame, write none), `--no-wall` (no breakable wall and no dents on the
 //! plank: by default a wrecking ball breaks a wall behind the block, counted in `summary.json`'s
-//! `fractures` and `pieces`, and balls dent the bendable plank, `bendable_dents`).
+//! `fractures` and `pieces`, a ball splits a bone of the bendable plank, `splits`, and balls dent
+//! it, `bendable_dents`).
 //!
 //! Throughput: `--burst N` stops the rain and instead writes N contacts a frame on the block
 //! through the contact hook (a hidden ball landing at 3 m/s at random points: one batch of N

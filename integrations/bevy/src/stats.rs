@@ -29,6 +29,8 @@ pub struct DentStats {
     /// CPU-path dents that moved no vertex (the mesh too coarse under them, or the guard
     /// limited them to nothing); each body's first is logged with its fix.
     pub empty_dents: u64,
+    /// Bones split where a fast hit landed (dynamic articulation of bendable bodies).
+    pub splits: u64,
     /// Dents made on bendable bodies (counted in `dents` and `cpu_dents` too).
     pub bendable_dents: u64,
     /// Breakable bodies that broke.

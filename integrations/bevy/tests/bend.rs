@@ -26,12 +26,13 @@ fn plastic() -> BendSettings {
 /// supports 3.8 m apart, the ground 0.6 m below, a 60 kg ball (radius 0.2 m) falling at 6 m/s
 /// onto it 0.3 m off the middle.
 fn plank_scene(gpu: bool) -> (common::Scene, Entity) {
-    plank_scene_with(gpu, false)
+    plank_scene_with(gpu, false, false)
 }
 
 /// [`plank_scene`], the plank dentable (2 m/s threshold, 5 mm per m/s, at most 2 cm) and the
-/// ball a projectile with a mesh when `dents`.
-fn plank_scene_with(gpu: bool, dents: bool) -> (common::Scene, Entity) {
+/// ball a projectile with a mesh when `dents`; with `split`, the plank is one bone that a hit
+/// of 2 m/s or more splits where it lands.
+fn plank_scene_with(gpu: bool, dents: bool, split: bool) -> (common::Scene, Entity) {
     let mut app = headless_app(gpu);
     let probe = common::slab::SlabProbe::install(&mut app);
     app.finish();
@@ -39,7 +40,7 @@ fn plank_scene_with(gpu: bool, dents: bool) -> (common::Scene, Entity) {
     // Bodies join the Rapier context its start-up made.
     app.update();
     let plank = mesh::plank(4.0, 0.3, 0.1, 64).expect("a plank");
-    let skeleton = auto_skeleton(&plank, 2).expect("a skeleton");
+    let skeleton = auto_skeleton(&plank, if split { 1 } else { 2 }).expect("a skeleton");
     let world = app.world_mut();
     // dentbend-rapier's Figure 14 scene: supports 3.8 m apart, the ground 0.6 m below.
     for x in [-1.9, 1.9] {
@@ -47,7 +48,11 @@ fn plank_scene_with(gpu: bool, dents: bool) -> (common::Scene, Entity) {
     }
     world.spawn((Transform::from_xyz(0.0, -0.7, 0.0), RigidBody::Fixed, Collider::cuboid(4.0, 0.1, 1.5)));
     let asset = world.resource_mut::<Assets<Mesh>>().add(bevy_mesh(&plank));
-    let mut bendable = Bendable::new(skeleton, plastic());
+    let mut settings = plastic();
+    if split {
+        settings.split_speed = Some(2.0);
+    }
+    let mut bendable = Bendable::new(skeleton, settings);
     if dents {
         bendable = bendable.dentable(DentSettings::new(2.0, 0.005, 0.02));
     }
@@ -190,7 +195,7 @@ fn the_cpu_path_bends_the_same() {
 /// path, the asset exactly).
 fn a_dentable_plank_keeps_its_dent() {
     for gpu in [true, false] {
-        let (mut s, body) = plank_scene_with(gpu, true);
+        let (mut s, body) = plank_scene_with(gpu, true, false);
         let path = if gpu { DentPath::Gpu } else { DentPath::Cpu };
         s.until("the plank registered", 100, |w| w.resource::<Bends>().skinning_path(body) == Some(path));
         let original = s.app.world().resource::<Bends>().rest(body).unwrap().0.clone();
@@ -214,8 +219,28 @@ fn a_dentable_plank_keeps_its_dent() {
     }
 }
 
+/// A one-bone plank with dynamic articulation: the ball's hit (about 6 m/s) splits its bone
+/// where it lands, on both paths: two bone entities, one joint near the hit, and the plank
+/// bends there by more than 3° (the plastic joint yields, as with the two-bone plank).
+fn a_fast_hit_splits_the_bone_it_lands_on() {
+    for gpu in [true, false] {
+        let (mut s, body) = plank_scene_with(gpu, false, true);
+        let path = if gpu { DentPath::Gpu } else { DentPath::Cpu };
+        s.until("the plank registered", 100, |w| w.resource::<Bends>().skinning_path(body) == Some(path));
+        assert_eq!(s.app.world().resource::<Bends>().pieces(body).map(<[Entity]>::len), Some(1));
+        s.frames(120);
+        assert_eq!(s.app.world().resource::<DentStats>().splits, 1, "gpu {gpu}");
+        let bends = s.app.world().resource::<Bends>();
+        assert_eq!(bends.pieces(body).map(<[Entity]>::len), Some(2), "gpu {gpu}");
+        let bent = angles(&s, body);
+        assert_eq!(bent.len(), 1, "one joint");
+        assert!(bent[0].abs() > 3f32.to_radians(), "gpu {gpu}: the new joint bent {} rad", bent[0]);
+    }
+}
+
 fn main() -> ExitCode {
     common::run(vec![
+        ("a_fast_hit_splits_the_bone_it_lands_on", a_fast_hit_splits_the_bone_it_lands_on),
         ("a_dentable_plank_keeps_its_dent", a_dentable_plank_keeps_its_dent),
         ("the_plank_bends_and_the_slab_is_skinned", the_plank_bends_and_the_slab_is_skinned),
         ("the_cpu_path_bends_the_same", the_cpu_path_bends_the_same),

@@ -7,13 +7,14 @@
 //! A bendable body given dent settings ([`Bendable::dentable`]) dents where its bones are hit:
 //! its rest mesh skinned to the bones' poses is dented, the dent mapped back to the rest mesh
 //! through each vertex's blended bone rotation ([`dentbend::bend::Rig`]), and the bones owning
-//! a moved vertex get new hulls. Not yet in Bevy: dynamic articulation (splitting a bone where a
-//! fast hit lands); dentbend-rapier's `Bendable` has it.
+//! a moved vertex get new hulls. With `settings.split_speed`, a hit at least that fast splits the
+//! bone it lands on where it lands (dynamic articulation): a new bone entity and a joint.
 
 mod dents;
 mod joints;
 mod rig;
 mod skinning;
+mod split;
 
 use std::collections::HashMap;
 
@@ -72,6 +73,8 @@ pub struct BendPiece {
 pub(crate) struct Joint {
     pub parent: usize,
     pub child: usize,
+    /// Where it joins them, rest frame, m.
+    pub point: Vec3,
     pub rule: JointState,
 }
 
@@ -92,6 +95,8 @@ pub(crate) struct Rig {
     pub mesh: Handle<Mesh>,
     /// The bone matrices last skinned with.
     pub last: Vec<SkinBone>,
+    /// Density, friction, joint rule and dynamic articulation.
+    pub settings: BendSettings,
 }
 
 /// Every bendable body, by entity.
@@ -137,6 +142,12 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
             physics,
             joints::apply_joint_rules.after(PhysicsSet::SyncBackend).before(PhysicsSet::StepSimulation),
         )
-        .add_systems(PostUpdate, dents::dent_bendables.in_set(DentSystems::Decide).after(crate::decide::decide_dents))
+        .add_systems(
+            PostUpdate,
+            (split::split_bones, dents::dent_bendables)
+                .chain()
+                .in_set(DentSystems::Decide)
+                .after(crate::decide::decide_dents),
+        )
         .add_systems(PostUpdate, (rig::forget_removed, skinning::pose_bendables).chain().in_set(DentSystems::Apply));
 }

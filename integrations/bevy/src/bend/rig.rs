@@ -75,7 +75,7 @@ pub(crate) fn register_bendables(
         for (parent, child, point, rule) in built.rules {
             let joint = SphericalJointBuilder::new().local_anchor1(point).local_anchor2(point).contacts_enabled(false);
             commands.entity(pieces[child]).insert(ImpulseJoint::new(pieces[parent], joint));
-            joints.push(Joint { parent, child, rule });
+            joints.push(Joint { parent, child, point, rule });
         }
         let handle = meshes.add(copy);
         let path = match status {
@@ -92,6 +92,7 @@ pub(crate) fn register_bendables(
             joints,
             core: built.core,
             dent: bendable.dent.clone().map(|settings| (settings, Damage::new(), 0)),
+            settings: bendable.settings,
             path,
             mesh: handle,
             last: Vec::new(),

@@ -35,7 +35,8 @@ pub struct RainSettings {
     /// A breakable wall behind the block, broken by a wrecking ball at frame
     /// 20 (its dents and fracture take the CPU path).
     pub wall: bool,
-    /// The plank dents where balls land on it (bendable dents, on the CPU path).
+    /// The plank dents where balls land on it (bendable dents, on the CPU path), and a ball
+    /// landing fast splits the bone it lands on.
     pub dent_plank: bool,
 }
 
@@ -202,7 +203,8 @@ fn spawn_wall(commands: &mut Commands, meshes: &mut Assets<Mesh>, materials: &mu
     ));
 }
 
-/// At [`WRECKING_FRAME`], a 50 kg ball (radius 0.2 m) flies at 12 m/s (3.6 kJ) into the wall.
+/// At [`WRECKING_FRAME`], a 50 kg ball (radius 0.2 m) flies at 12 m/s (3.6 kJ) into the wall,
+/// and a 5 kg one drops on the plank.
 fn launch_wrecking_ball(
     mut commands: Commands,
     mut meshes: ResMut<Assets<Mesh>>,
@@ -210,6 +212,21 @@ fn launch_wrecking_ball(
     mut frame: Local<u32>,
 ) {
     *frame += 1;
+    if *frame == WRECKING_FRAME && settings.plank && settings.dent_plank && settings.dents {
+        // A 5 kg ball dropped at 8 m/s on the plank's right bone, 0.8 m from its joint: it
+        // splits the bone there and dents it.
+        let radius = 0.12;
+        let volume = 4.0 / 3.0 * std::f32::consts::PI * radius * radius * radius;
+        commands.spawn((
+            Mesh3d(meshes.add(Sphere::new(radius).mesh().ico(3).expect("a sphere"))),
+            Transform::from_xyz(0.8, POST + 0.5, 1.2),
+            RigidBody::Dynamic,
+            Collider::ball(radius),
+            ColliderMassProperties::Density(5.0 / volume),
+            Velocity::linear(Vec3::new(0.0, -8.0, 0.0)),
+            DentProjectile,
+        ));
+    }
     if *frame != WRECKING_FRAME || !(settings.wall && settings.dents) {
         return;
     }
@@ -250,7 +267,12 @@ fn spawn_plank(
     }
     let plank = mesh::plank(3.4, 0.3, 0.1, 68).expect("a valid plank");
     let skeleton = auto_skeleton(&plank, 2).expect("a two-bone plank");
-    let mut bendable = Bendable::new(skeleton, BendSettings::plastic(700.0, 40.0));
+    let mut settings = BendSettings::plastic(700.0, 40.0);
+    if dents {
+        // A ball landing at 3 m/s or more splits the bone it lands on (joints 0.4 m apart at least).
+        (settings.split_speed, settings.min_joint_spacing) = (Some(3.0), 0.4);
+    }
+    let mut bendable = Bendable::new(skeleton, settings);
     if dents {
         // Dented where balls land on it: 2 m/s threshold, 5 mm per m/s above it, at most 2 cm.
         bendable = bendable.dentable(DentSettings::new(2.0, 0.005, 0.02));

@@ -61,6 +61,7 @@ impl Summary {
             "empty_dents": s.empty_dents,
             "fractures": s.fractures,
             "bendable_dents": s.bendable_dents,
+            "splits": s.splits,
             "pieces": s.pieces,
             "dents_enabled": self.dents_enabled,
             "path": path,

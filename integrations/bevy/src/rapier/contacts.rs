@@ -105,6 +105,7 @@ pub(crate) fn send_contacts(
     impacts: Res<RapierImpacts>,
     world: Res<DentWorld>,
     contexts: Query<(&RapierContextColliders, &RapierRigidBodySet)>,
+    bones: Query<(), With<crate::BendPiece>>,
     mut out: MessageWriter<DentContact>,
 ) {
     let contacts = impacts.collector.take_contacts(&impacts.states);
@@ -112,7 +113,9 @@ pub(crate) fn send_contacts(
     for c in contacts {
         let side = |handle| body(handle, &impacts.states, colliders, bodies).map(|b| as_mesh(&world, b));
         let (Some(a), Some(b)) = (side(c.collider1), side(c.collider2)) else { continue };
-        if world.surface(a.entity).is_none() && world.surface(b.entity).is_none() {
+        // Only impacts that may dent (a side with a surface) or split a bendable body's bone.
+        let may_dent = world.surface(a.entity).is_some() || world.surface(b.entity).is_some();
+        if !may_dent && !bones.contains(a.entity) && !bones.contains(b.entity) {
             continue;
         }
         out.write(DentContact { a, b, point: c.point, normal: c.normal, started: c.started });
