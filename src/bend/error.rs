@@ -1,5 +1,6 @@
 //! Errors raised while building skeletons, level sets, skinning weights and sub-bodies.
 
+use crate::cpu::SkinError;
 use crate::mesh::MeshError;
 
 /// Everything that can go wrong on the geometry side of bending.
@@ -142,6 +143,9 @@ pub enum BendError {
     /// A mesh is invalid.
     #[error(transparent)]
     Mesh(#[from] MeshError),
+    /// Skinning refused its bones or influences.
+    #[error(transparent)]
+    Skin(#[from] SkinError),
 }
 
 fn format_cycle(cycle: &[usize]) -> String {

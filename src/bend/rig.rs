@@ -10,7 +10,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::{BendError, Skeleton, SkinWeights, SubBodies, WeightCache, WeightParams};
-use crate::cpu::SkinInfluence;
+use crate::cpu::{SkinBone, SkinInfluence, SkinParams, skin};
 use crate::mesh::TriMesh;
 
 /// Determinant below which a vertex's blended linear part counts as singular (bones turned by
@@ -110,6 +110,21 @@ impl Rig {
     /// Up to four influences per vertex, as the skinning kernels take them.
     pub fn influences(&self) -> &[SkinInfluence] {
         &self.influences
+    }
+
+    /// The rest mesh skinned by `bones` (each bone's rest → output transform) on the CPU, its
+    /// normals those of the skinned positions.
+    ///
+    /// # Errors
+    /// [`BendError::Skin`] for another bone count or non-finite bones.
+    pub fn skinned(&self, bones: &[Affine3A]) -> Result<TriMesh, BendError> {
+        let bones: Vec<SkinBone> = bones.iter().copied().map(SkinBone::from_affine).collect();
+        let n = self.rest.vertex_count();
+        let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
+        let params = SkinParams::new(n as u32, bones.len() as u32);
+        let rest = (self.rest.positions(), self.rest.normals());
+        skin(&params, &bones, rest.0, rest.1, &self.influences, &mut positions, &mut normals)?;
+        Ok(TriMesh::new(positions, self.rest.faces().to_vec())?)
     }
 
     /// `bone`'s part of the rest mesh (an open surface, rest frame; what its collider is built

@@ -191,13 +191,11 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> Damage<K> {
             }
         }
         plan.fractures = self.fractures(targets, hits, &tally, &plan)?;
-        for fracture in &plan.fractures {
-            tally.forget(fracture.body);
-            staged.forget(fracture.body);
-        }
         self.progress.end_stale(step);
         self.progress.absorb(staged);
+        // A broken body starts again: no accumulated dent, no progressive dent on its old mesh.
         for fracture in &plan.fractures {
+            tally.forget(fracture.body);
             self.progress.forget(fracture.body);
         }
         self.tally = tally;

@@ -12,7 +12,7 @@ use crate::backend::SplitBackend;
 use crate::fracture::{Breaking, break_bodies};
 use crate::link::{MainLink, ToMain, ToRender};
 use crate::mesh_data::write_dented;
-use crate::scale::{rigid_pose, unscaled};
+use crate::scale::{for_asset, rigid_pose};
 use crate::world::surface_in;
 use crate::{DentApplied, DentContact, DentPath, DentStats, DentWorld, MeshDented};
 
@@ -133,15 +133,12 @@ pub(crate) fn decide_dents(
     let cpu_targets: Vec<_> = plan.targets.into_iter().filter(|t| !world.on_gpu.contains(&t.key)).collect();
     for t in &cpu_targets {
         let Some(body) = world.bodies.get(&t.key) else { continue };
-        let written = match body.scale {
-            Some(s) => match unscaled(&t.mesh, s) {
-                Ok(mesh) => std::borrow::Cow::Owned(mesh),
-                Err(e) => {
-                    error!("bevy_dentbend: {}'s dented mesh could not be unscaled ({e})", t.key);
-                    continue;
-                }
-            },
-            None => std::borrow::Cow::Borrowed(&t.mesh),
+        let written = match for_asset(&t.mesh, body.scale) {
+            Ok(mesh) => mesh,
+            Err(e) => {
+                error!("bevy_dentbend: {}'s dented mesh could not be unscaled ({e})", t.key);
+                continue;
+            }
         };
         if let Some(mut mesh) = meshes.get_mut(&body.mesh)
             && let Err(e) = write_dented(&mut mesh, &written, &t.refinement)

@@ -6,7 +6,7 @@ use bevy::prelude::*;
 use dentbend::damage::BodyFracture;
 
 use crate::mesh_data::bevy_mesh;
-use crate::scale::unscaled;
+use crate::scale::for_asset;
 use crate::{BodyBroken, DentPiece, DentStats, DentWorld, MeshDented};
 
 /// What breaking bodies needs: commands to spawn pieces, the broken bodies' materials, and its
@@ -41,10 +41,9 @@ pub(crate) fn break_bodies(
                     && let Some(mut asset) = meshes.get_mut(&body.mesh)
                 {
                     // The asset holds the mesh without its entity's scale, which Bevy applies.
-                    match body.scale.map(|s| unscaled(rest, s)) {
-                        Some(Ok(mesh)) => *asset = bevy_mesh(&mesh),
-                        Some(Err(e)) => error!("bevy_dentbend: {entity}'s rest could not be unscaled ({e})"),
-                        None => *asset = bevy_mesh(rest),
+                    match for_asset(rest, body.scale) {
+                        Ok(mesh) => *asset = bevy_mesh(&mesh),
+                        Err(e) => error!("bevy_dentbend: {entity}'s rest could not be unscaled ({e})"),
                     }
                 }
                 let moved = (0..rest.vertex_count() as u32).collect();

@@ -36,17 +36,6 @@ pub(crate) type Unregistered = (Without<DentRegistered>, Without<DentRefused>);
 /// Projectiles (that do not dent themselves) not registered yet.
 type NewProjectile = (With<DentProjectile>, Without<Dentable>, Unregistered);
 
-/// How far from 1 a dentable or bendable entity's scale may be.
-const UNIT_SCALE_TOLERANCE: f32 = 1e-4;
-
-/// Why a body of this `transform` cannot take part: dents and bends are sized in metres in the
-/// mesh's own coordinates, which a scale would stretch.
-pub(crate) fn scale_refusal(transform: &GlobalTransform) -> Option<String> {
-    let scale = transform.to_scale_rotation_translation().0;
-    ((scale - Vec3::ONE).abs().max_element() > UNIT_SCALE_TOLERANCE)
-        .then(|| format!("it is scaled by {scale} (bake the scale into its mesh)"))
-}
-
 /// `entity`'s mesh made ready to register: a private copy (normals added when missing), its
 /// triangles for the damage API and its vertex layout for the GPU path; otherwise why its mesh
 /// cannot `verb` ("dent", "bend").

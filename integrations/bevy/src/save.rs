@@ -13,7 +13,7 @@ use dentbend::record::{
 
 use crate::link::{MainLink, ToRender};
 use crate::mesh_data::{slab_layout, write_dented};
-use crate::scale::unscaled;
+use crate::scale::for_asset;
 use crate::{DentPath, DentWorld, MeshDented};
 
 /// One recorded body: its damage so far, its mesh when last recorded, and dents queued on the
@@ -180,16 +180,12 @@ fn restore_one(
     let now = world.mesh(entity).ok_or("it is not a registered dentable body (yet)")?;
     let mesh = replay_body(damage, now, DentForm::Edits, &Projectiles::new()).map_err(|e| e.to_string())?;
     let body = world.bodies.get(&entity).ok_or("it is not a registered dentable body")?;
-    let written = match body.scale {
-        Some(s) => unscaled(&mesh, s).map_err(|e| e.to_string())?,
-        None => mesh.clone(),
-    };
+    let written = for_asset(&mesh, body.scale).map_err(|e| e.to_string())?;
     let mut asset = meshes.get_mut(&body.mesh).ok_or("its mesh asset is gone")?;
-    let fresh = crate::mesh_data::bevy_mesh(&written);
     if asset.count_vertices() == written.vertex_count() {
         write_dented(&mut asset, &written, &Default::default()).map_err(|e| e.to_string())?;
     } else {
-        *asset = fresh;
+        *asset = crate::mesh_data::bevy_mesh(&written);
     }
     let layout = slab_layout(&asset).map_err(|e| e.to_string())?;
     let (handle, path) = (body.mesh.clone(), body.path);

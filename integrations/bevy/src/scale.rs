@@ -3,6 +3,8 @@
 //! writes the dented mesh back into the asset without it (Bevy scales the asset, bevy_rapier3d
 //! the collider).
 
+use std::borrow::Cow;
+
 use bevy::prelude::*;
 use dentbend::TriMesh;
 use dentbend::glam::Affine3A;
@@ -29,10 +31,20 @@ pub(crate) fn entity_scale(transform: &GlobalTransform) -> Result<Option<Vec3>, 
     Ok(((scale - Vec3::ONE).abs().max_element() > UNIT_SCALE_TOLERANCE).then_some(scale))
 }
 
+/// Why a body of this `transform` cannot take part where scales are not served (bendable
+/// bodies, a collider standing for a mesh on another entity): its bones or contacts are sized in
+/// its mesh's own coordinates, which a scale would stretch.
+pub(crate) fn scale_refusal(transform: &GlobalTransform) -> Option<String> {
+    match entity_scale(transform) {
+        Ok(None) => None,
+        Ok(Some(scale)) => Some(format!("it is scaled by {scale} (bake the scale into its mesh)")),
+        Err(reason) => Some(reason),
+    }
+}
+
 /// `transform` without its scale: mesh coordinates (scale baked in) → world.
 pub(crate) fn rigid(transform: &GlobalTransform) -> Affine3A {
-    let (_, rotation, translation) = transform.to_scale_rotation_translation();
-    Affine3A::from_rotation_translation(rotation, translation)
+    rigid_pose(transform.affine())
 }
 
 /// `pose` without its scale (a contact's pose given with one).
@@ -53,8 +65,20 @@ pub(crate) fn scaled(tri: &TriMesh, scale: Vec3) -> Result<TriMesh, MeshError> {
 ///
 /// # Errors
 /// As [`scaled`].
-pub(crate) fn unscaled(tri: &TriMesh, scale: Vec3) -> Result<TriMesh, MeshError> {
+fn unscaled(tri: &TriMesh, scale: Vec3) -> Result<TriMesh, MeshError> {
     map(tri, scale.recip(), scale)
+}
+
+/// `tri` as the asset holds it: without `scale` (the entity's, baked into `tri`), or `tri`
+/// itself for an unscaled body.
+///
+/// # Errors
+/// As [`scaled`].
+pub(crate) fn for_asset(tri: &TriMesh, scale: Option<Vec3>) -> Result<Cow<'_, TriMesh>, MeshError> {
+    match scale {
+        Some(s) => unscaled(tri, s).map(Cow::Owned),
+        None => Ok(Cow::Borrowed(tri)),
+    }
 }
 
 fn map(tri: &TriMesh, positions_by: Vec3, normals_by: Vec3) -> Result<TriMesh, MeshError> {

@@ -96,7 +96,7 @@ impl DentWorld {
     pub fn record_damage(&mut self, entity: Entity, name: impl Into<String>) -> Result<(), String> {
         let entity = self.mesh_of_owner(entity).unwrap_or(entity);
         let mesh = self.targets.mesh(entity).ok_or_else(|| format!("{entity} is not a registered dentable body"))?;
-        self.records.track(entity, name.into(), &mesh.clone());
+        self.records.track(entity, name.into(), mesh);
         Ok(())
     }
 

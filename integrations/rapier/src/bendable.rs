@@ -13,14 +13,14 @@ use glam::{Quat, Vec3};
 use rapier3d::math::Pose;
 use rapier3d::prelude::{
     ActiveEvents, ColliderBuilder, ColliderHandle, GenericJoint, ImpulseJointHandle, RigidBodyBuilder, RigidBodyHandle,
-    SphericalJointBuilder,
+    SharedShape, SphericalJointBuilder,
 };
 
 use crate::contacts::Contact;
 use crate::elastic::ElasticJoint;
 use crate::plastic::PlasticJoint;
 use crate::world::PhysicsWorld;
-use crate::{AdapterError, BodyStates, convex_collider};
+use crate::{AdapterError, BodyStates};
 
 /// How a bendable body is built and how it bends.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -306,7 +306,14 @@ impl Bendable {
 
 /// The convex-hull collider of each of `bones`' parts of `rig`.
 pub(crate) fn hulls(rig: &Rig, bones: &[usize]) -> Result<Vec<(usize, ColliderBuilder)>, AdapterError> {
-    bones.iter().map(|&bone| Ok((bone, convex_collider(&rig.part(bone).map_err(rig_error)?)?))).collect()
+    bones.iter().map(|&bone| Ok((bone, ColliderBuilder::new(part_hull(rig, bone)?)))).collect()
+}
+
+/// The convex hull of `bone`'s part of `rig`.
+pub(crate) fn part_hull(rig: &Rig, bone: usize) -> Result<SharedShape, AdapterError> {
+    let part = rig.part(bone).map_err(rig_error)?;
+    SharedShape::convex_hull(part.positions())
+        .ok_or_else(|| AdapterError::Rig(format!("bone {bone}'s part has no convex hull (flat or degenerate)")))
 }
 
 pub(crate) fn rig_error(e: dentbend::bend::BendError) -> AdapterError {

@@ -20,6 +20,13 @@ use crate::refit::{ShapeKind, trimesh_shape};
 /// (the piece's mesh and mass properties are unchanged), so that pieces start apart.
 pub const PIECE_HULL_SCALE: f32 = 0.97;
 
+/// The points of a piece's collider hull: the vertices of `mesh` shrunk by [`PIECE_HULL_SCALE`]
+/// toward `centre` (its centre of mass). Pieces fill the hole they leave exactly; hulls of these
+/// start clear of the rest and of each other instead of wedged in, touching on every side.
+pub fn piece_hull_points(mesh: &TriMesh, centre: glam::Vec3) -> Vec<glam::Vec3> {
+    mesh.positions().iter().map(|&p| centre + (p - centre) * PIECE_HULL_SCALE).collect()
+}
+
 /// One piece that became a Rapier body.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PieceBody {
@@ -94,12 +101,7 @@ pub(crate) fn prepare(
     let mut pieces = Vec::with_capacity(fracture.pieces.len());
     let mut left_out = 0;
     for piece in &fracture.pieces {
-        // Pieces fill the hole they leave exactly; hulls shrunk toward their centres start
-        // clear of the rest and of each other instead of wedged in, touching on every side.
-        let centre = piece.mass.center;
-        let shrunk: Vec<glam::Vec3> =
-            piece.mesh.positions().iter().map(|&p| centre + (p - centre) * PIECE_HULL_SCALE).collect();
-        match ColliderBuilder::convex_hull(&shrunk) {
+        match ColliderBuilder::convex_hull(&piece_hull_points(&piece.mesh, piece.mass.center)) {
             Some(builder) => pieces.push((
                 piece.id,
                 builder.mass_properties(rapier_mass(&piece.mass)),

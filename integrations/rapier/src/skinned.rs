@@ -3,9 +3,8 @@
 //! blend skinning over the body's weights on the CPU (dentbend's `skin` twin of the GPU
 //! kernel).
 
-use dentbend::cpu::{SkinBone, SkinParams, skin};
 use dentbend::mesh::TriMesh;
-use glam::{Affine3A, Vec3};
+use glam::Affine3A;
 
 use crate::{AdapterError, Bendable, PhysicsWorld};
 
@@ -34,14 +33,6 @@ impl Bendable {
 
     /// The rest mesh skinned by `transforms` (one per bone, rest frame → world), m.
     pub(crate) fn skin_with(&self, transforms: &[Affine3A]) -> Result<TriMesh, AdapterError> {
-        let bones: Vec<SkinBone> = transforms.iter().copied().map(SkinBone::from_affine).collect();
-        let rest = self.rig.rest();
-        let n = rest.vertex_count();
-        let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
-        let params = SkinParams::new(n as u32, bones.len() as u32);
-        let influences = self.rig.influences();
-        skin(&params, &bones, rest.positions(), rest.normals(), influences, &mut positions, &mut normals)
-            .map_err(|e| AdapterError::Rig(e.to_string()))?;
-        Ok(TriMesh::new(positions, rest.faces().to_vec())?)
+        self.rig.skinned(transforms).map_err(crate::bendable::rig_error)
     }
 }

@@ -2,11 +2,10 @@
 //! speed splits the bone it lands on at the contact's projection, replacing the hit piece by
 //! two Rapier bodies joined by a new joint.
 
-use dentbend::bend::Rig;
 use glam::Vec3;
 use rapier3d::prelude::{RigidBodyHandle, SharedShape};
 
-use crate::bendable::{BendJoint, BendReport, hulls, rig_error};
+use crate::bendable::{BendJoint, BendReport, hulls, part_hull, rig_error};
 use crate::{AdapterError, Bendable, BodyStates, Contact, PhysicsWorld};
 
 impl Bendable {
@@ -96,7 +95,8 @@ impl Bendable {
         after.apply_split(rig_split).map_err(rig_error)?;
         let hulls = hulls(&after, &[first, second])?;
         // Other bones whose sub-body the split recut get hulls of their new parts.
-        let recut_hulls = hulls_shapes(&after, &recut)?;
+        let recut_hulls: Vec<(usize, SharedShape)> =
+            recut.iter().map(|&bone| Ok((bone, part_hull(&after, bone)?))).collect::<Result<_, AdapterError>>()?;
         let (Some(pose), state) = (states.body_pose(old.body), states.body(old.body, &world.bodies)?) else {
             return Ok(());
         };
@@ -151,17 +151,4 @@ struct Split {
     piece: usize,
     rest_point: Vec3,
     projectile: Option<RigidBodyHandle>,
-}
-
-/// The convex hull of each of `bones`' parts of `rig`, as shapes.
-fn hulls_shapes(rig: &Rig, bones: &[usize]) -> Result<Vec<(usize, SharedShape)>, AdapterError> {
-    bones
-        .iter()
-        .map(|&bone| {
-            let part = rig.part(bone).map_err(rig_error)?;
-            let shape = SharedShape::convex_hull(part.positions())
-                .ok_or_else(|| AdapterError::Rig(format!("bone {bone}'s recut part has no convex hull")))?;
-            Ok((bone, shape))
-        })
-        .collect()
 }

@@ -7,8 +7,6 @@ use std::collections::HashMap;
 
 use bevy::prelude::*;
 use bevy_rapier3d::prelude::Collider;
-use dentbend::TriMesh;
-use dentbend::cpu::{SkinBone, SkinParams, skin};
 use dentbend::damage::{CpuBackend, Hit, TargetSet};
 use dentbend::dent::{Impact, Surface};
 use dentbend::glam::Affine3A;
@@ -113,7 +111,7 @@ fn dent_body(
             *slot = hit.bone.pose;
         }
     }
-    let skinned = skinned(rig.core.rest(), rig.core.influences(), &bones)?;
+    let skinned = rig.core.skinned(&bones).map_err(|e| e.to_string())?;
     let Some((settings, damage, step)) = &mut rig.dent else { return Err("it does not dent".into()) };
     let mut targets = TargetSet::new();
     targets.insert(owner, skinned.clone(), Affine3A::IDENTITY, settings.clone()).map_err(|e| e.to_string())?;
@@ -162,15 +160,4 @@ fn dent_body(
         })
         .collect();
     Ok(Made { hulls, applied })
-}
-
-/// `rest` skinned by `bones` (rest → world), world coordinates.
-fn skinned(rest: &TriMesh, influences: &[dentbend::cpu::SkinInfluence], bones: &[Affine3A]) -> Result<TriMesh, String> {
-    let matrices: Vec<SkinBone> = bones.iter().copied().map(SkinBone::from_affine).collect();
-    let n = rest.vertex_count();
-    let (mut positions, mut normals) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
-    let params = SkinParams::new(n as u32, matrices.len() as u32);
-    skin(&params, &matrices, rest.positions(), rest.normals(), influences, &mut positions, &mut normals)
-        .map_err(|e| e.to_string())?;
-    TriMesh::new(positions, rest.faces().to_vec()).map_err(|e| e.to_string())
 }

@@ -11,7 +11,8 @@ use dentbend_rapier::JointState;
 
 use super::{BendPiece, Bendable, Bends, Joint, Rig};
 use crate::link::{GpuStatus, MainLink, ToRender};
-use crate::register::{Unregistered, prepare_mesh, refuse, scale_refusal};
+use crate::register::{Unregistered, prepare_mesh, refuse};
+use crate::scale::scale_refusal;
 use crate::{DentPath, DentRegistered};
 
 /// The rig of a bendable body, before anything is spawned.

@@ -31,7 +31,7 @@ pub(crate) fn split_bones(
     mut commands: Commands,
     mut contacts: MessageReader<DentContact>,
     mut bends: ResMut<Bends>,
-    pieces: Query<(&BendPiece, &Transform, Option<&Velocity>)>,
+    pieces: Query<&BendPiece>,
     bodies: Query<&RigidBody>,
     mut stats: ResMut<DentStats>,
     (link, meshes): (Res<MainLink>, Res<Assets<Mesh>>),
@@ -39,7 +39,7 @@ pub(crate) fn split_bones(
     let mut splits: Vec<Split> = Vec::new();
     for c in contacts.read().filter(|c| c.started) {
         for (bone, other, normal) in [(c.a, c.b, -c.normal), (c.b, c.a, c.normal)] {
-            let Ok((piece, _, _)) = pieces.get(bone.entity) else { continue };
+            let Ok(piece) = pieces.get(bone.entity) else { continue };
             let Some(rig) = bends.rigs.get(&piece.owner) else { continue };
             let Some(speed) = rig.settings.split_speed else { continue };
             let approach = (other.state.velocity_at(c.point) - bone.state.velocity_at(c.point)).dot(normal.normalize());
@@ -81,12 +81,7 @@ pub(crate) fn split_bones(
 }
 
 /// Makes split `s` of `rig`; whether it was made (a point too near the bone's ends is not).
-fn split(
-    commands: &mut Commands,
-    rig: &mut Rig,
-    s: &Split,
-    pieces: &Query<(&BendPiece, &Transform, Option<&Velocity>)>,
-) -> Result<bool, String> {
+fn split(commands: &mut Commands, rig: &mut Rig, s: &Split, pieces: &Query<&BendPiece>) -> Result<bool, String> {
     let Some(made) = rig.core.split(s.bone, s.rest_point, 0.0).map_err(|e| e.to_string())? else { return Ok(false) };
     let (first, second, at) = (made.bone, made.new_bone, made.joint_point);
     let changed = made.changed.clone();

@@ -7,7 +7,7 @@ use bevy::prelude::*;
 use bevy_rapier3d::prelude::Collider;
 
 use crate::DentWorld;
-use crate::register::scale_refusal;
+use crate::scale::scale_refusal;
 use crate::world::ColliderAlias;
 
 /// Marks a registered mesh entity whose collider the plug-in has looked for.

@@ -4,16 +4,13 @@ use bevy::prelude::*;
 use bevy_rapier3d::prelude::{Collider, ColliderMassProperties, MassProperties, RigidBody, Velocity};
 use bevy_rapier3d::rapier::prelude::MassProperties as RapierMass;
 
+use dentbend_rapier::piece_hull_points;
+
 use crate::mesh_data::tri_mesh;
 use crate::{BodyBroken, DentPiece, DentProjectile};
 
-/// How much of its size a piece's collider keeps: its hull shrunk toward its centre of mass
-/// (the piece's mesh and mass properties unchanged), so that pieces start apart instead of
-/// wedged against each other and the rest.
-pub const PIECE_HULL_SCALE: f32 = 0.97;
-
-/// Each new [`DentPiece`] becomes a dynamic body: the convex hull of its mesh (shrunk by
-/// [`PIECE_HULL_SCALE`]) with the piece's own mass properties, moving as it broke loose, and a
+/// Each new [`DentPiece`] becomes a dynamic body: the convex hull of its mesh (shrunk as
+/// dentbend-rapier's pieces are, [`piece_hull_points`]) with the piece's own mass properties, moving as it broke loose, and a
 /// [`DentProjectile`] (it dents what it hits).
 pub(crate) fn give_bodies(
     mut commands: Commands,
@@ -23,8 +20,7 @@ pub(crate) fn give_bodies(
     for (entity, piece, mesh3d) in &new {
         let Some(tri) = meshes.get(&mesh3d.0).and_then(|m| tri_mesh(m).ok()) else { continue };
         let centre = piece.mass.center;
-        let shrunk: Vec<Vec3> = tri.positions().iter().map(|&p| centre + (p - centre) * PIECE_HULL_SCALE).collect();
-        let Some(collider) = Collider::convex_hull(&shrunk) else {
+        let Some(collider) = Collider::convex_hull(&piece_hull_points(&tri, centre)) else {
             debug!("bevy_dentbend: piece {entity} has no convex hull (a sliver); it stays without a body");
             continue;
         };

@@ -1,5 +1,7 @@
 //! Dentable entities' `Collider`s follow their dented meshes.
 
+use std::borrow::Cow;
+
 use bevy::prelude::*;
 use bevy_rapier3d::prelude::Collider;
 use bevy_rapier3d::rapier::prelude::SharedShape;
@@ -23,39 +25,32 @@ pub(crate) fn refit_colliders(
         // bevy_rapier3d scales a scaled entity's collider itself: it takes the mesh without the
         // scale, rebuilt whole (its scaled copy is not the one to refit).
         let scale = world.scale(d.entity);
-        let placed;
-        let mesh = if to_collider == Affine3A::IDENTITY && scale.is_none() {
-            mesh
+        let to_shape = to_collider * Affine3A::from_scale(scale.unwrap_or(Vec3::ONE).recip());
+        let mesh = if to_shape == Affine3A::IDENTITY {
+            Cow::Borrowed(mesh)
         } else {
-            let mut moved = mesh.clone();
-            if moved.transform(to_collider * Affine3A::from_scale(scale.unwrap_or(Vec3::ONE).recip())).is_err() {
+            let mut placed = mesh.clone();
+            if placed.transform(to_shape).is_err() {
                 continue;
             }
-            placed = moved;
-            &placed
+            Cow::Owned(placed)
         };
-        let rebuilt;
-        let d = if scale.is_some() {
-            rebuilt = MeshDented { topology_changed: true, ..d.clone() };
-            &rebuilt
-        } else {
-            d
-        };
-        match refitted(&collider.raw, mesh, d) {
+        match refitted(&collider.raw, &mesh, &d.moved, d.topology_changed || scale.is_some()) {
             Ok(shape) => *collider = Collider::from(shape),
             Err(reason) => warn!("bevy_dentbend: {}'s collider keeps its shape: {reason}", d.entity),
         }
     }
 }
 
-/// The shape `raw` becomes after dent `d` left `mesh`.
-fn refitted(raw: &SharedShape, mesh: &TriMesh, d: &MeshDented) -> Result<SharedShape, String> {
+/// The shape `raw` becomes now that the vertices `moved` of `mesh` moved; a tri-mesh is rebuilt
+/// when `rebuild` (the faces changed, or `raw` is a scaled copy).
+fn refitted(raw: &SharedShape, mesh: &TriMesh, moved: &[u32], rebuild: bool) -> Result<SharedShape, String> {
     if let Some(trimesh) = raw.as_trimesh() {
-        if !d.topology_changed && trimesh.vertices().len() == mesh.vertex_count() {
+        if !rebuild && trimesh.vertices().len() == mesh.vertex_count() {
             let mut shape = raw.clone();
             let positions: Vec<Vec3> =
-                d.moved.iter().filter_map(|&v| mesh.positions().get(v as usize).copied()).collect();
-            refit_shared_trimesh(&mut shape, &d.moved, &positions).map_err(|e| e.to_string())?;
+                moved.iter().filter_map(|&v| mesh.positions().get(v as usize).copied()).collect();
+            refit_shared_trimesh(&mut shape, moved, &positions).map_err(|e| e.to_string())?;
             return Ok(shape);
         }
         return SharedShape::trimesh_with_flags(mesh.positions().to_vec(), mesh.faces().to_vec(), trimesh.flags())
