@@ -27,6 +27,18 @@ pub struct PieceId {
     pub index: u32,
 }
 
+/// How much of its size a piece's collider keeps: its hull shrunk toward its centre of mass
+/// (the piece's mesh and mass properties are unchanged), so that pieces start apart.
+pub const PIECE_HULL_SCALE: f32 = 0.97;
+
+/// The points of a piece's collider hull, for any engine: the vertices of `mesh` shrunk by
+/// [`PIECE_HULL_SCALE`] toward `centre` (its centre of mass, the mesh's coordinates). Pieces
+/// fill the hole they leave exactly; hulls of these start clear of the rest and of each other
+/// instead of wedged in, touching on every side.
+pub fn piece_hull_points(mesh: &TriMesh, centre: Vec3) -> Vec<Vec3> {
+    mesh.positions().iter().map(|&p| centre + (p - centre) * PIECE_HULL_SCALE).collect()
+}
+
 /// One piece that broke loose, for the caller to make a body of.
 #[derive(Debug, Clone)]
 pub struct BrokenPiece {

@@ -19,7 +19,7 @@ pub use backend::{CpuBackend, DentBackend};
 pub use error::DamageError;
 #[cfg(feature = "sim")]
 pub(crate) use fracture::velocity_after_giving_way;
-pub use fracture::{BodyFracture, BrokenPiece, PieceId};
+pub use fracture::{BodyFracture, BrokenPiece, PIECE_HULL_SCALE, PieceId, piece_hull_points};
 pub use hit::{DentTargets, Hit, TargetView};
 pub use plan::{AppliedDent, Damage, DamagePlan, DentedTarget};
 pub use target_set::TargetSet;

@@ -7,7 +7,9 @@
 //! `--no-png` (render every frame, write none), `--no-wall` (no breakable wall and no dents on the
 //! plank: by default a wrecking ball breaks a wall behind the block, counted in `summary.json`'s
 //! `fractures` and `pieces`, a ball splits a bone of the bendable plank, `splits`, and balls dent
-//! it, `bendable_dents`).
+//! it, `bendable_dents`), `--physics rapier|avian` (the engine: bevy_rapier3d by default, or
+//! Avian 0.8 with the `avian` feature; the bendable plank needs bevy_rapier3d and is left out
+//! on Avian).
 //!
 //! Throughput: `--burst N` stops the rain and instead writes N contacts a frame on the block
 //! through the contact hook (a hidden ball landing at 3 m/s at random points: one batch of N
@@ -19,11 +21,12 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use bevy::prelude::*;
+use bevy::render::RenderPlugin;
 use std::time::Instant;
 
 use bevy::math::{Affine3A, Mat3};
 use bevy_dentbend::demo::{
-    Capture, CapturePlugin, Captured, FrameClock, RainPlugin, RainSettings, Summary, Target, headless_app,
+    Capture, CapturePlugin, Captured, FrameClock, Physics, RainPlugin, RainSettings, Summary, Target, headless_app_with,
 };
 use bevy_dentbend::dentbend::dent::{BodyState, MAX_RESOLUTION};
 use bevy_dentbend::{DentBody, DentContact, DentGpu, DentProjectile, DentStats, DentWorld, bevy_mesh};
@@ -39,6 +42,7 @@ struct Args {
     burst: u32,
     resolution: Option<u32>,
     wall: bool,
+    physics: Physics,
 }
 
 fn parse() -> Result<Args, String> {
@@ -53,6 +57,7 @@ fn parse() -> Result<Args, String> {
         burst: 0,
         resolution: None,
         wall: true,
+        physics: Physics::default(),
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -74,13 +79,15 @@ fn parse() -> Result<Args, String> {
             }
             "--no-png" => args.png = false,
             "--no-wall" => args.wall = false,
+            "--physics" => args.physics = Physics::from_name(&value("--physics")?)?,
             "--burst" => args.burst = value("--burst")?.parse().map_err(|e| format!("--burst: {e}"))?,
             "--resolution" => {
                 args.resolution = Some(value("--resolution")?.parse().map_err(|e| format!("--resolution: {e}"))?);
             }
             "--help" | "-h" => {
                 return Err("usage: headless_rain [--frames N] [--out DIR] [--cpu] [--no-dents] [--size WxH] \
-                            [--balls-per-frame F] [--no-png] [--no-wall] [--burst N] [--resolution R]"
+                            [--balls-per-frame F] [--no-png] [--no-wall] [--physics rapier|avian] [--burst N] \
+                            [--resolution R]"
                     .into());
             }
             other => return Err(format!("unknown flag {other} (try --help)")),
@@ -125,7 +132,7 @@ fn main() -> ExitCode {
         eprintln!("headless_rain: cannot create {}: {e}", args.out.display());
         return ExitCode::from(1);
     }
-    let mut app = headless_app(args.gpu);
+    let mut app = headless_app_with(args.gpu, RenderPlugin::default(), args.physics);
     let rain = RainSettings {
         dents: args.dents,
         balls_per_frame: args.balls_per_frame,
@@ -139,6 +146,7 @@ fn main() -> ExitCode {
         .add_plugins(CapturePlugin { size: args.size, out: Some(args.out.clone()), keep: false })
         .insert_resource(Run {
             frames: args.frames,
+            physics: args.physics,
             out: args.out.clone(),
             dents: args.dents,
             burst: args.burst,
@@ -162,6 +170,7 @@ fn main() -> ExitCode {
 #[derive(Resource)]
 struct Run {
     frames: u32,
+    physics: Physics,
     out: PathBuf,
     dents: bool,
     burst: u32,
@@ -261,6 +270,7 @@ fn finish(
     timed.frame = run.frames;
     let summary = Summary::new(&timed, &stats, gpu.status(), run.dents, captured.readback_bytes());
     let mut json = summary.to_json();
+    json["physics"] = run.physics.name().into();
     if run.burst > 0 {
         // Dents made from the first burst until the last one was made (seen a frame later).
         let (rate, seconds) = match run.burst_started {

@@ -4,8 +4,9 @@
 //!
 //! Add [`DentbendPlugin`], give dentable entities a [`Dentable`] (with their [`Mesh3d`]) and
 //! the things that hit them a [`DentProjectile`]. Contacts come from bevy_rapier3d (feature
-//! `rapier`, on by default) or from any source that writes [`DentContact`] messages; each step
-//! the plug-in decides every dent through dentbend's world-free damage API.
+//! `rapier`, on by default), Avian 0.8 (feature `avian`) or any source that writes
+//! [`DentContact`] messages; each step the plug-in decides every dent through dentbend's
+//! world-free damage API.
 //!
 //! - **GPU path** (chosen when Bevy's device runs dentbend's kernels): the dentable meshes stay
 //!   resident on Bevy's device; each frame's dents are recorded as one batch in the render world
@@ -57,14 +58,18 @@
 //!     .run();
 //! ```
 
+#[cfg(feature = "avian")]
+mod avian;
 mod backend;
 #[cfg(feature = "rapier")]
 mod bend;
 mod components;
 mod contact;
 mod decide;
-#[cfg(feature = "rapier")]
+#[cfg(any(feature = "rapier", feature = "avian"))]
 pub mod demo;
+#[cfg(any(feature = "rapier", feature = "avian"))]
+mod engine;
 mod events;
 mod fracture;
 mod link;
@@ -91,6 +96,7 @@ pub use components::{DentPiece, DentProjectile, Dentable, kernel_params};
 pub use contact::{DentBody, DentContact};
 #[cfg(feature = "rapier")]
 pub use dentbend::bend::JointRule;
+#[cfg(feature = "rapier")]
 pub use dentbend_rapier::BendSettings;
 pub use events::{BodyBroken, DentApplied, MeshDented};
 pub use link::GpuStatus;
@@ -127,9 +133,10 @@ pub struct DentbendPlugin {
     /// the CPU path.
     pub gpu: bool,
     /// The schedule bevy_rapier3d steps in, for an app that sets up bevy_rapier3d's systems
-    /// after this plug-in is finished; `None` (default): `PostUpdate`. The schedule whose
-    /// `PhysicsSet::StepSimulation` holds bevy_rapier3d's step always wins (with a warning when
-    /// it is not the one named here).
+    /// after this plug-in is finished; `None` (default): `PostUpdate`. The schedule the
+    /// engine's step is found in (bevy_rapier3d's `PhysicsSet::StepSimulation`, Avian's
+    /// `PhysicsSystems::StepSimulation`) always wins, with a warning when it is not the one
+    /// named here.
     pub physics_schedule: Option<InternedScheduleLabel>,
 }
 
@@ -154,6 +161,49 @@ impl DentbendPlugin {
     /// bevy_rapier3d steps in `FixedUpdate` (as its own `in_fixed_schedule()`).
     pub fn in_fixed_schedule(self) -> Self {
         self.in_schedule(FixedUpdate)
+    }
+}
+
+#[cfg(any(feature = "rapier", feature = "avian"))]
+impl DentbendPlugin {
+    /// Takes contacts from the engine that steps in `app`: Avian when its step is found
+    /// (`avian`), else bevy_rapier3d (`rapier`: in the schedule its step is found in, else the
+    /// one named, else `PostUpdate`).
+    fn add_contact_source(&self, app: &mut App) {
+        #[cfg(feature = "avian")]
+        if let Some(found) = avian::physics_schedule(app) {
+            self.check_named(found, "Avian");
+            info!("bevy_dentbend: contacts from Avian, which steps in {found:?}");
+            avian::build(app, found);
+            return;
+        }
+        #[cfg(feature = "rapier")]
+        {
+            let found = rapier::physics_schedule(app);
+            if let Some(found) = found {
+                self.check_named(found, "bevy_rapier3d");
+            }
+            let schedule = found.or(self.physics_schedule).unwrap_or(PostUpdate.intern());
+            rapier::build(app, schedule);
+            bend::build(app, schedule);
+        }
+        #[cfg(not(feature = "rapier"))]
+        warn!(
+            "bevy_dentbend: no Avian step was found when DentbendPlugin was finished, so no contact will dent; add \
+             Avian's PhysicsPlugins to the app, or write DentContact messages"
+        );
+    }
+
+    /// Warns when the engine steps in `found` but the plug-in was told another schedule.
+    fn check_named(&self, found: InternedScheduleLabel, engine: &str) {
+        if let Some(named) = self.physics_schedule
+            && named != found
+        {
+            warn!(
+                "{engine} steps in {found:?} but DentbendPlugin was told {named:?}: its impacts would be missed and \
+                 nothing would dent; use DentbendPlugin::in_schedule({found:?}) (dentbend follows {engine}'s schedule)"
+            );
+        }
     }
 }
 
@@ -216,23 +266,9 @@ impl Plugin for DentbendPlugin {
     }
 
     fn finish(&self, app: &mut App) {
-        // Every plug-in is built now: bevy_rapier3d's step is in its schedule.
-        #[cfg(feature = "rapier")]
-        {
-            let found = rapier::physics_schedule(app);
-            if let (Some(named), Some(found)) = (self.physics_schedule, found)
-                && named != found
-            {
-                warn!(
-                    "bevy_rapier3d steps in {found:?} but DentbendPlugin was told {named:?}: its impacts would be \
-                     missed and nothing would dent; use DentbendPlugin::in_schedule({found:?}) (dentbend follows \
-                     bevy_rapier3d's schedule)"
-                );
-            }
-            let schedule = found.or(self.physics_schedule).unwrap_or(PostUpdate.intern());
-            rapier::build(app, schedule);
-            bend::build(app, schedule);
-        }
+        // Every plug-in is built now: the physics engine's step is in its schedule.
+        #[cfg(any(feature = "rapier", feature = "avian"))]
+        self.add_contact_source(app);
         // The dent kernels write into Bevy's vertex slabs, which need STORAGE usage.
         if let Some(render_app) = app.get_sub_app_mut(RenderApp)
             && let Some(mut settings) = render_app.world_mut().get_resource_mut::<MeshAllocatorSettings>()

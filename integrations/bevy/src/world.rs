@@ -147,8 +147,21 @@ impl DentWorld {
 
     /// The mesh entity whose collider sits on `collider` and how its mesh maps there; `None`
     /// when `collider` is not such an entity.
+    #[cfg(feature = "rapier")]
     pub(crate) fn alias(&self, collider: Entity) -> Option<ColliderAlias> {
         self.aliases.get(&collider).copied()
+    }
+
+    /// `body` (a collider's entity, pose and state) as its mesh entity's: a collider standing
+    /// for a dentable mesh on another entity names that entity, posed as its mesh.
+    #[cfg(feature = "rapier")]
+    pub(crate) fn as_mesh(&self, body: crate::DentBody) -> crate::DentBody {
+        match self.alias(body.entity) {
+            Some(alias) => {
+                crate::DentBody { entity: alias.mesh, pose: body.pose * alias.to_collider, state: body.state }
+            }
+            None => body,
+        }
     }
 
     /// The collider entity of mesh entity `mesh` and its mesh → collider transform: the alias

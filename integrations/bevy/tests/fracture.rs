@@ -21,7 +21,7 @@ fn wall_mesh() -> TriMesh {
 
 /// An app with Rapier and the plug-in (CPU path), 1/60 s a frame, no gravity.
 fn app() -> App {
-    let mut app = common::physics_app(RapierPhysicsPlugin::default(), DentbendPlugin::cpu_only());
+    let mut app = common::physics_app(RapierPhysicsPlugin::<NoUserData>::default(), DentbendPlugin::cpu_only());
     let mut q = app.world_mut().query::<&mut RapierConfiguration>();
     for mut config in q.iter_mut(app.world_mut()) {
         config.gravity = Vec3::ZERO;

@@ -22,7 +22,7 @@ fn collect(mut restored: MessageReader<DamageRestored>, mut out: ResMut<Outcomes
 }
 
 fn app() -> App {
-    let mut app = common::physics_app(RapierPhysicsPlugin::default(), DentbendPlugin::cpu_only());
+    let mut app = common::physics_app(RapierPhysicsPlugin::<NoUserData>::default(), DentbendPlugin::cpu_only());
     app.init_resource::<Outcomes>().add_systems(Last, collect);
     app
 }

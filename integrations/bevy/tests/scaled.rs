@@ -23,7 +23,7 @@ fn collect(mut applied: MessageReader<DentApplied>, mut out: ResMut<Applied>) {
 /// A 2 × 0.5 × 2 m block (unscaled) spawned with `scale`, its top at y = 0.25·scale.y; a 6 m/s
 /// ball dropped on it (threshold 2 m/s, 1 cm per m/s: a 4 cm dent).
 fn dents_scaled(scale: Vec3) {
-    let mut app = common::physics_app(RapierPhysicsPlugin::default(), DentbendPlugin::default());
+    let mut app = common::physics_app(RapierPhysicsPlugin::<NoUserData>::default(), DentbendPlugin::default());
     app.init_resource::<Applied>().add_systems(Last, collect);
     let tri = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [24, 6, 24]).expect("a box");
     let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec()).expect("a tri-mesh");

@@ -27,7 +27,7 @@ enum Layout {
 const CHILD_OFFSET: Vec3 = Vec3::new(0.3, 0.25, -0.2);
 
 fn app() -> App {
-    common::physics_app(RapierPhysicsPlugin::default(), DentbendPlugin::cpu_only())
+    common::physics_app(RapierPhysicsPlugin::<NoUserData>::default(), DentbendPlugin::cpu_only())
 }
 
 fn block() -> TriMesh {

@@ -5,7 +5,7 @@
 //! it carries on with what the break left of its energy. Prepared (every shape built and
 //! checked) before anything changes, then committed.
 
-use dentbend::damage::{BodyFracture, PieceId};
+use dentbend::damage::{BodyFracture, PieceId, piece_hull_points};
 use dentbend::fracture::FractureCause;
 use dentbend::mesh::{MassProperties, TriMesh};
 use rapier3d::prelude::{
@@ -15,17 +15,6 @@ use rapier3d::prelude::{
 
 use crate::AdapterError;
 use crate::refit::{ShapeKind, trimesh_shape};
-
-/// How much of its size a piece's collider keeps: its hull shrunk toward its centre of mass
-/// (the piece's mesh and mass properties are unchanged), so that pieces start apart.
-pub const PIECE_HULL_SCALE: f32 = 0.97;
-
-/// The points of a piece's collider hull: the vertices of `mesh` shrunk by [`PIECE_HULL_SCALE`]
-/// toward `centre` (its centre of mass). Pieces fill the hole they leave exactly; hulls of these
-/// start clear of the rest and of each other instead of wedged in, touching on every side.
-pub fn piece_hull_points(mesh: &TriMesh, centre: glam::Vec3) -> Vec<glam::Vec3> {
-    mesh.positions().iter().map(|&p| centre + (p - centre) * PIECE_HULL_SCALE).collect()
-}
 
 /// One piece that became a Rapier body.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

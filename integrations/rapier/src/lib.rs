@@ -71,7 +71,7 @@ pub use dentable::{DentReport, Dentables};
 pub use dentbend::gpu::GpuBackend;
 pub use elastic::ElasticJoint;
 pub use error::AdapterError;
-pub use fracture::{BrokenCollider, PIECE_HULL_SCALE, PieceBody, piece_hull_points};
+pub use fracture::{BrokenCollider, PieceBody};
 pub use plastic::{DRIFT_CORRECTION, JointStep, PlasticJoint};
 pub use refit::{Refit, ShapeKind, convex_collider, prepare_refit, refit_collider, shape_kind, trimesh_collider};
 pub use states::{BodyStates, body_state, to_affine};

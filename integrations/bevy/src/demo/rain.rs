@@ -5,15 +5,14 @@ use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
 use bevy::window::ExitCondition;
-use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
-use dentbend::bend::auto_skeleton;
-use dentbend::dent::{DentSettings, Resolution, VolumeMode};
+use dentbend::dent::{Resolution, VolumeMode};
 use dentbend::fracture::{FractureSettings, PatternParams};
 use dentbend::glam::Vec3 as DVec3;
 use dentbend::mesh;
 
-use crate::{BendSettings, Bendable, DentProjectile, Dentable, DentbendPlugin, bevy_mesh};
+use super::Physics;
+use crate::{DentProjectile, Dentable, DentbendPlugin, bevy_mesh};
 
 /// The rain.
 #[derive(Resource, Debug, Clone)]
@@ -28,7 +27,7 @@ pub struct RainSettings {
     pub dents: bool,
     /// Seed of the spawn positions.
     pub seed: u64,
-    /// A bendable plank on two posts over the block.
+    /// A bendable plank on two posts over the block (on bevy_rapier3d only).
     pub plank: bool,
     /// Z-buffer side of the block's and the bunny's dents, cells (`None`: from the meshes).
     pub resolution: Option<u32>,
@@ -84,21 +83,23 @@ pub struct RainPlugin;
 impl Plugin for RainPlugin {
     fn build(&self, app: &mut App) {
         app.init_resource::<RainSettings>()
-            .insert_resource(TimestepMode::Fixed { dt: 1.0 / 60.0, substeps: 1 })
+            .init_resource::<Physics>()
             .add_systems(Startup, setup)
             .add_systems(Update, (spawn_balls, despawn_balls, launch_wrecking_ball));
     }
 }
 
-/// A windowless app: Bevy's renderer without a window, run by a loop runner, bevy_rapier3d with
-/// a fixed 1/60 s step, and dentbend (`gpu`: the GPU path when the device allows). Add
-/// [`RainPlugin`] for the rain, and a [`CapturePlugin`](super::CapturePlugin) for pictures.
+/// A windowless app: Bevy's renderer without a window, run by a loop runner, the default
+/// [`Physics`] stepping 1/60 s a frame, and dentbend (`gpu`: the GPU path when the device
+/// allows). Add [`RainPlugin`] for the rain, and a [`CapturePlugin`](super::CapturePlugin) for
+/// pictures.
 pub fn headless_app(gpu: bool) -> App {
-    headless_app_with(gpu, RenderPlugin::default())
+    headless_app_with(gpu, RenderPlugin::default(), Physics::default())
 }
 
-/// [`headless_app`] with Bevy's `render` plug-in configured (device limits, backends).
-pub fn headless_app_with(gpu: bool, render: RenderPlugin) -> App {
+/// [`headless_app`] with Bevy's `render` plug-in configured (device limits, backends) and the
+/// physics engine `physics`.
+pub fn headless_app_with(gpu: bool, render: RenderPlugin, physics: Physics) -> App {
     let mut app = App::new();
     let window = WindowPlugin { primary_window: None, exit_condition: ExitCondition::DontExit, ..default() };
     let mut plugins = DefaultPlugins.set(window).set(render);
@@ -108,11 +109,9 @@ pub fn headless_app_with(gpu: bool, render: RenderPlugin) -> App {
     }
     #[cfg(feature = "window")]
     let plugins = plugins.disable::<bevy::winit::WinitPlugin>();
-    app.add_plugins(plugins)
-        .add_plugins(ScheduleRunnerPlugin::run_loop(std::time::Duration::ZERO))
-        .add_plugins(RapierPhysicsPlugin::<NoUserData>::default())
-        .add_plugins(DentbendPlugin { gpu, ..default() })
-        .insert_resource(TimestepMode::Fixed { dt: 1.0 / 60.0, substeps: 1 });
+    app.add_plugins(plugins).add_plugins(ScheduleRunnerPlugin::run_loop(std::time::Duration::ZERO));
+    physics.add_to(&mut app);
+    app.add_plugins(DentbendPlugin { gpu, ..default() });
     app
 }
 
@@ -121,8 +120,10 @@ fn setup(
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
     settings: Res<RainSettings>,
+    physics: Res<Physics>,
     target: Option<Res<crate::demo::Capture>>,
 ) {
+    let physics = *physics;
     commands.insert_resource(GlobalAmbientLight { brightness: 400.0, ..default() });
     commands.spawn((
         DirectionalLight { illuminance: 9000.0, shadow_maps_enabled: false, ..default() },
@@ -143,7 +144,7 @@ fn setup(
         &mut commands,
         &mut meshes,
         &mut materials,
-        &settings,
+        (&settings, physics),
         Target::Block,
         &block,
         Vec3::new(0.0, -0.5, 0.0),
@@ -153,7 +154,7 @@ fn setup(
         &mut commands,
         &mut meshes,
         &mut materials,
-        &settings,
+        (&settings, physics),
         Target::Bunny,
         &bunny,
         Vec3::new(1.1, 0.0, -0.6),
@@ -164,17 +165,18 @@ fn setup(
         &mut commands,
         &mut meshes,
         &mut materials,
-        &settings,
+        (&settings, physics),
         Target::Crate,
         &game_crate,
         // 0.7 m wide, on the block's back left quarter (clear of the tests' dropped balls).
         Vec3::new(-1.0, 0.35, -1.0),
     );
-    if settings.plank {
+    #[cfg(feature = "rapier")]
+    if settings.plank && physics == Physics::Rapier {
         spawn_plank(&mut commands, &mut meshes, &mut materials, settings.dents && settings.dent_plank);
     }
     if settings.wall && settings.dents {
-        spawn_wall(&mut commands, &mut meshes, &mut materials);
+        spawn_wall(&mut commands, &mut meshes, &mut materials, physics);
     }
 }
 
@@ -185,22 +187,25 @@ const WRECKING_FRAME: u32 = 20;
 const WALL_CENTRE: Vec3 = Vec3::new(0.3, 0.6, -2.4);
 
 /// A fixed prescored wall (300 kg/m³, toughness 1 kJ, 40 cells within 0.4 m of the hit).
-fn spawn_wall(commands: &mut Commands, meshes: &mut Assets<Mesh>, materials: &mut Assets<StandardMaterial>) {
+fn spawn_wall(
+    commands: &mut Commands,
+    meshes: &mut Assets<Mesh>,
+    materials: &mut Assets<StandardMaterial>,
+    physics: Physics,
+) {
     let tri = mesh::subdivided_box(DVec3::new(2.0, 1.2, 0.15), [40, 24, 2]).expect("a valid box");
     let pattern = PatternParams { cells: 40, seed: 3, radius: 0.4 };
     let mut fracture = FractureSettings::new(pattern, Some(1000.0), None).expect("valid fracture settings");
     fracture.density = 300.0;
-    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec()).expect("a valid tri-mesh");
     let color = Color::srgb(0.75, 0.72, 0.68);
-    commands.spawn((
+    let mut wall = commands.spawn((
         Target::Wall,
         Mesh3d(meshes.add(bevy_mesh(&tri))),
         MeshMaterial3d(materials.add(StandardMaterial { base_color: color, perceptual_roughness: 0.8, ..default() })),
         Transform::from_translation(WALL_CENTRE),
-        RigidBody::Fixed,
-        collider,
         Dentable::new(2.0, 0.002, 0.03).breaking(fracture),
     ));
+    physics.fixed_trimesh(&mut wall, &tri);
 }
 
 /// At [`WRECKING_FRAME`], a 50 kg ball (radius 0.2 m) flies at 12 m/s (3.6 kJ) into the wall,
@@ -209,51 +214,54 @@ fn launch_wrecking_ball(
     mut commands: Commands,
     mut meshes: ResMut<Assets<Mesh>>,
     settings: Res<RainSettings>,
+    physics: Res<Physics>,
     mut frame: Local<u32>,
 ) {
     *frame += 1;
-    if *frame == WRECKING_FRAME && settings.plank && settings.dent_plank && settings.dents {
+    if *frame != WRECKING_FRAME {
+        return;
+    }
+    #[cfg(feature = "rapier")]
+    if settings.plank && settings.dent_plank && settings.dents && *physics == Physics::Rapier {
         // A 5 kg ball dropped at 8 m/s on the plank's right bone, 0.8 m from its joint: it
         // splits the bone there and dents it.
         let radius = 0.12;
-        let volume = 4.0 / 3.0 * std::f32::consts::PI * radius * radius * radius;
-        commands.spawn((
+        let mut ball = commands.spawn((
             Mesh3d(meshes.add(Sphere::new(radius).mesh().ico(3).expect("a sphere"))),
             Transform::from_xyz(0.8, POST + 0.5, 1.2),
-            RigidBody::Dynamic,
-            Collider::ball(radius),
-            ColliderMassProperties::Density(5.0 / volume),
-            Velocity::linear(Vec3::new(0.0, -8.0, 0.0)),
             DentProjectile,
         ));
+        physics.ball(&mut ball, radius, 5.0, Vec3::new(0.0, -8.0, 0.0), 0.0);
     }
-    if *frame != WRECKING_FRAME || !(settings.wall && settings.dents) {
+    if !(settings.wall && settings.dents) {
         return;
     }
     let radius = 0.2;
-    let volume = 4.0 / 3.0 * std::f32::consts::PI * radius * radius * radius;
-    commands.spawn((
+    let mut ball = commands.spawn((
         Mesh3d(meshes.add(Sphere::new(radius).mesh().ico(3).expect("a sphere"))),
         Transform::from_translation(WALL_CENTRE + Vec3::new(0.1, 0.1, 1.0)),
-        RigidBody::Dynamic,
-        Collider::ball(radius),
-        ColliderMassProperties::Density(50.0 / volume),
-        Velocity::linear(Vec3::new(0.0, 0.0, -12.0)),
         DentProjectile,
     ));
+    physics.ball(&mut ball, radius, 50.0, Vec3::new(0.0, 0.0, -12.0), 0.0);
 }
 
 /// Height of the plank's posts above the block, m.
+#[cfg(feature = "rapier")]
 const POST: f32 = 0.4;
 
 /// A 3.4 × 0.1 × 0.3 m plank of two bones (plastic joint of 40 N·m·s, 700 kg/m³) on two posts
 /// near the block's front edge: balls that land on it bend it at the joint.
+#[cfg(feature = "rapier")]
 fn spawn_plank(
     commands: &mut Commands,
     meshes: &mut Assets<Mesh>,
     materials: &mut Assets<StandardMaterial>,
     dents: bool,
 ) {
+    use crate::{BendSettings, Bendable};
+    use bevy_rapier3d::prelude::{Collider, RigidBody};
+    use dentbend::bend::auto_skeleton;
+    use dentbend::dent::DentSettings;
     let wood = materials.add(StandardMaterial { base_color: Color::srgb(0.6, 0.42, 0.25), ..default() });
     let post = meshes.add(Cuboid::new(0.2, POST, 0.3));
     for x in [-1.5, 1.5] {
@@ -300,7 +308,7 @@ fn spawn_target(
     commands: &mut Commands,
     meshes: &mut Assets<Mesh>,
     materials: &mut Assets<StandardMaterial>,
-    settings: &RainSettings,
+    (settings, physics): (&RainSettings, Physics),
     kind: Target,
     tri: &TriMesh,
     at: Vec3,
@@ -310,15 +318,13 @@ fn spawn_target(
         Target::Bunny | Target::Plank => Color::srgb(0.85, 0.7, 0.5),
         Target::Crate | Target::Wall => Color::srgb(0.6, 0.45, 0.3),
     };
-    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec()).expect("a valid tri-mesh");
     let mut entity = commands.spawn((
         kind,
         Mesh3d(meshes.add(bevy_mesh(tri))),
         MeshMaterial3d(materials.add(StandardMaterial { base_color: color, perceptual_roughness: 0.6, ..default() })),
         Transform::from_translation(at),
-        RigidBody::Fixed,
-        collider,
     ));
+    physics.fixed_trimesh(&mut entity, tri);
     if settings.dents {
         // 2 m/s threshold, 8 mm per m/s above it, at most 6 cm; the game dent (refinement,
         // guard), the crate (a solid) keeping its volume.
@@ -356,6 +362,7 @@ fn spawn_balls(
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
     settings: Res<RainSettings>,
+    physics: Res<Physics>,
     mut state: Local<Option<Spawner>>,
 ) {
     let Spawner { rng, owed, frame, mesh, material } = state.get_or_insert_with(|| {
@@ -375,18 +382,16 @@ fn spawn_balls(
         *owed -= 1.0;
         let x = -1.8 + 3.6 * unit(rng);
         let z = -1.8 + 3.6 * unit(rng);
-        commands.spawn((
+        let mut ball = commands.spawn((
             Ball(*frame),
             DentProjectile,
             Mesh3d(mesh.clone()),
             MeshMaterial3d(material.clone()),
             Transform::from_xyz(x, 3.0, z),
-            RigidBody::Dynamic,
-            Collider::ball(settings.ball_radius),
-            ColliderMassProperties::Density(7800.0),
-            Restitution::coefficient(0.3),
-            Velocity::linear(Vec3::new(0.0, -settings.speed, 0.0)),
         ));
+        // Steel: 7,800 kg/m³.
+        let mass = 7800.0 * 4.0 / 3.0 * std::f32::consts::PI * settings.ball_radius.powi(3);
+        physics.ball(&mut ball, settings.ball_radius, mass, Vec3::new(0.0, -settings.speed, 0.0), 0.3);
     }
 }
 

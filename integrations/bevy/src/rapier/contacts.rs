@@ -111,7 +111,7 @@ pub(crate) fn send_contacts(
     let contacts = impacts.collector.take_contacts(&impacts.states);
     let Some((colliders, bodies)) = contexts.iter().next() else { return };
     for c in contacts {
-        let side = |handle| body(handle, &impacts.states, colliders, bodies).map(|b| as_mesh(&world, b));
+        let side = |handle| body(handle, &impacts.states, colliders, bodies).map(|b| world.as_mesh(b));
         let (Some(a), Some(b)) = (side(c.collider1), side(c.collider2)) else { continue };
         // Only impacts that may dent (a side with a surface) or split a bendable body's bone.
         let may_dent = world.surface(a.entity).is_some() || world.surface(b.entity).is_some();
@@ -119,15 +119,6 @@ pub(crate) fn send_contacts(
             continue;
         }
         out.write(DentContact { a, b, point: c.point, normal: c.normal, started: c.started });
-    }
-}
-
-/// `body` as its mesh entity's: a collider standing for a dentable mesh on another entity names
-/// that entity, posed as its mesh.
-fn as_mesh(world: &DentWorld, body: DentBody) -> DentBody {
-    match world.alias(body.entity) {
-        Some(alias) => DentBody { entity: alias.mesh, pose: body.pose * alias.to_collider, state: body.state },
-        None => body,
     }
 }
 

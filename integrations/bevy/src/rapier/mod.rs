@@ -6,17 +6,33 @@
 //! [`ImpactCollector`](dentbend_rapier::ImpactCollector) turns the solver's contacts into one
 //! point and normal); body states are recorded just before Rapier's step.
 
-mod alias;
 mod contacts;
 mod pieces;
-mod refit;
 
-use bevy::ecs::schedule::graph::Direction;
-use bevy::ecs::schedule::{InternedScheduleLabel, NodeId, ScheduleLabel};
+use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 use bevy_rapier3d::plugin::PhysicsSet;
+use bevy_rapier3d::prelude::Collider;
+use parry3d::shape::SharedShape;
 
 use crate::DentSystems;
+use crate::engine::{self, Engine};
+
+/// bevy_rapier3d's colliders.
+pub(crate) struct Rapier;
+
+impl Engine for Rapier {
+    type Collider = Collider;
+    const NAME: &'static str = "bevy_rapier3d";
+
+    fn shape(collider: &Collider) -> &SharedShape {
+        &collider.raw
+    }
+
+    fn set_shape(collider: &mut Collider, shape: SharedShape) {
+        *collider = Collider::from(shape);
+    }
+}
 
 /// Adds the bevy_rapier3d contact source and collider refits (added by
 /// [`DentbendPlugin`](crate::DentbendPlugin) when the `rapier` feature is on): states recorded
@@ -34,33 +50,19 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
         .add_systems(physics, contacts::send_contacts.after(PhysicsSet::StepSimulation).before(PhysicsSet::Writeback))
         .add_systems(
             PostUpdate,
-            alias::find_colliders.after(crate::register::register_dentables).in_set(DentSystems::Register),
+            engine::find_colliders::<Rapier>.after(crate::register::register_dentables).in_set(DentSystems::Register),
         )
         .add_systems(
             PostUpdate,
-            (refit::refit_colliders, pieces::give_bodies, pieces::give_way).in_set(DentSystems::Apply),
+            (engine::refit_colliders::<Rapier>, pieces::give_bodies, pieces::give_way).in_set(DentSystems::Apply),
         );
     if physics == PostUpdate.intern() {
         app.configure_sets(PostUpdate, DentSystems::Decide.after(PhysicsSet::Writeback));
     }
 }
 
-/// The schedule whose `PhysicsSet::StepSimulation` holds a system (bevy_rapier3d's step), if
-/// one does.
+/// The schedule bevy_rapier3d steps in (the one whose `PhysicsSet::StepSimulation` holds its
+/// step), if it is set up.
 pub(crate) fn physics_schedule(app: &App) -> Option<InternedScheduleLabel> {
-    let schedules = app.world().get_resource::<Schedules>()?;
-    let step = PhysicsSet::StepSimulation.intern();
-    schedules
-        .iter()
-        .find(|(_, schedule)| {
-            let graph = schedule.graph();
-            graph.system_sets.get_key(step).is_some_and(|set| {
-                graph
-                    .hierarchy()
-                    .graph()
-                    .neighbors_directed(NodeId::Set(set), Direction::Outgoing)
-                    .any(|child| matches!(child, NodeId::System(_)))
-            })
-        })
-        .map(|(_, schedule)| schedule.label())
+    engine::schedule_stepping(app, PhysicsSet::StepSimulation.intern())
 }

@@ -4,14 +4,14 @@ use bevy::prelude::*;
 use bevy_rapier3d::prelude::{Collider, ColliderMassProperties, MassProperties, RigidBody, Velocity};
 use bevy_rapier3d::rapier::prelude::MassProperties as RapierMass;
 
-use dentbend_rapier::piece_hull_points;
+use dentbend::damage::piece_hull_points;
 
 use crate::mesh_data::tri_mesh;
 use crate::{BodyBroken, DentPiece, DentProjectile};
 
-/// Each new [`DentPiece`] becomes a dynamic body: the convex hull of its mesh (shrunk as
-/// dentbend-rapier's pieces are, [`piece_hull_points`]) with the piece's own mass properties, moving as it broke loose, and a
-/// [`DentProjectile`] (it dents what it hits).
+/// Each new [`DentPiece`] becomes a dynamic body: the convex hull of its mesh (shrunk by
+/// [`dentbend::damage::PIECE_HULL_SCALE`]) with the piece's own mass properties, moving as it
+/// broke loose, and a [`DentProjectile`] (it dents what it hits).
 pub(crate) fn give_bodies(
     mut commands: Commands,
     meshes: Res<Assets<Mesh>>,

@@ -11,7 +11,7 @@ use std::process::ExitCode;
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
-use bevy_dentbend::demo::{Capture, CapturePlugin, Captured, Frame, headless_app, headless_app_with};
+use bevy_dentbend::demo::{Capture, CapturePlugin, Captured, Frame, Physics, headless_app, headless_app_with};
 use bevy_dentbend::dentbend::dent::BodyState;
 use bevy_dentbend::dentbend::glam::{Affine3A, Mat3};
 use bevy_dentbend::dentbend::{TriMesh, mesh};
@@ -96,7 +96,7 @@ pub fn scene_dentable(gpu: bool, dentable: Dentable) -> Scene {
 /// [`scene`] with Bevy's render plug-in configured.
 pub fn scene_with(gpu: bool, capture: bool, render: Option<RenderPlugin>) -> Scene {
     let mut app = match render {
-        Some(render) => headless_app_with(gpu, render),
+        Some(render) => headless_app_with(gpu, render, Physics::default()),
         None => headless_app(gpu),
     };
     if capture {
@@ -291,16 +291,14 @@ impl Scene {
     }
 }
 
-/// A windowless app without a renderer stepping `rapier` and `dentbend` at 1/60 s a frame
+/// A windowless app without a renderer stepping `physics` (an engine's plug-ins) and `dentbend` at 1/60 s a frame
 /// (manual time, so every frame is one fixed step), finished and ready to spawn into.
-pub fn physics_app(
-    rapier: bevy_rapier3d::plugin::RapierPhysicsPlugin<bevy_rapier3d::plugin::NoUserData>,
-    dentbend: bevy_dentbend::DentbendPlugin,
-) -> App {
+pub fn physics_app<M>(physics: impl bevy::app::Plugins<M>, dentbend: bevy_dentbend::DentbendPlugin) -> App {
     let mut app = App::new();
     app.add_plugins((MinimalPlugins, AssetPlugin::default(), TransformPlugin))
         .init_asset::<Mesh>()
-        .add_plugins((rapier, dentbend))
+        .add_plugins(physics)
+        .add_plugins(dentbend)
         .insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(std::time::Duration::from_secs_f64(
             1.0 / 60.0,
         )));

@@ -1,11 +1,11 @@
-//! Dentable meshes whose bevy_rapier3d collider sits on another entity: a glTF node's collider
-//! over its mesh child, or a parent body's collider over a child mesh. Rapier's contacts name
-//! the collider's entity; the plug-in maps them to the mesh entity, and refits the collider on
-//! its own entity.
+//! Dentable meshes whose collider sits on another entity: a glTF node's collider over its mesh
+//! child, or a parent body's collider over a child mesh. The engine's contacts name the
+//! collider's entity; the plug-in maps them to the mesh entity, and refits the collider on its
+//! own entity.
 
 use bevy::prelude::*;
-use bevy_rapier3d::prelude::Collider;
 
+use super::Engine;
 use crate::DentWorld;
 use crate::scale::scale_refusal;
 use crate::world::ColliderAlias;
@@ -17,11 +17,12 @@ pub(crate) struct ColliderFound;
 /// For each newly registered dentable mesh without a collider of its own: the collider on the
 /// entity carrying its `Dentable`, else on its nearest ancestor, becomes its alias (with the
 /// mesh → collider transform now). A mesh with no collider anywhere, or one whose collider
-/// entity is scaled, is named in one warning with the fix: Rapier's contacts would never dent it.
-pub(crate) fn find_colliders(
+/// entity is scaled, is named in one warning with the fix: the engine's contacts would never
+/// dent it.
+pub(crate) fn find_colliders<E: Engine>(
     mut commands: Commands,
     mut world: ResMut<DentWorld>,
-    colliders: Query<(&Collider, &GlobalTransform)>,
+    colliders: Query<(&E::Collider, &GlobalTransform)>,
     transforms: Query<&GlobalTransform>,
     parents: Query<&ChildOf>,
     done: Query<(), With<ColliderFound>>,
@@ -37,9 +38,10 @@ pub(crate) fn find_colliders(
         let found = std::iter::once(owner).chain(ancestors).find(|&e| e != mesh && colliders.contains(e));
         let Some(collider) = found else {
             warn!(
-                "bevy_dentbend: {mesh} dents, but neither it nor {owner} nor an ancestor has a bevy_rapier3d \
-                 Collider: Rapier's contacts will never dent it; give the entity with the Dentable (or its mesh) a \
-                 Collider built from the mesh, or write DentContact messages for it"
+                "bevy_dentbend: {mesh} dents, but neither it nor {owner} nor an ancestor has a {} Collider: its \
+                 contacts will never dent it; give the entity with the Dentable (or its mesh) a Collider built from \
+                 the mesh, or write DentContact messages for it",
+                E::NAME
             );
             continue;
         };

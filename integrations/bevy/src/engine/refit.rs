@@ -3,26 +3,26 @@
 use std::borrow::Cow;
 
 use bevy::prelude::*;
-use bevy_rapier3d::prelude::Collider;
-use bevy_rapier3d::rapier::prelude::SharedShape;
 use dentbend::TriMesh;
+use dentbend::collider::refit_shared_trimesh;
 use dentbend::glam::Affine3A;
-use dentbend_rapier::dentbend::collider::refit_shared_trimesh;
+use parry3d::shape::SharedShape;
 
+use super::Engine;
 use crate::{DentWorld, MeshDented};
 
 /// Refits (tri-mesh with the same vertices), rebuilds (refined tri-mesh, or another vertex
 /// numbering) or re-hulls (convex) each dented entity's collider (on the entity itself, or on
 /// the entity its collider sits on, in that entity's coordinates).
-pub(crate) fn refit_colliders(
+pub(crate) fn refit_colliders<E: Engine>(
     mut dented: MessageReader<MeshDented>,
     world: Res<DentWorld>,
-    mut colliders: Query<&mut Collider>,
+    mut colliders: Query<&mut E::Collider>,
 ) {
     for d in dented.read() {
         let (entity, to_collider) = world.collider_of(d.entity);
         let (Some(mesh), Ok(mut collider)) = (world.mesh(d.entity), colliders.get_mut(entity)) else { continue };
-        // bevy_rapier3d scales a scaled entity's collider itself: it takes the mesh without the
+        // The engine scales a scaled entity's collider itself: it takes the mesh without the
         // scale, rebuilt whole (its scaled copy is not the one to refit).
         let scale = world.scale(d.entity);
         let to_shape = to_collider * Affine3A::from_scale(scale.unwrap_or(Vec3::ONE).recip());
@@ -35,8 +35,8 @@ pub(crate) fn refit_colliders(
             }
             Cow::Owned(placed)
         };
-        match refitted(&collider.raw, &mesh, &d.moved, d.topology_changed || scale.is_some()) {
-            Ok(shape) => *collider = Collider::from(shape),
+        match refitted(E::shape(&collider), &mesh, &d.moved, d.topology_changed || scale.is_some()) {
+            Ok(shape) => E::set_shape(&mut collider, shape),
             Err(reason) => warn!("bevy_dentbend: {}'s collider keeps its shape: {reason}", d.entity),
         }
     }

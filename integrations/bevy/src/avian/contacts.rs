@@ -1,0 +1,131 @@
+//! Avian's contacts as [`DentContact`]s: the pairs of a dentable's collider the solver pushed
+//! on this step, with the two bodies as they were before it.
+
+use std::collections::{HashMap, HashSet};
+
+use avian3d::math::SymmetricTensor;
+use avian3d::prelude::{
+    AngularVelocity, ColliderOf, Collisions, ComputedAngularInertia, ComputedCenterOfMass, ComputedMass, ContactPair,
+    LinearVelocity, Position, Restitution, RigidBody, Rotation,
+};
+use bevy::prelude::*;
+use dentbend::dent::BodyState;
+use dentbend::glam::Affine3A;
+
+use crate::{DentBody, DentContact, DentWorld};
+
+/// The bodies the plug-in knows as they were before the step, and the pairs that pushed.
+#[derive(Resource, Default)]
+pub(crate) struct AvianImpacts {
+    /// Each known mesh's body before the step (its entity, pose and state), by its collider's
+    /// entity.
+    before: HashMap<Entity, DentBody>,
+    /// Collider pairs (as Avian orders them) the solver pushed on in the previous step.
+    pushing: HashSet<(Entity, Entity)>,
+}
+
+/// A collider's pose, the body it belongs to and its restitution.
+type ColliderData = (&'static Position, &'static Rotation, Option<&'static ColliderOf>, Option<&'static Restitution>);
+
+/// What a body's [`BodyState`] is made of.
+type BodyData = (
+    &'static RigidBody,
+    &'static Position,
+    &'static Rotation,
+    &'static LinearVelocity,
+    &'static AngularVelocity,
+    &'static ComputedMass,
+    &'static ComputedAngularInertia,
+    &'static ComputedCenterOfMass,
+    Option<&'static Restitution>,
+);
+
+/// Records the dentables' and projectiles' poses and states just before Avian's step (O(bodies
+/// the plug-in knows), never a walk over the world).
+pub(crate) fn record_states(
+    mut impacts: ResMut<AvianImpacts>,
+    world: Res<DentWorld>,
+    colliders: Query<ColliderData>,
+    bodies: Query<BodyData>,
+) {
+    impacts.before.clear();
+    for &mesh in world.bodies.keys().chain(world.surfaces.keys()) {
+        let (collider, to_collider) = world.collider_of(mesh);
+        let Ok((position, rotation, of, restitution)) = colliders.get(collider) else { continue };
+        let pose = Affine3A::from_rotation_translation(rotation.0, position.0) * to_collider;
+        let body = of.and_then(|of| bodies.get(of.body).ok());
+        let mut state = body.map_or(BodyState::FIXED, state_of);
+        // The collider's own coefficient wins over its body's, as in Avian.
+        let coefficient = restitution.or(body.and_then(|b| b.8)).map_or(0.0, |r| r.coefficient);
+        state.restitution = if coefficient.is_finite() { coefficient.clamp(0.0, 1.0) } else { 0.0 };
+        impacts.before.insert(collider, DentBody { entity: mesh, pose, state });
+    }
+}
+
+/// A body's state: static bodies are fixed, kinematic ones move but take no impulse.
+fn state_of(
+    (kind, position, rotation, linear, angular, mass, inertia, centre, _): <BodyData as bevy::ecs::query::QueryData>::Item<'_, '_>,
+) -> BodyState {
+    if kind.is_static() {
+        return BodyState::FIXED;
+    }
+    let (inverse_mass, inverse_inertia) = if kind.is_dynamic() {
+        let axes = Mat3::from_quat(rotation.0);
+        let local: SymmetricTensor = inertia.inverse();
+        (mass.inverse(), axes * local.to_mat3() * axes.transpose())
+    } else {
+        (0.0, Mat3::ZERO)
+    };
+    BodyState {
+        center_of_mass: position.0 + rotation.0 * centre.0,
+        linear_velocity: linear.0,
+        angular_velocity: angular.0,
+        inverse_mass,
+        inverse_inertia,
+        restitution: 0.0,
+    }
+}
+
+/// This step's pushes on each dentable's collider, between bodies the plug-in knows, as
+/// [`DentContact`]s (`started` on the first step a pair pushes).
+pub(crate) fn send_contacts(
+    mut impacts: ResMut<AvianImpacts>,
+    world: Res<DentWorld>,
+    collisions: Collisions,
+    mut out: MessageWriter<DentContact>,
+) {
+    let mut seen = HashSet::new();
+    let mut pushing = HashSet::new();
+    for target in world.dentables() {
+        let (collider, _) = world.collider_of(target);
+        for pair in collisions.collisions_with(collider) {
+            let key = (pair.collider1, pair.collider2);
+            if !seen.insert(key) {
+                continue;
+            }
+            let Some((point, normal)) = strongest_push(pair) else { continue };
+            pushing.insert(key);
+            let (Some(&a), Some(&b)) = (impacts.before.get(&pair.collider1), impacts.before.get(&pair.collider2))
+            else {
+                continue;
+            };
+            let started = !impacts.pushing.contains(&key);
+            out.write(DentContact { a, b, point, normal, started });
+        }
+    }
+    impacts.pushing = pushing;
+}
+
+/// The point and normal (world, from the pair's first collider to its second) of the contact
+/// the solver pushed hardest on this step, `None` when it pushed on none.
+fn strongest_push(pair: &ContactPair) -> Option<(Vec3, Vec3)> {
+    if !pair.is_touching() {
+        return None;
+    }
+    pair.manifolds
+        .iter()
+        .flat_map(|m| m.points.iter().map(move |p| (p, m.normal)))
+        .filter(|(p, _)| p.normal_impulse > 0.0)
+        .max_by(|(p, _), (q, _)| p.normal_impulse.total_cmp(&q.normal_impulse))
+        .map(|(p, normal)| (p.point, normal))
+}

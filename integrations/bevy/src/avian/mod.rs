@@ -1,0 +1,68 @@
+//! Avian 0.8 as the contact source and collider owner: contacts the solver pushed on become
+//! [`DentContact`](crate::DentContact)s, dented meshes refit the entities' `Collider`s, and the
+//! pieces of broken bodies become Avian bodies.
+//!
+//! The states of the bodies the plug-in knows (dentables and projectiles) are recorded just
+//! before Avian's step, in the schedule it steps in (`FixedPostUpdate` by default); after the
+//! step, each dentable's contact pairs in Avian's contact graph are read, so the cost follows
+//! the dentables' contacts, not the number of bodies.
+
+mod contacts;
+mod pieces;
+
+use avian3d::prelude::{Collider, PhysicsSystems};
+use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
+use bevy::prelude::*;
+use parry3d::shape::SharedShape;
+
+use crate::DentSystems;
+use crate::engine::{self, Engine};
+
+/// Avian's colliders.
+pub(crate) struct Avian;
+
+impl Engine for Avian {
+    type Collider = Collider;
+    const NAME: &'static str = "Avian";
+
+    fn shape(collider: &Collider) -> &SharedShape {
+        collider.shape()
+    }
+
+    fn set_shape(collider: &mut Collider, shape: SharedShape) {
+        collider.set_shape(shape);
+    }
+}
+
+/// Adds the Avian contact source, collider refits and piece bodies (added by
+/// [`DentbendPlugin`](crate::DentbendPlugin) when the `avian` feature is on and Avian steps in
+/// `physics`): states recorded before each step and contacts read after it, dents decided in
+/// `PostUpdate` after them.
+pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
+    app.init_resource::<contacts::AvianImpacts>()
+        .add_systems(
+            physics,
+            contacts::record_states.after(PhysicsSystems::Prepare).before(PhysicsSystems::StepSimulation),
+        )
+        .add_systems(
+            physics,
+            contacts::send_contacts.after(PhysicsSystems::StepSimulation).before(PhysicsSystems::Writeback),
+        )
+        .add_systems(
+            PostUpdate,
+            engine::find_colliders::<Avian>.after(crate::register::register_dentables).in_set(DentSystems::Register),
+        )
+        .add_systems(
+            PostUpdate,
+            (engine::refit_colliders::<Avian>, pieces::give_bodies, pieces::give_way).in_set(DentSystems::Apply),
+        );
+    if physics == PostUpdate.intern() {
+        app.configure_sets(PostUpdate, DentSystems::Decide.after(PhysicsSystems::Writeback));
+    }
+}
+
+/// The schedule Avian steps in (the one whose `PhysicsSystems::StepSimulation` holds its step),
+/// if Avian is set up.
+pub(crate) fn physics_schedule(app: &App) -> Option<InternedScheduleLabel> {
+    engine::schedule_stepping(app, PhysicsSystems::StepSimulation.intern())
+}

@@ -1,0 +1,28 @@
+//! What every physics engine's contact source shares: the engine's collider component and
+//! shape, finding a dentable mesh's collider on another entity, refitting colliders after dents,
+//! and finding the schedule the engine steps in. `rapier` and `avian` features.
+
+mod alias;
+mod refit;
+mod schedule;
+
+pub(crate) use alias::find_colliders;
+pub(crate) use refit::refit_colliders;
+pub(crate) use schedule::schedule_stepping;
+
+use bevy::prelude::*;
+use parry3d::shape::SharedShape;
+
+/// A physics engine whose colliders are parry3d shapes on entities.
+pub(crate) trait Engine: Send + Sync + 'static {
+    /// The engine's collider component.
+    type Collider: Component<Mutability = bevy::ecs::component::Mutable>;
+    /// The engine's name in log lines, as its users know it.
+    const NAME: &'static str;
+
+    /// The collider's shape, without the entity's scale.
+    fn shape(collider: &Self::Collider) -> &SharedShape;
+
+    /// Gives the collider `shape` (the engine applies the entity's scale to it).
+    fn set_shape(collider: &mut Self::Collider, shape: SharedShape);
+}

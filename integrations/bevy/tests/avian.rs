@@ -1,0 +1,172 @@
+//! Avian 0.8 as the contact source (`avian` feature): a ball dropped on a fixed block dents it
+//! and the block's Avian collider follows the dent vertex for vertex; a ball breaks a prescored
+//! wall, its pieces become dynamic Avian bodies with the pieces' own masses and the ball goes
+//! through the hole; Avian stepping in `PostUpdate` instead of its default `FixedPostUpdate` is
+//! followed; a collider on a parent body dents its child mesh.
+
+mod common;
+
+use std::process::ExitCode;
+
+use avian3d::prelude::*;
+use bevy::prelude::*;
+use bevy_dentbend::dentbend::fracture::{FractureSettings, PatternParams};
+use bevy_dentbend::dentbend::{TriMesh, mesh};
+use bevy_dentbend::{DentPiece, DentProjectile, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh};
+use libtest_mimic::{Arguments, Trial};
+
+/// An app stepping Avian (in `schedule`) and the plug-in (CPU path) 1/60 s a frame.
+fn app(schedule: impl bevy::ecs::schedule::ScheduleLabel) -> App {
+    let mut app = common::physics_app(PhysicsPlugins::new(schedule), DentbendPlugin::cpu_only());
+    app.insert_resource(Time::<Fixed>::from_hz(60.0));
+    app
+}
+
+/// The fixed block: 2 × 0.5 × 2 m, 16 × 4 × 16 cells, top face at y = 0.25.
+fn block() -> TriMesh {
+    mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16]).expect("a box")
+}
+
+/// Spawns a dynamic Avian ball of `radius` m and `mass` kg at `at` moving at `velocity` m/s, a
+/// projectile; its entity.
+fn launch_ball(app: &mut App, at: Vec3, radius: f32, mass: f32, velocity: Vec3) -> Entity {
+    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(Sphere::new(radius).mesh().ico(3).expect("a sphere"));
+    let density = mass / (4.0 / 3.0 * std::f32::consts::PI * radius.powi(3));
+    app.world_mut()
+        .spawn((
+            Mesh3d(mesh),
+            Transform::from_translation(at),
+            RigidBody::Dynamic,
+            Collider::sphere(radius),
+            ColliderDensity(density),
+            LinearVelocity(velocity),
+            DentProjectile,
+        ))
+        .id()
+}
+
+/// The tri-mesh vertices of `entity`'s Avian collider (its entity's coordinates).
+fn collider_vertices(app: &App, entity: Entity) -> Vec<Vec3> {
+    let collider = app.world().get::<Collider>(entity).expect("a collider");
+    collider.shape().as_trimesh().expect("a tri-mesh").vertices().to_vec()
+}
+
+/// One ball at 6 m/s on the block in `schedule`: one dent, and the collider is the dented mesh
+/// (to 1e-5 m: the refit copies the mesh's f32 positions; the bound only allows for a rebuild's
+/// reordering-free copy).
+fn a_dropped_ball_dents(schedule: impl bevy::ecs::schedule::ScheduleLabel) {
+    let mut app = app(schedule);
+    let tri = block();
+    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
+    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec());
+    // 2 m/s threshold, 1 cm per m/s above it, at most 5 cm.
+    let block = app
+        .world_mut()
+        .spawn((Mesh3d(mesh), Transform::default(), RigidBody::Static, collider, Dentable::new(2.0, 0.01, 0.05)))
+        .id();
+    launch_ball(&mut app, Vec3::new(0.1, 0.8, 0.2), 0.1, 8.0, Vec3::new(0.0, -6.0, 0.0));
+    for _ in 0..60 {
+        app.update();
+    }
+    assert_eq!(app.world().resource::<DentStats>().dents, 1, "the ball's one dent");
+    let dented = app.world().resource::<DentWorld>().mesh(block).expect("the block").clone();
+    let deepest = dented.positions().iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
+    let top = dented.positions().iter().filter(|p| p.y > 0.0).map(|p| p.y).fold(f32::INFINITY, f32::min);
+    // Impact ≈ 6.5 m/s: (6.5 − 2) × 1 cm ≈ 4.5 cm deep, under the 5 cm cap; the lowest top-face
+    // vertex must be at least 2 cm down (a dent), the bottom face untouched.
+    assert!(top < 0.25 - 0.02, "the top face is dented (lowest top vertex at y = {top})");
+    assert!((deepest + 0.25).abs() < 1e-6, "the bottom face stays at y = -0.25 ({deepest})");
+    let vertices = collider_vertices(&app, block);
+    assert_eq!(vertices.len(), dented.vertex_count());
+    for (v, p) in vertices.iter().zip(dented.positions()) {
+        assert!((*v - *p).length() < 1e-5, "collider vertex {v} against the mesh's {p}");
+    }
+}
+
+/// A 50 kg ball at 12 m/s (3.6 kJ) against a wall of toughness 1 kJ, without gravity.
+fn a_ball_breaks_a_wall_into_avian_bodies() {
+    let mut app = app(FixedPostUpdate);
+    app.insert_resource(Gravity(Vec3::ZERO));
+    let tri = mesh::subdivided_box(Vec3::new(3.0, 2.0, 0.2), [60, 40, 2]).expect("a box");
+    let pattern = PatternParams { cells: 40, seed: 3, radius: 0.5 };
+    let mut fracture = FractureSettings::new(pattern, Some(1000.0), None).expect("settings");
+    fracture.density = 300.0;
+    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
+    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec());
+    let dentable = Dentable::new(2.0, 0.002, 0.03).breaking(fracture);
+    let wall = app
+        .world_mut()
+        .spawn((Mesh3d(mesh), Transform::from_xyz(0.0, 1.0, 0.0), RigidBody::Static, collider, dentable))
+        .id();
+    let ball = launch_ball(&mut app, Vec3::new(0.2, 1.1, 1.0), 0.2, 50.0, Vec3::new(0.0, 0.0, -12.0));
+    for _ in 0..60 {
+        app.update();
+    }
+    let stats = app.world().resource::<DentStats>().clone();
+    assert_eq!(stats.fractures, 1, "{stats:?}");
+    assert!(stats.pieces >= 20, "{stats:?}");
+    let mut q = app.world_mut().query::<(&DentPiece, &RigidBody, &Collider, &ComputedMass)>();
+    let pieces: Vec<_> = q.iter(app.world()).collect();
+    assert_eq!(pieces.len() as u64, stats.pieces, "every piece became a body");
+    for (piece, body, collider, mass) in &pieces {
+        assert_eq!(piece.from, wall);
+        assert_eq!(**body, RigidBody::Dynamic);
+        assert!(collider.shape().as_convex_polyhedron().is_some());
+        // Avian's mass is the piece's (f32 through Avian's inverse), not the hull's density.
+        let expected = piece.mass.mass;
+        assert!((mass.value() - expected).abs() < 1e-3 * expected, "mass {} against {expected}", mass.value());
+    }
+    let rest = app.world().resource::<DentWorld>().mesh(wall).expect("the wall stays").clone();
+    assert_eq!(collider_vertices(&app, wall).len(), rest.vertex_count(), "the collider is the rest");
+    let z = app.world().get::<Position>(ball).expect("the ball").0.z;
+    assert!(z < -0.3, "the ball at z = {z} did not go through the hole");
+}
+
+/// The `Dentable` and body on a parent, the mesh on its child offset from it: contacts on the
+/// parent's collider dent the child's mesh, and the collider follows in the parent's coordinates.
+fn a_parent_collider_dents_its_child_mesh() {
+    let mut app = app(FixedPostUpdate);
+    let tri = block();
+    let offset = Vec3::new(0.3, 0.25, -0.2);
+    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
+    let placed: Vec<Vec3> = tri.positions().iter().map(|&p| p + offset).collect();
+    let collider = Collider::trimesh(placed, tri.faces().to_vec());
+    let parent = app.world_mut().spawn((Transform::default(), RigidBody::Static, collider)).id();
+    let child = app
+        .world_mut()
+        .spawn((Mesh3d(mesh), Transform::from_translation(offset), ChildOf(parent), Dentable::new(2.0, 0.01, 0.05)))
+        .id();
+    launch_ball(&mut app, offset + Vec3::new(0.1, 0.8, 0.2), 0.1, 8.0, Vec3::new(0.0, -6.0, 0.0));
+    for _ in 0..60 {
+        app.update();
+    }
+    assert_eq!(app.world().resource::<DentStats>().dents, 1, "the ball's one dent");
+    let dented = app.world().resource::<DentWorld>().mesh(child).expect("the child mesh").clone();
+    assert_ne!(dented.positions(), tri.positions(), "the mesh moved");
+    for (v, p) in collider_vertices(&app, parent).iter().zip(dented.positions()) {
+        assert!((*v - (*p + offset)).length() < 1e-5, "collider vertex {v} against the mesh's {p} + {offset}");
+    }
+}
+
+fn main() -> ExitCode {
+    let args = Arguments::from_args();
+    let trials = vec![
+        Trial::test("a_dropped_ball_dents_in_fixed_post_update", || {
+            a_dropped_ball_dents(FixedPostUpdate);
+            Ok(())
+        }),
+        Trial::test("a_dropped_ball_dents_in_post_update", || {
+            a_dropped_ball_dents(PostUpdate);
+            Ok(())
+        }),
+        Trial::test("a_ball_breaks_a_wall_into_avian_bodies", || {
+            a_ball_breaks_a_wall_into_avian_bodies();
+            Ok(())
+        }),
+        Trial::test("a_parent_collider_dents_its_child_mesh", || {
+            a_parent_collider_dents_its_child_mesh();
+            Ok(())
+        }),
+    ];
+    libtest_mimic::run(&args, trials).exit_code()
+}
