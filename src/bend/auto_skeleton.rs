@@ -8,14 +8,14 @@ use crate::mesh::principal_axis::principal_axis;
 /// Most bones [`auto_skeleton`] makes.
 pub const MAX_AUTO_BONES: usize = 256;
 /// Fraction of the body's length left free at each end of the chain.
-pub const AUTO_INSET: f32 = 0.05;
+pub(crate) const AUTO_INSET: f32 = 0.05;
 
 /// A chain of `bones` equal bones along the principal axis of `mesh`.
 ///
 /// The axis is the direction of largest second moment of the enclosed volume about its centroid
 /// (principal component of the solid; the vertices' for an open or flat mesh), through the
 /// centroid, oriented so its largest component is positive. The chain spans the mesh's extent
-/// along the axis, inset by [`AUTO_INSET`] of it at each end; bone 0 is the root at the
+/// along the axis, inset by `AUTO_INSET` of it at each end; bone 0 is the root at the
 /// negative end and bone i+1 is bone i's child.
 ///
 /// # Errors

@@ -9,26 +9,26 @@ use super::voxelize::{narrow_band, row_winding};
 use crate::mesh::TriMesh;
 
 /// Default resolution: cells along the longest side of the mesh's bounding box.
-pub const DEFAULT_RESOLUTION: u32 = 64;
+pub(crate) const DEFAULT_RESOLUTION: u32 = 64;
 /// Smallest resolution accepted.
 pub const MIN_RESOLUTION: u32 = 8;
 /// Largest resolution accepted: a cubic mesh then has 260³ ≈ 17.6 M cells, about 350 MB while
 /// building (20 bytes a cell) and 140 MB after (8 bytes a cell).
 pub const MAX_RESOLUTION: u32 = 256;
 /// Empty cells added around the mesh's bounds on every side.
-pub const BORDER_CELLS: usize = 2;
+pub(crate) const BORDER_CELLS: usize = 2;
 /// A cell whose centre is within this many cells of the surface touches it (half the cell's
 /// diagonal, √3/2).
-pub const SURFACE_CELLS: f32 = 0.866_025_4;
+pub(crate) const SURFACE_CELLS: f32 = 0.866_025_4;
 /// Half-width of the narrow band, in cells: |φ| is exact up to this distance and clamped to it
 /// beyond (where only its sign is known). Just wide enough to find every cell the surface touches.
-pub const BAND_CELLS: f32 = 0.9;
+pub(crate) const BAND_CELLS: f32 = 0.9;
 
 /// A signed-distance level set of a closed triangle mesh on a regular grid.
 ///
 /// Cell `(i, j, k)` has index `i + nx·(j + ny·k)` and centre `origin + (i + ½, j + ½, k + ½)·h`.
 /// φ < 0 inside. |φ| is the exact distance to the surface where it is below the band half-width
-/// ([`BAND_CELLS`] cells) and the band half-width beyond (only the sign is known there).
+/// (`BAND_CELLS` cells) and the band half-width beyond (only the sign is known there).
 #[derive(Debug, Clone)]
 pub struct LevelSet {
     origin: Vec3,
@@ -41,7 +41,7 @@ pub struct LevelSet {
 
 impl LevelSet {
     /// Builds the level set of the closed `mesh` with `resolution` cells along the longest side of
-    /// its bounds (plus [`BORDER_CELLS`] on every side). Inside/outside is the winding number
+    /// its bounds (plus `BORDER_CELLS` on every side). Inside/outside is the winding number
     /// along x-parallel rows through the cell centres, with a consistent tie rule for rows that
     /// hit edges or vertices exactly, so it is exact for any closed mesh, nested or
     /// self-overlapping parts included. Runs on all cores.
@@ -153,13 +153,13 @@ impl LevelSet {
         self.phi.get(index).is_some_and(|&p| p < 0.0)
     }
 
-    /// Whether cell `index` is inside or touches the surface (centre within [`SURFACE_CELLS`]
+    /// Whether cell `index` is inside or touches the surface (centre within `SURFACE_CELLS`
     /// cells of it): the cells skinning weights march through.
     pub fn is_solid(&self, index: usize) -> bool {
         self.phi.get(index).is_some_and(|&p| p <= SURFACE_CELLS * self.cell)
     }
 
-    /// Whether cell `index` touches the surface (|φ| within [`SURFACE_CELLS`] cells).
+    /// Whether cell `index` touches the surface (|φ| within `SURFACE_CELLS` cells).
     pub fn is_surface(&self, index: usize) -> bool {
         self.phi.get(index).is_some_and(|p| p.abs() <= SURFACE_CELLS * self.cell)
     }

@@ -24,18 +24,19 @@ mod voxelize;
 mod weights;
 mod weights_solve;
 
-pub use auto_skeleton::{AUTO_INSET, MAX_AUTO_BONES, auto_skeleton};
-pub use bunny::{BUNNY_BODY, BUNNY_HEAD, BUNNY_LEFT_EAR, BUNNY_RIGHT_EAR, bunny_bones, bunny_skeleton};
+pub use auto_skeleton::MAX_AUTO_BONES;
+pub use auto_skeleton::auto_skeleton;
+pub use bunny::bunny_bones;
+pub use bunny::{BUNNY_BODY, BUNNY_HEAD, BUNNY_LEFT_EAR, BUNNY_RIGHT_EAR, bunny_skeleton};
 pub use error::BendError;
 pub use joint_rules::{JointRule, clamp_to_strength, damped_bend_rate, effective_inertia, spring, spring_impulse};
-pub use level_set::{
-    BAND_CELLS, BORDER_CELLS, DEFAULT_RESOLUTION, LevelSet, MAX_RESOLUTION, MIN_RESOLUTION, SURFACE_CELLS,
-};
-pub use rig::{Rig, RigSplit, SINGULAR_BLEND};
-pub use skeleton::{
-    Bone, BoneDesc, BoneJoint, JOINT_GAP_FRACTION, MIN_BONE_FRACTION, MIN_BONE_LENGTH, SPLIT_END_FRACTION, Skeleton,
-};
-pub use skeleton_check::OUTSIDE_TOLERANCE_FRACTION;
-pub use sub_bodies::{NO_BONE, SubBodies, SubBody, triangle_owners};
-pub use weights::{MAX_INFLUENCES, SkinWeights, WeightParams};
+pub(crate) use level_set::DEFAULT_RESOLUTION;
+pub use level_set::MIN_RESOLUTION;
+pub use level_set::{LevelSet, MAX_RESOLUTION};
+pub use rig::{Rig, RigSplit};
+pub(crate) use skeleton::MIN_BONE_FRACTION;
+pub use skeleton::{Bone, BoneDesc, BoneJoint, Skeleton};
+pub use sub_bodies::{NO_BONE, SubBodies, SubBody};
+pub use weights::MAX_INFLUENCES;
+pub use weights::{SkinWeights, WeightParams};
 pub use weights_solve::{WeightCache, compute_weights};

@@ -16,7 +16,7 @@ use crate::mesh::TriMesh;
 /// Determinant below which a vertex's blended linear part counts as singular (bones turned by
 /// nearly 180° against each other: two bones at ½ each turned by θ give cos²(θ/2), 10⁻³ at
 /// θ ≈ 176°); the vertex's dominant bone's rotation is inverted instead.
-pub const SINGULAR_BLEND: f32 = 1e-3;
+pub(crate) const SINGULAR_BLEND: f32 = 1e-3;
 
 /// The rig of one bendable body.
 #[derive(Debug, Clone)]
@@ -155,7 +155,7 @@ impl Rig {
     /// bone's weights are computed again (the others' stay), and the sub-bodies are recut.
     /// Nothing changes until [`apply_split`](Self::apply_split). `Ok(None)` when either half
     /// would be shorter than `min_bone_length` m or within
-    /// [`SPLIT_END_FRACTION`](super::SPLIT_END_FRACTION) of an end, or would own no triangle or
+    /// `SPLIT_END_FRACTION` of an end, or would own no triangle or
     /// no inside cell at this resolution.
     ///
     /// # Errors
@@ -219,7 +219,7 @@ impl Rig {
     /// dented, `moved` the vertices the dent moved. Each moved vertex's displacement Δ maps back as
     /// (Σₖ wₖ Rₖ)⁻¹ Δ, Rₖ the bones' linear parts and wₖ the skinning weights (the weight
     /// missing from 1 on the identity, as the skinning kernel blends it), so skinning the result
-    /// gives the dented mesh back; a vertex whose blend is singular ([`SINGULAR_BLEND`]) takes
+    /// gives the dented mesh back; a vertex whose blend is singular (`SINGULAR_BLEND`) takes
     /// its dominant bone's inverse rotation.
     ///
     /// # Errors

@@ -10,13 +10,13 @@ use super::geometry::segment_param;
 
 /// Smallest bone length accepted, as a fraction of the skeleton's extent (bounding-box diagonal
 /// of all bone endpoints).
-pub const MIN_BONE_FRACTION: f32 = 1e-6;
+pub(crate) const MIN_BONE_FRACTION: f32 = 1e-6;
 /// Smallest bone length accepted in absolute terms, m (guards a skeleton of coincident points).
-pub const MIN_BONE_LENGTH: f32 = 1e-9;
+pub(crate) const MIN_BONE_LENGTH: f32 = 1e-9;
 /// A split point must project at least this fraction of the bone's length away from either end.
-pub const SPLIT_END_FRACTION: f32 = 0.05;
+pub(crate) const SPLIT_END_FRACTION: f32 = 0.05;
 /// A child's head must lie within this fraction of the child's own length from its parent bone.
-pub const JOINT_GAP_FRACTION: f32 = 0.5;
+pub(crate) const JOINT_GAP_FRACTION: f32 = 0.5;
 
 /// How a bone is given in code and in scene files (`[[body.bend.bone]] head = [x, y, z]`,
 /// `tail = [x, y, z]`, `parent = 0`).
@@ -116,10 +116,10 @@ impl Skeleton {
     ///
     /// # Errors
     /// [`BendError::NoBones`], [`BendError::NonFiniteBone`], [`BendError::ZeroLengthBone`]
-    /// (length ≤ [`MIN_BONE_FRACTION`] × the skeleton's extent or ≤ [`MIN_BONE_LENGTH`]),
+    /// (length ≤ `MIN_BONE_FRACTION` × the skeleton's extent or ≤ `MIN_BONE_LENGTH`),
     /// [`BendError::ParentOutOfRange`], [`BendError::Cycle`] (a bone its own parent included),
     /// [`BendError::MultipleRoots`] or [`BendError::DetachedJoint`] (a child's head farther than
-    /// [`JOINT_GAP_FRACTION`] of its length from the parent bone).
+    /// `JOINT_GAP_FRACTION` of its length from the parent bone).
     pub fn new(bones: Vec<BoneDesc>) -> Result<Self, BendError> {
         if bones.is_empty() {
             return Err(BendError::NoBones);
@@ -229,7 +229,7 @@ impl Skeleton {
     ///
     /// # Errors
     /// [`BendError::BoneOutOfRange`], [`BendError::InvalidParameter`] for a non-finite point, or
-    /// [`BendError::SplitNearEnd`] when the point projects within [`SPLIT_END_FRACTION`] of the
+    /// [`BendError::SplitNearEnd`] when the point projects within `SPLIT_END_FRACTION` of the
     /// bone's length from either end (or beyond it). The skeleton is unchanged on error.
     ///
     /// # Example

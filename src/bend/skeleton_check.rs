@@ -11,18 +11,18 @@ use crate::mesh::TriMesh;
 
 /// Default tolerance of [`Skeleton::check_against`], as a fraction of the mesh's bounding-box
 /// diagonal: a bone wholly outside but within this distance of the surface is accepted.
-pub const OUTSIDE_TOLERANCE_FRACTION: f32 = 0.02;
+pub(crate) const OUTSIDE_TOLERANCE_FRACTION: f32 = 0.02;
 /// Points sampled along a bone (ends included) to measure its distance to the surface.
 const DISTANCE_SAMPLES: usize = 9;
 
 impl Skeleton {
     /// Checks every bone against the closed `mesh` with the default tolerance
-    /// ([`OUTSIDE_TOLERANCE_FRACTION`] × the mesh's bounding-box diagonal).
+    /// (`OUTSIDE_TOLERANCE_FRACTION` × the mesh's bounding-box diagonal).
     ///
     /// # Errors
     /// [`BendError::BoneOutsideMesh`] for the first bone that lies entirely outside the mesh and
     /// farther than the tolerance from its surface; [`BendError::ZeroLengthBone`] for a bone
-    /// shorter than [`MIN_BONE_FRACTION`](super::MIN_BONE_FRACTION) × the mesh's diagonal.
+    /// shorter than `MIN_BONE_FRACTION` × the mesh's diagonal.
     pub fn check_against(&self, mesh: &TriMesh) -> Result<(), BendError> {
         let (lo, hi) = mesh.bounds();
         self.check_against_with(mesh, OUTSIDE_TOLERANCE_FRACTION * lo.distance(hi))

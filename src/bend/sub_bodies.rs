@@ -19,7 +19,7 @@ pub const NO_BONE: u32 = u32::MAX;
 ///
 /// # Errors
 /// [`BendError::Mismatch`] if `weights` belong to a mesh with another vertex count.
-pub fn triangle_owners(mesh: &TriMesh, weights: &SkinWeights) -> Result<Vec<u32>, BendError> {
+pub(crate) fn triangle_owners(mesh: &TriMesh, weights: &SkinWeights) -> Result<Vec<u32>, BendError> {
     if weights.vertex_count() != mesh.vertex_count() {
         let (expected, actual) = (mesh.vertex_count(), weights.vertex_count());
         return Err(BendError::Mismatch { what: "weight vertices", expected, actual });
@@ -74,7 +74,7 @@ impl SubBodies {
     /// Divides `mesh` (whose level set is `level_set`, as from
     /// [`WeightCache::level_set`](super::WeightCache::level_set)) among the bones of `weights`.
     ///
-    /// Triangles go to their owners ([`triangle_owners`]). Cells: first those the surface passes
+    /// Triangles go to their owners (`triangle_owners`). Cells: first those the surface passes
     /// through (centre within half a cell diagonal of it) go to the owner of their nearest
     /// triangle, then, one ring of 26 neighbours at a time, the rest of the grid, inside and
     /// outside, takes the label of a neighbour in the previous ring (where several compete, the

@@ -23,7 +23,7 @@ enum Side {
 /// as it is, as do events between two sub-bodies of one bending body and between plain bodies.
 /// `owner`: per world body, the bending body (index in [`Bending::bodies`](super::Bending::bodies))
 /// whose sub-body it is (see [`Bending::owners`](super::Bending::owners)).
-pub fn merge_contacts(owner: impl Fn(usize) -> Option<usize>, events: &[CollisionEvent]) -> Vec<CollisionEvent> {
+pub(crate) fn merge_contacts(owner: impl Fn(usize) -> Option<usize>, events: &[CollisionEvent]) -> Vec<CollisionEvent> {
     let side = |index: usize| owner(index).map_or(Side::Body(index), Side::Bending);
     // Each output slot: an event kept, or the index of a group (pair of sides, the first a
     // bending body; its events oriented from that side, and the first one as given).

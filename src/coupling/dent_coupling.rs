@@ -73,18 +73,18 @@ impl BendDenter {
 
     /// Computes the dents that `events` (from the step numbered `step`) make on `bending`'s
     /// dentable bodies in `world`'s pose, changing nothing. A projectile's contacts with several
-    /// sub-bodies of one bending body are first merged into one ([`merge_contacts`]). A hit
+    /// sub-bodies of one bending body are first merged into one (`merge_contacts`). A hit
     /// dents a bending body when its sub-body is one side of the event and the other side is
     /// not one of its own sub-bodies; whether and how deep is decided as for a plain body
-    /// ([`decide_dent`]), the projectile denting with its undented surface (another bending
+    /// (`decide_dent`), the projectile denting with its undented surface (another bending
     /// body's: its whole skinned mesh). All of a body's dents of the step are applied on its one
     /// skinned mesh; progressive settings rebuild a contact's dent from its pre-dent rest mesh
     /// with the accumulated distance. `motions`: each world body's rigid motion during the step
-    /// (see [`DentTarget::motion`]; [`step_motions`]), empty when nothing moved.
+    /// (see `DentTarget::motion`; `step_motions`), empty when nothing moved.
     ///
     /// # Errors
     /// As [`ArticulatedBody::dent_in_pose`](super::ArticulatedBody::dent_in_pose) and
-    /// [`decide_dent`].
+    /// `decide_dent`.
     pub fn prepare(
         &self,
         bending: &Bending,
@@ -124,8 +124,7 @@ impl BendDenter {
                 let Some(settings) = &bodies[k].dent else { continue };
                 // decide_dent reads the target's body, name, settings and motion only.
                 let (name, motion) = (&bodies[k].name, motions.get(target).copied().unwrap_or(Affine3A::IDENTITY));
-                let target =
-                    DentTarget { body: target, name, settings, to_world: Affine3A::IDENTITY, radius: 0.0, motion };
+                let target = DentTarget { body: target, name, settings, radius: 0.0, motion };
                 let projectile = DentSurface::lookup(world, projectile, &surfaces);
                 decided[k].extend(decide_dent(world, event, &target, &projectile)?);
             }
@@ -167,7 +166,7 @@ impl StagedBendDents {
     }
 
     /// The step's events as denting sees them: the contacts of a pair of which one is a bending
-    /// body merged into one ([`merge_contacts`]), so a ball landing on a joint dents once.
+    /// body merged into one (`merge_contacts`), so a ball landing on a joint dents once.
     pub fn events(&self) -> &[CollisionEvent] {
         &self.events
     }
@@ -281,7 +280,7 @@ fn surfaces_of(skinned: &[(String, Vec<usize>, TriMesh)]) -> Vec<(usize, DentSur
 /// model transform now after the inverse of `before[index]`, its model transform before the
 /// step. A body added during the step by a split (dynamic articulation) started at the split
 /// bone's transform; a body with neither is taken as still.
-pub fn step_motions(bending: &Bending, world: &World, before: &[Affine3A], step: u64) -> Vec<Affine3A> {
+pub(crate) fn step_motions(bending: &Bending, world: &World, before: &[Affine3A], step: u64) -> Vec<Affine3A> {
     let mut then: Vec<Option<Affine3A>> = before.iter().copied().map(Some).collect();
     then.resize(world.bodies().len(), None);
     for made in bending.joints().iter().filter(|j| j.frame == step) {
@@ -303,7 +302,7 @@ pub fn step_motions(bending: &Bending, world: &World, before: &[Affine3A], step:
 /// coupling): bending dents computed from the undented state, plain dents made by `denter` with
 /// sub-bodies denting as their bodies' undented skinned meshes, then the bending dents applied;
 /// every contact carried with its target's motion during the step (`before`: every body's model
-/// transform before it; see [`step_motions`]). Returns the plain dents' records, then the
+/// transform before it; see `step_motions`). Returns the plain dents' records, then the
 /// bending bodies'.
 ///
 /// # Errors

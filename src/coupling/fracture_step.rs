@@ -62,7 +62,7 @@ struct Break {
 
 /// Breaks the world's breakable bodies, counting their dents.
 #[derive(Debug, Clone, Default)]
-pub struct Fracturer {
+pub(crate) struct Fracturer {
     tally: DentTally<usize>,
 }
 
@@ -70,11 +70,6 @@ impl Fracturer {
     /// Nothing dented or broken yet.
     pub fn new() -> Self {
         Self::default()
-    }
-
-    /// The accumulated dent of world body `index`, m.
-    pub fn accumulated_dent(&self, index: usize) -> f32 {
-        self.tally.total(index)
     }
 
     /// Counts the step's `dents`, then breaks every breakable body that a hit of `events` (from

@@ -58,7 +58,7 @@ enum Residence {
 
 impl GpuSkinner {
     /// Compiles the `skin` kernel on `context`; groups hold at most `group_vertices` vertices
-    /// (at least one body each; [`GROUP_VERTICES`](super::GROUP_VERTICES) by default in [`Skinner`](super::Skinner)).
+    /// (at least one body each; `GROUP_VERTICES` by default in [`Skinner`](super::Skinner)).
     /// Nothing is uploaded before the first [`sync`](Self::sync).
     ///
     /// # Errors
@@ -232,7 +232,8 @@ impl GpuSkinner {
                 sources.push((mesh.normals(), mesh.vertex_count()));
             }
         }
-        let mut data = buffers::read_back_all::<Vec4>(self.context, &sources).map_err(gpu_error)?.into_iter();
+        let mut data =
+            buffers::read_back_all_after::<Vec4>(self.context, None, &sources).map_err(gpu_error)?.into_iter();
         let mut next = || data.next().ok_or_else(|| gpu_error("the read-back returned too few buffers"));
         let mut skinned = Vec::new();
         for group in &self.groups {

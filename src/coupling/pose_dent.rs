@@ -102,7 +102,6 @@ impl ArticulatedBody {
             body: d.target,
             name: &self.name,
             settings,
-            to_world,
             // The impacts are already where the body is now.
             motion: Affine3A::IDENTITY,
             radius: 0.5 * lo.distance(hi),

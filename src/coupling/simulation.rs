@@ -177,7 +177,7 @@ impl Simulation {
 
     /// One step: dynamics, then the step's dents (bending bodies' included, see
     /// [`dent_step`](crate::coupling::dent_step)), then the fractures of breakable bodies (see
-    /// [`Fracturer::process`]), then, with
+    /// `Fracturer::process`), then, with
     /// [`skin_every_step`](Self::skin_every_step), skinning the bending bodies.
     ///
     /// # Errors

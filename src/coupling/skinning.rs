@@ -15,7 +15,7 @@ use crate::sim::{GpuDevice, SimError, World};
 
 /// Most vertices of one group of bodies skinned together on the GPU (unless a single body has
 /// more): what one change uploads again, 64 bytes of rest data per vertex (4 MiB).
-pub const GROUP_VERTICES: usize = 1 << 16;
+pub(crate) const GROUP_VERTICES: usize = 1 << 16;
 
 /// Skins the bending bodies of a [`Bending`] on the GPU or the CPU and keeps the results.
 ///
@@ -59,7 +59,7 @@ impl Skinner {
     }
 
     /// Builder: on the GPU, at most `vertices` vertices per group of bodies skinned together
-    /// (see [`GpuSkinner`]; [`GROUP_VERTICES`] by default); takes effect at the first skin.
+    /// (see [`GpuSkinner`]; `GROUP_VERTICES` by default); takes effect at the first skin.
     pub fn with_group_vertices(mut self, vertices: usize) -> Self {
         self.group_vertices = vertices;
         self

@@ -78,7 +78,7 @@ fn attenuation(params: &DisplaceParams, table: &[f32], z: f32, d: f32) -> f32 {
 
 /// The falloff code, linear scale and sample table that [`displace`] uses for `attenuation`:
 /// built-in falloffs are evaluated exactly; a custom one is sampled at
-/// [`falloff::TABLE_LEN`] points over `z ∈ [0, 8d]` and interpolated linearly.
+/// `falloff::TABLE_LEN` points over `z ∈ [0, 8d]` and interpolated linearly.
 pub fn falloff_table(attenuation: &Attenuation, dent_distance: f32) -> (u32, f32, Vec<f32>) {
     match attenuation {
         Attenuation::Logistic => (falloff::LOGISTIC, 0.0, Vec::new()),

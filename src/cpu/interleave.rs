@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 
 /// `normal_word` when only positions are copied. Keep in sync with `NO_NORMAL` in
 /// `shaders/interleave.wgsl`.
-pub const NO_NORMAL: u32 = u32::MAX;
+pub(crate) const NO_NORMAL: u32 = u32::MAX;
 
 /// Where one target's vertices go in an interleaved buffer, every byte quantity in 4-byte words.
 /// 32 bytes; keep in sync with `InterleaveParams` in `shaders/interleave.wgsl`.
@@ -22,14 +22,14 @@ pub struct InterleaveParams {
     pub stride_words: u32,
     /// Word of the position (three f32) within a vertex.
     pub position_word: u32,
-    /// Word of the normal (three f32) within a vertex, or [`NO_NORMAL`].
+    /// Word of the normal (three f32) within a vertex, or `NO_NORMAL`.
     pub normal_word: u32,
     /// Padding, zero.
     pub _pad: [u32; 2],
 }
 
 /// For each of the `vertex_count` vertices from `vertex_offset`, writes the bits of the
-/// position's xyz (world units) and, unless `normal_word` is [`NO_NORMAL`], of the unit normal's
+/// position's xyz (world units) and, unless `normal_word` is `NO_NORMAL`, of the unit normal's
 /// xyz into `dst` at the words `params` names; every other word of `dst` is left as it was.
 ///
 /// # Panics

@@ -17,18 +17,20 @@ mod skin;
 mod skin_layout;
 mod zbuffer;
 
-pub use attenuation::{Attenuation, FalloffFn};
+pub use attenuation::Attenuation;
 pub use displace::{displace, falloff_table};
 pub use envelope_cols::envelope_cols;
 pub use envelope_rows::envelope_rows;
 pub use glance::glance;
 pub(crate) use glance::glance_band;
 pub use heat::{heat, heat_step};
-pub use interleave::{InterleaveParams, NO_NORMAL, interleave};
+#[cfg(feature = "gpu")]
+pub(crate) use interleave::NO_NORMAL;
+pub use interleave::{InterleaveParams, interleave};
 pub use layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff};
 pub use moved::{MovedParams, moved};
-pub use skin::{SkinError, Skinned, WEIGHT_SUM_TOLERANCE, skin, validate_influences};
+pub use skin::{SkinError, Skinned, WEIGHT_SUM_TOLERANCE, skin};
 #[cfg(feature = "gpu")]
 pub(crate) use skin::{check_length, validate_bones, validate_vertices};
-pub use skin_layout::{BONES_PER_VERTEX, SkinBone, SkinInfluence, SkinParams, skin_bones};
+pub use skin_layout::{SkinBone, SkinInfluence, SkinParams, skin_bones};
 pub use zbuffer::zbuffer;

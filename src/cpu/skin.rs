@@ -102,18 +102,6 @@ pub struct Skinned {
     pub normals: Vec<Vec3>,
 }
 
-/// Checks every vertex's influences: finite, non-negative weights summing to one within
-/// [`WEIGHT_SUM_TOLERANCE`], and bone indices below `bone_count` (unused slots too: pad them
-/// with bone 0 and weight 0). Reports the first bad vertex.
-///
-/// # Errors
-/// [`SkinError::NonFiniteWeight`], [`SkinError::NegativeWeight`], [`SkinError::WeightSum`] or
-/// [`SkinError::BoneIndex`].
-pub fn validate_influences(influences: &[SkinInfluence], bone_count: u32) -> Result<(), SkinError> {
-    let bad = first_bad(influences, |_, i| !influence_ok(i, bone_count));
-    bad.map_or(Ok(()), |vertex| Err(influence_error(vertex, &influences[vertex], bone_count)))
-}
-
 /// Whether an influence passes [`validate_influences`]; the fast test, without the reason.
 #[inline]
 fn influence_ok(influence: &SkinInfluence, bone_count: u32) -> bool {
@@ -211,7 +199,7 @@ pub(crate) fn check_length(what: &'static str, len: usize, expected: usize) -> R
 ///
 /// # Errors
 /// [`SkinError::Length`] for a slice of the wrong length; [`SkinError::NonFiniteBone`],
-/// [`SkinError::NonFiniteRest`]; as [`validate_influences`].
+/// [`SkinError::NonFiniteRest`]; as `validate_influences`.
 ///
 /// # Example
 /// ```

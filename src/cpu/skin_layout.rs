@@ -10,7 +10,7 @@ use glam::{Affine3A, Mat3A, Vec3A, Vec4};
 use super::SkinError;
 
 /// Bones that influence one vertex.
-pub const BONES_PER_VERTEX: usize = 4;
+pub(crate) const BONES_PER_VERTEX: usize = 4;
 
 /// Inputs of [`skin`](super::skin) besides the buffers. 16 bytes; keep in sync with `SkinParams`
 /// in `shaders/skin.wgsl`.
@@ -73,7 +73,7 @@ impl SkinBone {
 /// The bones of one vertex and their weights. 32 bytes; keep in sync with `SkinInfluence` in
 /// `shaders/skin.wgsl` (`vec4<u32>`, `vec4<f32>`).
 ///
-/// Valid influences (see [`validate_influences`](super::validate_influences)) have finite,
+/// Valid influences (see `validate_influences`) have finite,
 /// non-negative weights summing to one within [`WEIGHT_SUM_TOLERANCE`](super::WEIGHT_SUM_TOLERANCE)
 /// and name bones below the bone count; pad unused slots with bone 0 and weight 0.
 #[repr(C)]

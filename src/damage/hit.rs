@@ -36,7 +36,7 @@ pub struct TargetView<'a> {
     /// How it dents.
     pub settings: &'a DentSettings,
     /// Radius of a ball about the mesh's origin that holds the mesh, m
-    /// ([`radius_about_origin`](crate::dent::radius_about_origin), or the collider's bounding sphere).
+    /// (`radius_about_origin`, or the collider's bounding sphere).
     pub radius: f32,
     /// How it breaks (`None`: it never does). A breakable body's mesh must be closed and its
     /// `to_world` rigid.

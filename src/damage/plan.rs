@@ -26,7 +26,7 @@ pub struct AppliedDent<K> {
     /// The contact and the projectile's pose in the target's mesh coordinates, in the exact
     /// form the dent was made from (what a replication message carries).
     pub local: LocalContact,
-    /// How far from the contact the projectile was cropped, m ([`projectile_reach`]).
+    /// How far from the contact the projectile was cropped, m (`projectile_reach`).
     pub reach: f32,
     /// Dent distance, m (a progressive dent's accumulated distance).
     pub dent_distance: f32,

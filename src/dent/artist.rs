@@ -124,7 +124,7 @@ impl DentMap {
 
 /// `d·exp(−r²/(2σ²))` at the cell centres of a `res × res` grid of side `extent` centred on
 /// r = 0 (world units).
-pub fn gaussian_heights(res: u32, extent: f32, sigma: f32, dent_distance: f32) -> Vec<f32> {
+pub(crate) fn gaussian_heights(res: u32, extent: f32, sigma: f32, dent_distance: f32) -> Vec<f32> {
     let h = extent / res as f32;
     let shift = 0.5 * res as f32 - 0.5;
     let c = 0.5 / (sigma * sigma);

@@ -45,7 +45,7 @@ impl Impact {
 /// The dent distance (m) `impact` earns on a target denting with `settings`, or `None` when it
 /// makes no dent: the material's threshold / gain / cap on the normal speed, or, when
 /// `settings.hardness` is set, the depth whose plastic work equals the kinetic energy the
-/// collision removes along the normal ([`normal_energy_lost`] from both bodies' `target` and
+/// collision removes along the normal (`normal_energy_lost` from both bodies' `target` and
 /// `projectile` states; the projectile's shape from `projectile`'s surface), capped by the
 /// material. A separating impact makes no dent.
 ///

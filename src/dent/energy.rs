@@ -14,7 +14,7 @@ use crate::mesh::TriMesh;
 ///
 /// # Errors
 /// As [`dent_map_stages`].
-pub fn energy_dent_distance(
+pub(crate) fn energy_dent_distance(
     projectile: &TriMesh,
     impact: &Impact,
     params: &DentParams,
@@ -46,7 +46,7 @@ pub fn energy_dent_distance(
 /// pair's effective mass along the normal at the contact point (rotation included), v_n the
 /// closing speed along the normal (m/s, taken from `impact`) and e the larger restitution of
 /// the two. 0 when neither body takes an impulse (both fixed or kinematic).
-pub fn normal_energy_lost(impact: &Impact, target: &BodyState, projectile: &BodyState) -> f32 {
+pub(crate) fn normal_energy_lost(impact: &Impact, target: &BodyState, projectile: &BodyState) -> f32 {
     let normal = impact.unit_normal();
     let k = target.inverse_mass_along(impact.point, normal) + projectile.inverse_mass_along(impact.point, normal);
     if k.is_nan() || k <= 0.0 {

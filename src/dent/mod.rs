@@ -24,6 +24,7 @@ mod pipeline;
 mod plan;
 mod progressive;
 mod reach;
+#[cfg(feature = "gpu")]
 mod refine_jobs;
 mod refine_setting;
 mod refine_target;
@@ -33,12 +34,11 @@ mod volume;
 mod volume_mode;
 
 pub use apply::{DentReport, dent, dent_pair};
-pub use artist::gaussian_heights;
 pub use batch::{BatchError, BatchOutcome, DentJob, dent_batch, dent_batch_tracked};
 pub use body_state::BodyState;
 pub use changed::{changed_vertices, moved_vertices};
 pub use decide::{decide_dent_distance, projectile_offset};
-pub use energy::{energy_dent_distance, normal_energy_lost};
+pub(crate) use energy::normal_energy_lost;
 pub use error::DentError;
 pub(crate) use error::invalid;
 pub use grid::{DentFrame, Grid};
@@ -48,18 +48,21 @@ pub use impact::{Impact, MAX_SPEED};
 pub use local_contact::{LocalContact, OctDirection, PoseRotation};
 pub use map::{DentMap, DisplaceReport};
 pub use material::DentMaterial;
-pub use params::{Attenuation, DentParams, FalloffFn, MAX_RESOLUTION, MIN_COS_FLOOR, Resolution};
+pub use params::{Attenuation, DentParams, MAX_RESOLUTION, Resolution};
 pub use pipeline::{DentStages, dent_map, dent_map_stages};
 pub use plan::{DentPlan, GLANCE_RESOLUTION_FLOOR, GLANCE_STRETCH_CAP, plan_dent};
-pub use progressive::ProgressiveDents;
-pub use reach::{Surface, crop_to_ball, projectile_reach, radius_about_origin};
-pub use refine_jobs::{RefinedTargets, refine_targets};
+pub(crate) use progressive::ProgressiveDents;
+pub use reach::Surface;
+pub(crate) use reach::{crop_to_ball, projectile_reach, radius_about_origin};
+#[cfg(feature = "gpu")]
+pub(crate) use refine_jobs::RefinedTargets;
+#[cfg(feature = "gpu")]
 #[cfg(feature = "gpu")]
 pub(crate) use refine_jobs::{plan_jobs, refine_planned};
-pub use refine_setting::{DEFAULT_MAX_NEW_TRIANGLES, MAX_EDGE_NEW_TRIANGLES, Refine};
-pub use refine_target::{AUTO_COARSENESS, auto_coarse_edge, auto_max_edge, footprint_box};
+pub use refine_setting::DEFAULT_MAX_NEW_TRIANGLES;
+pub use refine_setting::MAX_EDGE_NEW_TRIANGLES;
+pub use refine_setting::Refine;
 pub use settings::DentSettings;
 #[cfg(feature = "gpu")]
 pub(crate) use thickness::FittedFalloff;
-pub use thickness::{FOLD_KEPT, MIN_WALL_KEPT};
 pub use volume_mode::VolumeMode;

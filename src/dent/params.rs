@@ -2,11 +2,11 @@
 
 use super::error::invalid;
 use super::{DentError, VolumeMode};
-pub use crate::cpu::{Attenuation, FalloffFn};
+pub use crate::cpu::Attenuation;
 use crate::mesh::MAX_COORDINATE;
 
 /// Smallest accepted `min_cos`: θ ≤ 89.4°, a 100× stretch of the map along the velocity.
-pub const MIN_COS_FLOOR: f32 = 0.01;
+pub(crate) const MIN_COS_FLOOR: f32 = 0.01;
 
 /// Largest grid side accepted, cells: 2048² cells is 16 MiB per f32 stage, far past the paper's 400².
 pub const MAX_RESOLUTION: u32 = 2048;

@@ -15,7 +15,7 @@ struct Progress<K, M> {
 
 /// Progressive dents under way, keyed by the caller's body ids.
 #[derive(Debug, Clone)]
-pub struct ProgressiveDents<K, M> {
+pub(crate) struct ProgressiveDents<K, M> {
     contacts: Vec<Progress<K, M>>,
 }
 
@@ -34,16 +34,6 @@ impl<K: Copy + PartialEq, M: Clone> ProgressiveDents<K, M> {
     /// Forgets contacts not hit in step `step` − 1 or later: their contact has ended.
     pub fn end_stale(&mut self, step: u64) {
         self.contacts.retain(|p| p.last_step + 1 >= step);
-    }
-
-    /// Number of contacts under way.
-    pub fn len(&self) -> usize {
-        self.contacts.len()
-    }
-
-    /// Whether none is under way.
-    pub fn is_empty(&self) -> bool {
-        self.contacts.is_empty()
     }
 
     /// The surface to rebuild `target`'s dent by `projectile` from at step `step`, and the

@@ -30,7 +30,7 @@ impl Surface<'_> {
 /// How far from the impact point a projectile can matter for a dent `dent_distance` m deep in a
 /// target of `settings` held in a ball of `target_radius` m about its origin: the target's size
 /// (its dent cannot be wider), plus the deepest dent and the Gaussian tails (4σ), m.
-pub fn projectile_reach(settings: &DentSettings, target_radius: f32, dent_distance: f32) -> f32 {
+pub(crate) fn projectile_reach(settings: &DentSettings, target_radius: f32, dent_distance: f32) -> f32 {
     let cap = settings.material.cap.max(dent_distance);
     let sigma = settings.params.sigma.unwrap_or(0.5 * cap);
     2.0 * target_radius + cap + 4.0 * sigma
@@ -39,7 +39,7 @@ pub fn projectile_reach(settings: &DentSettings, target_radius: f32, dent_distan
 /// The triangles of `mesh` with a corner within `radius` of `centre` (same coordinates), their
 /// vertices renumbered in first-use order; the whole mesh (cloned) when all of it is that
 /// close; `None` when no triangle is.
-pub fn crop_to_ball(mesh: &TriMesh, centre: Vec3, radius: f32) -> Option<TriMesh> {
+pub(crate) fn crop_to_ball(mesh: &TriMesh, centre: Vec3, radius: f32) -> Option<TriMesh> {
     let near: Vec<bool> = mesh.positions().iter().map(|p| p.distance_squared(centre) <= radius * radius).collect();
     if near.iter().all(|&n| n) {
         return Some(mesh.clone());
@@ -63,6 +63,6 @@ pub fn crop_to_ball(mesh: &TriMesh, centre: Vec3, radius: f32) -> Option<TriMesh
 }
 
 /// Radius of the smallest ball about the mesh's origin that holds every vertex, m.
-pub fn radius_about_origin(mesh: &TriMesh) -> f32 {
+pub(crate) fn radius_about_origin(mesh: &TriMesh) -> f32 {
     mesh.positions().iter().map(|p| p.length_squared()).fold(0.0, f32::max).sqrt()
 }

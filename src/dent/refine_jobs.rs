@@ -3,7 +3,6 @@
 
 use super::apply::note_refinement;
 use super::error::invalid;
-use super::refine_setting::Refine;
 use super::refine_target::{Footprint, refine_for_dents, refined_mesh};
 use super::{BatchError, DentJob, DentPlan, DentReport, plan_dent};
 use crate::mesh::{EdgeLengths, Refinement, TriMesh};
@@ -12,36 +11,13 @@ use rayon::prelude::*;
 /// What [`refine_targets`] did: per target, its refined mesh (`None` when left as it was) and
 /// what was appended; per job, a report with only its refinement counts and warnings filled in.
 #[derive(Debug, Clone, Default)]
-pub struct RefinedTargets {
+pub(crate) struct RefinedTargets {
     /// Per target (batch order): the refined mesh, `None` when nothing was refined.
     pub meshes: Vec<Option<TriMesh>>,
     /// Per target: what refinement appended (empty when nothing).
     pub refinements: Vec<Refinement>,
     /// Per job: `refined_vertices`, `refined_triangles` and warnings.
     pub reports: Vec<DentReport>,
-}
-
-/// The refine stage on its own, for backends that displace elsewhere (the GPU): plans every job
-/// (as [`plan_dent`] does, with the target's mean edge) and refines its target where it will
-/// land, each target's jobs in order, all from the targets as they are.
-///
-/// # Errors
-/// [`BatchError`] naming the first job (in job order) whose plan or refinement failed.
-pub fn refine_targets(targets: &[TriMesh], jobs: &[DentJob<'_>]) -> Result<RefinedTargets, BatchError> {
-    let targets: Vec<&TriMesh> = targets.iter().collect();
-    let edges = edges_of_dented(&targets, jobs)?;
-    let mut plans = Vec::with_capacity(jobs.len());
-    for (job, j) in jobs.iter().enumerate() {
-        if matches!(j.params.refine, Refine::Off) {
-            plans.push(None);
-            continue;
-        }
-        let edge = edges[j.target].map(|e| e.mean);
-        let plan = plan_dent(j.projectile, &j.impact, &j.params, edge).map_err(|error| BatchError { job, error })?;
-        plans.push(Some(plan));
-    }
-    let plans: Vec<Option<&DentPlan>> = plans.iter().map(Option::as_ref).collect();
-    refine_planned(&targets, &edges, jobs, &plans)
 }
 
 /// Every job planned on the host as the CPU batch plans it, from its target as given (the mean

@@ -10,9 +10,9 @@ use crate::mesh::MAX_COORDINATE;
 pub enum Refine {
     /// Where the target is too coarse for the dent (an edge under the footprint longer than 4×
     /// what the map resolves and than half the map's width,
-    /// [`auto_coarse_edge`](super::auto_coarse_edge)), refine the footprint to the edges the
+    /// `auto_coarse_edge`), refine the footprint to the edges the
     /// map resolves, `max(2σ, 2 map cells, width/12)`
-    /// ([`auto_max_edge`](super::auto_max_edge)). A target finer than that is left as it is,
+    /// (`auto_max_edge`). A target finer than that is left as it is,
     /// so repeated dents do not keep growing it. A dent that would need more than
     /// `max_new_triangles` new triangles is refined with edges twice, four or eight times as
     /// long (the first that fits), or not at all, with a warning in its

@@ -28,7 +28,7 @@ const FALLOFF_FLOOR: f32 = 0.01;
 /// few percent of d; shorter edges add triangles the map cannot shape. Twelve edges across the
 /// map's width shape a shallow dent (whose σ = d/2 is tiny) as well as the eye can tell, without
 /// millimetre triangles.
-pub fn auto_max_edge(grid: &Grid, sigma: f32) -> f32 {
+pub(crate) fn auto_max_edge(grid: &Grid, sigma: f32) -> f32 {
     (2.0 * sigma.max(grid.cell_size)).max(grid.extent() / AUTO_EDGES_ACROSS_REFINED)
 }
 
@@ -43,7 +43,7 @@ const AUTO_EDGES_ACROSS_REFINED: f32 = 12.0;
 /// (the built-in `block`, 8.8 cm diagonals, and `block-fine` take the soak's 1.7 cm dents, whose
 /// maps are 21 cm wide, unrefined). A coarser target, where the dent would land inside a face or
 /// two (a low-poly crate), is refined to [`auto_max_edge`] everywhere under the footprint.
-pub fn auto_coarse_edge(grid: &Grid, sigma: f32) -> f32 {
+pub(crate) fn auto_coarse_edge(grid: &Grid, sigma: f32) -> f32 {
     (AUTO_COARSENESS * auto_max_edge(grid, sigma)).max(grid.extent() / AUTO_EDGES_ACROSS)
 }
 
@@ -55,7 +55,7 @@ pub(crate) const MIN_EDGE_OF_SIZE: f32 = 1.0 / 16384.0;
 
 /// How many times longer than [`auto_max_edge`] an edge under a dent must be for
 /// [`Refine::Auto`] to refine the target (see [`auto_coarse_edge`]).
-pub const AUTO_COARSENESS: f32 = 4.0;
+pub(crate) const AUTO_COARSENESS: f32 = 4.0;
 
 /// Edges across a dent map's width that [`Refine::Auto`] takes as fine enough.
 const AUTO_EDGES_ACROSS: f32 = 2.0;
@@ -63,7 +63,7 @@ const AUTO_EDGES_ACROSS: f32 = 2.0;
 /// The box of space whose vertices a dent map on `grid` moves with the falloff of `params`:
 /// the grid one cell wider, from one grid width in front of the collision plane to the depth
 /// where a(z) falls below 1 % (where a(z) stays above it within 8d, `target_size` deep).
-pub fn footprint_box(grid: &Grid, params: &DentParams, target_size: f32) -> OrientedBox {
+pub(crate) fn footprint_box(grid: &Grid, params: &DentParams, target_size: f32) -> OrientedBox {
     let d = params.dent_distance;
     const SAMPLES: u32 = 64;
     let step = 8.0 * d / SAMPLES as f32;
@@ -133,6 +133,7 @@ impl RefinedTarget {
     }
 
     /// Takes the refined parts (positions, faces), leaving the target as it was.
+    #[cfg(feature = "gpu")]
     pub(crate) fn take_parts(&mut self) -> Option<(Vec<Vec3>, Vec<[u32; 3]>)> {
         self.parts.take()
     }

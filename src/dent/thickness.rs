@@ -22,10 +22,10 @@ pub(crate) struct MapView<'a> {
 }
 
 /// Least fraction of a wall's thickness along the dent axis that a dent leaves.
-pub const MIN_WALL_KEPT: f32 = 0.5;
+pub(crate) const MIN_WALL_KEPT: f32 = 0.5;
 /// A falloff that would leave less than this fraction of a wall folds it (or squashes it flat):
 /// that, and only that, is warned about.
-pub const FOLD_KEPT: f32 = 0.1;
+pub(crate) const FOLD_KEPT: f32 = 0.1;
 /// Map cells pushing less than this fraction of the deepest push are not measured.
 const MEASURED_PUSH: f32 = 0.25;
 /// Rays per side of the map: the footprint is sampled on at most this many squared cells.

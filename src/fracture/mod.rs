@@ -21,8 +21,9 @@ mod weld;
 
 pub use error::FractureError;
 pub use outcome::{FractureOutcome, FractureRecord, Piece, break_body, replay, volume_after};
-pub use pattern::{BOUND_SIDES, Cell, CellSide, FracturePattern, MAX_CELLS, PatternParams};
+pub use pattern::MAX_CELLS;
+pub use pattern::{Cell, CellSide, FracturePattern, PatternParams};
 pub use placement::Placement;
 pub use settings::{FractureCause, FractureSettings};
-pub use tally::DentTally;
+pub(crate) use tally::DentTally;
 pub(crate) use weld::check_mesh_closed;

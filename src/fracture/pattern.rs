@@ -16,7 +16,7 @@ use crate::mesh::MAX_COORDINATE;
 /// Most cells a pattern may have.
 pub const MAX_CELLS: u32 = 256;
 /// Sides of the polygon that bounds the pattern (its inradius is the pattern's radius).
-pub const BOUND_SIDES: usize = 16;
+pub(crate) const BOUND_SIDES: usize = 16;
 
 /// What a pattern is made from: with the same parameters it is the same, bit for bit.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

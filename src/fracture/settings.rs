@@ -13,7 +13,7 @@ pub struct FractureSettings {
     /// The pattern, built once (shared, so copies of a body do not copy it).
     pub pattern: Arc<FracturePattern>,
     /// Breaks when one impact removes more than this kinetic energy along the normal, J
-    /// ([`normal_energy_lost`]); `None`: impacts alone never break it.
+    /// (`normal_energy_lost`); `None`: impacts alone never break it.
     pub toughness: Option<f32>,
     /// Breaks when its accumulated dent distance passes this, m; `None`: dents never break it.
     pub dent_limit: Option<f32>,

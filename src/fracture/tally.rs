@@ -14,7 +14,7 @@ struct Contact<K> {
 
 /// Accumulated dents, keyed by the caller's body ids.
 #[derive(Debug, Clone)]
-pub struct DentTally<K> {
+pub(crate) struct DentTally<K> {
     settled: Vec<(K, f32)>,
     contacts: Vec<Contact<K>>,
 }
@@ -26,11 +26,6 @@ impl<K> Default for DentTally<K> {
 }
 
 impl<K: Copy + PartialEq> DentTally<K> {
-    /// Nothing dented.
-    pub fn new() -> Self {
-        Self::default()
-    }
-
     /// Counts a dent of `target` by `projectile`, `distance` m deep, made at `step`.
     /// `progressive`: the target's dents deepen while a contact lasts (a record is the
     /// contact's accumulated distance, which replaces the contact's last one when the contact
@@ -85,7 +80,7 @@ mod tests {
     /// new contact after a gap adds its own; plain dents add up.
     #[test]
     fn progressive_records_count_once_at_their_deepest() {
-        let mut tally = DentTally::new();
+        let mut tally = DentTally::default();
         for (step, d) in [(1, 0.1), (2, 0.2), (3, 0.3)] {
             tally.add(0u32, 1, d, step, true);
         }

@@ -53,7 +53,7 @@ pub fn uniform<T: Pod>(context: &GpuContext, label: &str, value: &T) -> wgpu::Bu
 ///
 /// # Errors
 /// [`GpuError::OverLimit`].
-pub fn check_binding_size(context: &GpuContext, what: &str, bytes: u64) -> Result<(), GpuError> {
+pub(crate) fn check_binding_size(context: &GpuContext, what: &str, bytes: u64) -> Result<(), GpuError> {
     let limit = context.limits.max_storage_buffer_binding_size;
     if bytes > limit {
         return Err(GpuError::OverLimit { what: what.into(), needed: bytes, limit });
@@ -123,25 +123,14 @@ pub fn read_back_range<T: Pod>(
 
 /// Copies the first `count` elements of every `(buffer, count)` back to the CPU with one
 /// submission and one wait (where [`read_back`] per buffer would wait once each): the sources
-/// are packed into as few staging buffers as the device's buffer size limit allows.
+/// are packed into as few staging buffers as the device's buffer size limit allows. `work`
+/// (commands that write the sources), when given, goes in the same submission before the
+/// copies: no other submission can come between the work and its read-back.
 ///
 /// # Errors
 /// As [`read_back`]; [`GpuError::OverLimit`] for a source range larger than the device's
 /// largest buffer.
-pub fn read_back_all<T: Pod>(
-    context: &GpuContext,
-    sources: &[(&wgpu::Buffer, usize)],
-) -> Result<Vec<Vec<T>>, GpuError> {
-    read_back_all_after(context, None, sources)
-}
-
-/// [`read_back_all`] with `work` (commands that write the sources) submitted in the same
-/// submission, before the copies: no other submission can come between the work and its
-/// read-back.
-///
-/// # Errors
-/// As [`read_back_all`].
-pub fn read_back_all_after<T: Pod>(
+pub(crate) fn read_back_all_after<T: Pod>(
     context: &GpuContext,
     work: Option<wgpu::CommandBuffer>,
     sources: &[(&wgpu::Buffer, usize)],

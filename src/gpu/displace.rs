@@ -14,7 +14,7 @@ use super::{Binding, GpuContext, GpuError, Kernel, buffers};
 use crate::cpu::{DisplaceParams, falloff};
 
 /// Invocations per workgroup along x. Keep in sync with `WORKGROUP` in `shaders/displace.wgsl`.
-pub const WORKGROUP: u32 = 64;
+pub(crate) const WORKGROUP: u32 = 64;
 /// Targets one dispatch serves (a 16 KiB uniform of 16-byte runs). Keep in sync with `MAX_RUNS`
 /// in `shaders/displace.wgsl`.
 pub const MAX_RUNS: usize = 1024;
@@ -127,7 +127,7 @@ impl Displace {
     /// ([`runs`]); the small parameter buffers are created here.
     ///
     /// # Errors
-    /// As [`runs`]; [`GpuError::OverLimit`] if a target has more than 65,535 × [`WORKGROUP`]
+    /// As [`runs`]; [`GpuError::OverLimit`] if a target has more than 65,535 × `WORKGROUP`
     /// vertices.
     pub fn encode(
         &self,
@@ -175,7 +175,7 @@ impl Displace {
     /// tell apart.
     ///
     /// # Errors
-    /// [`GpuError::OverLimit`] if `positions` holds more than 65,535 × [`WORKGROUP`] vertices.
+    /// [`GpuError::OverLimit`] if `positions` holds more than 65,535 × `WORKGROUP` vertices.
     pub fn encode_clear_moved(
         &self,
         context: &GpuContext,

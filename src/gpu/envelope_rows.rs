@@ -10,11 +10,11 @@ use crate::cpu::EnvelopeParams;
 
 /// Invocations per workgroup along x (grid lines) of both envelope kernels; matches
 /// `@workgroup_size(64, 1, 1)` in `shaders/envelope_rows.wgsl` and `shaders/envelope_cols.wgsl`.
-pub const WORKGROUP: u32 = 64;
+pub(crate) const WORKGROUP: u32 = 64;
 
 /// Bytes of one hull entry of the envelope kernels' scratch buffer (the WGSL `Piece`: source
 /// index, offset and breakpoint term, three f32).
-pub const PIECE_BYTES: u64 = 12;
+pub(crate) const PIECE_BYTES: u64 = 12;
 
 /// Size in bytes of the hull scratch buffer that either envelope kernel needs for a batch of
 /// `cells` cells in all (one entry per cell: a line of `res` cells keeps at most `res` parabolas).

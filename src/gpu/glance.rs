@@ -5,7 +5,7 @@ use super::{Binding, GpuContext, GpuError, Kernel, buffers, shaders};
 use crate::cpu::GlanceParams;
 
 /// Invocations per workgroup along x (dent-map cells); `WORKGROUP` in `shaders/glance.wgsl`.
-pub const WORKGROUP: u32 = 256;
+pub(crate) const WORKGROUP: u32 = 256;
 
 /// Caller-owned buffers of one batch, in `@binding` order.
 #[derive(Debug, Clone, Copy)]

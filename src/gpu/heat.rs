@@ -1,6 +1,6 @@
 //! GPU twin of [`cpu::heat`] and [`cpu::heat_step`]: `shaders/heat.wgsl` smooths the envelopes
 //! of a whole batch of dents, [`FUSED_STEPS`] steps a dispatch over all dents: each workgroup
-//! steps one tile (at most [`MAX_TILE`]² cells) and its halo in workgroup memory, so the grids
+//! steps one tile (at most `MAX_TILE`² cells) and its halo in workgroup memory, so the grids
 //! cross device memory once per four steps instead of once per step.
 //!
 //! The whole smoothing of one batch is recorded into one command encoder: what each dispatch does
@@ -19,14 +19,14 @@ use super::{Binding, GpuContext, GpuError, Kernel, buffers, shaders};
 use crate::cpu::HeatParams;
 
 /// Invocations per workgroup along x (cells); `WORKGROUP` in `shaders/heat.wgsl`.
-pub const WORKGROUP: u32 = 256;
+pub(crate) const WORKGROUP: u32 = 256;
 /// Invocations per workgroup of the `step` entry point (one grid row segment each); keep in
 /// sync with `STEP_WORKGROUP` in `shaders/heat.wgsl`.
-pub const STEP_WORKGROUP: u32 = 64;
+pub(crate) const STEP_WORKGROUP: u32 = 64;
 /// Heat steps one `fused_steps` dispatch takes; `FUSED_STEPS` in `shaders/heat.wgsl`.
 pub const FUSED_STEPS: u32 = 4;
 /// Largest output tile side of `fused_steps`, cells; `MAX_TILE` in `shaders/heat.wgsl`.
-pub const MAX_TILE: u32 = 32;
+pub(crate) const MAX_TILE: u32 = 32;
 
 /// `HeatPass.phase` codes of `shaders/heat.wgsl`: fused plain steps of the k₁ phase.
 const PHASE_PLAIN: u32 = 0;

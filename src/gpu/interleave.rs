@@ -6,7 +6,7 @@ use super::{Binding, GpuContext, GpuError, Kernel, buffers};
 use crate::cpu::{InterleaveParams, NO_NORMAL};
 
 /// Invocations per workgroup along x. Keep in sync with `WORKGROUP` in `shaders/interleave.wgsl`.
-pub const WORKGROUP: u32 = 64;
+pub(crate) const WORKGROUP: u32 = 64;
 
 /// Bytes of one field written per vertex: three f32.
 const FIELD_BYTES: u64 = 12;

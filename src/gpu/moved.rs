@@ -14,7 +14,7 @@ use super::{Binding, GpuContext, GpuError, Kernel, buffers};
 use crate::cpu::MovedParams;
 
 /// Invocations per workgroup along x. Keep in sync with `WORKGROUP` in `shaders/moved.wgsl`.
-pub const WORKGROUP: u32 = 64;
+pub(crate) const WORKGROUP: u32 = 64;
 
 /// The vertices of one target that moved in the last batch, in ascending index order.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -58,7 +58,7 @@ impl Moved {
     /// (16 bytes each): two small waits, no read-back of unmoved vertices.
     ///
     /// # Errors
-    /// [`GpuError::OverLimit`] when the target has more than 65,535 × [`WORKGROUP`] vertices or
+    /// [`GpuError::OverLimit`] when the target has more than 65,535 × `WORKGROUP` vertices or
     /// its list exceeds the binding limit; device errors.
     pub fn run(
         &self,

@@ -12,7 +12,7 @@ use glam::{Vec3, Vec4};
 use super::{Binding, GpuContext, GpuError, Kernel, buffers};
 
 /// Invocations per workgroup along x. Keep in sync with `WORKGROUP` in `shaders/normals.wgsl`.
-pub const WORKGROUP: u32 = 64;
+pub(crate) const WORKGROUP: u32 = 64;
 
 /// Targets per dispatch: the parameter blocks travel in one 16 KiB uniform buffer (the downlevel
 /// uniform binding limit), since the four storage bindings are taken. Keep in sync with
@@ -107,7 +107,7 @@ impl Normals {
     /// dispatch per [`MAX_TARGETS_PER_DISPATCH`] targets; their uniform buffers are created here.
     ///
     /// # Errors
-    /// [`GpuError::OverLimit`] if a target has more than 65,535 × [`WORKGROUP`] vertices.
+    /// [`GpuError::OverLimit`] if a target has more than 65,535 × `WORKGROUP` vertices.
     #[allow(clippy::too_many_arguments, reason = "the four bound buffers plus the batch description")]
     pub fn encode(
         &self,

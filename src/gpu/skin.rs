@@ -36,7 +36,7 @@ pub use crate::cpu::Skinned;
 use crate::cpu::{SkinBone, SkinError, SkinInfluence, SkinParams, check_length, validate_bones, validate_vertices};
 
 /// Invocations per workgroup along x. Keep in sync with `WORKGROUP` in `shaders/skin.wgsl`.
-pub const WORKGROUP: u32 = 64;
+pub(crate) const WORKGROUP: u32 = 64;
 
 /// Most bones one mesh may have on the GPU: the bone matrices travel in one uniform buffer of
 /// `MAX_BONES` × 48 bytes (12 KiB, inside the 16 KiB downlevel uniform binding limit). Keep in
@@ -115,8 +115,8 @@ impl Skin {
     ///
     /// # Errors
     /// [`SkinError::Length`] if the slices differ in length; [`SkinError::NonFiniteRest`]; as
-    /// [`validate_influences`](crate::cpu::validate_influences); [`GpuError::OverLimit`] for more
-    /// than [`MAX_BONES`] bones, more than 65,535 × [`WORKGROUP`] vertices or a buffer over the
+    /// `validate_influences`; [`GpuError::OverLimit`] for more
+    /// than [`MAX_BONES`] bones, more than 65,535 × `WORKGROUP` vertices or a buffer over the
     /// binding limit; any device error.
     pub fn upload(
         &self,

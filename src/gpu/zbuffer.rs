@@ -1,6 +1,6 @@
 //! GPU twin of [`cpu::zbuffer`](crate::cpu::zbuffer): `shaders/zbuffer.wgsl`, the Z-buffer profile
 //! of every dent of a batch in four dispatches: `centres` (one invocation per triangle and
-//! [`TILE`]-sided tile of the grid), `edges` (one per triangle), `resolve` (one per cell) and
+//! `TILE`-sided tile of the grid), `edges` (one per triangle), `resolve` (one per cell) and
 //! `tip_mark` (one per triangle).
 //!
 //! All samples of a dent go into one atomic word per cell (the shader's header explains how a
@@ -15,27 +15,27 @@ use crate::cpu::ZbufferParams;
 
 /// Invocations per workgroup along x of the per-triangle entry points (`centres`, `edges`,
 /// `tip_mark`); matches `FACE_WORKGROUP` in `shaders/zbuffer.wgsl`.
-pub const FACE_WORKGROUP: u32 = 64;
+pub(crate) const FACE_WORKGROUP: u32 = 64;
 
 /// Invocations per workgroup along x of the per-cell entry point (`resolve`); matches
 /// `CELL_WORKGROUP` in `shaders/zbuffer.wgsl`.
-pub const CELL_WORKGROUP: u32 = 256;
+pub(crate) const CELL_WORKGROUP: u32 = 256;
 
 /// Side of the square tiles, cells, over which `centres` splits each triangle's cells (dispatch z
 /// = `ceil(max_res / TILE)²`), bounding one invocation's loop to `TILE²` cells: Mesa's lavapipe
 /// ends an invocation's loops after 65,535 iterations in all. Matches `TILE` in
 /// `shaders/zbuffer.wgsl`.
-pub const TILE: u32 = 240;
+pub(crate) const TILE: u32 = 240;
 
 /// Vertex index the host writes for a corner that is out of range within its dent: past the end
 /// of any positions buffer, so the shader culls the triangle as the CPU twin does.
-pub const NO_VERTEX: u32 = u32::MAX;
+pub(crate) const NO_VERTEX: u32 = u32::MAX;
 
 /// Number of 32-bit words the work buffer needs for a batch of `batch` dents with `cells` profile
 /// cells in all: the profiles (each dent at its `cell_offset`), then one tip-height word per dent,
 /// which the shader finds as the buffer's last `batch` words. A larger buffer works too (the
 /// words between the profiles and the tip words are cleared and unused).
-pub fn work_words(cells: u64, batch: u32) -> u64 {
+pub(crate) fn work_words(cells: u64, batch: u32) -> u64 {
     cells + u64::from(batch)
 }
 
@@ -50,9 +50,9 @@ pub struct ZbufferBuffers<'a> {
     /// without padding (a `&[Vec3]` as bytes).
     pub positions: &'a wgpu::Buffer,
     /// Triangles, three u32 vertex indices each, already offset into `positions`; an index past
-    /// its end (such as [`NO_VERTEX`]) culls its triangle.
+    /// its end (such as `NO_VERTEX`) culls its triangle.
     pub faces: &'a wgpu::Buffer,
-    /// At least [`work_words`]`(total cells, batch)` u32 words, with `COPY_DST` usage: cleared by
+    /// At least `work_words``(total cells, batch)` u32 words, with `COPY_DST` usage: cleared by
     /// [`Zbuffer::encode`], then holding each dent's profile (f32, world units, `res × res`
     /// row-major at its `cell_offset`) and, in its last `batch` words, each dent's tip height.
     pub work: &'a wgpu::Buffer,

@@ -50,16 +50,6 @@ pub(crate) fn read_height_png_within(path: &Path, max_side: u32) -> Result<Heigh
     heights_of(reader, path, Some(max_side))
 }
 
-/// [`read_height_png`] for the bytes of a PNG held in memory; errors name the path `<memory>`.
-///
-/// # Errors
-/// [`IoError::Image`] when the bytes are not a PNG or cannot be decoded.
-pub fn decode_height_png(bytes: &[u8]) -> Result<HeightImage, IoError> {
-    let path = Path::new(MEMORY);
-    let reader = ImageReader::with_format(Cursor::new(bytes), ImageFormat::Png);
-    heights_of(reader, path, None)
-}
-
 /// [`decode_height_png`] with the side limit of [`read_height_png_within`].
 ///
 /// # Errors

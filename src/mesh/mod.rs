@@ -68,12 +68,14 @@ pub use mass::{MassProperties, mass_properties};
 pub use obj::{load_obj, parse_obj, save_obj};
 pub use obj_asset::{load_obj_asset, parse_obj_asset};
 pub use obj_asset_write::{obj_asset_text, save_obj_asset};
+
 pub use ply::{load_ply, parse_ply};
 pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere};
 pub use refine::{Ball, OrientedBox, RefineError, RefineRegion, Refinement, SplitVertex, refine};
 pub(crate) use refine::{any_too_long, refine_parts};
 pub use save::{save, write_file_atomically};
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
+
 pub(crate) use trimesh::in_coordinate_range;
 pub use trimesh::{EdgeLengths, MAX_COORDINATE, TriMesh, validate};
 pub use turned_over::{SHAPE_TOLERANCE, turned_over_faces};

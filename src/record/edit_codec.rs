@@ -9,7 +9,7 @@ use super::bytes::{ByteReader, ByteWriter};
 use crate::mesh::MeshEdit;
 
 /// Most vertices or faces an edit may name: 2²⁸ (a mesh far beyond what dentbend handles).
-pub const MAX_EDIT_ITEMS: u64 = 1 << 28;
+pub(crate) const MAX_EDIT_ITEMS: u64 = 1 << 28;
 
 /// Appends `edit` to `out`.
 pub fn write_edit(out: &mut ByteWriter, edit: &MeshEdit) {

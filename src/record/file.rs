@@ -5,10 +5,6 @@ use glam::Affine3A;
 use super::records::{DamageRecord, DentBatch};
 use crate::mesh::{TriMesh, content_hash};
 
-/// The `format` field of every damage file.
-pub const FORMAT: &str = "dentbend-damage";
-/// The format version this build reads and writes.
-pub const VERSION: u32 = 1;
 /// Largest damage file read, bytes (256 MiB), checked before reading it.
 pub const MAX_FILE_BYTES: u64 = 256 << 20;
 /// Most bodies a damage file may list.

@@ -5,9 +5,14 @@
 use serde::{Deserialize, Serialize};
 
 use super::bytes::{ByteReader, ByteWriter, base64_decode, base64_encode};
-use super::file::{FORMAT, MAX_BODIES, MAX_FILE_BYTES, VERSION};
+use super::file::{MAX_BODIES, MAX_FILE_BYTES};
 use super::records::{decode_records, encode_records};
 use super::{BodyDamage, DamageFile, MeshStamp, RecordError, SceneRef, hex64};
+
+/// The `format` field of every damage file.
+const FORMAT: &str = "dentbend-damage";
+/// The format version this build reads and writes.
+const VERSION: u32 = 1;
 
 #[derive(Serialize, Deserialize)]
 struct Header {

@@ -26,12 +26,11 @@ mod replay;
 pub mod replication;
 
 pub use bytes::{base64_decode, base64_encode};
-pub use edit_codec::MAX_EDIT_ITEMS;
 pub use error::{RecordError, hex64};
-pub use file::{BodyDamage, DamageFile, FORMAT, MAX_BODIES, MAX_FILE_BYTES, MeshStamp, SceneRef, VERSION};
+pub use file::{BodyDamage, DamageFile, MAX_BODIES, MAX_FILE_BYTES, MeshStamp, SceneRef};
 pub use recorder::{DamageRecorder, RecordForms};
 pub use records::{
-    BoneSplit, DamageRecord, DentBatch, FracturePiece, FractureRecord, ImpactDent, JointBend, JointRest,
-    MAX_NAME_BYTES, MAX_RECORDS, ProjectileRef, decode_records, encode_records,
+    BoneSplit, DamageRecord, DentBatch, FracturePiece, FractureRecord, ImpactDent, JointBend, JointRest, ProjectileRef,
+    decode_records, encode_records,
 };
 pub use replay::{DentForm, Projectiles, Replayed, replay_body, replay_body_with_pieces};

@@ -11,7 +11,7 @@ use crate::dent::{DentParams, Impact};
 use crate::mesh::MeshEdit;
 
 /// Most records of one body, and most dents of one batch.
-pub const MAX_RECORDS: u64 = 1 << 24;
+pub(crate) const MAX_RECORDS: u64 = 1 << 24;
 
 /// A projectile as an impact record names it: by its mesh's
 /// [`content_hash`](crate::mesh::content_hash) (and built-in name, when it is one) and its pose.
@@ -92,7 +92,7 @@ pub struct BoneSplit {
 }
 
 /// Longest body name a record names, bytes.
-pub const MAX_NAME_BYTES: u64 = 4096;
+pub(crate) const MAX_NAME_BYTES: u64 = 4096;
 
 /// A piece of a [`FractureRecord`] that became a body of its own.
 #[derive(Debug, Clone, PartialEq)]

@@ -13,7 +13,7 @@ use crate::gpu::{GpuContext, GpuError};
 
 /// Largest tile side drawn in one pass, pixels: bounds the render targets' memory (4 samples ×
 /// (4 + 4) bytes × 2048² = 128 MiB) on top of the device's `max_texture_dimension_2d`.
-pub const MAX_TILE_SIDE: u32 = 2048;
+pub(crate) const MAX_TILE_SIDE: u32 = 2048;
 
 /// Draws shaded pictures of meshes on a GPU.
 ///
@@ -21,7 +21,7 @@ pub const MAX_TILE_SIDE: u32 = 2048;
 /// upper left of the picture and in front, a dim fill from the lower right, a hemispherical
 /// ambient around the picture's up direction and a modest Blinn–Phong highlight, two-sided;
 /// the background is a soft vertical gradient (lightest at the top). Pictures larger than a
-/// tile (the device's `max_texture_dimension_2d`, at most [`MAX_TILE_SIDE`]) are drawn tile by
+/// tile (the device's `max_texture_dimension_2d`, at most `MAX_TILE_SIDE`) are drawn tile by
 /// tile, so every size the CPU renderer accepts works here too.
 ///
 /// # Example

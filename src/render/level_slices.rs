@@ -14,7 +14,7 @@ use super::{RenderError, check};
 use crate::bend::{LevelSet, NO_BONE, Skeleton};
 
 /// Number of slices.
-pub const SLICES: usize = 4;
+pub(crate) const SLICES: usize = 4;
 /// Where the slices cut, as fractions of the mesh's extent along the slicing axis.
 const SLICE_FRACTIONS: [f32; SLICES] = [0.8, 0.6, 0.4, 0.2];
 /// Least gap between panels and around them, pixels.
@@ -27,7 +27,7 @@ const UNOWNED: [f32; 3] = [0.5, 0.5, 0.5];
 /// What is sliced and how it is seen: a level set, the bone of every cell, the skeleton, all in
 /// the body's model frame, and the direction the body is looked at from.
 #[derive(Debug, Clone, Copy)]
-pub struct SliceInput<'a> {
+pub(crate) struct SliceInput<'a> {
     /// The level set (model frame, m).
     pub level_set: &'a LevelSet,
     /// Owner bone of every cell ([`NO_BONE`] for none), indexed like the level set's cells.
@@ -60,7 +60,7 @@ struct Axes {
 ///
 /// # Errors
 /// [`RenderError::ImageSize`] for a zero or oversized side.
-pub fn draw_level_slices(input: &SliceInput<'_>, width: u32, height: u32) -> Result<RgbImage, RenderError> {
+pub(crate) fn draw_level_slices(input: &SliceInput<'_>, width: u32, height: u32) -> Result<RgbImage, RenderError> {
     check::image_size(width, height)?;
     let mut image = RgbImage::from_pixel(width, height, srgb(BACKGROUND));
     let set = input.level_set;

@@ -1,9 +1,9 @@
 //! Offscreen pictures of meshes, for the CLI, the README and quick looks: a CPU rasterizer
 //! ([`render`]), a wgpu renderer ([`GpuRenderer`], `shaders/render.wgsl`) that takes the same
-//! inputs, and [`Renderer`] / [`render_auto`] to pick one by [`KernelDevice`](crate::gpu::KernelDevice).
+//! inputs, and [`Renderer`] / `render_auto` to pick one by [`KernelDevice`](crate::gpu::KernelDevice).
 //! For bending bodies, [`rest_pictures`] draws the skeleton, the sub-bodies and the level set
-//! of the rest state (paper Figure 12), with 2D marks ([`draw_segment`], [`draw_disc`] at
-//! [`project_point`]) and colours ([`bone_colour`]).
+//! of the rest state (paper Figure 12), with 2D marks (`draw_segment`, `draw_disc` at
+//! `project_point`) and colours ([`bone_colour`]).
 
 mod check;
 mod error;
@@ -21,11 +21,11 @@ mod rest_pictures;
 
 pub use crate::scene::Camera;
 pub use error::RenderError;
-pub use gpu::{GpuRenderer, MAX_TILE_SIDE};
+pub use gpu::GpuRenderer;
 pub use gpu_pipeline::RENDER_WGSL;
-pub use level_slices::{SLICES, SliceInput, draw_level_slices};
-pub use overlay::{draw_disc, draw_segment, project_point};
-pub use palette::{bone_colour, darken, lighten};
-pub use raster::{MAX_IMAGE_SIDE, Shaded, render};
-pub use renderer::{Renderer, render_auto};
+pub use palette::bone_colour;
+
+pub use raster::MAX_IMAGE_SIDE;
+pub use raster::{Shaded, render};
+pub use renderer::Renderer;
 pub use rest_pictures::{RestPictures, rest_pictures};

@@ -8,7 +8,7 @@ use super::Camera;
 
 /// Where the world point `p` lands in a `width × height` picture taken by `camera`: pixel
 /// coordinates (x right, y down, pixel centres at half-integers), or `None` behind the eye.
-pub fn project_point(camera: &Camera, width: u32, height: u32, p: Vec3) -> Option<Vec2> {
+pub(crate) fn project_point(camera: &Camera, width: u32, height: u32, p: Vec3) -> Option<Vec2> {
     let clip = camera.view_projection(width as f32 / height as f32) * p.extend(1.0);
     if clip.w <= 0.0 || !clip.is_finite() {
         return None;
@@ -19,7 +19,7 @@ pub fn project_point(camera: &Camera, width: u32, height: u32, p: Vec3) -> Optio
 
 /// Draws the segment `a`–`b` (pixels) as a capsule `width` pixels wide in linear RGB `colour`,
 /// over what is there (anti-aliased edges, `opacity` in [0, 1]).
-pub fn draw_segment(image: &mut RgbImage, a: Vec2, b: Vec2, width: f32, colour: [f32; 3], opacity: f32) {
+pub(crate) fn draw_segment(image: &mut RgbImage, a: Vec2, b: Vec2, width: f32, colour: [f32; 3], opacity: f32) {
     let radius = 0.5 * width.max(0.0);
     let coverage = |p: Vec2| {
         let ab = b - a;
@@ -30,7 +30,7 @@ pub fn draw_segment(image: &mut RgbImage, a: Vec2, b: Vec2, width: f32, colour: 
 }
 
 /// Draws a disc of `radius` pixels about `centre` (pixels) in linear RGB `colour`.
-pub fn draw_disc(image: &mut RgbImage, centre: Vec2, radius: f32, colour: [f32; 3], opacity: f32) {
+pub(crate) fn draw_disc(image: &mut RgbImage, centre: Vec2, radius: f32, colour: [f32; 3], opacity: f32) {
     draw_segment(image, centre, centre, 2.0 * radius, colour, opacity);
 }
 

@@ -28,12 +28,12 @@ pub fn bone_colour(k: usize) -> [f32; 3] {
 }
 
 /// `colour` mixed towards white by `amount` in [0, 1] (0: unchanged, 1: white), linear RGB.
-pub fn lighten(colour: [f32; 3], amount: f32) -> [f32; 3] {
+pub(crate) fn lighten(colour: [f32; 3], amount: f32) -> [f32; 3] {
     colour.map(|c| c + (1.0 - c) * amount.clamp(0.0, 1.0))
 }
 
 /// `colour` scaled towards black by `amount` in [0, 1] (0: unchanged, 1: black), linear RGB.
-pub fn darken(colour: [f32; 3], amount: f32) -> [f32; 3] {
+pub(crate) fn darken(colour: [f32; 3], amount: f32) -> [f32; 3] {
     colour.map(|c| c * (1.0 - amount.clamp(0.0, 1.0)))
 }
 

@@ -86,21 +86,3 @@ impl Renderer<'static> {
         }
     }
 }
-
-/// Renders with the renderer `DENTBEND_BACKEND` selects (unset: `auto`, the GPU when an adapter
-/// exists), built on the first successful call and kept for the process.
-///
-/// # Errors
-/// [`RenderError::Gpu`] for a bad `DENTBEND_BACKEND` or, with `gpu`, no usable device; else as
-/// [`Renderer::render`].
-pub fn render_auto(meshes: &[Shaded<'_>], camera: &Camera, width: u32, height: u32) -> Result<RgbImage, RenderError> {
-    static RENDERER: OnceLock<Renderer<'static>> = OnceLock::new();
-    let renderer = match RENDERER.get() {
-        Some(renderer) => renderer,
-        None => {
-            let renderer = Renderer::from_backend(KernelDevice::from_env()?)?;
-            RENDERER.get_or_init(|| renderer)
-        }
-    };
-    renderer.render(meshes, camera, width, height)
-}

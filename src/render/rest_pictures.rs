@@ -25,7 +25,7 @@ pub struct RestPictures {
     /// Every bone's sub-body surface in the bone's colour.
     pub sub_bodies: RgbImage,
     /// Slices through the level set, cells in their owners' colours
-    /// ([`draw_level_slices`](super::draw_level_slices)).
+    /// (`draw_level_slices`).
     pub level_set: RgbImage,
 }
 

@@ -18,11 +18,11 @@ use crate::sim::{BodyDesc, BodyKind, ColliderKind, JointKind, SimError, SurfaceM
 /// Bones of the arm, at the end of the body's chain, and the joints they hang from.
 pub const ARM_BONES: usize = 4;
 /// Length of the arm along its centreline, m (four bones of 0.4 m).
-pub const ARM_LENGTH: f32 = 1.6;
+pub(crate) const ARM_LENGTH: f32 = 1.6;
 
 /// The torso's joints: plastic, but so strong (an angular impulse of 200 N·m·s in one step,
 /// 12,000 N·m as a torque) that the ball's hit, which bends the arm's, leaves them whole.
-pub const ARM_TORSO_JOINT: JointKind =
+pub(crate) const ARM_TORSO_JOINT: JointKind =
     JointKind::Bend(JointRule::Plastic { strength: 200.0, damping_constant: 1.0, damping_proportional: 3.0 });
 
 /// The arm's four plastic joints, shoulder first: weaker towards the hand (angular impulses of
@@ -31,7 +31,7 @@ pub const ARM_TORSO_JOINT: JointKind =
 /// and 25/s further out, so that each joint settles at a comparable angle (26–29°). Found by a
 /// search for values around which ±7 % on any strength or ±10 % on the ball's speed, mass or
 /// hit point still bends every joint by 17–33°.
-pub const ARM_JOINTS: [JointKind; ARM_BONES] = [
+pub(crate) const ARM_JOINTS: [JointKind; ARM_BONES] = [
     JointKind::Bend(JointRule::Plastic { strength: 10.5, damping_constant: 1.0, damping_proportional: 8.0 }),
     JointKind::Bend(JointRule::Plastic { strength: 6.6, damping_constant: 1.0, damping_proportional: 25.0 }),
     JointKind::Bend(JointRule::Plastic { strength: 5.3, damping_constant: 1.0, damping_proportional: 25.0 }),

@@ -87,7 +87,7 @@ pub(super) fn plank(size: SceneSize) -> Result<Scene, SimError> {
 /// Elastic joint stiffness (N·m/rad) and damping (N·m·s/rad) of the `spring` scene's bar: with the two
 /// halves' reduced inertia of about 1.2 kg·m² it rings at about 1.5 Hz and loses 70 % of its
 /// amplitude per second.
-pub const SPRING_JOINT: JointKind = JointKind::Bend(JointRule::Elastic { stiffness: 100.0, damping: 3.0 });
+pub(crate) const SPRING_JOINT: JointKind = JointKind::Bend(JointRule::Elastic { stiffness: 100.0, damping: 3.0 });
 
 /// An elastic bar: a 2 × 0.2 × 0.2 m bar (700 kg/m³, two bones joined by an elastic joint) floats
 /// without gravity; a 10 kg ball hits one end sideways at 4 m/s, the bar bends at its middle and

@@ -91,7 +91,7 @@ pub fn load_sized(spec: &str, size: SceneSize) -> Result<Scene, SceneError> {
 /// [`load_sized`] with `options` (size, where a scene file's mesh paths may lead, limits).
 ///
 /// # Errors
-/// As [`load_sized`], with [`load_scene_with`]'s for files.
+/// As [`load_sized`], with `load_scene_with`'s for files.
 pub fn load_with(spec: &str, options: &LoadOptions) -> Result<Scene, SceneError> {
     if BUILTIN_SCENES.contains(&spec) {
         return builtin_scene(spec, options.size);

@@ -19,7 +19,7 @@ pub const BUNNY_SCALE: f32 = 0.15;
 /// The plastic joints of the `bunny-bones` scene: rigid up to an angular impulse of 0.5 N·m·s
 /// in a step (30 N·m as a torque at 60 steps/s), which the balls' hits exceed; a bend goes on
 /// briefly after a hit, its rate losing (1 rad/s² + 4/s × rate) as it slows.
-pub const BUNNY_JOINT: JointKind =
+pub(crate) const BUNNY_JOINT: JointKind =
     JointKind::Bend(JointRule::Plastic { strength: 0.5, damping_constant: 1.0, damping_proportional: 4.0 });
 
 /// Falloff exponent of the bunny's skinning weights (w ∝ d⁻⁸): sharper than the default 4, so
@@ -29,9 +29,9 @@ pub const BUNNY_JOINT: JointKind =
 pub const BUNNY_FALLOFF: f32 = 8.0;
 
 /// Where the heavy ball lands on top of the bunny's head, in front of the ears, world, m.
-pub const BUNNY_HEAD_HIT: Vec3 = Vec3::new(-0.62, 1.16, 0.25);
+pub(crate) const BUNNY_HEAD_HIT: Vec3 = Vec3::new(-0.62, 1.16, 0.25);
 /// Where the light ball hits the front of the bunny's right ear, world, m.
-pub const BUNNY_EAR_HIT: Vec3 = Vec3::new(-0.584, 1.3, -0.325);
+pub(crate) const BUNNY_EAR_HIT: Vec3 = Vec3::new(-0.584, 1.3, -0.325);
 
 /// Figure 12: the bunny (1.45 m tall, 400 kg/m³, 262 kg) is a bending body of four bones joined
 /// by plastic joints ([`BUNNY_JOINT`]); its body bone is glued to a stand by a rigid joint and

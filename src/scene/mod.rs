@@ -186,16 +186,19 @@ mod tetrahedra;
 mod types;
 mod wall;
 
-pub use arm::{ARM_BONES, ARM_JOINTS, ARM_LENGTH, ARM_TORSO_JOINT};
-pub use bending_scenes::{PLANK_DENT, PLANK_HIT, PLANK_SIZE, SPRING_JOINT};
+pub use arm::ARM_BONES;
+pub use bending_scenes::{PLANK_DENT, PLANK_HIT, PLANK_SIZE};
 pub use builtin::{BUILTIN_SCENES, builtin_scene, load, load_sized, load_with};
-pub use bunny_bones::{BUNNY_EAR_HIT, BUNNY_FALLOFF, BUNNY_HEAD_HIT, BUNNY_JOINT, BUNNY_SCALE};
+pub use bunny_bones::{BUNNY_FALLOFF, BUNNY_SCALE};
 pub use camera::Camera;
 pub use error::SceneError;
 pub use file_fracture::DEFAULT_FRACTURE_CELLS;
-pub use options::{DEFAULT_MAX_BODIES, DEFAULT_MAX_FILE_BYTES, LoadOptions, MeshPaths};
-pub use parse::{load_scene, load_scene_with, parse_scene, parse_scene_with, parse_scene_with_meshes};
-pub use parse_body::{DEFAULT_DENT_CAP, DEFAULT_DENT_GAIN, DEFAULT_DENT_THRESHOLD, MeshResolver};
+pub use options::{LoadOptions, MeshPaths};
+pub(crate) use parse::load_scene_with;
+pub use parse::{load_scene, parse_scene, parse_scene_with_meshes};
 pub use tetrahedra::tetrahedra_grid;
-pub use types::{DEFAULT_FRAMES, FRAMING_ASPECT, Scene, SceneSize, fit_camera, framing_camera};
+#[cfg(feature = "render")]
+pub(crate) use types::fit_camera;
+pub(crate) use types::{DEFAULT_FRAMES, framing_camera};
+pub use types::{Scene, SceneSize};
 pub use wall::{WALL_DENT_LIMIT, WALL_SIZE};

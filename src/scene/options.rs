@@ -15,11 +15,11 @@ pub enum MeshPaths {
 }
 
 /// Bodies a scene file may declare by default.
-pub const DEFAULT_MAX_BODIES: usize = 10_000;
+pub(crate) const DEFAULT_MAX_BODIES: usize = 10_000;
 /// Largest scene file read by default, bytes (16 MiB: about 100,000 bodies of TOML).
-pub const DEFAULT_MAX_FILE_BYTES: u64 = 16 << 20;
+pub(crate) const DEFAULT_MAX_FILE_BYTES: u64 = 16 << 20;
 
-/// Options of [`load_with`](super::load_with) and [`parse_scene_with`](super::parse_scene_with).
+/// Options of [`load_with`](super::load_with) and `parse_scene_with`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LoadOptions {
     /// Size of a built-in scene (scene files have one size).

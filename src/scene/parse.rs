@@ -35,7 +35,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 /// # Errors
 /// [`SceneError::Read`] when the file cannot be read, is not a file or is larger than
 /// `options.max_file_bytes`; otherwise as [`parse_scene_with`].
-pub fn load_scene_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+pub(crate) fn load_scene_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     let read_error = |source| SceneError::Read { path: path.into(), source };
     let metadata = std::fs::metadata(path).map_err(read_error)?;
     if metadata.is_dir() {
@@ -98,7 +98,7 @@ pub fn parse_scene(text: &str, origin: &Path) -> Result<Scene, SceneError> {
 /// # Errors
 /// As [`parse_scene`]; also for a mesh path that leaves the scene file's folder while confined,
 /// and for more bodies than the limit.
-pub fn parse_scene_with(text: &str, origin: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+pub(crate) fn parse_scene_with(text: &str, origin: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     build_scene(text, origin, options, None)
 }
 

@@ -19,15 +19,15 @@ use crate::mesh::{self, MAX_COORDINATE, TriMesh};
 use crate::sim::{BodyDesc, DentSettings, MAX_ANGULAR_SPEED, SimError, SurfaceMaterial};
 
 /// Dent threshold when `[body.dent]` gives none, m/s.
-pub const DEFAULT_DENT_THRESHOLD: f32 = 1.0;
+pub(crate) const DEFAULT_DENT_THRESHOLD: f32 = 1.0;
 /// Dent gain when `[body.dent]` gives none, m per m/s above the threshold.
-pub const DEFAULT_DENT_GAIN: f32 = 0.04;
+pub(crate) const DEFAULT_DENT_GAIN: f32 = 0.04;
 /// Dent cap when `[body.dent]` gives none, m.
-pub const DEFAULT_DENT_CAP: f32 = 0.3;
+pub(crate) const DEFAULT_DENT_CAP: f32 = 0.3;
 
 /// A mesh supplier for [`parse_scene_with_meshes`](super::parse_scene_with_meshes): given a body's `mesh` string as written, its
 /// mesh, or a message saying why there is none.
-pub type MeshResolver<'r> = dyn FnMut(&str) -> Result<TriMesh, String> + 'r;
+pub(crate) type MeshResolver<'r> = dyn FnMut(&str) -> Result<TriMesh, String> + 'r;
 
 /// Meshes by spec, loaded once each.
 pub(super) struct MeshCache<'r> {

@@ -7,7 +7,7 @@ use crate::coupling::Bending;
 use crate::sim::{RigidBody, World};
 
 /// Frames run when a scene file gives no `frames`.
-pub const DEFAULT_FRAMES: u32 = 120;
+pub(crate) const DEFAULT_FRAMES: u32 = 120;
 
 /// A world with its bodies, a camera that shows it, and how long to run it.
 #[derive(Debug, Clone)]
@@ -41,18 +41,18 @@ pub enum SceneSize {
 
 /// Width over height of the pictures the default cameras are framed for (`dentbend run`'s
 /// default 960 × 640).
-pub const FRAMING_ASPECT: f32 = 1.5;
+pub(crate) const FRAMING_ASPECT: f32 = 1.5;
 
 /// A camera looking along `direction` (from the eye towards the scene; need not be unit) that
 /// fits every body of `world` at its current pose in a [`FRAMING_ASPECT`] picture, +y up.
-pub fn framing_camera(world: &World, direction: Vec3) -> Camera {
+pub(crate) fn framing_camera(world: &World, direction: Vec3) -> Camera {
     fit_camera(framing_bounds(world, |_| true), direction)
 }
 
 /// A camera with a 30° vertical field of view looking along `direction` at the centre of the box
 /// `(lo, hi)` (m), just far enough that all eight corners fall inside a [`FRAMING_ASPECT`]
 /// picture with a 5 % margin. Tighter than [`Camera::framing`], which fits the bounding sphere.
-pub fn fit_camera(bounds: (Vec3, Vec3), direction: Vec3) -> Camera {
+pub(crate) fn fit_camera(bounds: (Vec3, Vec3), direction: Vec3) -> Camera {
     let fov_y_deg: f32 = 30.0;
     let (lo, hi) = bounds;
     let centre = 0.5 * (lo + hi);

@@ -16,9 +16,9 @@ use crate::fracture::FractureSettings;
 use crate::mesh::{MAX_COORDINATE, TriMesh};
 
 /// Fastest spin a body may start with, rad/s (10⁴: about 1600 turns a second).
-pub const MAX_ANGULAR_SPEED: f32 = 1.0e4;
+pub(crate) const MAX_ANGULAR_SPEED: f32 = 1.0e4;
 /// Densest material a body may have, kg/m³ (10⁶: forty times osmium).
-pub const MAX_DENSITY: f32 = 1.0e6;
+pub(crate) const MAX_DENSITY: f32 = 1.0e6;
 
 /// How a body moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]

@@ -27,7 +27,7 @@ impl Aabb {
 /// Pairs `(i, j)`, `i < j`, of boxes that overlap, skipping pairs where `skip(i, j)` holds (two
 /// static bodies, two sleeping ones). Sweeps along the axis of largest spread of box centres;
 /// pairs come out sorted, so results do not depend on sorting ties.
-pub fn overlapping_pairs(boxes: &[Aabb], skip: impl Fn(usize, usize) -> bool + Sync) -> Vec<(usize, usize)> {
+pub(crate) fn overlapping_pairs(boxes: &[Aabb], skip: impl Fn(usize, usize) -> bool + Sync) -> Vec<(usize, usize)> {
     if boxes.len() < 2 {
         return Vec::new();
     }

@@ -9,7 +9,7 @@ use super::RigidBody;
 
 /// One contact point of a pair (a, b).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContactPoint {
+pub(crate) struct ContactPoint {
     /// Closest point on a, world, m.
     pub on_a: Vec3,
     /// Closest point on b, world, m.
@@ -34,7 +34,7 @@ impl ContactPoint {
 
 /// The contact points of one pair.
 #[derive(Debug, Clone, PartialEq)]
-pub struct PairContacts {
+pub(crate) struct PairContacts {
     /// Index of body a.
     pub a: usize,
     /// Index of body b (> a).
@@ -50,7 +50,7 @@ pub(crate) fn pose(body: &RigidBody) -> Pose {
 
 /// Contacts of every pair closer than `prediction(a, b)` metres, pairs with no point dropped.
 /// Pairs run in parallel; the result keeps the order of `pairs`.
-pub fn find_contacts(
+pub(crate) fn find_contacts(
     bodies: &[RigidBody],
     pairs: &[(usize, usize)],
     prediction: impl Fn(usize, usize) -> f32 + Sync,

@@ -51,7 +51,7 @@ pub struct StepContext<'a> {
     /// sub-bodies: the whole undented skinned mesh), by world index.
     pub surfaces: &'a [(usize, DentSurface<'a>)],
     /// Each body's rigid motion during the step (world at the contact → world now), by world
-    /// index; bodies past the end did not move. See [`DentTarget::motion`].
+    /// index; bodies past the end did not move. See `DentTarget::motion`.
     pub motions: &'a [Affine3A],
 }
 
@@ -76,8 +76,6 @@ pub struct DentTarget<'a> {
     pub name: &'a str,
     /// How it dents.
     pub settings: &'a DentSettings,
-    /// Coordinates of the mesh that is dented → world (rigid).
-    pub to_world: Affine3A,
     /// Radius of a ball about the mesh's origin holding the mesh, m (bounds how far from the
     /// impact the projectile can matter).
     pub radius: f32,
@@ -86,23 +84,6 @@ pub struct DentTarget<'a> {
     /// on after the contact (a plank pushed down by the ball) is dented where it was hit. The
     /// identity for a target that did not move.
     pub motion: Affine3A,
-}
-
-impl<'a> DentTarget<'a> {
-    /// World body `index` as a target: its own mesh in body coordinates; `None` unless dentable.
-    pub fn of_body(world: &'a World, index: usize) -> Option<Self> {
-        let body = &world.bodies()[index];
-        let settings = body.dent.as_ref()?;
-        let radius = body.shape().compute_local_bounding_sphere().radius;
-        Some(Self {
-            body: index,
-            name: &body.name,
-            settings,
-            to_world: body.transform(),
-            radius,
-            motion: Affine3A::IDENTITY,
-        })
-    }
 }
 
 /// A dent decided from a collision, world coordinates.

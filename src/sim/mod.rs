@@ -24,11 +24,14 @@ mod world;
 
 pub use crate::dent::DentSettings;
 pub use crate::mesh::{MassProperties, mass_properties};
-pub use body::{BodyDesc, BodyKind, MAX_ANGULAR_SPEED, MAX_DENSITY, RigidBody, SurfaceMaterial};
-pub use broad_phase::{Aabb, overlapping_pairs};
+#[cfg(feature = "scene")]
+pub(crate) use body::MAX_ANGULAR_SPEED;
+pub use body::{BodyDesc, BodyKind, RigidBody, SurfaceMaterial};
+pub use broad_phase::Aabb;
 pub use collider::ColliderKind;
-pub use contacts::{ContactPoint, PairContacts, find_contacts};
-pub use dent_impact::{DecidedDent, DentSurface, DentTarget, StepContext, body_state, decide_dent};
+pub(crate) use contacts::{ContactPoint, PairContacts};
+pub use dent_impact::{DecidedDent, DentSurface, StepContext, body_state};
+pub(crate) use dent_impact::{DentTarget, decide_dent};
 pub use denting::{DentRecord, Denter};
 pub use error::SimError;
 pub use events::{CollisionEvent, StepReport};

@@ -23,7 +23,6 @@ mod wire;
 pub use client::{ReplicaChange, ReplicationClient};
 pub use error::ReplicationError;
 pub use server::{ReplicationServer, SnapshotBytes};
-pub use wire::{MESSAGE_TAG, SNAPSHOT_TAG, SNAPSHOT_VERSION};
 
 use super::bytes::ByteWriter;
 use super::params_codec::write_params;

@@ -26,11 +26,11 @@ use crate::dent::{LocalContact, OctDirection, PoseRotation};
 use crate::mesh::{MeshEdit, TriMesh};
 
 /// First byte of a message.
-pub const MESSAGE_TAG: u8 = 0xD1;
+pub(crate) const MESSAGE_TAG: u8 = 0xD1;
 /// First byte of a snapshot.
-pub const SNAPSHOT_TAG: u8 = 0xD5;
+pub(crate) const SNAPSHOT_TAG: u8 = 0xD5;
 /// Snapshot format version.
-pub const SNAPSHOT_VERSION: u8 = 1;
+pub(crate) const SNAPSHOT_VERSION: u8 = 1;
 
 /// Most bodies or groups one message or snapshot may declare.
 pub const MAX_BODIES: u64 = 1 << 20;
