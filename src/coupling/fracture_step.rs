@@ -10,8 +10,7 @@
 use glam::{Affine3A, Vec3};
 use serde::Serialize;
 
-use crate::damage::velocity_after_giving_way;
-use crate::dent::Impact;
+use crate::damage::{BreakingHit, keep_strongest, velocity_after_giving_way};
 use crate::fracture::{
     DentTally, FractureCause, FractureOutcome, FractureRecord, FractureSettings, Placement, break_body,
 };
@@ -48,16 +47,6 @@ pub struct FractureEvent {
     /// The body's mesh when it broke (its own coordinates, its dents of the step included).
     #[serde(skip)]
     pub mesh_before: std::sync::Arc<TriMesh>,
-}
-
-/// A hit that breaks its body.
-struct Break {
-    target: usize,
-    projectile: usize,
-    impact: Impact,
-    cause: FractureCause,
-    energy: f32,
-    accumulated: f32,
 }
 
 /// Breaks the world's breakable bodies, counting their dents.
@@ -106,10 +95,10 @@ impl Fracturer {
     }
 
     /// Each breakable body's most energetic breaking hit of the step, in body order.
-    fn decide(&self, world: &World, events: &[CollisionEvent], motions: &[Affine3A]) -> Vec<Break> {
+    fn decide(&self, world: &World, events: &[CollisionEvent], motions: &[Affine3A]) -> Vec<BreakingHit<usize>> {
         let bodies = world.bodies();
-        let mut breaks: Vec<Break> = Vec::new();
-        for event in events {
+        let mut breaks = Vec::new();
+        for (k, event) in events.iter().enumerate() {
             for (target, projectile) in [(event.a, event.b), (event.b, event.a)] {
                 let body = &bodies[target];
                 let Some(settings) = &body.fracture else { continue };
@@ -118,15 +107,10 @@ impl Fracturer {
                 }
                 let motion = motions.get(target).copied().unwrap_or(Affine3A::IDENTITY);
                 let Some(impact) = event.impact_on(target, motion) else { continue };
-                let (a, b) = (body_state(body), body_state(&bodies[projectile]));
+                let states = (body_state(body), body_state(&bodies[projectile]));
                 let accumulated = self.tally.total(target);
-                let Some(cause) = settings.breaks(&impact, &a, &b, accumulated) else { continue };
-                let energy = crate::dent::normal_energy_lost(&impact, &a, &b);
-                let candidate = Break { target, projectile, impact, cause, energy, accumulated };
-                match breaks.iter_mut().find(|x| x.target == target) {
-                    Some(x) if x.energy < energy => *x = candidate,
-                    Some(_) => {}
-                    None => breaks.push(candidate),
+                if let Some(b) = BreakingHit::judge(k, (target, projectile), impact, states, settings, accumulated) {
+                    keep_strongest(&mut breaks, b);
                 }
             }
         }
@@ -138,7 +122,7 @@ impl Fracturer {
     fn break_one(
         &mut self,
         world: &mut World,
-        b: &Break,
+        b: &BreakingHit<usize>,
         step: u64,
         velocities_before: &[(Vec3, Vec3)],
     ) -> Result<Option<FractureEvent>, SimError> {
@@ -269,7 +253,12 @@ fn apply(
 
 /// The projectile of break `b` gets back its velocity from before the step, its kinetic energy
 /// less the toughness an energy break used up (a dent break: the dents took theirs).
-fn give_way(world: &mut World, b: &Break, settings: &FractureSettings, velocities_before: &[(Vec3, Vec3)]) {
+fn give_way(
+    world: &mut World,
+    b: &BreakingHit<usize>,
+    settings: &FractureSettings,
+    velocities_before: &[(Vec3, Vec3)],
+) {
     let Some(&(linear_velocity, angular_velocity)) = velocities_before.get(b.projectile) else { return };
     let projectile: &mut RigidBody = &mut world.bodies_mut()[b.projectile];
     if projectile.kind != BodyKind::Dynamic || projectile.is_condensed() {

@@ -113,29 +113,40 @@ pub(crate) fn breaking_hits<K: Copy + PartialEq>(
     let mut breaks: Vec<BreakingHit<K>> = Vec::new();
     for (k, hit) in hits.iter().enumerate() {
         let Some(settings) = targets.target(hit.target).and_then(|t| t.fracture) else { continue };
+        let states = (hit.target_state, hit.projectile_state);
         let accumulated = tally.total(hit.target);
-        let Some(cause) = settings.breaks(&hit.impact, &hit.target_state, &hit.projectile_state, accumulated) else {
-            continue;
-        };
-        let energy = normal_energy_lost(&hit.impact, &hit.target_state, &hit.projectile_state);
-        let candidate = BreakingHit {
-            hit: k,
-            target: hit.target,
-            projectile: hit.projectile,
-            impact: hit.impact,
-            target_state: hit.target_state,
-            projectile_state: hit.projectile_state,
-            cause,
-            energy,
-            accumulated,
-        };
-        match breaks.iter_mut().find(|b| b.target == hit.target) {
-            Some(b) if b.energy < energy => *b = candidate,
-            Some(_) => {}
-            None => breaks.push(candidate),
+        if let Some(b) = BreakingHit::judge(k, (hit.target, hit.projectile), hit.impact, states, settings, accumulated)
+        {
+            keep_strongest(&mut breaks, b);
         }
     }
     breaks
+}
+
+impl<K: Copy + PartialEq> BreakingHit<K> {
+    /// Hit number `hit` of `projectile` on `target` (its impact and the two bodies' states),
+    /// as a break of `target` by `settings` with `accumulated` m of dent so far, if it breaks it.
+    pub(crate) fn judge(
+        hit: usize,
+        (target, projectile): (K, K),
+        impact: Impact,
+        (target_state, projectile_state): (BodyState, BodyState),
+        settings: &FractureSettings,
+        accumulated: f32,
+    ) -> Option<Self> {
+        let cause = settings.breaks(&impact, &target_state, &projectile_state, accumulated)?;
+        let energy = normal_energy_lost(&impact, &target_state, &projectile_state);
+        Some(Self { hit, target, projectile, impact, target_state, projectile_state, cause, energy, accumulated })
+    }
+}
+
+/// Adds `candidate` to `breaks`, keeping one break per body: its most energetic hit.
+pub(crate) fn keep_strongest<K: PartialEq>(breaks: &mut Vec<BreakingHit<K>>, candidate: BreakingHit<K>) {
+    match breaks.iter_mut().find(|b| b.target == candidate.target) {
+        Some(b) if b.energy < candidate.energy => *b = candidate,
+        Some(_) => {}
+        None => breaks.push(candidate),
+    }
 }
 
 /// Breaks `mesh` (the body's, its own coordinates, placed by the rigid `to_world`) at `b`: the
