@@ -15,7 +15,7 @@ pub(crate) const AUTO_INSET: f32 = 0.05;
 /// The axis is the direction of largest second moment of the enclosed volume about its centroid
 /// (principal component of the solid; the vertices' for an open or flat mesh), through the
 /// centroid, oriented so its largest component is positive. The chain spans the mesh's extent
-/// along the axis, inset by `AUTO_INSET` of it at each end; bone 0 is the root at the
+/// along the axis, inset by 5 % of it at each end; bone 0 is the root at the
 /// negative end and bone i+1 is bone i's child.
 ///
 /// # Errors

@@ -28,7 +28,7 @@ pub(crate) const BAND_CELLS: f32 = 0.9;
 ///
 /// Cell `(i, j, k)` has index `i + nx·(j + ny·k)` and centre `origin + (i + ½, j + ½, k + ½)·h`.
 /// φ < 0 inside. |φ| is the exact distance to the surface where it is below the band half-width
-/// (`BAND_CELLS` cells) and the band half-width beyond (only the sign is known there).
+/// (0.9 cells) and the band half-width beyond (only the sign is known there).
 #[derive(Debug, Clone)]
 pub struct LevelSet {
     origin: Vec3,
@@ -41,7 +41,7 @@ pub struct LevelSet {
 
 impl LevelSet {
     /// Builds the level set of the closed `mesh` with `resolution` cells along the longest side of
-    /// its bounds (plus `BORDER_CELLS` on every side). Inside/outside is the winding number
+    /// its bounds (plus 2 cells on every side). Inside/outside is the winding number
     /// along x-parallel rows through the cell centres, with a consistent tie rule for rows that
     /// hit edges or vertices exactly, so it is exact for any closed mesh, nested or
     /// self-overlapping parts included. Runs on all cores.
@@ -153,13 +153,13 @@ impl LevelSet {
         self.phi.get(index).is_some_and(|&p| p < 0.0)
     }
 
-    /// Whether cell `index` is inside or touches the surface (centre within `SURFACE_CELLS`
+    /// Whether cell `index` is inside or touches the surface (centre within √3/2
     /// cells of it): the cells skinning weights march through.
     pub fn is_solid(&self, index: usize) -> bool {
         self.phi.get(index).is_some_and(|&p| p <= SURFACE_CELLS * self.cell)
     }
 
-    /// Whether cell `index` touches the surface (|φ| within `SURFACE_CELLS` cells).
+    /// Whether cell `index` touches the surface (|φ| within √3/2 cells).
     pub fn is_surface(&self, index: usize) -> bool {
         self.phi.get(index).is_some_and(|p| p.abs() <= SURFACE_CELLS * self.cell)
     }

@@ -155,7 +155,7 @@ impl Rig {
     /// bone's weights are computed again (the others' stay), and the sub-bodies are recut.
     /// Nothing changes until [`apply_split`](Self::apply_split). `Ok(None)` when either half
     /// would be shorter than `min_bone_length` m or within
-    /// `SPLIT_END_FRACTION` of an end, or would own no triangle or
+    /// 5 % of an end, or would own no triangle or
     /// no inside cell at this resolution.
     ///
     /// # Errors
@@ -219,7 +219,7 @@ impl Rig {
     /// dented, `moved` the vertices the dent moved. Each moved vertex's displacement Δ maps back as
     /// (Σₖ wₖ Rₖ)⁻¹ Δ, Rₖ the bones' linear parts and wₖ the skinning weights (the weight
     /// missing from 1 on the identity, as the skinning kernel blends it), so skinning the result
-    /// gives the dented mesh back; a vertex whose blend is singular (`SINGULAR_BLEND`) takes
+    /// gives the dented mesh back; a vertex whose blend is singular (determinant below 10⁻³) takes
     /// its dominant bone's inverse rotation.
     ///
     /// # Errors

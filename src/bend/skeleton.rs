@@ -116,10 +116,10 @@ impl Skeleton {
     ///
     /// # Errors
     /// [`BendError::NoBones`], [`BendError::NonFiniteBone`], [`BendError::ZeroLengthBone`]
-    /// (length ≤ `MIN_BONE_FRACTION` × the skeleton's extent or ≤ `MIN_BONE_LENGTH`),
+    /// (length ≤ 10⁻⁶ × the skeleton's extent or ≤ 1 nm),
     /// [`BendError::ParentOutOfRange`], [`BendError::Cycle`] (a bone its own parent included),
     /// [`BendError::MultipleRoots`] or [`BendError::DetachedJoint`] (a child's head farther than
-    /// `JOINT_GAP_FRACTION` of its length from the parent bone).
+    /// half of its length from the parent bone).
     pub fn new(bones: Vec<BoneDesc>) -> Result<Self, BendError> {
         if bones.is_empty() {
             return Err(BendError::NoBones);
@@ -229,7 +229,7 @@ impl Skeleton {
     ///
     /// # Errors
     /// [`BendError::BoneOutOfRange`], [`BendError::InvalidParameter`] for a non-finite point, or
-    /// [`BendError::SplitNearEnd`] when the point projects within `SPLIT_END_FRACTION` of the
+    /// [`BendError::SplitNearEnd`] when the point projects within 5 % of the
     /// bone's length from either end (or beyond it). The skeleton is unchanged on error.
     ///
     /// # Example

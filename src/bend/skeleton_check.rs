@@ -17,12 +17,12 @@ const DISTANCE_SAMPLES: usize = 9;
 
 impl Skeleton {
     /// Checks every bone against the closed `mesh` with the default tolerance
-    /// (`OUTSIDE_TOLERANCE_FRACTION` × the mesh's bounding-box diagonal).
+    /// (2 % × the mesh's bounding-box diagonal).
     ///
     /// # Errors
     /// [`BendError::BoneOutsideMesh`] for the first bone that lies entirely outside the mesh and
     /// farther than the tolerance from its surface; [`BendError::ZeroLengthBone`] for a bone
-    /// shorter than `MIN_BONE_FRACTION` × the mesh's diagonal.
+    /// shorter than 10⁻⁶ × the mesh's diagonal.
     pub fn check_against(&self, mesh: &TriMesh) -> Result<(), BendError> {
         let (lo, hi) = mesh.bounds();
         self.check_against_with(mesh, OUTSIDE_TOLERANCE_FRACTION * lo.distance(hi))

@@ -3,7 +3,7 @@
 //!
 //! Consecutive bodies share one [`SkinMesh`] (a *group*: their rest vertices one after the other,
 //! each body's bones after the previous body's, at most [`MAX_BONES`] bones and
-//! [`GROUP_VERTICES`](super::GROUP_VERTICES) vertices), so that a scene of many small bodies (Figure 13's 2,400 struts)
+//! 65,536 vertices by default), so that a scene of many small bodies (Figure 13's 2,400 struts)
 //! costs a few bone writes and dispatches per call rather than thousands. A group is uploaded
 //! again only when one of its bodies' [`rest_revision`](ArticulatedBody::rest_revision) (a
 //! dent, a split) or bone count changes; each [`skin`](GpuSkinner::skin) writes only the bone
@@ -58,7 +58,7 @@ enum Residence {
 
 impl GpuSkinner {
     /// Compiles the `skin` kernel on `context`; groups hold at most `group_vertices` vertices
-    /// (at least one body each; `GROUP_VERTICES` by default in [`Skinner`](super::Skinner)).
+    /// (at least one body each; 65,536 vertices by default in [`Skinner`](super::Skinner)).
     /// Nothing is uploaded before the first [`sync`](Self::sync).
     ///
     /// # Errors

@@ -59,7 +59,7 @@ impl Skinner {
     }
 
     /// Builder: on the GPU, at most `vertices` vertices per group of bodies skinned together
-    /// (see [`GpuSkinner`]; `GROUP_VERTICES` by default); takes effect at the first skin.
+    /// (see [`GpuSkinner`]; 65,536 vertices by default); takes effect at the first skin.
     pub fn with_group_vertices(mut self, vertices: usize) -> Self {
         self.group_vertices = vertices;
         self

@@ -33,7 +33,7 @@ impl ArticulatedBody {
     ///
     /// Returns `Ok(None)` and changes nothing when the body has no dynamic articulation, has made
     /// its most joints, `index` is not one of its bodies, either half would be shorter than the
-    /// minimum bone length (or within `SPLIT_END_FRACTION` of an
+    /// minimum bone length (or within 5 % of an
     /// end), or a half would own no triangle or no inside cell at this resolution.
     ///
     /// Otherwise: the first half keeps the old bone's index and body (rebuilt in place, as is

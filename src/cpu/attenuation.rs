@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 /// A user-supplied falloff `a(z, d)`: `z` is depth into the target (world units, ≥ 0), `d` the
 /// dent distance; it must return 1 at `z = 0`.
-pub(crate) type FalloffFn = dyn Fn(f32, f32) -> f32 + Send + Sync;
+pub type FalloffFn = dyn Fn(f32, f32) -> f32 + Send + Sync;
 
 /// The attenuation `a(z)` that scales the dent map at depth `z` below the collision plane
 /// (paper §3.1). Points in front of the plane (`z < 0`) always get `a = 1`.

@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 
 /// `normal_word` when only positions are copied. Keep in sync with `NO_NORMAL` in
 /// `shaders/interleave.wgsl`.
-pub(crate) const NO_NORMAL: u32 = u32::MAX;
+pub const NO_NORMAL: u32 = u32::MAX;
 
 /// Where one target's vertices go in an interleaved buffer, every byte quantity in 4-byte words.
 /// 32 bytes; keep in sync with `InterleaveParams` in `shaders/interleave.wgsl`.

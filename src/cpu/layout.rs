@@ -119,15 +119,15 @@ pub mod falloff {
     /// `a = 1`.
     pub const NONE: u32 = 0;
     /// `a = 2/(1 + e^{z/d})`.
-    pub(crate) const LOGISTIC: u32 = 1;
+    pub const LOGISTIC: u32 = 1;
     /// `a = max(0, 1 − z/(scale·d))`.
-    pub(crate) const LINEAR: u32 = 2;
+    pub const LINEAR: u32 = 2;
     /// Linear interpolation in a table of `a` sampled uniformly over `z ∈ [0, TABLE_DEPTH·d]`.
     pub const TABLE: u32 = 3;
     /// Depth covered by a falloff table, in dent distances; past it the last entry holds.
-    pub(crate) const TABLE_DEPTH: f32 = 8.0;
+    pub const TABLE_DEPTH: f32 = 8.0;
     /// Entries of a falloff table.
-    pub(crate) const TABLE_LEN: usize = 257;
+    pub const TABLE_LEN: usize = 257;
 }
 
 /// Inputs of [`displace`](super::displace). 96 bytes.

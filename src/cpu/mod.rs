@@ -17,15 +17,14 @@ mod skin;
 mod skin_layout;
 mod zbuffer;
 
-pub use attenuation::Attenuation;
+pub use attenuation::{Attenuation, FalloffFn};
 pub use displace::{displace, falloff_table};
 pub use envelope_cols::envelope_cols;
 pub use envelope_rows::envelope_rows;
 pub use glance::glance;
 pub(crate) use glance::glance_band;
 pub use heat::{heat, heat_step};
-#[cfg(feature = "gpu")]
-pub(crate) use interleave::NO_NORMAL;
+pub use interleave::NO_NORMAL;
 pub use interleave::{InterleaveParams, interleave};
 pub use layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff};
 pub use moved::{MovedParams, moved};

@@ -102,7 +102,9 @@ pub struct Skinned {
     pub normals: Vec<Vec3>,
 }
 
-/// Whether an influence passes [`validate_influences`]; the fast test, without the reason.
+/// Whether an influence has finite, non-negative weights summing to one within
+/// [`WEIGHT_SUM_TOLERANCE`] and bone indices below `bone_count`; the fast test, without the
+/// reason.
 #[inline]
 fn influence_ok(influence: &SkinInfluence, bone_count: u32) -> bool {
     // Finite and non-negative: NaN fails both comparisons, ±∞ one of them.
@@ -135,12 +137,14 @@ fn influence_error(vertex: usize, influence: &SkinInfluence, bone_count: u32) ->
     SkinError::WeightSum { vertex, sum: weight_sum(&influence.weights) }
 }
 
-/// Checks every vertex's rest position and normal (finite) and influences (as
-/// [`validate_influences`]) in one pass; reports the first bad vertex.
+/// Checks every vertex's rest position and normal (finite) and influences (finite,
+/// non-negative weights summing to one, bones below the bone count) in one pass; reports the
+/// first bad vertex.
 ///
 /// # Errors
-/// [`SkinError::Length`] if the slices differ in length; [`SkinError::NonFiniteRest`]; as
-/// [`validate_influences`].
+/// [`SkinError::Length`] if the slices differ in length; [`SkinError::NonFiniteRest`],
+/// [`SkinError::NonFiniteWeight`], [`SkinError::NegativeWeight`], [`SkinError::WeightSum`] or
+/// [`SkinError::BoneIndex`].
 pub(crate) fn validate_vertices(
     rest_positions: &[Vec3],
     rest_normals: &[Vec3],
@@ -199,7 +203,8 @@ pub(crate) fn check_length(what: &'static str, len: usize, expected: usize) -> R
 ///
 /// # Errors
 /// [`SkinError::Length`] for a slice of the wrong length; [`SkinError::NonFiniteBone`],
-/// [`SkinError::NonFiniteRest`]; as `validate_influences`.
+/// [`SkinError::NonFiniteRest`]; [`SkinError::NonFiniteWeight`], [`SkinError::NegativeWeight`],
+/// [`SkinError::WeightSum`] or [`SkinError::BoneIndex`] for a bad influence.
 ///
 /// # Example
 /// ```

@@ -73,8 +73,7 @@ impl SkinBone {
 /// The bones of one vertex and their weights. 32 bytes; keep in sync with `SkinInfluence` in
 /// `shaders/skin.wgsl` (`vec4<u32>`, `vec4<f32>`).
 ///
-/// Valid influences (see `validate_influences`) have finite,
-/// non-negative weights summing to one within [`WEIGHT_SUM_TOLERANCE`](super::WEIGHT_SUM_TOLERANCE)
+/// Valid influences have finite, non-negative weights summing to one within [`WEIGHT_SUM_TOLERANCE`](super::WEIGHT_SUM_TOLERANCE)
 /// and name bones below the bone count; pad unused slots with bone 0 and weight 0.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default, Pod, Zeroable)]

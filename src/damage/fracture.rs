@@ -91,15 +91,23 @@ pub struct BodyFracture<K> {
 /// A hit that breaks its body.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct BreakingHit<K> {
-    /// Index of the hit.
+    /// Index of the hit (or collision event) among the step's.
     pub hit: usize,
+    /// The body it breaks.
     pub target: K,
+    /// What hit it.
     pub projectile: K,
+    /// The contact, normal into the target.
     pub impact: Impact,
+    /// The target's state before the step.
     pub target_state: BodyState,
+    /// The projectile's state before the step.
     pub projectile_state: BodyState,
+    /// Why it breaks.
     pub cause: FractureCause,
+    /// Kinetic energy the impact removes along the normal, J.
     pub energy: f32,
+    /// The target's accumulated dent, m.
     pub accumulated: f32,
 }
 

@@ -63,6 +63,6 @@ pub(crate) fn crop_to_ball(mesh: &TriMesh, centre: Vec3, radius: f32) -> Option<
 }
 
 /// Radius of the smallest ball about the mesh's origin that holds every vertex, m.
-pub(crate) fn radius_about_origin(mesh: &TriMesh) -> f32 {
+pub fn radius_about_origin(mesh: &TriMesh) -> f32 {
     mesh.positions().iter().map(|p| p.length_squared()).fold(0.0, f32::max).sqrt()
 }

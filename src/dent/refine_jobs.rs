@@ -8,7 +8,7 @@ use super::{BatchError, DentJob, DentPlan, DentReport, plan_dent};
 use crate::mesh::{EdgeLengths, Refinement, TriMesh};
 use rayon::prelude::*;
 
-/// What [`refine_targets`] did: per target, its refined mesh (`None` when left as it was) and
+/// What [`refine_planned`] did: per target, its refined mesh (`None` when left as it was) and
 /// what was appended; per job, a report with only its refinement counts and warnings filled in.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct RefinedTargets {

@@ -12,8 +12,9 @@ use crate::dent::{BodyState, Impact, normal_energy_lost};
 pub struct FractureSettings {
     /// The pattern, built once (shared, so copies of a body do not copy it).
     pub pattern: Arc<FracturePattern>,
-    /// Breaks when one impact removes more than this kinetic energy along the normal, J
-    /// (`normal_energy_lost`); `None`: impacts alone never break it.
+    /// Breaks when one impact removes more than this kinetic energy along the normal, J (the
+    /// energy a fully inelastic normal impulse between the two bodies takes away); `None`:
+    /// impacts alone never break it.
     pub toughness: Option<f32>,
     /// Breaks when its accumulated dent distance passes this, m; `None`: dents never break it.
     pub dent_limit: Option<f32>,

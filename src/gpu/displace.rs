@@ -127,7 +127,7 @@ impl Displace {
     /// ([`runs`]); the small parameter buffers are created here.
     ///
     /// # Errors
-    /// As [`runs`]; [`GpuError::OverLimit`] if a target has more than 65,535 × `WORKGROUP`
+    /// As [`runs`]; [`GpuError::OverLimit`] if a target has more than 4,194,240 (65,535 workgroups of 64)
     /// vertices.
     pub fn encode(
         &self,
@@ -175,7 +175,7 @@ impl Displace {
     /// tell apart.
     ///
     /// # Errors
-    /// [`GpuError::OverLimit`] if `positions` holds more than 65,535 × `WORKGROUP` vertices.
+    /// [`GpuError::OverLimit`] if `positions` holds more than 4,194,240 (65,535 workgroups of 64) vertices.
     pub fn encode_clear_moved(
         &self,
         context: &GpuContext,

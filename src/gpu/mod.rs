@@ -31,4 +31,5 @@ pub use kernel::{Binding, Kernel, SHARED_WGSL};
 pub use kernel_device::{KernelDevice, shared_context};
 pub use limits::{REQUIRED_LIMITS, RequiredLimit, check_limits};
 pub use moved::{MovedVertices, PendingMoved};
+pub use recorder::KernelTimes;
 pub use shaders::{SHADERS, shader_source};

@@ -58,7 +58,7 @@ impl Moved {
     /// (16 bytes each): two small waits, no read-back of unmoved vertices.
     ///
     /// # Errors
-    /// [`GpuError::OverLimit`] when the target has more than 65,535 × `WORKGROUP` vertices or
+    /// [`GpuError::OverLimit`] when the target has more than 4,194,240 (65,535 workgroups of 64) vertices or
     /// its list exceeds the binding limit; device errors.
     pub fn run(
         &self,

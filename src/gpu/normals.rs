@@ -107,7 +107,7 @@ impl Normals {
     /// dispatch per [`MAX_TARGETS_PER_DISPATCH`] targets; their uniform buffers are created here.
     ///
     /// # Errors
-    /// [`GpuError::OverLimit`] if a target has more than 65,535 × `WORKGROUP` vertices.
+    /// [`GpuError::OverLimit`] if a target has more than 4,194,240 (65,535 workgroups of 64) vertices.
     #[allow(clippy::too_many_arguments, reason = "the four bound buffers plus the batch description")]
     pub fn encode(
         &self,

@@ -6,7 +6,7 @@ use super::{GpuContext, GpuError};
 
 /// Seconds spent in each kernel stage (`zbuffer`, `envelope_rows`, `envelope_cols`, `heat`,
 /// `glance`, `displace`, `normals`), summed over a batch's chunks.
-pub(crate) type KernelTimes = std::collections::BTreeMap<&'static str, f64>;
+pub type KernelTimes = std::collections::BTreeMap<&'static str, f64>;
 
 /// The encoder a [`Recorder`] writes to.
 enum Slot<'a> {

@@ -114,9 +114,9 @@ impl Skin {
     /// zero until the first [`encode`](Self::encode) is submitted.
     ///
     /// # Errors
-    /// [`SkinError::Length`] if the slices differ in length; [`SkinError::NonFiniteRest`]; as
-    /// `validate_influences`; [`GpuError::OverLimit`] for more
-    /// than [`MAX_BONES`] bones, more than 65,535 × `WORKGROUP` vertices or a buffer over the
+    /// [`SkinError::Length`] if the slices differ in length; [`SkinError::NonFiniteRest`] or a
+    /// bad influence (see [`SkinInfluence`]); [`GpuError::OverLimit`]
+    /// for more than [`MAX_BONES`] bones, more than 4,194,240 (65,535 workgroups of 64) vertices or a buffer over the
     /// binding limit; any device error.
     pub fn upload(
         &self,

@@ -35,7 +35,7 @@ pub(crate) const NO_VERTEX: u32 = u32::MAX;
 /// cells in all: the profiles (each dent at its `cell_offset`), then one tip-height word per dent,
 /// which the shader finds as the buffer's last `batch` words. A larger buffer works too (the
 /// words between the profiles and the tip words are cleared and unused).
-pub(crate) fn work_words(cells: u64, batch: u32) -> u64 {
+pub fn work_words(cells: u64, batch: u32) -> u64 {
     cells + u64::from(batch)
 }
 
@@ -50,9 +50,9 @@ pub struct ZbufferBuffers<'a> {
     /// without padding (a `&[Vec3]` as bytes).
     pub positions: &'a wgpu::Buffer,
     /// Triangles, three u32 vertex indices each, already offset into `positions`; an index past
-    /// its end (such as `NO_VERTEX`) culls its triangle.
+    /// its end (such as `u32::MAX`) culls its triangle.
     pub faces: &'a wgpu::Buffer,
-    /// At least `work_words``(total cells, batch)` u32 words, with `COPY_DST` usage: cleared by
+    /// At least [`work_words`]`(total cells, batch)` u32 words, with `COPY_DST` usage: cleared by
     /// [`Zbuffer::encode`], then holding each dent's profile (f32, world units, `res × res`
     /// row-major at its `cell_offset`) and, in its last `batch` words, each dent's tip height.
     pub work: &'a wgpu::Buffer,

@@ -8,7 +8,7 @@ use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Limits, Luma};
 use super::IoError;
 use super::heatmap::check_size;
 
-/// Path reported in errors from [`decode_height_png`].
+/// Path reported in errors for a PNG read from memory.
 const MEMORY: &str = "<memory>";
 
 /// A grayscale picture read as heights in [0, 1], row-major with row 0 at the top.
@@ -50,7 +50,8 @@ pub(crate) fn read_height_png_within(path: &Path, max_side: u32) -> Result<Heigh
     heights_of(reader, path, Some(max_side))
 }
 
-/// [`decode_height_png`] with the side limit of [`read_height_png_within`].
+/// [`read_height_png_within`] for the bytes of a PNG held in memory (errors name the path
+/// `<memory>`).
 ///
 /// # Errors
 /// As [`read_height_png_within`].

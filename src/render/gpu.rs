@@ -21,7 +21,7 @@ pub(crate) const MAX_TILE_SIDE: u32 = 2048;
 /// upper left of the picture and in front, a dim fill from the lower right, a hemispherical
 /// ambient around the picture's up direction and a modest Blinn–Phong highlight, two-sided;
 /// the background is a soft vertical gradient (lightest at the top). Pictures larger than a
-/// tile (the device's `max_texture_dimension_2d`, at most `MAX_TILE_SIDE`) are drawn tile by
+/// tile (the device's `max_texture_dimension_2d`, at most 2,048) are drawn tile by
 /// tile, so every size the CPU renderer accepts works here too.
 ///
 /// # Example

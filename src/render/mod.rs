@@ -1,6 +1,6 @@
 //! Offscreen pictures of meshes, for the CLI, the README and quick looks: a CPU rasterizer
 //! ([`render`]), a wgpu renderer ([`GpuRenderer`], `shaders/render.wgsl`) that takes the same
-//! inputs, and [`Renderer`] / `render_auto` to pick one by [`KernelDevice`](crate::gpu::KernelDevice).
+//! inputs, and [`Renderer`] to pick one by [`KernelDevice`](crate::gpu::KernelDevice).
 //! For bending bodies, [`rest_pictures`] draws the skeleton, the sub-bodies and the level set
 //! of the rest state (paper Figure 12), with 2D marks (`draw_segment`, `draw_disc` at
 //! `project_point`) and colours ([`bone_colour`]).

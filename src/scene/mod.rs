@@ -196,6 +196,7 @@ pub use file_fracture::DEFAULT_FRACTURE_CELLS;
 pub use options::{LoadOptions, MeshPaths};
 pub(crate) use parse::load_scene_with;
 pub use parse::{load_scene, parse_scene, parse_scene_with_meshes};
+pub use parse_body::MeshResolver;
 pub use tetrahedra::tetrahedra_grid;
 #[cfg(feature = "render")]
 pub(crate) use types::fit_camera;

@@ -27,7 +27,7 @@ pub(crate) const DEFAULT_DENT_CAP: f32 = 0.3;
 
 /// A mesh supplier for [`parse_scene_with_meshes`](super::parse_scene_with_meshes): given a body's `mesh` string as written, its
 /// mesh, or a message saying why there is none.
-pub(crate) type MeshResolver<'r> = dyn FnMut(&str) -> Result<TriMesh, String> + 'r;
+pub type MeshResolver<'r> = dyn FnMut(&str) -> Result<TriMesh, String> + 'r;
 
 /// Meshes by spec, loaded once each.
 pub(super) struct MeshCache<'r> {

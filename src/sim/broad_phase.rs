@@ -10,7 +10,7 @@ const SWEEP_CHUNK: usize = 256;
 
 /// An axis-aligned box, m.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Aabb {
+pub(crate) struct Aabb {
     /// Smallest corner.
     pub min: Vec3,
     /// Largest corner.

@@ -42,7 +42,7 @@ impl CollisionEvent {
     }
 
     /// The contact as body `target` (a or b) is dented by it, carried by `motion` (the target's
-    /// motion since the contact, see `DentTarget::motion`): normal into the target, the other
+    /// rigid motion since the contact, world then → world now): normal into the target, the other
     /// body's velocity relative to it. `None` when `target` is neither body.
     pub fn impact_on(&self, target: usize, motion: Affine3A) -> Option<Impact> {
         let sign = match target {

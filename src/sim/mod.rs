@@ -27,7 +27,7 @@ pub use crate::mesh::{MassProperties, mass_properties};
 #[cfg(feature = "scene")]
 pub(crate) use body::MAX_ANGULAR_SPEED;
 pub use body::{BodyDesc, BodyKind, RigidBody, SurfaceMaterial};
-pub use broad_phase::Aabb;
+pub(crate) use broad_phase::Aabb;
 pub use collider::ColliderKind;
 pub(crate) use contacts::{ContactPoint, PairContacts};
 pub use dent_impact::{DecidedDent, DentSurface, StepContext, body_state};

@@ -5,15 +5,13 @@
 
 use bevy::prelude::*;
 use bevy_dentbend::DentbendPlugin;
-use bevy_dentbend::demo::RainPlugin;
-use bevy_rapier3d::prelude::{NoUserData, RapierPhysicsPlugin};
+use bevy_dentbend::demo::{Physics, RainPlugin};
 
 fn main() {
     let window = Window { title: "dentbend: rain".into(), resolution: (1280, 720).into(), ..default() };
-    App::new()
-        .add_plugins(DefaultPlugins.set(WindowPlugin { primary_window: Some(window), ..default() }))
-        .add_plugins(RapierPhysicsPlugin::<NoUserData>::default())
-        .add_plugins(DentbendPlugin::default())
-        .add_plugins(RainPlugin)
-        .run();
+    let mut app = App::new();
+    app.add_plugins(DefaultPlugins.set(WindowPlugin { primary_window: Some(window), ..default() }));
+    // bevy_rapier3d, one 1/60 s step a frame.
+    Physics::Rapier.add_to(&mut app);
+    app.add_plugins(DentbendPlugin::default()).add_plugins(RainPlugin).run();
 }

@@ -119,13 +119,16 @@ pub enum DentSystems {
     Apply,
 }
 
-/// Dents (and, with the `rapier` feature, contacts from bevy_rapier3d) for a Bevy app.
+/// Dents (and, with the `rapier` or `avian` feature, contacts from bevy_rapier3d or Avian) for
+/// a Bevy app.
 ///
 /// With `rapier`, the plug-in records the bodies' states before each bevy_rapier3d step, reads
 /// its impacts after it and applies the bendable bodies' joint rules, in the schedule that
 /// step runs in: `PostUpdate` by default, `FixedUpdate` with bevy_rapier3d's
 /// `in_fixed_schedule()`. It finds that schedule itself; [`in_schedule`](Self::in_schedule)
-/// names it when bevy_rapier3d's systems are set up by hand. Dents are decided and applied
+/// names it when bevy_rapier3d's systems are set up by hand. With `avian`, when the app steps
+/// Avian (`FixedPostUpdate` by default, or the schedule given to Avian's `PhysicsPlugins`), it
+/// does the same around Avian's step, in the schedule it finds. Dents are decided and applied
 /// once a frame in `PostUpdate` (every fixed step's impacts of the frame together).
 #[derive(Debug, Clone, Copy)]
 pub struct DentbendPlugin {
@@ -133,7 +136,8 @@ pub struct DentbendPlugin {
     /// the CPU path.
     pub gpu: bool,
     /// The schedule bevy_rapier3d steps in, for an app that sets up bevy_rapier3d's systems
-    /// after this plug-in is finished; `None` (default): `PostUpdate`. The schedule the
+    /// after this plug-in is finished; `None` (default): `PostUpdate`. Avian's schedule is
+    /// always found (a schedule named here that differs only draws a warning). The schedule the
     /// engine's step is found in (bevy_rapier3d's `PhysicsSet::StepSimulation`, Avian's
     /// `PhysicsSystems::StepSimulation`) always wins, with a warning when it is not the one
     /// named here.
@@ -175,6 +179,8 @@ impl DentbendPlugin {
             self.check_named(found, "Avian");
             info!("bevy_dentbend: contacts from Avian, which steps in {found:?}");
             avian::build(app, found);
+            #[cfg(feature = "rapier")]
+            bend::build_unserved(app);
             return;
         }
         #[cfg(feature = "rapier")]

@@ -173,6 +173,14 @@ impl DentWorld {
             .map_or((mesh, Affine3A::IDENTITY), |(&collider, a)| (collider, a.to_collider))
     }
 
+    /// Every aliased mesh's collider entity and mesh → collider transform, by mesh entity (one
+    /// pass over the aliases, for lookups of many bodies; meshes not in it are their own
+    /// collider).
+    #[cfg(feature = "avian")]
+    pub(crate) fn aliased_colliders(&self) -> HashMap<Entity, (Entity, Affine3A)> {
+        self.aliases.iter().map(|(&collider, a)| (a.mesh, (collider, a.to_collider))).collect()
+    }
+
     /// The mesh entity registered for the [`Dentable`](crate::Dentable) on `owner`.
     pub(crate) fn mesh_of_owner(&self, owner: Entity) -> Option<Entity> {
         self.bodies.iter().find(|(_, b)| b.owner == owner).map(|(&e, _)| e)

@@ -6,8 +6,10 @@ use std::collections::{HashMap, HashSet};
 use avian3d::math::SymmetricTensor;
 use avian3d::prelude::{
     AngularVelocity, ColliderOf, Collisions, ComputedAngularInertia, ComputedCenterOfMass, ComputedMass, ContactPair,
-    LinearVelocity, Position, Restitution, RigidBody, Rotation,
+    DefaultRestitution, LinearVelocity, Position, Restitution, RigidBody, Rotation,
 };
+use avian3d::schedule::LastPhysicsTick;
+use bevy::ecs::change_detection::Tick;
 use bevy::prelude::*;
 use dentbend::dent::BodyState;
 use dentbend::glam::Affine3A;
@@ -20,8 +22,12 @@ pub(crate) struct AvianImpacts {
     /// Each known mesh's body before the step (its entity, pose and state), by its collider's
     /// entity.
     before: HashMap<Entity, DentBody>,
-    /// Collider pairs (as Avian orders them) the solver pushed on in the previous step.
+    /// Collider pairs (as Avian orders them) between known bodies the solver pushed on in the
+    /// previous step.
     pushing: HashSet<(Entity, Entity)>,
+    /// Avian's last step when the states were recorded: a step that did not run (physics time
+    /// paused) sends nothing.
+    recorded_at: Tick,
 }
 
 /// A collider's pose, the body it belongs to and its restitution.
@@ -37,35 +43,37 @@ type BodyData = (
     &'static ComputedMass,
     &'static ComputedAngularInertia,
     &'static ComputedCenterOfMass,
-    Option<&'static Restitution>,
 );
+
+/// One body's [`BodyData`].
+type BodyItem<'a> = <BodyData as bevy::ecs::query::QueryData>::Item<'a, 'a>;
 
 /// Records the dentables' and projectiles' poses and states just before Avian's step (O(bodies
 /// the plug-in knows), never a walk over the world).
 pub(crate) fn record_states(
     mut impacts: ResMut<AvianImpacts>,
     world: Res<DentWorld>,
+    (last_step, default_restitution): (Res<LastPhysicsTick>, Res<DefaultRestitution>),
     colliders: Query<ColliderData>,
     bodies: Query<BodyData>,
 ) {
     impacts.before.clear();
+    impacts.recorded_at = last_step.0;
+    let aliased = world.aliased_colliders();
     for &mesh in world.bodies.keys().chain(world.surfaces.keys()) {
-        let (collider, to_collider) = world.collider_of(mesh);
+        let (collider, to_collider) = aliased.get(&mesh).copied().unwrap_or((mesh, Affine3A::IDENTITY));
         let Ok((position, rotation, of, restitution)) = colliders.get(collider) else { continue };
         let pose = Affine3A::from_rotation_translation(rotation.0, position.0) * to_collider;
-        let body = of.and_then(|of| bodies.get(of.body).ok());
-        let mut state = body.map_or(BodyState::FIXED, state_of);
-        // The collider's own coefficient wins over its body's, as in Avian.
-        let coefficient = restitution.or(body.and_then(|b| b.8)).map_or(0.0, |r| r.coefficient);
+        let mut state = of.and_then(|of| bodies.get(of.body).ok()).map_or(BodyState::FIXED, state_of);
+        // The collider's coefficient, else Avian's default (as Avian's narrow phase takes it).
+        let coefficient = restitution.copied().unwrap_or(default_restitution.0).coefficient;
         state.restitution = if coefficient.is_finite() { coefficient.clamp(0.0, 1.0) } else { 0.0 };
         impacts.before.insert(collider, DentBody { entity: mesh, pose, state });
     }
 }
 
 /// A body's state: static bodies are fixed, kinematic ones move but take no impulse.
-fn state_of(
-    (kind, position, rotation, linear, angular, mass, inertia, centre, _): <BodyData as bevy::ecs::query::QueryData>::Item<'_, '_>,
-) -> BodyState {
+fn state_of((kind, position, rotation, linear, angular, mass, inertia, centre): BodyItem<'_>) -> BodyState {
     if kind.is_static() {
         return BodyState::FIXED;
     }
@@ -91,24 +99,31 @@ fn state_of(
 pub(crate) fn send_contacts(
     mut impacts: ResMut<AvianImpacts>,
     world: Res<DentWorld>,
+    last_step: Res<LastPhysicsTick>,
     collisions: Collisions,
     mut out: MessageWriter<DentContact>,
 ) {
+    if last_step.0 == impacts.recorded_at {
+        // Avian did not step (its time is paused): the contact graph holds the last step's.
+        return;
+    }
     let mut seen = HashSet::new();
     let mut pushing = HashSet::new();
+    let aliased = world.aliased_colliders();
     for target in world.dentables() {
-        let (collider, _) = world.collider_of(target);
+        let collider = aliased.get(&target).map_or(target, |&(collider, _)| collider);
         for pair in collisions.collisions_with(collider) {
             let key = (pair.collider1, pair.collider2);
             if !seen.insert(key) {
                 continue;
             }
             let Some((point, normal)) = strongest_push(pair) else { continue };
-            pushing.insert(key);
             let (Some(&a), Some(&b)) = (impacts.before.get(&pair.collider1), impacts.before.get(&pair.collider2))
             else {
                 continue;
             };
+            // Only pairs sent count as pushing: a body registered mid-push starts its impact.
+            pushing.insert(key);
             let started = !impacts.pushing.contains(&key);
             out.write(DentContact { a, b, point, normal, started });
         }

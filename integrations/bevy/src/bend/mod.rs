@@ -151,3 +151,21 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
         )
         .add_systems(PostUpdate, (rig::forget_removed, skinning::pose_bendables).chain().in_set(DentSystems::Apply));
 }
+
+/// Bending where another engine steps the app (Avian): each bendable entity is named in one
+/// warning and left out.
+#[cfg(feature = "avian")]
+pub(crate) fn build_unserved(app: &mut App) {
+    app.init_resource::<Bends>().add_systems(PostUpdate, warn_unserved.in_set(DentSystems::Register));
+}
+
+/// Names each new bendable entity the app's engine cannot serve.
+#[cfg(feature = "avian")]
+fn warn_unserved(new: Query<Entity, Added<Bendable>>) {
+    for entity in &new {
+        warn!(
+            "bevy_dentbend: {entity} is Bendable, but bendable bodies are bevy_rapier3d bodies and this app steps \
+             Avian: it is left out (step the app with RapierPhysicsPlugin to bend it)"
+        );
+    }
+}

@@ -11,7 +11,8 @@ pub enum Physics {
     #[cfg_attr(feature = "rapier", default)]
     Rapier,
     /// Avian 0.8, one 1/60 s step a frame in its default `FixedPostUpdate` (virtual time
-    /// advances 1/60 s a frame); bendable bodies take bevy_rapier3d (`avian` feature).
+    /// advances 1/60 s a frame; `avian` feature). The scene leaves its bendable plank out:
+    /// bendable bodies are bevy_rapier3d bodies.
     #[cfg(feature = "avian")]
     #[cfg_attr(not(feature = "rapier"), default)]
     Avian,
@@ -49,8 +50,9 @@ impl Physics {
         }
     }
 
-    /// Adds the engine's plug-ins, stepping 1/60 s each frame.
-    pub(crate) fn add_to(self, app: &mut App) {
+    /// Adds the engine's plug-ins to `app`, stepping 1/60 s each frame (and the engine as a
+    /// resource, for [`RainPlugin`](super::RainPlugin)).
+    pub fn add_to(self, app: &mut App) {
         app.insert_resource(self);
         match self {
             #[cfg(feature = "rapier")]

@@ -38,7 +38,7 @@ pub(crate) fn find_colliders<E: Engine>(
         let found = std::iter::once(owner).chain(ancestors).find(|&e| e != mesh && colliders.contains(e));
         let Some(collider) = found else {
             warn!(
-                "bevy_dentbend: {mesh} dents, but neither it nor {owner} nor an ancestor has a {} Collider: its \
+                "bevy_dentbend: {mesh} dents, but neither it nor {owner} nor an ancestor has a Collider ({}): its \
                  contacts will never dent it; give the entity with the Dentable (or its mesh) a Collider built from \
                  the mesh, or write DentContact messages for it",
                 E::NAME

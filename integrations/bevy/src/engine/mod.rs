@@ -20,7 +20,8 @@ pub(crate) trait Engine: Send + Sync + 'static {
     /// The engine's name in log lines, as its users know it.
     const NAME: &'static str;
 
-    /// The collider's shape, without the entity's scale.
+    /// The collider's shape (bevy_rapier3d's may hold the entity's scale: scaled entities'
+    /// colliders are rebuilt whole, never refitted).
     fn shape(collider: &Self::Collider) -> &SharedShape;
 
     /// Gives the collider `shape` (the engine applies the entity's scale to it).
