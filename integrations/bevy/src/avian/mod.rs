@@ -8,15 +8,19 @@
 //! the dentables' contacts, not the number of bodies.
 
 mod contacts;
-mod pieces;
+mod give_way;
 
-use avian3d::prelude::{Collider, PhysicsSystems};
+use avian3d::math::SymmetricTensor;
+use avian3d::prelude::{
+    AngularInertia, AngularVelocity, CenterOfMass, Collider, LinearVelocity, Mass, NoAutoAngularInertia,
+    NoAutoCenterOfMass, NoAutoMass, PhysicsSystems, RigidBody,
+};
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 use parry3d::shape::SharedShape;
 
-use crate::DentSystems;
 use crate::engine::{self, Engine};
+use crate::{DentPiece, DentSystems};
 
 /// Avian's colliders.
 pub(crate) struct Avian;
@@ -31,6 +35,20 @@ impl Engine for Avian {
 
     fn set_shape(collider: &mut Collider, shape: SharedShape) {
         collider.set_shape(shape);
+    }
+
+    fn piece_body(hull: &[Vec3], piece: &DentPiece) -> Option<impl Bundle> {
+        let inertia = AngularInertia::from_tensor(SymmetricTensor::from_mat3_unchecked(piece.mass.inertia));
+        let mass = (
+            Mass(piece.mass.mass),
+            inertia,
+            CenterOfMass(piece.mass.center),
+            NoAutoMass,
+            NoAutoAngularInertia,
+            NoAutoCenterOfMass,
+        );
+        let motion = (LinearVelocity(piece.linear_velocity), AngularVelocity(piece.angular_velocity));
+        Some((RigidBody::Dynamic, Collider::convex_hull(hull)?, mass, motion))
     }
 }
 
@@ -54,7 +72,8 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
         )
         .add_systems(
             PostUpdate,
-            (engine::refit_colliders::<Avian>, pieces::give_bodies, pieces::give_way).in_set(DentSystems::Apply),
+            (engine::refit_colliders::<Avian>, engine::give_bodies::<Avian>, give_way::give_way)
+                .in_set(DentSystems::Apply),
         );
     if physics == PostUpdate.intern() {
         app.configure_sets(PostUpdate, DentSystems::Decide.after(PhysicsSystems::Writeback));

@@ -3,15 +3,19 @@
 //! and finding the schedule the engine steps in. `rapier` and `avian` features.
 
 mod alias;
+mod pieces;
 mod refit;
 mod schedule;
 
 pub(crate) use alias::find_colliders;
+pub(crate) use pieces::give_bodies;
 pub(crate) use refit::refit_colliders;
 pub(crate) use schedule::schedule_stepping;
 
 use bevy::prelude::*;
 use parry3d::shape::SharedShape;
+
+use crate::DentPiece;
 
 /// A physics engine whose colliders are parry3d shapes on entities.
 pub(crate) trait Engine: Send + Sync + 'static {
@@ -26,4 +30,9 @@ pub(crate) trait Engine: Send + Sync + 'static {
 
     /// Gives the collider `shape` (the engine applies the entity's scale to it).
     fn set_shape(collider: &mut Self::Collider, shape: SharedShape);
+
+    /// The dynamic body `piece` becomes: a convex collider over `hull` (its mesh's coordinates,
+    /// m) with the piece's own mass properties (not the collider's), moving as it broke loose;
+    /// `None` when the points span no hull (a sliver).
+    fn piece_body(hull: &[Vec3], piece: &DentPiece) -> Option<impl Bundle>;
 }

@@ -7,16 +7,17 @@
 //! point and normal); body states are recorded just before Rapier's step.
 
 mod contacts;
-mod pieces;
+mod give_way;
 
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 use bevy_rapier3d::plugin::PhysicsSet;
-use bevy_rapier3d::prelude::Collider;
+use bevy_rapier3d::prelude::{Collider, ColliderMassProperties, MassProperties, RigidBody, Velocity};
+use bevy_rapier3d::rapier::prelude::MassProperties as RapierMass;
 use parry3d::shape::SharedShape;
 
-use crate::DentSystems;
 use crate::engine::{self, Engine};
+use crate::{DentPiece, DentSystems};
 
 /// bevy_rapier3d's colliders.
 pub(crate) struct Rapier;
@@ -31,6 +32,16 @@ impl Engine for Rapier {
 
     fn set_shape(collider: &mut Collider, shape: SharedShape) {
         *collider = Collider::from(shape);
+    }
+
+    fn piece_body(hull: &[Vec3], piece: &DentPiece) -> Option<impl Bundle> {
+        let mass = RapierMass::with_inertia_matrix(piece.mass.center, piece.mass.mass, piece.mass.inertia);
+        Some((
+            RigidBody::Dynamic,
+            Collider::convex_hull(hull)?,
+            ColliderMassProperties::MassProperties(MassProperties::from_rapier(mass)),
+            Velocity { linear: piece.linear_velocity, angular: piece.angular_velocity },
+        ))
     }
 }
 
@@ -54,7 +65,8 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
         )
         .add_systems(
             PostUpdate,
-            (engine::refit_colliders::<Rapier>, pieces::give_bodies, pieces::give_way).in_set(DentSystems::Apply),
+            (engine::refit_colliders::<Rapier>, engine::give_bodies::<Rapier>, give_way::give_way)
+                .in_set(DentSystems::Apply),
         );
     if physics == PostUpdate.intern() {
         app.configure_sets(PostUpdate, DentSystems::Decide.after(PhysicsSet::Writeback));
