@@ -2,7 +2,7 @@
 //! and the block's Avian collider follows the dent vertex for vertex; a ball breaks a prescored
 //! wall, its pieces become dynamic Avian bodies with the pieces' own masses and the ball goes
 //! through the hole; Avian stepping in `PostUpdate` instead of its default `FixedPostUpdate` is
-//! followed; a collider on a parent body dents its child mesh.
+//! followed; a collider on a parent body dents its child mesh; a paused Avian sends no contact.
 
 mod common;
 
@@ -12,7 +12,9 @@ use avian3d::prelude::*;
 use bevy::prelude::*;
 use bevy_dentbend::dentbend::fracture::{FractureSettings, PatternParams};
 use bevy_dentbend::dentbend::{TriMesh, mesh};
-use bevy_dentbend::{DentPiece, DentProjectile, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh};
+use bevy_dentbend::{
+    DentContact, DentPiece, DentProjectile, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh,
+};
 use libtest_mimic::{Arguments, Trial};
 
 /// An app stepping Avian (in `schedule`) and the plug-in (CPU path) 1/60 s a frame.
@@ -148,6 +150,46 @@ fn a_parent_collider_dents_its_child_mesh() {
     }
 }
 
+/// The contacts the plug-in received, counted.
+#[derive(Resource, Default)]
+struct Received(usize);
+
+fn count_contacts(mut contacts: MessageReader<DentContact>, mut received: ResMut<Received>) {
+    received.0 += contacts.read().count();
+}
+
+/// A ball resting on the block pushes on it every step (a contact each step, 1 m/s: no dent);
+/// with Avian's clock paused no step runs, and no contact may be sent (the contact graph still
+/// holds the last step's pairs).
+fn a_paused_avian_sends_no_contacts() {
+    let mut app = app(FixedPostUpdate);
+    app.init_resource::<Received>().add_systems(PostUpdate, count_contacts);
+    let tri = block();
+    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
+    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec());
+    app.world_mut().spawn((
+        Mesh3d(mesh),
+        Transform::default(),
+        RigidBody::Static,
+        collider,
+        Dentable::new(2.0, 0.01, 0.05),
+    ));
+    launch_ball(&mut app, Vec3::new(0.1, 0.36, 0.2), 0.1, 8.0, Vec3::new(0.0, -1.0, 0.0));
+    for _ in 0..30 {
+        app.update();
+    }
+    assert!(app.world().resource::<Received>().0 >= 10, "the resting ball pushes every step");
+    app.world_mut().resource_mut::<Time<Physics>>().pause();
+    // The pause takes hold from the next frame's time update.
+    app.update();
+    app.world_mut().resource_mut::<Received>().0 = 0;
+    for _ in 0..10 {
+        app.update();
+    }
+    assert_eq!(app.world().resource::<Received>().0, 0, "no step ran, so no contact");
+    assert_eq!(app.world().resource::<DentStats>().dents, 0, "1 m/s is under the threshold");
+}
+
 fn main() -> ExitCode {
     let args = Arguments::from_args();
     let trials = vec![
@@ -165,6 +207,10 @@ fn main() -> ExitCode {
         }),
         Trial::test("a_parent_collider_dents_its_child_mesh", || {
             a_parent_collider_dents_its_child_mesh();
+            Ok(())
+        }),
+        Trial::test("a_paused_avian_sends_no_contacts", || {
+            a_paused_avian_sends_no_contacts();
             Ok(())
         }),
     ];
