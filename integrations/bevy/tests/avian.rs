@@ -150,6 +150,58 @@ fn a_parent_collider_dents_its_child_mesh() {
     }
 }
 
+/// A dynamic, turned block (0.5 rad about y) falls at 6 m/s onto a fixed ball: the dent is on
+/// its bottom face where the ball met it, in the block's own coordinates (its pose and state
+/// before the step in Avian's frames). The dent's centre, the mean of the moved bottom
+/// vertices weighted by how far they moved, must lie within 6 cm (one cell of the 32 × 32
+/// bottom face) of the ball's top mapped into the block.
+fn a_moving_turned_body_dents_where_it_was_hit() {
+    let mut app = app(FixedPostUpdate);
+    let tri = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [32, 4, 32]).expect("a box");
+    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
+    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec());
+    let turn = Quat::from_rotation_y(0.5);
+    let centre = Vec3::new(0.2, 0.1 + 0.25 + 0.2, -0.1);
+    let block = app
+        .world_mut()
+        .spawn((
+            Mesh3d(mesh),
+            Transform::from_translation(centre).with_rotation(turn),
+            RigidBody::Dynamic,
+            collider,
+            ColliderDensity(500.0),
+            LinearVelocity(Vec3::new(0.0, -6.0, 0.0)),
+            Dentable::new(2.0, 0.01, 0.05),
+        ))
+        .id();
+    let ball = app.world_mut().resource_mut::<Assets<Mesh>>().add(Sphere::new(0.1).mesh().ico(3).expect("a sphere"));
+    app.world_mut().spawn((
+        Mesh3d(ball),
+        Transform::default(),
+        RigidBody::Static,
+        Collider::sphere(0.1),
+        DentProjectile,
+    ));
+    for _ in 0..20 {
+        app.update();
+    }
+    assert_eq!(app.world().resource::<DentStats>().dents, 1, "one dent");
+    let dented = app.world().resource::<DentWorld>().mesh(block).expect("the block").clone();
+    let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
+    for (p, q) in tri.positions().iter().zip(dented.positions()) {
+        let moved = p.distance(*q);
+        if moved > 1e-5 {
+            assert!(p.y < -0.2, "only the bottom face moves (vertex at {p} moved)");
+            sum += *p * moved;
+            weight += moved;
+        }
+    }
+    let dent_centre = sum / weight;
+    let expected = turn.inverse() * (Vec3::new(0.0, 0.1, 0.0) - centre);
+    let off = Vec2::new(dent_centre.x - expected.x, dent_centre.z - expected.z).length();
+    assert!(off < 0.06, "the dent is centred at {dent_centre}, {off} m from the hit at {expected}");
+}
+
 /// The contacts the plug-in received, counted.
 #[derive(Resource, Default)]
 struct Received(usize);
@@ -207,6 +259,10 @@ fn main() -> ExitCode {
         }),
         Trial::test("a_parent_collider_dents_its_child_mesh", || {
             a_parent_collider_dents_its_child_mesh();
+            Ok(())
+        }),
+        Trial::test("a_moving_turned_body_dents_where_it_was_hit", || {
+            a_moving_turned_body_dents_where_it_was_hit();
             Ok(())
         }),
         Trial::test("a_paused_avian_sends_no_contacts", || {
