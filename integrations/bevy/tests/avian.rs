@@ -15,7 +15,6 @@ use bevy_dentbend::dentbend::{TriMesh, mesh};
 use bevy_dentbend::{
     DentContact, DentPiece, DentProjectile, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh,
 };
-use libtest_mimic::{Arguments, Trial};
 
 /// An app stepping Avian (in `schedule`) and the plug-in (CPU path) 1/60 s a frame.
 fn app(schedule: impl bevy::ecs::schedule::ScheduleLabel) -> App {
@@ -243,32 +242,12 @@ fn a_paused_avian_sends_no_contacts() {
 }
 
 fn main() -> ExitCode {
-    let args = Arguments::from_args();
-    let trials = vec![
-        Trial::test("a_dropped_ball_dents_in_fixed_post_update", || {
-            a_dropped_ball_dents(FixedPostUpdate);
-            Ok(())
-        }),
-        Trial::test("a_dropped_ball_dents_in_post_update", || {
-            a_dropped_ball_dents(PostUpdate);
-            Ok(())
-        }),
-        Trial::test("a_ball_breaks_a_wall_into_avian_bodies", || {
-            a_ball_breaks_a_wall_into_avian_bodies();
-            Ok(())
-        }),
-        Trial::test("a_parent_collider_dents_its_child_mesh", || {
-            a_parent_collider_dents_its_child_mesh();
-            Ok(())
-        }),
-        Trial::test("a_moving_turned_body_dents_where_it_was_hit", || {
-            a_moving_turned_body_dents_where_it_was_hit();
-            Ok(())
-        }),
-        Trial::test("a_paused_avian_sends_no_contacts", || {
-            a_paused_avian_sends_no_contacts();
-            Ok(())
-        }),
-    ];
-    libtest_mimic::run(&args, trials).exit_code()
+    common::run_headless(vec![
+        ("a_dropped_ball_dents_in_fixed_post_update", || a_dropped_ball_dents(FixedPostUpdate)),
+        ("a_dropped_ball_dents_in_post_update", || a_dropped_ball_dents(PostUpdate)),
+        ("a_ball_breaks_a_wall_into_avian_bodies", a_ball_breaks_a_wall_into_avian_bodies),
+        ("a_parent_collider_dents_its_child_mesh", a_parent_collider_dents_its_child_mesh),
+        ("a_moving_turned_body_dents_where_it_was_hit", a_moving_turned_body_dents_where_it_was_hit),
+        ("a_paused_avian_sends_no_contacts", a_paused_avian_sends_no_contacts),
+    ])
 }

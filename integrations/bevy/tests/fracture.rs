@@ -12,7 +12,6 @@ use bevy_dentbend::dentbend::fracture::{FractureSettings, PatternParams};
 use bevy_dentbend::dentbend::{TriMesh, mesh};
 use bevy_dentbend::{DentPiece, DentRefused, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh};
 use bevy_rapier3d::prelude::*;
-use libtest_mimic::{Arguments, Trial};
 
 /// The wall: 3 × 2 × 0.2 m, 60 × 40 × 2 cells, standing on y = 0 (front face at z = 0.1).
 fn wall_mesh() -> TriMesh {
@@ -85,16 +84,8 @@ fn an_open_breakable_mesh_is_refused() {
 }
 
 fn main() -> ExitCode {
-    let args = Arguments::from_args();
-    let trials = vec![
-        Trial::test("a_ball_breaks_a_wall_into_bodies", || {
-            a_ball_breaks_a_wall_into_bodies();
-            Ok(())
-        }),
-        Trial::test("an_open_breakable_mesh_is_refused", || {
-            an_open_breakable_mesh_is_refused();
-            Ok(())
-        }),
-    ];
-    libtest_mimic::run(&args, trials).exit_code()
+    common::run_headless(vec![
+        ("a_ball_breaks_a_wall_into_bodies", a_ball_breaks_a_wall_into_bodies),
+        ("an_open_breakable_mesh_is_refused", an_open_breakable_mesh_is_refused),
+    ])
 }

@@ -12,7 +12,6 @@ use bevy_dentbend::dentbend::record::DamageFile;
 use bevy_dentbend::dentbend::{TriMesh, mesh};
 use bevy_dentbend::{DamageRestored, DentStats, DentWorld, Dentable, DentbendPlugin, RestoreDamage, bevy_mesh};
 use bevy_rapier3d::prelude::*;
-use libtest_mimic::{Arguments, Trial};
 
 #[derive(Resource, Default)]
 struct Outcomes(Vec<DamageRestored>);
@@ -94,16 +93,8 @@ fn damage_of_another_mesh_is_refused() {
 }
 
 fn main() -> ExitCode {
-    let args = Arguments::from_args();
-    let trials = vec![
-        Trial::test("a_saved_block_restores_bit_for_bit", || {
-            a_saved_block_restores_bit_for_bit();
-            Ok(())
-        }),
-        Trial::test("damage_of_another_mesh_is_refused", || {
-            damage_of_another_mesh_is_refused();
-            Ok(())
-        }),
-    ];
-    libtest_mimic::run(&args, trials).exit_code()
+    common::run_headless(vec![
+        ("a_saved_block_restores_bit_for_bit", a_saved_block_restores_bit_for_bit),
+        ("damage_of_another_mesh_is_refused", damage_of_another_mesh_is_refused),
+    ])
 }

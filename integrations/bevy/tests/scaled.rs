@@ -11,7 +11,6 @@ use bevy::prelude::*;
 use bevy_dentbend::dentbend::mesh;
 use bevy_dentbend::{DentApplied, DentPath, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh};
 use bevy_rapier3d::prelude::*;
-use libtest_mimic::{Arguments, Trial};
 
 #[derive(Resource, Default)]
 struct Applied(Vec<DentApplied>);
@@ -79,16 +78,8 @@ fn dents_scaled(scale: Vec3) {
 }
 
 fn main() -> ExitCode {
-    let args = Arguments::from_args();
-    let trials = vec![
-        Trial::test("a_uniformly_scaled_body_dents_in_metres", || {
-            dents_scaled(Vec3::splat(2.0));
-            Ok(())
-        }),
-        Trial::test("a_non_uniformly_scaled_body_dents_in_metres", || {
-            dents_scaled(Vec3::new(2.0, 0.5, 1.5));
-            Ok(())
-        }),
-    ];
-    libtest_mimic::run(&args, trials).exit_code()
+    common::run_headless(vec![
+        ("a_uniformly_scaled_body_dents_in_metres", || dents_scaled(Vec3::splat(2.0))),
+        ("a_non_uniformly_scaled_body_dents_in_metres", || dents_scaled(Vec3::new(2.0, 0.5, 1.5))),
+    ])
 }

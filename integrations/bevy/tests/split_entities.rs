@@ -12,7 +12,6 @@ use bevy::prelude::*;
 use bevy_dentbend::dentbend::{TriMesh, mesh};
 use bevy_dentbend::{DentRefused, DentStats, DentWorld, Dentable, DentbendPlugin, bevy_mesh};
 use bevy_rapier3d::prelude::*;
-use libtest_mimic::{Arguments, Trial};
 
 /// Where the `Dentable` goes.
 #[derive(Clone, Copy)]
@@ -87,20 +86,11 @@ fn several_meshes_are_refused() {
 }
 
 fn main() -> ExitCode {
-    let args = Arguments::from_args();
-    let trials = vec![
-        Trial::test("a_dentable_body_dents_its_child_mesh", || {
-            dents_through_the_other_entity(Layout::OnBody);
-            Ok(())
+    common::run_headless(vec![
+        ("a_dentable_body_dents_its_child_mesh", || dents_through_the_other_entity(Layout::OnBody)),
+        ("a_dentable_child_mesh_dents_through_its_parent_s_collider", || {
+            dents_through_the_other_entity(Layout::OnMesh)
         }),
-        Trial::test("a_dentable_child_mesh_dents_through_its_parent_s_collider", || {
-            dents_through_the_other_entity(Layout::OnMesh);
-            Ok(())
-        }),
-        Trial::test("a_dentable_over_several_meshes_is_refused", || {
-            several_meshes_are_refused();
-            Ok(())
-        }),
-    ];
-    libtest_mimic::run(&args, trials).exit_code()
+        ("a_dentable_over_several_meshes_is_refused", several_meshes_are_refused),
+    ])
 }

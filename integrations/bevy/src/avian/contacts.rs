@@ -94,7 +94,8 @@ fn state_of((kind, position, rotation, linear, angular, mass, inertia, centre): 
     }
 }
 
-/// This step's pushes on each dentable's collider, between bodies the plug-in knows, as
+/// This step's pushes on each dentable's collider (those recorded before the step), between
+/// bodies the plug-in knows, as
 /// [`DentContact`]s (`started` on the first step a pair pushes).
 pub(crate) fn send_contacts(
     mut impacts: ResMut<AvianImpacts>,
@@ -109,9 +110,9 @@ pub(crate) fn send_contacts(
     }
     let mut seen = HashSet::new();
     let mut pushing = HashSet::new();
-    let aliased = world.aliased_colliders();
-    for target in world.dentables() {
-        let collider = aliased.get(&target).map_or(target, |&(collider, _)| collider);
+    // The dentables' colliders, as recorded before the step.
+    let dentable = impacts.before.iter().filter(|(_, body)| world.path(body.entity).is_some());
+    for (&collider, _) in dentable {
         for pair in collisions.collisions_with(collider) {
             let key = (pair.collider1, pair.collider2);
             if !seen.insert(key) {

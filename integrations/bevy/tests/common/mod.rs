@@ -47,6 +47,20 @@ pub fn run(tests: Vec<(&'static str, fn())>) -> ExitCode {
     libtest_mimic::run(&args, trials).exit_code()
 }
 
+/// Runs `tests`, apps without a renderer that need no GPU, in parallel.
+pub fn run_headless(tests: Vec<(&'static str, fn())>) -> ExitCode {
+    let trials = tests
+        .into_iter()
+        .map(|(name, body)| {
+            Trial::test(name, move || {
+                body();
+                Ok(())
+            })
+        })
+        .collect();
+    libtest_mimic::run(&Arguments::from_args(), trials).exit_code()
+}
+
 /// Frame size of the scripted scene, pixels.
 pub const SIZE: UVec2 = UVec2::new(320, 240);
 /// Half extents of the plate, m (its top face at y = 0).
