@@ -66,15 +66,8 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
             physics,
             contacts::send_contacts.after(PhysicsSystems::StepSimulation).before(PhysicsSystems::Writeback),
         )
-        .add_systems(
-            PostUpdate,
-            engine::find_colliders::<Avian>.after(crate::register::register_dentables).in_set(DentSystems::Register),
-        )
-        .add_systems(
-            PostUpdate,
-            (engine::refit_colliders::<Avian>, engine::give_bodies::<Avian>, give_way::give_way)
-                .in_set(DentSystems::Apply),
-        );
+        .add_systems(PostUpdate, give_way::give_way.in_set(DentSystems::Apply));
+    engine::add_shared_systems::<Avian>(app);
     if physics == PostUpdate.intern() {
         app.configure_sets(PostUpdate, DentSystems::Decide.after(PhysicsSystems::Writeback));
     }

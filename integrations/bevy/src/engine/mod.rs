@@ -1,21 +1,19 @@
 //! What every physics engine's contact source shares: the engine's collider component and
 //! shape, finding a dentable mesh's collider on another entity, refitting colliders after dents,
-//! and finding the schedule the engine steps in. `rapier` and `avian` features.
+//! bodies for broken pieces, and finding the schedule the engine steps in. `rapier` and `avian`
+//! features.
 
 mod alias;
 mod pieces;
 mod refit;
 mod schedule;
 
-pub(crate) use alias::find_colliders;
-pub(crate) use pieces::give_bodies;
-pub(crate) use refit::refit_colliders;
 pub(crate) use schedule::schedule_stepping;
 
 use bevy::prelude::*;
 use parry3d::shape::SharedShape;
 
-use crate::DentPiece;
+use crate::{DentPiece, DentSystems};
 
 /// A physics engine whose colliders are parry3d shapes on entities.
 pub(crate) trait Engine: Send + Sync + 'static {
@@ -35,4 +33,14 @@ pub(crate) trait Engine: Send + Sync + 'static {
     /// m) with the piece's own mass properties (not the collider's), moving as it broke loose;
     /// `None` when the points span no hull (a sliver).
     fn piece_body(hull: &[Vec3], piece: &DentPiece) -> Option<impl Bundle>;
+}
+
+/// Adds what every engine's contact source needs in `PostUpdate`: finding colliders on other
+/// entities than their meshes, refitting colliders after dents, and bodies for broken pieces.
+pub(crate) fn add_shared_systems<E: Engine>(app: &mut App) {
+    app.add_systems(
+        PostUpdate,
+        alias::find_colliders::<E>.after(crate::register::register_dentables).in_set(DentSystems::Register),
+    )
+    .add_systems(PostUpdate, (refit::refit_colliders::<E>, pieces::give_bodies::<E>).in_set(DentSystems::Apply));
 }

@@ -59,15 +59,8 @@ pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
                 .before(PhysicsSet::StepSimulation),
         )
         .add_systems(physics, contacts::send_contacts.after(PhysicsSet::StepSimulation).before(PhysicsSet::Writeback))
-        .add_systems(
-            PostUpdate,
-            engine::find_colliders::<Rapier>.after(crate::register::register_dentables).in_set(DentSystems::Register),
-        )
-        .add_systems(
-            PostUpdate,
-            (engine::refit_colliders::<Rapier>, engine::give_bodies::<Rapier>, give_way::give_way)
-                .in_set(DentSystems::Apply),
-        );
+        .add_systems(PostUpdate, give_way::give_way.in_set(DentSystems::Apply));
+    engine::add_shared_systems::<Rapier>(app);
     if physics == PostUpdate.intern() {
         app.configure_sets(PostUpdate, DentSystems::Decide.after(PhysicsSet::Writeback));
     }
