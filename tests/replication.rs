@@ -134,8 +134,12 @@ impl Game {
         let dents = plan.dents.clone();
         self.set.apply(plan.targets);
         let (set, ball) = (&self.set, &self.ball);
-        let message =
-            self.server.message(&dents, |k| set.mesh(k), |k| if k == BALL { Some(ball) } else { set.mesh(k) })?;
+        let message = self.server.message(
+            &dents,
+            &plan.fractures,
+            |k| set.mesh(k),
+            |k| if k == BALL { Some(ball) } else { set.mesh(k) },
+        )?;
         if let Some(m) = message {
             self.messages.push(m);
         }

@@ -1,5 +1,6 @@
 //! Hostile replication bytes on a client that has joined a small world: arbitrary bytes as a
-//! message or a snapshot, or one of the world's real messages with bytes flipped. A refused call
+//! message or a snapshot, or the world's first real message (a dent and a fracture) with bytes
+//! flipped. A refused call
 //! leaves the client's meshes bit for bit and its place in the stream as they were; an accepted
 //! one leaves every vertex and normal finite.
 #![no_main]
@@ -8,6 +9,7 @@ use std::sync::OnceLock;
 
 use dentbend::damage::{CpuBackend, Damage, Hit, TargetSet};
 use dentbend::dent::{BodyState, DentSettings, Impact, Surface};
+use dentbend::fracture::{FractureSettings, PatternParams};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh;
 use dentbend::record::replication::{ReplicationClient, ReplicationServer};
@@ -34,6 +36,10 @@ fn world() -> &'static World {
         settings.params.resolution = dentbend::Resolution::Auto { min: 16, max: 32 };
         let mut set = TargetSet::new();
         set.insert(PLATE, plate.clone(), Affine3A::IDENTITY, settings.clone()).expect("a target");
+        // The first hit (18 J) breaks a 0.3 m pattern out of the plate; the others (8 J) dent it.
+        let pattern = PatternParams { cells: 6, seed: 1, radius: 0.3 };
+        let fracture = FractureSettings::new(pattern, Some(12.0), None).expect("fracture settings");
+        set.set_fracture(PLATE, Some(fracture)).expect("a breakable plate");
         set.insert_rigid(BALL);
         let mut server = ReplicationServer::new();
         server.track(PLATE, PLATE, &plate, &settings).expect("tracked");
@@ -44,8 +50,9 @@ fn world() -> &'static World {
         client.join(&server.snapshot(|k| set.mesh(k)).expect("a snapshot").bytes).expect("joined");
         let mut damage = Damage::new();
         let mut messages = Vec::new();
-        for (step, x) in [-0.2f32, 0.1, 0.3].into_iter().enumerate() {
-            let state = BodyState::moving(Vec3::new(x, 0.3, 0.0), Vec3::new(0.5, -4.0, 0.0), Vec3::ZERO, 1.0, Mat3::IDENTITY);
+        for (step, (x, speed)) in [(-0.2f32, 6.0f32), (0.3, 4.0), (0.35, 4.0)].into_iter().enumerate() {
+            let velocity = Vec3::new(0.5, -speed, 0.0);
+            let state = BodyState::moving(Vec3::new(x, 0.3, 0.0), velocity, Vec3::ZERO, 1.0, Mat3::IDENTITY);
             let point = Vec3::new(x, 0.1, 0.0);
             let hit = Hit {
                 target: PLATE,
@@ -58,8 +65,11 @@ fn world() -> &'static World {
             let plan = damage.plan(&set, &[hit], step as u64 + 1, &mut CpuBackend).expect("a plan");
             let dents = plan.dents.clone();
             set.apply(plan.targets);
+            assert_eq!(plan.fractures.len(), usize::from(step == 0), "only the first hit breaks the plate");
+            assert!(plan.fractures.iter().all(|f| f.rest.is_some()), "the plate keeps a rest");
+            plan.fractures.iter().for_each(|f| set.apply_fracture(f));
             let ball = &ball;
-            let message = server.message(&dents, |k| set.mesh(k), |k| (k == BALL).then_some(ball)).expect("a message");
+            let message = server.message(&dents, &plan.fractures, |k| set.mesh(k), |k| (k == BALL).then_some(ball)).expect("a message");
             messages.extend(message);
         }
         World { client, messages }

@@ -62,6 +62,9 @@ pub struct BrokenPiece {
 pub struct BodyFracture<K> {
     /// The body that broke; its rest keeps this id.
     pub body: K,
+    /// The fracture's number, counted by one [`Damage`](super::Damage) from 0 (its pieces'
+    /// [`PieceId::fracture`]).
+    pub number: u64,
     /// The body that broke it.
     pub projectile: K,
     /// Why it broke.
@@ -204,6 +207,7 @@ pub(crate) fn break_at<K: Copy>(
     let used = if b.cause == FractureCause::Energy { settings.toughness.unwrap_or(0.0) } else { 0.0 };
     Ok(Some(BodyFracture {
         body: b.target,
+        number,
         projectile: b.projectile,
         cause: b.cause,
         energy: b.energy,

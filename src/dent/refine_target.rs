@@ -9,6 +9,7 @@
 //! appends vertices and faces, so every other stage can keep using vertex indices.
 
 use std::borrow::Cow;
+use std::collections::HashMap;
 
 use glam::Vec3;
 
@@ -285,15 +286,35 @@ pub(crate) fn refine_for_dents(
 const NEAR_SEAM_CELLS: f32 = 1e-3;
 
 /// Refuses a dent whose footprint `region` on `target` (its map's cells `cell_size` wide) holds
-/// two vertices that nearly but not exactly share a position
-/// ([`DentError::NearlyCoincidentVertices`]).
+/// two vertices that nearly but not exactly share a position and share no face
+/// ([`DentError::NearlyCoincidentVertices`]). Two ends of a tiny edge (a cut's sliver) stay
+/// joined however the map moves them; two sides of a seam would crack.
 fn check_seams(target: &TriMesh, region: &OrientedBox, cell_size: f32) -> Result<(), DentError> {
     let positions = target.positions();
     let under: Vec<u32> = (0..positions.len() as u32).filter(|&v| region.contains(positions[v as usize])).collect();
-    match near_miss(positions, &under, NEAR_SEAM_CELLS * cell_size) {
+    // Built only when a near pair is found (rare): the faces of every vertex under the dent.
+    let faces_of = std::cell::OnceCell::new();
+    let joined = |v: u32, w: u32| {
+        let faces_of: &HashMap<u32, Vec<usize>> = faces_of.get_or_init(|| faces_touching(target, &under));
+        faces_of.get(&v).is_some_and(|faces| faces.iter().any(|&f| target.faces()[f].contains(&w)))
+    };
+    match near_miss(positions, &under, NEAR_SEAM_CELLS * cell_size, &joined) {
         Some((a, b, distance)) => Err(DentError::NearlyCoincidentVertices { a, b, distance }),
         None => Ok(()),
     }
+}
+
+/// For each of the vertices `under`, the faces of `mesh` that use it.
+fn faces_touching(mesh: &TriMesh, under: &[u32]) -> HashMap<u32, Vec<usize>> {
+    let mut faces_of: HashMap<u32, Vec<usize>> = under.iter().map(|&v| (v, Vec::new())).collect();
+    for (f, face) in mesh.faces().iter().enumerate() {
+        for v in face {
+            if let Some(list) = faces_of.get_mut(v) {
+                list.push(f);
+            }
+        }
+    }
+    faces_of
 }
 
 /// The warning for a refinement that left `faces` too-coarse faces unsplit (`usize::MAX`: all of

@@ -15,7 +15,7 @@ use crate::dent::BodyState;
 use crate::mesh::{MassProperties, TriMesh, mass_properties};
 
 /// One piece that broke loose.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Piece {
     /// Its closed surface, in the broken body's mesh coordinates (not re-centred), m.
     pub mesh: TriMesh,

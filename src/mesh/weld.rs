@@ -59,13 +59,19 @@ impl Weld {
 }
 
 /// Two of the vertices `candidates` of `positions` that lie within `tolerance` (world units, > 0)
-/// of each other without sharing a position, and their distance; `None` when there are none.
+/// of each other without sharing a position, and that `joined` does not call joined (an edge
+/// between them keeps them together), and their distance; `None` when there are none.
 ///
 /// The candidates are sorted by their projection on a fixed direction no mesh is aligned with,
 /// and each is compared with those whose projection lies within `tolerance` of its own (a pair
 /// that close projects that close): a handful of comparisons per vertex, unless many vertices
 /// project alike, when a hash grid of cell `tolerance` takes over.
-pub(crate) fn near_miss(positions: &[Vec3], candidates: &[u32], tolerance: f32) -> Option<(u32, u32, f32)> {
+pub(crate) fn near_miss(
+    positions: &[Vec3],
+    candidates: &[u32],
+    tolerance: f32,
+    joined: &dyn Fn(u32, u32) -> bool,
+) -> Option<(u32, u32, f32)> {
     if !(tolerance.is_finite() && tolerance > 0.0) || candidates.len() < 2 {
         return None;
     }
@@ -82,9 +88,9 @@ pub(crate) fn near_miss(positions: &[Vec3], candidates: &[u32], tolerance: f32) 
         for &(_, w) in projected[i + 1..].iter().take_while(|(o, _)| o - along <= window) {
             compared += 1;
             if compared > budget {
-                return near_miss_in_grid(positions, candidates, tolerance);
+                return near_miss_in_grid(positions, candidates, tolerance, joined);
             }
-            if let Some(found) = close_apart(positions, v, w, tolerance) {
+            if let Some(found) = close_apart(positions, v, w, tolerance, joined) {
                 return Some(found);
             }
         }
@@ -96,16 +102,32 @@ pub(crate) fn near_miss(positions: &[Vec3], candidates: &[u32], tolerance: f32) 
 /// the hash grid.
 const SWEEP_COMPARISONS_PER_VERTEX: usize = 16;
 
-/// `(v, w, distance)` when vertices `v` and `w` lie within `tolerance` without sharing a position.
-fn close_apart(positions: &[Vec3], v: u32, w: u32, tolerance: f32) -> Option<(u32, u32, f32)> {
+/// `(v, w, distance)` when vertices `v` and `w` lie within `tolerance` without sharing a position
+/// or being `joined`.
+fn close_apart(
+    positions: &[Vec3],
+    v: u32,
+    w: u32,
+    tolerance: f32,
+    joined: &dyn Fn(u32, u32) -> bool,
+) -> Option<(u32, u32, f32)> {
     let (p, q) = (positions[v as usize], positions[w as usize]);
     let distance = p.distance(q);
-    (distance <= tolerance && position_key(p) != position_key(q)).then_some((v.min(w), v.max(w), distance))
+    (distance <= tolerance && position_key(p) != position_key(q) && !joined(v, w)).then_some((
+        v.min(w),
+        v.max(w),
+        distance,
+    ))
 }
 
 /// [`near_miss`] by a hash grid of cell `tolerance`: each vertex compared with those of its 27
 /// cells.
-fn near_miss_in_grid(positions: &[Vec3], candidates: &[u32], tolerance: f32) -> Option<(u32, u32, f32)> {
+fn near_miss_in_grid(
+    positions: &[Vec3],
+    candidates: &[u32],
+    tolerance: f32,
+    joined: &dyn Fn(u32, u32) -> bool,
+) -> Option<(u32, u32, f32)> {
     // f64 cells: within the coordinate range even a tiny tolerance numbers them exactly.
     let cell = |p: Vec3| (p.as_dvec3() / f64::from(tolerance)).floor().as_i64vec3().to_array();
     let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(candidates.len());
@@ -119,7 +141,7 @@ fn near_miss_in_grid(positions: &[Vec3], candidates: &[u32], tolerance: f32) -> 
                 for dz in -1..=1 {
                     let Some(near) = cells.get(&[x + dx, y + dy, z + dz]) else { continue };
                     if let Some(found) =
-                        near.iter().filter(|&&w| w > v).find_map(|&w| close_apart(positions, v, w, tolerance))
+                        near.iter().filter(|&&w| w > v).find_map(|&w| close_apart(positions, v, w, tolerance, joined))
                     {
                         return Some(found);
                     }
@@ -220,10 +242,10 @@ mod tests {
         let mut positions: Vec<Vec3> =
             (0..40).flat_map(|i| (0..40).map(move |j| a * i as f32 + b * j as f32)).collect();
         let all: Vec<u32> = (0..positions.len() as u32).collect();
-        assert_eq!(near_miss(&positions, &all, 1e-4), None);
+        assert_eq!(near_miss(&positions, &all, 1e-4, &|_, _| false), None);
         positions.push(positions[700] + Vec3::splat(1e-5));
         let all: Vec<u32> = (0..positions.len() as u32).collect();
-        let (v, w, distance) = near_miss(&positions, &all, 1e-4).expect("the nudged twin");
+        let (v, w, distance) = near_miss(&positions, &all, 1e-4, &|_, _| false).expect("the nudged twin");
         assert_eq!((v, w), (700, 1600));
         assert!(distance > 0.0 && distance <= 1e-4);
     }

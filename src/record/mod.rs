@@ -13,6 +13,7 @@
 //! little-endian binary in base64 inside a small JSON object. [`replication`] streams a server's
 //! dents to clients as they happen.
 
+mod break_codec;
 mod bytes;
 mod edit_codec;
 mod error;

@@ -4,6 +4,7 @@
 use glam::{Affine3A, Quat, Vec3};
 
 use super::RecordError;
+use super::break_codec::{read_break, write_break};
 use super::bytes::{ByteReader, ByteWriter};
 use super::edit_codec::{read_edit, write_edit};
 use super::params_codec::{read_params, write_params};
@@ -225,13 +226,7 @@ fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), R
             DamageRecord::Fracture(f) => {
                 out.u8(5);
                 out.varint(f.frame);
-                let crate::fracture::FractureRecord { pattern, placement, density } = &f.fracture;
-                out.varint(u64::from(pattern.cells));
-                out.u64(pattern.seed);
-                out.f32(pattern.radius);
-                out.vec3(placement.point);
-                out.vec3(placement.normal);
-                out.f32(*density);
+                write_break(out, &f.fracture);
                 out.vec3(f.to_model);
                 out.vec3(f.rest_shift);
                 out.varint(f.pieces.len() as u64);
@@ -296,12 +291,8 @@ fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordError
 }
 
 fn read_fracture(r: &mut ByteReader<'_>) -> Result<FractureRecord, RecordError> {
-    use crate::fracture::{PatternParams, Placement};
     let frame = r.varint("fracture frame")?;
-    let pattern = PatternParams { cells: r.varint32("cells")?, seed: r.u64("seed")?, radius: r.f32("radius")? };
-    let placement = Placement { point: r.vec3("fracture point")?, normal: r.vec3("fracture normal")? };
-    let density = r.f32("density")?;
-    let fracture = crate::fracture::FractureRecord { pattern, placement, density };
+    let fracture = read_break(r)?;
     let (to_model, rest_shift) = (r.vec3("to model")?, r.vec3("rest shift")?);
     // A piece takes at least 22 bytes (an empty name, an index, a shift, a hash).
     let k = r.count("fracture pieces", 22, MAX_RECORDS)?;

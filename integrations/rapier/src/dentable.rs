@@ -310,9 +310,9 @@ impl Dentables {
         }
         move_projectiles(&plan.dents, bodies, colliders);
         let mut broken = Vec::with_capacity(fractures.len());
-        for (prepared, fracture) in fractures.into_iter().zip(&plan.fractures) {
-            self.targets.apply_fracture(fracture);
-            let (made, pieces) = prepared.commit(bodies, colliders);
+        for (prepared, fracture) in fractures.into_iter().zip(plan.fractures) {
+            self.targets.apply_fracture(&fracture);
+            let (made, pieces) = prepared.commit(bodies, colliders, fracture);
             if made.whole {
                 self.remove(made.collider);
             } else {

@@ -6,7 +6,6 @@
 //! checked) before anything changes, then committed.
 
 use dentbend::damage::{BodyFracture, PieceId, piece_hull_points};
-use dentbend::fracture::FractureCause;
 use dentbend::mesh::{MassProperties, TriMesh};
 use rapier3d::prelude::{
     ColliderBuilder, ColliderHandle, ColliderSet, MassProperties as RapierMass, RigidBodyBuilder, RigidBodyHandle,
@@ -33,12 +32,10 @@ pub struct PieceBody {
 pub struct BrokenCollider {
     /// The collider that broke; it keeps its handle with its rest as its shape.
     pub collider: ColliderHandle,
-    /// The collider that broke it.
-    pub projectile: ColliderHandle,
-    /// Why it broke.
-    pub cause: FractureCause,
-    /// The energy the breaking hit removed along its normal, J.
-    pub energy: f32,
+    /// The fracture as the damage API made it: what broke it, why, its record, the rest and
+    /// every piece (what [`ReplicationServer::message`](dentbend::record::replication::ReplicationServer::message)
+    /// sends).
+    pub fracture: BodyFracture<ColliderHandle>,
     /// Whether the pattern took the whole collider: it is disabled and forgotten, for the
     /// caller to remove ([`Adapter`](crate::Adapter) removes it, and its body when it has no
     /// other collider).
@@ -51,10 +48,17 @@ pub struct BrokenCollider {
 
 /// A fracture's Rapier edits, built and checked.
 pub(crate) struct PreparedFracture {
-    broken: BrokenCollider,
+    broken: PreparedBreak,
     rest: Option<(SharedShape, Option<RapierMass>)>,
     pieces: Vec<(PieceId, ColliderBuilder, TriMesh, glam::Vec3, glam::Vec3)>,
     projectile_velocity: Option<(glam::Vec3, glam::Vec3)>,
+}
+
+/// What a prepared fracture will report.
+struct PreparedBreak {
+    collider: ColliderHandle,
+    whole: bool,
+    left_out: usize,
 }
 
 /// Builds the edits of `fracture` of collider `handle` (of `kind`); nothing changes.
@@ -101,28 +105,25 @@ pub(crate) fn prepare(
             None => left_out += 1,
         }
     }
-    let broken = BrokenCollider {
-        collider: handle,
-        projectile: fracture.projectile,
-        cause: fracture.cause,
-        energy: fracture.energy,
-        whole: fracture.rest.is_none(),
-        pieces: Vec::new(),
-        left_out,
-    };
+    let broken = PreparedBreak { collider: handle, whole: fracture.rest.is_none(), left_out };
     Ok(PreparedFracture { broken, rest, pieces, projectile_velocity: fracture.projectile_velocity })
 }
 
 impl PreparedFracture {
-    /// Applies the edits: the rest's shape (or the collider disabled), a body and collider per
-    /// piece at the collider's pose, the projectile's velocity. Returns what broke and each
-    /// piece's collider with its mesh (for the caller to dent others with).
+    /// Applies the edits of `fracture` (the one it was prepared from): the rest's shape (or the
+    /// collider disabled), a body and collider per piece at the collider's pose, the
+    /// projectile's velocity. Returns what broke and each piece's collider with its mesh (for
+    /// the caller to dent others with).
     pub(crate) fn commit(
         self,
         bodies: &mut RigidBodySet,
         colliders: &mut ColliderSet,
+        fracture: BodyFracture<ColliderHandle>,
     ) -> (BrokenCollider, Vec<(ColliderHandle, TriMesh)>) {
-        let Self { mut broken, rest, pieces, projectile_velocity } = self;
+        let Self { broken, rest, pieces, projectile_velocity } = self;
+        let projectile = fracture.projectile;
+        let PreparedBreak { collider, whole, left_out } = broken;
+        let mut broken = BrokenCollider { collider, fracture, whole, pieces: Vec::new(), left_out };
         let Some(collider) = colliders.get_mut(broken.collider) else { return (broken, Vec::new()) };
         let pose = *collider.position();
         match rest {
@@ -142,7 +143,7 @@ impl PreparedFracture {
             surfaces.push((collider, mesh));
         }
         if let Some((linear, angular)) = projectile_velocity
-            && let Some(body) = colliders.get(broken.projectile).and_then(|c| c.parent())
+            && let Some(body) = colliders.get(projectile).and_then(|c| c.parent())
             && let Some(rb) = bodies.get_mut(body)
             && rb.is_dynamic()
         {

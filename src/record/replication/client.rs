@@ -4,21 +4,50 @@
 
 use std::collections::BTreeMap;
 
-use super::wire::{BodyForm, Group, GroupChange, ProjectileId, check_of, read_message, read_snapshot};
+use super::wire::{
+    BodyForm, Group, GroupChange, ProjectileId, WireBreak, check_of, outcome_check, read_message, read_snapshot,
+};
 use super::{ReplicationError, settings_digest};
+use crate::damage::PieceId;
 use crate::dent::{DentJob, DentParams, DentSettings, changed_vertices, dent_batch_tracked};
+use crate::fracture::{Piece, replay};
 use crate::mesh::{TriMesh, content_hash};
 use crate::record::hex64;
 
-/// One body a message changed on the client.
+/// One body a message or snapshot changed on the client.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReplicaChange {
     /// The body's wire id.
     pub id: u32,
     /// Vertices whose position changed, ascending (new vertices included): refit over these.
     pub moved: Vec<u32>,
-    /// Whether the faces changed too (a refined dent): rebuild the collider and the render mesh.
+    /// Whether the faces changed too (a refined dent, a fracture's rest): rebuild the collider
+    /// and the render mesh.
     pub topology_changed: bool,
+    /// The fracture the body went through, when it broke.
+    pub fracture: Option<ReplicaFracture>,
+    /// Whether the body is gone (a fracture took it whole): remove it. The client no longer
+    /// has it.
+    pub removed: bool,
+}
+
+/// A fracture replayed on the client: the server's pieces, bit for bit, for the caller to make
+/// bodies of (their velocities are the game's own state to replicate).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplicaFracture {
+    /// The server's fracture number.
+    pub number: u64,
+    /// The pieces, each with its id (the server's [`PieceId`]) and its closed mesh and mass
+    /// properties in the body's mesh coordinates.
+    pub pieces: Vec<(PieceId, Piece)>,
+}
+
+/// A body's new state, staged before anything is committed.
+struct Staged {
+    id: u32,
+    /// Its mesh after the message; `None` when it is gone.
+    mesh: Option<TriMesh>,
+    fracture: Option<ReplicaFracture>,
 }
 
 #[derive(Debug, Clone)]
@@ -38,6 +67,8 @@ struct ClientBody {
 pub struct ReplicationClient {
     bodies: BTreeMap<u32, ClientBody>,
     shapes: BTreeMap<u32, TriMesh>,
+    /// Pieces of the stream's fractures, projectiles that may dent.
+    pieces: BTreeMap<PieceId, TriMesh>,
     /// The next message's number; `None` before the snapshot.
     next: Option<u64>,
 }
@@ -79,6 +110,18 @@ impl ReplicationClient {
         }
         self.shapes.insert(id, mesh);
         Ok(())
+    }
+
+    /// Stops keeping piece `id` (the game removed it; the server calls
+    /// [`ReplicationServer::forget_piece`](super::ReplicationServer::forget_piece)).
+    pub fn forget_piece(&mut self, id: PieceId) {
+        self.pieces.remove(&id);
+    }
+
+    /// Piece `id`'s mesh, body mesh coordinates of the body it broke from, while the client
+    /// keeps it.
+    pub fn piece(&self, id: PieceId) -> Option<&TriMesh> {
+        self.pieces.get(&id)
     }
 
     /// Body `id`'s mesh now.
@@ -131,9 +174,12 @@ impl ReplicationClient {
             if hash != s.hash {
                 return Err(other(s.id, "the joined mesh's hash", hex64(s.hash), hex64(hash)));
             }
-            staged.push((s.id, mesh));
+            staged.push(Staged { id: s.id, mesh: Some(mesh), fracture: None });
         }
+        let gone = snapshot.removed.iter().filter(|id| self.bodies.contains_key(id));
+        staged.extend(gone.map(|&id| Staged { id, mesh: None, fracture: None }));
         let changes = self.commit(staged);
+        self.pieces = snapshot.pieces.into_iter().collect();
         self.next = Some(snapshot.next);
         Ok(changes)
     }
@@ -158,8 +204,7 @@ impl ReplicationClient {
         if message.number > expected {
             return Err(ReplicationError::OutOfOrder { expected, found: message.number });
         }
-        let staged: Vec<(u32, TriMesh)> =
-            message.groups.iter().map(|g| Ok((g.id, self.changed(g)?))).collect::<Result<_, ReplicationError>>()?;
+        let staged: Vec<Staged> = message.groups.iter().map(|g| self.changed(g)).collect::<Result<_, _>>()?;
         let next = expected
             .checked_add(1)
             .ok_or_else(|| ReplicationError::Malformed("the stream's message numbers are used up".into()))?;
@@ -168,20 +213,46 @@ impl ReplicationClient {
         Ok(changes)
     }
 
-    /// Gives each staged body its new mesh; returns what changed.
-    fn commit(&mut self, staged: Vec<(u32, TriMesh)>) -> Vec<ReplicaChange> {
+    /// Gives each staged body its new mesh, or removes it; returns what changed.
+    fn commit(&mut self, staged: Vec<Staged>) -> Vec<ReplicaChange> {
         let mut changes = Vec::with_capacity(staged.len());
-        for (id, mesh) in staged {
-            if let Some(body) = self.bodies.get_mut(&id) {
-                changes.push(change(id, &body.mesh, &mesh));
-                body.mesh = mesh;
+        for Staged { id, mesh, fracture } in staged {
+            let made = fracture.iter().flat_map(|f| &f.pieces);
+            self.pieces.extend(made.map(|(piece_id, piece)| (*piece_id, piece.mesh.clone())));
+            let Some(body) = self.bodies.get_mut(&id) else { continue };
+            match mesh {
+                Some(mesh) => {
+                    let moved = changed_vertices(&body.mesh, &mesh);
+                    let topology_changed = body.mesh.faces() != mesh.faces();
+                    changes.push(ReplicaChange { id, moved, topology_changed, fracture, removed: false });
+                    body.mesh = mesh;
+                }
+                None => {
+                    self.bodies.remove(&id);
+                    changes.push(ReplicaChange {
+                        id,
+                        moved: Vec::new(),
+                        topology_changed: true,
+                        fracture,
+                        removed: true,
+                    });
+                }
             }
         }
         changes
     }
 
-    /// Body `g.id`'s mesh after its group, checked against the group's hash.
-    fn changed(&self, g: &Group) -> Result<TriMesh, ReplicationError> {
+    /// Body `g.id` after its group: its change checked against the group's hash, then its
+    /// fracture replayed and checked.
+    fn changed(&self, g: &Group) -> Result<Staged, ReplicationError> {
+        let mesh = self.changed_mesh(g)?;
+        let Some(wire) = &g.fracture else { return Ok(Staged { id: g.id, mesh: Some(mesh), fracture: None }) };
+        let (rest, fracture) = replay_break(g.id, &mesh, wire)?;
+        Ok(Staged { id: g.id, mesh: rest, fracture: Some(fracture) })
+    }
+
+    /// Body `g.id`'s mesh after its group's change, checked against the group's hash.
+    fn changed_mesh(&self, g: &Group) -> Result<TriMesh, ReplicationError> {
         let body = self.bodies.get(&g.id).ok_or(ReplicationError::MissingBase { id: g.id })?;
         let mesh = match &g.change {
             GroupChange::Edit(edit) => {
@@ -207,6 +278,13 @@ impl ReplicationClient {
                                  (ReplicationClient::add_projectile with the server's mesh)"
                             ))
                         })?,
+                        ProjectileId::Piece(id) => self.pieces.get(&id).ok_or_else(|| {
+                            ReplicationError::UnknownProjectile(format!(
+                                "piece {} of fracture {} is not on this client: it was forgotten \
+                                 (forget_piece) while the server still names it",
+                                id.index, id.fracture
+                            ))
+                        })?,
                     };
                     cropped.push(d.contact.crop(projectile, d.reach));
                 }
@@ -223,6 +301,9 @@ impl ReplicationClient {
                     })
                     .collect();
                 let mut meshes = vec![body.mesh.clone()];
+                if jobs.is_empty() {
+                    return self.checked(g, meshes.swap_remove(0));
+                }
                 dent_batch_tracked(&mut meshes, &jobs).map_err(|e| ReplicationError::Dent {
                     id: g.id,
                     dent: e.job,
@@ -231,6 +312,11 @@ impl ReplicationClient {
                 meshes.pop().unwrap_or_else(|| body.mesh.clone())
             }
         };
+        self.checked(g, mesh)
+    }
+
+    /// `mesh` when its hash is the one group `g` carries.
+    fn checked(&self, g: &Group, mesh: TriMesh) -> Result<TriMesh, ReplicationError> {
         let found = check_of(content_hash(&mesh));
         if found != g.check {
             return Err(other(
@@ -244,11 +330,34 @@ impl ReplicationClient {
     }
 }
 
-fn other(id: u32, what: &'static str, expected: String, found: String) -> ReplicationError {
-    ReplicationError::OtherMesh { id, what, expected, found }
+/// Body `id`'s fracture `wire` replayed on `mesh` (its mesh when it broke): its rest (`None`:
+/// the pattern took it whole) and the pieces, checked against the server's.
+fn replay_break(
+    id: u32,
+    mesh: &TriMesh,
+    wire: &WireBreak,
+) -> Result<(Option<TriMesh>, ReplicaFracture), ReplicationError> {
+    let outcome = replay(mesh, &wire.record)
+        .map_err(|error| ReplicationError::Fracture { id, error })?
+        .ok_or_else(|| other(id, "the fracture", "pieces".into(), "a pattern that misses the body".into()))?;
+    let found = outcome_check(outcome.rest.as_ref(), outcome.pieces.iter().map(|p| &p.mesh));
+    if found != wire.check {
+        return Err(other(
+            id,
+            "the fracture's hash (low 32 bits)",
+            format!("{:08x}", wire.check),
+            format!("{found:08x}"),
+        ));
+    }
+    let pieces = outcome
+        .pieces
+        .into_iter()
+        .enumerate()
+        .map(|(index, piece)| (PieceId { fracture: wire.number, index: index as u32 }, piece))
+        .collect();
+    Ok((outcome.rest, ReplicaFracture { number: wire.number, pieces }))
 }
 
-/// What changed from `before` to `after`.
-fn change(id: u32, before: &TriMesh, after: &TriMesh) -> ReplicaChange {
-    ReplicaChange { id, moved: changed_vertices(before, after), topology_changed: before.faces() != after.faces() }
+fn other(id: u32, what: &'static str, expected: String, found: String) -> ReplicationError {
+    ReplicationError::OtherMesh { id, what, expected, found }
 }

@@ -2,6 +2,7 @@
 //! it was.
 
 use crate::dent::DentError;
+use crate::fracture::FractureError;
 use crate::mesh::MeshError;
 use crate::record::RecordError;
 
@@ -92,6 +93,15 @@ pub enum ReplicationError {
         /// Why.
         #[source]
         error: DentError,
+    },
+    /// A fracture in the stream does not replay on the body's mesh.
+    #[error("body {id}: its fracture does not replay: {error}")]
+    Fracture {
+        /// The body's wire id.
+        id: u32,
+        /// Why.
+        #[source]
+        error: FractureError,
     },
     /// An edit or mesh in the stream is not a valid mesh for the body.
     #[error("body {id}: {error}")]

@@ -1,8 +1,11 @@
-//! Network replication of damage: a server sends each step's dents as small messages (about
+//! Network replication of damage: a server sends each step's dents and fractures as small messages (about
 //! 54 bytes a dent: the contact in the target's coordinates as [`LocalContact`] codes it, the
 //! dent distance and the crop reach), and each client recomputes them on the CPU from the same
 //! meshes, getting bit-identical meshes; every group of dents carries the low 32 bits of the
-//! server's resulting mesh hash, and a client that would differ refuses the message. A client
+//! server's resulting mesh hash, and a client that would differ refuses the message. A body
+//! that breaks sends its fracture as data too (about 50 bytes: the number, the pattern's
+//! parameters, where it was placed, the density); clients replay it on the mesh it broke and get
+//! the server's rest and pieces bit for bit, checked by hash. A client
 //! that joins late starts from a snapshot whose size is bounded by the meshes, not by the hits
 //! that came before: each body is sent as the smaller of its edit from the base mesh and its
 //! whole mesh.
@@ -20,7 +23,7 @@ mod error;
 mod server;
 mod wire;
 
-pub use client::{ReplicaChange, ReplicationClient};
+pub use client::{ReplicaChange, ReplicaFracture, ReplicationClient};
 pub use error::ReplicationError;
 pub use server::{ReplicationServer, SnapshotBytes};
 

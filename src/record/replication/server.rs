@@ -4,11 +4,11 @@
 use std::hash::Hash;
 
 use super::wire::{
-    BodyForm, Group, GroupChange, Message, ProjectileId, Snapshot, SnapshotBody, WireDent, check_of, write_message,
-    write_snapshot,
+    BodyForm, Group, GroupChange, Message, ProjectileId, Snapshot, SnapshotBody, WireBreak, WireDent, check_of,
+    outcome_check, write_message, write_snapshot,
 };
 use super::{ReplicationError, settings_digest};
-use crate::damage::AppliedDent;
+use crate::damage::{AppliedDent, BodyFracture, PieceId};
 use crate::dent::{DentSettings, VolumeMode};
 use crate::mesh::{MeshEdit, TriMesh, content_hash};
 
@@ -45,16 +45,20 @@ pub struct ReplicationServer<K> {
     bodies: Vec<ServerBody<K>>,
     /// Registered projectile meshes: (content hash, id).
     shapes: Vec<(u64, u32)>,
+    /// Ids of bodies a fracture took whole (a late joiner removes them).
+    removed: Vec<u32>,
+    /// Pieces of carried fractures still in play: (content hash, id, mesh).
+    pieces: Vec<(u64, PieceId, TriMesh)>,
     next: u64,
 }
 
 impl<K> Default for ReplicationServer<K> {
     fn default() -> Self {
-        Self { bodies: Vec::new(), shapes: Vec::new(), next: 0 }
+        Self { bodies: Vec::new(), shapes: Vec::new(), removed: Vec::new(), pieces: Vec::new(), next: 0 }
     }
 }
 
-impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
+impl<K: Copy + Eq + Hash + std::fmt::Debug + 'static> ReplicationServer<K> {
     /// No body tracked, no message sent.
     pub fn new() -> Self {
         Self::default()
@@ -84,12 +88,20 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
             Some(slot) => *slot = body,
             None => self.bodies.push(body),
         }
+        self.removed.retain(|&r| r != id);
         Ok(())
     }
 
     /// Stops carrying body `key` (removed from the game).
     pub fn forget(&mut self, key: K) {
         self.bodies.retain(|b| b.key != key);
+    }
+
+    /// Stops naming piece `id` of a carried fracture (the game removed it); a later snapshot
+    /// leaves it out. Clients call [`ReplicationClient::forget_piece`](super::ReplicationClient::forget_piece)
+    /// when the game removes it on their side.
+    pub fn forget_piece(&mut self, id: PieceId) {
+        self.pieces.retain(|(_, p, _)| *p != id);
     }
 
     /// Registers a projectile mesh (its own coordinates, as its surface dents) as id `id`:
@@ -113,38 +125,38 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
         self.next
     }
 
-    /// The message of one step's `dents` (from [`Damage::plan`](crate::damage::Damage::plan) on
-    /// the CPU backend, already applied): `mesh` gives each tracked body's mesh now, and
-    /// `surface` each projectile's surface as it dented (its mesh, own coordinates). Dents on
-    /// bodies the stream does not carry are left out; `None` when no dent is carried (no
-    /// message is numbered then).
+    /// The message of one step's `dents` and `fractures` (from
+    /// [`Damage::plan`](crate::damage::Damage::plan) on the CPU backend, already applied):
+    /// `mesh` gives each tracked body's mesh now, and `surface` each projectile's surface as it
+    /// dented (its mesh, own coordinates). Dents and fractures of bodies the stream does not
+    /// carry are left out; `None` when nothing is carried (no message is numbered then). A
+    /// body a fracture took whole is no longer carried.
     ///
     /// # Errors
     /// [`ReplicationError::UnknownProjectile`] for a projectile that is neither tracked nor
     /// registered, [`ReplicationError::UnknownBody`] for a tracked body `mesh` does not know;
     /// nothing changes then.
-    pub fn message<'m>(
+    pub fn message<'m, 'f>(
         &mut self,
         dents: &[AppliedDent<K>],
+        fractures: impl IntoIterator<Item = &'f BodyFracture<K>>,
         mesh: impl Fn(K) -> Option<&'m TriMesh>,
         surface: impl Fn(K) -> Option<&'m TriMesh>,
     ) -> Result<Option<Vec<u8>>, ReplicationError> {
         let mut groups: Vec<(usize, Group)> = Vec::new();
         for d in dents {
             let Some(slot) = self.bodies.iter().position(|b| b.key == d.target) else { continue };
-            let body = &self.bodies[slot];
-            let wire = if body.sent.is_some() { None } else { Some(self.wire_dent(d, &surface)?) };
-            match groups.iter_mut().find(|(s, _)| *s == slot) {
-                Some((_, Group { change: GroupChange::Dents(list), .. })) => list.extend(wire),
-                Some(_) => {}
-                None => {
-                    let change = match wire {
-                        Some(w) => GroupChange::Dents(vec![w]),
-                        None => GroupChange::Edit(MeshEdit::default()),
-                    };
-                    groups.push((slot, Group { id: body.id, check: 0, change }));
-                }
+            let wire = if self.bodies[slot].sent.is_some() { None } else { Some(self.wire_dent(d, &surface)?) };
+            if let GroupChange::Dents(list) = &mut self.group(&mut groups, slot).change {
+                list.extend(wire);
             }
+        }
+        let mut broken: Vec<(usize, &BodyFracture<K>)> = Vec::new();
+        for f in fractures {
+            let Some(slot) = self.bodies.iter().position(|b| b.key == f.body) else { continue };
+            let check = outcome_check(f.rest.as_ref(), f.pieces.iter().map(|p| &p.mesh));
+            self.group(&mut groups, slot).fracture = Some(WireBreak { number: f.number, record: f.record, check });
+            broken.push((slot, f));
         }
         if groups.is_empty() {
             return Ok(None);
@@ -152,23 +164,59 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
         let mut sent = Vec::new();
         for (slot, group) in &mut groups {
             let body = &self.bodies[*slot];
-            let now = mesh(body.key).ok_or_else(|| ReplicationError::UnknownBody(format!("{:?}", body.key)))?;
+            let fracture = broken.iter().find(|(s, _)| s == slot).map(|(_, f)| *f);
+            // The group's change ends at the mesh the body broke, when it broke.
+            let now = match fracture {
+                Some(f) => &f.broken_mesh,
+                None => mesh(body.key).ok_or_else(|| ReplicationError::UnknownBody(format!("{:?}", body.key)))?,
+            };
             group.check = check_of(content_hash(now));
             if let Some(before) = &body.sent {
                 group.change = match MeshEdit::between(before, now) {
                     Ok(edit) => GroupChange::Edit(edit),
                     Err(_) => GroupChange::Whole(now.clone()),
                 };
-                sent.push((*slot, now.clone()));
+                let after = match fracture {
+                    Some(f) => f.rest.clone(),
+                    None => Some(now.clone()),
+                };
+                sent.push((*slot, after));
             }
         }
         let message = Message { number: self.next, groups: groups.into_iter().map(|(_, g)| g).collect() };
         // Everything built: commit.
-        for (slot, now) in sent {
-            self.bodies[slot].sent = Some(now);
+        for (slot, after) in sent {
+            self.bodies[slot].sent = after;
+        }
+        for (_, f) in &broken {
+            // Pieces dent as projectiles: both sides name them by id.
+            self.pieces.extend(f.pieces.iter().map(|p| (content_hash(&p.mesh), p.id, p.mesh.clone())));
+        }
+        let whole: Vec<K> = broken.iter().filter(|(_, f)| f.rest.is_none()).map(|(_, f)| f.body).collect();
+        for key in whole {
+            if let Some(slot) = self.bodies.iter().position(|b| b.key == key) {
+                self.removed.push(self.bodies.remove(slot).id);
+            }
         }
         self.next += 1;
         Ok(Some(write_message(&message)))
+    }
+
+    /// The group of body `slot` in `groups`, added (with no change yet) if it has none.
+    fn group<'g>(&self, groups: &'g mut Vec<(usize, Group)>, slot: usize) -> &'g mut Group {
+        let at = match groups.iter().position(|(s, _)| *s == slot) {
+            Some(at) => at,
+            None => {
+                let body = &self.bodies[slot];
+                let change = match body.sent {
+                    Some(_) => GroupChange::Edit(MeshEdit::default()),
+                    None => GroupChange::Dents(Vec::new()),
+                };
+                groups.push((slot, Group { id: body.id, check: 0, change, fracture: None }));
+                groups.len() - 1
+            }
+        };
+        &mut groups[at].1
     }
 
     /// A late joiner's start: every tracked body's mesh now (`mesh` gives it) as the smaller of
@@ -195,7 +243,10 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
                 hash: content_hash(now),
             };
             let whole_entry = entry(BodyForm::Whole(now.clone()));
-            let size = |body: &SnapshotBody| write_snapshot(&Snapshot { next: 0, bodies: vec![body.clone()] }).len();
+            let size = |body: &SnapshotBody| {
+                let alone = Snapshot { next: 0, bodies: vec![body.clone()], removed: Vec::new(), pieces: Vec::new() };
+                write_snapshot(&alone).len()
+            };
             let chosen = match edit.map(|e| entry(BodyForm::Edit(e))) {
                 Some(as_edit) if size(&as_edit) <= size(&whole_entry) => as_edit,
                 _ => whole_entry.clone(),
@@ -203,8 +254,11 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
             bodies.push(chosen);
             whole.push(whole_entry);
         }
-        let bytes = write_snapshot(&Snapshot { next: self.next, bodies });
-        let full_mesh_bytes = write_snapshot(&Snapshot { next: self.next, bodies: whole }).len();
+        let removed = self.removed.clone();
+        let pieces: Vec<(PieceId, TriMesh)> = self.pieces.iter().map(|(_, id, mesh)| (*id, mesh.clone())).collect();
+        let full = Snapshot { next: self.next, bodies: whole, removed, pieces };
+        let bytes = write_snapshot(&Snapshot { bodies, ..full.clone() });
+        let full_mesh_bytes = write_snapshot(&full).len();
         Ok(SnapshotBytes { bytes, full_mesh_bytes })
     }
 
@@ -224,14 +278,15 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
                     ))
                 })?;
                 let hash = content_hash(mesh);
-                let id = self.shapes.iter().find(|(h, _)| *h == hash).map(|&(_, id)| id).ok_or_else(|| {
+                let shape = self.shapes.iter().find(|(h, _)| *h == hash).map(|&(_, id)| ProjectileId::Shape(id));
+                let piece = || self.pieces.iter().find(|(h, ..)| *h == hash).map(|&(_, id, _)| ProjectileId::Piece(id));
+                shape.or_else(piece).ok_or_else(|| {
                     ReplicationError::UnknownProjectile(format!(
                         "projectile {:?} dented {:?} with a mesh no id names: register it with \
                          ReplicationServer::add_projectile (and on every client)",
                         d.projectile, d.target
                     ))
-                })?;
-                ProjectileId::Shape(id)
+                })?
             }
         };
         Ok(WireDent { projectile, distance: d.dent_distance, reach: d.reach, contact: d.local })

@@ -1,36 +1,45 @@
 //! The bytes of the replication stream.
 //!
 //! A **message** (one server step): tag `0xD1`, message number (varint), group count (varint),
-//! then per dented body: its id (varint), a header (varint: `count << 1` for `count` dents,
-//! `3` for a mesh edit, `5` for the whole mesh), the low 32 bits of the body's content hash
-//! after the group (u32), then the dents, the edit ([`write_edit`]) or the mesh (as in a
-//! snapshot).
+//! then per changed body: its id (varint), a header (varint: bits 0–1 the change, 0 dents, 1 a
+//! mesh edit, 2 the whole mesh; bit 2 a fracture follows; bits 3 and up the number of dents),
+//! the low 32 bits of the body's content hash after the change (u32), then the dents, the edit
+//! ([`write_edit`]) or the mesh (as in a snapshot), then the fracture if one follows: its
+//! number (varint), the break ([`write_break`]) and the low 32 bits of the hash of what it
+//! made ([`outcome_check`], u32).
 //!
 //! A **dent** (54 bytes for a rotation, 78 for a scaled pose): flags (u8: bits 0–1 the
-//! rotation's dropped component, bit 2 a whole matrix, bit 3 the projectile is a tracked body),
-//! the projectile's id (varint), dent distance and crop reach (f32, m), contact point (3 × f32),
+//! rotation's dropped component, bit 2 a whole matrix, bit 3 the projectile is a tracked body,
+//! bit 4 a piece of a fracture the stream carried), the projectile's id (varint; a piece's is
+//! its fracture number and its index, two varints), dent distance and crop reach (f32, m), contact point (3 × f32),
 //! normal and view codes (2 × 2 × u16), rotation (3 × f32, or 9 × f32), translation (3 × f32).
 //!
 //! A **snapshot** (a late joiner's start): tag `0xD5`, version (u8), the next message number
 //! (varint), body count (varint), then per body: id (varint), base mesh stamp (vertex and face
 //! counts as varints, content hash u64), settings digest (u64), form (u8: 0 an edit from the
 //! base, 1 the whole mesh; plus 2 when every vertex normal follows), the edit or the mesh, the
-//! normals (a varint count, 3 × f32 each), content hash of the body's mesh (u64).
+//! normals (a varint count, 3 × f32 each), content hash of the body's mesh (u64); then the ids
+//! of the bodies a fracture took whole (a varint count, varints); then the pieces of carried
+//! fractures still in play (a varint count; per piece its fracture number and index as varints
+//! and its mesh).
 
 use glam::{Mat3A, Vec3};
 
+use super::super::break_codec::{read_break, write_break};
 use super::super::bytes::{ByteReader, ByteWriter};
 use super::super::edit_codec::{MAX_EDIT_ITEMS, read_edit, write_edit};
 use super::ReplicationError;
+use crate::damage::PieceId;
 use crate::dent::{LocalContact, OctDirection, PoseRotation};
-use crate::mesh::{MeshEdit, TriMesh};
+use crate::fracture::FractureRecord;
+use crate::mesh::{MeshEdit, TriMesh, content_hash, fnv1a64, fnv1a64_start};
 
 /// First byte of a message.
 pub(crate) const MESSAGE_TAG: u8 = 0xD1;
 /// First byte of a snapshot.
 pub(crate) const SNAPSHOT_TAG: u8 = 0xD5;
 /// Snapshot format version.
-pub(crate) const SNAPSHOT_VERSION: u8 = 1;
+pub(crate) const SNAPSHOT_VERSION: u8 = 2;
 
 /// Most bodies or groups one message or snapshot may declare.
 pub const MAX_BODIES: u64 = 1 << 20;
@@ -45,6 +54,8 @@ pub enum ProjectileId {
     Body(u32),
     /// A projectile mesh both sides registered, by id.
     Shape(u32),
+    /// A piece of a fracture the stream carried (both sides have its mesh from the fracture).
+    Piece(PieceId),
 }
 
 /// One dent as the stream carries it.
@@ -72,15 +83,29 @@ pub enum GroupChange {
     Whole(TriMesh),
 }
 
+/// A fracture as the stream carries it: the client replays the break on the body's mesh after
+/// the group's change.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WireBreak {
+    /// The server's fracture number (its pieces' [`PieceId::fracture`](crate::damage::PieceId)).
+    pub number: u64,
+    /// The break, body mesh coordinates.
+    pub record: FractureRecord,
+    /// Low 32 bits of [`outcome_check`] of the rest and pieces it made.
+    pub check: u32,
+}
+
 /// One body's part of a message.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Group {
     /// The body's id.
     pub id: u32,
-    /// Low 32 bits of the body's content hash after the change.
+    /// Low 32 bits of the body's content hash after the change (before a fracture).
     pub check: u32,
     /// The change.
     pub change: GroupChange,
+    /// The fracture that followed the change, if the body broke.
+    pub fracture: Option<WireBreak>,
 }
 
 /// A decoded message.
@@ -127,19 +152,42 @@ pub struct Snapshot {
     pub next: u64,
     /// Every tracked body.
     pub bodies: Vec<SnapshotBody>,
+    /// Bodies a fracture took whole: a joiner removes them.
+    pub removed: Vec<u32>,
+    /// Pieces of carried fractures still in play, with their meshes (projectiles that may dent).
+    pub pieces: Vec<(PieceId, TriMesh)>,
 }
+
+/// A dent's flag bit: the projectile is a tracked body.
+const BODY_FLAG: u8 = 8;
+/// A dent's flag bit: the projectile is a piece of a carried fracture.
+const PIECE_FLAG: u8 = 16;
 
 /// A snapshot body's form bit: its vertex normals follow its mesh.
 const NORMALS_FOLLOW: u8 = 2;
 
-/// A group header: one mesh edit.
-const EDIT_HEADER: u64 = 3;
-/// A group header: the whole mesh.
-const WHOLE_HEADER: u64 = 5;
+/// A group header's change kinds (bits 0–1).
+const DENTS_KIND: u64 = 0;
+const EDIT_KIND: u64 = 1;
+const WHOLE_KIND: u64 = 2;
+/// A group header's bit: a fracture follows the change.
+const FRACTURE_FOLLOWS: u64 = 4;
+/// Where a group header's dent count starts.
+const COUNT_SHIFT: u32 = 3;
 
 /// The low 32 bits of a content hash, as a group's check.
 pub fn check_of(hash: u64) -> u32 {
     hash as u32
+}
+
+/// The check of what a fracture made: the low 32 bits of an FNV-1a hash over the content
+/// hashes of its rest (0 for none) and of its pieces, in order.
+pub fn outcome_check<'a>(rest: Option<&TriMesh>, pieces: impl IntoIterator<Item = &'a TriMesh>) -> u32 {
+    let mut h = fnv1a64(fnv1a64_start(), &rest.map_or(0, content_hash).to_le_bytes());
+    for piece in pieces {
+        h = fnv1a64(h, &content_hash(piece).to_le_bytes());
+    }
+    check_of(h)
 }
 
 /// Encodes `message`.
@@ -150,22 +198,28 @@ pub fn write_message(message: &Message) -> Vec<u8> {
     out.varint(message.groups.len() as u64);
     for g in &message.groups {
         out.varint(u64::from(g.id));
+        let follows = if g.fracture.is_some() { FRACTURE_FOLLOWS } else { 0 };
         match &g.change {
             GroupChange::Dents(dents) => {
-                out.varint((dents.len() as u64) << 1);
+                out.varint(((dents.len() as u64) << COUNT_SHIFT) | DENTS_KIND | follows);
                 out.u32(g.check);
                 dents.iter().for_each(|d| write_dent(&mut out, d));
             }
             GroupChange::Edit(edit) => {
-                out.varint(EDIT_HEADER);
+                out.varint(EDIT_KIND | follows);
                 out.u32(g.check);
                 write_edit(&mut out, edit);
             }
             GroupChange::Whole(mesh) => {
-                out.varint(WHOLE_HEADER);
+                out.varint(WHOLE_KIND | follows);
                 out.u32(g.check);
                 write_whole(&mut out, mesh);
             }
+        }
+        if let Some(f) = &g.fracture {
+            out.varint(f.number);
+            write_break(&mut out, &f.record);
+            out.u32(f.check);
         }
     }
     out.bytes
@@ -190,27 +244,35 @@ pub fn read_message(bytes: &[u8]) -> Result<Message, ReplicationError> {
         let id = r.varint32("body id")?;
         let header = r.varint("group header")?;
         let check = r.u32("group check")?;
-        let change = if header == EDIT_HEADER {
-            GroupChange::Edit(read_edit(&mut r)?)
-        } else if header == WHOLE_HEADER {
-            GroupChange::Whole(read_whole(&mut r)?)
-        } else if header & 1 == 1 {
-            return Err(ReplicationError::Malformed(format!("body {id}: group header {header}")));
+        let follows = header & FRACTURE_FOLLOWS != 0;
+        let count = header >> COUNT_SHIFT;
+        let bad_header = || ReplicationError::Malformed(format!("body {id}: group header {header}"));
+        let change = match header & 3 {
+            DENTS_KIND => {
+                if (count == 0 && !follows) || count > MAX_GROUP_DENTS {
+                    return Err(ReplicationError::Malformed(format!("body {id}: a group of {count} dents")));
+                }
+                let mut dents = Vec::with_capacity((count as usize).min(r.remaining() / 54));
+                for _ in 0..count {
+                    dents.push(read_dent(&mut r)?);
+                }
+                GroupChange::Dents(dents)
+            }
+            EDIT_KIND if count == 0 => GroupChange::Edit(read_edit(&mut r)?),
+            WHOLE_KIND if count == 0 => GroupChange::Whole(read_whole(&mut r)?),
+            _ => return Err(bad_header()),
+        };
+        let fracture = if follows {
+            let number = r.varint("fracture number")?;
+            let record = read_break(&mut r)?;
+            Some(WireBreak { number, record, check: r.u32("fracture check")? })
         } else {
-            let count = header >> 1;
-            if count == 0 || count > MAX_GROUP_DENTS {
-                return Err(ReplicationError::Malformed(format!("body {id}: a group of {count} dents")));
-            }
-            let mut dents = Vec::with_capacity((count as usize).min(r.remaining() / 54));
-            for _ in 0..count {
-                dents.push(read_dent(&mut r)?);
-            }
-            GroupChange::Dents(dents)
+            None
         };
         if !ids.insert(id) {
             return Err(ReplicationError::Malformed(format!("body {id} appears twice in message {number}")));
         }
-        groups.push(Group { id, check, change });
+        groups.push(Group { id, check, change, fracture });
     }
     if r.remaining() != 0 {
         return Err(ReplicationError::Malformed(format!("{} bytes after the message's end", r.remaining())));
@@ -223,12 +285,16 @@ fn write_dent(out: &mut ByteWriter, d: &WireDent) {
         PoseRotation::Quaternion { largest, .. } => (largest & 3, false),
         PoseRotation::Matrix(_) => (0, true),
     };
-    let (body, id) = match d.projectile {
-        ProjectileId::Body(id) => (true, id),
-        ProjectileId::Shape(id) => (false, id),
+    let kind = match d.projectile {
+        ProjectileId::Body(_) => BODY_FLAG,
+        ProjectileId::Shape(_) => 0,
+        ProjectileId::Piece(_) => PIECE_FLAG,
     };
-    out.u8(rotation_bits | (u8::from(matrix) << 2) | (u8::from(body) << 3));
-    out.varint(u64::from(id));
+    out.u8(rotation_bits | (u8::from(matrix) << 2) | kind);
+    match d.projectile {
+        ProjectileId::Body(id) | ProjectileId::Shape(id) => out.varint(u64::from(id)),
+        ProjectileId::Piece(piece) => write_piece_id(out, piece),
+    }
     out.f32(d.distance);
     out.f32(d.reach);
     out.vec3(d.contact.point);
@@ -242,11 +308,16 @@ fn write_dent(out: &mut ByteWriter, d: &WireDent) {
 
 fn read_dent(r: &mut ByteReader<'_>) -> Result<WireDent, ReplicationError> {
     let flags = r.u8("dent flags")?;
-    if flags >> 4 != 0 {
+    if flags >> 5 != 0 || flags & (BODY_FLAG | PIECE_FLAG) == BODY_FLAG | PIECE_FLAG {
         return Err(ReplicationError::Malformed(format!("dent flags {flags:#04x}")));
     }
-    let id = r.varint32("projectile id")?;
-    let projectile = if flags & 8 != 0 { ProjectileId::Body(id) } else { ProjectileId::Shape(id) };
+    let projectile = if flags & PIECE_FLAG != 0 {
+        ProjectileId::Piece(read_piece_id(r)?)
+    } else if flags & BODY_FLAG != 0 {
+        ProjectileId::Body(r.varint32("projectile id")?)
+    } else {
+        ProjectileId::Shape(r.varint32("projectile id")?)
+    };
     let distance = r.f32("dent distance")?;
     let reach = r.f32("crop reach")?;
     let point = r.vec3("contact point")?;
@@ -309,7 +380,23 @@ pub fn write_snapshot(snapshot: &Snapshot) -> Vec<u8> {
         }
         out.u64(b.hash);
     }
+    out.varint(snapshot.removed.len() as u64);
+    snapshot.removed.iter().for_each(|&id| out.varint(u64::from(id)));
+    out.varint(snapshot.pieces.len() as u64);
+    for (id, mesh) in &snapshot.pieces {
+        write_piece_id(&mut out, *id);
+        write_whole(&mut out, mesh);
+    }
     out.bytes
+}
+
+fn write_piece_id(out: &mut ByteWriter, id: PieceId) {
+    out.varint(id.fracture);
+    out.varint(u64::from(id.index));
+}
+
+fn read_piece_id(r: &mut ByteReader<'_>) -> Result<PieceId, ReplicationError> {
+    Ok(PieceId { fracture: r.varint("piece's fracture number")?, index: r.varint32("piece index")? })
 }
 
 /// Decodes a snapshot.
@@ -356,10 +443,26 @@ pub fn read_snapshot(bytes: &[u8]) -> Result<Snapshot, ReplicationError> {
         }
         bodies.push(SnapshotBody { id, base, settings, form, normals, hash });
     }
+    let n = r.count("removed bodies", 1, MAX_BODIES)?;
+    let removed = (0..n).map(|_| r.varint32("removed body id")).collect::<Result<Vec<_>, _>>()?;
+    if let Some(id) = removed.iter().find(|id| ids.contains(id)) {
+        return Err(ReplicationError::Malformed(format!("body {id} is both in the snapshot and removed")));
+    }
+    // A piece takes at least two ids and two counts.
+    let n = r.count("snapshot pieces", 4, MAX_BODIES)?;
+    let mut pieces = Vec::with_capacity(n);
+    let mut seen = std::collections::HashSet::with_capacity(n);
+    for _ in 0..n {
+        let id = read_piece_id(&mut r)?;
+        if !seen.insert(id) {
+            return Err(ReplicationError::Malformed(format!("piece {id:?} appears twice in the snapshot")));
+        }
+        pieces.push((id, read_whole(&mut r)?));
+    }
     if r.remaining() != 0 {
         return Err(ReplicationError::Malformed(format!("{} bytes after the snapshot's end", r.remaining())));
     }
-    Ok(Snapshot { next, bodies })
+    Ok(Snapshot { next, bodies, removed, pieces })
 }
 
 fn write_whole(out: &mut ByteWriter, mesh: &TriMesh) {
@@ -389,7 +492,7 @@ mod tests {
         let mesh = crate::mesh::icosphere(0.5, 1).expect("a sphere");
         let message = Message {
             number: 7,
-            groups: vec![Group { id: 3, check: 0xdead_beef, change: GroupChange::Whole(mesh.clone()) }],
+            groups: vec![Group { id: 3, check: 0xdead_beef, change: GroupChange::Whole(mesh.clone()), fracture: None }],
         };
         let bytes = write_message(&message);
         let back = read_message(&bytes).expect("read back");
@@ -401,9 +504,9 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
-        // Tag, number, group count, id, then the header: 7 is no header a writer makes.
+        // Tag, number, group count, id, then the header: 3 is no change kind a writer makes.
         let mut bad = bytes.clone();
-        bad[4] = 7;
+        bad[4] = 3;
         assert!(matches!(read_message(&bad), Err(ReplicationError::Malformed(_))));
     }
 }

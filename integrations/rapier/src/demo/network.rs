@@ -108,7 +108,12 @@ pub fn run(settings: NetworkSettings) -> Result<NetworkRun, Box<dyn std::error::
         let report = rain.step()?;
         dents += report.dents.len();
         let dentables = &rain.adapter.dentables;
-        if let Some(message) = server.message(&report.dents, |h| dentables.mesh(h), |h| dentables.surface(h))? {
+        if let Some(message) = server.message(
+            &report.dents,
+            report.fractures.iter().map(|b| &b.fracture),
+            |h| dentables.mesh(h),
+            |h| dentables.surface(h),
+        )? {
             stream_bytes += send(&mut early_socket, &message)?;
             messages += 1;
             if let Some((_, socket)) = late.as_mut() {
