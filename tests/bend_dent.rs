@@ -16,7 +16,7 @@ use dentbend::glam::{Quat, Vec3};
 use dentbend::mesh::{self, TriMesh};
 use dentbend::scene::{PLANK_DENT, PLANK_HIT, SceneSize, builtin_scene};
 use dentbend::sim::{
-    BodyDesc, ColliderKind, CollisionEvent, DecidedDent, DentSettings, DentSurface, Denter, JointKind, SimError, World,
+    BodyDesc, ColliderKind, CollisionEvent, DecidedDent, DentSettings, Denter, JointKind, SimError, World,
     WorldSettings,
 };
 
@@ -194,7 +194,7 @@ fn a_dent_on_a_bent_body_moves_with_its_bone() {
     // One dent well inside bone 1, one at the joint where the two bones' weights blend.
     let far = dent_at(&mut world, &body, balls[0], Vec3::new(0.6, 0.2, 0.0), turn, joint);
     let near = dent_at(&mut world, &body, balls[1], Vec3::new(joint.x + 0.05, 0.2, 0.0), turn, joint);
-    let dents = [(far, DentSurface::of_body(&world, balls[0])), (near, DentSurface::of_body(&world, balls[1]))];
+    let dents = [(far, world.bodies()[balls[0]].surface()), (near, world.bodies()[balls[1]].surface())];
     let pose = body.dent_in_pose(&world, &body.rest_mesh().clone(), &dents).unwrap();
 
     let world_delta = displacement(&pose.skinned, &pose.dented);
@@ -259,7 +259,7 @@ fn check_sub_bodies(world: &World, body: &ArticulatedBody, moved: &[usize], befo
 fn only_the_dented_bones_sub_bodies_change_and_the_world_steps_on() {
     let (mut world, mut body, [ball, _], turn, joint) = bent_bar(30f32.to_radians());
     let dent = dent_at(&mut world, &body, ball, Vec3::new(0.6, 0.2, 0.0), turn, joint);
-    let pose = body.dent_in_pose(&world, &body.rest_mesh().clone(), &[(dent, DentSurface::of_body(&world, ball))]);
+    let pose = body.dent_in_pose(&world, &body.rest_mesh().clone(), &[(dent, world.bodies()[ball].surface())]);
     let pose = pose.unwrap();
     assert_eq!(pose.bones, vec![1], "a dent 0.6 m into bone 1 reaches bone 0");
     let before: Vec<TriMesh> = body.body_indices().iter().map(|&i| world.bodies()[i].world_mesh()).collect();
@@ -304,7 +304,7 @@ fn bad_dent_settings_on_a_bendable_body_are_refused() {
     let ball = world.add(ball(Vec3::Y, None)).unwrap();
     let impact = dentbend::Impact::head_on(Vec3::new(0.5, 0.2, 0.0), -Vec3::Y);
     let dent = DecidedDent { target: body.body_indices()[1], projectile: ball, impact, dent_distance: 0.04 };
-    let error = body.dent_in_pose(&world, body.rest_mesh(), &[(dent, DentSurface::of_body(&world, ball))]);
+    let error = body.dent_in_pose(&world, body.rest_mesh(), &[(dent, world.bodies()[ball].surface())]);
     assert!(matches!(error, Err(SimError::Invalid { .. })), "{error:?}");
 }
 

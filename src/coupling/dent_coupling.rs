@@ -12,10 +12,11 @@ use glam::Affine3A;
 
 use super::contact_merge::merge_contacts;
 use super::{Bending, PoseDent};
+use crate::dent::{Surface, decide_dent_distance};
 use crate::mesh::TriMesh;
 use crate::sim::{
-    CollisionEvent, DecidedDent, DentRecord, DentSurface, DentTarget, Denter, RigidBody, SimError, StepContext, World,
-    decide_dent,
+    CollisionEvent, DecidedDent, DentRecord, Denter, RigidBody, SimError, StepContext, SurfaceOverride, World,
+    body_state,
 };
 
 /// Progressive denting state of one (bending body, projectile) contact.
@@ -40,9 +41,9 @@ struct Made {
 }
 
 impl Made {
-    /// `dent` made with `distance` m, its projectile named as `surfaces` name it.
-    fn of(dent: DecidedDent, distance: f32, world: &World, surfaces: &[(usize, DentSurface<'_>)]) -> Self {
-        Self { dent, distance, projectile: DentSurface::lookup(world, dent.projectile, surfaces).name.to_owned() }
+    /// `dent` made with `distance` m, its projectile named as `context` names it.
+    fn of(dent: DecidedDent, distance: f32, world: &World, context: &StepContext<'_>) -> Self {
+        Self { dent, distance, projectile: context.name(world, dent.projectile).to_owned() }
     }
 }
 
@@ -80,7 +81,7 @@ impl BendDenter {
     /// body's: its whole skinned mesh). All of a body's dents of the step are applied on its one
     /// skinned mesh; progressive settings rebuild a contact's dent from its pre-dent rest mesh
     /// with the accumulated distance. `motions`: each world body's rigid motion during the step
-    /// (see `DentTarget::motion`; `step_motions`), empty when nothing moved.
+    /// (see [`StepContext::motions`]; `step_motions`), empty when nothing moved.
     ///
     /// # Errors
     /// As [`ArticulatedBody::dent_in_pose`](super::ArticulatedBody::dent_in_pose) and
@@ -117,23 +118,30 @@ impl BendDenter {
             .map(|&k| Ok((bodies[k].name.clone(), bodies[k].bodies.clone(), bodies[k].skinned_mesh(world)?)))
             .collect::<Result<Vec<_>, SimError>>()?;
         let surfaces = surfaces_of(&skinned);
+        let context = StepContext { surfaces: &surfaces, motions };
         let mut decided: Vec<Vec<DecidedDent>> = vec![Vec::new(); bodies.len()];
         for event in &cross {
             for (target, projectile) in [(event.a, event.b), (event.b, event.a)] {
                 let Some(k) = owner(target) else { continue };
                 let Some(settings) = &bodies[k].dent else { continue };
-                // decide_dent reads the target's body, name, settings and motion only.
-                let (name, motion) = (&bodies[k].name, motions.get(target).copied().unwrap_or(Affine3A::IDENTITY));
-                let target = DentTarget { body: target, name, settings, radius: 0.0, motion };
-                let projectile = DentSurface::lookup(world, projectile, &surfaces);
-                decided[k].extend(decide_dent(world, event, &target, &projectile)?);
+                let Some(impact) = event.impact_on(target, context.motion(target)) else { continue };
+                let states = (body_state(&world.bodies()[target]), body_state(&world.bodies()[projectile]));
+                let surface = context.surface(world, projectile);
+                let distance = decide_dent_distance(settings, &impact, &states.0, &states.1, &surface)
+                    .map_err(|error| SimError::Dent { body: bodies[k].name.clone(), error })?;
+                decided[k].extend(distance.map(|dent_distance| DecidedDent {
+                    target,
+                    projectile,
+                    impact,
+                    dent_distance,
+                }));
             }
         }
         let mut dents = Vec::new();
         for (k, list) in decided.into_iter().enumerate().filter(|(_, l)| !l.is_empty()) {
             let staged = match bodies[k].dent.as_ref().is_some_and(|s| s.progressive) {
-                false => Some(stage_plain(bending, k, &list, world, &surfaces)?),
-                true => stage_progressive(bending, k, &list, world, &surfaces, (&mut progress, step))?,
+                false => Some(stage_plain(bending, k, &list, world, &context)?),
+                true => stage_progressive(bending, k, &list, world, &context, (&mut progress, step))?,
             };
             dents.extend(staged.map(|(pose, made)| (k, pose, made)));
         }
@@ -161,7 +169,7 @@ impl BendDenter {
 impl StagedBendDents {
     /// The surface each sub-body of a bending body hit this step dents others with: the whole
     /// undented skinned mesh, world coordinates (for [`Denter::process_with`]).
-    pub fn surfaces(&self) -> Vec<(usize, DentSurface<'_>)> {
+    pub fn surfaces(&self) -> Vec<SurfaceOverride<'_>> {
         surfaces_of(&self.skinned)
     }
 
@@ -216,12 +224,12 @@ fn stage_plain(
     k: usize,
     list: &[DecidedDent],
     world: &World,
-    surfaces: &[(usize, DentSurface<'_>)],
+    context: &StepContext<'_>,
 ) -> Result<(PoseDent, Vec<Made>), SimError> {
     let body = &bending.bodies[k];
-    let pairs: Vec<_> = list.iter().map(|&d| (d, DentSurface::lookup(world, d.projectile, surfaces))).collect();
+    let pairs: Vec<_> = list.iter().map(|&d| (d, context.surface(world, d.projectile))).collect();
     let pose = body.dent_in_pose(world, body.rig.rest(), &pairs)?;
-    let made = pose.applied.iter().map(|&i| Made::of(list[i], list[i].dent_distance, world, surfaces)).collect();
+    let made = pose.applied.iter().map(|&i| Made::of(list[i], list[i].dent_distance, world, context)).collect();
     Ok((pose, made))
 }
 
@@ -233,7 +241,7 @@ fn stage_progressive(
     k: usize,
     list: &[DecidedDent],
     world: &World,
-    surfaces: &[(usize, DentSurface<'_>)],
+    context: &StepContext<'_>,
     (progress, step): (&mut Vec<Progress>, u64),
 ) -> Result<Option<(PoseDent, Vec<Made>)>, SimError> {
     let body = &bending.bodies[k];
@@ -253,13 +261,13 @@ fn stage_progressive(
         let state = &mut progress[index];
         let distance = (state.accumulated + d.dent_distance).min(cap);
         let deeper = DecidedDent { dent_distance: distance, ..d };
-        let surface = DentSurface::lookup(world, d.projectile, surfaces);
+        let surface = context.surface(world, d.projectile);
         let pose = body.dent_in_pose(world, &state.pre_dent, &[(deeper, surface)])?;
         if pose.applied.is_empty() {
             continue;
         }
         (state.accumulated, state.last_step) = (distance, step);
-        made.push(Made::of(d, distance, world, surfaces));
+        made.push(Made::of(d, distance, world, context));
         current = Some(pose);
     }
     Ok(current.map(|pose| (pose, made)))
@@ -267,11 +275,12 @@ fn stage_progressive(
 
 /// Every listed sub-body denting as its body's skinned mesh (world coordinates), under its
 /// body's name.
-fn surfaces_of(skinned: &[(String, Vec<usize>, TriMesh)]) -> Vec<(usize, DentSurface<'_>)> {
+fn surfaces_of(skinned: &[(String, Vec<usize>, TriMesh)]) -> Vec<SurfaceOverride<'_>> {
     skinned
         .iter()
         .flat_map(|(name, indices, mesh)| {
-            indices.iter().map(move |&i| (i, DentSurface { mesh, to_world: Affine3A::IDENTITY, name }))
+            let surface = Surface { mesh, to_world: Affine3A::IDENTITY };
+            indices.iter().map(move |&body| SurfaceOverride { body, surface, name })
         })
         .collect()
 }

@@ -14,9 +14,9 @@
 use glam::Affine3A;
 
 use super::ArticulatedBody;
-use crate::dent::{LocalContact, Refine, dent_batch, projectile_reach};
+use crate::dent::{LocalContact, Refine, Surface, dent_batch, projectile_reach};
 use crate::mesh::TriMesh;
-use crate::sim::{DecidedDent, DentSettings, DentSurface, DentTarget, RigidBody, SimError, World};
+use crate::sim::{DecidedDent, DentSettings, RigidBody, SimError, World};
 
 /// A dent of a bending body computed in its current pose, not yet applied
 /// ([`ArticulatedBody::apply_pose_dent`]).
@@ -72,7 +72,7 @@ impl ArticulatedBody {
         &self,
         world: &World,
         base: &TriMesh,
-        dents: &[(DecidedDent, DentSurface<'_>)],
+        dents: &[(DecidedDent, Surface<'_>)],
     ) -> Result<PoseDent, SimError> {
         let invalid = |what: &str, value: String, reason| SimError::Invalid {
             what: format!("bendable body \"{}\": {what}", self.name),
@@ -98,21 +98,15 @@ impl ArticulatedBody {
             .collect();
         let skinned = self.skin_rest(base, &relative)?;
         let (lo, hi) = skinned.bounds();
-        let target = |d: &DecidedDent| DentTarget {
-            body: d.target,
-            name: &self.name,
-            settings,
-            // The impacts are already where the body is now.
-            motion: Affine3A::IDENTITY,
-            radius: 0.5 * lo.distance(hi),
-        };
+        // Bounds how far from each impact the projectile can matter.
+        let radius = 0.5 * lo.distance(hi);
         let locals: Vec<LocalContact> =
             dents.iter().map(|(d, surface)| LocalContact::new(&d.impact, to_world, surface.to_world)).collect();
         let projectiles: Vec<(usize, TriMesh)> = dents
             .iter()
             .enumerate()
             .filter_map(|(k, (d, surface))| {
-                let reach = projectile_reach(settings, target(d).radius, d.dent_distance);
+                let reach = projectile_reach(settings, radius, d.dent_distance);
                 Some((k, locals[k].crop(surface.mesh, reach)?))
             })
             .collect();

@@ -326,6 +326,11 @@ impl RigidBody {
         self.transform() * Affine3A::from_translation(self.model_offset)
     }
 
+    /// The surface as it dents others: its mesh at its body transform.
+    pub fn surface(&self) -> crate::dent::Surface<'_> {
+        crate::dent::Surface { mesh: self.mesh(), to_world: self.transform() }
+    }
+
     /// The surface in world coordinates.
     pub fn world_mesh(&self) -> TriMesh {
         let mut mesh = (*self.mesh).clone();

@@ -164,7 +164,7 @@ impl Denter {
                     impact,
                     target_state: body_state(&bodies[target]),
                     projectile_state: body_state(&bodies[projectile]),
-                    projectile_surface: context.surface(world, projectile).surface(),
+                    projectile_surface: context.surface(world, projectile),
                 });
             }
         }
@@ -183,7 +183,7 @@ impl Denter {
             .map(|d| DentRecord {
                 step,
                 target: world.bodies()[d.target].name.clone(),
-                projectile: context.surface(world, d.projectile).name.to_owned(),
+                projectile: context.name(world, d.projectile).to_owned(),
                 point: d.impact.point,
                 normal: d.impact.normal,
                 relative_velocity: d.impact.relative_velocity,
