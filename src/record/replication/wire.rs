@@ -445,8 +445,10 @@ pub fn read_snapshot(bytes: &[u8]) -> Result<Snapshot, ReplicationError> {
     }
     let n = r.count("removed bodies", 1, MAX_BODIES)?;
     let removed = (0..n).map(|_| r.varint32("removed body id")).collect::<Result<Vec<_>, _>>()?;
-    if let Some(id) = removed.iter().find(|id| ids.contains(id)) {
-        return Err(ReplicationError::Malformed(format!("body {id} is both in the snapshot and removed")));
+    for id in &removed {
+        if !ids.insert(*id) {
+            return Err(ReplicationError::Malformed(format!("body {id} is named twice in the snapshot")));
+        }
     }
     // A piece takes at least two ids and two counts.
     let n = r.count("snapshot pieces", 4, MAX_BODIES)?;
