@@ -227,10 +227,20 @@ mod tests {
     fn finds_vertices_that_nearly_coincide() {
         let nudged = Vec3::new(1.0 + 4.0 * f32::EPSILON, 0.0, 0.0);
         let positions = [Vec3::ZERO, Vec3::X, Vec3::X, nudged, Vec3::Y];
-        assert_eq!(near_miss(&positions, &[0, 1, 2, 4], 1e-5), None, "bit-identical vertices are a seam");
-        let (a, b, distance) = near_miss(&positions, &[0, 1, 2, 3, 4], 1e-5).expect("a near miss");
+        assert_eq!(
+            near_miss(&positions, &[0, 1, 2, 4], 1e-5, &|_, _| false),
+            None,
+            "bit-identical vertices are a seam"
+        );
+        let (a, b, distance) = near_miss(&positions, &[0, 1, 2, 3, 4], 1e-5, &|_, _| false).expect("a near miss");
         assert!(a != b && [a, b].contains(&3) && distance > 0.0 && distance <= 1e-5);
-        assert_eq!(near_miss(&positions, &[0, 1, 2, 3, 4], 1e-9), None, "farther apart than the tolerance");
+        assert_eq!(
+            near_miss(&positions, &[0, 1, 2, 3, 4], 1e-9, &|_, _| false),
+            None,
+            "farther apart than the tolerance"
+        );
+        let joined = |v: u32, w: u32| [v, w].contains(&3);
+        assert_eq!(near_miss(&positions, &[0, 1, 2, 3, 4], 1e-5, &joined), None, "joined by an edge, not a seam");
     }
 
     #[test]
