@@ -2,7 +2,8 @@
 //! and the block's Avian collider follows the dent vertex for vertex; a ball breaks a prescored
 //! wall, its pieces become dynamic Avian bodies with the pieces' own masses and the ball goes
 //! through the hole; Avian stepping in `PostUpdate` instead of its default `FixedPostUpdate` is
-//! followed; a collider on a parent body dents its child mesh; a paused Avian sends no contact.
+//! followed; a collider on a parent body dents its child mesh; a paused Avian sends no contact;
+//! a body's locked rotation axes take no angular impulse in the state the plug-in records.
 
 mod common;
 
@@ -241,6 +242,56 @@ fn a_paused_avian_sends_no_contacts() {
     assert_eq!(app.world().resource::<DentStats>().dents, 0, "1 m/s is under the threshold");
 }
 
+/// The inverse inertia of each contact's body `of`, as the plug-in recorded it.
+#[derive(Resource)]
+struct Recorded {
+    of: Entity,
+    inverse_inertia: Vec<Mat3>,
+}
+
+fn record_inertia(mut contacts: MessageReader<DentContact>, mut recorded: ResMut<Recorded>) {
+    for c in contacts.read() {
+        for body in [&c.a, &c.b] {
+            if body.entity == recorded.of {
+                recorded.inverse_inertia.push(body.state.inverse_inertia);
+            }
+        }
+    }
+}
+
+/// A ball that cannot turn about x (`LockedAxes`) falls on the block: the state the plug-in
+/// records has the inverse inertia Avian's solver uses, its x row and column zero and the
+/// others the ball's (1/I = 5 / (2 m r²) = 31.25 kg⁻¹m⁻² for 8 kg and 0.1 m, to 1 %: Avian's
+/// collider is a true sphere).
+fn a_body_with_locked_rotation_takes_no_angular_impulse_about_it() {
+    let mut app = app(FixedPostUpdate);
+    let tri = block();
+    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
+    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec());
+    app.world_mut().spawn((
+        Mesh3d(mesh),
+        Transform::default(),
+        RigidBody::Static,
+        collider,
+        Dentable::new(2.0, 0.01, 0.05),
+    ));
+    let ball = launch_ball(&mut app, Vec3::new(0.1, 0.5, 0.2), 0.1, 8.0, Vec3::new(0.0, -6.0, 0.0));
+    app.world_mut().entity_mut(ball).insert(LockedAxes::new().lock_rotation_x());
+    app.insert_resource(Recorded { of: ball, inverse_inertia: Vec::new() }).add_systems(PostUpdate, record_inertia);
+    for _ in 0..20 {
+        app.update();
+    }
+    let recorded = &app.world().resource::<Recorded>().inverse_inertia;
+    assert!(!recorded.is_empty(), "the ball touched the block");
+    let expected = 5.0 / (2.0 * 8.0 * 0.1 * 0.1);
+    for m in recorded {
+        assert_eq!((m.x_axis, m.y_axis.x, m.z_axis.x), (Vec3::ZERO, 0.0, 0.0), "locked about x: {m}");
+        for v in [m.y_axis.y, m.z_axis.z] {
+            assert!((v - expected).abs() < 0.01 * expected, "free axes keep 1/I = {expected}: {m}");
+        }
+    }
+}
+
 fn main() -> ExitCode {
     common::run_headless(vec![
         ("a_dropped_ball_dents_in_fixed_post_update", || a_dropped_ball_dents(FixedPostUpdate)),
@@ -249,5 +300,9 @@ fn main() -> ExitCode {
         ("a_parent_collider_dents_its_child_mesh", a_parent_collider_dents_its_child_mesh),
         ("a_moving_turned_body_dents_where_it_was_hit", a_moving_turned_body_dents_where_it_was_hit),
         ("a_paused_avian_sends_no_contacts", a_paused_avian_sends_no_contacts),
+        (
+            "a_body_with_locked_rotation_takes_no_angular_impulse_about_it",
+            a_body_with_locked_rotation_takes_no_angular_impulse_about_it,
+        ),
     ])
 }

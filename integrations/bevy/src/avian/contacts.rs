@@ -6,7 +6,7 @@ use std::collections::{HashMap, HashSet};
 use avian3d::math::SymmetricTensor;
 use avian3d::prelude::{
     AngularVelocity, ColliderOf, Collisions, ComputedAngularInertia, ComputedCenterOfMass, ComputedMass, ContactPair,
-    DefaultRestitution, LinearVelocity, Position, Restitution, RigidBody, Rotation,
+    DefaultRestitution, LinearVelocity, LockedAxes, Position, Restitution, RigidBody, Rotation,
 };
 use avian3d::schedule::LastPhysicsTick;
 use bevy::ecs::change_detection::Tick;
@@ -43,6 +43,7 @@ type BodyData = (
     &'static ComputedMass,
     &'static ComputedAngularInertia,
     &'static ComputedCenterOfMass,
+    Option<&'static LockedAxes>,
 );
 
 /// One body's [`BodyData`].
@@ -72,15 +73,27 @@ pub(crate) fn record_states(
     }
 }
 
-/// A body's state: static bodies are fixed, kinematic ones move but take no impulse.
-fn state_of((kind, position, rotation, linear, angular, mass, inertia, centre): BodyItem<'_>) -> BodyState {
+/// A body's state: static bodies are fixed, kinematic ones move but take no impulse. The
+/// inverse inertia is the one Avian's solver uses: world axes, with the rows and columns of
+/// locked rotation axes zero (a body that cannot turn about an axis takes no angular impulse
+/// about it). Locked translation leaves the inverse mass as it is, as Avian's solver does in 3D.
+fn state_of((kind, position, rotation, linear, angular, mass, inertia, centre, locked): BodyItem<'_>) -> BodyState {
     if kind.is_static() {
         return BodyState::FIXED;
     }
     let (inverse_mass, inverse_inertia) = if kind.is_dynamic() {
         let axes = Mat3::from_quat(rotation.0);
         let local: SymmetricTensor = inertia.inverse();
-        (mass.inverse(), axes * local.to_mat3() * axes.transpose())
+        let mut world = (axes * local.to_mat3() * axes.transpose()).to_cols_array_2d();
+        let locked = locked.copied().unwrap_or_default();
+        let turns = [locked.is_rotation_x_locked(), locked.is_rotation_y_locked(), locked.is_rotation_z_locked()];
+        for axis in (0..3).filter(|&axis| turns[axis]) {
+            for k in 0..3 {
+                world[axis][k] = 0.0;
+                world[k][axis] = 0.0;
+            }
+        }
+        (mass.inverse(), Mat3::from_cols_array_2d(&world))
     } else {
         (0.0, Mat3::ZERO)
     };
