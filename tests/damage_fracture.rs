@@ -264,3 +264,37 @@ fn the_rest_of_a_broken_wall_dents_again_at_the_edge_of_the_hole() {
         assert_closed(set.mesh(WALL).unwrap(), "the dented rest");
     }
 }
+
+/// A break that would make more pieces than the settings allow is refused with a typed error
+/// naming the fix, and nothing changes: the plan fails, the wall keeps its mesh, and the same
+/// hit under the default limit breaks it into more pieces than the lowered limit.
+#[test]
+fn a_break_past_the_piece_limit_is_refused_and_changes_nothing() {
+    let ball = ball_mesh();
+    let hits = |ball| [front_hit(ball, BodyState::FIXED, Affine3A::IDENTITY, 12.0)];
+    let mut set = wall_set(Affine3A::IDENTITY, Some(100.0), None);
+    let made = plan(&set, &mut Damage::new(), &hits(&ball), 1).fractures[0].pieces.len();
+    assert!(made >= 4, "{made} pieces under the default limit");
+    let mut settings = FractureSettings::new(pattern(), Some(100.0), None).unwrap();
+    settings.max_pieces = made as u32 - 1;
+    set.set_fracture(WALL, Some(settings)).unwrap();
+    let before = set.mesh(WALL).unwrap().clone();
+    let mut damage = Damage::new();
+    let error = damage.plan(&set, &hits(&ball), 1, &mut CpuBackend).expect_err("too many pieces");
+    let text = error.to_string();
+    assert!(
+        matches!(error, DamageError::Fracture { error: FractureError::TooManyPieces { pieces, limit }, .. }
+            if pieces == made && limit == made as u32 - 1),
+        "{error:?}"
+    );
+    assert!(text.contains("max_pieces"), "the message names the fix: {text}");
+    assert_eq!(set.mesh(WALL).unwrap(), &before, "the wall is unchanged");
+    assert_eq!(damage.fractures_made(), 0, "no fracture was counted");
+    // A limit of 0 is no limit a break can meet: refused when set.
+    let mut zero = FractureSettings::new(pattern(), Some(100.0), None).unwrap();
+    zero.max_pieces = 0;
+    assert!(matches!(
+        set.set_fracture(WALL, Some(zero)),
+        Err(FractureError::InvalidParameter { name: "max_pieces", .. })
+    ));
+}

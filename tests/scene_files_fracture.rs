@@ -42,6 +42,10 @@ fn a_fracture_table_is_read() {
     let settings = scene.world.bodies()[0].fracture.as_ref().unwrap();
     assert_eq!((settings.pattern.params().cells, settings.pattern.params().seed), (DEFAULT_FRACTURE_CELLS, 0));
     assert_eq!((settings.dent_limit, settings.density), (None, 2500.0));
+    assert_eq!(settings.max_pieces, dentbend::fracture::DEFAULT_MAX_PIECES);
+    let text = wall("", "radius = 0.5\ntoughness = 80.0\nmax_pieces = 64");
+    let scene = parse_scene(&text, Path::new("wall.toml")).unwrap();
+    assert_eq!(scene.world.bodies()[0].fracture.as_ref().unwrap().max_pieces, 64);
 }
 
 #[test]
@@ -56,6 +60,7 @@ fn bad_fracture_tables_are_refused() {
     refused(&wall("", "radius = 0.5\ndent_limit = -0.1"), "dent_limit =", "fracture.dent_limit");
     refused(&wall("", "radius = 0.5\ntoughness = 1.0\ndensity = 0.0"), "density =", "fracture.density");
     refused(&wall("", "radius = 0.5\ntoughness = 1.0\nseed = -1"), "seed =", "fracture.seed");
+    refused(&wall("", "radius = 0.5\ntoughness = 1.0\nmax_pieces = 0"), "max_pieces =", "fracture.max_pieces");
     refused(&wall("", "radius = 0.5\ntoughness = 1.0\ncels = 3"), "cels =", "fracture.cels");
     // Neither a toughness nor a dent limit: the table is at fault.
     refused(&wall("", "radius = 0.5"), "[body.fracture]", "fracture");

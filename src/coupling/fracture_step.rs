@@ -11,9 +11,7 @@ use glam::{Affine3A, Vec3};
 use serde::Serialize;
 
 use crate::damage::{BreakingHit, keep_strongest, velocity_after_giving_way};
-use crate::fracture::{
-    DentTally, FractureCause, FractureOutcome, FractureRecord, FractureSettings, Placement, break_body,
-};
+use crate::fracture::{DentTally, FractureCause, FractureOutcome, FractureRecord, FractureSettings, Placement};
 use crate::mesh::{TriMesh, content_hash};
 use crate::record::FracturePiece;
 use crate::sim::{
@@ -143,7 +141,7 @@ impl Fracturer {
             BodyKind::Dynamic => body.mass / mesh.volume().abs(),
             _ => settings.density,
         };
-        let Some(outcome) = break_body(&mesh, &settings.pattern, &placement, density).map_err(fail)? else {
+        let Some(outcome) = settings.break_mesh(&mesh, &placement, density).map_err(fail)? else {
             return Ok(None);
         };
         if outcome.rest.is_none() {

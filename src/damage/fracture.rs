@@ -11,9 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{DentTargets, Hit};
 use crate::dent::{BodyState, Impact, normal_energy_lost};
-use crate::fracture::{
-    DentTally, FractureCause, FractureError, FractureRecord, FractureSettings, Placement, break_body,
-};
+use crate::fracture::{DentTally, FractureCause, FractureError, FractureRecord, FractureSettings, Placement};
 use crate::mesh::{MassProperties, TriMesh};
 
 /// A piece's id: the number of the fracture that made it (counted by one [`Damage`](super::Damage)
@@ -186,7 +184,7 @@ pub(crate) fn break_at<K: Copy>(
         normal: to_mesh.transform_vector3(b.impact.normal),
     };
     let density = density(mesh, settings, &b.target_state);
-    let Some(outcome) = break_body(mesh, &settings.pattern, &placement, density)? else { return Ok(None) };
+    let Some(outcome) = settings.break_mesh(mesh, &placement, density)? else { return Ok(None) };
     let record = FractureRecord { pattern: settings.pattern.params(), placement, density };
     let pieces = outcome
         .pieces

@@ -28,6 +28,18 @@ pub enum FractureError {
         /// How many faces use the edge from `a` to `b` (1 is closed when one face goes back).
         count: usize,
     },
+    /// The break would make more pieces than the body's settings allow: it is refused and the
+    /// body stays whole.
+    #[error(
+        "the break would make {pieces} pieces, more than the limit of {limit}: raise FractureSettings::max_pieces \
+         (`max_pieces` in a scene file) or use a pattern with fewer cells"
+    )]
+    TooManyPieces {
+        /// Pieces the break would make.
+        pieces: usize,
+        /// The settings' limit.
+        limit: u32,
+    },
     /// A piece or the rest came out unusable (a mesh error while building it): a bug.
     #[error("fracture produced an invalid mesh: {0}")]
     Mesh(#[from] crate::mesh::MeshError),

@@ -24,6 +24,6 @@ pub use outcome::{FractureOutcome, FractureRecord, Piece, break_body, replay, vo
 pub use pattern::MAX_CELLS;
 pub use pattern::{Cell, CellSide, FracturePattern, PatternParams};
 pub use placement::Placement;
-pub use settings::{FractureCause, FractureSettings};
+pub use settings::{DEFAULT_MAX_PIECES, FractureCause, FractureSettings, MAX_PIECES};
 pub(crate) use tally::DentTally;
 pub(crate) use weld::check_mesh_closed;

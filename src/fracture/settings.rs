@@ -4,8 +4,9 @@
 use std::sync::Arc;
 
 use super::error::invalid;
-use super::{FractureError, FracturePattern, PatternParams};
+use super::{FractureError, FractureOutcome, FracturePattern, PatternParams, Placement};
 use crate::dent::{BodyState, Impact, normal_energy_lost};
+use crate::mesh::TriMesh;
 
 /// A breakable body's fracture behaviour.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,7 +22,17 @@ pub struct FractureSettings {
     /// Density of the pieces of a body that has no mass of its own (static or kinematic), kg/m³;
     /// a dynamic body's pieces take its own density. Default 1000.
     pub density: f32,
+    /// Most pieces one break may make, 1..=[`MAX_PIECES`]; a break that would make more is
+    /// refused ([`FractureError::TooManyPieces`]) and the body stays whole. A cell that cuts a
+    /// concave body several times gives several pieces, so a pattern of `n` cells can make more
+    /// than `n`. Default [`DEFAULT_MAX_PIECES`].
+    pub max_pieces: u32,
 }
+
+/// The default [`FractureSettings::max_pieces`]: four pieces a cell of the largest pattern.
+pub const DEFAULT_MAX_PIECES: u32 = 1024;
+/// The largest [`FractureSettings::max_pieces`] accepted.
+pub const MAX_PIECES: u32 = 1 << 16;
 
 /// Why a body broke.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -41,13 +52,19 @@ impl FractureSettings {
     /// [`FractureError::InvalidParameter`] for a bad pattern field, a toughness or dent limit
     /// that is NaN, infinite or negative, or neither given.
     pub fn new(params: PatternParams, toughness: Option<f32>, dent_limit: Option<f32>) -> Result<Self, FractureError> {
-        let settings =
-            Self { pattern: Arc::new(FracturePattern::new(params)?), toughness, dent_limit, density: 1000.0 };
+        let settings = Self {
+            pattern: Arc::new(FracturePattern::new(params)?),
+            toughness,
+            dent_limit,
+            density: 1000.0,
+            max_pieces: DEFAULT_MAX_PIECES,
+        };
         settings.validate()?;
         Ok(settings)
     }
 
-    /// Checks the toughness, dent limit and density (the pattern was checked when built).
+    /// Checks the toughness, dent limit, density and piece limit (the pattern was checked when
+    /// built).
     ///
     /// # Errors
     /// As [`new`](Self::new).
@@ -65,10 +82,34 @@ impl FractureSettings {
         if !(self.density.is_finite() && self.density > 0.0 && self.density <= 1.0e6) {
             return Err(invalid("density", self.density, "kg/m³ must be finite, > 0 and at most 1e6"));
         }
+        if !(1..=MAX_PIECES).contains(&self.max_pieces) {
+            return Err(invalid("max_pieces", self.max_pieces, "must be in 1..=65536"));
+        }
         if self.toughness.is_none() && self.dent_limit.is_none() {
             return Err(invalid("toughness", "none", "give a toughness, a dent_limit or both"));
         }
         Ok(())
+    }
+
+    /// Breaks the closed `mesh` along these settings' pattern at `placement` with pieces at
+    /// `density` ([`break_body`](super::break_body)), within the piece limit.
+    ///
+    /// # Errors
+    /// As [`break_body`](super::break_body); [`FractureError::TooManyPieces`] for a break that
+    /// would make more than [`max_pieces`](Self::max_pieces).
+    pub fn break_mesh(
+        &self,
+        mesh: &TriMesh,
+        placement: &Placement,
+        density: f32,
+    ) -> Result<Option<FractureOutcome>, FractureError> {
+        let outcome = super::break_body(mesh, &self.pattern, placement, density)?;
+        match outcome {
+            Some(o) if o.pieces.len() > self.max_pieces as usize => {
+                Err(FractureError::TooManyPieces { pieces: o.pieces.len(), limit: self.max_pieces })
+            }
+            outcome => Ok(outcome),
+        }
     }
 
     /// Whether a hit breaks the body, and why: the energy `impact` removes along the normal

@@ -135,6 +135,8 @@ pub(super) struct FractureFile {
     pub dent_limit: Option<Spanned<f32>>,
     /// kg/m³ (pieces of a static or kinematic body).
     pub density: Option<Spanned<f32>>,
+    /// Most pieces one break may make.
+    pub max_pieces: Option<Spanned<u32>>,
 }
 
 /// `attenuation = "logistic" | "linear" | "none"`.

@@ -40,6 +40,7 @@ pub(super) fn fracture_settings(
                 "toughness" => ("toughness", file.toughness.as_ref().map(Spanned::span)),
                 "dent_limit" => ("dent_limit", file.dent_limit.as_ref().map(Spanned::span)),
                 "density" => ("density", file.density.as_ref().map(Spanned::span)),
+                "max_pieces" => ("max_pieces", file.max_pieces.as_ref().map(Spanned::span)),
                 other => (other, None),
             },
             _ => ("", None),
@@ -56,6 +57,9 @@ pub(super) fn fracture_settings(
     let mut settings =
         FractureSettings::new(params, value(&file.toughness), value(&file.dent_limit)).map_err(&error)?;
     settings.density = value(&file.density).unwrap_or(density);
+    if let Some(limit) = &file.max_pieces {
+        settings.max_pieces = *limit.get_ref();
+    }
     settings.validate().map_err(error)?;
     Ok(settings)
 }
