@@ -84,16 +84,15 @@ fn state_of((kind, position, rotation, linear, angular, mass, inertia, centre, l
     let (inverse_mass, inverse_inertia) = if kind.is_dynamic() {
         let axes = Mat3::from_quat(rotation.0);
         let local: SymmetricTensor = inertia.inverse();
-        let mut world = (axes * local.to_mat3() * axes.transpose()).to_cols_array_2d();
         let locked = locked.copied().unwrap_or_default();
-        let turns = [locked.is_rotation_x_locked(), locked.is_rotation_y_locked(), locked.is_rotation_z_locked()];
-        for axis in (0..3).filter(|&axis| turns[axis]) {
-            for k in 0..3 {
-                world[axis][k] = 0.0;
-                world[k][axis] = 0.0;
-            }
-        }
-        (mass.inverse(), Mat3::from_cols_array_2d(&world))
+        let free = |is_locked: bool| if is_locked { 0.0 } else { 1.0 };
+        // keep · I⁻¹ · keep zeroes the rows and columns of the locked axes.
+        let keep = Mat3::from_diagonal(Vec3::new(
+            free(locked.is_rotation_x_locked()),
+            free(locked.is_rotation_y_locked()),
+            free(locked.is_rotation_z_locked()),
+        ));
+        (mass.inverse(), keep * axes * local.to_mat3() * axes.transpose() * keep)
     } else {
         (0.0, Mat3::ZERO)
     };
