@@ -29,6 +29,17 @@ fn block() -> TriMesh {
     mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [16, 4, 16]).expect("a box")
 }
 
+/// Spawns the fixed block, a static Avian tri-mesh denting 1 cm per m/s over 2 m/s (at most
+/// 5 cm); its entity.
+fn spawn_block(app: &mut App) -> Entity {
+    let tri = block();
+    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
+    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec());
+    app.world_mut()
+        .spawn((Mesh3d(mesh), Transform::default(), RigidBody::Static, collider, Dentable::new(2.0, 0.01, 0.05)))
+        .id()
+}
+
 /// Spawns a dynamic Avian ball of `radius` m and `mass` kg at `at` moving at `velocity` m/s, a
 /// projectile; its entity.
 fn launch_ball(app: &mut App, at: Vec3, radius: f32, mass: f32, velocity: Vec3) -> Entity {
@@ -58,14 +69,7 @@ fn collider_vertices(app: &App, entity: Entity) -> Vec<Vec3> {
 /// reordering-free copy).
 fn a_dropped_ball_dents(schedule: impl bevy::ecs::schedule::ScheduleLabel) {
     let mut app = app(schedule);
-    let tri = block();
-    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
-    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec());
-    // 2 m/s threshold, 1 cm per m/s above it, at most 5 cm.
-    let block = app
-        .world_mut()
-        .spawn((Mesh3d(mesh), Transform::default(), RigidBody::Static, collider, Dentable::new(2.0, 0.01, 0.05)))
-        .id();
+    let block = spawn_block(&mut app);
     launch_ball(&mut app, Vec3::new(0.1, 0.8, 0.2), 0.1, 8.0, Vec3::new(0.0, -6.0, 0.0));
     for _ in 0..60 {
         app.update();
@@ -216,16 +220,7 @@ fn count_contacts(mut contacts: MessageReader<DentContact>, mut received: ResMut
 fn a_paused_avian_sends_no_contacts() {
     let mut app = app(FixedPostUpdate);
     app.init_resource::<Received>().add_systems(PostUpdate, count_contacts);
-    let tri = block();
-    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
-    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec());
-    app.world_mut().spawn((
-        Mesh3d(mesh),
-        Transform::default(),
-        RigidBody::Static,
-        collider,
-        Dentable::new(2.0, 0.01, 0.05),
-    ));
+    spawn_block(&mut app);
     launch_ball(&mut app, Vec3::new(0.1, 0.36, 0.2), 0.1, 8.0, Vec3::new(0.0, -1.0, 0.0));
     for _ in 0..30 {
         app.update();
@@ -265,16 +260,7 @@ fn record_inertia(mut contacts: MessageReader<DentContact>, mut recorded: ResMut
 /// collider is a true sphere).
 fn a_body_with_locked_rotation_takes_no_angular_impulse_about_it() {
     let mut app = app(FixedPostUpdate);
-    let tri = block();
-    let mesh = app.world_mut().resource_mut::<Assets<Mesh>>().add(bevy_mesh(&tri));
-    let collider = Collider::trimesh(tri.positions().to_vec(), tri.faces().to_vec());
-    app.world_mut().spawn((
-        Mesh3d(mesh),
-        Transform::default(),
-        RigidBody::Static,
-        collider,
-        Dentable::new(2.0, 0.01, 0.05),
-    ));
+    spawn_block(&mut app);
     let ball = launch_ball(&mut app, Vec3::new(0.1, 0.5, 0.2), 0.1, 8.0, Vec3::new(0.0, -6.0, 0.0));
     app.world_mut().entity_mut(ball).insert(LockedAxes::new().lock_rotation_x());
     app.insert_resource(Recorded { of: ball, inverse_inertia: Vec::new() }).add_systems(PostUpdate, record_inertia);
