@@ -11,10 +11,11 @@
 //! whole mesh.
 //!
 //! Both sides are given every body's base mesh and dent settings and the projectile meshes
-//! up front (game assets); the stream names them by small ids. The server must dent on the CPU
-//! backend: a GPU's f32 results are not the CPU's, and clients would refuse them. A progressive
-//! body's dents are rebuilt from a pre-dent surface the clients do not have: its groups are
-//! exact mesh edits instead.
+//! up front (game assets); the stream names them by small ids. Dents to recompute need a server
+//! that dents on the CPU backend: a GPU's f32 results are not the CPU's, and clients would refuse
+//! them. A server whose dents run on a GPU sends exact mesh edits instead
+//! ([`ReplicationServer::with_mesh_edits`]), as a progressive body always does (its dents are
+//! rebuilt from a pre-dent surface the clients do not have).
 //!
 //! [`LocalContact`]: crate::dent::LocalContact
 

@@ -49,12 +49,14 @@ pub struct ReplicationServer<K> {
     removed: Vec<u32>,
     /// Pieces of carried fractures still in play: (content hash, id, mesh).
     pieces: Vec<(u64, PieceId, TriMesh)>,
+    /// Whether every body's changes go as exact mesh edits ([`with_mesh_edits`](Self::with_mesh_edits)).
+    edits: bool,
     next: u64,
 }
 
 impl<K> Default for ReplicationServer<K> {
     fn default() -> Self {
-        Self { bodies: Vec::new(), shapes: Vec::new(), removed: Vec::new(), pieces: Vec::new(), next: 0 }
+        Self { bodies: Vec::new(), shapes: Vec::new(), removed: Vec::new(), pieces: Vec::new(), edits: false, next: 0 }
     }
 }
 
@@ -62,6 +64,17 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug + 'static> ReplicationServer<K> {
     /// No body tracked, no message sent.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// A server whose bodies (tracked from now on) send their changes as exact mesh edits
+    /// instead of dents for clients to recompute: for a server whose dents run on a GPU, whose
+    /// f32 results are not the CPU's bit for bit. Clients apply the edits and end bit-identical
+    /// all the same; an edit costs more bytes than a dent to recompute (about 54 bytes): it names
+    /// every vertex the dent moved and carries the ones refinement added, 220–380 bytes for
+    /// the 30–50 vertex dents of `tests/replication_edits.rs`.
+    pub fn with_mesh_edits(mut self) -> Self {
+        self.edits = true;
+        self
     }
 
     /// Carries body `key` as wire id `id`, its mesh now `base` (its own coordinates; clients
@@ -81,7 +94,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug + 'static> ReplicationServer<K> {
             base: base.clone(),
             base_hash: content_hash(base),
             settings: digest,
-            sent: settings.progressive.then(|| base.clone()),
+            sent: (settings.progressive || self.edits).then(|| base.clone()),
             normals: settings.params.volume == VolumeMode::Preserve,
         };
         match self.bodies.iter_mut().find(|b| b.key == key) {
