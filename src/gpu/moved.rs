@@ -298,22 +298,32 @@ fn read_words(staging: &wgpu::Buffer, range: Range<u64>) -> Result<Vec<u32>, Gpu
     words
 }
 
-/// Waits for the device at most this many times for a batch's read-backs (two are needed).
-const MAX_WAIT_ROUNDS: usize = 8;
+/// How long a batch's read-backs may take to arrive once the device is idle before they are
+/// given up: a loaded software device (lavapipe on a busy 2-core machine) has been seen to
+/// deliver a mapping several waits late.
+const READ_BACK_PATIENCE: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// Waits for `pending` read-backs, recorded into one submission the caller has made, and returns
 /// each one's vertices (in `pending`'s order): two waits for the device however many there are
-/// (the counts, then the lists).
+/// (the counts, then the lists), more when a mapping arrives late.
 ///
 /// # Errors
-/// [`GpuError::Wait`] when a mapping failed or a read-back gave nothing; device errors.
+/// [`GpuError::Wait`] when a mapping failed or a read-back gave nothing within
+/// [`READ_BACK_PATIENCE`]; device errors.
 pub(crate) fn wait_all(context: &GpuContext, pending: &mut [PendingMoved]) -> Result<Vec<MovedVertices>, GpuError> {
     pending.iter_mut().for_each(PendingMoved::submitted);
     let mut out: Vec<Option<MovedVertices>> = vec![None; pending.len()];
-    // A count, then a list, each mapped after a wait: two rounds. A loaded software device
-    // (lavapipe on a busy 2-core machine) has been seen to deliver a mapping one wait late, so a
-    // few more rounds are allowed (each a poll of an idle device, microseconds) before giving up.
-    for _ in 0..MAX_WAIT_ROUNDS {
+    let started = std::time::Instant::now();
+    // A count, then a list, each mapped after a wait: two rounds when the driver keeps up. Each
+    // later round is a poll of an idle device (microseconds) after a millisecond's pause that
+    // lets the driver's threads deliver the mapping.
+    for round in 0.. {
+        if round >= 2 {
+            if started.elapsed() > READ_BACK_PATIENCE {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
         context.wait()?;
         for (read, slot) in pending.iter_mut().zip(&mut out) {
             if slot.is_none() {
@@ -324,5 +334,8 @@ pub(crate) fn wait_all(context: &GpuContext, pending: &mut [PendingMoved]) -> Re
             return Ok(out.into_iter().flatten().collect());
         }
     }
-    Err(GpuError::Wait("a moved-vertex read-back did not complete after the device went idle".into()))
+    Err(GpuError::Wait(format!(
+        "a moved-vertex read-back did not arrive within {} s of the device going idle",
+        READ_BACK_PATIENCE.as_secs()
+    )))
 }
