@@ -5,8 +5,9 @@
 
 mod common;
 
-use dentbend::damage::{CpuBackend, Damage, DentBackend, DentTargets, Hit, TargetSet};
-use dentbend::dent::{BodyState, DentSettings, Impact, Surface};
+use common::hits;
+use dentbend::damage::{CpuBackend, Damage, DentBackend, DentTargets, TargetSet};
+use dentbend::dent::{BodyState, DentSettings};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::gpu::{GpuBackend, GpuContext};
 use dentbend::mesh::{self, TriMesh, content_hash};
@@ -66,14 +67,7 @@ fn edits_replicate(backend: &mut dyn DentBackend<u32>) {
         let point = set.target(id).unwrap().to_world.transform_point3(Vec3::new(x, top, -0.2 * x));
         let centre = point + Vec3::Y * 0.2;
         let state = BodyState::moving(centre, Vec3::new(0.3, -4.0, 0.0), Vec3::ZERO, 1.0, Mat3::IDENTITY * 60.0);
-        let hit = Hit {
-            target: id,
-            projectile: BALL,
-            impact: Impact::from_contact(point, -Vec3::Y, &BodyState::FIXED, &state).unwrap(),
-            target_state: BodyState::FIXED,
-            projectile_state: state,
-            projectile_surface: Surface { mesh: &ball, to_world: Affine3A::from_translation(centre) },
-        };
+        let hit = hits::on_fixed(id, BALL, &ball, point, -Vec3::Y, state);
         let plan = damage.plan(&set, &[hit], step, backend).unwrap();
         dents += plan.dents.len();
         set.apply(plan.targets);

@@ -5,8 +5,11 @@
 //! breaks gets the rest and drops the removed wall. A break that does not replay to the
 //! server's result is refused with a typed error and changes nothing.
 
-use dentbend::damage::{BodyFracture, CpuBackend, Damage, DentTargets, Hit, TargetSet};
-use dentbend::dent::{BodyState, DentSettings, Impact, Surface};
+mod common;
+
+use common::hits;
+use dentbend::damage::{BodyFracture, CpuBackend, Damage, DentTargets, TargetSet};
+use dentbend::dent::{BodyState, DentSettings};
 use dentbend::fracture::{FractureSettings, PatternParams};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::mesh::{self, TriMesh, content_hash};
@@ -66,14 +69,7 @@ impl World {
         let point = self.set.target(id).unwrap().to_world.transform_point3(Vec3::new(x, 0.0, 0.1));
         let centre = point + Vec3::Z * 0.2;
         let state = BodyState::moving(centre, -Vec3::Z * speed, Vec3::ZERO, 5.0, Mat3::IDENTITY / 0.2);
-        let hit = Hit {
-            target: id,
-            projectile: BALL,
-            impact: Impact::from_contact(point, -Vec3::Z, &BodyState::FIXED, &state).unwrap(),
-            target_state: BodyState::FIXED,
-            projectile_state: state,
-            projectile_surface: Surface { mesh: &self.ball, to_world: Affine3A::from_translation(centre) },
-        };
+        let hit = hits::on_fixed(id, BALL, &self.ball, point, -Vec3::Z, state);
         let plan = self.damage.plan(&self.set, &[hit], self.step, &mut CpuBackend).unwrap();
         assert!(!plan.dents.is_empty(), "every throw dents");
         self.set.apply(plan.targets);

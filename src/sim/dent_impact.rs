@@ -34,12 +34,17 @@ pub struct StepContext<'a> {
 impl<'a> StepContext<'a> {
     /// The surface body `index` dents others with.
     pub fn surface(&self, world: &'a World, index: usize) -> Surface<'a> {
-        self.surfaces.iter().find(|o| o.body == index).map_or_else(|| world.bodies()[index].surface(), |o| o.surface)
+        self.override_of(index).map_or_else(|| world.bodies()[index].surface(), |o| o.surface)
     }
 
     /// The name of what dents with body `index`'s surface.
     pub fn name(&self, world: &'a World, index: usize) -> &'a str {
-        self.surfaces.iter().find(|o| o.body == index).map_or_else(|| world.bodies()[index].name.as_str(), |o| o.name)
+        self.override_of(index).map_or_else(|| world.bodies()[index].name.as_str(), |o| o.name)
+    }
+
+    /// Body `index`'s override, if it has one.
+    fn override_of(&self, index: usize) -> Option<&SurfaceOverride<'a>> {
+        self.surfaces.iter().find(|o| o.body == index)
     }
 
     /// Body `index`'s motion during the step.

@@ -6,6 +6,7 @@ pub mod closed;
 pub mod envelope;
 pub mod geometry;
 pub mod gpu;
+pub mod hits;
 pub mod rng;
 pub mod seams;
 pub mod skin_tolerance;

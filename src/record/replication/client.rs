@@ -176,8 +176,8 @@ impl ReplicationClient {
             }
             staged.push(Staged { id: s.id, mesh: Some(mesh), fracture: None });
         }
-        let gone = snapshot.removed.iter().filter(|id| self.bodies.contains_key(id));
-        staged.extend(gone.map(|&id| Staged { id, mesh: None, fracture: None }));
+        // Removed bodies this client does not have are passed over by the commit.
+        staged.extend(snapshot.removed.iter().map(|&id| Staged { id, mesh: None, fracture: None }));
         let changes = self.commit(staged);
         self.pieces = snapshot.pieces.into_iter().collect();
         self.next = Some(snapshot.next);
@@ -340,7 +340,7 @@ fn replay_break(
     let outcome = replay(mesh, &wire.record)
         .map_err(|error| ReplicationError::Fracture { id, error })?
         .ok_or_else(|| other(id, "the fracture", "pieces".into(), "a pattern that misses the body".into()))?;
-    let found = outcome_check(outcome.rest.as_ref(), outcome.pieces.iter().map(|p| &p.mesh));
+    let found = outcome_check(outcome.rest.as_ref(), outcome.pieces.iter().map(|p| content_hash(&p.mesh)));
     if found != wire.check {
         return Err(other(
             id,

@@ -60,7 +60,7 @@ impl<K> Default for ReplicationServer<K> {
     }
 }
 
-impl<K: Copy + Eq + Hash + std::fmt::Debug + 'static> ReplicationServer<K> {
+impl<K: Copy + Eq + Hash + std::fmt::Debug> ReplicationServer<K> {
     /// No body tracked, no message sent.
     pub fn new() -> Self {
         Self::default()
@@ -155,7 +155,10 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug + 'static> ReplicationServer<K> {
         fractures: impl IntoIterator<Item = &'f BodyFracture<K>>,
         mesh: impl Fn(K) -> Option<&'m TriMesh>,
         surface: impl Fn(K) -> Option<&'m TriMesh>,
-    ) -> Result<Option<Vec<u8>>, ReplicationError> {
+    ) -> Result<Option<Vec<u8>>, ReplicationError>
+    where
+        K: 'f,
+    {
         let mut groups: Vec<(usize, Group)> = Vec::new();
         for d in dents {
             let Some(slot) = self.bodies.iter().position(|b| b.key == d.target) else { continue };
@@ -164,12 +167,15 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug + 'static> ReplicationServer<K> {
                 list.extend(wire);
             }
         }
-        let mut broken: Vec<(usize, &BodyFracture<K>)> = Vec::new();
+        // Each broken body's slot, fracture and pieces' content hashes (for the check, then to
+        // name the pieces when they dent).
+        let mut broken: Vec<(usize, &BodyFracture<K>, Vec<u64>)> = Vec::new();
         for f in fractures {
             let Some(slot) = self.bodies.iter().position(|b| b.key == f.body) else { continue };
-            let check = outcome_check(f.rest.as_ref(), f.pieces.iter().map(|p| &p.mesh));
+            let hashes: Vec<u64> = f.pieces.iter().map(|p| content_hash(&p.mesh)).collect();
+            let check = outcome_check(f.rest.as_ref(), hashes.iter().copied());
             self.group(&mut groups, slot).fracture = Some(WireBreak { number: f.number, record: f.record, check });
-            broken.push((slot, f));
+            broken.push((slot, f, hashes));
         }
         if groups.is_empty() {
             return Ok(None);
@@ -177,7 +183,7 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug + 'static> ReplicationServer<K> {
         let mut sent = Vec::new();
         for (slot, group) in &mut groups {
             let body = &self.bodies[*slot];
-            let fracture = broken.iter().find(|(s, _)| s == slot).map(|(_, f)| *f);
+            let fracture = broken.iter().find(|(s, ..)| s == slot).map(|(_, f, _)| *f);
             // The group's change ends at the mesh the body broke, when it broke.
             let now = match fracture {
                 Some(f) => &f.broken_mesh,
@@ -201,11 +207,11 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug + 'static> ReplicationServer<K> {
         for (slot, after) in sent {
             self.bodies[slot].sent = after;
         }
-        for (_, f) in &broken {
+        for (_, f, hashes) in &broken {
             // Pieces dent as projectiles: both sides name them by id.
-            self.pieces.extend(f.pieces.iter().map(|p| (content_hash(&p.mesh), p.id, p.mesh.clone())));
+            self.pieces.extend(f.pieces.iter().zip(hashes).map(|(p, &hash)| (hash, p.id, p.mesh.clone())));
         }
-        let whole: Vec<K> = broken.iter().filter(|(_, f)| f.rest.is_none()).map(|(_, f)| f.body).collect();
+        let whole: Vec<K> = broken.iter().filter(|(_, f, _)| f.rest.is_none()).map(|(_, f, _)| f.body).collect();
         for key in whole {
             if let Some(slot) = self.bodies.iter().position(|b| b.key == key) {
                 self.removed.push(self.bodies.remove(slot).id);

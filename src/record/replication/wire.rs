@@ -181,11 +181,11 @@ pub fn check_of(hash: u64) -> u32 {
 }
 
 /// The check of what a fracture made: the low 32 bits of an FNV-1a hash over the content
-/// hashes of its rest (0 for none) and of its pieces, in order.
-pub fn outcome_check<'a>(rest: Option<&TriMesh>, pieces: impl IntoIterator<Item = &'a TriMesh>) -> u32 {
+/// hashes of its rest (0 for none) and of its pieces (`piece_hashes`, in order).
+pub fn outcome_check(rest: Option<&TriMesh>, piece_hashes: impl IntoIterator<Item = u64>) -> u32 {
     let mut h = fnv1a64(fnv1a64_start(), &rest.map_or(0, content_hash).to_le_bytes());
-    for piece in pieces {
-        h = fnv1a64(h, &content_hash(piece).to_le_bytes());
+    for piece in piece_hashes {
+        h = fnv1a64(h, &piece.to_le_bytes());
     }
     check_of(h)
 }
