@@ -11,7 +11,9 @@ use serde::{Deserialize, Serialize};
 
 use super::{DentTargets, Hit};
 use crate::dent::{BodyState, Impact, normal_energy_lost};
-use crate::fracture::{DentTally, FractureCause, FractureError, FractureRecord, FractureSettings, Placement};
+use crate::fracture::{
+    DentTally, FractureCause, FractureError, FractureRecord, FractureSettings, Placement, VertexOrigin,
+};
 use crate::mesh::{MassProperties, TriMesh};
 
 /// A piece's id: the number of the fracture that made it (counted by one [`Damage`](super::Damage)
@@ -53,6 +55,9 @@ pub struct BrokenPiece {
     pub linear_velocity: Vec3,
     /// Angular velocity, world, rad/s (the body's).
     pub angular_velocity: Vec3,
+    /// Where each of its vertices lies on [`BodyFracture::broken_mesh`], one per vertex: for
+    /// carrying UVs and other attributes over.
+    pub origins: Vec<VertexOrigin>,
 }
 
 /// A body that broke.
@@ -79,6 +84,8 @@ pub struct BodyFracture<K> {
     /// The body's new mesh, same coordinates; `None` when the pattern took the whole body
     /// (remove it then).
     pub rest: Option<TriMesh>,
+    /// Where each vertex of the rest lies on `broken_mesh`, one per vertex (empty with no rest).
+    pub rest_origins: Vec<VertexOrigin>,
     /// The rest's mass properties at the body's density (`None` with no rest).
     pub rest_mass: Option<MassProperties>,
     /// The pieces, by pattern cell then connected part.
@@ -199,6 +206,7 @@ pub(crate) fn break_at<K: Copy>(
                 cell: piece.cell,
                 linear_velocity,
                 angular_velocity,
+                origins: piece.origins,
             }
         })
         .collect();
@@ -213,6 +221,7 @@ pub(crate) fn break_at<K: Copy>(
         record,
         broken_mesh: mesh.clone(),
         rest: outcome.rest,
+        rest_origins: outcome.rest_origins,
         rest_mass: outcome.rest_mass,
         pieces,
         projectile_velocity: velocity_after_giving_way(&b.projectile_state, used),

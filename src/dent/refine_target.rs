@@ -17,7 +17,7 @@ use super::error::invalid;
 use super::map::PendingDisplacement;
 use super::refine_setting::{AUTO_DOUBLINGS, MAX_EDGE_NEW_TRIANGLES, Refine};
 use super::{DentError, DentParams, Grid};
-use crate::mesh::weld::near_miss;
+use crate::mesh::weld::{near_miss, position_key};
 use crate::mesh::{OrientedBox, RefineError, Refinement, TriMesh, refine_parts};
 
 /// The falloff a(z) below which the footprint ends in depth.
@@ -286,17 +286,31 @@ pub(crate) fn refine_for_dents(
 const NEAR_SEAM_CELLS: f32 = 1e-3;
 
 /// Refuses a dent whose footprint `region` on `target` (its map's cells `cell_size` wide) holds
-/// two vertices that nearly but not exactly share a position and share no face
-/// ([`DentError::NearlyCoincidentVertices`]). Two ends of a tiny edge (a cut's sliver) stay
-/// joined however the map moves them; two sides of a seam would crack.
+/// two vertices that nearly but not exactly share a position and share no face, not even
+/// through vertices at their positions ([`DentError::NearlyCoincidentVertices`]). Two ends of a
+/// tiny edge (a cut's sliver, on either side of a seam) stay joined however the map moves them;
+/// two sides of a seam would crack.
 fn check_seams(target: &TriMesh, region: &OrientedBox, cell_size: f32) -> Result<(), DentError> {
     let positions = target.positions();
     let under: Vec<u32> = (0..positions.len() as u32).filter(|&v| region.contains(positions[v as usize])).collect();
-    // Built only when a near pair is found (rare): the faces of every vertex under the dent.
-    let faces_of = std::cell::OnceCell::new();
+    // Built only when a near pair is found (rare): the faces of every vertex under the dent,
+    // and the vertices under it at each position.
+    let tables = std::cell::OnceCell::new();
     let joined = |v: u32, w: u32| {
-        let faces_of: &HashMap<u32, Vec<usize>> = faces_of.get_or_init(|| faces_touching(target, &under));
-        faces_of.get(&v).is_some_and(|faces| faces.iter().any(|&f| target.faces()[f].contains(&w)))
+        let (faces_of, at): &(HashMap<u32, Vec<usize>>, HashMap<[u32; 3], Vec<u32>>) = tables.get_or_init(|| {
+            let mut at: HashMap<[u32; 3], Vec<u32>> = HashMap::new();
+            for &u in &under {
+                at.entry(position_key(positions[u as usize])).or_default().push(u);
+            }
+            (faces_touching(target, &under), at)
+        });
+        let copies = |u: u32| at.get(&position_key(positions[u as usize])).map_or(&[][..], Vec::as_slice);
+        let w_copies = copies(w);
+        copies(v).iter().any(|c| {
+            faces_of
+                .get(c)
+                .is_some_and(|faces| faces.iter().any(|&f| target.faces()[f].iter().any(|x| w_copies.contains(x))))
+        })
     };
     match near_miss(positions, &under, NEAR_SEAM_CELLS * cell_size, &joined) {
         Some((a, b, distance)) => Err(DentError::NearlyCoincidentVertices { a, b, distance }),

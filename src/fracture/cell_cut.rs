@@ -9,6 +9,7 @@
 use glam::DVec3;
 
 use super::clip::{Part, Plane, Pool};
+use super::origin::Location;
 
 /// How far from a plane a vertex is out of reach of every shift of the plane (at most
 /// 3·(1 + 2 + … + 16) = 408 tolerances) and of the tolerance around it, in tolerances, with
@@ -27,21 +28,23 @@ pub(crate) struct CellCutter {
 }
 
 impl CellCutter {
-    /// Cuts `broken` (over the vertices `base`) by `planes` in order, each cut moved off the
-    /// vertices by `tolerance` (m) as [`Pool::cut`] does: the triangles of what is left, closed
-    /// (its caps triangulated), over the vertices of the returned pool.
+    /// Cuts `broken` (over the vertices `base`, at `locations`) by `planes` in order, each cut
+    /// moved off the vertices by `tolerance` (m) as [`Pool::cut`] does: the triangles of what
+    /// is left, closed (its caps triangulated), over the vertices of the returned pool, and
+    /// their origins.
     pub(crate) fn cut(
         &mut self,
-        base: &[DVec3],
+        (base, locations): (&[DVec3], &[Location]),
         broken: &Part,
         planes: impl Iterator<Item = Plane>,
         tolerance: f64,
-    ) -> (&Pool, Vec<[u32; 3]>) {
-        self.pool.reset(base);
+    ) -> (&Pool, Vec<[u32; 3]>, Vec<u32>) {
+        self.pool.reset(base, locations);
         self.planes.clear();
         self.planes.extend(planes);
         if self.planes.is_empty() {
-            return (&self.pool, broken.triangulated(&self.pool));
+            let (faces, from) = broken.triangulated(&self.pool);
+            return (&self.pool, faces, from);
         }
         let reach = REACH * tolerance;
         self.fates.clear();
@@ -54,7 +57,13 @@ impl CellCutter {
             first % 2 == 1 && corners.all(|&v| fates[v as usize] == first)
         };
         self.next.faces.clear();
-        self.next.faces.extend(broken.faces.iter().filter(|f| !untouched(f.iter())));
+        self.next.from.clear();
+        for (face, &origin) in broken.faces.iter().zip(&broken.from) {
+            if !untouched(face.iter()) {
+                self.next.faces.push(*face);
+                self.next.from.push(origin);
+            }
+        }
         self.next.caps.clear();
         for cap in &broken.caps {
             let corners: Vec<u32> = cap.edges.iter().flat_map(|e| [e.0, e.1]).collect();
@@ -69,7 +78,8 @@ impl CellCutter {
                 break;
             }
         }
-        (&self.pool, self.next.triangulated(&self.pool))
+        let (faces, from) = self.next.triangulated(&self.pool);
+        (&self.pool, faces, from)
     }
 }
 
@@ -106,8 +116,10 @@ mod tests {
     #[test]
     fn skipping_untouched_faces_changes_no_bit() {
         let slab = crate::mesh::subdivided_box(Vec3::new(3.0, 2.0, 0.2), [30, 20, 1]).unwrap();
-        let Soup { positions, faces } = weld(&slab);
-        let whole = Part { faces, caps: Vec::new() };
+        let soup = weld(&slab);
+        let locations = soup.locations();
+        let Soup { positions, faces, input_face, .. } = soup;
+        let whole = Part { faces, from: input_face, caps: Vec::new() };
         let tolerance = 3e-6;
         let plane = |x: f64, y: f64, offset: f64| {
             let normal = DVec3::new(x, y, 0.0).normalize();
@@ -120,17 +132,19 @@ mod tests {
         ];
         let mut cutter = CellCutter::default();
         for planes in sequences {
-            let mut pool = Pool::new(positions.clone());
+            let mut pool = Pool::new(positions.clone(), locations.clone());
             let mut part = whole.clone();
             for &p in &planes {
                 let mut next = Part::default();
                 pool.cut(&part, p, tolerance, &mut next, None);
                 part = next;
             }
-            let expected = corners(&pool, &part.triangulated(&pool));
+            let (expected_faces, expected_from) = part.triangulated(&pool);
+            let expected = corners(&pool, &expected_faces);
             assert!(!expected.is_empty());
-            let (pool, faces) = cutter.cut(&positions, &whole, planes.iter().copied(), tolerance);
+            let (pool, faces, from) = cutter.cut((&positions, &locations), &whole, planes.iter().copied(), tolerance);
             assert_eq!(corners(pool, &faces), expected);
+            assert_eq!(from, expected_from);
         }
     }
 }

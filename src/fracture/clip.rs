@@ -9,6 +9,7 @@
 use glam::{DVec2, DVec3};
 
 use super::cap::{loops, triangulate};
+use super::origin::{CAP, Location};
 use super::split_table::SplitTable;
 
 /// A plane; the side kept by a cut is `normal`·x < `offset`. `normal` is unit.
@@ -26,18 +27,22 @@ pub(crate) struct Cap {
     pub edges: Vec<(u32, u32)>,
 }
 
-/// A closed solid under cutting: surface triangles (counter-clockwise from outside) and caps.
+/// A closed solid under cutting: surface triangles (counter-clockwise from outside), each with
+/// the welded input face it lies in (`from`, one per face), and caps.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Part {
     pub faces: Vec<[u32; 3]>,
+    pub from: Vec<u32>,
     pub caps: Vec<Cap>,
 }
 
-/// The vertex pool, every edge split so far, and scratch space that lets a cut measure the
+/// The vertex pool (with each vertex's [`Location`] on the input), every edge split so far, and
+/// scratch space that lets a cut measure the
 /// part's vertices against its plane without allocating (kept from cut to cut).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Pool {
     pub positions: Vec<DVec3>,
+    pub locations: Vec<Location>,
     pub splits: SplitTable,
     /// Per vertex: its signed distance to the current cut's plane, m, where `stamp` is `epoch`.
     signed: Vec<f64>,
@@ -56,46 +61,48 @@ impl Part {
         self.faces.is_empty() && self.caps.is_empty()
     }
 
-    /// The caps' triangles (each counter-clockwise seen from its plane's normal, so facing out
-    /// of the part); they use only the caps' boundary vertices.
-    pub(crate) fn cap_triangles(&self, pool: &Pool) -> Vec<[u32; 3]> {
-        let mut out = Vec::new();
-        for cap in &self.caps {
+    /// Appends the caps' triangles (each counter-clockwise seen from its plane's normal, so
+    /// facing out of the part) to `faces`, and their origins (`CAP | k` for cap k) to `from`;
+    /// they use only the caps' boundary vertices.
+    pub(crate) fn cap_triangles(&self, pool: &Pool, faces: &mut Vec<[u32; 3]>, from: &mut Vec<u32>) {
+        for (k, cap) in self.caps.iter().enumerate() {
             let (u, v) = cap.plane.normal.any_orthonormal_pair();
             let at = |id: u32| {
                 let p = pool.positions[id as usize];
                 DVec2::new(u.dot(p), v.dot(p))
             };
             // u × v = n: counter-clockwise in (u, v) faces +n.
-            out.extend(triangulate(&loops(&cap.edges), &at));
+            faces.extend(triangulate(&loops(&cap.edges), &at));
+            from.resize(faces.len(), CAP | (k as u32));
         }
-        out
     }
 
-    /// Every triangle of the closed surface: the faces, then the caps'.
-    pub(crate) fn triangulated(&self, pool: &Pool) -> Vec<[u32; 3]> {
-        let mut out = self.faces.clone();
-        out.extend(self.cap_triangles(pool));
-        out
+    /// Every triangle of the closed surface, the faces then the caps', with their origins.
+    pub(crate) fn triangulated(&self, pool: &Pool) -> (Vec<[u32; 3]>, Vec<u32>) {
+        let (mut faces, mut from) = (self.faces.clone(), self.from.clone());
+        self.cap_triangles(pool, &mut faces, &mut from);
+        (faces, from)
     }
 }
 
 impl Pool {
-    /// A pool of `positions` with no split edge.
-    pub(crate) fn new(positions: Vec<DVec3>) -> Self {
-        Self { positions, ..Self::default() }
+    /// A pool of `positions` at `locations` with no split edge.
+    pub(crate) fn new(positions: Vec<DVec3>, locations: Vec<Location>) -> Self {
+        Self { positions, locations, ..Self::default() }
     }
 
-    /// Starts over from `positions` with no split edge, keeping the memory.
-    pub(crate) fn reset(&mut self, positions: &[DVec3]) {
+    /// Starts over from `positions` at `locations` with no split edge, keeping the memory.
+    pub(crate) fn reset(&mut self, positions: &[DVec3], locations: &[Location]) {
         self.positions.clear();
         self.positions.extend_from_slice(positions);
+        self.locations.clear();
+        self.locations.extend_from_slice(locations);
         self.splits.clear();
     }
 
     /// Cuts `part` by `plane` into `inside` (cleared first): the part inside, closed, with a new
     /// cap on the plane. The surface faces outside (no cap) are appended to `outside` when one is
-    /// given. The plane is moved along its normal by a few `tolerance` (m) when a vertex lies
+    /// given, with their origins. The plane is moved along its normal by a few `tolerance` (m) when a vertex lies
     /// within `tolerance` of it, so that no vertex is on it and every crossing is clean.
     pub(crate) fn cut(
         &mut self,
@@ -103,20 +110,24 @@ impl Pool {
         plane: Plane,
         tolerance: f64,
         inside: &mut Part,
-        mut outside: Option<&mut Vec<[u32; 3]>>,
+        mut outside: Option<&mut Vec<([u32; 3], u32)>>,
     ) {
         let plane = self.measure(part, plane, tolerance);
         inside.faces.clear();
+        inside.from.clear();
         inside.caps.clear();
         let signed = std::mem::take(&mut self.signed);
         let inside_of = |v: u32| signed[v as usize] < 0.0;
         let mut new_cap: Vec<(u32, u32)> = Vec::new();
-        for face in &part.faces {
+        for (face, &origin) in part.faces.iter().zip(&part.from) {
             let flags = face.map(inside_of);
             let count = flags.iter().filter(|&&b| b).count();
             match count {
-                3 => inside.faces.push(*face),
-                0 => outside.iter_mut().for_each(|out| out.push(*face)),
+                3 => {
+                    inside.faces.push(*face);
+                    inside.from.push(origin);
+                }
+                0 => outside.iter_mut().for_each(|out| out.push((*face, origin))),
                 _ => {
                     // Rotate so that corner 0 is the one alone on its side.
                     let lone = (0..3).find(|&k| flags[k] == (count == 1)).unwrap_or(0);
@@ -126,11 +137,13 @@ impl Pool {
                     let (alone, pair) = ([a, ab, ca], [[ab, b, c], [ab, c, ca]]);
                     if count == 1 {
                         inside.faces.push(alone);
-                        outside.iter_mut().for_each(|out| out.extend(pair));
+                        inside.from.push(origin);
+                        outside.iter_mut().for_each(|out| out.extend(pair.map(|f| (f, origin))));
                         new_cap.push((ca, ab));
                     } else {
-                        outside.iter_mut().for_each(|out| out.push(alone));
+                        outside.iter_mut().for_each(|out| out.push((alone, origin)));
                         inside.faces.extend(pair);
+                        inside.from.extend([origin; 2]);
                         new_cap.push((ab, ca));
                     }
                 }
@@ -252,6 +265,7 @@ impl Pool {
         let (slo, shi) = (signed[lo as usize], signed[hi as usize]);
         let (p, q) = (self.positions[lo as usize], self.positions[hi as usize]);
         self.positions.push(p + (q - p) * (slo / (slo - shi)));
+        self.locations.push(Location::between(self.locations[lo as usize], self.locations[hi as usize]));
         let v = self.positions.len() as u32 - 1;
         self.splits.insert(lo, hi, v);
         v

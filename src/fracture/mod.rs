@@ -11,6 +11,7 @@ mod cap;
 mod cell_cut;
 mod clip;
 mod error;
+mod origin;
 mod outcome;
 mod pattern;
 mod placement;
@@ -20,6 +21,7 @@ mod tally;
 mod weld;
 
 pub use error::FractureError;
+pub use origin::{SurfacePoint, VertexOrigin};
 pub use outcome::{FractureOutcome, FractureRecord, Piece, break_body, replay, volume_after};
 pub use pattern::MAX_CELLS;
 pub use pattern::{Cell, CellSide, FracturePattern, PatternParams};

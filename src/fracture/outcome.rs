@@ -9,7 +9,8 @@ use serde::{Deserialize, Serialize};
 
 use super::cell_cut::CellCutter;
 use super::clip::{Cap, Part, Pool};
-use super::weld::{Soup, check_closed, components, to_trimesh, weld};
+use super::origin::{Location, Source, VertexOrigin, build};
+use super::weld::{Soup, check_closed, components, weld};
 use super::{FractureError, FracturePattern, PatternParams, Placement};
 use crate::dent::BodyState;
 use crate::mesh::{MassProperties, TriMesh, mass_properties};
@@ -24,6 +25,9 @@ pub struct Piece {
     pub mass: MassProperties,
     /// Index of the pattern cell it came from.
     pub cell: usize,
+    /// Where each of its vertices lies on the mesh that broke (for carrying UVs and other
+    /// attributes over), one per vertex.
+    pub origins: Vec<VertexOrigin>,
 }
 
 impl Piece {
@@ -44,6 +48,9 @@ pub struct FractureOutcome {
     /// The body minus the broken part, one closed mesh in the same coordinates; `None` when the
     /// whole body lay inside the pattern.
     pub rest: Option<TriMesh>,
+    /// Where each vertex of the rest lies on the mesh that broke, one per vertex (empty with
+    /// no rest).
+    pub rest_origins: Vec<VertexOrigin>,
     /// The rest's mass properties at the same density (`None` with no rest).
     pub rest_mass: Option<MassProperties>,
     /// Volume of the body before, m³ (for the conservation check: pieces + rest).
@@ -75,7 +82,9 @@ pub fn replay(mesh: &TriMesh, record: &FractureRecord) -> Result<Option<Fracture
 /// Breaks the closed `mesh` along `pattern` placed at `placement` (mesh coordinates): every
 /// cell's part of the body within the pattern's radius becomes a piece, the rest stays one
 /// body. Coincident vertices are welded first; every piece and the rest are closed (each edge
-/// shared by exactly two faces). Mass properties are at `density` (kg/m³). Returns `Ok(None)`
+/// shared by exactly two faces once coincident vertices are welded). A mesh with split
+/// vertices (a game asset's seams) gives pieces and a rest split along the same seams, each cut
+/// face with vertices of its own; each vertex's [`VertexOrigin`] says where it lies on `mesh`. Mass properties are at `density` (kg/m³). Returns `Ok(None)`
 /// when the pattern's prism misses the body. Deterministic: the same input gives the same
 /// output bit for bit.
 ///
@@ -93,7 +102,10 @@ pub fn break_body(
     if !(density.is_finite() && density > 0.0) {
         return Err(super::error::invalid("density", density, "must be finite and > 0"));
     }
-    let Soup { positions, faces } = weld(mesh);
+    let soup = weld(mesh);
+    let locations = soup.locations();
+    let Soup { positions, faces, input_face, welded, seams } = soup;
+    let source = Source { mesh, input_face: &input_face, welded: &welded, seams };
     let vertex_count = positions.len();
     let frame = placement.frame();
     let (lo, hi) = mesh.bounds();
@@ -105,8 +117,8 @@ pub fn break_body(
     // surface (the caps on its way are inside the rest and dropped).
     // Checking that the mesh is closed and cutting take about as long: side by side, the cut
     // thrown away when the mesh is open (cutting an open mesh is harmless).
-    let whole = Part { faces, caps: Vec::new() };
-    let mut pool = Pool::new(positions);
+    let whole = Part { from: (0..faces.len() as u32).collect(), faces, caps: Vec::new() };
+    let mut pool = Pool::new(positions, locations);
     let (closed, (inside, outside)) = rayon::join(
         || check_closed(&whole.faces, vertex_count),
         || cut_out(&mut pool, &whole, frame.bound(pattern), tolerance),
@@ -115,37 +127,41 @@ pub fn break_body(
     if inside.faces.is_empty() {
         return Ok(None);
     }
-    let caps = inside.cap_triangles(&pool);
+    let (mut caps, mut cap_from) = (Vec::new(), Vec::new());
+    inside.cap_triangles(&pool, &mut caps, &mut cap_from);
     let mut rest_faces = Vec::with_capacity(outside.len() + caps.len());
+    let mut rest_from = Vec::with_capacity(rest_faces.capacity());
     // Only a face with two corners on split edges can have a split edge.
     let mut on_split = vec![false; pool.positions.len()];
     for (a, b) in pool.splits.edges() {
         (on_split[a as usize], on_split[b as usize]) = (true, true);
     }
-    for face in outside {
+    for (face, origin) in outside {
         if face.iter().filter(|&&v| on_split[v as usize]).count() >= 2 {
             pool.conform(face, &mut rest_faces);
         } else {
             rest_faces.push(face);
         }
+        rest_from.resize(rest_faces.len(), origin);
     }
     rest_faces.extend(caps.iter().map(|f| [f[0], f[2], f[1]]));
-    let (broken_positions, broken) = compact(&pool.positions, &inside);
+    rest_from.extend(cap_from);
+    let broken_vertices = compact(&pool, &inside);
     // The rest and the pieces are independent: build them side by side.
     let (rest, pieces) = rayon::join(
         || -> Result<_, FractureError> {
             let volume_before = mesh.volume().abs();
             if rest_faces.is_empty() {
-                return Ok((None, None, volume_before));
+                return Ok((None, Vec::new(), None, volume_before));
             }
-            let rest = to_trimesh(&pool.positions, &rest_faces)?;
+            let (rest, origins) = build(&source, (&pool.positions, &pool.locations), &rest_faces, &rest_from)?;
             let mass = mass_properties(&rest, density);
-            Ok((Some(rest), mass, volume_before))
+            Ok((Some(rest), origins, mass, volume_before))
         },
-        || cut_cells(&broken_positions, &broken, pattern, &frame, tolerance, density),
+        || cut_cells(&source, &broken_vertices, (pattern, &frame), tolerance, density),
     );
-    let (rest, rest_mass, volume_before) = rest?;
-    Ok(Some(FractureOutcome { pieces: pieces?, rest, rest_mass, volume_before }))
+    let (rest, rest_origins, rest_mass, volume_before) = rest?;
+    Ok(Some(FractureOutcome { pieces: pieces?, rest, rest_origins, rest_mass, volume_before }))
 }
 
 /// Cuts `whole` by `planes` in turn: what is inside them all (closed, capped), and the surface
@@ -155,9 +171,9 @@ fn cut_out(
     whole: &Part,
     planes: impl IntoIterator<Item = super::clip::Plane>,
     tolerance: f64,
-) -> (Part, Vec<[u32; 3]>) {
+) -> (Part, Vec<([u32; 3], u32)>) {
     let (mut inside, mut next) = (Part::default(), Part::default());
-    let mut outside: Vec<[u32; 3]> = Vec::new();
+    let mut outside: Vec<([u32; 3], u32)> = Vec::new();
     let mut planes = planes.into_iter();
     // The first cut reads the whole mesh itself.
     match planes.next() {
@@ -171,14 +187,13 @@ fn cut_out(
     (inside, outside)
 }
 
-/// The pieces of the broken part (over the vertices `base`): each cell's share (cut by the
+/// The pieces of the broken part (over its own vertices): each cell's share (cut by the
 /// cell's shared sides only: the part is inside the bounding prism already), split into
 /// connected parts.
 fn cut_cells(
-    base: &[glam::DVec3],
-    broken: &Part,
-    pattern: &FracturePattern,
-    frame: &super::placement::Frame,
+    source: &Source,
+    broken: &BrokenPart,
+    (pattern, frame): (&FracturePattern, &super::placement::Frame),
     tolerance: f64,
     density: f32,
 ) -> Result<Vec<Piece>, FractureError> {
@@ -189,12 +204,16 @@ fn cut_cells(
         .enumerate()
         .map_init(CellCutter::default, |cutter, (k, cell)| {
             let planes = cell.sides.iter().filter(|s| s.shared).map(|s| frame.side(s));
-            let (pool, faces) = cutter.cut(base, broken, planes, tolerance);
+            let base = (&broken.positions[..], &broken.locations[..]);
+            let (pool, faces, from) = cutter.cut(base, &broken.part, planes, tolerance);
             let mut pieces = Vec::new();
             for group in components(&faces, pool.positions.len()) {
-                let mesh = to_trimesh(&pool.positions, &group)?;
+                let group_faces: Vec<[u32; 3]> = group.iter().map(|&f| faces[f]).collect();
+                let group_from: Vec<u32> = group.iter().map(|&f| from[f]).collect();
+                let vertices = (&pool.positions[..], &pool.locations[..]);
+                let (mesh, origins) = build(source, vertices, &group_faces, &group_from)?;
                 if let Some(mass) = mass_properties(&mesh, density) {
-                    pieces.push(Piece { mesh, mass, cell: k });
+                    pieces.push(Piece { mesh, mass, cell: k, origins });
                 }
             }
             Ok(pieces)
@@ -207,15 +226,22 @@ fn cut_cells(
     Ok(pieces)
 }
 
-/// `part` over its own vertices only (ids renumbered in order of first use): those vertices
-/// and the renumbered part.
-fn compact(positions: &[glam::DVec3], part: &Part) -> (Vec<glam::DVec3>, Part) {
-    let mut remap = vec![u32::MAX; positions.len()];
-    let mut used = Vec::new();
+/// The broken part over its own vertices only.
+struct BrokenPart {
+    positions: Vec<glam::DVec3>,
+    locations: Vec<Location>,
+    part: Part,
+}
+
+/// `part` over its own vertices of `pool` only (ids renumbered in order of first use).
+fn compact(pool: &Pool, part: &Part) -> BrokenPart {
+    let mut remap = vec![u32::MAX; pool.positions.len()];
+    let (mut positions, mut locations) = (Vec::new(), Vec::new());
     let mut id = |v: u32| {
         if remap[v as usize] == u32::MAX {
-            remap[v as usize] = used.len() as u32;
-            used.push(positions[v as usize]);
+            remap[v as usize] = positions.len() as u32;
+            positions.push(pool.positions[v as usize]);
+            locations.push(pool.locations[v as usize]);
         }
         remap[v as usize]
     };
@@ -225,7 +251,7 @@ fn compact(positions: &[glam::DVec3], part: &Part) -> (Vec<glam::DVec3>, Part) {
         .iter()
         .map(|c| Cap { plane: c.plane, edges: c.edges.iter().map(|&(a, b)| (id(a), id(b))).collect() })
         .collect();
-    (used, Part { faces, caps })
+    BrokenPart { positions, locations, part: Part { faces, from: part.from.clone(), caps } }
 }
 
 /// Sum of the pieces' volumes and the rest's, m³.

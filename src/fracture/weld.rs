@@ -4,13 +4,28 @@
 use glam::DVec3;
 
 use super::FractureError;
+use super::origin::Location;
 use crate::mesh::TriMesh;
 
-/// Vertices (f64, the mesh's coordinates, m) and triangles, counter-clockwise from outside.
+/// Vertices (f64, the mesh's coordinates, m) and triangles, counter-clockwise from outside,
+/// with where they came from in the welded mesh.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Soup {
     pub positions: Vec<DVec3>,
     pub faces: Vec<[u32; 3]>,
+    /// Per face: the input face it is.
+    pub input_face: Vec<u32>,
+    /// Per input vertex: the vertex it became.
+    pub welded: Vec<u32>,
+    /// Whether any two input vertices became one.
+    pub seams: bool,
+}
+
+impl Soup {
+    /// Each vertex's location: itself.
+    pub(crate) fn locations(&self) -> Vec<Location> {
+        (0..self.positions.len() as u32).map(Location::Vertex).collect()
+    }
 }
 
 /// `mesh` with coincident vertices (bit-equal positions, −0 = +0) merged and the faces that
@@ -40,13 +55,17 @@ pub(crate) fn weld(mesh: &TriMesh) -> Soup {
             remap[first[i] as usize]
         };
     }
-    let faces = mesh
-        .faces()
-        .iter()
-        .map(|f| f.map(|v| remap[v as usize]))
-        .filter(|[a, b, c]| a != b && b != c && c != a)
-        .collect();
-    Soup { positions, faces }
+    let mut faces = Vec::with_capacity(mesh.face_count());
+    let mut input_face = Vec::with_capacity(mesh.face_count());
+    for (k, face) in mesh.faces().iter().enumerate() {
+        let [a, b, c] = face.map(|v| remap[v as usize]);
+        if a != b && b != c && c != a {
+            faces.push([a, b, c]);
+            input_face.push(k as u32);
+        }
+    }
+    let seams = positions.len() < mesh.vertex_count();
+    Soup { positions, faces, input_face, welded: remap, seams }
 }
 
 /// Checks that every directed edge of `faces` (over `vertex_count` vertices) is used once and
@@ -105,9 +124,9 @@ pub(crate) fn check_closed(faces: &[[u32; 3]], vertex_count: usize) -> Result<()
     Ok(())
 }
 
-/// The faces in groups joined by shared vertices, each group in face order, groups in order
-/// of their first face.
-pub(crate) fn components(faces: &[[u32; 3]], vertex_count: usize) -> Vec<Vec<[u32; 3]>> {
+/// The indices of `faces` (over `vertex_count` vertices) in groups joined by shared vertices,
+/// each group in face order, groups in order of their first face.
+pub(crate) fn components(faces: &[[u32; 3]], vertex_count: usize) -> Vec<Vec<usize>> {
     let mut parent: Vec<u32> = (0..vertex_count as u32).collect();
     fn root(parent: &mut [u32], mut v: u32) -> u32 {
         while parent[v as usize] != v {
@@ -125,37 +144,14 @@ pub(crate) fn components(faces: &[[u32; 3]], vertex_count: usize) -> Vec<Vec<[u3
     }
     // Group of each root, by root id (`u32::MAX`: none yet).
     let mut group_of = vec![u32::MAX; vertex_count];
-    let mut groups: Vec<Vec<[u32; 3]>> = Vec::new();
-    for f in faces {
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (k, f) in faces.iter().enumerate() {
         let r = root(&mut parent, f[0]) as usize;
         if group_of[r] == u32::MAX {
             group_of[r] = groups.len() as u32;
             groups.push(Vec::new());
         }
-        groups[group_of[r] as usize].push(*f);
+        groups[group_of[r] as usize].push(k);
     }
     groups
-}
-
-/// A [`TriMesh`] of `faces` over `positions` with only the vertices they use, in order of
-/// first use.
-///
-/// # Errors
-/// [`FractureError::Mesh`] when there is no face (or a coordinate leaves the mesh range).
-pub(crate) fn to_trimesh(positions: &[DVec3], faces: &[[u32; 3]]) -> Result<TriMesh, FractureError> {
-    let mut remap = vec![u32::MAX; positions.len()];
-    let mut used = Vec::new();
-    let faces: Vec<[u32; 3]> = faces
-        .iter()
-        .map(|f| {
-            f.map(|v| {
-                if remap[v as usize] == u32::MAX {
-                    remap[v as usize] = used.len() as u32;
-                    used.push(positions[v as usize].as_vec3());
-                }
-                remap[v as usize]
-            })
-        })
-        .collect();
-    Ok(TriMesh::new(used, faces)?)
 }

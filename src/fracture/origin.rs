@@ -1,0 +1,268 @@
+//! Where the vertices of a fracture's rest and pieces came from on the mesh that broke, and
+//! the output meshes built from the cut's indexed faces.
+//!
+//! The cut runs on the welded mesh. A mesh that has no coincident vertices (one built for
+//! simulation) gives welded output, as it came in. A mesh with split vertices (a game asset:
+//! hard edges, UV seams) gives output split the same way: a point of the surface is one vertex
+//! per side of each of the input's seams, and every cap (a cut face) has vertices of its own, so
+//! its rim is a hard edge and its attributes can differ from the surface's. Surface vertices
+//! take their normals from the input's (interpolated in the face they lie in); cap vertices the
+//! cap's plane. [`VertexOrigin`] tells the caller where each vertex lies, so that UVs and other
+//! attributes can be carried over.
+
+use glam::{DVec3, Vec3};
+
+use super::FractureError;
+use crate::mesh::TriMesh;
+
+/// A point of the broken mesh's surface: one of its faces and the point's barycentric weights
+/// of that face's three corners (non-negative, summing to 1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    /// Index into the broken mesh's faces.
+    pub face: u32,
+    /// Weights of `faces()[face]`'s corners, in order.
+    pub weights: [f32; 3],
+}
+
+/// Where a vertex of a fracture's rest or piece lies on the mesh that broke, for carrying
+/// vertex attributes (UVs, colours, tangents, joint weights) over from it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum VertexOrigin {
+    /// On the broken mesh's surface, at this point: interpolate the attributes of its face's
+    /// corners with its weights.
+    Surface(SurfacePoint),
+    /// On a cut (inside the broken body). `nearest` is the surface point nearest to it on the
+    /// piece, whose attributes it can take where a cut has none of its own (colours, joint
+    /// weights); `None` for a piece that is all cut.
+    Cut {
+        /// The nearest surface point of the same mesh.
+        nearest: Option<SurfacePoint>,
+    },
+}
+
+/// Where a cut's vertex lies on the welded input, as far as its splits can tell: at a welded
+/// vertex, on the edge between two (lower id first), or elsewhere (inside a face, on a cap).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Location {
+    Vertex(u32),
+    Edge(u32, u32),
+    Elsewhere,
+}
+
+impl Location {
+    /// Where the point made on the segment between points at `a` and `b` lies: on an input
+    /// edge when both ends are on it (its end vertices or points of it), elsewhere otherwise.
+    /// Edges between two input vertices are always input edges: cuts join new points only.
+    pub(crate) fn between(a: Self, b: Self) -> Self {
+        use Location::{Edge, Elsewhere, Vertex};
+        let edge = |p: u32, q: u32| Edge(p.min(q), p.max(q));
+        match (a, b) {
+            (Vertex(p), Vertex(q)) => edge(p, q),
+            (Vertex(v), Edge(p, q)) | (Edge(p, q), Vertex(v)) if v == p || v == q => Edge(p, q),
+            (Edge(p, q), Edge(r, s)) if (p, q) == (r, s) => Edge(p, q),
+            _ => Elsewhere,
+        }
+    }
+}
+
+/// Marks a face origin as a cap: `CAP | k` is the part's cap `k`; other origins are faces of
+/// the welded input.
+pub(crate) const CAP: u32 = 1 << 31;
+
+/// The input as the output builder needs it: the mesh that broke, which input face each welded
+/// face is, which welded vertex each input vertex is, and whether any two input vertices were
+/// welded (then the output keeps the seams).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Source<'a> {
+    pub mesh: &'a TriMesh,
+    pub input_face: &'a [u32],
+    pub welded: &'a [u32],
+    pub seams: bool,
+}
+
+/// Which output vertex a corner of the cut's faces becomes, besides its position: in welded
+/// output every corner at a position is one vertex; with seams, corners share a vertex only
+/// when they are on the same side of every input seam (the same input vertex, the same pair
+/// of input vertices along an edge, or inside the same input face), or on the same cap.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Side {
+    Welded,
+    Vertex(u32),
+    Edge(u32, u32),
+    Face(u32),
+    Cap(u32),
+}
+
+/// An output mesh of `faces` over the pool's `positions` (f64, m) and `locations`, `from`
+/// giving each face's origin (a welded input face, or `CAP | k`), with the origin of each of
+/// its vertices. Vertices are numbered in order of first use; deterministic.
+///
+/// # Errors
+/// [`FractureError::Mesh`] when there is no face (or a coordinate leaves the mesh range).
+pub(crate) fn build(
+    source: &Source,
+    (positions, locations): (&[DVec3], &[Location]),
+    faces: &[[u32; 3]],
+    from: &[u32],
+) -> Result<(TriMesh, Vec<VertexOrigin>), FractureError> {
+    // Per pool vertex: its newest output vertex (`u32::MAX`: none); per output vertex, the one
+    // before it at the same pool vertex, so that a lookup walks that short chain.
+    let mut newest = vec![u32::MAX; positions.len()];
+    let mut before: Vec<u32> = Vec::new();
+    let mut sides: Vec<Side> = Vec::new();
+    let mut pool_of: Vec<u32> = Vec::new();
+    let mut origins: Vec<VertexOrigin> = Vec::new();
+    let mut out_faces = Vec::with_capacity(faces.len());
+    for (face, &origin) in faces.iter().zip(from) {
+        out_faces.push(face.map(|v| {
+            let side = side_of(source, locations[v as usize], origin);
+            let mut id = newest[v as usize];
+            while id != u32::MAX && sides[id as usize] != side {
+                id = before[id as usize];
+            }
+            let on_surface = origin & CAP == 0;
+            let surface = || VertexOrigin::Surface(surface_point(source, origin, positions[v as usize]));
+            if id == u32::MAX {
+                id = origins.len() as u32;
+                before.push(newest[v as usize]);
+                newest[v as usize] = id;
+                sides.push(side);
+                pool_of.push(v);
+                origins.push(if on_surface { surface() } else { VertexOrigin::Cut { nearest: None } });
+            } else if on_surface && matches!(origins[id as usize], VertexOrigin::Cut { .. }) {
+                // Welded output: a rim vertex is on the surface too.
+                origins[id as usize] = surface();
+            }
+            id
+        }));
+    }
+    let out_positions: Vec<Vec3> = pool_of.iter().map(|&v| positions[v as usize].as_vec3()).collect();
+    fill_nearest(&mut origins, &out_positions, (&pool_of, &newest, &before));
+    let mesh = if source.seams {
+        let normals = normals(source, &origins, &out_positions, (&out_faces, from));
+        TriMesh::with_normals(out_positions, out_faces, normals)?
+    } else {
+        TriMesh::new(out_positions, out_faces)?
+    };
+    Ok((mesh, origins))
+}
+
+/// The side a corner at a point at `location` of a face of `origin` is on.
+fn side_of(source: &Source, location: Location, origin: u32) -> Side {
+    if !source.seams {
+        return Side::Welded;
+    }
+    if origin & CAP != 0 {
+        return Side::Cap(origin & !CAP);
+    }
+    let face = source.input_face[origin as usize];
+    let corners = source.mesh.faces()[face as usize];
+    let corner_at = |w: u32| corners.iter().copied().find(|&c| source.welded[c as usize] == w);
+    match location {
+        Location::Vertex(w) => corner_at(w).map_or(Side::Face(face), Side::Vertex),
+        Location::Edge(p, q) => match (corner_at(p), corner_at(q)) {
+            (Some(a), Some(b)) => Side::Edge(a.min(b), a.max(b)),
+            _ => Side::Face(face),
+        },
+        Location::Elsewhere => Side::Face(face),
+    }
+}
+
+/// `p` as a point of the input face that welded face `origin` is: its barycentric weights,
+/// clamped to the face and summing to 1 (the first corner's for a degenerate face).
+fn surface_point(source: &Source, origin: u32, p: DVec3) -> SurfacePoint {
+    let face = source.input_face[origin as usize];
+    let [a, b, c] = source.mesh.faces()[face as usize].map(|v| source.mesh.positions()[v as usize].as_dvec3());
+    let (e0, e1, d) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (e0.dot(e0), e0.dot(e1), e1.dot(e1));
+    let (d20, d21) = (d.dot(e0), d.dot(e1));
+    let denominator = d00 * d11 - d01 * d01;
+    let weights = if denominator > f64::MIN_POSITIVE * 1e6 {
+        let v = (d11 * d20 - d01 * d21) / denominator;
+        let w = (d00 * d21 - d01 * d20) / denominator;
+        let clamped = [1.0 - v - w, v, w].map(|x| x.max(0.0));
+        let sum: f64 = clamped.iter().sum();
+        if sum > 0.0 { clamped.map(|x| (x / sum) as f32) } else { [1.0, 0.0, 0.0] }
+    } else {
+        [1.0, 0.0, 0.0]
+    };
+    SurfacePoint { face, weights }
+}
+
+/// Gives every cut vertex its nearest surface point: a surface vertex at the same point when
+/// there is one (a cap's rim), otherwise the nearest surface vertex of the mesh.
+fn fill_nearest(origins: &mut [VertexOrigin], positions: &[Vec3], (pool_of, newest, before): (&[u32], &[u32], &[u32])) {
+    let surface: Vec<(Vec3, SurfacePoint)> = origins
+        .iter()
+        .zip(positions)
+        .filter_map(|(o, &p)| match o {
+            VertexOrigin::Surface(point) => Some((p, *point)),
+            VertexOrigin::Cut { .. } => None,
+        })
+        .collect();
+    for k in 0..origins.len() {
+        if !matches!(origins[k], VertexOrigin::Cut { .. }) {
+            continue;
+        }
+        let mut id = newest[pool_of[k] as usize];
+        let mut nearest = None;
+        while id != u32::MAX {
+            if let VertexOrigin::Surface(point) = origins[id as usize] {
+                nearest = Some(point);
+                break;
+            }
+            id = before[id as usize];
+        }
+        let p = positions[k];
+        let nearest = nearest.or_else(|| {
+            surface.iter().min_by(|x, y| x.0.distance_squared(p).total_cmp(&y.0.distance_squared(p))).map(|s| s.1)
+        });
+        origins[k] = VertexOrigin::Cut { nearest };
+    }
+}
+
+/// Normals of output with seams: a surface vertex's interpolated from the input's in its face,
+/// a cap vertex's from its cap's faces (the cap's plane).
+fn normals(
+    source: &Source,
+    origins: &[VertexOrigin],
+    positions: &[Vec3],
+    (faces, from): (&[[u32; 3]], &[u32]),
+) -> Vec<Vec3> {
+    let mut normals = vec![Vec3::ZERO; origins.len()];
+    for (face, _) in faces.iter().zip(from).filter(|(_, o)| **o & CAP != 0) {
+        let normal = crate::mesh::face_area_normal(positions, face);
+        for &v in face {
+            normals[v as usize] += normal;
+        }
+    }
+    let input = source.mesh.normals();
+    for (n, origin) in normals.iter_mut().zip(origins) {
+        if let VertexOrigin::Surface(point) = origin {
+            let corners = source.mesh.faces()[point.face as usize];
+            *n = (0..3).map(|k| input[corners[k] as usize] * point.weights[k]).sum();
+        }
+        *n = n.normalize_or_zero();
+    }
+    normals
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points on one input edge stay on it, whatever order they were made in; anything else
+    /// leaves it.
+    #[test]
+    fn locations_follow_input_edges() {
+        use Location::{Edge, Elsewhere, Vertex};
+        let on = Location::between(Vertex(7), Vertex(3));
+        assert_eq!(on, Edge(3, 7));
+        assert_eq!(Location::between(Vertex(3), on), Edge(3, 7));
+        assert_eq!(Location::between(on, Edge(3, 7)), Edge(3, 7));
+        assert_eq!(Location::between(Vertex(4), on), Elsewhere);
+        assert_eq!(Location::between(on, Edge(3, 8)), Elsewhere);
+        assert_eq!(Location::between(Elsewhere, Vertex(3)), Elsewhere);
+    }
+}
