@@ -65,7 +65,8 @@ fn check_origins(input: &TriMesh, outcome: &FractureOutcome, size: f32) {
                     let p = mesh.positions()[v];
                     assert!(at.distance(p) < 1e-5 * size, "mesh {k} vertex {v}: {p} named {at}");
                 }
-                VertexOrigin::Cut { nearest } => {
+                VertexOrigin::Cut { normal, nearest } => {
+                    assert!((normal.length() - 1.0).abs() < 1e-5, "mesh {k} vertex {v}: cut normal {normal}");
                     let nearest = nearest.expect("every piece of the panel has some surface");
                     assert!(surface.contains(&nearest), "mesh {k} vertex {v}: {nearest:?} is not its surface");
                 }
@@ -102,8 +103,9 @@ fn a_faceted_panel_breaks_along_its_seams() {
             }
         }
         for (v, origin) in origins.iter().enumerate() {
-            if let VertexOrigin::Cut { .. } = origin {
+            if let VertexOrigin::Cut { normal, .. } = origin {
                 let n = mesh.normals()[v];
+                assert_eq!(n, *normal, "mesh {k}: cut vertex {v}'s normal is its cut's");
                 for face in mesh.faces().iter().filter(|f| f.contains(&(v as u32))) {
                     let [a, b, c] = face.map(|u| mesh.positions()[u as usize]);
                     // A sliver's f32 normal is off by about 1e-7·(edge length)²/area: only

@@ -30,21 +30,21 @@ pub(crate) struct CellCutter {
 impl CellCutter {
     /// Cuts `broken` (over the vertices `base`, at `locations`) by `planes` in order, each cut
     /// moved off the vertices by `tolerance` (m) as [`Pool::cut`] does: the triangles of what
-    /// is left, closed (its caps triangulated), over the vertices of the returned pool, and
-    /// their origins.
+    /// is left, closed (its caps triangulated), over the vertices of the returned pool, their
+    /// origins, and the outward unit normals of the caps they name.
     pub(crate) fn cut(
         &mut self,
         (base, locations): (&[DVec3], &[Location]),
         broken: &Part,
         planes: impl Iterator<Item = Plane>,
         tolerance: f64,
-    ) -> (&Pool, Vec<[u32; 3]>, Vec<u32>) {
+    ) -> (&Pool, Vec<[u32; 3]>, Vec<u32>, Vec<DVec3>) {
         self.pool.reset(base, locations);
         self.planes.clear();
         self.planes.extend(planes);
         if self.planes.is_empty() {
             let (faces, from) = broken.triangulated(&self.pool);
-            return (&self.pool, faces, from);
+            return (&self.pool, faces, from, broken.cap_normals());
         }
         let reach = REACH * tolerance;
         self.fates.clear();
@@ -79,7 +79,7 @@ impl CellCutter {
             }
         }
         let (faces, from) = self.next.triangulated(&self.pool);
-        (&self.pool, faces, from)
+        (&self.pool, faces, from, self.next.cap_normals())
     }
 }
 
@@ -142,7 +142,8 @@ mod tests {
             let (expected_faces, expected_from) = part.triangulated(&pool);
             let expected = corners(&pool, &expected_faces);
             assert!(!expected.is_empty());
-            let (pool, faces, from) = cutter.cut((&positions, &locations), &whole, planes.iter().copied(), tolerance);
+            let (pool, faces, from, _) =
+                cutter.cut((&positions, &locations), &whole, planes.iter().copied(), tolerance);
             assert_eq!(corners(pool, &faces), expected);
             assert_eq!(from, expected_from);
         }

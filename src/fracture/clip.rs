@@ -77,6 +77,11 @@ impl Part {
         }
     }
 
+    /// The caps' planes' unit normals (out of the part), in cap order.
+    pub(crate) fn cap_normals(&self) -> Vec<DVec3> {
+        self.caps.iter().map(|c| c.plane.normal).collect()
+    }
+
     /// Every triangle of the closed surface, the faces then the caps', with their origins.
     pub(crate) fn triangulated(&self, pool: &Pool) -> (Vec<[u32; 3]>, Vec<u32>) {
         let (mut faces, mut from) = (self.faces.clone(), self.from.clone());

@@ -32,11 +32,14 @@ pub enum VertexOrigin {
     /// On the broken mesh's surface, at this point: interpolate the attributes of its face's
     /// corners with its weights.
     Surface(SurfacePoint),
-    /// On a cut (inside the broken body). `nearest` is the surface point nearest to it on the
-    /// piece, whose attributes it can take where a cut has none of its own (colours, joint
-    /// weights); `None` for a piece that is all cut.
+    /// On a cut (inside the broken body).
     Cut {
-        /// The nearest surface point of the same mesh.
+        /// The cut's plane's unit normal, out of this mesh (mesh coordinates): the same for
+        /// every vertex of one cut, so a projection on it (UVs) is seamless across the cut.
+        normal: Vec3,
+        /// The surface point nearest to it on the same mesh, whose attributes it can take
+        /// where a cut has none of its own (colours, joint weights); `None` for a piece that is
+        /// all cut.
         nearest: Option<SurfacePoint>,
     },
 }
@@ -95,17 +98,22 @@ enum Side {
 }
 
 /// An output mesh of `faces` over the pool's `positions` (f64, m) and `locations`, `from`
-/// giving each face's origin (a welded input face, or `CAP | k`), with the origin of each of
-/// its vertices. Vertices are numbered in order of first use; deterministic.
+/// giving each face's origin (a welded input face, or `CAP | k` for the cap whose outward
+/// normal is `cap_normals[k]`), with the origin of each of its vertices. Vertices are numbered
+/// in order of first use; deterministic.
 ///
 /// # Errors
 /// [`FractureError::Mesh`] when there is no face (or a coordinate leaves the mesh range).
 pub(crate) fn build(
     source: &Source,
     (positions, locations): (&[DVec3], &[Location]),
-    faces: &[[u32; 3]],
-    from: &[u32],
+    (faces, from): (&[[u32; 3]], &[u32]),
+    cap_normals: &[DVec3],
 ) -> Result<(TriMesh, Vec<VertexOrigin>), FractureError> {
+    let cut = |origin: u32| {
+        let normal = cap_normals.get((origin & !CAP) as usize).map_or(Vec3::ZERO, |n| n.as_vec3());
+        VertexOrigin::Cut { normal, nearest: None }
+    };
     // Per pool vertex: its newest output vertex (`u32::MAX`: none); per output vertex, the one
     // before it at the same pool vertex, so that a lookup walks that short chain.
     let mut newest = vec![u32::MAX; positions.len()];
@@ -129,7 +137,7 @@ pub(crate) fn build(
                 newest[v as usize] = id;
                 sides.push(side);
                 pool_of.push(v);
-                origins.push(if on_surface { surface() } else { VertexOrigin::Cut { nearest: None } });
+                origins.push(if on_surface { surface() } else { cut(origin) });
             } else if on_surface && matches!(origins[id as usize], VertexOrigin::Cut { .. }) {
                 // Welded output: a rim vertex is on the surface too.
                 origins[id as usize] = surface();
@@ -140,7 +148,7 @@ pub(crate) fn build(
     let out_positions: Vec<Vec3> = pool_of.iter().map(|&v| positions[v as usize].as_vec3()).collect();
     fill_nearest(&mut origins, &out_positions, (&pool_of, &newest, &before));
     let mesh = if source.seams {
-        let normals = normals(source, &origins, &out_positions, (&out_faces, from));
+        let normals = normals(source, &origins);
         TriMesh::with_normals(out_positions, out_faces, normals)?
     } else {
         TriMesh::new(out_positions, out_faces)?
@@ -218,34 +226,24 @@ fn fill_nearest(origins: &mut [VertexOrigin], positions: &[Vec3], (pool_of, newe
         let nearest = nearest.or_else(|| {
             surface.iter().min_by(|x, y| x.0.distance_squared(p).total_cmp(&y.0.distance_squared(p))).map(|s| s.1)
         });
-        origins[k] = VertexOrigin::Cut { nearest };
+        if let VertexOrigin::Cut { nearest: slot, .. } = &mut origins[k] {
+            *slot = nearest;
+        }
     }
 }
 
 /// Normals of output with seams: a surface vertex's interpolated from the input's in its face,
-/// a cap vertex's from its cap's faces (the cap's plane).
-fn normals(
-    source: &Source,
-    origins: &[VertexOrigin],
-    positions: &[Vec3],
-    (faces, from): (&[[u32; 3]], &[u32]),
-) -> Vec<Vec3> {
-    let mut normals = vec![Vec3::ZERO; origins.len()];
-    for (face, _) in faces.iter().zip(from).filter(|(_, o)| **o & CAP != 0) {
-        let normal = crate::mesh::face_area_normal(positions, face);
-        for &v in face {
-            normals[v as usize] += normal;
-        }
-    }
+/// a cut vertex's its cap's plane's.
+fn normals(source: &Source, origins: &[VertexOrigin]) -> Vec<Vec3> {
     let input = source.mesh.normals();
-    for (n, origin) in normals.iter_mut().zip(origins) {
-        if let VertexOrigin::Surface(point) = origin {
+    let normal = |origin: &VertexOrigin| match origin {
+        VertexOrigin::Surface(point) => {
             let corners = source.mesh.faces()[point.face as usize];
-            *n = (0..3).map(|k| input[corners[k] as usize] * point.weights[k]).sum();
+            (0..3).map(|k| input[corners[k] as usize] * point.weights[k]).sum::<Vec3>().normalize_or_zero()
         }
-        *n = n.normalize_or_zero();
-    }
-    normals
+        VertexOrigin::Cut { normal, .. } => *normal,
+    };
+    origins.iter().map(normal).collect()
 }
 
 #[cfg(test)]

@@ -154,7 +154,10 @@ pub fn break_body(
             if rest_faces.is_empty() {
                 return Ok((None, Vec::new(), None, volume_before));
             }
-            let (rest, origins) = build(&source, (&pool.positions, &pool.locations), &rest_faces, &rest_from)?;
+            // The rest's caps face the other way: out of the rest, into the broken part.
+            let cap_normals: Vec<_> = inside.cap_normals().into_iter().map(|n| -n).collect();
+            let vertices = (&pool.positions[..], &pool.locations[..]);
+            let (rest, origins) = build(&source, vertices, (&rest_faces, &rest_from), &cap_normals)?;
             let mass = mass_properties(&rest, density);
             Ok((Some(rest), origins, mass, volume_before))
         },
@@ -205,13 +208,13 @@ fn cut_cells(
         .map_init(CellCutter::default, |cutter, (k, cell)| {
             let planes = cell.sides.iter().filter(|s| s.shared).map(|s| frame.side(s));
             let base = (&broken.positions[..], &broken.locations[..]);
-            let (pool, faces, from) = cutter.cut(base, &broken.part, planes, tolerance);
+            let (pool, faces, from, cap_normals) = cutter.cut(base, &broken.part, planes, tolerance);
             let mut pieces = Vec::new();
             for group in components(&faces, pool.positions.len()) {
                 let group_faces: Vec<[u32; 3]> = group.iter().map(|&f| faces[f]).collect();
                 let group_from: Vec<u32> = group.iter().map(|&f| from[f]).collect();
                 let vertices = (&pool.positions[..], &pool.locations[..]);
-                let (mesh, origins) = build(source, vertices, &group_faces, &group_from)?;
+                let (mesh, origins) = build(source, vertices, (&group_faces, &group_from), &cap_normals)?;
                 if let Some(mass) = mass_properties(&mesh, density) {
                     pieces.push(Piece { mesh, mass, cell: k, origins });
                 }

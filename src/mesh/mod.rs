@@ -76,8 +76,8 @@ pub(crate) use refine::{any_too_long, refine_parts};
 pub use save::{save, write_file_atomically};
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 
+pub(crate) use trimesh::in_coordinate_range;
 pub use trimesh::{EdgeLengths, MAX_COORDINATE, TriMesh, validate};
-pub(crate) use trimesh::{face_area_normal, in_coordinate_range};
 pub use turned_over::{SHAPE_TOLERANCE, turned_over_faces};
 
 #[cfg(test)]
