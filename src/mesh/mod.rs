@@ -43,6 +43,7 @@ mod refine;
 mod refine_crossings;
 mod save;
 pub(crate) mod self_intersect;
+mod split_inference;
 mod subdivide;
 pub(crate) mod tri_tri;
 mod trimesh;
@@ -74,6 +75,7 @@ pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdiv
 pub use refine::{Ball, OrientedBox, RefineError, RefineRegion, Refinement, SplitVertex, refine};
 pub(crate) use refine::{any_too_long, refine_parts};
 pub use save::{save, write_file_atomically};
+pub(crate) use split_inference::infer_splits;
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 
 pub(crate) use trimesh::in_coordinate_range;

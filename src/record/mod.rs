@@ -34,4 +34,6 @@ pub use records::{
     BoneSplit, DamageRecord, DentBatch, FracturePiece, FractureRecord, ImpactDent, JointBend, JointRest, ProjectileRef,
     decode_records, encode_records,
 };
-pub use replay::{DentForm, Projectiles, Replayed, replay_body, replay_body_with_pieces};
+pub use replay::{
+    DentForm, Projectiles, ReplayStep, Replayed, replay_body, replay_body_traced, replay_body_with_pieces,
+};

@@ -8,7 +8,8 @@ use glam::{Affine3A, Vec3};
 use super::records::{DamageRecord, DentBatch, FractureRecord, ImpactDent, ProjectileRef};
 use super::{BodyDamage, MeshStamp, RecordError, hex64};
 use crate::dent::{DentJob, LocalContact, dent_batch_tracked};
-use crate::mesh::{TriMesh, builtin, content_hash};
+use crate::fracture::VertexOrigin;
+use crate::mesh::{SplitVertex, TriMesh, builtin, content_hash, infer_splits};
 
 /// Which form of a dent batch a replay uses when the file carries both.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -60,6 +61,45 @@ impl Projectiles {
     }
 }
 
+/// What one record of a replay did to the body's mesh, for a caller that carries more than
+/// positions along (an engine's vertex attributes: UVs, colours, …).
+#[derive(Debug, Clone, Copy)]
+pub enum ReplayStep<'a> {
+    /// A dent batch or a skinned edit turned `before` into `after`: the indices of `before`'s
+    /// vertices and faces keep their meaning, and each vertex appended past them (a refinement)
+    /// bisected an edge of the mesh as it was when it was made ([`splits`](Self::splits)).
+    Edited {
+        /// The mesh before the record.
+        before: &'a TriMesh,
+        /// The mesh after it.
+        after: &'a TriMesh,
+    },
+    /// A fracture broke `before`; `rest` is the body's mesh from then on.
+    Broke {
+        /// The mesh that broke.
+        before: &'a TriMesh,
+        /// The rest.
+        rest: &'a TriMesh,
+        /// Where each of the rest's vertices lies on `before`.
+        origins: &'a [VertexOrigin],
+    },
+}
+
+impl ReplayStep<'_> {
+    /// For an edit, the edge each vertex it appended bisected, in order (both parents have
+    /// smaller indices; fraction 0.5), told from the meshes: the edges of `before`, each new
+    /// vertex replacing the edge it halves, its parents the edge whose ends it reaches through
+    /// the vertices appended after it and whose midpoint lies nearest to it. A vertex no
+    /// refinement made (no such edge) names its first older neighbour twice, fraction 0.
+    /// Empty for a fracture.
+    pub fn splits(&self) -> Vec<SplitVertex> {
+        match self {
+            Self::Edited { before, after } => infer_splits(before, after),
+            Self::Broke { .. } => Vec::new(),
+        }
+    }
+}
+
 /// A body's replayed damage: its final mesh and the bodies its fractures made.
 #[derive(Debug, Clone)]
 pub struct Replayed {
@@ -99,6 +139,21 @@ pub fn replay_body_with_pieces(
     form: DentForm,
     projectiles: &Projectiles,
 ) -> Result<Replayed, RecordError> {
+    replay_body_traced(body, base, (form, projectiles), &mut |_| {})
+}
+
+/// As [`replay_body_with_pieces`], telling `each` what every record that changed the mesh did,
+/// in order, as it applies (so a caller can carry vertex attributes along). A replay that fails
+/// later may already have told some steps: keep what they built until it succeeds.
+///
+/// # Errors
+/// As [`replay_body_with_pieces`].
+pub fn replay_body_traced(
+    body: &BodyDamage,
+    base: &TriMesh,
+    (form, projectiles): (DentForm, &Projectiles),
+    each: &mut dyn FnMut(ReplayStep<'_>),
+) -> Result<Replayed, RecordError> {
     let stamp = MeshStamp::of(base);
     if stamp != body.base {
         return Err(RecordError::BaseMismatch {
@@ -113,15 +168,21 @@ pub fn replay_body_with_pieces(
     for (k, record) in body.records.iter().enumerate() {
         let after = match record {
             DamageRecord::Dents(batch) => {
-                mesh = replay_batch(body, k, batch, &mesh, form, projectiles)?;
+                let after = replay_batch(body, k, batch, &mesh, form, projectiles)?;
+                each(ReplayStep::Edited { before: &mesh, after: &after });
+                mesh = after;
                 batch.after
             }
             DamageRecord::Skinned { edit, after } => {
-                mesh = edit.apply(&mesh).map_err(|e| tampered(k, format!("the skinned edit does not apply: {e}")))?;
+                let edited =
+                    edit.apply(&mesh).map_err(|e| tampered(k, format!("the skinned edit does not apply: {e}")))?;
+                each(ReplayStep::Edited { before: &mesh, after: &edited });
+                mesh = edited;
                 *after
             }
             DamageRecord::Fracture(f) => {
-                let (rest, made) = replay_fracture(body, k, f, &mesh)?;
+                let (rest, origins, made) = replay_fracture(body, k, f, &mesh)?;
+                each(ReplayStep::Broke { before: &mesh, rest: &rest, origins: &origins });
                 mesh = rest;
                 pieces.extend(made);
                 f.after
@@ -148,14 +209,17 @@ pub fn replay_body_with_pieces(
     Ok(Replayed { mesh, pieces })
 }
 
+/// A fracture's rest, where its vertices lie on the mesh that broke, and its named pieces.
+type ReplayedFracture = (TriMesh, Vec<VertexOrigin>, Vec<(String, TriMesh)>);
+
 /// One fracture of `mesh` (the body's own coordinates): the rest in the body's new coordinates
-/// and the named pieces in theirs.
+/// with its vertices' origins, and the named pieces in theirs.
 fn replay_fracture(
     body: &BodyDamage,
     record: usize,
     f: &FractureRecord,
     mesh: &TriMesh,
-) -> Result<(TriMesh, Vec<(String, TriMesh)>), RecordError> {
+) -> Result<ReplayedFracture, RecordError> {
     let tampered = |reason: String| RecordError::Tampered { body: body.name.clone(), record, reason };
     let moved = |mut mesh: TriMesh, by: Vec3, what: &str| {
         mesh.transform(Affine3A::from_translation(by)).map(|()| mesh).map_err(|e| tampered(format!("{what}: {e}")))
@@ -186,7 +250,7 @@ fn replay_fracture(
         }
         pieces.push((p.name.clone(), mesh));
     }
-    Ok((rest, pieces))
+    Ok((rest, outcome.rest_origins, pieces))
 }
 
 /// One dent batch, in the form asked for (the other when the batch lacks it).

@@ -5,6 +5,7 @@ use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use dentbend::damage::BodyFracture;
 
+use crate::fracture_attributes::{Broken, carry_attributes};
 use crate::mesh_data::bevy_mesh;
 use crate::scale::for_asset;
 use crate::{BodyBroken, DentPiece, DentStats, DentWorld, MeshDented};
@@ -20,7 +21,8 @@ pub(crate) struct Breaking<'w, 's> {
 
 /// Applies `fractures` (after the plan's dents): each broken entity's mesh asset becomes its
 /// rest (a body the pattern took whole is despawned), and each piece a new entity at the
-/// body's pose with its mesh, the body's material and a [`DentPiece`].
+/// body's pose with its mesh, the body's material and a [`DentPiece`]. The rest and the pieces
+/// keep the asset's UVs and other attributes ([`carry_attributes`]).
 pub(crate) fn break_bodies(
     world: &mut DentWorld,
     fractures: Vec<BodyFracture<Entity>>,
@@ -32,6 +34,22 @@ pub(crate) fn break_bodies(
         let Some(pose) = world.targets.pose(entity) else { continue };
         let transform = Transform::from_matrix(Mat4::from(pose));
         let material = out.materials.get(entity).ok().cloned();
+        let scale = world.bodies.get(&entity).and_then(|b| b.scale);
+        // The asset as it broke, for its attributes: only while it is the broken mesh vertex
+        // for vertex (the GPU path's main-world copy can lag behind).
+        let asset = world
+            .bodies
+            .get(&entity)
+            .and_then(|b| meshes.get(&b.mesh))
+            .filter(|a| a.count_vertices() == fracture.broken_mesh.vertex_count())
+            .cloned();
+        let with_attributes = |mesh: &dentbend::TriMesh, origins: &[_], scale: Vec3| {
+            let mut made = bevy_mesh(mesh);
+            if let Some(asset) = &asset {
+                carry_attributes(&mut made, &Broken { asset, faces: fracture.broken_mesh.faces(), scale }, origins);
+            }
+            made
+        };
         world.records.fractured(&fracture, world.step);
         world.targets.apply_fracture(&fracture);
         let whole = fracture.rest.is_none();
@@ -42,7 +60,7 @@ pub(crate) fn break_bodies(
                 {
                     // The asset holds the mesh without its entity's scale, which Bevy applies.
                     match for_asset(rest, body.scale) {
-                        Ok(mesh) => *asset = bevy_mesh(&mesh),
+                        Ok(mesh) => *asset = with_attributes(&mesh, &fracture.rest_origins, Vec3::ONE),
                         Err(e) => error!("bevy_dentbend: {entity}'s rest could not be unscaled ({e})"),
                     }
                 }
@@ -55,8 +73,8 @@ pub(crate) fn break_bodies(
             }
         }
         let mut pieces = Vec::with_capacity(fracture.pieces.len());
-        for piece in fracture.pieces {
-            let mesh = meshes.add(bevy_mesh(&piece.mesh));
+        for piece in &fracture.pieces {
+            let mesh = meshes.add(with_attributes(&piece.mesh, &piece.origins, scale.unwrap_or(Vec3::ONE)));
             let component = DentPiece {
                 from: entity,
                 id: piece.id,

@@ -72,6 +72,7 @@ pub mod demo;
 mod engine;
 mod events;
 mod fracture;
+mod fracture_attributes;
 mod link;
 mod mesh_data;
 #[cfg(feature = "rapier")]

@@ -5,14 +5,15 @@
 use bevy::prelude::*;
 use dentbend::TriMesh;
 use dentbend::damage::BodyFracture;
-use dentbend::mesh::{MeshEdit, content_hash};
+use dentbend::mesh::{MeshEdit, Refinement, content_hash};
 use dentbend::record::{
     BodyDamage, DamageFile, DamageRecord, DentBatch, DentForm, FracturePiece, FractureRecord, MeshStamp, Projectiles,
-    replay_body,
+    ReplayStep, replay_body_traced,
 };
 
+use crate::fracture_attributes::{Broken, carry_attributes};
 use crate::link::{MainLink, ToRender};
-use crate::mesh_data::{slab_layout, write_dented};
+use crate::mesh_data::{bevy_mesh, slab_layout, write_dented};
 use crate::scale::for_asset;
 use crate::{DentPath, DentWorld, MeshDented};
 
@@ -169,7 +170,10 @@ pub(crate) fn restore_damage(
     }
 }
 
-/// Restores `damage` onto registered body `entity`; the vertices of its new mesh.
+/// Restores `damage` onto registered body `entity`; the vertices of its new mesh. The asset
+/// keeps its UVs and other attributes through every record, as it would have in play: the
+/// vertices refinement added interpolate their edge's, a fracture's rest carries the broken
+/// mesh's over ([`carry_step`]).
 fn restore_one(
     world: &mut DentWorld,
     meshes: &mut Assets<Mesh>,
@@ -178,14 +182,33 @@ fn restore_one(
     damage: &BodyDamage,
 ) -> Result<Vec<u32>, String> {
     let now = world.mesh(entity).ok_or("it is not a registered dentable body (yet)")?;
-    let mesh = replay_body(damage, now, DentForm::Edits, &Projectiles::new()).map_err(|e| e.to_string())?;
     let body = world.bodies.get(&entity).ok_or("it is not a registered dentable body")?;
-    let written = for_asset(&mesh, body.scale).map_err(|e| e.to_string())?;
+    let scale = body.scale;
+    let original = meshes.get(&body.mesh).ok_or("its mesh asset is gone")?;
+    // The asset followed record by record, while it holds the body's mesh vertex for vertex.
+    let mut working = (original.try_attributes().is_ok() && original.count_vertices() == now.vertex_count())
+        .then(|| original.clone());
+    let mut each = |step: ReplayStep<'_>| {
+        if let Some(asset) = &mut working
+            && let Err(e) = carry_step(asset, step, scale)
+        {
+            warn!("bevy_dentbend: {entity}'s restored mesh keeps positions and normals only ({e})");
+            working = None;
+        }
+    };
+    let replayed = replay_body_traced(damage, now, (DentForm::Edits, &Projectiles::new()), &mut each);
+    let mesh = replayed.map_err(|e| e.to_string())?.mesh;
+    let written = for_asset(&mesh, scale).map_err(|e| e.to_string())?;
     let mut asset = meshes.get_mut(&body.mesh).ok_or("its mesh asset is gone")?;
-    if asset.count_vertices() == written.vertex_count() {
-        write_dented(&mut asset, &written, &Default::default()).map_err(|e| e.to_string())?;
-    } else {
-        *asset = crate::mesh_data::bevy_mesh(&written);
+    match working {
+        Some(mut carried) if carried.count_vertices() == written.vertex_count() => {
+            write_dented(&mut carried, &written, &Refinement::default()).map_err(|e| e.to_string())?;
+            *asset = carried;
+        }
+        _ if asset.count_vertices() == written.vertex_count() => {
+            write_dented(&mut asset, &written, &Default::default()).map_err(|e| e.to_string())?;
+        }
+        _ => *asset = bevy_mesh(&written),
     }
     let layout = slab_layout(&asset).map_err(|e| e.to_string())?;
     let (handle, path) = (body.mesh.clone(), body.path);
@@ -196,4 +219,38 @@ fn restore_one(
         link.send(ToRender::Register { entity, asset: handle.id(), mesh: mesh.clone(), layout });
     }
     Ok((0..mesh.vertex_count() as u32).collect())
+}
+
+/// Carries `asset`'s attributes (one value per vertex of the step's mesh before it, without the
+/// entity's `scale`) over one replayed record: a refinement's new vertices take their edge's
+/// ([`ReplayStep::splits`]), a fracture's rest the broken mesh's ([`carry_attributes`]); its positions,
+/// normals and indices become the mesh after the step's.
+///
+/// # Errors
+/// A mesh that cannot be unscaled, or an asset whose data left the main world.
+fn carry_step(asset: &mut Mesh, step: ReplayStep<'_>, scale: Option<Vec3>) -> Result<(), String> {
+    match step {
+        ReplayStep::Edited { before, after } => {
+            if after.vertex_count() == before.vertex_count() && after.faces() == before.faces() {
+                return Ok(());
+            }
+            let refinement = Refinement {
+                base_vertex_count: before.vertex_count(),
+                base_face_count: before.face_count(),
+                vertices: step.splits(),
+                ..Default::default()
+            };
+            let after = for_asset(after, scale).map_err(|e| e.to_string())?;
+            write_dented(asset, &after, &refinement).map_err(|e| e.to_string())?;
+            let indices = after.faces().iter().flatten().copied().collect();
+            asset.try_insert_indices(bevy::mesh::Indices::U32(indices)).map_err(|e| e.to_string())
+        }
+        ReplayStep::Broke { before, rest, origins } => {
+            let rest = for_asset(rest, scale).map_err(|e| e.to_string())?;
+            let mut made = bevy_mesh(&rest);
+            carry_attributes(&mut made, &Broken { asset, faces: before.faces(), scale: Vec3::ONE }, origins);
+            *asset = made;
+            Ok(())
+        }
+    }
 }
