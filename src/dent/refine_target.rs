@@ -297,12 +297,12 @@ fn check_seams(target: &TriMesh, region: &OrientedBox, cell_size: f32) -> Result
     // and the vertices under it at each position.
     let tables = std::cell::OnceCell::new();
     let joined = |v: u32, w: u32| {
-        let (faces_of, at): &(HashMap<u32, Vec<usize>>, HashMap<[u32; 3], Vec<u32>>) = tables.get_or_init(|| {
+        let Near { faces_of, at } = tables.get_or_init(|| {
             let mut at: HashMap<[u32; 3], Vec<u32>> = HashMap::new();
             for &u in &under {
                 at.entry(position_key(positions[u as usize])).or_default().push(u);
             }
-            (faces_touching(target, &under), at)
+            Near { faces_of: faces_touching(target, &under), at }
         });
         let copies = |u: u32| at.get(&position_key(positions[u as usize])).map_or(&[][..], Vec::as_slice);
         let w_copies = copies(w);
@@ -316,6 +316,13 @@ fn check_seams(target: &TriMesh, region: &OrientedBox, cell_size: f32) -> Result
         Some((a, b, distance)) => Err(DentError::NearlyCoincidentVertices { a, b, distance }),
         None => Ok(()),
     }
+}
+
+/// What [`check_seams`] looks up about the vertices under a dent: the faces of each, and the
+/// vertices at each position.
+struct Near {
+    faces_of: HashMap<u32, Vec<usize>>,
+    at: HashMap<[u32; 3], Vec<u32>>,
 }
 
 /// For each of the vertices `under`, the faces of `mesh` that use it.
