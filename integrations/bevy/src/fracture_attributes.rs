@@ -78,7 +78,7 @@ pub(crate) fn carry_attributes(out: &mut Mesh, broken: &Broken, origins: &[Verte
             }
             _ => {}
         }
-        out.insert_attribute(attribute.clone(), carried);
+        out.insert_attribute(*attribute, carried);
     }
 }
 
@@ -141,10 +141,9 @@ fn carry(
 ) -> VertexAttributeValues {
     use VertexAttributeValues as V;
     let corners = |o: &VertexOrigin| -> ([usize; 3], [f32; 3]) {
-        match point(o).and_then(|p| faces.get(p.face as usize).map(|f| (f.map(|v| v as usize), p.weights))) {
-            Some(found) => found,
-            None => ([0; 3], [1.0, 0.0, 0.0]),
-        }
+        point(o)
+            .and_then(|p| faces.get(p.face as usize).map(|f| (f.map(|v| v as usize), p.weights)))
+            .unwrap_or(([0; 3], [1.0, 0.0, 0.0]))
     };
     let blend = |v: &[f32], o: &VertexOrigin| -> f32 {
         let (c, w) = corners(o);
