@@ -1,7 +1,8 @@
 //! Prescored fracture (the goal: a wall into ≤ 50 pieces in ≤ 5 ms): the figure-3
 //! wall (3 × 2 × 0.2 m, 10,400 triangles) broken at its centre by a 40-cell and a 50-cell
-//! pattern of radius 0.45 m (40 and 50 pieces), and a 24-cell pattern on the 3,674-triangle
-//! bunny. `break_body` cuts the cells on all cores (rayon); run with
+//! pattern of radius 0.45 m (40 and 50 pieces), the same wall faceted as a game asset (every
+//! face's vertices its own, so the pieces keep its seams), and a 24-cell pattern on the
+//! 3,674-triangle bunny. `break_body` cuts the cells on all cores (rayon); run with
 //! `cargo bench --bench fracture`, and with `RAYON_NUM_THREADS=1` for one core.
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -23,6 +24,18 @@ fn fracture(c: &mut Criterion) {
             b.iter(|| break_body(&wall, &settings.pattern, &placement, 2400.0).expect("break"))
         });
     }
+    // The same wall as a game asset with hard edges (every face's vertices its own): the
+    // output keeps the seams and tells each vertex's origin.
+    let faceted = {
+        let positions = wall.faces().iter().flat_map(|f| f.map(|v| wall.positions()[v as usize])).collect();
+        let faces = (0..wall.face_count() as u32).map(|f| [3 * f, 3 * f + 1, 3 * f + 2]).collect();
+        dentbend::TriMesh::new(positions, faces).expect("faceted wall")
+    };
+    let settings =
+        FractureSettings::new(PatternParams { cells: 40, seed: 3, radius: 0.45 }, Some(1.0), None).expect("settings");
+    group.bench_function("wall_40_cells_faceted", |b| {
+        b.iter(|| break_body(&faceted, &settings.pattern, &placement, 2400.0).expect("break"))
+    });
     let bunny = mesh::builtin("bunny").expect("bunny");
     let bunny_settings =
         FractureSettings::new(PatternParams { cells: 24, seed: 11, radius: 2.5 }, Some(1.0), None).expect("settings");

@@ -115,38 +115,49 @@ pub(crate) fn build(
         VertexOrigin::Cut { normal, nearest: None }
     };
     // Per pool vertex: its newest output vertex (`u32::MAX`: none); per output vertex, the one
-    // before it at the same pool vertex, so that a lookup walks that short chain.
+    // before it at the same pool vertex, so that a lookup walks that short chain (welded
+    // output has one output vertex per pool vertex: no chain, no sides).
     let mut newest = vec![u32::MAX; positions.len()];
     let mut before: Vec<u32> = Vec::new();
     let mut sides: Vec<Side> = Vec::new();
     let mut pool_of: Vec<u32> = Vec::new();
     let mut origins: Vec<VertexOrigin> = Vec::new();
     let mut out_faces = Vec::with_capacity(faces.len());
+    let surface = |origin: u32, v: u32| {
+        VertexOrigin::Surface(surface_point(source, origin, (locations[v as usize], positions[v as usize])))
+    };
     for (face, &origin) in faces.iter().zip(from) {
+        let on_surface = origin & CAP == 0;
         out_faces.push(face.map(|v| {
-            let side = side_of(source, locations[v as usize], origin);
             let mut id = newest[v as usize];
-            while id != u32::MAX && sides[id as usize] != side {
-                id = before[id as usize];
+            if source.seams {
+                let side = side_of(source, locations[v as usize], origin);
+                while id != u32::MAX && sides[id as usize] != side {
+                    id = before[id as usize];
+                }
+                if id == u32::MAX {
+                    before.push(newest[v as usize]);
+                    sides.push(side);
+                }
             }
-            let on_surface = origin & CAP == 0;
-            let surface = || VertexOrigin::Surface(surface_point(source, origin, positions[v as usize]));
             if id == u32::MAX {
                 id = origins.len() as u32;
-                before.push(newest[v as usize]);
                 newest[v as usize] = id;
-                sides.push(side);
                 pool_of.push(v);
-                origins.push(if on_surface { surface() } else { cut(origin) });
+                origins.push(if on_surface { surface(origin, v) } else { cut(origin) });
             } else if on_surface && matches!(origins[id as usize], VertexOrigin::Cut { .. }) {
                 // Welded output: a rim vertex is on the surface too.
-                origins[id as usize] = surface();
+                origins[id as usize] = surface(origin, v);
             }
             id
         }));
     }
     let out_positions: Vec<Vec3> = pool_of.iter().map(|&v| positions[v as usize].as_vec3()).collect();
-    fill_nearest(&mut origins, &out_positions, (&pool_of, &newest, &before));
+    if !source.seams {
+        // No chain: each output vertex is alone at its point.
+        before = vec![u32::MAX; origins.len()];
+    }
+    fill_nearest(&mut origins, &out_faces, (&pool_of, &newest, &before));
     let mesh = if source.seams {
         let normals = normals(source, &origins);
         TriMesh::with_normals(out_positions, out_faces, normals)?
@@ -177,11 +188,37 @@ fn side_of(source: &Source, location: Location, origin: u32) -> Side {
     }
 }
 
-/// `p` as a point of the input face that welded face `origin` is: its barycentric weights,
-/// clamped to the face and summing to 1 (the first corner's for a degenerate face).
-fn surface_point(source: &Source, origin: u32, p: DVec3) -> SurfacePoint {
+/// The point at `location`, `p`, as a point of the input face that welded face `origin` is:
+/// its barycentric weights, clamped to the face and summing to 1 (the first corner's for a
+/// degenerate face). A point at an input vertex (most of them) is that corner's alone, and one
+/// on an input edge is weighed along that edge only.
+fn surface_point(source: &Source, origin: u32, (location, p): (Location, DVec3)) -> SurfacePoint {
     let face = source.input_face[origin as usize];
-    let [a, b, c] = source.mesh.faces()[face as usize].map(|v| source.mesh.positions()[v as usize].as_dvec3());
+    let corners = source.mesh.faces()[face as usize];
+    let corner_of = |w: u32| corners.iter().position(|&c| source.welded[c as usize] == w);
+    let at = |k: usize| source.mesh.positions()[corners[k] as usize].as_dvec3();
+    let mut weights = [0.0f32; 3];
+    match location {
+        Location::Vertex(w) => {
+            if let Some(k) = corner_of(w) {
+                weights[k] = 1.0;
+                return SurfacePoint { face, weights };
+            }
+        }
+        Location::Edge(a, b) => {
+            if let (Some(i), Some(j)) = (corner_of(a), corner_of(b)) {
+                let (pa, pb) = (at(i), at(j));
+                let t = ((p - pa).dot(pb - pa) / (pb - pa).length_squared()).clamp(0.0, 1.0);
+                if t.is_finite() {
+                    weights[i] = (1.0 - t) as f32;
+                    weights[j] = t as f32;
+                    return SurfacePoint { face, weights };
+                }
+            }
+        }
+        Location::Elsewhere => {}
+    }
+    let (a, b, c) = (at(0), at(1), at(2));
     let (e0, e1, d) = (b - a, c - a, p - a);
     let (d00, d01, d11) = (e0.dot(e0), e0.dot(e1), e1.dot(e1));
     let (d20, d21) = (d.dot(e0), d.dot(e1));
@@ -199,37 +236,109 @@ fn surface_point(source: &Source, origin: u32, p: DVec3) -> SurfacePoint {
 }
 
 /// Gives every cut vertex its nearest surface point: a surface vertex at the same point when
-/// there is one (a cap's rim), otherwise the nearest surface vertex of the mesh.
-fn fill_nearest(origins: &mut [VertexOrigin], positions: &[Vec3], (pool_of, newest, before): (&[u32], &[u32], &[u32])) {
-    let surface: Vec<(Vec3, SurfacePoint)> = origins
-        .iter()
-        .zip(positions)
-        .filter_map(|(o, &p)| match o {
-            VertexOrigin::Surface(point) => Some((p, *point)),
-            VertexOrigin::Cut { .. } => None,
-        })
-        .collect();
+/// there is one (a cap's rim, nearly every cut vertex), otherwise the surface vertex fewest
+/// edges away over the mesh's `faces` (a cut vertex inside the body, where cuts meet).
+fn fill_nearest(origins: &mut [VertexOrigin], faces: &[[u32; 3]], (pool_of, newest, before): (&[u32], &[u32], &[u32])) {
+    let mut inside = Vec::new();
     for k in 0..origins.len() {
         if !matches!(origins[k], VertexOrigin::Cut { .. }) {
             continue;
         }
         let mut id = newest[pool_of[k] as usize];
-        let mut nearest = None;
+        let mut rim = None;
         while id != u32::MAX {
             if let VertexOrigin::Surface(point) = origins[id as usize] {
-                nearest = Some(point);
+                rim = Some(point);
                 break;
             }
             id = before[id as usize];
         }
-        let p = positions[k];
-        let nearest = nearest.or_else(|| {
-            surface.iter().min_by(|x, y| x.0.distance_squared(p).total_cmp(&y.0.distance_squared(p))).map(|s| s.1)
-        });
-        if let VertexOrigin::Cut { nearest: slot, .. } = &mut origins[k] {
-            *slot = nearest;
+        match rim {
+            Some(point) => set_nearest(&mut origins[k], point),
+            None => inside.push(k),
         }
     }
+    if inside.is_empty() {
+        return;
+    }
+    let neighbours = Neighbours::of(faces, origins.len());
+    // Each search marks what it saw with its own number: one array for all of them.
+    let mut seen = vec![0u32; origins.len()];
+    for (search, k) in inside.into_iter().enumerate() {
+        if let Some(point) = nearest_surface(origins, &neighbours, (k, search as u32 + 1), &mut seen) {
+            set_nearest(&mut origins[k], point);
+        }
+    }
+}
+
+/// Records `point` as a cut vertex's nearest surface point.
+fn set_nearest(origin: &mut VertexOrigin, point: SurfacePoint) {
+    if let VertexOrigin::Cut { nearest, .. } = origin {
+        *nearest = Some(point);
+    }
+}
+
+/// Each vertex's neighbours over a mesh's faces, in one flat array (vertex `v`'s are
+/// `list[start[v]..start[v + 1]]`).
+struct Neighbours {
+    start: Vec<u32>,
+    list: Vec<u32>,
+}
+
+impl Neighbours {
+    /// The neighbours of `count` vertices over `faces` (each face's three edges, both ways).
+    fn of(faces: &[[u32; 3]], count: usize) -> Self {
+        let mut start = vec![0u32; count + 1];
+        for face in faces {
+            for &v in face {
+                start[v as usize + 1] += 2;
+            }
+        }
+        for k in 0..count {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut list = vec![0u32; start[count] as usize];
+        for face in faces {
+            for k in 0..3 {
+                let (a, b) = (face[k], face[(k + 1) % 3]);
+                for (from, to) in [(a, b), (b, a)] {
+                    list[fill[from as usize] as usize] = to;
+                    fill[from as usize] += 1;
+                }
+            }
+        }
+        Self { start, list }
+    }
+
+    fn of_vertex(&self, v: u32) -> &[u32] {
+        &self.list[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
+    }
+}
+
+/// The surface point of the surface vertex fewest edges from vertex `from` (breadth first, in
+/// neighbour order: deterministic), marking what it sees in `seen` with `mark`; `None` when
+/// its part of the mesh has none.
+fn nearest_surface(
+    origins: &[VertexOrigin],
+    neighbours: &Neighbours,
+    (from, mark): (usize, u32),
+    seen: &mut [u32],
+) -> Option<SurfacePoint> {
+    seen[from] = mark;
+    let mut queue = std::collections::VecDeque::from([from as u32]);
+    while let Some(v) = queue.pop_front() {
+        for &w in neighbours.of_vertex(v) {
+            if std::mem::replace(&mut seen[w as usize], mark) == mark {
+                continue;
+            }
+            if let VertexOrigin::Surface(point) = origins[w as usize] {
+                return Some(point);
+            }
+            queue.push_back(w);
+        }
+    }
+    None
 }
 
 /// Normals of output with seams: a surface vertex's interpolated from the input's in its face,
