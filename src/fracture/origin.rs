@@ -13,6 +13,7 @@
 use glam::{DVec3, Vec3};
 
 use super::FractureError;
+use super::weld::Outgoing;
 use crate::mesh::TriMesh;
 
 /// A point of the broken mesh's surface: one of its faces and the point's barycentric weights
@@ -237,7 +238,8 @@ fn surface_point(source: &Source, origin: u32, (location, p): (Location, DVec3))
 
 /// Gives every cut vertex its nearest surface point: a surface vertex at the same point when
 /// there is one (a cap's rim, nearly every cut vertex), otherwise the surface vertex fewest
-/// edges away over the mesh's `faces` (a cut vertex inside the body, where cuts meet).
+/// edges away over the mesh's `faces` (a cut vertex inside the body, where cuts meet; each
+/// face's edges lead on round it, so every vertex of a connected mesh is reached).
 fn fill_nearest(origins: &mut [VertexOrigin], faces: &[[u32; 3]], (pool_of, newest, before): (&[u32], &[u32], &[u32])) {
     let mut inside = Vec::new();
     for k in 0..origins.len() {
@@ -261,7 +263,7 @@ fn fill_nearest(origins: &mut [VertexOrigin], faces: &[[u32; 3]], (pool_of, newe
     if inside.is_empty() {
         return;
     }
-    let neighbours = Neighbours::of(faces, origins.len());
+    let neighbours = Outgoing::of(faces, origins.len());
     // Each search marks what it saw with its own number: one array for all of them.
     let mut seen = vec![0u32; origins.len()];
     for (search, k) in inside.into_iter().enumerate() {
@@ -278,57 +280,19 @@ fn set_nearest(origin: &mut VertexOrigin, point: SurfacePoint) {
     }
 }
 
-/// Each vertex's neighbours over a mesh's faces, in one flat array (vertex `v`'s are
-/// `list[start[v]..start[v + 1]]`).
-struct Neighbours {
-    start: Vec<u32>,
-    list: Vec<u32>,
-}
-
-impl Neighbours {
-    /// The neighbours of `count` vertices over `faces` (each face's three edges, both ways).
-    fn of(faces: &[[u32; 3]], count: usize) -> Self {
-        let mut start = vec![0u32; count + 1];
-        for face in faces {
-            for &v in face {
-                start[v as usize + 1] += 2;
-            }
-        }
-        for k in 0..count {
-            start[k + 1] += start[k];
-        }
-        let mut fill = start.clone();
-        let mut list = vec![0u32; start[count] as usize];
-        for face in faces {
-            for k in 0..3 {
-                let (a, b) = (face[k], face[(k + 1) % 3]);
-                for (from, to) in [(a, b), (b, a)] {
-                    list[fill[from as usize] as usize] = to;
-                    fill[from as usize] += 1;
-                }
-            }
-        }
-        Self { start, list }
-    }
-
-    fn of_vertex(&self, v: u32) -> &[u32] {
-        &self.list[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
-    }
-}
-
-/// The surface point of the surface vertex fewest edges from vertex `from` (breadth first, in
-/// neighbour order: deterministic), marking what it sees in `seen` with `mark`; `None` when
-/// its part of the mesh has none.
+/// The surface point of the surface vertex fewest edges from vertex `from` (breadth first over
+/// the faces' edges, each face's corners in turn: deterministic), marking what it sees in
+/// `seen` with `mark`; `None` when its part of the mesh has none.
 fn nearest_surface(
     origins: &[VertexOrigin],
-    neighbours: &Neighbours,
+    neighbours: &Outgoing,
     (from, mark): (usize, u32),
     seen: &mut [u32],
 ) -> Option<SurfacePoint> {
     seen[from] = mark;
     let mut queue = std::collections::VecDeque::from([from as u32]);
     while let Some(v) = queue.pop_front() {
-        for &w in neighbours.of_vertex(v) {
+        for &w in neighbours.from(v) {
             if std::mem::replace(&mut seen[w as usize], mark) == mark {
                 continue;
             }

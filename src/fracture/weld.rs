@@ -68,12 +68,6 @@ pub(crate) fn weld(mesh: &TriMesh) -> Soup {
     Soup { positions, faces, input_face, welded: remap, seams }
 }
 
-/// Checks that every directed edge of `faces` (over `vertex_count` vertices) is used once and
-/// its reverse once: a closed, consistently oriented surface. Linear time: each vertex's
-/// outgoing edges in one flat table, checked vertex by vertex.
-///
-/// # Errors
-/// [`FractureError::OpenMesh`] naming the first offending edge in face order.
 /// Checks that `mesh` bounds a solid a pattern can break: once coincident vertices are welded,
 /// every edge is shared by two faces of opposite orientation.
 ///
@@ -84,26 +78,52 @@ pub(crate) fn check_mesh_closed(mesh: &TriMesh) -> Result<(), FractureError> {
     check_closed(&soup.faces, soup.positions.len())
 }
 
+/// Each vertex's outgoing edges over some faces (edge a → b for every face corner a followed by
+/// b), in one flat table: vertex `a`'s are `list[start[a]..start[a + 1]]`, in face order.
+pub(crate) struct Outgoing {
+    start: Vec<u32>,
+    list: Vec<u32>,
+}
+
+impl Outgoing {
+    /// The outgoing edges of `count` vertices over `faces`.
+    pub(crate) fn of(faces: &[[u32; 3]], count: usize) -> Self {
+        let mut start = vec![0u32; count + 1];
+        for face in faces {
+            for &a in face {
+                start[a as usize + 1] += 1;
+            }
+        }
+        for k in 0..count {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut list = vec![0u32; start[count] as usize];
+        for face in faces {
+            for k in 0..3 {
+                let (a, b) = (face[k] as usize, face[(k + 1) % 3]);
+                list[fill[a] as usize] = b;
+                fill[a] += 1;
+            }
+        }
+        Self { start, list }
+    }
+
+    /// The vertices `a` has an edge to.
+    pub(crate) fn from(&self, a: u32) -> &[u32] {
+        &self.list[self.start[a as usize] as usize..self.start[a as usize + 1] as usize]
+    }
+}
+
+/// Checks that every directed edge of `faces` (over `vertex_count` vertices) is used once and
+/// its reverse once: a closed, consistently oriented surface. Linear time: each vertex's
+/// outgoing edges in one flat table, checked vertex by vertex.
+///
+/// # Errors
+/// [`FractureError::OpenMesh`] naming the first offending edge in face order.
 pub(crate) fn check_closed(faces: &[[u32; 3]], vertex_count: usize) -> Result<(), FractureError> {
-    let mut start = vec![0u32; vertex_count + 1];
-    for face in faces {
-        for &a in face {
-            start[a as usize + 1] += 1;
-        }
-    }
-    for k in 0..vertex_count {
-        start[k + 1] += start[k];
-    }
-    let mut fill = start.clone();
-    let mut out = vec![0u32; start[vertex_count] as usize];
-    for face in faces {
-        for k in 0..3 {
-            let (a, b) = (face[k] as usize, face[(k + 1) % 3]);
-            out[fill[a] as usize] = b;
-            fill[a] += 1;
-        }
-    }
-    let from = |a: u32| &out[start[a as usize] as usize..start[a as usize + 1] as usize];
+    let outgoing = Outgoing::of(faces, vertex_count);
+    let from = |a: u32| outgoing.from(a);
     // Edge (a, b) used `forward` times, and its reverse.
     let counts = |a: u32, b: u32| {
         let forward = from(a).iter().filter(|&&x| x == b).count();
