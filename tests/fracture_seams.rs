@@ -187,3 +187,44 @@ fn a_faceted_rest_dents_again_at_the_edge_of_the_hole() {
         assert_eq!(unpaired_edges(&rest), 0, "the rest dented at x = {x} is not closed once welded");
     }
 }
+
+/// A thick faceted block (a 1 m cube) breaks where the pattern's prism ends inside it, so cuts
+/// meet inside the body: every cut vertex of a mesh that has any surface is given a nearest
+/// surface point of that mesh (with seams a cap shares no vertex with the surface, so it is
+/// found through the cap's rim).
+#[test]
+fn cut_vertices_inside_a_thick_faceted_block_find_the_surface() {
+    let cube = mesh::subdivided_box(Vec3::splat(1.0), [8, 8, 8]).unwrap();
+    let hard = faceted(&cube);
+    let pattern = FracturePattern::new(PatternParams { cells: 12, seed: 4, radius: 0.25 }).unwrap();
+    let placement = Placement { point: Vec3::new(0.02, 0.03, 0.5), normal: -Vec3::Z };
+    let outcome = break_body(&hard, &pattern, &placement, 1000.0).unwrap().expect("it breaks");
+    let mut inside = 0;
+    for (k, (mesh, origins)) in meshes(&outcome).into_iter().enumerate() {
+        let surface: Vec<SurfacePoint> = origins
+            .iter()
+            .filter_map(|o| match o {
+                VertexOrigin::Surface(p) => Some(*p),
+                VertexOrigin::Cut { .. } => None,
+            })
+            .collect();
+        if surface.is_empty() {
+            continue;
+        }
+        let at_surface: std::collections::HashSet<_> = origins
+            .iter()
+            .zip(mesh.positions())
+            .filter(|(o, _)| matches!(o, VertexOrigin::Surface(_)))
+            .map(|(_, &p)| key(p))
+            .collect();
+        for (v, origin) in origins.iter().enumerate() {
+            if let VertexOrigin::Cut { nearest, .. } = origin {
+                inside += usize::from(!at_surface.contains(&key(mesh.positions()[v])));
+                let nearest =
+                    nearest.unwrap_or_else(|| panic!("mesh {k}: cut vertex {v} has no nearest surface point"));
+                assert!(surface.contains(&nearest), "mesh {k} vertex {v}: {nearest:?} is not its surface");
+            }
+        }
+    }
+    assert!(inside > 0, "no cut vertex lies inside the block: the test shows nothing");
+}

@@ -263,13 +263,34 @@ fn fill_nearest(origins: &mut [VertexOrigin], faces: &[[u32; 3]], (pool_of, newe
     if inside.is_empty() {
         return;
     }
-    let neighbours = Outgoing::of(faces, origins.len());
+    let graph = Graph { edges: Outgoing::of(faces, origins.len()), pool_of, newest, before };
     // Each search marks what it saw with its own number: one array for all of them.
     let mut seen = vec![0u32; origins.len()];
     for (search, k) in inside.into_iter().enumerate() {
-        if let Some(point) = nearest_surface(origins, &neighbours, (k, search as u32 + 1), &mut seen) {
+        if let Some(point) = nearest_surface(origins, &graph, (k, search as u32 + 1), &mut seen) {
             set_nearest(&mut origins[k], point);
         }
+    }
+}
+
+/// How a search walks an output mesh: along its faces' edges, and between the copies of one
+/// pool vertex (a seam's sides, caps that meet inside the body).
+struct Graph<'a> {
+    edges: Outgoing,
+    pool_of: &'a [u32],
+    newest: &'a [u32],
+    before: &'a [u32],
+}
+
+impl Graph<'_> {
+    /// The vertices one step from `v`: its edges' ends, then its copies.
+    fn steps(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
+        let first = self.newest[self.pool_of[v as usize] as usize];
+        let copies = std::iter::successors((first != u32::MAX).then_some(first), |&c| {
+            let next = self.before[c as usize];
+            (next != u32::MAX).then_some(next)
+        });
+        self.edges.from(v).iter().copied().chain(copies)
     }
 }
 
@@ -280,26 +301,28 @@ fn set_nearest(origin: &mut VertexOrigin, point: SurfacePoint) {
     }
 }
 
-/// The surface point of the surface vertex fewest edges from vertex `from` (breadth first over
-/// the faces' edges, each face's corners in turn: deterministic), marking what it sees in
-/// `seen` with `mark`; `None` when its part of the mesh has none.
+/// The surface point of the surface vertex fewest edges from vertex `from`, or of the cut
+/// vertex nearest it that has one already (a rim's copy: with seams, a cap shares no vertex
+/// with the surface), breadth first over the faces' edges and between copies of one point
+/// (deterministic), marking what it sees in `seen` with `mark`; `None` when its part of the
+/// mesh has none.
 fn nearest_surface(
     origins: &[VertexOrigin],
-    neighbours: &Outgoing,
+    graph: &Graph,
     (from, mark): (usize, u32),
     seen: &mut [u32],
 ) -> Option<SurfacePoint> {
     seen[from] = mark;
     let mut queue = std::collections::VecDeque::from([from as u32]);
     while let Some(v) = queue.pop_front() {
-        for &w in neighbours.from(v) {
+        for w in graph.steps(v) {
             if std::mem::replace(&mut seen[w as usize], mark) == mark {
                 continue;
             }
-            if let VertexOrigin::Surface(point) = origins[w as usize] {
-                return Some(point);
+            match origins[w as usize] {
+                VertexOrigin::Surface(point) | VertexOrigin::Cut { nearest: Some(point), .. } => return Some(point),
+                VertexOrigin::Cut { nearest: None, .. } => queue.push_back(w),
             }
-            queue.push_back(w);
         }
     }
     None

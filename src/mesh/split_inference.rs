@@ -32,31 +32,39 @@ pub(crate) fn infer_splits(before: &TriMesh, after: &TriMesh) -> Vec<SplitVertex
             neighbours[b as usize].push(a);
         }
     }
-    let key = |a: u32, b: u32| (a.min(b), a.max(b));
-    let mut edges: HashSet<(u32, u32)> = HashSet::with_capacity(3 * before.face_count());
+    // The current edges, as each vertex's list of neighbours (both ways).
+    let mut edges: Vec<Vec<u32>> = vec![Vec::new(); count];
+    let join = |edges: &mut Vec<Vec<u32>>, a: u32, b: u32| {
+        if !edges[a as usize].contains(&b) {
+            edges[a as usize].push(b);
+            edges[b as usize].push(a);
+        }
+    };
     for face in before.faces() {
         for k in 0..3 {
-            edges.insert(key(face[k], face[(k + 1) % 3]));
+            join(&mut edges, face[k], face[(k + 1) % 3]);
         }
     }
     let positions = after.positions();
+    // `reached[v] == m + 1`: `v` is among the vertices new vertex `m` reaches.
+    let mut reached = vec![0u32; count];
     let mut splits = Vec::with_capacity(count - base);
     for m in base as u32..count as u32 {
         let older = reachable_older(&neighbours, m);
+        for &v in &older {
+            reached[v as usize] = m + 1;
+        }
         let at = positions[m as usize];
         let mut best: Option<(f32, u32, u32)> = None;
-        for (i, &p) in older.iter().enumerate() {
-            for &q in &older[i + 1..] {
-                if !edges.contains(&key(p, q)) {
-                    continue;
-                }
+        for &p in &older {
+            for &q in edges[p as usize].iter().filter(|&&q| q > p && reached[q as usize] == m + 1) {
                 let (a, b) = (positions[p as usize], positions[q as usize]);
                 let length = a.distance(b);
                 if length <= 0.0 {
                     continue;
                 }
                 let off = at.distance((a + b) * 0.5) / length;
-                if best.is_none_or(|(score, ..)| off < score) {
+                if best.is_none_or(|(score, x, y)| off < score || (off == score && (p, q) < (x, y))) {
                     best = Some((off, p, q));
                 }
             }
@@ -67,13 +75,18 @@ pub(crate) fn infer_splits(before: &TriMesh, after: &TriMesh) -> Vec<SplitVertex
             continue;
         };
         splits.push(SplitVertex { parents: [p, q], fraction: 0.5 });
-        edges.remove(&key(p, q));
-        edges.insert(key(p, m));
-        edges.insert(key(m, q));
-        for &c in &older {
-            if edges.contains(&key(p, c)) && edges.contains(&key(q, c)) {
-                edges.insert(key(m, c));
-            }
+        // The faces' opposite corners: older vertices joined to both ends.
+        let corners: Vec<u32> = edges[p as usize]
+            .iter()
+            .copied()
+            .filter(|&c| c != q && reached[c as usize] == m + 1 && edges[q as usize].contains(&c))
+            .collect();
+        edges[p as usize].retain(|&x| x != q);
+        edges[q as usize].retain(|&x| x != p);
+        join(&mut edges, p, m);
+        join(&mut edges, m, q);
+        for c in corners {
+            join(&mut edges, m, c);
         }
     }
     splits

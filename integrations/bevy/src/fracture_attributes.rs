@@ -11,12 +11,17 @@ use dentbend::fracture::{SurfacePoint, VertexOrigin};
 use dentbend::glam::{Vec2, Vec3, Vec4};
 
 /// What a fracture's output mesh takes its attributes from: the asset that broke (one value
-/// per vertex of `faces`' mesh), the faces its origins name, and the scale the output's
-/// coordinates have over the asset's (the entity's for a piece, which is spawned unscaled).
+/// per vertex of `faces`' mesh), the faces its origins name, the scale the output's
+/// coordinates have over the asset's (the entity's for a piece, which is spawned unscaled; 1
+/// for the rest, written without it), the scale the broken mesh had over the asset (the
+/// entity's: the cuts' normals are in its coordinates), and the asset's UV units per metre
+/// ([`uv_density`], once per fracture).
 pub(crate) struct Broken<'a> {
     pub asset: &'a Mesh,
     pub faces: &'a [[u32; 3]],
     pub scale: Vec3,
+    pub body_scale: Vec3,
+    pub texel_density: f32,
 }
 
 /// Adds to `out` (a fracture output's positions, normals and indices) every other attribute
@@ -33,7 +38,7 @@ pub(crate) fn carry_attributes(out: &mut Mesh, broken: &Broken, origins: &[Verte
         Some(VertexAttributeValues::Float32x3(n)) => n.iter().map(|n| Vec3::from_array(*n)).collect(),
         _ => vec![Vec3::Z; positions.len()],
     };
-    let texel_density = uv_density(broken);
+    let texel_density = broken.texel_density;
     for (attribute, values) in attributes {
         let id = attribute.id;
         if id == Mesh::ATTRIBUTE_POSITION.id || id == Mesh::ATTRIBUTE_NORMAL.id {
@@ -53,10 +58,10 @@ pub(crate) fn carry_attributes(out: &mut Mesh, broken: &Broken, origins: &[Verte
         // same for all its vertices, so the projection has no seam).
         let axes = |k: usize| {
             let n = match origins[k] {
-                VertexOrigin::Cut { normal, .. } => normal,
-                VertexOrigin::Surface(_) => normals[k],
+                VertexOrigin::Cut { normal, .. } => normal * broken.body_scale,
+                VertexOrigin::Surface(_) => normals[k] * broken.scale,
             };
-            plane_axes((n * broken.scale).normalize_or_zero())
+            plane_axes(n.normalize_or_zero())
         };
         match &mut carried {
             VertexAttributeValues::Float32x2(uvs) if id == Mesh::ATTRIBUTE_UV_0.id || id == Mesh::ATTRIBUTE_UV_1.id => {
@@ -82,16 +87,16 @@ pub(crate) fn carry_attributes(out: &mut Mesh, broken: &Broken, origins: &[Verte
     }
 }
 
-/// The broken asset's UV units per metre along its surface (total UV length of its faces'
-/// edges over their total length; 1 without UVs or with a degenerate mesh).
-fn uv_density(broken: &Broken) -> f32 {
+/// The UV units per metre along `asset`'s surface (total UV length of its `faces`' edges over
+/// their total length; 1 without UVs or with a degenerate mesh).
+pub(crate) fn uv_density(asset: &Mesh, faces: &[[u32; 3]]) -> f32 {
     let (Some(VertexAttributeValues::Float32x3(p)), Some(VertexAttributeValues::Float32x2(uv))) =
-        (broken.asset.attribute(Mesh::ATTRIBUTE_POSITION), broken.asset.attribute(Mesh::ATTRIBUTE_UV_0))
+        (asset.attribute(Mesh::ATTRIBUTE_POSITION), asset.attribute(Mesh::ATTRIBUTE_UV_0))
     else {
         return 1.0;
     };
     let (mut along_uv, mut along_surface) = (0.0f64, 0.0f64);
-    for face in broken.faces {
+    for face in faces {
         for k in 0..3 {
             let (a, b) = (face[k] as usize, face[(k + 1) % 3] as usize);
             let (Some(pa), Some(pb), Some(ua), Some(ub)) = (p.get(a), p.get(b), uv.get(a), uv.get(b)) else {
@@ -152,8 +157,15 @@ fn carry(
     if !nearest {
         macro_rules! mix {
             ($v:expr, $n:literal, $to:expr, $from:expr) => {{
-                let channels: Vec<Vec<f32>> = (0..$n).map(|k| $v.iter().map(|x| $to(x, k)).collect()).collect();
-                origins.iter().map(|o| $from(std::array::from_fn::<f32, $n, _>(|k| blend(&channels[k], o)))).collect()
+                origins
+                    .iter()
+                    .map(|o| {
+                        let (c, w) = corners(o);
+                        $from(std::array::from_fn::<f32, $n, _>(|ch| {
+                            (0..3).map(|k| $v.get(c[k]).map_or(0.0, |x| $to(x, ch)) * w[k]).sum()
+                        }))
+                    })
+                    .collect()
             }};
         }
         match values {
@@ -317,7 +329,14 @@ mod tests {
         assert!(outputs.len() > 4);
         for (mesh, origins) in outputs {
             let mut made = bevy_mesh(mesh);
-            carry_attributes(&mut made, &Broken { asset: &asset, faces: tri.faces(), scale: Vec3::ONE }, origins);
+            let broken = Broken {
+                asset: &asset,
+                faces: tri.faces(),
+                scale: Vec3::ONE,
+                body_scale: Vec3::ONE,
+                texel_density: uv_density(&asset, tri.faces()),
+            };
+            carry_attributes(&mut made, &broken, origins);
             let Some(V::Float32x2(uvs)) = made.attribute(Mesh::ATTRIBUTE_UV_0) else { panic!("no UVs") };
             let Some(V::Float32x4(colours)) = made.attribute(Mesh::ATTRIBUTE_COLOR) else { panic!("no colours") };
             assert_eq!((uvs.len(), colours.len()), (mesh.vertex_count(), mesh.vertex_count()));

@@ -11,7 +11,7 @@ use dentbend::record::{
     ReplayStep, replay_body_traced,
 };
 
-use crate::fracture_attributes::{Broken, carry_attributes};
+use crate::fracture_attributes::{Broken, carry_attributes, uv_density};
 use crate::link::{MainLink, ToRender};
 use crate::mesh_data::{bevy_mesh, slab_layout, write_dented};
 use crate::scale::for_asset;
@@ -248,7 +248,9 @@ fn carry_step(asset: &mut Mesh, step: ReplayStep<'_>, scale: Option<Vec3>) -> Re
         ReplayStep::Broke { before, rest, origins } => {
             let rest = for_asset(rest, scale).map_err(|e| e.to_string())?;
             let mut made = bevy_mesh(&rest);
-            carry_attributes(&mut made, &Broken { asset, faces: before.faces(), scale: Vec3::ONE }, origins);
+            let (faces, body_scale) = (before.faces(), scale.unwrap_or(Vec3::ONE));
+            let texel_density = uv_density(asset, faces);
+            carry_attributes(&mut made, &Broken { asset, faces, scale: Vec3::ONE, body_scale, texel_density }, origins);
             *asset = made;
             Ok(())
         }
