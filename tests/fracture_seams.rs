@@ -36,6 +36,17 @@ fn meshes(outcome: &FractureOutcome) -> Vec<(&TriMesh, &[VertexOrigin])> {
     all
 }
 
+/// The surface points among `origins`.
+fn surface_points(origins: &[VertexOrigin]) -> Vec<SurfacePoint> {
+    origins
+        .iter()
+        .filter_map(|o| match o {
+            VertexOrigin::Surface(p) => Some(*p),
+            VertexOrigin::Cut { .. } => None,
+        })
+        .collect()
+}
+
 /// The point of `input` a surface origin names.
 fn point_on(input: &TriMesh, point: &SurfacePoint) -> Vec3 {
     let corners = input.faces()[point.face as usize];
@@ -49,13 +60,7 @@ fn point_on(input: &TriMesh, point: &SurfacePoint) -> Vec3 {
 fn check_origins(input: &TriMesh, outcome: &FractureOutcome, size: f32) {
     for (k, (mesh, origins)) in meshes(outcome).into_iter().enumerate() {
         assert_eq!(origins.len(), mesh.vertex_count(), "mesh {k}: one origin per vertex");
-        let surface: Vec<SurfacePoint> = origins
-            .iter()
-            .filter_map(|o| match o {
-                VertexOrigin::Surface(p) => Some(*p),
-                VertexOrigin::Cut { .. } => None,
-            })
-            .collect();
+        let surface = surface_points(origins);
         for (v, origin) in origins.iter().enumerate() {
             match origin {
                 VertexOrigin::Surface(point) => {
@@ -201,13 +206,7 @@ fn cut_vertices_inside_a_thick_faceted_block_find_the_surface() {
     let outcome = break_body(&hard, &pattern, &placement, 1000.0).unwrap().expect("it breaks");
     let mut inside = 0;
     for (k, (mesh, origins)) in meshes(&outcome).into_iter().enumerate() {
-        let surface: Vec<SurfacePoint> = origins
-            .iter()
-            .filter_map(|o| match o {
-                VertexOrigin::Surface(p) => Some(*p),
-                VertexOrigin::Cut { .. } => None,
-            })
-            .collect();
+        let surface = surface_points(origins);
         if surface.is_empty() {
             continue;
         }
