@@ -13,6 +13,7 @@ mod clip;
 mod error;
 mod origin;
 mod outcome;
+mod outgoing;
 mod pattern;
 mod placement;
 mod settings;

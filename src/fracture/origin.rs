@@ -13,7 +13,7 @@
 use glam::{DVec3, Vec3};
 
 use super::FractureError;
-use super::weld::Outgoing;
+use super::outgoing::Outgoing;
 use crate::mesh::TriMesh;
 
 /// A point of the broken mesh's surface: one of its faces and the point's barycentric weights
