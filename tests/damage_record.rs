@@ -189,8 +189,10 @@ fn truncated_files_are_refused_with_a_typed_error() {
 fn another_version_or_format_is_refused() {
     let d = small_damage();
     let text = String::from_utf8(d.file.to_json().unwrap()).unwrap();
-    let newer = text.replacen("\"version\":1", "\"version\":2", 1);
-    assert!(matches!(DamageFile::from_json(newer.as_bytes()), Err(RecordError::Version { found: 2, supported: 1 })));
+    let newer = text.replacen("\"version\":2", "\"version\":3", 1);
+    assert!(matches!(DamageFile::from_json(newer.as_bytes()), Err(RecordError::Version { found: 3, supported: 2 })));
+    let older = text.replacen("\"version\":2", "\"version\":0", 1);
+    assert!(matches!(DamageFile::from_json(older.as_bytes()), Err(RecordError::Version { found: 0, supported: 2 })));
     let other = text.replacen("dentbend-damage", "something-else", 1);
     assert!(matches!(DamageFile::from_json(other.as_bytes()), Err(RecordError::Malformed(_))));
 }
@@ -496,4 +498,29 @@ fn a_tampered_fracture_record_is_refused_and_changes_nothing() {
     let bytes = encode_records(&wall.records[..=k]).unwrap();
     let cut = decode_records(&bytes[..bytes.len() - 5]).unwrap_err();
     assert!(matches!(cut, RecordError::Truncated { .. }), "{cut}");
+}
+
+/// A damage file of version 1, written by the build before fractures kept a mesh's seams: a
+/// faceted 1.2 × 0.8 × 0.1 m wall (every face with vertices of its own) dented twice and broken
+/// by the second hit. Its fracture replays as it was made, welded, and every hash checks; read
+/// as version 2 (seams kept), the same records give another rest and are refused.
+#[test]
+fn a_version_1_file_replays_its_fractures_welded() {
+    let bytes = include_bytes!("fixtures/damage_v1_faceted_wall.json");
+    let wall = mesh::subdivided_box(Vec3::new(1.2, 0.8, 0.1), [24, 16, 2]).unwrap();
+    let positions = wall.faces().iter().flat_map(|f| f.map(|v| wall.positions()[v as usize])).collect();
+    let faces = (0..wall.face_count() as u32).map(|f| [3 * f, 3 * f + 1, 3 * f + 2]).collect();
+    let faceted = TriMesh::new(positions, faces).unwrap();
+
+    let file = DamageFile::from_json(bytes).unwrap();
+    let body = &file.bodies[0];
+    assert!(body.records.iter().any(|r| matches!(r, DamageRecord::Fracture(_))), "the fixture has no fracture");
+    let rest = replay_body(body, &faceted, DentForm::Edits, &Projectiles::new()).unwrap();
+    assert_eq!(content_hash(&rest), body.final_mesh.hash);
+    assert_eq!(rest.vertex_count(), 1216, "the rest as version 1 made it");
+
+    let text = String::from_utf8(bytes.to_vec()).unwrap().replacen("\"version\":1", "\"version\":2", 1);
+    let as_new = DamageFile::from_json(text.as_bytes()).unwrap();
+    let refused = replay_body(&as_new.bodies[0], &faceted, DentForm::Edits, &Projectiles::new());
+    assert!(matches!(refused, Err(RecordError::Tampered { .. })), "{refused:?}");
 }

@@ -79,6 +79,7 @@ fn fracture_is_deterministic_and_replays_from_its_record() {
         pattern: params(30, 5, 0.5),
         placement: Placement { point: Vec3::new(0.0, 0.0, 0.1), normal: -Vec3::Z },
         density: 2000.0,
+        weld_output: false,
     };
     let first = replay(&wall, &record).unwrap().unwrap();
     let json = serde_json::to_string(&record).unwrap();

@@ -149,7 +149,7 @@ impl Fracturer {
             log::debug!("{}: the fracture pattern holds the whole body; it does not break", body.name);
             return Ok(None);
         }
-        let record = FractureRecord { pattern: settings.pattern.params(), placement, density };
+        let record = FractureRecord { pattern: settings.pattern.params(), placement, density, weld_output: false };
         let projectile = world.bodies()[b.projectile].name.clone();
         let undo = world.record_edit(&[b.target]);
         match apply(world, b.target, outcome, &settings, density) {

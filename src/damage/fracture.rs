@@ -192,7 +192,7 @@ pub(crate) fn break_at<K: Copy>(
     };
     let density = density(mesh, settings, &b.target_state);
     let Some(outcome) = settings.break_mesh(mesh, &placement, density)? else { return Ok(None) };
-    let record = FractureRecord { pattern: settings.pattern.params(), placement, density };
+    let record = FractureRecord { pattern: settings.pattern.params(), placement, density, weld_output: false };
     let pieces = outcome
         .pieces
         .into_iter()

@@ -91,7 +91,6 @@ pub(crate) struct Source<'a> {
 /// of input vertices along an edge, or inside the same input face), or on the same cap.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Side {
-    Welded,
     Vertex(u32),
     Edge(u32, u32),
     Face(u32),
@@ -119,7 +118,7 @@ pub(crate) fn build(
     // before it at the same pool vertex, so that a lookup walks that short chain (welded
     // output has one output vertex per pool vertex: no chain, no sides).
     let mut newest = vec![u32::MAX; positions.len()];
-    let mut before: Vec<u32> = Vec::new();
+    let mut before: Vec<u32> = Vec::with_capacity(positions.len());
     let mut sides: Vec<Side> = Vec::new();
     let mut pool_of: Vec<u32> = Vec::new();
     let mut origins: Vec<VertexOrigin> = Vec::new();
@@ -131,18 +130,17 @@ pub(crate) fn build(
         let on_surface = origin & CAP == 0;
         out_faces.push(face.map(|v| {
             let mut id = newest[v as usize];
-            if source.seams {
-                let side = side_of(source, locations[v as usize], origin);
+            let side = source.seams.then(|| side_of(source, locations[v as usize], origin));
+            if let Some(side) = side {
                 while id != u32::MAX && sides[id as usize] != side {
                     id = before[id as usize];
-                }
-                if id == u32::MAX {
-                    before.push(newest[v as usize]);
-                    sides.push(side);
                 }
             }
             if id == u32::MAX {
                 id = origins.len() as u32;
+                // Welded output makes one vertex per pool vertex: its chain is empty.
+                before.push(newest[v as usize]);
+                sides.extend(side);
                 newest[v as usize] = id;
                 pool_of.push(v);
                 origins.push(if on_surface { surface(origin, v) } else { cut(origin) });
@@ -154,10 +152,6 @@ pub(crate) fn build(
         }));
     }
     let out_positions: Vec<Vec3> = pool_of.iter().map(|&v| positions[v as usize].as_vec3()).collect();
-    if !source.seams {
-        // No chain: each output vertex is alone at its point.
-        before = vec![u32::MAX; origins.len()];
-    }
     fill_nearest(&mut origins, &out_faces, (&pool_of, &newest, &before));
     let mesh = if source.seams {
         let normals = normals(source, &origins);
@@ -168,11 +162,8 @@ pub(crate) fn build(
     Ok((mesh, origins))
 }
 
-/// The side a corner at a point at `location` of a face of `origin` is on.
+/// The side a corner at a point at `location` of a face of `origin` is on (output with seams).
 fn side_of(source: &Source, location: Location, origin: u32) -> Side {
-    if !source.seams {
-        return Side::Welded;
-    }
     if origin & CAP != 0 {
         return Side::Cap(origin & !CAP);
     }

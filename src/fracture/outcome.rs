@@ -67,6 +67,11 @@ pub struct FractureRecord {
     pub placement: Placement,
     /// Density of the body, kg/m³.
     pub density: f32,
+    /// Whether the pieces and rest come out welded even from a mesh with seams (split
+    /// vertices): how fractures of damage files of version 1 were made. New fractures keep the
+    /// seams (`false`).
+    #[serde(default)]
+    pub weld_output: bool,
 }
 
 /// Rebuilds a recorded fracture on `mesh` (the body's mesh as it was when it broke): the same
@@ -76,7 +81,7 @@ pub struct FractureRecord {
 /// As [`FracturePattern::new`] and [`break_body`].
 pub fn replay(mesh: &TriMesh, record: &FractureRecord) -> Result<Option<FractureOutcome>, FractureError> {
     let pattern = FracturePattern::new(record.pattern)?;
-    break_body(mesh, &pattern, &record.placement, record.density)
+    break_as(mesh, &pattern, (&record.placement, record.density), record.weld_output)
 }
 
 /// Breaks the closed `mesh` along `pattern` placed at `placement` (mesh coordinates): every
@@ -98,6 +103,16 @@ pub fn break_body(
     placement: &Placement,
     density: f32,
 ) -> Result<Option<FractureOutcome>, FractureError> {
+    break_as(mesh, pattern, (placement, density), false)
+}
+
+/// [`break_body`], with welded output whatever the input when `weld_output` is set.
+fn break_as(
+    mesh: &TriMesh,
+    pattern: &FracturePattern,
+    (placement, density): (&Placement, f32),
+    weld_output: bool,
+) -> Result<Option<FractureOutcome>, FractureError> {
     placement.validate()?;
     if !(density.is_finite() && density > 0.0) {
         return Err(super::error::invalid("density", density, "must be finite and > 0"));
@@ -105,7 +120,7 @@ pub fn break_body(
     let soup = weld(mesh);
     let locations = soup.locations();
     let Soup { positions, faces, input_face, welded, seams } = soup;
-    let source = Source { mesh, input_face: &input_face, welded: &welded, seams };
+    let source = Source { mesh, input_face: &input_face, welded: &welded, seams: seams && !weld_output };
     let vertex_count = positions.len();
     let frame = placement.frame();
     let (lo, hi) = mesh.bounds();

@@ -9,7 +9,7 @@ use crate::fracture::{FractureRecord, PatternParams, Placement};
 
 /// Appends `record` to `out`.
 pub fn write_break(out: &mut ByteWriter, record: &FractureRecord) {
-    let FractureRecord { pattern, placement, density } = record;
+    let FractureRecord { pattern, placement, density, weld_output: _ } = record;
     out.varint(u64::from(pattern.cells));
     out.u64(pattern.seed);
     out.f32(pattern.radius);
@@ -18,9 +18,10 @@ pub fn write_break(out: &mut ByteWriter, record: &FractureRecord) {
     out.f32(*density);
 }
 
-/// Reads a record written by [`write_break`]; its values are checked when it is replayed.
+/// Reads a record written by [`write_break`]; its values are checked when it is replayed. The
+/// output keeps the mesh's seams (a file of version 1 says otherwise for its records).
 pub fn read_break(r: &mut ByteReader<'_>) -> Result<FractureRecord, RecordError> {
     let pattern = PatternParams { cells: r.varint32("cells")?, seed: r.u64("seed")?, radius: r.f32("radius")? };
     let placement = Placement { point: r.vec3("fracture point")?, normal: r.vec3("fracture normal")? };
-    Ok(FractureRecord { pattern, placement, density: r.f32("density")? })
+    Ok(FractureRecord { pattern, placement, density: r.f32("density")?, weld_output: false })
 }

@@ -7,12 +7,16 @@ use serde::{Deserialize, Serialize};
 use super::bytes::{ByteReader, ByteWriter, base64_decode, base64_encode};
 use super::file::{MAX_BODIES, MAX_FILE_BYTES};
 use super::records::{decode_records, encode_records};
-use super::{BodyDamage, DamageFile, MeshStamp, RecordError, SceneRef, hex64};
+use super::{BodyDamage, DamageFile, DamageRecord, MeshStamp, RecordError, SceneRef, hex64};
 
 /// The `format` field of every damage file.
 const FORMAT: &str = "dentbend-damage";
-/// The format version this build reads and writes.
-const VERSION: u32 = 1;
+/// The format version this build writes. It reads this one and version 1, whose fractures
+/// came out welded from meshes with seams (their records replay that way).
+const VERSION: u32 = 2;
+
+/// The version whose fractures welded their output.
+const WELDED_FRACTURES: u32 = 1;
 
 #[derive(Serialize, Deserialize)]
 struct Header {
@@ -131,7 +135,7 @@ impl DamageFile {
         if header.format != FORMAT {
             return Err(RecordError::Malformed(format!("format {:?} is not {FORMAT:?}", header.format)));
         }
-        if header.version != VERSION {
+        if header.version != VERSION && header.version != WELDED_FRACTURES {
             return Err(RecordError::Version { found: header.version, supported: VERSION });
         }
         let wire: WireFile = serde_json::from_slice(bytes).map_err(json_error)?;
@@ -144,7 +148,14 @@ impl DamageFile {
         }
         let mut bodies = Vec::with_capacity(wire.bodies.len());
         for b in &wire.bodies {
-            let records = decode_records(&base64_decode(&b.records, "records")?)?;
+            let mut records = decode_records(&base64_decode(&b.records, "records")?)?;
+            if header.version == WELDED_FRACTURES {
+                for record in &mut records {
+                    if let DamageRecord::Fracture(f) = record {
+                        f.fracture.weld_output = true;
+                    }
+                }
+            }
             let pose = match &b.pose {
                 None => None,
                 Some(text) => {

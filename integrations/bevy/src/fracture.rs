@@ -5,7 +5,7 @@ use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use dentbend::damage::BodyFracture;
 
-use crate::fracture_attributes::{Broken, carry_attributes, uv_density};
+use crate::fracture_attributes::{Broken, carry_attributes};
 use crate::mesh_data::bevy_mesh;
 use crate::scale::for_asset;
 use crate::{BodyBroken, DentPiece, DentStats, DentWorld, MeshDented};
@@ -43,13 +43,12 @@ pub(crate) fn break_bodies(
             .and_then(|b| meshes.get(&b.mesh))
             .filter(|a| a.count_vertices() == fracture.broken_mesh.vertex_count())
             .cloned();
-        let faces = fracture.broken_mesh.faces();
-        let texel_density = asset.as_ref().map_or(1.0, |a| uv_density(a, faces));
         let body_scale = scale.unwrap_or(Vec3::ONE);
+        let broken = asset.as_ref().map(|a| Broken::new(a, fracture.broken_mesh.faces(), body_scale));
         let with_attributes = |mesh: &dentbend::TriMesh, origins: &[_], scale: Vec3| {
             let mut made = bevy_mesh(mesh);
-            if let Some(asset) = &asset {
-                carry_attributes(&mut made, &Broken { asset, faces, scale, body_scale, texel_density }, origins);
+            if let Some(broken) = broken {
+                carry_attributes(&mut made, &broken.scaled(scale), origins);
             }
             made
         };

@@ -15,13 +15,27 @@ use dentbend::glam::{Vec2, Vec3, Vec4};
 /// coordinates have over the asset's (the entity's for a piece, which is spawned unscaled; 1
 /// for the rest, written without it), the scale the broken mesh had over the asset (the
 /// entity's: the cuts' normals are in its coordinates), and the asset's UV units per metre
-/// ([`uv_density`], once per fracture).
+/// (measured once per fracture).
+#[derive(Clone, Copy)]
 pub(crate) struct Broken<'a> {
     pub asset: &'a Mesh,
     pub faces: &'a [[u32; 3]],
     pub scale: Vec3,
     pub body_scale: Vec3,
     pub texel_density: f32,
+}
+
+impl<'a> Broken<'a> {
+    /// The broken `asset` with `faces`, under the entity's `body_scale`, for output written at
+    /// the asset's own scale (the rest).
+    pub fn new(asset: &'a Mesh, faces: &'a [[u32; 3]], body_scale: Vec3) -> Self {
+        Self { asset, faces, scale: Vec3::ONE, body_scale, texel_density: uv_density(asset, faces) }
+    }
+
+    /// The same, for output whose coordinates have `scale` over the asset's (a piece).
+    pub fn scaled(self, scale: Vec3) -> Self {
+        Self { scale, ..self }
+    }
 }
 
 /// Adds to `out` (a fracture output's positions, normals and indices) every other attribute
@@ -89,7 +103,7 @@ pub(crate) fn carry_attributes(out: &mut Mesh, broken: &Broken, origins: &[Verte
 
 /// The UV units per metre along `asset`'s surface (total UV length of its `faces`' edges over
 /// their total length; 1 without UVs or with a degenerate mesh).
-pub(crate) fn uv_density(asset: &Mesh, faces: &[[u32; 3]]) -> f32 {
+fn uv_density(asset: &Mesh, faces: &[[u32; 3]]) -> f32 {
     let (Some(VertexAttributeValues::Float32x3(p)), Some(VertexAttributeValues::Float32x2(uv))) =
         (asset.attribute(Mesh::ATTRIBUTE_POSITION), asset.attribute(Mesh::ATTRIBUTE_UV_0))
     else {
@@ -329,14 +343,7 @@ mod tests {
         assert!(outputs.len() > 4);
         for (mesh, origins) in outputs {
             let mut made = bevy_mesh(mesh);
-            let broken = Broken {
-                asset: &asset,
-                faces: tri.faces(),
-                scale: Vec3::ONE,
-                body_scale: Vec3::ONE,
-                texel_density: uv_density(&asset, tri.faces()),
-            };
-            carry_attributes(&mut made, &broken, origins);
+            carry_attributes(&mut made, &Broken::new(&asset, tri.faces(), Vec3::ONE), origins);
             let Some(V::Float32x2(uvs)) = made.attribute(Mesh::ATTRIBUTE_UV_0) else { panic!("no UVs") };
             let Some(V::Float32x4(colours)) = made.attribute(Mesh::ATTRIBUTE_COLOR) else { panic!("no colours") };
             assert_eq!((uvs.len(), colours.len()), (mesh.vertex_count(), mesh.vertex_count()));

@@ -11,7 +11,7 @@ use dentbend::record::{
     ReplayStep, replay_body_traced,
 };
 
-use crate::fracture_attributes::{Broken, carry_attributes, uv_density};
+use crate::fracture_attributes::{Broken, carry_attributes};
 use crate::link::{MainLink, ToRender};
 use crate::mesh_data::{bevy_mesh, slab_layout, write_dented};
 use crate::scale::for_asset;
@@ -240,17 +240,17 @@ fn carry_step(asset: &mut Mesh, step: ReplayStep<'_>, scale: Option<Vec3>) -> Re
                 vertices: step.splits(),
                 ..Default::default()
             };
+            if refinement.vertices.is_empty() {
+                return Err("a record changed the faces without adding vertices".into());
+            }
             let after = for_asset(after, scale).map_err(|e| e.to_string())?;
-            write_dented(asset, &after, &refinement).map_err(|e| e.to_string())?;
-            let indices = after.faces().iter().flatten().copied().collect();
-            asset.try_insert_indices(bevy::mesh::Indices::U32(indices)).map_err(|e| e.to_string())
+            // With new vertices, this writes the new faces too.
+            write_dented(asset, &after, &refinement).map_err(|e| e.to_string())
         }
         ReplayStep::Broke { before, rest, origins } => {
             let rest = for_asset(rest, scale).map_err(|e| e.to_string())?;
             let mut made = bevy_mesh(&rest);
-            let (faces, body_scale) = (before.faces(), scale.unwrap_or(Vec3::ONE));
-            let texel_density = uv_density(asset, faces);
-            carry_attributes(&mut made, &Broken { asset, faces, scale: Vec3::ONE, body_scale, texel_density }, origins);
+            carry_attributes(&mut made, &Broken::new(asset, before.faces(), scale.unwrap_or(Vec3::ONE)), origins);
             *asset = made;
             Ok(())
         }
