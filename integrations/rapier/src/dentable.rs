@@ -93,7 +93,11 @@ impl Dentables {
         let collider = colliders.get(handle).ok_or(AdapterError::UnknownCollider(handle))?;
         let kind = dentable_kind(handle, collider, bodies)?;
         check_built_from(handle, collider, kind, &mesh)?;
-        prepare_refit(handle, collider, kind, &mesh, &[])?;
+        if kind == ShapeKind::TriMesh {
+            // A tri-mesh holds the mesh's vertices one for one; a hull was compared above (a
+            // throwaway hull here would cost as much as a dent's refit).
+            prepare_refit(handle, collider, kind, &mesh, &[])?;
+        }
         self.targets.insert(handle, mesh, crate::to_affine(collider.position()), settings)?;
         self.kinds.insert(handle, kind);
         self.surfaces.remove(&handle);
