@@ -502,8 +502,9 @@ fn a_tampered_fracture_record_is_refused_and_changes_nothing() {
 
 /// A damage file of version 1, written by the build before fractures kept a mesh's seams: a
 /// faceted 1.2 × 0.8 × 0.1 m wall (every face with vertices of its own) dented twice and broken
-/// by the second hit. Its fracture replays as it was made, welded, and every hash checks; read
-/// as version 2 (seams kept), the same records give another rest and are refused.
+/// by the second hit. Its fracture replays as it was made, welded, and every hash checks, also
+/// once the file is written again as version 2; read as version 2 (seams kept), the same
+/// records give another rest and are refused.
 #[test]
 fn a_version_1_file_replays_its_fractures_welded() {
     let bytes = include_bytes!("fixtures/damage_v1_faceted_wall.json");
@@ -518,6 +519,9 @@ fn a_version_1_file_replays_its_fractures_welded() {
     let rest = replay_body(body, &faceted, DentForm::Edits, &Projectiles::new()).unwrap();
     assert_eq!(content_hash(&rest), body.final_mesh.hash);
     assert_eq!(rest.vertex_count(), 1216, "the rest as version 1 made it");
+    // Written again (version 2), the fracture still replays welded.
+    let again = DamageFile::from_json(&file.to_json().unwrap()).unwrap();
+    assert_eq!(replay_body(&again.bodies[0], &faceted, DentForm::Edits, &Projectiles::new()).unwrap(), rest);
 
     let text = String::from_utf8(bytes.to_vec()).unwrap().replacen("\"version\":1", "\"version\":2", 1);
     let as_new = DamageFile::from_json(text.as_bytes()).unwrap();

@@ -143,7 +143,8 @@ pub enum DamageRecord {
     Rest(JointRest),
     /// A bone split (tag 4).
     Split(BoneSplit),
-    /// A fracture (tag 5).
+    /// A fracture (tag 5; tag 7 when its output is welded, as version 1 files broke meshes with
+    /// seams).
     Fracture(FractureRecord),
     /// The final skinned (bent) surface as an edit of the mesh so far, with the hash after it
     /// (tag 6): a bending body's mesh is rebuilt from this, not from its joints.
@@ -224,7 +225,7 @@ fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), R
                 out.vec3(s.rest_position);
             }
             DamageRecord::Fracture(f) => {
-                out.u8(5);
+                out.u8(if f.fracture.weld_output { WELDED_FRACTURE } else { 5 });
                 out.varint(f.frame);
                 write_break(out, &f.fracture);
                 out.vec3(f.to_model);
@@ -247,6 +248,9 @@ fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), R
     }
     Ok(())
 }
+
+/// The tag of a fracture whose output is welded ([`crate::fracture::FractureRecord::weld_output`]).
+const WELDED_FRACTURE: u8 = 7;
 
 /// Reads [`write_records`]' bytes; every count is checked against the bytes left first.
 fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordError> {
@@ -282,6 +286,11 @@ fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordError
                 rest_position: r.vec3("split rest position")?,
             }),
             5 => DamageRecord::Fracture(read_fracture(r)?),
+            WELDED_FRACTURE => {
+                let mut f = read_fracture(r)?;
+                f.fracture.weld_output = true;
+                DamageRecord::Fracture(f)
+            }
             6 => DamageRecord::Skinned { edit: read_edit(r)?, after: r.u64("hash after skinning")? },
             t => return Err(RecordError::Malformed(format!("unknown record tag {t}"))),
         };
