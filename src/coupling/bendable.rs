@@ -6,6 +6,7 @@
 use glam::{Quat, Vec3};
 
 use super::JointOverride;
+use super::joint_override;
 use crate::bend::{BoneDesc, Skeleton, WeightParams, auto_skeleton};
 use crate::mesh::TriMesh;
 use crate::sim::{ColliderKind, DentSettings, JointKind, SimError, SurfaceMaterial};
@@ -90,6 +91,11 @@ pub struct BendableDesc {
 }
 
 impl BendableDesc {
+    /// Kind of the joint at bone `child`'s head: its override, or [`joint`](Self::joint).
+    pub fn joint_kind(&self, child: usize) -> JointKind {
+        joint_override::kind_of(&self.joint_overrides, self.joint, child)
+    }
+
     /// A body at rest at the origin: density 1000 kg/m³, a one-bone automatic skeleton, default
     /// weights, convex-hull colliders, rigid joints, no dynamic articulation and no denting.
     pub fn new(name: impl Into<String>, mesh: TriMesh) -> Self {
@@ -152,7 +158,7 @@ impl BendableDesc {
         }
         self.weights.validate().map_err(|e| bend_error(&self.name, e))?;
         self.joint.validate().map_err(|e| invalid("joint", e.to_string(), "is not a valid joint"))?;
-        self.validate_joint_overrides()?;
+        joint_override::validate(&self.joint_overrides, &self.name)?;
         if let Some(d) = &self.dynamic {
             if !(d.speed_threshold.is_finite() && d.speed_threshold >= 0.0) {
                 return Err(invalid("speed_threshold", d.speed_threshold.to_string(), "must be finite and >= 0"));
@@ -181,7 +187,7 @@ impl BendableDesc {
         }
         .map_err(|e| bend_error(&self.name, e))?;
         skeleton.check_against(&self.mesh).map_err(|e| bend_error(&self.name, e))?;
-        self.check_joint_overrides(&skeleton)?;
+        joint_override::check_against(&self.joint_overrides, &skeleton, &self.name)?;
         Ok(skeleton)
     }
 }

@@ -192,7 +192,7 @@ impl StagedBendDents {
         world: &mut World,
     ) -> Result<Vec<DentRecord>, SimError> {
         for (_, pose, _) in &self.dents {
-            uncondense_refitted(world, pose)?;
+            pose.uncondense_refitted(world)?;
         }
         let mut refitted: Vec<(usize, RigidBody)> = Vec::new();
         for (k, pose, _) in &self.dents {
@@ -334,15 +334,4 @@ pub fn dent_step(
     drop(surfaces);
     records.extend(staged.commit(bend_denter, bending, world)?);
     Ok(records)
-}
-
-/// Dissolves the clusters holding sub-bodies that `pose` refits: a cluster's compound collider
-/// holds its members' old shapes.
-pub(crate) fn uncondense_refitted(world: &mut World, pose: &super::PoseDent) -> Result<(), SimError> {
-    for (index, _) in &pose.sub_meshes {
-        if let Some(cluster) = world.cluster_of(*index) {
-            world.uncondense(cluster)?;
-        }
-    }
-    Ok(())
 }

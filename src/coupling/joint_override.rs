@@ -2,7 +2,6 @@
 //! [`BendableDesc::joint`], and a few are given another (paper Figure 15: an armadillo whose body
 //! holds while four joints of its right arm bend).
 
-use super::BendableDesc;
 use crate::bend::Skeleton;
 use crate::sim::{JointKind, SimError};
 
@@ -27,56 +26,55 @@ pub struct JointOverride {
     pub joint: JointKind,
 }
 
-impl BendableDesc {
-    /// Kind of the joint at bone `child`'s head: its override, or [`joint`](Self::joint).
-    pub fn joint_kind(&self, child: usize) -> JointKind {
-        self.joint_overrides.iter().find(|o| o.child == child).map_or(self.joint, |o| o.joint)
-    }
+/// Kind of the joint at bone `child`'s head: its override in `overrides`, or `default`.
+pub(super) fn kind_of(overrides: &[JointOverride], default: JointKind, child: usize) -> JointKind {
+    overrides.iter().find(|o| o.child == child).map_or(default, |o| o.joint)
+}
 
-    /// Checks the overrides' numbers and that no bone has two.
-    ///
-    /// # Errors
-    /// [`SimError::Invalid`] naming the first bad override.
-    pub(super) fn validate_joint_overrides(&self) -> Result<(), SimError> {
-        for (k, o) in self.joint_overrides.iter().enumerate() {
-            let what = format!("bendable body \"{}\": joint_overrides[{k}]", self.name);
-            o.joint.validate().map_err(|e| match e {
-                // "joint strength" → "joint_overrides[k].joint.strength".
-                SimError::Invalid { what: field, value, reason } => SimError::Invalid {
-                    what: format!("{what}.joint.{}", field.strip_prefix("joint ").unwrap_or(&field)),
-                    value,
-                    reason,
-                },
-                other => other,
-            })?;
-            if self.joint_overrides[..k].iter().any(|earlier| earlier.child == o.child) {
-                return Err(SimError::Invalid {
-                    what: format!("{what}.child"),
-                    value: o.child.to_string(),
-                    reason: "gives that joint a second kind",
-                });
-            }
-        }
-        Ok(())
-    }
-
-    /// Checks that every override names a joint of `skeleton`: a bone in range that has a parent.
-    ///
-    /// # Errors
-    /// [`SimError::Invalid`] naming the first override that does not.
-    pub(super) fn check_joint_overrides(&self, skeleton: &Skeleton) -> Result<(), SimError> {
-        for (k, o) in self.joint_overrides.iter().enumerate() {
-            let reason = match skeleton.bone(o.child) {
-                None => "is not a bone of the skeleton",
-                Some(bone) if bone.parent.is_none() => "is the root bone, which hangs from no joint",
-                Some(_) => continue,
-            };
-            return Err(SimError::Invalid {
-                what: format!("bendable body \"{}\": joint_overrides[{k}].child", self.name),
-                value: format!("{} (of {} bones)", o.child, skeleton.len()),
+/// Checks the numbers of bendable body `body`'s `overrides` and that no bone has two.
+///
+/// # Errors
+/// [`SimError::Invalid`] naming the first bad override.
+pub(super) fn validate(overrides: &[JointOverride], body: &str) -> Result<(), SimError> {
+    for (k, o) in overrides.iter().enumerate() {
+        let what = format!("bendable body \"{body}\": joint_overrides[{k}]");
+        o.joint.validate().map_err(|e| match e {
+            // "joint strength" → "joint_overrides[k].joint.strength".
+            SimError::Invalid { what: field, value, reason } => SimError::Invalid {
+                what: format!("{what}.joint.{}", field.strip_prefix("joint ").unwrap_or(&field)),
+                value,
                 reason,
+            },
+            other => other,
+        })?;
+        if overrides[..k].iter().any(|earlier| earlier.child == o.child) {
+            return Err(SimError::Invalid {
+                what: format!("{what}.child"),
+                value: o.child.to_string(),
+                reason: "gives that joint a second kind",
             });
         }
-        Ok(())
     }
+    Ok(())
+}
+
+/// Checks that each of bendable body `body`'s `overrides` names a joint of `skeleton`: a bone
+/// in range that has a parent.
+///
+/// # Errors
+/// [`SimError::Invalid`] naming the first override that does not.
+pub(super) fn check_against(overrides: &[JointOverride], skeleton: &Skeleton, body: &str) -> Result<(), SimError> {
+    for (k, o) in overrides.iter().enumerate() {
+        let reason = match skeleton.bone(o.child) {
+            None => "is not a bone of the skeleton",
+            Some(bone) if bone.parent.is_none() => "is the root bone, which hangs from no joint",
+            Some(_) => continue,
+        };
+        return Err(SimError::Invalid {
+            what: format!("bendable body \"{body}\": joint_overrides[{k}].child"),
+            value: format!("{} (of {} bones)", o.child, skeleton.len()),
+            reason,
+        });
+    }
+    Ok(())
 }

@@ -42,6 +42,22 @@ pub struct PoseDent {
 /// New sub-body meshes: (world body index, mesh in its body coordinates).
 type SubMeshes = Vec<(usize, TriMesh)>;
 
+impl PoseDent {
+    /// Dissolves the clusters holding the sub-bodies this dent refits: a cluster's compound
+    /// collider holds its members' old shapes.
+    ///
+    /// # Errors
+    /// As [`World::uncondense`].
+    pub(crate) fn uncondense_refitted(&self, world: &mut World) -> Result<(), SimError> {
+        for (index, _) in &self.sub_meshes {
+            if let Some(cluster) = world.cluster_of(*index) {
+                world.uncondense(cluster)?;
+            }
+        }
+        Ok(())
+    }
+}
+
 impl ArticulatedBody {
     /// How the body dents, `None` when it does not.
     pub fn dent_settings(&self) -> Option<&DentSettings> {
@@ -157,7 +173,7 @@ impl ArticulatedBody {
     /// [`SimError::BadShape`] when a hull cannot be built, [`SimError::Invalid`] when `dent` was
     /// made for another body; the body and the world are unchanged then.
     pub fn apply_pose_dent(&mut self, world: &mut World, dent: PoseDent) -> Result<(), SimError> {
-        super::dent_coupling::uncondense_refitted(world, &dent)?;
+        dent.uncondense_refitted(world)?;
         let refitted = self.refit_sub_bodies(world, &dent)?;
         for (index, body) in refitted {
             world.bodies_mut()[index] = body;

@@ -14,6 +14,7 @@ mod moved;
 pub mod reference;
 mod sample;
 mod skin;
+mod skin_error;
 mod skin_layout;
 mod zbuffer;
 
@@ -28,8 +29,9 @@ pub use interleave::NO_NORMAL;
 pub use interleave::{InterleaveParams, interleave};
 pub use layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff};
 pub use moved::{MovedParams, moved};
-pub use skin::{SkinError, Skinned, WEIGHT_SUM_TOLERANCE, skin};
+pub use skin::{Skinned, skin};
 #[cfg(feature = "gpu")]
 pub(crate) use skin::{check_length, validate_bones, validate_vertices};
+pub use skin_error::{SkinError, WEIGHT_SUM_TOLERANCE};
 pub use skin_layout::{SkinBone, SkinInfluence, SkinParams, skin_bones};
 pub use zbuffer::zbuffer;

@@ -7,7 +7,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Affine3A, Mat3A, Vec3A, Vec4};
 
-use super::SkinError;
+use super::skin_error::SkinError;
 
 /// Bones that influence one vertex.
 pub(crate) const BONES_PER_VERTEX: usize = 4;

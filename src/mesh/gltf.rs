@@ -15,8 +15,8 @@ use std::path::Path;
 use glam::{Affine3A, Mat4, Vec3};
 use serde::Serialize;
 
+use super::atomic_write::write_atomically;
 use super::glb;
-use super::save::write_atomically;
 use super::{MeshError, TriMesh};
 
 /// Base colour, linear RGB in [0, 1], of the material [`save_glb`] and [`GltfNode::new`] use:

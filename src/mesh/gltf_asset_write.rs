@@ -7,8 +7,8 @@ use std::path::Path;
 use glam::{Vec3, Vec4};
 use serde_json::{Value, json};
 
+use super::atomic_write::write_atomically;
 use super::glb;
-use super::save::write_atomically;
 use super::{Asset, MeshError};
 
 /// `bufferView.target` of vertex attribute data.

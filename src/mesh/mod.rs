@@ -6,6 +6,7 @@
 mod asset;
 mod asset_follow;
 mod asset_io;
+mod atomic_write;
 mod builtin;
 mod builtin_crate;
 #[cfg(feature = "io")]
@@ -70,11 +71,12 @@ pub use obj::{load_obj, parse_obj, save_obj};
 pub use obj_asset::{load_obj_asset, parse_obj_asset};
 pub use obj_asset_write::{obj_asset_text, save_obj_asset};
 
+pub use atomic_write::write_file_atomically;
 pub use ply::{load_ply, parse_ply};
 pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere};
 pub use refine::{Ball, OrientedBox, RefineError, RefineRegion, Refinement, SplitVertex, refine};
 pub(crate) use refine::{any_too_long, refine_parts};
-pub use save::{save, write_file_atomically};
+pub use save::save;
 pub(crate) use split_inference::infer_splits;
 pub use subdivide::{subdivide_loop, subdivide_midpoint, subdivide_midpoint_n};
 

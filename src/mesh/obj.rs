@@ -6,7 +6,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::save::write_atomically;
+use super::atomic_write::write_atomically;
 use super::{MeshError, TriMesh};
 
 /// Path reported in errors from the in-memory parsers.

@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::asset::FaceGroup;
-use super::save::write_atomically;
+use super::atomic_write::write_atomically;
 use super::{Asset, MeshError};
 
 /// Writes `asset` as OBJ: `mtllib` lines, a `v` line per vertex (shortest text that reads back

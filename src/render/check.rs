@@ -1,6 +1,9 @@
 //! Input checks shared by the CPU and GPU renderers, so both refuse the same requests.
 
-use super::{Camera, MAX_IMAGE_SIDE, RenderError};
+use super::{Camera, RenderError};
+
+/// Largest image side accepted, pixels.
+pub const MAX_IMAGE_SIDE: u32 = 8192;
 
 /// Fails unless both sides are in `1..=MAX_IMAGE_SIDE` pixels.
 ///

@@ -25,7 +25,7 @@ pub use gpu::GpuRenderer;
 pub use gpu_pipeline::RENDER_WGSL;
 pub use palette::bone_colour;
 
-pub use raster::MAX_IMAGE_SIDE;
+pub use check::MAX_IMAGE_SIDE;
 pub use raster::{Shaded, render};
 pub use renderer::Renderer;
 pub use rest_pictures::{RestPictures, rest_pictures};

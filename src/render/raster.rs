@@ -8,9 +8,6 @@ use image::RgbImage;
 use super::{Camera, RenderError, check};
 use crate::mesh::TriMesh;
 
-/// Largest image side accepted, pixels.
-pub const MAX_IMAGE_SIDE: u32 = 8192;
-
 /// One mesh to draw and its colour (linear RGB in [0, 1]).
 #[derive(Debug, Clone, Copy)]
 pub struct Shaded<'a> {

@@ -4,40 +4,13 @@
 //! GPU (targets resident there) or on all CPU cores; then colliders are refitted. A thin user of
 //! the world-free [`Damage`] API, with world body indices as the ids.
 
-use glam::Vec3;
-use serde::Serialize;
-
-use super::{BodyKind, CollisionEvent, GpuDevice, SimError, StepContext, World, body_state};
+use super::{BodyKind, CollisionEvent, DentRecord, GpuDevice, SimError, StepContext, World, body_state};
 use crate::damage::{CpuBackend, Damage, DamageError, DentBackend, DentTargets, Hit, TargetView};
 use crate::dent::DentError;
 #[cfg(feature = "gpu")]
 use crate::gpu::GpuBackend;
 #[cfg(feature = "gpu")]
 use crate::mesh::TriMesh;
-
-/// One dent made during a run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct DentRecord {
-    /// Step at which it happened (1 = after the first step).
-    pub step: u64,
-    /// The dented body.
-    pub target: String,
-    /// The body that dented it.
-    pub projectile: String,
-    /// Contact point, world, m (carried with the target to where it is after the step).
-    pub point: Vec3,
-    /// Denting normal (into the target), world.
-    pub normal: Vec3,
-    /// Projectile's velocity relative to the target at the contact, m/s.
-    pub relative_velocity: Vec3,
-    /// Dent distance used, m (for progressive dents: the accumulated distance).
-    pub dent_distance: f32,
-    /// Enclosed volume the dent changed, m³, signed (after any rim; zero where not measured:
-    /// bending bodies' dents).
-    pub volume_change: f64,
-    /// The dent's cavity (|volume change| before any rim), m³.
-    pub cavity_volume: f64,
-}
 
 /// Runs the dents of each step's collisions.
 pub struct Denter {
