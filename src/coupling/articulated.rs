@@ -4,12 +4,12 @@
 
 use glam::{Affine3A, Quat, Vec3};
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use super::bendable::bend_error;
-use super::skinning::{skin_error, skin_mesh_on_cpu};
 use super::{BendableDesc, DynamicArticulation};
 use crate::bend::{LevelSet, Rig, Skeleton, SkinWeights, SubBodies, WeightParams};
-use crate::cpu::SkinBone;
-use crate::cpu::Skinned;
+use crate::cpu::{self, SkinBone, SkinParams, Skinned};
 use crate::mesh::TriMesh;
 use crate::sim::{BodyDesc, BodyKind, ColliderKind, DentSettings, SimError, SurfaceMaterial, World};
 
@@ -106,7 +106,7 @@ impl ArticulatedBody {
             added_joints: 0,
             mass_scale: 1.0,
             dent: desc.dent.clone(),
-            rest_revision: super::rest_revision::next_rest_revision(),
+            rest_revision: next_rest_revision(),
         };
         let exact = crate::sim::mass_properties(&desc.mesh, desc.density).map(|m| m.mass);
         let voxels = body.rig.sub_bodies().total().mass;
@@ -264,10 +264,35 @@ impl ArticulatedBody {
     pub(crate) fn skin_rest(&self, rest: &TriMesh, bones: &[Affine3A]) -> Result<TriMesh, SimError> {
         let bones: Vec<SkinBone> = bones.iter().copied().map(SkinBone::from_affine).collect();
         let mut out = Skinned::default();
-        skin_mesh_on_cpu(self, rest, &bones, &mut out)?;
+        self.skin_rest_on_cpu(rest, &bones, &mut out)?;
         let mut mesh = rest.clone();
-        mesh.set_positions(out.positions).map_err(|e| skin_error(self, e))?;
+        mesh.set_positions(out.positions).map_err(|e| self.skin_error(e))?;
         Ok(mesh)
+    }
+
+    /// [`cpu::skin`] of `rest` (a mesh with the body's rest vertices, dented or not) with the
+    /// body's influences and `bones` into `out` (resized to the vertex count).
+    ///
+    /// # Errors
+    /// [`SimError::BadShape`] if skinning fails (wrong vertex or bone count).
+    pub(crate) fn skin_rest_on_cpu(
+        &self,
+        rest: &TriMesh,
+        bones: &[SkinBone],
+        out: &mut Skinned,
+    ) -> Result<(), SimError> {
+        let n = rest.vertex_count();
+        out.positions.resize(n, Vec3::ZERO);
+        out.normals.resize(n, Vec3::ZERO);
+        let params = SkinParams::new(n as u32, bones.len() as u32);
+        let (positions, normals) = (rest.positions(), rest.normals());
+        cpu::skin(&params, bones, positions, normals, self.influences(), &mut out.positions, &mut out.normals)
+            .map_err(|e| self.skin_error(e))
+    }
+
+    /// A [`SimError::BadShape`] naming the body for a skinning failure.
+    pub(crate) fn skin_error(&self, error: impl std::fmt::Display) -> SimError {
+        SimError::BadShape { body: self.name().to_owned(), reason: format!("skinning: {error}") }
     }
 
     /// The world body of `bone` as its sub-body now, its model frame's origin at `pose.0` (world,
@@ -332,4 +357,11 @@ pub(crate) fn ignore_own_collisions(world: &mut World, bodies: &[usize]) -> Resu
         }
     }
     Ok(())
+}
+
+/// A revision no body has had yet in this process: numbers come from one process-wide counter,
+/// so two bodies share a revision only when one is a copy of the other with the same rest data.
+pub(crate) fn next_rest_revision() -> u64 {
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
 }

@@ -13,7 +13,7 @@ use std::ops::Range;
 
 use glam::Vec4;
 
-use super::skinning::{bone_matrices, skin_error, skin_on_cpu};
+use super::skinning::{bone_matrices, skin_on_cpu};
 use super::{ArticulatedBody, Bending};
 use crate::cpu::{SkinBone, SkinError, SkinInfluence, check_length, validate_bones, validate_vertices};
 use crate::gpu::skin::{MAX_BONES, Skin, SkinMesh, Skinned};
@@ -143,7 +143,7 @@ impl GpuSkinner {
             let bones = body.skeleton().len() as u32;
             // Checked body by body, against the body's own bones: once offset, a bad index would
             // name the next body's bone instead of being skipped.
-            let fail = |e| skin_error(body, e);
+            let fail = |e| body.skin_error(e);
             check_length("influences", body.influences().len(), rest.vertex_count()).map_err(fail)?;
             validate_vertices(rest.positions(), rest.normals(), body.influences(), bones).map_err(fail)?;
             positions.extend_from_slice(rest.positions());
@@ -164,7 +164,7 @@ impl GpuSkinner {
                 Residence::Cpu(vec![Skinned::default(); group.len()])
             }
             Err(SkinError::Gpu(error)) => return Err(gpu_error(format!("bending bodies from {members:?}: {error}"))),
-            Err(error) => return Err(skin_error(&group[0], error)),
+            Err(error) => return Err(group[0].skin_error(error)),
         };
         Ok(Group { start: members.start, keys: keys[members].to_vec(), offsets, residence })
     }
@@ -189,7 +189,7 @@ impl GpuSkinner {
                     let mut bones = Vec::with_capacity(mesh.bone_count());
                     for body in members {
                         let matrices = bone_matrices(body, world)?;
-                        validate_bones(&matrices, matrices.len() as u32).map_err(|e| skin_error(body, e))?;
+                        validate_bones(&matrices, matrices.len() as u32).map_err(|e| body.skin_error(e))?;
                         bones.extend(matrices);
                     }
                     group_bones.push(bones);

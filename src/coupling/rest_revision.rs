@@ -3,19 +3,11 @@
 //! a copy of them (the GPU's resident meshes, [`GpuSkinner`](super::GpuSkinner)) knows when to
 //! upload them again without comparing them.
 
-use std::sync::atomic::{AtomicU64, Ordering};
-
 use super::ArticulatedBody;
+use super::articulated::next_rest_revision;
 use crate::cpu::SkinInfluence;
 use crate::mesh::TriMesh;
 use crate::sim::SimError;
-
-/// A revision no body has had yet in this process: numbers come from one process-wide counter,
-/// so two bodies share a revision only when one is a copy of the other with the same rest data.
-pub(crate) fn next_rest_revision() -> u64 {
-    static NEXT: AtomicU64 = AtomicU64::new(1);
-    NEXT.fetch_add(1, Ordering::Relaxed)
-}
 
 impl ArticulatedBody {
     /// The revision of the rest data the skin reads (rest mesh and influences): a new number

@@ -1,15 +1,12 @@
 //! Skinning every bending body of a world at once (paper Algorithm 2, step 13: the parent mesh
 //! follows its sub-bodies every frame), on the GPU's `skin` kernel ([`GpuSkinner`], rest data
-//! resident) or on its CPU twin [`cpu::skin`] (the fallback and the reference, the same as
+//! resident) or on its CPU twin [`cpu::skin`](crate::cpu::skin) (the fallback and the reference, the same as
 //! [`ArticulatedBody::skinned_mesh`]).
-
-use glam::Vec3;
 
 #[cfg(feature = "gpu")]
 use super::GpuSkinner;
 use super::{ArticulatedBody, Bending};
-use crate::cpu::Skinned;
-use crate::cpu::{self, SkinBone, SkinParams};
+use crate::cpu::{SkinBone, Skinned};
 use crate::mesh::TriMesh;
 use crate::sim::{GpuDevice, SimError, World};
 
@@ -159,7 +156,7 @@ impl Skinner {
                         mesh.vertex_count()
                     )));
                 }
-                mesh.set_positions(out.positions.clone()).map_err(|e| skin_error(body, e))?;
+                mesh.set_positions(out.positions.clone()).map_err(|e| body.skin_error(e))?;
                 Ok((body.name().to_owned(), mesh, body.color()))
             })
             .collect()
@@ -176,29 +173,7 @@ pub(crate) fn bone_matrices(body: &ArticulatedBody, world: &World) -> Result<Vec
     Ok(body.bone_transforms(world)?.into_iter().map(SkinBone::from_affine).collect())
 }
 
-/// [`cpu::skin`] of `body`'s rest mesh with `bones` into `out` (resized to the vertex count).
+/// [`cpu::skin`](crate::cpu::skin) of `body`'s rest mesh with `bones` into `out` (resized to the vertex count).
 pub(crate) fn skin_on_cpu(body: &ArticulatedBody, bones: &[SkinBone], out: &mut Skinned) -> Result<(), SimError> {
-    skin_mesh_on_cpu(body, body.rest_mesh(), bones, out)
-}
-
-/// [`cpu::skin`] of `rest` (a mesh with `body`'s rest vertices, dented or not) with `body`'s
-/// influences and `bones` into `out` (resized to the vertex count).
-pub(crate) fn skin_mesh_on_cpu(
-    body: &ArticulatedBody,
-    rest: &TriMesh,
-    bones: &[SkinBone],
-    out: &mut Skinned,
-) -> Result<(), SimError> {
-    let n = rest.vertex_count();
-    out.positions.resize(n, Vec3::ZERO);
-    out.normals.resize(n, Vec3::ZERO);
-    let params = SkinParams::new(n as u32, bones.len() as u32);
-    let (positions, normals) = (rest.positions(), rest.normals());
-    cpu::skin(&params, bones, positions, normals, body.influences(), &mut out.positions, &mut out.normals)
-        .map_err(|e| skin_error(body, e))
-}
-
-/// A [`SimError::BadShape`] naming `body` for a skinning failure.
-pub(crate) fn skin_error(body: &ArticulatedBody, error: impl std::fmt::Display) -> SimError {
-    SimError::BadShape { body: body.name().to_owned(), reason: format!("skinning: {error}") }
+    body.skin_rest_on_cpu(body.rest_mesh(), bones, out)
 }

@@ -68,7 +68,7 @@ impl ArticulatedBody {
         match self.apply_split(world, &changed, bone, second, transforms[bone].transform_point3(split_point)) {
             Ok((new_body, joint)) => {
                 self.bodies.push(new_body);
-                self.rest_revision = super::rest_revision::next_rest_revision();
+                self.rest_revision = super::articulated::next_rest_revision();
                 self.added_joints += 1;
                 let world_point = transforms[bone].transform_point3(split_point);
                 Ok(Some(SplitOutcome { bone, new_bone: second, new_body, joint, rest_point: split_point, world_point }))
