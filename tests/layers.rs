@@ -1,8 +1,7 @@
 //! The library's layering (ARCHITECTURE.md, "Layers"): each top-level module imports only the
-//! modules below it, so no two import each other; inside a module, files import each other in
-//! a circle only in the known groups listed here to untangle, and in no new one. Reads the
-//! sources' `crate::…` and `super::…` paths (comments and test modules left out), so a new
-//! upward or circular import fails here.
+//! modules below it, so no two import each other; inside every module, nested ones included, no
+//! files import each other in a circle. Reads the sources' `crate::…` and `super::…` paths
+//! (comments and test modules left out), so a new upward or circular import fails here.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -140,21 +139,31 @@ fn exports(mod_rs: &str) -> BTreeMap<String, String> {
     out
 }
 
-/// Groups of files that still import each other in a circle, inside one module, from before
-/// the layering was enforced. Each is one type spread over files (a `World` and the files that
-/// extend it; a body and its collider) and is to be untangled; the test fails on any new cycle
-/// or any group that grows, and each entry must still exist (shrink the list as cycles go).
-const KNOWN_CYCLES: &[(&str, &[&str])] =
-    &[("sim", &["body", "collider", "contacts", "joints", "sleep", "solver", "warm_start", "world"])];
+/// Every directory module under `dir` (one with a `mod.rs`), as its path from `src`.
+fn module_dirs(dir: &Path, src: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            if path.join("mod.rs").exists() {
+                out.push(path.strip_prefix(src).unwrap().to_path_buf());
+            }
+            module_dirs(&path, src, out);
+        }
+    }
+}
 
 #[test]
-fn files_inside_a_module_import_each_other_in_no_new_cycles() {
+fn files_inside_a_module_import_each_other_in_no_cycle() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut found: Vec<(String, BTreeSet<String>)> = Vec::new();
-    for layer in LAYERS {
-        let dir = src.join(layer);
-        let Ok(mod_rs) = std::fs::read_to_string(dir.join("mod.rs")) else { continue };
-        let names = exports(&code(&mod_rs));
+    let mut modules = Vec::new();
+    module_dirs(&src, &src, &mut modules);
+    assert!(modules.len() > LAYERS.len(), "nested modules are checked too");
+    let mut found: Vec<String> = Vec::new();
+    for module in &modules {
+        let dir = src.join(module);
+        let names = exports(&code(&std::fs::read_to_string(dir.join("mod.rs")).unwrap()));
+        let path = module.components().map(|c| c.as_os_str().to_string_lossy().into_owned()).collect::<Vec<_>>();
+        let absolute = format!("crate::{}", path.join("::"));
         let mut files = Vec::new();
         sources(&dir, &mut files);
         // Direct files of the module only (a nested directory module is one node).
@@ -169,7 +178,7 @@ fn files_inside_a_module_import_each_other_in_no_new_cycles() {
             let direct = file.parent() == Some(dir.as_path());
             let text = code(&std::fs::read_to_string(file).unwrap());
             let mut targets: Vec<String> = if direct { heads(&text, "super") } else { Vec::new() };
-            targets.extend(heads(&text, &format!("crate::{layer}")));
+            targets.extend(heads(&text, &absolute));
             for target in targets {
                 let to = names.get(&target).cloned().unwrap_or(target);
                 if to != from && (dir.join(format!("{to}.rs")).exists() || dir.join(&to).is_dir()) {
@@ -177,24 +186,9 @@ fn files_inside_a_module_import_each_other_in_no_new_cycles() {
                 }
             }
         }
-        found.extend(cycles(&edges).into_iter().map(|group| (layer.to_owned(), group)));
+        found.extend(cycles(&edges).into_iter().map(|group| format!("{}: {group:?}", module.display())));
     }
-    let known: Vec<(String, BTreeSet<String>)> = KNOWN_CYCLES
-        .iter()
-        .map(|(layer, files)| (layer.to_string(), files.iter().map(|f| f.to_string()).collect()))
-        .collect();
-    let new: Vec<String> = found
-        .iter()
-        .filter(|(layer, group)| !known.iter().any(|(l, k)| l == layer && group.is_subset(k)))
-        .map(|(layer, group)| format!("{layer}: {group:?}"))
-        .collect();
-    assert!(new.is_empty(), "files that import each other in a circle:\n{}", new.join("\n"));
-    let gone: Vec<String> = known
-        .iter()
-        .filter(|(layer, k)| !found.iter().any(|(l, group)| l == layer && group == k))
-        .map(|(layer, k)| format!("{layer}: {k:?}"))
-        .collect();
-    assert!(gone.is_empty(), "these cycles are untangled or smaller now; update KNOWN_CYCLES:\n{}", gone.join("\n"));
+    assert!(found.is_empty(), "files that import each other in a circle:\n{}", found.join("\n"));
 }
 
 /// The strongly connected groups of two or more nodes (Tarjan's algorithm).

@@ -6,9 +6,10 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat3, Quat, Vec3};
 use parry3d::shape::SharedShape;
 
+use super::BodyKind;
+use super::activity::Activity;
 use super::cluster::Role;
 use super::error::invalid;
-use super::sleep::Activity;
 use super::{ColliderKind, DentSettings, MassProperties, SimError, mass_properties};
 use crate::collider::VertexMap;
 use crate::dent::MAX_SPEED;
@@ -19,19 +20,6 @@ use crate::mesh::{MAX_COORDINATE, TriMesh};
 pub(crate) const MAX_ANGULAR_SPEED: f32 = 1.0e4;
 /// Densest material a body may have, kg/m³ (10⁶: forty times osmium).
 pub(crate) const MAX_DENSITY: f32 = 1.0e6;
-
-/// How a body moves.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum BodyKind {
-    /// Never moves; infinite mass.
-    Static,
-    /// Moved by gravity, collisions and contacts.
-    #[default]
-    Dynamic,
-    /// Moves with its given velocities, pushes dynamic bodies, is not pushed back.
-    Kinematic,
-}
 
 /// Surface response of a body in collisions and contacts.
 #[derive(Debug, Clone, Copy, PartialEq)]

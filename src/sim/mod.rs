@@ -2,7 +2,9 @@
 //! in the Guendelman–Bridson–Fedkiw order (ARCHITECTURE.md §2), with denting in the loop (paper
 //! Algorithm 1).
 
+mod activity;
 mod body;
+mod body_kind;
 mod broad_phase;
 mod capsule_fit;
 mod cluster;
@@ -22,12 +24,14 @@ mod solver;
 mod union_find;
 mod warm_start;
 mod world;
+mod world_settings;
 
 pub use crate::dent::DentSettings;
 pub use crate::mesh::{MassProperties, mass_properties};
 #[cfg(feature = "scene")]
 pub(crate) use body::MAX_ANGULAR_SPEED;
-pub use body::{BodyDesc, BodyKind, RigidBody, SurfaceMaterial};
+pub use body::{BodyDesc, RigidBody, SurfaceMaterial};
+pub use body_kind::BodyKind;
 pub(crate) use broad_phase::Aabb;
 pub use collider::ColliderKind;
 pub(crate) use contacts::{ContactPoint, PairContacts};
@@ -39,4 +43,5 @@ pub use events::{CollisionEvent, StepReport};
 pub use gpu_device::GpuDevice;
 pub use joints::{BendEvent, Joint, JointKind};
 pub(crate) use union_find::UnionFind;
-pub use world::{World, WorldSettings, WorldState};
+pub use world::{World, WorldState};
+pub use world_settings::WorldSettings;

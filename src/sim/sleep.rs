@@ -12,35 +12,6 @@ use super::{BodyKind, RigidBody, WorldSettings};
 /// Time constant of the velocity smoothing, s.
 pub(crate) const SMOOTHING_TIME: f32 = 0.1;
 
-/// A body's sleep bookkeeping.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Activity {
-    /// Seconds the body has been still.
-    pub still_for: f32,
-    /// Whether the body is asleep (not integrated until something wakes it).
-    pub asleep: bool,
-    /// Smoothed linear velocity, m/s, and angular velocity, rad/s.
-    pub smoothed: [Vec3; 2],
-    /// The island the body fell asleep with (woken together).
-    pub island: u64,
-}
-
-impl Activity {
-    /// Awake, with its smoothing restarted.
-    pub fn wake(&mut self) {
-        *self = Self::default();
-    }
-
-    /// Whether the body moves enough to wake what it touches: not asleep, and either its
-    /// smoothed or its current speed (centre plus rim) above `threshold`, m/s.
-    pub fn disturbs(&self, body: &RigidBody, radius: f32, threshold: f32) -> bool {
-        let speed = |v: Vec3, w: Vec3| v.length() + w.length() * radius;
-        !self.asleep
-            && (speed(self.smoothed[0], self.smoothed[1]) >= threshold
-                || speed(body.linear_velocity, body.angular_velocity) >= 2.0 * threshold)
-    }
-}
-
 /// After a step: smooths each awake dynamic body's velocities, counts its still time (speed =
 /// centre plus rim at `radius[i]` m, its bounding radius), and puts to sleep every island (bodies
 /// joined by `links`) whose bodies have all been still for `sleep_time`. `step` numbers the

@@ -19,8 +19,8 @@ use parry3d::shape::SharedShape;
 
 use super::{World, invalid};
 use crate::mesh::TriMesh;
+use crate::sim::activity::Activity;
 use crate::sim::cluster::{Cluster, Member, Role};
-use crate::sim::sleep::Activity;
 use crate::sim::{BodyKind, ColliderKind, RigidBody, SimError};
 
 impl World {

@@ -239,7 +239,9 @@ impl World {
                 match body.kind {
                     BodyKind::Static => false,
                     BodyKind::Kinematic => moves(body),
-                    BodyKind::Dynamic => body.activity.disturbs(body, radius[k], threshold),
+                    BodyKind::Dynamic => {
+                        body.activity.disturbs([body.linear_velocity, body.angular_velocity], radius[k], threshold)
+                    }
                 }
             };
             if self.bodies[pair.a].activity.asleep && active(pair.b) {
