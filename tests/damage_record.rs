@@ -500,7 +500,7 @@ fn a_tampered_fracture_record_is_refused_and_changes_nothing() {
     assert!(matches!(cut, RecordError::Truncated { .. }), "{cut}");
 }
 
-/// A damage file of version 1, written by the build before fractures kept a mesh's seams: a
+/// A damage file of version 1 (whose fractures welded their output, seams or not): a
 /// faceted 1.2 × 0.8 × 0.1 m wall (every face with vertices of its own) dented twice and broken
 /// by the second hit. Its fracture replays as it was made, welded, and every hash checks, also
 /// once the file is written again as version 2; read as version 2 (seams kept), the same

@@ -139,13 +139,16 @@ fn exports(mod_rs: &str) -> BTreeMap<String, String> {
     out
 }
 
-/// Every directory module under `dir` (one with a `mod.rs`), as its path from `src`.
-fn module_dirs(dir: &Path, src: &Path, out: &mut Vec<PathBuf>) {
+/// Every directory module under `dir`: a folder with a `mod.rs`, or one beside a `<name>.rs`
+/// that declares its files; as its path from `src` and its module file.
+fn module_dirs(dir: &Path, src: &Path, out: &mut Vec<(PathBuf, PathBuf)>) {
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
         if path.is_dir() {
-            if path.join("mod.rs").exists() {
-                out.push(path.strip_prefix(src).unwrap().to_path_buf());
+            let beside = path.with_extension("rs");
+            let module_file = [path.join("mod.rs"), beside].into_iter().find(|f| f.exists());
+            if let Some(module_file) = module_file {
+                out.push((path.strip_prefix(src).unwrap().to_path_buf(), module_file));
             }
             module_dirs(&path, src, out);
         }
@@ -159,9 +162,10 @@ fn files_inside_a_module_import_each_other_in_no_cycle() {
     module_dirs(&src, &src, &mut modules);
     assert!(modules.len() > LAYERS.len(), "nested modules are checked too");
     let mut found: Vec<String> = Vec::new();
-    for module in &modules {
+    assert!(modules.iter().any(|(_, file)| !file.ends_with("mod.rs")), "modules beside their file are checked too");
+    for (module, module_file) in &modules {
         let dir = src.join(module);
-        let names = exports(&code(&std::fs::read_to_string(dir.join("mod.rs")).unwrap()));
+        let names = exports(&code(&std::fs::read_to_string(module_file).unwrap()));
         let path = module.components().map(|c| c.as_os_str().to_string_lossy().into_owned()).collect::<Vec<_>>();
         let absolute = format!("crate::{}", path.join("::"));
         let mut files = Vec::new();

@@ -1,12 +1,12 @@
 //! Joints of a bending body with their own kind: most of a body's joints share
-//! [`BendableDesc::joint`], and a few are given another (paper Figure 15: an armadillo whose body
+//! [`BendableDesc::joint`](super::BendableDesc::joint), and a few are given another (paper Figure 15: an armadillo whose body
 //! holds while four joints of its right arm bend).
 
 use crate::bend::Skeleton;
 use crate::sim::{JointKind, SimError};
 
 /// The joint at bone `child`'s head (where it hangs from its parent) made of kind `joint`
-/// instead of the body's [`joint`](BendableDesc::joint).
+/// instead of the body's [`joint`](super::BendableDesc::joint).
 ///
 /// # Example
 /// ```

@@ -1,7 +1,7 @@
 //! Skinning every bending body of a world at once (paper Algorithm 2, step 13: the parent mesh
 //! follows its sub-bodies every frame), on the GPU's `skin` kernel ([`GpuSkinner`], rest data
-//! resident) or on its CPU twin [`cpu::skin`](crate::cpu::skin) (the fallback and the reference, the same as
-//! [`ArticulatedBody::skinned_mesh`]).
+//! resident) or on its CPU twin [`cpu::skin`](crate::cpu::skin) (the fallback and the
+//! reference, the same as [`ArticulatedBody::skinned_mesh`]).
 
 #[cfg(feature = "gpu")]
 use super::GpuSkinner;
@@ -173,7 +173,8 @@ pub(crate) fn bone_matrices(body: &ArticulatedBody, world: &World) -> Result<Vec
     Ok(body.bone_transforms(world)?.into_iter().map(SkinBone::from_affine).collect())
 }
 
-/// [`cpu::skin`](crate::cpu::skin) of `body`'s rest mesh with `bones` into `out` (resized to the vertex count).
+/// [`cpu::skin`](crate::cpu::skin) of `body`'s rest mesh with `bones` into `out` (resized to
+/// the vertex count).
 pub(crate) fn skin_on_cpu(body: &ArticulatedBody, bones: &[SkinBone], out: &mut Skinned) -> Result<(), SimError> {
     body.skin_rest_on_cpu(body.rest_mesh(), bones, out)
 }

@@ -5,7 +5,8 @@
 //! simulation) gives welded output, as it came in. A mesh with split vertices (a game asset:
 //! hard edges, UV seams) gives output split the same way: a point of the surface is one vertex
 //! per side of each of the input's seams, and every cap (a cut face) has vertices of its own, so
-//! its rim is a hard edge and its attributes can differ from the surface's. Surface vertices
+//! its rim is a hard edge and its attributes can differ from the surface's (unless welded output
+//! is asked for: `FractureRecord::weld_output`, how version-1 damage files broke). Surface vertices
 //! take their normals from the input's (interpolated in the face they lie in); cap vertices the
 //! cap's plane. [`VertexOrigin`] tells the caller where each vertex lies, so that UVs and other
 //! attributes can be carried over.
@@ -75,8 +76,8 @@ impl Location {
 pub(crate) const CAP: u32 = 1 << 31;
 
 /// The input as the output builder needs it: the mesh that broke, which input face each welded
-/// face is, which welded vertex each input vertex is, and whether any two input vertices were
-/// welded (then the output keeps the seams).
+/// face is, which welded vertex each input vertex is, and whether the output keeps the input's
+/// seams (some input vertices were welded, and welded output was not asked for).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Source<'a> {
     pub mesh: &'a TriMesh,

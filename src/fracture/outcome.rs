@@ -58,7 +58,8 @@ pub struct FractureOutcome {
 }
 
 /// A fracture as data: everything that rebuilds it bit for bit from the same mesh
-/// ([`replay`]): the pattern's parameters (its seed included), where it was placed, the density.
+/// ([`replay`]): the pattern's parameters (its seed included), where it was placed, the density,
+/// and whether the output is welded.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FractureRecord {
     /// The pattern (cells, seed, radius).
@@ -69,7 +70,7 @@ pub struct FractureRecord {
     pub density: f32,
     /// Whether the pieces and rest come out welded even from a mesh with seams (split
     /// vertices): how fractures of damage files of version 1 were made. New fractures keep the
-    /// seams (`false`).
+    /// seams (`false`, also what a record serialized without this field reads as).
     #[serde(default)]
     pub weld_output: bool,
 }

@@ -1,7 +1,9 @@
 //! The compact binary form of a fracture as the fracture module rebuilds it
 //! ([`crate::fracture::FractureRecord`]): the pattern's cell count (varint), seed (u64) and
 //! radius (f32), the placement's point and normal (3 × f32 each) and the density (f32): 41 to
-//! 45 bytes. Damage files and replication messages both carry it.
+//! 45 bytes. Damage files and replication messages both carry it. Whether the output is welded
+//! is not part of it: a damage file tells in the record's tag, and replication only carries
+//! fractures made live, which keep a mesh's seams.
 
 use super::RecordError;
 use super::bytes::{ByteReader, ByteWriter};

@@ -17,11 +17,13 @@ pub enum RecordError {
         available: usize,
     },
     /// The file is of a format version this build does not read.
-    #[error("damage file version {found} is not supported (this build reads version {supported})")]
+    #[error(
+        "damage file version {found} is not supported (this build writes version {supported} and reads 1 to {supported})"
+    )]
     Version {
         /// The file's version.
         found: u32,
-        /// The version this build reads and writes.
+        /// The version this build writes (it reads every version from 1 to this one).
         supported: u32,
     },
     /// The file is not a damage file, or a field is malformed (bad JSON, base64, tag, flag).

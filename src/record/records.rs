@@ -119,7 +119,8 @@ pub struct FracturePiece {
 pub struct FractureRecord {
     /// Step (1 = the first).
     pub frame: u64,
-    /// The fracture as the fracture module rebuilds it (pattern, placement, density), in the
+    /// The fracture as the fracture module rebuilds it (pattern, placement, density, welded
+    /// output or not), in the
     /// coordinates [`to_model`](Self::to_model) takes the mesh to.
     pub fracture: crate::fracture::FractureRecord,
     /// The translation from the body's mesh coordinates to those it broke in, m.

@@ -1,7 +1,7 @@
-//! The world: bodies, joints, settings and saved states; the time step is in `world_step.rs`
-//! (ARCHITECTURE.md §2): broad phase → narrow phase → collision (restitution) → gravity → elastic joint
-//! springs → contact (inelastic, shock propagation) → joint pre-stabilization → positions → joint
-//! post-stabilization.
+//! The world: bodies, joints and saved states (its settings are in `world_settings.rs`). The
+//! time step is in `world_step.rs` (ARCHITECTURE.md §2): broad phase → narrow phase →
+//! collision (restitution) → gravity → elastic joint springs → contact (inelastic, shock
+//! propagation) → joint pre-stabilization → positions → joint post-stabilization.
 
 use rustc_hash::FxHashSet;
 

@@ -240,12 +240,15 @@ fn carry_step(asset: &mut Mesh, step: ReplayStep<'_>, scale: Option<Vec3>) -> Re
                 vertices: step.splits(),
                 ..Default::default()
             };
-            if refinement.vertices.is_empty() {
-                return Err("a record changed the faces without adding vertices".into());
-            }
             let after = for_asset(after, scale).map_err(|e| e.to_string())?;
-            // With new vertices, this writes the new faces too.
-            write_dented(asset, &after, &refinement).map_err(|e| e.to_string())
+            // With new vertices this writes the new faces too; a record may also rebuild the
+            // faces over the same vertices (a progressive dent's surface).
+            write_dented(asset, &after, &refinement).map_err(|e| e.to_string())?;
+            if refinement.vertices.is_empty() {
+                let indices = after.faces().iter().flatten().copied().collect();
+                asset.try_insert_indices(bevy::mesh::Indices::U32(indices)).map_err(|e| e.to_string())?;
+            }
+            Ok(())
         }
         ReplayStep::Broke { before, rest, origins } => {
             let rest = for_asset(rest, scale).map_err(|e| e.to_string())?;

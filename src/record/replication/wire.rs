@@ -218,6 +218,8 @@ pub fn write_message(message: &Message) -> Vec<u8> {
         }
         if let Some(f) = &g.fracture {
             out.varint(f.number);
+            // A server's fractures are made live: they keep the mesh's seams.
+            debug_assert!(!f.record.weld_output, "a replicated fracture has welded output");
             write_break(&mut out, &f.record);
             out.u32(f.check);
         }
