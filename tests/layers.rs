@@ -161,8 +161,8 @@ fn files_inside_a_module_import_each_other_in_no_cycle() {
     let mut modules = Vec::new();
     module_dirs(&src, &src, &mut modules);
     assert!(modules.len() > LAYERS.len(), "nested modules are checked too");
-    let mut found: Vec<String> = Vec::new();
     assert!(modules.iter().any(|(_, file)| !file.ends_with("mod.rs")), "modules beside their file are checked too");
+    let mut found: Vec<String> = Vec::new();
     for (module, module_file) in &modules {
         let dir = src.join(module);
         let names = exports(&code(&std::fs::read_to_string(module_file).unwrap()));

@@ -2,9 +2,9 @@
 //! joints, and its rest mesh skinned to the sub-bodies' poses every frame (paper Algorithm 2,
 //! steps 1–3 and 13).
 
-use glam::{Affine3A, Quat, Vec3};
-
 use std::sync::atomic::{AtomicU64, Ordering};
+
+use glam::{Affine3A, Quat, Vec3};
 
 use super::bendable::bend_error;
 use super::{BendableDesc, DynamicArticulation};

@@ -1,6 +1,6 @@
 //! Joints of a bending body with their own kind: most of a body's joints share
-//! [`BendableDesc::joint`](super::BendableDesc::joint), and a few are given another (paper Figure 15: an armadillo whose body
-//! holds while four joints of its right arm bend).
+//! [`BendableDesc::joint`](super::BendableDesc::joint), and a few are given another (paper
+//! Figure 15: an armadillo whose body holds while four joints of its right arm bend).
 
 use crate::bend::Skeleton;
 use crate::sim::{JointKind, SimError};

@@ -120,8 +120,7 @@ pub struct FractureRecord {
     /// Step (1 = the first).
     pub frame: u64,
     /// The fracture as the fracture module rebuilds it (pattern, placement, density, welded
-    /// output or not), in the
-    /// coordinates [`to_model`](Self::to_model) takes the mesh to.
+    /// output or not), in the coordinates [`to_model`](Self::to_model) takes the mesh to.
     pub fracture: crate::fracture::FractureRecord,
     /// The translation from the body's mesh coordinates to those it broke in, m.
     pub to_model: Vec3,
