@@ -8,6 +8,10 @@
 //! those whose corners move so nearly together that no scale turns them
 //! (`mesh::turned_over::may_turn_over`).
 //!
+//! A small closed mesh whose faces the dent moved a large share of (a ball dented by something
+//! its size) is first checked whole: when it is star-shaped about its vertex mean after the
+//! dent (`mesh::star`), no two of its faces cross, and the local checks below are skipped.
+//!
 //! Cost: one pass over the faces to find the moved ones and the unmoved ones near them (the
 //! volume stage's own pass, when it ran and its region holds them), a check
 //! of whether the moved faces' patches are height fields after the dent (`mesh::height_field`:
@@ -39,6 +43,7 @@ use super::guard_pairs::{KnownPatches, Reach, pairs_to_test, pairs_within_scale}
 use super::map::PendingDisplacement;
 use crate::mesh::face_sort::FaceSort;
 use crate::mesh::self_intersect::faces_cross;
+use crate::mesh::star::star_shaped_closed;
 use crate::mesh::turned_over::{is_turned_over, may_turn_over};
 
 /// Bisection steps: the scale found is within 2⁻¹² of the largest crossing-free one.
@@ -109,15 +114,26 @@ pub(crate) fn makes_new_crossings(
 ) -> bool {
     let moved_faces = faces_with_moved_corner(faces, &pending.moved);
     !turned_over(faces, before, &pending.positions, &moved_faces).is_empty()
-        || !new_crossing_pairs(
-            faces,
-            before,
-            &pending.positions,
-            &pending.moved,
-            presorted,
-            &mut KnownPatches::default(),
-        )
-        .is_empty()
+        || !(certified_whole(faces, &pending.positions, moved_faces.len())
+            || new_crossing_pairs(
+                faces,
+                before,
+                &pending.positions,
+                &pending.moved,
+                presorted,
+                &mut KnownPatches::default(),
+            )
+            .is_empty())
+}
+
+/// A closed mesh with at most this many faces per face the dent moved is first checked whole
+/// (`mesh::star`: one pass over its faces), before the local checks near the dent.
+const WHOLE_MESH_FACES_PER_MOVED: usize = 8;
+
+/// Whether `positions` are certified free of crossings as a whole: the mesh is small next to
+/// what the dent moved (`moved_faces` faces), closed, and star-shaped about its vertex mean.
+fn certified_whole(faces: &[[u32; 3]], positions: &[Vec3], moved_faces: usize) -> bool {
+    faces.len() <= WHOLE_MESH_FACES_PER_MOVED * moved_faces && star_shaped_closed(positions, faces)
 }
 
 /// The pairs of faces that cross at `positions` (`before` with the vertices `moved` flags
@@ -208,7 +224,8 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
     // The checks at the scales the search finds try the patches the first one certified.
     let mut known = KnownPatches::default();
     let mut new_crossings = |positions: &[Vec3]| new_crossing_pairs(faces, before, positions, moved, None, &mut known);
-    let crossing_after = new_crossings(after);
+    let crossing_after =
+        if certified_whole(faces, after, moved_faces.len()) { Vec::new() } else { new_crossings(after) };
     let crosses = !crossing_after.is_empty();
     if !crosses && turned_over_after.is_empty() {
         return None;

@@ -45,6 +45,7 @@ mod refine_crossings;
 mod save;
 pub(crate) mod self_intersect;
 mod split_inference;
+pub(crate) mod star;
 mod subdivide;
 pub(crate) mod tri_tri;
 mod trimesh;

@@ -31,7 +31,8 @@ pub struct StepReport {
     pub plastic_bends: usize,
     /// Rapier's `PhysicsPipeline::step`, s.
     pub physics_seconds: f64,
-    /// Dents: contact extraction and checks, dent decisions, maps, meshes, s.
+    /// Dents: the body states recorded before the step, contact extraction and checks, dent
+    /// decisions, maps, meshes, damage records, s.
     pub dent_seconds: f64,
     /// Collider refits, s.
     pub collider_seconds: f64,
@@ -46,6 +47,8 @@ pub struct Adapter {
     /// The bendable bodies.
     pub bendables: Vec<Bendable>,
     reader: ImpactReader,
+    /// The last step's body states, kept for their memory.
+    states: BodyStates,
     backend: Box<dyn DentBackend<ColliderHandle>>,
 }
 
@@ -74,7 +77,8 @@ impl Adapter {
 
     /// As [`new`](Self::new), dents on `backend` (the GPU one, or your own).
     pub fn with_backend(backend: Box<dyn DentBackend<ColliderHandle>>) -> Self {
-        Self { dentables: Dentables::new(), bendables: Vec::new(), reader: ImpactReader::new(), backend }
+        let (reader, states) = (ImpactReader::new(), BodyStates::default());
+        Self { dentables: Dentables::new(), bendables: Vec::new(), reader, states, backend }
     }
 
     /// Steps `world` once, then splits and bends the bendable bodies and dents the dentable
@@ -102,7 +106,10 @@ impl Adapter {
         hooks: &dyn PhysicsHooks,
         events: &dyn EventHandler,
     ) -> Result<StepReport, AdapterError> {
-        let states = BodyStates::record(&world.bodies, &world.colliders);
+        let start = Instant::now();
+        let mut states = std::mem::take(&mut self.states);
+        states.record_again(&world.bodies, &world.colliders);
+        let recorded = start.elapsed().as_secs_f64();
         let start = Instant::now();
         world.step_with(hooks, events);
         let physics_seconds = start.elapsed().as_secs_f64();
@@ -111,8 +118,10 @@ impl Adapter {
             self.dentables.known().chain(self.bendables.iter().flat_map(|b| b.pieces().iter().map(|p| p.collider)));
         let contacts = self.reader.read(&world.narrow_phase, known, &states, &world.bodies, &world.colliders);
         let extraction = start.elapsed().as_secs_f64();
-        let mut report = self.after_step(world, &states, contacts, physics_seconds)?;
-        report.dent_seconds += extraction;
+        let report = self.after_step(world, &states, contacts, physics_seconds);
+        self.states = states;
+        let mut report = report?;
+        report.dent_seconds += recorded + extraction;
         Ok(report)
     }
 

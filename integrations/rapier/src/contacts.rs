@@ -17,7 +17,6 @@
 //! The contact itself comes from the pair's *solver* manifolds (Rapier may cluster manifolds;
 //! only the solver's carry impulses): the impulse-weighted mean of the contacts that pushed.
 
-use std::collections::HashSet;
 use std::sync::Mutex;
 
 use glam::{Affine3A, Vec3};
@@ -25,6 +24,8 @@ use rapier3d::prelude::{
     ColliderHandle, ColliderSet, CollisionEvent, ContactForceEvent, ContactPair, EventHandler, NarrowPhase, Real,
     RigidBodySet, SoftBodySet, SoftBodyTearEvent,
 };
+
+use rustc_hash::FxHashSet as HashSet;
 
 use crate::{AdapterError, BodyStates};
 
@@ -133,12 +134,14 @@ impl ImpactReader {
         bodies: &RigidBodySet,
         set: &ColliderSet,
     ) -> Vec<Contact> {
-        let mut pushing = HashSet::with_capacity(self.pushing.len());
+        let mut pushing = HashSet::with_capacity_and_hasher(self.pushing.len(), Default::default());
+        // A pair of two known colliders is met from both: read once.
+        let mut read = HashSet::default();
         let mut out = Vec::new();
         for handle in colliders {
             for pair in narrow_phase.contact_pairs_with(handle) {
                 let key = (pair.collider1, pair.collider2);
-                if pushing.contains(&key) {
+                if !read.insert(key) {
                     continue;
                 }
                 let Some(raw) = raw_impact(pair, !self.pushing.contains(&key), bodies, set) else { continue };

@@ -6,7 +6,6 @@
 //! of dynamic bodies get a new hull. Both bodies of a pair may dent (Jacobi: both maps from
 //! the undented surfaces).
 
-use std::collections::HashMap;
 use std::time::Instant;
 
 use dentbend::damage::{AppliedDent, Damage, DentBackend, DentedTarget, Hit, TargetSet};
@@ -16,6 +15,7 @@ use dentbend::mesh::TriMesh;
 use dentbend::record::{BodyDamage, DamageFile, DamageRecorder, DentForm, Projectiles, RecordForms, replay_body};
 use glam::{Affine3A, Vec3};
 use rapier3d::prelude::{Collider, ColliderHandle, ColliderSet, RigidBodySet};
+use rustc_hash::FxHashMap as HashMap;
 
 use crate::fracture::{self, BrokenCollider, PreparedFracture};
 use crate::refit::{Refit, ShapeKind, prepare_refit, rebuild_trimesh, shape_kind};
@@ -56,8 +56,8 @@ impl Default for Dentables {
     fn default() -> Self {
         Self {
             targets: TargetSet::default(),
-            kinds: HashMap::new(),
-            surfaces: HashMap::new(),
+            kinds: HashMap::default(),
+            surfaces: HashMap::default(),
             damage: Damage::default(),
             recorder: DamageRecorder::new(RecordForms::EDITS),
             step: 0,

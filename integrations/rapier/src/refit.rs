@@ -4,9 +4,10 @@
 //!   ([`dentbend::collider::refit_trimesh`]: validated, then parry's `update_vertices`, which refits
 //!   the tree keeping its structure); build them with [`trimesh_collider`] (deformable, no
 //!   pseudo-normals, vertices in the mesh's order) so the refit stays cheap.
-//! - Convex colliders (dynamic bodies) get the convex hull of the dented vertices.
+//! - Convex colliders (dynamic bodies) get the convex hull of the dented vertices
+//!   ([`dentbend::collider::convex_hull`]: a checked quickhull, parry's hull when the check fails).
 
-use dentbend::collider::{refit_trimesh, validate_refit};
+use dentbend::collider::{convex_hull, refit_trimesh, validate_refit};
 use dentbend::mesh::TriMesh;
 use glam::Vec3;
 use rapier3d::parry::shape::TriMeshFlags;
@@ -102,7 +103,7 @@ pub fn prepare_refit(
             if collider.shape().as_convex_polyhedron().is_none() {
                 return Err(bad("shape is not a convex polyhedron".into()));
             }
-            SharedShape::convex_hull(mesh.positions())
+            convex_hull(mesh.positions())
                 .map(Refit::Shape)
                 .ok_or_else(|| bad("no convex hull of the dented mesh".into()))
         }

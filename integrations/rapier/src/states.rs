@@ -3,12 +3,11 @@
 //! had before `PhysicsPipeline::step`; the contact points it reports are in the colliders'
 //! frames as they were then.
 
-use std::collections::HashMap;
-
 use dentbend::dent::BodyState;
 use glam::{Affine3A, Mat3};
 use rapier3d::math::Pose;
 use rapier3d::prelude::{Collider, ColliderHandle, ColliderSet, RigidBody, RigidBodyHandle, RigidBodySet};
+use rustc_hash::FxHashMap as HashMap;
 
 use crate::AdapterError;
 
@@ -29,17 +28,28 @@ impl BodyStates {
     /// one: a world of thousands of fixed bodies costs a few microseconds.
     pub fn record(bodies: &RigidBodySet, colliders: &ColliderSet) -> Self {
         let mut out = Self::default();
+        out.record_again(bodies, colliders);
+        out
+    }
+
+    /// As [`record`](Self::record), into this record (what it held is dropped; its memory is
+    /// kept for the next step).
+    pub fn record_again(&mut self, bodies: &RigidBodySet, colliders: &ColliderSet) {
+        let Self { bodies: states, poses, colliders: poses_of_colliders, parents } = self;
+        states.clear();
+        poses.clear();
+        poses_of_colliders.clear();
+        parents.clear();
         for (h, rb) in bodies.iter().filter(|(_, rb)| !rb.is_fixed()) {
-            out.poses.insert(h, *rb.position());
-            out.bodies.insert(h, body_state(rb));
+            poses.insert(h, *rb.position());
+            states.insert(h, body_state(rb));
             for &c in rb.colliders() {
                 if let Some(collider) = colliders.get(c) {
-                    out.colliders.insert(c, to_affine(collider.position()));
-                    out.parents.insert(c, h);
+                    poses_of_colliders.insert(c, to_affine(collider.position()));
+                    parents.insert(c, h);
                 }
             }
         }
-        out
     }
 
     /// Body `handle`'s state before the step: recorded, or read now for a fixed body;
