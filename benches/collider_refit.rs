@@ -1,14 +1,13 @@
 //! Collider refits after a dent on a 25,000-triangle target: dentbend's refit
-//! against parry3d's `set_vertices` and a rebuild, and a whole CPU dent plus refit; and the
-//! convex hull of a dented ball (a dynamic body's collider): dentbend's against parry3d's.
+//! against parry3d's `set_vertices` and a rebuild, and a whole CPU dent plus refit.
 //! Run on one core with `RAYON_NUM_THREADS=1 cargo bench --bench collider_refit`.
 
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
-use dentbend::collider::{convex_hull, refit_trimesh};
+use dentbend::collider::refit_trimesh;
 use dentbend::dent::moved_vertices;
 use dentbend::glam::{Affine3A, Vec3};
 use dentbend::{DentParams, Impact, TriMesh, dent, mesh};
-use parry3d::shape::{SharedShape, TriMesh as ParryMesh, TriMeshFlags};
+use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 
 /// A unit UV sphere of 24,960 triangles and a ball of radius 0.2 resting on its top.
 fn scene() -> (TriMesh, TriMesh, Impact, DentParams) {
@@ -106,26 +105,9 @@ fn refits(c: &mut Criterion) {
     group.finish();
 }
 
-/// The hull of a ball (a two-fold subdivided icosphere of 162 vertices, radius 0.15 m, as the
-/// Rapier rain's balls) dented by a larger ball: dentbend's quickhull, parry3d's hull, each as
-/// a collider shape.
-fn hulls(c: &mut Criterion) {
-    let mut ball = mesh::icosphere(0.15, 2).expect("ball");
-    let mut denter = mesh::icosphere(0.3, 2).expect("denter");
-    denter.transform(Affine3A::from_translation(Vec3::new(0.0, 0.44, 0.0))).expect("move denter");
-    let impact = Impact { point: Vec3::Y * 0.15, normal: -Vec3::Y, relative_velocity: -Vec3::Y };
-    let report = dent(&mut ball, &denter, &impact, &DentParams::new(0.02)).expect("dent");
-    assert!(report.moved_vertices > 0, "the ball dents");
-    let points = ball.positions().to_vec();
-    let mut group = c.benchmark_group("convex_hull");
-    group.bench_function("dentbend", |b| b.iter(|| convex_hull(&points).expect("hull")));
-    group.bench_function("parry3d", |b| b.iter(|| SharedShape::convex_hull(&points).expect("hull")));
-    group.finish();
-}
-
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(30).measurement_time(std::time::Duration::from_secs(3));
-    targets = refits, hulls
+    targets = refits
 }
 criterion_main!(benches);

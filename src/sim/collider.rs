@@ -6,7 +6,7 @@ use parry3d::shape::{SharedShape, TriMeshFlags};
 
 use super::BodyKind;
 use super::capsule_fit::capsule_shape;
-use crate::collider::{VertexMap, convex_hull, refit_shared_trimesh};
+use crate::collider::{VertexMap, refit_shared_trimesh};
 use crate::mesh::TriMesh;
 
 /// Which parry3d shape collides for a body.
@@ -95,7 +95,7 @@ impl ColliderKind {
                 }
             }
             Self::Capsule => capsule_shape(mesh),
-            Self::ConvexHull => convex_hull(positions)
+            Self::ConvexHull => SharedShape::convex_hull(positions)
                 .ok_or_else(|| "the convex hull of the mesh is degenerate (flat or too few points)".into()),
             Self::TriMesh | Self::Auto => {
                 // Deformable so a dent refits the tree instead of rebuilding it (vertices are

@@ -15,6 +15,7 @@ use dentbend::mesh::TriMesh;
 use dentbend::record::{BodyDamage, DamageFile, DamageRecorder, DentForm, Projectiles, RecordForms, replay_body};
 use glam::{Affine3A, Vec3};
 use rapier3d::prelude::{Collider, ColliderHandle, ColliderSet, RigidBodySet};
+use rayon::prelude::*;
 use rustc_hash::FxHashMap as HashMap;
 
 use crate::fracture::{self, BrokenCollider, PreparedFracture};
@@ -276,17 +277,27 @@ impl Dentables {
         let dent_seconds = started.elapsed().as_secs_f64();
 
         let refit_start = Instant::now();
-        let mut refits = Vec::with_capacity(plan.targets.len());
         let broken = |key| plan.fractures.iter().any(|f| f.body == key);
-        for t in plan.targets.iter().filter(|t| !broken(t.key)) {
-            let collider = colliders.get(t.key).ok_or(AdapterError::UnknownCollider(t.key))?;
+        let refittable: Vec<&DentedTarget<ColliderHandle>> = plan.targets.iter().filter(|t| !broken(t.key)).collect();
+        let (set, kinds): (&ColliderSet, _) = (colliders, &self.kinds);
+        let prepare = |t: &DentedTarget<ColliderHandle>, on_copy: bool| {
+            let collider = set.get(t.key).ok_or(AdapterError::UnknownCollider(t.key))?;
             // A refined mesh has new vertices and faces: its tri-mesh collider is rebuilt.
-            let refit = match self.kinds[&t.key] {
+            let refit = match kinds[&t.key] {
                 ShapeKind::TriMesh if t.topology_changed => rebuild_trimesh(t.key, collider, &t.mesh)?,
                 kind => prepare_refit(t.key, collider, kind, &t.mesh, &t.moved)?,
             };
-            refits.push((t.key, refit, t.moved.clone()));
-        }
+            let refit = if on_copy { refit.applied_to_copy(collider) } else { refit };
+            Ok::<_, AdapterError>((t.key, refit, t.moved.clone()))
+        };
+        // Several refits (a ball's hull beside the tri-mesh it dented) run side by side on the
+        // pool, each tri-mesh refitted on a copy the commit swaps in; a lone one runs here and
+        // is applied in place.
+        let refits: Vec<(ColliderHandle, Refit, Vec<u32>)> = if refittable.len() > 1 {
+            refittable.par_iter().map(|t| prepare(t, true)).collect::<Result<_, _>>()?
+        } else {
+            refittable.iter().map(|t| prepare(t, false)).collect::<Result<_, _>>()?
+        };
         let fractures: Vec<PreparedFracture> = plan
             .fractures
             .iter()

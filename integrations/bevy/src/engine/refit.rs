@@ -57,8 +57,7 @@ fn refitted(raw: &SharedShape, mesh: &TriMesh, moved: &[u32], rebuild: bool) -> 
             .map_err(|e| format!("the dented tri-mesh was refused: {e}"));
     }
     if raw.as_convex_polyhedron().is_some() {
-        return dentbend::collider::convex_hull(mesh.positions())
-            .ok_or_else(|| "no convex hull of the dented mesh".into());
+        return SharedShape::convex_hull(mesh.positions()).ok_or_else(|| "no convex hull of the dented mesh".into());
     }
     Err("only tri-mesh and convex colliders follow their dents".into())
 }
