@@ -30,7 +30,7 @@ pub struct GridUniform {
     pub _pad1: u32,
 }
 
-/// Inputs of [`zbuffer`](super::zbuffer). 80 bytes.
+/// Inputs of the `zbuffer` kernel. 80 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct ZbufferParams {
@@ -47,7 +47,7 @@ pub struct ZbufferParams {
     pub cell_offset: u32,
 }
 
-/// Inputs of [`envelope_rows`](super::envelope_rows) and [`envelope_cols`](super::envelope_cols).
+/// Inputs of the `envelope_rows` and `envelope_cols` kernels.
 /// 16 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -70,7 +70,7 @@ impl EnvelopeParams {
     }
 }
 
-/// Inputs of one [`heat_step`](super::heat_step). 16 bytes.
+/// Inputs of one `heat_step` of the heat kernel. 16 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct HeatParams {
@@ -84,7 +84,7 @@ pub struct HeatParams {
     pub cell_offset: u32,
 }
 
-/// Inputs of [`glance`](super::glance). 64 bytes.
+/// Inputs of the `glance` kernel. 64 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GlanceParams {
@@ -130,7 +130,7 @@ pub mod falloff {
     pub const TABLE_LEN: usize = 257;
 }
 
-/// Inputs of [`displace`](super::displace). 96 bytes.
+/// Inputs of the `displace` kernel. 96 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct DisplaceParams {

@@ -155,7 +155,7 @@ impl DentMap {
         PendingDisplacement::checked(before, positions, moved, Some(fitted))
     }
 
-    /// The [`cpu::displace`] inputs that apply this map with `attenuation` to `vertex_count`
+    /// The `displace` kernel's inputs that apply this map with `attenuation` to `vertex_count`
     /// vertices: its parameter block and falloff table.
     pub fn displace_params(&self, attenuation: &Attenuation, vertex_count: usize) -> (DisplaceParams, Vec<f32>) {
         let (falloff, falloff_scale, table) = cpu::falloff_table(attenuation, self.dent_distance);

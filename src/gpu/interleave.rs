@@ -1,4 +1,4 @@
-//! GPU twin of [`cpu::interleave`](crate::cpu::interleave): writes a resident target's positions
+//! GPU twin of the CPU `interleave` kernel: writes a resident target's positions
 //! and normals into a caller's interleaved vertex buffer (an engine's own layout, at an offset
 //! and stride), recorded into the caller's encoder with no read-back.
 
