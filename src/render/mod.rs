@@ -22,6 +22,8 @@ mod rest_pictures;
 pub use crate::scene::Camera;
 pub use error::RenderError;
 pub use gpu::GpuRenderer;
+/// The rasterizer's shader source (public with the `kernels` feature, as the dent kernels' are).
+#[cfg(feature = "kernels")]
 pub use gpu_pipeline::RENDER_WGSL;
 pub use palette::bone_colour;
 
