@@ -21,9 +21,15 @@ use std::cmp::Ordering;
 use glam::{DVec3, Vec3};
 
 /// Relative margin of "strictly behind a face's plane": `c` must lie this fraction of the
-/// mesh's box diagonal behind each plane (f64 rounding of the test on f32 corners is about
-/// 1e-15 of it; this leaves a wide berth).
+/// mesh's box diagonal behind each plane.
 const MARGIN: f64 = 1e-9;
+
+/// Bound on the f64 rounding of the test `n·a` (`n = (b − a) × (c − a)`, corners relative to
+/// the centre), as a multiple of `R·|a|·(|b − a| + |c − a|)` with `R` the largest distance of
+/// a corner or the centre from the origin: forming each corner errs by an ulp of `R`, which the
+/// cross product carries into `n` along the edges, whatever the face's area (a sliver's normal
+/// is not trusted). The f64 unit roundoff is 1.1e-16; this is about 100 of them.
+const ROUNDING: f64 = 1e-14;
 
 /// Whether `faces` over `positions` (any frame, m) form a closed, consistently oriented surface
 /// that is star-shaped about its corners' mean, hence embedded (module documentation). `false`
@@ -53,7 +59,8 @@ pub(crate) fn star_shaped_closed(positions: &[Vec3], faces: &[[u32; 3]]) -> bool
         .filter(|(_, u)| **u)
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (p, _)| (lo.min(p.as_dvec3()), hi.max(p.as_dvec3())));
     let margin = MARGIN * (hi - lo).length();
-    if !margin.is_finite() {
+    let reach = lo.abs().max(hi.abs()).length() + centre.length();
+    if !margin.is_finite() || !reach.is_finite() {
         return false;
     }
     // Every face faces away from the centre (the cheap test, first: most meshes fail it fast),
@@ -62,8 +69,8 @@ pub(crate) fn star_shaped_closed(positions: &[Vec3], faces: &[[u32; 3]]) -> bool
     for f in faces {
         let [a, b, c] = f.map(|v| positions[v as usize].as_dvec3() - centre);
         let normal = (b - a).cross(c - a);
-        let length = normal.length();
-        if normal.dot(a).partial_cmp(&(margin * length)) != Some(Ordering::Greater) {
+        let rounding = ROUNDING * reach * a.length() * ((b - a).length() + (c - a).length());
+        if normal.dot(a).partial_cmp(&(margin * normal.length() + rounding)) != Some(Ordering::Greater) {
             return false;
         }
         solid_angle += triangle_solid_angle(a, b, c);
@@ -143,6 +150,12 @@ mod tests {
         let faces: Vec<[u32; 3]> =
             ball.faces().iter().copied().chain(ball.faces().iter().map(|f| f.map(|v| v + n))).collect();
         assert!(!star_shaped_closed(&positions, &faces));
+        // A fan of slivers: a face whose height is below the rounding of its normal is not
+        // trusted to face away, however the rounded normal points.
+        let mut sliver = ball.positions().to_vec();
+        let [a, b, c] = ball.faces()[0];
+        sliver[c as usize] = (sliver[a as usize] + sliver[b as usize]) * 0.5 + Vec3::splat(1e-12);
+        assert!(!star_shaped_closed(&sliver, ball.faces()));
         // An index past the positions.
         assert!(!star_shaped_closed(&ball.positions()[1..], ball.faces()));
         // Non-finite positions.

@@ -1,6 +1,7 @@
 //! Collider refits after a dent: the one place the adapter changes a collider's shape.
 //!
-//! - Tri-mesh colliders are refitted in place over the moved vertices only
+//! - Tri-mesh colliders are refitted over the moved vertices only (in place; or, where several
+//!   refits of a step run side by side, on a copy that the commit swaps in)
 //!   ([`dentbend::collider::refit_trimesh`]: validated, then parry's `update_vertices`, which refits
 //!   the tree keeping its structure); build them with [`trimesh_collider`] (deformable, no
 //!   pseudo-normals, vertices in the mesh's order) so the refit stays cheap.
@@ -29,7 +30,7 @@ pub enum Refit {
     /// The moved tri-mesh vertices (indices, ascending) and their new positions (collider
     /// frame, m).
     Vertices(Vec<u32>, Vec<Vec3>),
-    /// A new convex hull.
+    /// A new shape: a convex hull, a rebuilt tri-mesh, or a tri-mesh refitted ahead on a copy.
     Shape(SharedShape),
 }
 
