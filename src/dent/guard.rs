@@ -113,17 +113,18 @@ pub(crate) fn makes_new_crossings(
     presorted: Option<FaceSort>,
 ) -> bool {
     let moved_faces = faces_with_moved_corner(faces, &pending.moved);
-    !turned_over(faces, before, &pending.positions, &moved_faces).is_empty()
-        || !(certified_whole(faces, &pending.positions, moved_faces.len())
-            || new_crossing_pairs(
-                faces,
-                before,
-                &pending.positions,
-                &pending.moved,
-                presorted,
-                &mut KnownPatches::default(),
-            )
-            .is_empty())
+    let (positions, moved) = (&pending.positions, &pending.moved);
+    !turned_over(faces, before, positions, &moved_faces).is_empty()
+        || !new_crossing_pairs(
+            faces,
+            before,
+            positions,
+            moved,
+            moved_faces.len(),
+            presorted,
+            &mut KnownPatches::default(),
+        )
+        .is_empty()
 }
 
 /// A closed mesh with at most this many faces per face the dent moved is first checked whole
@@ -137,16 +138,22 @@ fn certified_whole(faces: &[[u32; 3]], positions: &[Vec3], moved_faces: usize) -
 }
 
 /// The pairs of faces that cross at `positions` (`before` with the vertices `moved` flags
-/// moved) but did not cross at `before`: every pair whose boxes at `positions` overlap, less
-/// the certified ones, tested exactly. `presorted` as `guard_pairs::pairs_to_test` takes it.
+/// moved, which `moved_faces` faces have a corner of) but did not cross at `before`: none when
+/// the mesh is certified whole ([`certified_whole`]); else every pair whose boxes at `positions`
+/// overlap, less the certified ones, tested exactly. `presorted` as
+/// `guard_pairs::pairs_to_test` takes it.
 fn new_crossing_pairs(
     faces: &[[u32; 3]],
     before: &[Vec3],
     positions: &[Vec3],
     moved: &[bool],
+    moved_faces: usize,
     presorted: Option<FaceSort>,
     known: &mut KnownPatches,
 ) -> Vec<(u32, u32)> {
+    if certified_whole(faces, positions, moved_faces) {
+        return Vec::new();
+    }
     let pairs = pairs_to_test(faces, before, positions, moved, Reach::Full, presorted, known);
     let crossing = crossing_pairs(faces, positions, &pairs);
     if crossing.is_empty() {
@@ -223,9 +230,9 @@ fn crossing_free_scale(faces: &[[u32; 3]], before: &[Vec3], after: &[Vec3], move
     let turned_over_after = turned_over(faces, before, after, &moved_faces);
     // The checks at the scales the search finds try the patches the first one certified.
     let mut known = KnownPatches::default();
-    let mut new_crossings = |positions: &[Vec3]| new_crossing_pairs(faces, before, positions, moved, None, &mut known);
-    let crossing_after =
-        if certified_whole(faces, after, moved_faces.len()) { Vec::new() } else { new_crossings(after) };
+    let mut new_crossings =
+        |positions: &[Vec3]| new_crossing_pairs(faces, before, positions, moved, moved_faces.len(), None, &mut known);
+    let crossing_after = new_crossings(after);
     let crosses = !crossing_after.is_empty();
     if !crosses && turned_over_after.is_empty() {
         return None;

@@ -47,17 +47,11 @@ pub(crate) fn star_shaped_closed(positions: &[Vec3], faces: &[[u32; 3]]) -> bool
             }
         }
     }
-    let (sum, count) = positions
-        .iter()
-        .zip(&used)
-        .filter(|(_, u)| **u)
-        .fold((DVec3::ZERO, 0usize), |(s, n), (p, _)| (s + p.as_dvec3(), n + 1));
+    let (mut sum, mut count, mut lo, mut hi) = (DVec3::ZERO, 0usize, DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for p in positions.iter().zip(&used).filter(|(_, u)| **u).map(|(p, _)| p.as_dvec3()) {
+        (sum, count, lo, hi) = (sum + p, count + 1, lo.min(p), hi.max(p));
+    }
     let centre = sum / count as f64;
-    let (lo, hi) = positions
-        .iter()
-        .zip(&used)
-        .filter(|(_, u)| **u)
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (p, _)| (lo.min(p.as_dvec3()), hi.max(p.as_dvec3())));
     let margin = MARGIN * (hi - lo).length();
     let reach = lo.abs().max(hi.abs()).length() + centre.length();
     if !margin.is_finite() || !reach.is_finite() {
