@@ -47,8 +47,6 @@
 pub mod bend;
 #[cfg(feature = "parry")]
 pub mod collider;
-#[cfg(feature = "sim")]
-pub mod coupling;
 pub mod cpu;
 pub mod damage;
 pub mod dent;
@@ -59,12 +57,6 @@ pub mod gpu;
 pub mod io;
 pub mod mesh;
 pub mod record;
-#[cfg(feature = "render")]
-pub mod render;
-#[cfg(feature = "scene")]
-pub mod scene;
-#[cfg(feature = "sim")]
-pub mod sim;
 
 pub use damage::{Damage, DamagePlan, DentTargets, Hit, TargetSet};
 pub use dent::{

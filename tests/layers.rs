@@ -1,16 +1,23 @@
-//! The library's layering (ARCHITECTURE.md, "Layers"): each top-level module imports only the
-//! modules below it, so no two import each other; inside every module, nested ones included, no
-//! files import each other in a circle. Reads the sources' `crate::…` and `super::…` paths
-//! (comments and test modules left out), so a new upward or circular import fails here.
+//! The layering of the library and of the solver built on it (ARCHITECTURE.md, "Layers"): in
+//! each crate, each top-level module imports only the modules below it, so no two import each
+//! other; inside every module, nested ones included, no files import each other in a circle.
+//! Reads the sources' `crate::…` and `super::…` paths (comments and test modules left out), so a
+//! new upward or circular import fails here.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// Bottom to top. `lib.rs` may name any of them.
-const LAYERS: [&str; 14] = [
-    "mesh", "io", "cpu", "dent", "fracture", "damage", "record", "gpu", "bend", "collider", "sim", "coupling", "scene",
-    "render",
+/// Each crate's source folder (from the repository's root) and its modules, bottom to top.
+/// `lib.rs` may name any of them; the solver sees the library only through its public API.
+const CRATES: [(&str, &[&str]); 2] = [
+    ("src", &["mesh", "io", "cpu", "dent", "fracture", "damage", "record", "gpu", "bend", "collider"]),
+    ("solver/src", &["sim", "coupling", "scene", "render"]),
 ];
+
+/// The crates' source folders with their layers.
+fn crates() -> impl Iterator<Item = (PathBuf, &'static [&'static str])> {
+    CRATES.into_iter().map(|(dir, layers)| (Path::new(env!("CARGO_MANIFEST_DIR")).join(dir), layers))
+}
 
 fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap() {
@@ -96,22 +103,29 @@ fn top(path: &Path, src: &Path) -> Option<String> {
 
 #[test]
 fn modules_import_only_the_layers_below_them() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut files = Vec::new();
-    sources(&src, &mut files);
-    let rank = |m: &str| LAYERS.iter().position(|l| *l == m);
     let mut upward = BTreeSet::new();
-    for file in &files {
-        let Some(module) = top(file, &src) else { continue };
-        let mine = rank(&module).unwrap_or_else(|| panic!("{module} (from {}) is not in LAYERS", file.display()));
-        let text = code(&std::fs::read_to_string(file).unwrap());
-        for head in heads(&text, "crate") {
-            if let Some(theirs) = rank(&head)
-                && theirs > mine
-            {
-                upward
-                    .insert(format!("{} imports {head} (above {module})", file.strip_prefix(&src).unwrap().display()));
+    for (src, layers) in crates() {
+        let mut files = Vec::new();
+        sources(&src, &mut files);
+        let rank = |m: &str| layers.iter().position(|l| *l == m);
+        for file in &files {
+            let Some(module) = top(file, &src) else { continue };
+            let mine = rank(&module).unwrap_or_else(|| panic!("{module} (from {}) is not in CRATES", file.display()));
+            let text = code(&std::fs::read_to_string(file).unwrap());
+            for head in heads(&text, "crate") {
+                if let Some(theirs) = rank(&head)
+                    && theirs > mine
+                {
+                    upward.insert(format!("{} imports {head} (above {module})", file.display()));
+                }
             }
+            // The library never names the solver (it cannot depend on it; this keeps docs and
+            // comments from leaning on it either).
+            assert!(
+                !layers.contains(&"mesh") || !text.contains("dentbend_solver"),
+                "{} names dentbend_solver",
+                file.display()
+            );
         }
     }
     assert!(upward.is_empty(), "upward imports:\n{}", upward.into_iter().collect::<Vec<_>>().join("\n"));
@@ -157,13 +171,22 @@ fn module_dirs(dir: &Path, src: &Path, out: &mut Vec<(PathBuf, PathBuf)>) {
 
 #[test]
 fn files_inside_a_module_import_each_other_in_no_cycle() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut modules = Vec::new();
-    module_dirs(&src, &src, &mut modules);
-    assert!(modules.len() > LAYERS.len(), "nested modules are checked too");
-    assert!(modules.iter().any(|(_, file)| !file.ends_with("mod.rs")), "modules beside their file are checked too");
+    let (mut found, mut beside): (Vec<String>, bool) = (Vec::new(), false);
+    for (src, layers) in crates() {
+        let mut modules = Vec::new();
+        module_dirs(&src, &src, &mut modules);
+        assert!(modules.len() > layers.len(), "nested modules are checked too");
+        beside |= modules.iter().any(|(_, file)| !file.ends_with("mod.rs"));
+        found.extend(module_cycles(&src, &modules));
+    }
+    assert!(beside, "modules beside their file are checked too");
+    assert!(found.is_empty(), "files that import each other in a circle:\n{}", found.join("\n"));
+}
+
+/// The circles of files importing each other inside each of `modules` (from [`module_dirs`]).
+fn module_cycles(src: &Path, modules: &[(PathBuf, PathBuf)]) -> Vec<String> {
     let mut found: Vec<String> = Vec::new();
-    for (module, module_file) in &modules {
+    for (module, module_file) in modules {
         let dir = src.join(module);
         let names = exports(&code(&std::fs::read_to_string(module_file).unwrap()));
         let path = module.components().map(|c| c.as_os_str().to_string_lossy().into_owned()).collect::<Vec<_>>();
@@ -192,7 +215,7 @@ fn files_inside_a_module_import_each_other_in_no_cycle() {
         }
         found.extend(cycles(&edges).into_iter().map(|group| format!("{}: {group:?}", module.display())));
     }
-    assert!(found.is_empty(), "files that import each other in a circle:\n{}", found.join("\n"));
+    found
 }
 
 /// The strongly connected groups of two or more nodes (Tarjan's algorithm).

@@ -16,7 +16,7 @@ fn pattern(bytes: usize) -> Vec<u8> {
 }
 
 fn destination(context: &GpuContext, bytes: usize, usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    buffers::with_contents(context, "interleaved destination", &pattern(bytes), usage | wgpu::BufferUsages::COPY_SRC)
+    context.buffer_with_contents("interleaved destination", &pattern(bytes), usage | wgpu::BufferUsages::COPY_SRC)
 }
 
 fn words(bytes: &[u8]) -> Vec<u32> {

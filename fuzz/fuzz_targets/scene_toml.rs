@@ -19,7 +19,7 @@ fuzz_target!(|data: &[u8]| {
     {
         return;
     }
-    let result = dentbend::scene::parse_scene_with_meshes(text, Path::new("fuzz.toml"), &mut stand_in);
+    let result = dentbend_solver::scene::parse_scene_with_meshes(text, Path::new("fuzz.toml"), &mut stand_in);
     if let Ok(scene) = result {
         assert!(scene.frames > 0, "a scene with no frames was accepted");
         assert!(scene.camera.eye.is_finite() && scene.camera.target.is_finite(), "a non-finite camera");

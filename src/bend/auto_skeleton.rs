@@ -3,7 +3,7 @@
 
 use super::{BendError, BoneDesc, Skeleton};
 use crate::mesh::TriMesh;
-use crate::mesh::principal_axis::principal_axis;
+use crate::mesh::principal_axis;
 
 /// Most bones [`auto_skeleton`] makes.
 pub const MAX_AUTO_BONES: usize = 256;

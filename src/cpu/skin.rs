@@ -107,6 +107,36 @@ pub(crate) fn validate_bones(bones: &[SkinBone], bone_count: u32) -> Result<(), 
     }
 }
 
+impl SkinInfluence {
+    /// Checks a skinned mesh's rest vertices and influences before they are uploaded or skinned
+    /// (what [`skin`] and the GPU upload check): finite rest positions and normals, finite
+    /// non-negative weights summing to one, bones below `bone_count`; reports the first bad
+    /// vertex. For a caller that merges several meshes and wants the error against each one.
+    ///
+    /// # Errors
+    /// As the checks named: [`SkinError::Length`], [`SkinError::NonFiniteRest`],
+    /// [`SkinError::NonFiniteWeight`], [`SkinError::NegativeWeight`], [`SkinError::WeightSum`] or
+    /// [`SkinError::BoneIndex`].
+    pub fn validate_all(
+        rest_positions: &[Vec3],
+        rest_normals: &[Vec3],
+        influences: &[Self],
+        bone_count: u32,
+    ) -> Result<(), SkinError> {
+        validate_vertices(rest_positions, rest_normals, influences, bone_count)
+    }
+}
+
+impl SkinBone {
+    /// Checks `bone_count` skinning matrices for NaN and ∞ (what [`skin`] checks).
+    ///
+    /// # Errors
+    /// [`SkinError::Length`] or [`SkinError::NonFiniteBone`].
+    pub fn validate_all(bones: &[Self], bone_count: u32) -> Result<(), SkinError> {
+        validate_bones(bones, bone_count)
+    }
+}
+
 /// [`SkinError::Length`] unless `len == expected`.
 pub(crate) fn check_length(what: &'static str, len: usize, expected: usize) -> Result<(), SkinError> {
     if len != expected {

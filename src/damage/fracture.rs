@@ -96,9 +96,11 @@ pub struct BodyFracture<K> {
     pub projectile_velocity: Option<(Vec3, Vec3)>,
 }
 
-/// A hit that breaks its body.
+/// A hit that breaks its body: what [`Damage`](super::Damage) decides before it breaks one, for
+/// a solver that breaks bodies itself ([`judge`](Self::judge) each hit, keep each body's
+/// strongest with [`keep_strongest`](Self::keep_strongest)).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct BreakingHit<K> {
+pub struct BreakingHit<K> {
     /// Index of the hit (or collision event) among the step's.
     pub hit: usize,
     /// The body it breaks.
@@ -133,7 +135,7 @@ pub(crate) fn breaking_hits<K: Copy + PartialEq>(
         let accumulated = tally.total(hit.target);
         if let Some(b) = BreakingHit::judge(k, (hit.target, hit.projectile), hit.impact, states, settings, accumulated)
         {
-            keep_strongest(&mut breaks, b);
+            BreakingHit::keep_strongest(&mut breaks, b);
         }
     }
     breaks
@@ -142,7 +144,7 @@ pub(crate) fn breaking_hits<K: Copy + PartialEq>(
 impl<K: Copy + PartialEq> BreakingHit<K> {
     /// Hit number `hit` of `projectile` on `target` (its impact and the two bodies' states),
     /// as a break of `target` by `settings` with `accumulated` m of dent so far, if it breaks it.
-    pub(crate) fn judge(
+    pub fn judge(
         hit: usize,
         (target, projectile): (K, K),
         impact: Impact,
@@ -154,14 +156,14 @@ impl<K: Copy + PartialEq> BreakingHit<K> {
         let energy = normal_energy_lost(&impact, &target_state, &projectile_state);
         Some(Self { hit, target, projectile, impact, target_state, projectile_state, cause, energy, accumulated })
     }
-}
 
-/// Adds `candidate` to `breaks`, keeping one break per body: its most energetic hit.
-pub(crate) fn keep_strongest<K: PartialEq>(breaks: &mut Vec<BreakingHit<K>>, candidate: BreakingHit<K>) {
-    match breaks.iter_mut().find(|b| b.target == candidate.target) {
-        Some(b) if b.energy < candidate.energy => *b = candidate,
-        Some(_) => {}
-        None => breaks.push(candidate),
+    /// Adds `candidate` to `breaks`, keeping one break per body: its most energetic hit.
+    pub fn keep_strongest(breaks: &mut Vec<Self>, candidate: Self) {
+        match breaks.iter_mut().find(|b| b.target == candidate.target) {
+            Some(b) if b.energy < candidate.energy => *b = candidate,
+            Some(_) => {}
+            None => breaks.push(candidate),
+        }
     }
 }
 
@@ -249,10 +251,16 @@ fn is_rigid(to_world: Affine3A) -> bool {
     error < 1e-4 && m.determinant() > 0.0
 }
 
-/// The velocity `state`'s body carries on with when a break took `used` J of its kinetic
-/// energy (computed from its velocities and inverse mass and inertia); `None` for a body that
-/// takes no impulse.
-pub(crate) fn velocity_after_giving_way(state: &BodyState, used: f32) -> Option<(Vec3, Vec3)> {
+impl BodyState {
+    /// The (linear, angular) velocity this body carries on with when a break took `used` J of
+    /// its kinetic energy (computed from its velocities and inverse mass and inertia); `None`
+    /// for a body that takes no impulse.
+    pub fn velocity_after_giving_way(&self, used: f32) -> Option<(Vec3, Vec3)> {
+        velocity_after_giving_way(self, used)
+    }
+}
+
+fn velocity_after_giving_way(state: &BodyState, used: f32) -> Option<(Vec3, Vec3)> {
     if state.inverse_mass <= 0.0 {
         return None;
     }

@@ -17,9 +17,8 @@ mod target_set;
 
 pub use backend::{CpuBackend, DentBackend};
 pub use error::DamageError;
+pub use fracture::BreakingHit;
 pub use fracture::{BodyFracture, BrokenPiece, PIECE_HULL_SCALE, PieceId, piece_hull_points};
-#[cfg(feature = "sim")]
-pub(crate) use fracture::{BreakingHit, keep_strongest, velocity_after_giving_way};
 pub use hit::{DentTargets, Hit, TargetView};
 pub use plan::{AppliedDent, Damage, DamagePlan, DentedTarget};
 pub use target_set::TargetSet;

@@ -9,7 +9,7 @@ use super::fracture::{BodyFracture, break_at, breaking_hits};
 use super::{DamageError, DentBackend, DentTargets, Hit, TargetView};
 use crate::dent::{
     DentReport, Impact, LocalContact, ProgressiveDents, changed_vertices, decide_dent_distance, dent_batch_tracked,
-    projectile_offset, projectile_reach,
+    projectile_offset,
 };
 use crate::fracture::DentTally;
 use crate::mesh::{Refinement, TriMesh};
@@ -263,7 +263,7 @@ fn decide<'a, K: Copy + std::fmt::Debug>(
 
 /// The projectile of `d` cropped to what can shape a `distance` m dent in `target`.
 fn cropped<K>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) -> Option<TriMesh> {
-    d.local.crop(d.data.projectile_surface.mesh, projectile_reach(target.settings, target.radius, distance))
+    d.local.crop(d.data.projectile_surface.mesh, target.settings.projectile_reach(target.radius, distance))
 }
 
 fn applied<K: Copy>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) -> AppliedDent<K> {
@@ -272,7 +272,7 @@ fn applied<K: Copy>(target: &TargetView<'_>, d: &Decided<'_, K>, distance: f32) 
         projectile: d.data.projectile,
         impact: d.data.impact,
         local: d.local,
-        reach: projectile_reach(target.settings, target.radius, distance),
+        reach: target.settings.projectile_reach(target.radius, distance),
         dent_distance: distance,
         projectile_offset: projectile_offset(target.settings, &d.data.impact, distance),
         volume_change: 0.0,

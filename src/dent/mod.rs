@@ -53,8 +53,8 @@ pub use pipeline::{DentStages, dent_map, dent_map_stages};
 pub use plan::{DentPlan, GLANCE_RESOLUTION_FLOOR, GLANCE_STRETCH_CAP, plan_dent};
 pub(crate) use progressive::ProgressiveDents;
 pub use reach::Surface;
+pub(crate) use reach::crop_to_ball;
 pub use reach::radius_about_origin;
-pub(crate) use reach::{crop_to_ball, projectile_reach};
 #[cfg(feature = "gpu")]
 pub(crate) use refine_jobs::RefinedTargets;
 #[cfg(feature = "gpu")]

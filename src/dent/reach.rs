@@ -27,13 +27,16 @@ impl Surface<'_> {
     }
 }
 
-/// How far from the impact point a projectile can matter for a dent `dent_distance` m deep in a
-/// target of `settings` held in a ball of `target_radius` m about its origin: the target's size
-/// (its dent cannot be wider), plus the deepest dent and the Gaussian tails (4σ), m.
-pub(crate) fn projectile_reach(settings: &DentSettings, target_radius: f32, dent_distance: f32) -> f32 {
-    let cap = settings.material.cap.max(dent_distance);
-    let sigma = settings.params.sigma.unwrap_or(0.5 * cap);
-    2.0 * target_radius + cap + 4.0 * sigma
+impl DentSettings {
+    /// How far from the impact point a projectile can matter for a dent `dent_distance` m deep
+    /// in a target of these settings held in a ball of `target_radius` m about its origin: the
+    /// target's size (its dent cannot be wider), plus the deepest dent and the Gaussian tails
+    /// (4σ), m. A local contact cropped to it loses nothing the dent reads.
+    pub fn projectile_reach(&self, target_radius: f32, dent_distance: f32) -> f32 {
+        let cap = self.material.cap.max(dent_distance);
+        let sigma = self.params.sigma.unwrap_or(0.5 * cap);
+        2.0 * target_radius + cap + 4.0 * sigma
+    }
 }
 
 /// The triangles of `mesh` with a corner within `radius` of `centre` (same coordinates), their

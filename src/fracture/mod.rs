@@ -28,5 +28,5 @@ pub use pattern::MAX_CELLS;
 pub use pattern::{Cell, CellSide, FracturePattern, PatternParams};
 pub use placement::Placement;
 pub use settings::{DEFAULT_MAX_PIECES, FractureCause, FractureSettings, MAX_PIECES};
-pub(crate) use tally::DentTally;
+pub use tally::DentTally;
 pub(crate) use weld::check_mesh_closed;

@@ -14,7 +14,7 @@ struct Contact<K> {
 
 /// Accumulated dents, keyed by the caller's body ids.
 #[derive(Debug, Clone)]
-pub(crate) struct DentTally<K> {
+pub struct DentTally<K> {
     settled: Vec<(K, f32)>,
     contacts: Vec<Contact<K>>,
 }

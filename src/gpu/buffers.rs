@@ -2,43 +2,21 @@
 
 use bytemuck::Pod;
 
+use super::context::MIN_BUFFER_BYTES;
 use super::{GpuContext, GpuError};
 
-/// Smallest buffer created, bytes: wgpu refuses empty bindings.
-const MIN_BYTES: u64 = 16;
 
 /// A storage buffer holding `data` (readable and writable by kernels, copyable both ways).
 pub fn storage<T: Pod>(context: &GpuContext, label: &str, data: &[T]) -> wgpu::Buffer {
     let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
-    with_contents(context, label, bytemuck::cast_slice(data), usage)
-}
-
-/// A buffer of `usage` (plus `COPY_DST`) holding `bytes`, zero-padded to at least 16 bytes and a
-/// multiple of 4. The contents go through the queue rather than `mapped_at_creation`, so a lost
-/// device makes this an error reported at the next wait or error scope, not a panic.
-pub fn with_contents(context: &GpuContext, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    let size = (bytes.len() as u64).max(MIN_BYTES).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
-    let buffer = context.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size,
-        usage: usage | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    if bytes.len() as u64 == size {
-        context.queue.write_buffer(&buffer, 0, bytes);
-    } else {
-        let mut padded = bytes.to_vec();
-        padded.resize(size as usize, 0);
-        context.queue.write_buffer(&buffer, 0, &padded);
-    }
-    buffer
+    context.buffer_with_contents(label, bytemuck::cast_slice(data), usage)
 }
 
 /// A zero-filled storage buffer of `bytes` bytes (at least 16).
 pub fn storage_zeroed(context: &GpuContext, label: &str, bytes: u64) -> wgpu::Buffer {
     context.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
-        size: bytes.max(MIN_BYTES).next_multiple_of(4),
+        size: bytes.max(MIN_BUFFER_BYTES).next_multiple_of(4),
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
@@ -46,7 +24,7 @@ pub fn storage_zeroed(context: &GpuContext, label: &str, bytes: u64) -> wgpu::Bu
 
 /// A uniform buffer holding `value`.
 pub fn uniform<T: Pod>(context: &GpuContext, label: &str, value: &T) -> wgpu::Buffer {
-    with_contents(context, label, bytemuck::bytes_of(value), wgpu::BufferUsages::UNIFORM)
+    context.buffer_with_contents(label, bytemuck::bytes_of(value), wgpu::BufferUsages::UNIFORM)
 }
 
 /// Checks that `bytes` fits in one storage binding of this device.
@@ -167,7 +145,7 @@ pub(crate) fn read_back_all_after<T: Pod>(
                 .map(|&size| {
                     context.device.create_buffer(&wgpu::BufferDescriptor {
                         label: Some("read back"),
-                        size: size.max(MIN_BYTES),
+                        size: size.max(MIN_BUFFER_BYTES),
                         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                         mapped_at_creation: false,
                     })

@@ -45,7 +45,32 @@ impl std::fmt::Debug for GpuContext {
     }
 }
 
+/// Smallest buffer created, bytes: wgpu refuses empty bindings.
+pub(crate) const MIN_BUFFER_BYTES: u64 = 16;
+
 impl GpuContext {
+    /// A buffer of `usage` (plus `COPY_DST`) holding `bytes`, zero-padded to at least 16 bytes
+    /// and a multiple of 4. The contents go through the queue rather than `mapped_at_creation`,
+    /// so a lost device makes this an error reported at the next wait or error scope, not a
+    /// panic.
+    pub fn buffer_with_contents(&self, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        let size = (bytes.len() as u64).max(MIN_BUFFER_BYTES).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: usage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        if bytes.len() as u64 == size {
+            self.queue.write_buffer(&buffer, 0, bytes);
+        } else {
+            let mut padded = bytes.to_vec();
+            padded.resize(size as usize, 0);
+            self.queue.write_buffer(&buffer, 0, &padded);
+        }
+        buffer
+    }
+
     /// Finds an adapter and creates a device on it, logging the adapter's name once.
     ///
     /// # Errors

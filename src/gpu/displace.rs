@@ -271,7 +271,7 @@ impl Displace {
 /// The `runs` uniform: [`MAX_RUNS`] runs, 16 KiB.
 fn runs_uniform(context: &GpuContext, label: &str, runs: &[Run]) -> wgpu::Buffer {
     debug_assert_eq!(runs.len(), MAX_RUNS);
-    buffers::with_contents(context, label, bytemuck::cast_slice(runs), wgpu::BufferUsages::UNIFORM)
+    context.buffer_with_contents(label, bytemuck::cast_slice(runs), wgpu::BufferUsages::UNIFORM)
 }
 
 fn batch_error(message: String) -> GpuError {

@@ -368,9 +368,7 @@ impl HeatKernel {
         let pass_size = size_of::<HeatPass>() as u64;
         context.scoped("heat encode", || {
             let device = &context.device;
-            let table = buffers::with_contents(
-                context,
-                "heat pass table",
+            let table = context.buffer_with_contents("heat pass table",
                 bytemuck::cast_slice(&table),
                 wgpu::BufferUsages::COPY_SRC,
             );

@@ -151,8 +151,7 @@ impl Skin {
         let params = SkinParams::new(n as u32, bone_count);
         let mesh = context.scoped("skin upload", || {
             let params_buffer = buffers::uniform(context, "skin params", &params);
-            let bones = buffers::with_contents(
-                context,
+            let bones = context.buffer_with_contents(
                 "skin bones",
                 &[0; MAX_BONES * size_of::<SkinBone>()],
                 wgpu::BufferUsages::UNIFORM,
@@ -248,6 +247,24 @@ impl Skin {
             positions: positions.iter().map(|v| v.truncate()).collect(),
             normals: normals.iter().map(|v| v.truncate()).collect(),
         })
+    }
+}
+
+impl SkinMesh {
+    /// The skinned vertices of every mesh in `meshes`, after the commands already submitted
+    /// (their [`Skin::encode`]s): all read back with one submission and one wait.
+    ///
+    /// # Errors
+    /// Any device error (lost device, a read-back that times out, a mesh larger than the
+    /// device's largest buffer).
+    pub fn read_back_all(context: &GpuContext, meshes: &[&SkinMesh]) -> Result<Vec<Skinned>, SkinError> {
+        let sources: Vec<(&wgpu::Buffer, usize)> = meshes
+            .iter()
+            .flat_map(|mesh| [(&mesh.positions, mesh.vertex_count()), (&mesh.normals, mesh.vertex_count())])
+            .collect();
+        let data = buffers::read_back_all_after::<Vec4>(context, None, &sources)?;
+        let xyz = |values: &[Vec4]| values.iter().map(|v| v.truncate()).collect();
+        Ok(data.chunks_exact(2).map(|pair| Skinned { positions: xyz(&pair[0]), normals: xyz(&pair[1]) }).collect())
     }
 }
 

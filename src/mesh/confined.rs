@@ -9,7 +9,7 @@ use std::path::{Component, Path, PathBuf};
 ///
 /// # Errors
 /// A sentence saying why the path is refused or cannot be read.
-pub(crate) fn resolve_inside(folder: &Path, relative: &str) -> Result<PathBuf, String> {
+pub fn resolve_inside(folder: &Path, relative: &str) -> Result<PathBuf, String> {
     let candidate = Path::new(relative);
     for component in candidate.components() {
         match component {

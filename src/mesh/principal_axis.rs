@@ -23,6 +23,17 @@ pub(crate) fn principal_axis(mesh: &TriMesh) -> Option<(Vec3, Vec3)> {
     Some((centre, axis.as_vec3()))
 }
 
+/// The mean of `points` (m) and the unit direction of their largest spread about it (either
+/// sign), `None` when there are none or they coincide: the axis a capsule or a limb fitted to
+/// them lies on.
+pub fn vertex_principal_axis(points: &[Vec3]) -> Option<(Vec3, Vec3)> {
+    if points.is_empty() {
+        return None;
+    }
+    let (mean, covariance) = vertex_covariance(points);
+    Some((mean, dominant_axis(covariance)?.as_vec3()))
+}
+
 /// Unit eigenvector of the largest eigenvalue of `covariance` (either sign), `None` when that
 /// eigenvalue is not positive (no spread).
 pub(crate) fn dominant_axis(covariance: DMat3) -> Option<DVec3> {

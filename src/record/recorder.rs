@@ -10,7 +10,7 @@ use glam::Vec3;
 use super::records::{DamageRecord, DentBatch, FracturePiece, FractureRecord, ImpactDent, ProjectileRef};
 use super::{BodyDamage, DamageFile, MeshStamp, RecordError, hex64};
 use crate::damage::{AppliedDent, DamagePlan, DentTargets, Hit};
-use crate::dent::{Attenuation, DentParams, projectile_reach};
+use crate::dent::{Attenuation, DentParams};
 use crate::mesh::{MeshEdit, TriMesh, content_hash};
 
 /// Which forms of each dent batch the recorder keeps (at least one).
@@ -214,7 +214,7 @@ fn impact_dents<K: Copy + Eq + std::fmt::Debug, T: DentTargets<K>>(
             impact: d.impact,
             target_to_world: view.to_world,
             projectile: ProjectileRef { hash, builtin, to_world: hit.projectile_surface.to_world },
-            reach: projectile_reach(view.settings, view.radius, d.dent_distance),
+            reach: view.settings.projectile_reach(view.radius, d.dent_distance),
             params: DentParams { dent_distance: d.dent_distance, ..view.settings.params.clone() },
             progressive: view.settings.progressive,
         });

@@ -172,8 +172,8 @@ impl ResidentBuffers {
         let vertex_usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | usage;
         let bytes = |data: &[[f32; 4]]| bytemuck::cast_slice::<[f32; 4], u8>(data).to_vec();
         Self {
-            positions: buffers::with_contents(context, "resident positions", &bytes(&position_words), vertex_usage),
-            normals: buffers::with_contents(context, "resident normals", &bytes(&normal_words), vertex_usage),
+            positions: context.buffer_with_contents("resident positions", &bytes(&position_words), vertex_usage),
+            normals: context.buffer_with_contents("resident normals", &bytes(&normal_words), vertex_usage),
             faces: buffers::storage(context, "resident faces", &face_words),
             adjacency: buffers::storage(context, "resident adjacency", &adjacency_words),
         }
