@@ -175,7 +175,7 @@ fn output(c: &mut Criterion) {
         context.map(|context| (context, GpuDenter::new(context, std::slice::from_ref(&mesh)).expect("denter")));
     if let Some((context, denter)) = &denter {
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX;
-        let dst = dentbend::gpu::buffers::with_contents(context, "interleaved", &vec![0; n * 32], usage);
+        let dst = context.buffer_with_contents("interleaved", &vec![0; n * 32], usage);
         group.bench_function(BenchmarkId::new("gpu", n), |b| {
             b.iter(|| {
                 let mut encoder = context.device.create_command_encoder(&Default::default());
