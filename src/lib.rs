@@ -44,6 +44,32 @@
 //! ```
 #![warn(missing_docs)]
 
+/// Declares a method or function of the dent stages taken one by one: public with the `kernels`
+/// feature, crate-private without it.
+macro_rules! kernels_fn {
+    ($(#[$meta:meta])* fn $($rest:tt)*) => {
+        #[cfg(feature = "kernels")]
+        $(#[$meta])* pub fn $($rest)*
+        #[cfg(not(feature = "kernels"))]
+        #[allow(dead_code, reason = "public with `kernels`")]
+        $(#[$meta])* pub(crate) fn $($rest)*
+    };
+}
+
+/// Re-exports items of the dent stages taken one by one (kernel functions, their parameter
+/// layouts, the per-stage plan and outputs): public with the `kernels` feature (parity tests,
+/// benchmarks, `dentbend-bench`, the command line's `dentmap`), crate-private without it (the
+/// dent pipeline uses them).
+macro_rules! kernels_use {
+    ($($tree:tt)*) => {
+        #[cfg(feature = "kernels")]
+        pub use $($tree)*;
+        #[cfg(not(feature = "kernels"))]
+        #[allow(unused_imports, reason = "the pipeline uses most of them; all are public with `kernels`")]
+        pub(crate) use $($tree)*;
+    };
+}
+
 pub mod bend;
 #[cfg(feature = "parry")]
 pub mod collider;
@@ -60,8 +86,7 @@ pub mod record;
 
 pub use damage::{Damage, DamagePlan, DentTargets, Hit, TargetSet};
 pub use dent::{
-    Attenuation, DentError, DentMap, DentParams, DentReport, Impact, Resolution, VolumeMode, dent, dent_map,
-    dent_map_stages, dent_pair,
+    Attenuation, DentError, DentMap, DentParams, DentReport, Impact, Resolution, VolumeMode, dent, dent_map, dent_pair,
 };
 pub use glam;
 pub use mesh::{MeshError, TriMesh};

@@ -1,8 +1,9 @@
 //! Artist-supplied dents (paper §3.1): PNG height maps round-trip into the same dent map the
 //! pipeline built, and analytic Gaussians have the stated shape.
 
+use dentbend::dent::dent_map_stages;
 use dentbend::glam::Vec3;
-use dentbend::{DentError, DentMap, DentParams, Impact, Resolution, dent_map_stages, io, mesh};
+use dentbend::{DentError, DentMap, DentParams, Impact, Resolution, io, mesh};
 
 const D: f32 = 0.8;
 

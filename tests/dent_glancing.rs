@@ -3,8 +3,9 @@
 mod common;
 
 use common::sphere_at;
+use dentbend::dent::dent_map_stages;
 use dentbend::glam::Vec3;
-use dentbend::{DentParams, Impact, Resolution, dent_map, dent_map_stages};
+use dentbend::{DentParams, Impact, Resolution, dent_map};
 
 const D: f32 = 0.3;
 

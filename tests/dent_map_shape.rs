@@ -2,8 +2,9 @@
 //! envelope never lowers the profile, larger σ gives a wider dent, and the map fades to zero
 //! before the border.
 
+use dentbend::dent::dent_map_stages;
 use dentbend::glam::Vec3;
-use dentbend::{DentParams, Impact, Resolution, dent_map_stages, mesh};
+use dentbend::{DentParams, Impact, Resolution, mesh};
 
 const D: f32 = 1.5;
 

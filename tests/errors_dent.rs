@@ -198,11 +198,11 @@ fn huge_vectors_keep_their_direction() {
     let huge_normal = Impact { normal: Vec3::new(0.0, -1e20, 0.0), ..impact };
     assert!(dent(&mut target, &ball, &huge_normal, &DentParams::new(0.2)).unwrap().moved_vertices > 0);
     let fast = Impact { relative_velocity: Vec3::new(3.0, -1.0, 0.0) * (dentbend::dent::MAX_SPEED / 3.2), ..impact };
-    let map = dentbend::dent_map_stages(&ball, &fast, &DentParams::new(0.2), None).unwrap();
+    let map = dentbend::dent::dent_map_stages(&ball, &fast, &DentParams::new(0.2), None).unwrap();
     let expected = 3f32.atan().to_degrees(); // 71.6°
     assert!((map.frame.theta_deg() - expected).abs() < 1e-3, "θ {}", map.frame.theta_deg());
     let too_fast = Impact { relative_velocity: Vec3::new(3e38, -1e38, 0.0), ..impact };
-    let error = dentbend::dent_map_stages(&ball, &too_fast, &DentParams::new(0.2), None).unwrap_err();
+    let error = dentbend::dent::dent_map_stages(&ball, &too_fast, &DentParams::new(0.2), None).unwrap_err();
     assert!(error.to_string().contains("faster than"), "{error}");
 }
 

@@ -22,10 +22,11 @@ mod common;
 use common::SplitMix64;
 use common::envelope::{cpu_rows, random_profile};
 use dentbend::cpu::{self, EnvelopeParams, reference::envelope_brute};
+use dentbend::dent::dent_map_stages;
 use dentbend::gpu::envelope_cols::EnvelopeCols;
 use dentbend::gpu::envelope_rows::{EnvelopeBuffers, EnvelopeRows, scratch_bytes};
 use dentbend::gpu::{GpuContext, buffers};
-use dentbend::{DentParams, Impact, Resolution, dent_map_stages, glam::Vec3, mesh};
+use dentbend::{DentParams, Impact, Resolution, glam::Vec3, mesh};
 
 /// Widths σ tested, cells.
 const SIGMAS: [f32; 7] = [0.1, 0.5, 1.5, 4.0, 20.0, 100.0, 1000.0];

@@ -20,11 +20,12 @@ mod common;
 
 use common::SplitMix64;
 use dentbend::cpu::{GlanceParams, glance};
+use dentbend::dent::dent_map_stages;
 use dentbend::dent::{GLANCE_RESOLUTION_FLOOR, GLANCE_STRETCH_CAP, MAX_RESOLUTION};
 use dentbend::glam::Vec3;
 use dentbend::gpu::GpuContext;
 use dentbend::gpu::glance::GlanceKernel;
-use dentbend::{DentParams, Impact, Resolution, dent_map_stages, mesh};
+use dentbend::{DentParams, Impact, Resolution, mesh};
 
 /// ε = 2⁻²³, one ulp at 1.
 const EPS: f32 = f32::EPSILON;

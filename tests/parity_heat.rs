@@ -16,10 +16,11 @@ mod common;
 
 use common::SplitMix64;
 use dentbend::cpu::{HeatParams, heat, heat_step};
+use dentbend::dent::dent_map_stages;
 use dentbend::glam::Vec3;
 use dentbend::gpu::heat::{FUSED_STEPS, HeatBatch, HeatBuffers, HeatDent, HeatJob, HeatKernel};
 use dentbend::gpu::{GpuContext, buffers};
-use dentbend::{DentParams, Impact, Resolution, dent_map_stages, mesh};
+use dentbend::{DentParams, Impact, Resolution, mesh};
 
 /// ε = 2⁻²³, one ulp at 1.
 const EPS: f32 = f32::EPSILON;

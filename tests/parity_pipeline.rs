@@ -5,10 +5,11 @@
 mod common;
 
 use common::sphere_at;
+use dentbend::dent::dent_map_stages;
 use dentbend::dent::{DentJob, dent_batch};
 use dentbend::glam::Vec3;
 use dentbend::gpu::{GpuBatchError, GpuContext, GpuDenter};
-use dentbend::{DentParams, Impact, Resolution, TriMesh, dent_map_stages, mesh};
+use dentbend::{DentParams, Impact, Resolution, TriMesh, mesh};
 
 /// Largest |a − b| over two slices.
 fn worst(a: &[f32], b: &[f32]) -> f32 {

@@ -55,17 +55,19 @@ impl Grid {
         )
     }
 
-    /// The GPU-layout copy of this grid.
-    pub fn uniform(&self) -> crate::cpu::GridUniform {
-        crate::cpu::GridUniform {
-            origin: self.origin.to_array(),
-            cell_size: self.cell_size,
-            axis_x: self.axis_x.to_array(),
-            res: self.res,
-            axis_y: self.axis_y.to_array(),
-            _pad0: 0,
-            axis_z: self.axis_z.to_array(),
-            _pad1: 0,
+    kernels_fn! {
+        /// The GPU-layout copy of this grid.
+        fn uniform(&self) -> crate::cpu::GridUniform {
+            crate::cpu::GridUniform {
+                origin: self.origin.to_array(),
+                cell_size: self.cell_size,
+                axis_x: self.axis_x.to_array(),
+                res: self.res,
+                axis_y: self.axis_y.to_array(),
+                _pad0: 0,
+                axis_z: self.axis_z.to_array(),
+                _pad1: 0,
+            }
         }
     }
 }

@@ -155,22 +155,24 @@ impl DentMap {
         PendingDisplacement::checked(before, positions, moved, Some(fitted))
     }
 
-    /// The `displace` kernel's inputs that apply this map with `attenuation` to `vertex_count`
-    /// vertices: its parameter block and falloff table.
-    pub fn displace_params(&self, attenuation: &Attenuation, vertex_count: usize) -> (DisplaceParams, Vec<f32>) {
-        let (falloff, falloff_scale, table) = cpu::falloff_table(attenuation, self.dent_distance);
-        let params = DisplaceParams {
-            grid: self.grid.uniform(),
-            dent_distance: self.dent_distance,
-            falloff,
-            falloff_scale,
-            vertex_count: vertex_count as u32,
-            vertex_offset: 0,
-            cell_offset: 0,
-            table_offset: 0,
-            table_len: table.len() as u32,
-        };
-        (params, table)
+    kernels_fn! {
+        /// The `displace` kernel's inputs that apply this map with `attenuation` to `vertex_count`
+        /// vertices: its parameter block and falloff table.
+        fn displace_params(&self, attenuation: &Attenuation, vertex_count: usize) -> (DisplaceParams, Vec<f32>) {
+            let (falloff, falloff_scale, table) = cpu::falloff_table(attenuation, self.dent_distance);
+            let params = DisplaceParams {
+                grid: self.grid.uniform(),
+                dent_distance: self.dent_distance,
+                falloff,
+                falloff_scale,
+                vertex_count: vertex_count as u32,
+                vertex_offset: 0,
+                cell_offset: 0,
+                table_offset: 0,
+                table_len: table.len() as u32,
+            };
+            (params, table)
+        }
     }
 
     fn validate(&self) -> Result<(), DentError> {

@@ -7,6 +7,7 @@ use crate::mesh::TriMesh;
 
 /// Every intermediate stage of one dent map, for inspection, pictures and tests.
 #[derive(Debug, Clone)]
+#[cfg_attr(not(feature = "kernels"), allow(dead_code, reason = "its stages are read with `kernels`"))]
 pub struct DentStages {
     /// The Z-buffer grid, perpendicular to the relative velocity; `origin` is the projectile's
     /// most advanced point along `axis_z`, which the dent map places on the impact point.
@@ -34,7 +35,8 @@ pub struct DentStages {
 ///
 /// # Example
 /// ```
-/// use dentbend::{DentParams, Impact, Resolution, dent_map_stages, glam::Vec3, mesh};
+/// use dentbend::dent::dent_map_stages;
+/// use dentbend::{DentParams, Impact, Resolution, glam::Vec3, mesh};
 /// let bunny = mesh::builtin("bunny")?;
 /// // Ears first along +y: the impact point is the bunny's highest vertex.
 /// let impact = Impact::head_on(bunny.support_point(Vec3::Y), Vec3::Y);

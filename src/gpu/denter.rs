@@ -59,17 +59,19 @@ pub enum GpuBatchError {
 }
 
 impl GpuStages {
-    /// The same stages in the CPU pipeline's form.
-    pub fn into_stages(self) -> DentStages {
-        let map = DentMap { grid: self.plan.map_grid, cells: self.map, dent_distance: self.plan.dent_distance };
-        DentStages {
-            zbuffer_grid: self.plan.zbuffer_grid,
-            zbuffer: self.zbuffer,
-            envelope: self.envelope,
-            smoothed: self.smoothed,
-            map,
-            frame: self.plan.frame,
-            sigma: self.plan.sigma,
+    kernels_fn! {
+        /// The same stages in the CPU pipeline's form.
+        fn into_stages(self) -> DentStages {
+            let map = DentMap { grid: self.plan.map_grid, cells: self.map, dent_distance: self.plan.dent_distance };
+            DentStages {
+                zbuffer_grid: self.plan.zbuffer_grid,
+                zbuffer: self.zbuffer,
+                envelope: self.envelope,
+                smoothed: self.smoothed,
+                map,
+                frame: self.plan.frame,
+                sigma: self.plan.sigma,
+            }
         }
     }
 }
@@ -327,64 +329,68 @@ impl GpuDenter {
             .map_err(|e| GpuError::Validation { label: "read back mesh".into(), message: e.to_string() })
     }
 
-    /// Builds every job's dent map on the GPU and reads all stages back, without touching the
-    /// targets (the GPU twin of `dent_map_stages`, batched).
-    ///
-    /// # Errors
-    /// As [`dent_batch`](Self::dent_batch).
-    pub fn dent_map_stages(&self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuStages>, GpuBatchError> {
-        let plans = self.plan(jobs)?;
-        Ok(self.stages_from_plans(jobs, &plans)?)
+    kernels_fn! {
+        /// Builds every job's dent map on the GPU and reads all stages back, without touching the
+        /// targets (the GPU twin of `dent_map_stages`, batched).
+        ///
+        /// # Errors
+        /// As [`dent_batch`](Self::dent_batch).
+        fn dent_map_stages(&self, jobs: &[DentJob<'_>]) -> Result<Vec<GpuStages>, GpuBatchError> {
+            let plans = self.plan(jobs)?;
+            Ok(self.stages_from_plans(jobs, &plans)?)
+        }
     }
 
-    /// Builds the dent maps of already planned jobs (see [`plan_dent`]) and reads every stage
-    /// back; `jobs[k].target` is not used, so this also serves maps with no resident target.
-    ///
-    /// # Errors
-    /// GPU errors.
-    ///
-    /// # Panics
-    /// If `jobs` and `plans` differ in length.
-    pub fn stages_from_plans(&self, jobs: &[DentJob<'_>], plans: &[DentPlan]) -> Result<Vec<GpuStages>, GpuError> {
-        assert_eq!(jobs.len(), plans.len(), "one plan per job");
-        if let Some(plan) = plans.iter().find(|p| p.zbuffer_grid.res.max(p.map_grid.res) > crate::dent::MAX_RESOLUTION)
-        {
-            let res = plan.zbuffer_grid.res.max(plan.map_grid.res);
-            let limit = crate::dent::MAX_RESOLUTION.into();
-            return Err(GpuError::OverLimit { what: "dent grid side".into(), needed: res.into(), limit });
-        }
-        let mut out = Vec::with_capacity(jobs.len());
-        // Held until every read-back is done, so no other call of this denter reuses the buffers
-        // meanwhile; the maps and their read-back go in one submission, so no batch a caller
-        // recorded earlier and submits now can come between them either.
-        let mut arena = self.arena();
-        for chunk in chunks::chunks(plans, jobs, &self.context) {
-            let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
-            let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
-            let mut rec = Recorder::new(&self.context, None);
-            let maps = self.encode_maps(&mut rec, &mut arena, &chunk_jobs, &chunk_plans, true)?;
-            let cells = maps.cell_offsets.last().copied().unwrap_or(0) as usize;
-            let map_cells = maps.map_offsets.last().copied().unwrap_or(0) as usize;
-            let sources =
-                [(&maps.work, cells), (&maps.envelope, cells), (&maps.smoothed, cells), (&maps.map, 4 * map_cells)];
-            let [profile, envelope, smoothed, map] =
-                buffers::read_back_all_after::<f32>(&self.context, rec.finish(), &sources)?
-                    .try_into()
-                    .expect("one read-back per source");
-            let map: &[[f32; 4]] = bytemuck::cast_slice(&map);
-            for (k, plan) in chunk_plans.iter().enumerate() {
-                let cells = maps.cell_offsets[k] as usize..maps.cell_offsets[k + 1] as usize;
-                let map_range = maps.map_offsets[k] as usize..maps.map_offsets[k + 1] as usize;
-                out.push(GpuStages {
-                    plan: (*plan).clone(),
-                    zbuffer: profile[cells.clone()].to_vec(),
-                    envelope: envelope[cells.clone()].to_vec(),
-                    smoothed: smoothed[cells].to_vec(),
-                    map: map[map_range].to_vec(),
-                });
+    kernels_fn! {
+        /// Builds the dent maps of already planned jobs (see [`plan_dent`]) and reads every stage
+        /// back; `jobs[k].target` is not used, so this also serves maps with no resident target.
+        ///
+        /// # Errors
+        /// GPU errors.
+        ///
+        /// # Panics
+        /// If `jobs` and `plans` differ in length.
+        fn stages_from_plans(&self, jobs: &[DentJob<'_>], plans: &[DentPlan]) -> Result<Vec<GpuStages>, GpuError> {
+            assert_eq!(jobs.len(), plans.len(), "one plan per job");
+            if let Some(plan) = plans.iter().find(|p| p.zbuffer_grid.res.max(p.map_grid.res) > crate::dent::MAX_RESOLUTION)
+            {
+                let res = plan.zbuffer_grid.res.max(plan.map_grid.res);
+                let limit = crate::dent::MAX_RESOLUTION.into();
+                return Err(GpuError::OverLimit { what: "dent grid side".into(), needed: res.into(), limit });
             }
+            let mut out = Vec::with_capacity(jobs.len());
+            // Held until every read-back is done, so no other call of this denter reuses the buffers
+            // meanwhile; the maps and their read-back go in one submission, so no batch a caller
+            // recorded earlier and submits now can come between them either.
+            let mut arena = self.arena();
+            for chunk in chunks::chunks(plans, jobs, &self.context) {
+                let chunk_jobs: Vec<&DentJob> = chunk.clone().map(|k| &jobs[k]).collect();
+                let chunk_plans: Vec<&DentPlan> = chunk.clone().map(|k| &plans[k]).collect();
+                let mut rec = Recorder::new(&self.context, None);
+                let maps = self.encode_maps(&mut rec, &mut arena, &chunk_jobs, &chunk_plans, true)?;
+                let cells = maps.cell_offsets.last().copied().unwrap_or(0) as usize;
+                let map_cells = maps.map_offsets.last().copied().unwrap_or(0) as usize;
+                let sources =
+                    [(&maps.work, cells), (&maps.envelope, cells), (&maps.smoothed, cells), (&maps.map, 4 * map_cells)];
+                let [profile, envelope, smoothed, map] =
+                    buffers::read_back_all_after::<f32>(&self.context, rec.finish(), &sources)?
+                        .try_into()
+                        .expect("one read-back per source");
+                let map: &[[f32; 4]] = bytemuck::cast_slice(&map);
+                for (k, plan) in chunk_plans.iter().enumerate() {
+                    let cells = maps.cell_offsets[k] as usize..maps.cell_offsets[k + 1] as usize;
+                    let map_range = maps.map_offsets[k] as usize..maps.map_offsets[k + 1] as usize;
+                    out.push(GpuStages {
+                        plan: (*plan).clone(),
+                        zbuffer: profile[cells.clone()].to_vec(),
+                        envelope: envelope[cells.clone()].to_vec(),
+                        smoothed: smoothed[cells].to_vec(),
+                        map: map[map_range].to_vec(),
+                    });
+                }
+            }
+            Ok(out)
         }
-        Ok(out)
     }
 
     /// Validates and plans every job on the CPU (in parallel).

@@ -43,7 +43,8 @@ pub mod skin;
 
 pub use context::{GpuContext, WAIT_TIMEOUT};
 pub use dent_backend::GpuBackend;
-pub use denter::{GpuBatchError, GpuDentInfo, GpuDenter, GpuDenterOptions, GpuStages};
+pub use denter::{GpuBatchError, GpuDentInfo, GpuDenter, GpuDenterOptions};
+kernels_use!(denter::GpuStages);
 pub use error::GpuError;
 pub use interleave::{InterleaveError, VertexLayout};
 #[cfg(feature = "kernels")]
@@ -53,6 +54,6 @@ pub(crate) use kernel::{Binding, Kernel, SHARED_WGSL};
 pub use kernel_device::{KernelDevice, shared_context};
 pub use limits::{REQUIRED_LIMITS, RequiredLimit, check_limits};
 pub use moved::{MovedVertices, PendingMoved};
-pub use recorder::KernelTimes;
+kernels_use!(recorder::KernelTimes);
 #[cfg(feature = "kernels")]
 pub use shaders::{SHADERS, shader_source};

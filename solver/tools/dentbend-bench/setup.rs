@@ -2,9 +2,10 @@
 //! 5a far right) on a grid of a given side, and a dense target for `displace`.
 
 use dentbend::cpu::DisplaceParams;
+use dentbend::dent::dent_map_stages;
 use dentbend::dent::{DentPlan, DentStages, plan_dent};
 use dentbend::glam::{Affine3A, Vec3};
-use dentbend::{DentMap, DentParams, Impact, Resolution, TriMesh, dent_map, dent_map_stages, mesh};
+use dentbend::{DentMap, DentParams, Impact, Resolution, TriMesh, dent_map, mesh};
 
 /// Dent distance of the Table 1 scene, world units: about a third of the bunny's 10-unit size,
 /// so the profile holds the head and both ears.

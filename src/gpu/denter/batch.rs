@@ -52,24 +52,26 @@ impl GpuDenter {
         Ok(infos(&plans))
     }
 
-    /// [`record_batch`](Self::record_batch) on the denter's own command buffers, submitting and
-    /// waiting after every kernel stage to time it: GPU time from timestamp queries when
-    /// [`GpuContext::timestamps`] is set, else wall time.
-    ///
-    /// # Errors
-    /// As [`record_batch`](Self::record_batch).
-    pub fn dent_batch_timed(&mut self, jobs: &[DentJob<'_>]) -> Result<KernelTimes, GpuBatchError> {
-        let mut times = KernelTimes::new();
-        let plans = self.kernel_plans(jobs)?;
-        self.context.check_alive()?;
-        let mut sink = Sink::Own { timings: Some(&mut times), pending: Vec::new() };
-        self.context.scoped("dent batch", || self.encode_batch(&plans, jobs, &mut sink))??;
-        if let Sink::Own { pending, .. } = sink {
-            self.context.queue.submit(pending);
+    kernels_fn! {
+        /// [`record_batch`](Self::record_batch) on the denter's own command buffers, submitting and
+        /// waiting after every kernel stage to time it: GPU time from timestamp queries when
+        /// [`GpuContext::timestamps`] is set, else wall time.
+        ///
+        /// # Errors
+        /// As [`record_batch`](Self::record_batch).
+        fn dent_batch_timed(&mut self, jobs: &[DentJob<'_>]) -> Result<KernelTimes, GpuBatchError> {
+            let mut times = KernelTimes::new();
+            let plans = self.kernel_plans(jobs)?;
+            self.context.check_alive()?;
+            let mut sink = Sink::Own { timings: Some(&mut times), pending: Vec::new() };
+            self.context.scoped("dent batch", || self.encode_batch(&plans, jobs, &mut sink))??;
+            if let Sink::Own { pending, .. } = sink {
+                self.context.queue.submit(pending);
+            }
+            self.fall_behind(jobs);
+            self.context.check_alive()?;
+            Ok(times)
         }
-        self.fall_behind(jobs);
-        self.context.check_alive()?;
-        Ok(times)
     }
 
     /// Plans every job (all cores) and checks that none needs a host stage.
