@@ -221,7 +221,7 @@ fn a_body_that_cannot_break_correctly_is_refused() {
 /// `<name>/piece<index>`.
 #[test]
 fn a_recorded_fracture_replays_to_the_same_rest_and_pieces() {
-    use dentbend::record::{DamageRecorder, DentForm, Projectiles, RecordForms, replay_body_with_pieces};
+    use dentbend::record::{DamageRecorder, DentForm, Projectiles, RecordForms, replay_body};
     let to_world = Affine3A::IDENTITY;
     let set = wall_set(to_world, Some(100.0), None);
     let base = set.mesh(WALL).unwrap().clone();
@@ -232,7 +232,7 @@ fn a_recorded_fracture_replays_to_the_same_rest_and_pieces() {
     let plan = plan(&set, &mut Damage::new(), &hits, 4);
     recorder.record(&set, &hits, &plan).unwrap();
     let file = recorder.file();
-    let replayed = replay_body_with_pieces(&file.bodies[0], &base, DentForm::Edits, &Projectiles::new()).unwrap();
+    let replayed = replay_body(&file.bodies[0], &base, DentForm::Edits, &Projectiles::new()).unwrap();
     let f = &plan.fractures[0];
     assert_eq!(Some(&replayed.mesh), f.rest.as_ref());
     assert_eq!(replayed.pieces.len(), f.pieces.len());

@@ -267,12 +267,12 @@ fn missing_files_are_io_errors() {
     let dir = std::env::temp_dir().join(format!("dentbend-no-such-dir-{}", std::process::id()));
     let obj = dir.join("missing.obj");
     let ply = dir.join("missing.ply");
-    assert!(matches!(mesh::load_obj(&obj), Err(MeshError::Io { .. })));
-    assert!(matches!(mesh::load_ply(&ply), Err(MeshError::Io { .. })));
+    assert!(matches!(mesh::load(&obj), Err(MeshError::Io { .. })));
+    assert!(matches!(mesh::load(&ply), Err(MeshError::Io { .. })));
     assert!(matches!(mesh::load(obj.to_str().unwrap()), Err(MeshError::Io { .. })));
     assert!(matches!(mesh::load(ply.to_str().unwrap()), Err(MeshError::Io { .. })));
     let ball = mesh::builtin("sphere").unwrap();
-    match mesh::save_obj(&ball, &obj) {
+    match mesh::save(&obj, &ball) {
         Err(MeshError::Io { path, .. }) => assert_eq!(path, obj),
         other => panic!("expected Io, got {other:?}"),
     }

@@ -57,8 +57,8 @@ fn bunny_round_trip_through_glb_is_bit_exact() {
     let dir = TempDir::new("gltf-bunny");
     let bunny = mesh::builtin("bunny").unwrap();
     let path = dir.path("bunny.glb");
-    mesh::save_glb(&path, &bunny).unwrap();
-    for loaded in [mesh::load_gltf(&path).unwrap(), mesh::load(path.to_str().unwrap()).unwrap()] {
+    mesh::save(&path, &bunny).unwrap();
+    for loaded in [mesh::load(&path).unwrap(), mesh::load(path.to_str().unwrap()).unwrap()] {
         assert_eq!(loaded.faces(), bunny.faces());
         let bits = |m: &TriMesh| m.positions().iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
         assert_eq!(bits(&loaded), bits(&bunny), "f32 positions are written and read unchanged");
@@ -66,9 +66,9 @@ fn bunny_round_trip_through_glb_is_bit_exact() {
     // The extension dispatcher (case-insensitive) writes GLB and OBJ.
     let via_save = dir.path("via_save.GLB");
     mesh::save(&via_save, &bunny).unwrap();
-    assert_eq!(mesh::load_gltf(&via_save).unwrap(), bunny);
+    assert_eq!(mesh::load(&via_save).unwrap(), bunny);
     mesh::save(dir.path("bunny.obj"), &bunny).unwrap();
-    assert_eq!(mesh::load_obj(dir.path("bunny.obj")).unwrap().faces(), bunny.faces());
+    assert_eq!(mesh::load(dir.path("bunny.obj")).unwrap().faces(), bunny.faces());
 }
 
 #[test]
@@ -76,7 +76,7 @@ fn glb_layout_follows_the_specification() {
     let dir = TempDir::new("gltf-layout");
     let bunny = mesh::builtin("bunny").unwrap();
     let path = dir.path("bunny.glb");
-    mesh::save_glb(&path, &bunny).unwrap();
+    mesh::save(&path, &bunny).unwrap();
     let (json, bin) = split_glb(&std::fs::read(&path).unwrap());
     assert_eq!(json["asset"]["version"], "2.0");
     let buffer_len = json["buffers"][0]["byteLength"].as_u64().unwrap() as usize;
@@ -144,7 +144,7 @@ fn scene_of_transformed_bodies_loads_back_as_their_union() {
     assert_eq!(json["accessors"].as_array().unwrap().len(), 6, "the two balls share one mesh's data");
     assert_eq!(json["scenes"][0]["nodes"], json!([0, 1, 2]));
 
-    let loaded = mesh::load_gltf(&path).unwrap();
+    let loaded = mesh::load(&path).unwrap();
     let mut expected_positions = Vec::new();
     let mut expected_faces = Vec::new();
     for body in &bodies {
@@ -171,7 +171,7 @@ fn scene_of_transformed_bodies_loads_back_as_their_union() {
 fn load_json(dir: &TempDir, name: &str, doc: &Value) -> Result<TriMesh, MeshError> {
     let path = dir.path(name);
     std::fs::write(&path, serde_json::to_vec(doc).unwrap()).unwrap();
-    mesh::load_gltf(&path)
+    mesh::load(&path)
 }
 
 /// A `.gltf` document over one buffer holding positions (VEC3 f32, accessor 0) and u16 indices
@@ -267,18 +267,18 @@ fn malformed_files_are_errors_not_panics() {
     let dir = TempDir::new("gltf-malformed");
     for name in ["empty.glb", "empty.gltf"] {
         std::fs::write(dir.path(name), b"").unwrap();
-        assert_parse_error(mesh::load_gltf(dir.path(name)), &dir.path(name), "empty");
+        assert_parse_error(mesh::load(dir.path(name)), &dir.path(name), "empty");
     }
-    assert!(matches!(mesh::load_gltf(dir.path("missing.glb")), Err(MeshError::Io { .. })));
+    assert!(matches!(mesh::load(dir.path("missing.glb")), Err(MeshError::Io { .. })));
 
     // Every truncation of a valid file, and single-byte corruptions of its headers and JSON.
     let good = dir.path("good.glb");
-    mesh::save_glb(&good, &mesh::icosphere(1.0, 1).unwrap()).unwrap();
+    mesh::save(&good, &mesh::icosphere(1.0, 1).unwrap()).unwrap();
     let bytes = std::fs::read(&good).unwrap();
     let cut = dir.path("cut.glb");
     for len in (1..bytes.len()).step_by(7).chain([11, 12, 19, 20, bytes.len() - 1]) {
         std::fs::write(&cut, &bytes[..len]).unwrap();
-        assert!(matches!(mesh::load_gltf(&cut), Err(MeshError::Parse { .. })), "prefix of {len} bytes");
+        assert!(matches!(mesh::load(&cut), Err(MeshError::Parse { .. })), "prefix of {len} bytes");
     }
     let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
     for at in 0..20 + json_len {
@@ -287,7 +287,7 @@ fn malformed_files_are_errors_not_panics() {
             bad[at] = value;
             std::fs::write(&cut, &bad).unwrap();
             // Some corruptions still make a valid file; none may panic.
-            let _ = mesh::load_gltf(&cut);
+            let _ = mesh::load(&cut);
         }
     }
 
@@ -362,7 +362,7 @@ fn failed_saves_leave_nothing_behind() {
     let ball = mesh::icosphere(1.0, 1).unwrap();
     let missing_dir = dir.path("no such dir");
     let target = missing_dir.join("ball.glb");
-    for result in [mesh::save_glb(&target, &ball), mesh::save(&target, &ball), mesh::save_obj(&ball, &target)] {
+    for result in [mesh::save(&target, &ball), mesh::save(&target, &ball), mesh::save(&target, &ball)] {
         match result {
             Err(MeshError::Io { path, .. }) => assert_eq!(path, target),
             other => panic!("expected Io, got {other:?}"),
@@ -373,7 +373,7 @@ fn failed_saves_leave_nothing_behind() {
     // A rename onto a directory fails after the data was written: the temporary file goes too.
     let occupied = dir.path("occupied.glb");
     std::fs::create_dir(&occupied).unwrap();
-    assert!(matches!(mesh::save_glb(&occupied, &ball), Err(MeshError::Io { .. })));
+    assert!(matches!(mesh::save(&occupied, &ball), Err(MeshError::Io { .. })));
     assert!(matches!(mesh::save(dir.path("occupied.obj/"), &ball), Err(MeshError::Io { .. })));
     let names: Vec<_> = std::fs::read_dir(dir.root()).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(names, ["occupied.glb"], "no temporary file is left behind");
@@ -428,7 +428,7 @@ fn random_indices_counts_and_offsets_never_panic() {
             *doc.pointer_mut(pointer).unwrap() = json!(values[rng.below(values.len() as u64) as usize]);
         }
         std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
-        loaded += usize::from(mesh::load_gltf(&path).is_ok());
+        loaded += usize::from(mesh::load(&path).is_ok());
     }
     assert!(loaded > 0, "some mutants are still valid files");
 }

@@ -27,9 +27,9 @@ fn obj_round_trip_preserves_positions_and_faces() {
     ball.transform(Affine3A::from_translation(Vec3::new(12.345_678, -0.001_234_5, 1e4))).unwrap();
     for (name, original) in [("ball.obj", ball), ("bunny.OBJ", mesh::builtin("bunny").unwrap())] {
         let path = temp_path(name);
-        mesh::save_obj(&original, &path).unwrap();
+        mesh::save(&path, &original).unwrap();
         let via_load = mesh::load(path.to_str().unwrap());
-        let via_load_obj = mesh::load_obj(&path);
+        let via_load_obj = mesh::load(&path);
         std::fs::remove_file(&path).unwrap();
         // 1e-6 relative: the text form is the shortest that reads back to the same f32, so the
         // round trip is exact in practice; the tolerance only allows for other float formatting.
@@ -234,7 +234,7 @@ fn load_dispatches_on_case_insensitive_extension() {
         let path = temp_path(name);
         std::fs::write(&path, cube_ply(format)).unwrap();
         let loaded = mesh::load(path.to_str().unwrap());
-        let direct = mesh::load_ply(&path);
+        let direct = mesh::load(&path);
         std::fs::remove_file(&path).unwrap();
         assert_eq!(loaded.unwrap(), expected, "{name}");
         assert_eq!(direct.unwrap(), expected, "{name}");

@@ -49,7 +49,7 @@ fn gpu_and_cpu_backends_write_the_same_dent_map(_: &'static GpuContext) {
 
 /// Enclosed volume of an OBJ file, f64.
 fn obj_volume(path: &std::path::Path) -> f64 {
-    common::enclosed_volume(&dentbend::mesh::load_obj(path).unwrap())
+    common::enclosed_volume(&dentbend::mesh::load(path).unwrap())
 }
 
 /// `dentbend dent` of the block by the sphere resting on its top, d = 0.2, on `backend` with
@@ -86,7 +86,7 @@ fn gpu_dent_preserves_volume_from_the_command_line(_: &'static GpuContext) {
     assert!(cavity > 1e-3, "the dent takes volume: {cavity}");
     let change = obj_volume(&kept) - start;
     assert!(change.abs() <= 0.02 * cavity, "change {change:.3e}, cavity {cavity:.3e}");
-    let (g, c) = (dentbend::mesh::load_obj(&kept).unwrap(), dentbend::mesh::load_obj(&cpu).unwrap());
+    let (g, c) = (dentbend::mesh::load(&kept).unwrap(), dentbend::mesh::load(&cpu).unwrap());
     assert_eq!(g.faces(), c.faces());
     let worst = g.positions().iter().zip(c.positions()).map(|(a, b)| a.distance(*b)).fold(0.0, f32::max);
     // Two moves of 2e-5·d plus ulps of coordinates up to 2 (the block's half-width).

@@ -125,7 +125,7 @@ fn projectile_out_dents_both_bodies_as_mirror_images() {
         upper.to_str().unwrap(),
     ]);
     assert!(output.status.success(), "{}", text(&output.stderr));
-    let (a, b) = (dentbend::mesh::load_obj(&lower).unwrap(), dentbend::mesh::load_obj(&upper).unwrap());
+    let (a, b) = (dentbend::mesh::load(&lower).unwrap(), dentbend::mesh::load(&upper).unwrap());
     // The vertices that touched, (0, 1, 0) on each ball, each move d = 0.3 away from the contact
     // (1 % of d: the dome's top is flat to that over the central cells).
     let sphere = dentbend::mesh::builtin("sphere").unwrap();

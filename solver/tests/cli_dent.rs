@@ -84,7 +84,7 @@ fn projectile_from_a_file_with_linear_falloff() {
     let mut ball = dentbend::mesh::builtin("sphere").unwrap();
     ball.transform(dentbend::glam::Affine3A::from_translation(Vec3::new(0.0, offset[1], 0.0))).unwrap();
     let ball_path = dir.path("ball.obj");
-    dentbend::mesh::save_obj(&ball, &ball_path).unwrap();
+    dentbend::mesh::save(&ball_path, &ball).unwrap();
     let out = dir.path("linear.obj");
     let point = format!("0,{top},0");
     let output = dentbend(&[
@@ -250,7 +250,7 @@ fn coarse_cube(path: &Path) {
     let faces: Vec<[u32; 3]> = quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
     let cube = dentbend::TriMesh::new(corners, faces).unwrap();
     assert!((cube.volume() - 8.0).abs() < 1e-5);
-    dentbend::mesh::save_obj(&cube, path).unwrap();
+    dentbend::mesh::save(path, &cube).unwrap();
 }
 
 #[test]
@@ -367,7 +367,7 @@ fn an_obj_asset_keeps_its_uvs_normals_groups_and_materials() {
 fn a_gltf_asset_comes_out_as_glb_with_its_texcoords() {
     let dir = TempDir::new("asset-glb");
     let input = dir.path("crate.glb");
-    dentbend::mesh::save_glb_asset(&dentbend::mesh::builtin_asset("crate").unwrap(), &input).unwrap();
+    dentbend::mesh::save_asset(&input, &dentbend::mesh::builtin_asset("crate").unwrap()).unwrap();
     let out = dir.path("dented.glb");
     let output = dent_top(input.to_str().unwrap(), &out);
     assert!(output.status.success(), "{}", text(&output.stderr));

@@ -27,7 +27,7 @@ fn a_plank_run_writes_the_skinned_plank_and_its_joint() {
         std::fs::read_dir(&meshes).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert!(names.iter().all(|n| !n.contains("bone")), "sub-body meshes written: {names:?}");
     // The skinned plank has every vertex of the rest plank (64 segments).
-    let first = dentbend::mesh::load_obj(meshes.join("plank_0000.obj")).unwrap();
+    let first = dentbend::mesh::load(meshes.join("plank_0000.obj")).unwrap();
     let rest = dentbend::mesh::plank(4.0, 0.3, 0.1, 64).unwrap();
     assert_eq!(first.vertex_count(), rest.vertex_count());
 
@@ -78,7 +78,7 @@ fn a_scene_file_with_a_bending_body_runs() {
     let names: Vec<String> =
         std::fs::read_dir(&meshes).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert!(names.iter().all(|n| !n.contains("bone")), "sub-body meshes written: {names:?}");
-    let last = dentbend::mesh::load_obj(meshes.join("bar_0020.obj")).unwrap();
+    let last = dentbend::mesh::load(meshes.join("bar_0020.obj")).unwrap();
     assert!(last.positions().iter().all(|p| p.is_finite()));
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
@@ -106,7 +106,7 @@ fn the_summary_says_where_skinning_ran(context: Option<&'static GpuContext>) {
     assert_eq!(summary["skin_on"], backend);
     // The output frames' plank meshes, read back from the GPU or skinned on the CPU.
     for frame in ["0000", "0003"] {
-        let plank = dentbend::mesh::load_obj(out.join(format!("meshes/plank_{frame}.obj"))).unwrap();
+        let plank = dentbend::mesh::load(out.join(format!("meshes/plank_{frame}.obj"))).unwrap();
         assert_eq!(plank.vertex_count(), dentbend::mesh::plank(4.0, 0.3, 0.1, 64).unwrap().vertex_count());
     }
     let steps = summary["steps"].as_array().unwrap();

@@ -76,7 +76,7 @@ fn bunny_bones_writes_its_skeleton_sub_bodies_and_level_set() {
     let mut faces = 0;
     let (mut lo, mut hi) = (dentbend::glam::Vec3::INFINITY, dentbend::glam::Vec3::NEG_INFINITY);
     for file in &meshes {
-        let mesh = dentbend::mesh::load_obj(out.join(file)).unwrap();
+        let mesh = dentbend::mesh::load(out.join(file)).unwrap();
         assert!(mesh.face_count() > 50, "{file}: {} triangles", mesh.face_count());
         faces += mesh.face_count();
         let (a, b) = mesh.bounds();

@@ -14,7 +14,7 @@ use dentbend::glam::{Affine3A, Mat3, Quat, Vec3};
 use dentbend::mesh::{self, TriMesh, content_hash};
 use dentbend::record::{
     BodyDamage, DamageFile, DamageRecord, DamageRecorder, DentForm, Projectiles, RecordError, RecordForms, SceneRef,
-    base64_decode, base64_encode, decode_records, encode_records, replay_body, replay_body_with_pieces,
+    base64_decode, base64_encode, decode_records, encode_records, replay_body,
 };
 use dentbend_solver::coupling::{DamageLog, Simulation};
 use dentbend_solver::scene::{SceneSize, builtin_scene};
@@ -119,13 +119,13 @@ fn check_round_trip(d: &Damaged, name: &str) {
     let dents = body.dents();
     assert!(dents >= 30, "{name}: {dents} dents");
     assert_eq!(body.final_mesh.hash, content_hash(&d.last));
-    let from_edits = replay_body(body, &d.base, DentForm::Edits, &d.projectiles).unwrap();
+    let from_edits = replay_body(body, &d.base, DentForm::Edits, &d.projectiles).unwrap().mesh;
     assert_bit_identical(&from_edits, &d.last, &format!("{name}, edits"));
-    let from_impacts = replay_body(body, &d.base, DentForm::Impacts, &d.projectiles).unwrap();
+    let from_impacts = replay_body(body, &d.base, DentForm::Impacts, &d.projectiles).unwrap().mesh;
     assert_bit_identical(&from_impacts, &d.last, &format!("{name}, impacts"));
     let small = impacts_only(&file).to_json().unwrap();
     let client = DamageFile::from_json(&small).unwrap();
-    let on_client = replay_body(&client.bodies[0], &d.base, DentForm::Edits, &d.projectiles).unwrap();
+    let on_client = replay_body(&client.bodies[0], &d.base, DentForm::Edits, &d.projectiles).unwrap().mesh;
     assert_bit_identical(&on_client, &d.last, &format!("{name}, impacts-only file"));
     let (both, impacts) = (bytes.len() as f64 / dents as f64, small.len() as f64 / dents as f64);
     eprintln!("{name}: {dents} dents; edits + impacts {both:.0} bytes/dent, impacts only {impacts:.0} bytes/dent");
@@ -328,7 +328,7 @@ fn a_client_replays_a_binary_impact_message_with_a_built_in_projectile() {
     let mut received = body.clone();
     received.records = dentbend::record::decode_records(&message).unwrap();
     // The client has the block and the built-in sphere; it is given no projectile mesh.
-    let replayed = replay_body(&received, &block, DentForm::Impacts, &Projectiles::new()).unwrap();
+    let replayed = replay_body(&received, &block, DentForm::Impacts, &Projectiles::new()).unwrap().mesh;
     assert_bit_identical(&replayed, set.mesh(TARGET).unwrap(), "binary impact message");
     assert!(matches!(
         dentbend::record::decode_records(&message[..message.len() - 1]),
@@ -366,7 +366,7 @@ fn a_custom_falloff_cannot_be_recorded_as_an_impact_and_nothing_is_recorded() {
     edits.track(TARGET, "block", &block);
     edits.record(&set, &hits, &plan).unwrap();
     set.apply(plan.targets);
-    let replayed = replay_body(edits.body(TARGET).unwrap(), &block, DentForm::Edits, &Projectiles::new()).unwrap();
+    let replayed = replay_body(edits.body(TARGET).unwrap(), &block, DentForm::Edits, &Projectiles::new()).unwrap().mesh;
     assert_bit_identical(&replayed, set.mesh(TARGET).unwrap(), "custom falloff as an edit");
     // The set's mesh changed outside the recorder: the next plan is refused.
     set.apply(vec![dentbend::damage::DentedTarget {
@@ -415,7 +415,7 @@ fn assert_replays(sim: &Simulation, file: &DamageFile, bases: &[(String, TriMesh
                 from_fractures.swap_remove(k).1
             }
         };
-        let replayed = replay_body_with_pieces(body, &base, DentForm::Edits, &projectiles).unwrap();
+        let replayed = replay_body(body, &base, DentForm::Edits, &projectiles).unwrap();
         from_fractures.extend(replayed.pieces);
         let now = &world.bodies()[world.find(&body.name).unwrap()];
         assert_bit_identical(&replayed.mesh, now.mesh(), &body.name);
@@ -516,12 +516,12 @@ fn a_version_1_file_replays_its_fractures_welded() {
     let file = DamageFile::from_json(bytes).unwrap();
     let body = &file.bodies[0];
     assert!(body.records.iter().any(|r| matches!(r, DamageRecord::Fracture(_))), "the fixture has no fracture");
-    let rest = replay_body(body, &faceted, DentForm::Edits, &Projectiles::new()).unwrap();
+    let rest = replay_body(body, &faceted, DentForm::Edits, &Projectiles::new()).unwrap().mesh;
     assert_eq!(content_hash(&rest), body.final_mesh.hash);
     assert_eq!(rest.vertex_count(), 1216, "the rest as version 1 made it");
     // Written again (version 2), the fracture still replays welded.
     let again = DamageFile::from_json(&file.to_json().unwrap()).unwrap();
-    assert_eq!(replay_body(&again.bodies[0], &faceted, DentForm::Edits, &Projectiles::new()).unwrap(), rest);
+    assert_eq!(replay_body(&again.bodies[0], &faceted, DentForm::Edits, &Projectiles::new()).unwrap().mesh, rest);
 
     let text = String::from_utf8(bytes.to_vec()).unwrap().replacen("\"version\":1", "\"version\":2", 1);
     let as_new = DamageFile::from_json(text.as_bytes()).unwrap();

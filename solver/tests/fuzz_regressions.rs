@@ -28,7 +28,7 @@ fn parse_gltf_reads_what_load_gltf_reads() {
         let bytes = seed("gltf", name);
         let path = dir.path(name);
         std::fs::write(&path, &bytes).unwrap();
-        let from_file = mesh::load_gltf(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let from_file = mesh::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
         let from_memory = mesh::parse_gltf(&bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(bits(&from_memory), bits(&from_file), "{name}");
     }

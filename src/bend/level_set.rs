@@ -10,11 +10,6 @@ use crate::mesh::TriMesh;
 
 /// Default resolution: cells along the longest side of the mesh's bounding box.
 pub(crate) const DEFAULT_RESOLUTION: u32 = 64;
-/// Smallest resolution accepted.
-pub const MIN_RESOLUTION: u32 = 8;
-/// Largest resolution accepted: a cubic mesh then has 260³ ≈ 17.6 M cells, about 350 MB while
-/// building (20 bytes a cell) and 140 MB after (8 bytes a cell).
-pub const MAX_RESOLUTION: u32 = 256;
 /// Empty cells added around the mesh's bounds on every side.
 pub(crate) const BORDER_CELLS: usize = 2;
 /// A cell whose centre is within this many cells of the surface touches it (half the cell's
@@ -40,6 +35,12 @@ pub struct LevelSet {
 }
 
 impl LevelSet {
+    /// Smallest resolution accepted.
+    pub const MIN_RESOLUTION: u32 = 8;
+    /// Largest resolution accepted: a cubic mesh then has 260³ ≈ 17.6 M cells, about 350 MB
+    /// while building (20 bytes a cell) and 140 MB after (8 bytes a cell).
+    pub const MAX_RESOLUTION: u32 = 256;
+
     /// Builds the level set of the closed `mesh` with `resolution` cells along the longest side of
     /// its bounds (plus 2 cells on every side). Inside/outside is the winding number
     /// along x-parallel rows through the cell centres, with a consistent tie rule for rows that
@@ -48,7 +49,7 @@ impl LevelSet {
     ///
     /// # Errors
     /// [`BendError::InvalidParameter`] for a resolution outside
-    /// [`MIN_RESOLUTION`]`..=`[`MAX_RESOLUTION`] or a mesh with no extent,
+    /// [`MIN_RESOLUTION`](Self::MIN_RESOLUTION)`..=`[`MAX_RESOLUTION`](Self::MAX_RESOLUTION) or a mesh with no extent,
     /// [`BendError::OpenMesh`] for a mesh that is not closed, [`BendError::EmptyInterior`] when no
     /// cell centre is inside.
     ///
@@ -61,7 +62,7 @@ impl LevelSet {
     /// assert!((volume - 4.0 / 3.0 * std::f32::consts::PI).abs() < 0.1);
     /// ```
     pub fn build(mesh: &TriMesh, resolution: u32) -> Result<Self, BendError> {
-        if !(MIN_RESOLUTION..=MAX_RESOLUTION).contains(&resolution) {
+        if !(Self::MIN_RESOLUTION..=Self::MAX_RESOLUTION).contains(&resolution) {
             let value = resolution.to_string();
             return Err(BendError::InvalidParameter { name: "resolution", value, reason: "must be in 8..=256" });
         }

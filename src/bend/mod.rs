@@ -31,8 +31,7 @@ pub use bunny::{BUNNY_BODY, BUNNY_HEAD, BUNNY_LEFT_EAR, BUNNY_RIGHT_EAR, bunny_s
 pub use error::BendError;
 pub use joint_rules::{JointRule, clamp_to_strength, damped_bend_rate, effective_inertia, spring, spring_impulse};
 pub(crate) use level_set::DEFAULT_RESOLUTION;
-pub use level_set::MIN_RESOLUTION;
-pub use level_set::{LevelSet, MAX_RESOLUTION};
+pub use level_set::LevelSet;
 pub use rig::{Rig, RigSplit};
 pub(crate) use skeleton::MIN_BONE_FRACTION;
 pub use skeleton::{Bone, BoneDesc, BoneJoint, Skeleton};

@@ -34,7 +34,7 @@ impl WeightParams {
     /// # Errors
     /// [`BendError::InvalidParameter`] naming the first bad field.
     pub fn validate(&self) -> Result<(), BendError> {
-        let (lo, hi) = (super::MIN_RESOLUTION, super::MAX_RESOLUTION);
+        let (lo, hi) = (super::LevelSet::MIN_RESOLUTION, super::LevelSet::MAX_RESOLUTION);
         if !(lo..=hi).contains(&self.resolution) {
             let value = self.resolution.to_string();
             return Err(BendError::InvalidParameter { name: "resolution", value, reason: "must be in 8..=256" });

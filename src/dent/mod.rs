@@ -61,8 +61,6 @@ pub(crate) use refine_jobs::RefinedTargets;
 #[cfg(feature = "gpu")]
 #[cfg(feature = "gpu")]
 pub(crate) use refine_jobs::{plan_jobs, refine_planned};
-pub use refine_setting::DEFAULT_MAX_NEW_TRIANGLES;
-pub use refine_setting::MAX_EDGE_NEW_TRIANGLES;
 pub use refine_setting::Refine;
 pub use settings::DentSettings;
 #[cfg(feature = "gpu")]

@@ -16,7 +16,7 @@ pub enum Refine {
     /// so repeated dents do not keep growing it. A dent that would need more than
     /// `max_new_triangles` new triangles is refined with edges twice, four or eight times as
     /// long (the first that fits), or not at all, with a warning in its
-    /// report. The default, with [`DEFAULT_MAX_NEW_TRIANGLES`].
+    /// report. The default, with [`DEFAULT_MAX_NEW_TRIANGLES`](Self::DEFAULT_MAX_NEW_TRIANGLES).
     Auto {
         /// Most triangles one dent may add.
         max_new_triangles: u32,
@@ -24,29 +24,30 @@ pub enum Refine {
     /// Never refine: the dent moves the target's vertices as they are.
     Off,
     /// Refine until no edge under the footprint is longer than this, world units (finite and
-    /// positive). A dent that would need more than [`MAX_EDGE_NEW_TRIANGLES`] new triangles
+    /// positive). A dent that would need more than [`MAX_EDGE_NEW_TRIANGLES`](Self::MAX_EDGE_NEW_TRIANGLES) new triangles
     /// fails with [`DentError::InvalidParameter`] and changes nothing.
     MaxEdge(f32),
 }
-
-/// Triangles one dent may add under [`Refine::Auto`] by default: enough for a 1 m² footprint
-/// with 2.5 cm edges (a 12-triangle 2 m crate hit by a 1 m ball with d = 0.1 m adds about 700).
-pub const DEFAULT_MAX_NEW_TRIANGLES: u32 = 20_000;
-
-/// Triangles one dent may add under [`Refine::MaxEdge`].
-pub const MAX_EDGE_NEW_TRIANGLES: usize = 1_000_000;
 
 /// Times [`Refine::Auto`] doubles its edge length before it gives up on a dent.
 pub(crate) const AUTO_DOUBLINGS: u32 = 3;
 
 impl Default for Refine {
-    /// `Auto { max_new_triangles: DEFAULT_MAX_NEW_TRIANGLES }`.
+    /// `Auto { max_new_triangles: Refine::DEFAULT_MAX_NEW_TRIANGLES }`.
     fn default() -> Self {
-        Self::Auto { max_new_triangles: DEFAULT_MAX_NEW_TRIANGLES }
+        Self::Auto { max_new_triangles: Self::DEFAULT_MAX_NEW_TRIANGLES }
     }
 }
 
 impl Refine {
+    /// Triangles one dent may add under [`Refine::Auto`] by default: enough for a 1 m² footprint
+    /// with 2.5 cm edges (a 12-triangle 2 m crate hit by a 1 m ball with d = 0.1 m adds about
+    /// 700).
+    pub const DEFAULT_MAX_NEW_TRIANGLES: u32 = 20_000;
+
+    /// Triangles one dent may add under [`Refine::MaxEdge`].
+    pub const MAX_EDGE_NEW_TRIANGLES: usize = 1_000_000;
+
     /// Checks the setting.
     ///
     /// # Errors

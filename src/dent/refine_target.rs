@@ -15,7 +15,7 @@ use glam::Vec3;
 
 use super::error::invalid;
 use super::map::PendingDisplacement;
-use super::refine_setting::{AUTO_DOUBLINGS, MAX_EDGE_NEW_TRIANGLES, Refine};
+use super::refine_setting::{AUTO_DOUBLINGS, Refine};
 use super::{DentError, DentParams, Grid};
 use crate::mesh::weld::{near_miss, position_key};
 use crate::mesh::{OrientedBox, RefineError, Refinement, TriMesh, refine_parts};
@@ -224,7 +224,7 @@ pub(crate) fn refine_for_dents(
                 max_new_triangles as usize,
                 true,
             ),
-            Refine::MaxEdge(edge) => (edge, edge, MAX_EDGE_NEW_TRIANGLES, false),
+            Refine::MaxEdge(edge) => (edge, edge, Refine::MAX_EDGE_NEW_TRIANGLES, false),
         };
         if out.parts.is_none() && longest_edge.is_some_and(|longest| longest <= trigger) {
             out.per_dent.push(DentRefinement::default());

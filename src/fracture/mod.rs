@@ -24,7 +24,6 @@ mod weld;
 pub use error::FractureError;
 pub use origin::{SurfacePoint, VertexOrigin};
 pub use outcome::{FractureOutcome, FractureRecord, Piece, break_body, replay, volume_after};
-pub use pattern::MAX_CELLS;
 pub use pattern::{Cell, CellSide, FracturePattern, PatternParams};
 pub use placement::Placement;
 pub use settings::{DEFAULT_MAX_PIECES, FractureCause, FractureSettings, MAX_PIECES};

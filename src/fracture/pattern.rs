@@ -13,15 +13,13 @@ use super::FractureError;
 use super::error::invalid;
 use crate::mesh::MAX_COORDINATE;
 
-/// Most cells a pattern may have.
-pub const MAX_CELLS: u32 = 256;
 /// Sides of the polygon that bounds the pattern (its inradius is the pattern's radius).
 pub(crate) const BOUND_SIDES: usize = 16;
 
 /// What a pattern is made from: with the same parameters it is the same, bit for bit.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PatternParams {
-    /// Number of Voronoi cells, 1..=[`MAX_CELLS`].
+    /// Number of Voronoi cells, 1..=[`MAX_CELLS`](Self::MAX_CELLS).
     pub cells: u32,
     /// Seed of the generator that places the cells.
     pub seed: u64,
@@ -31,12 +29,15 @@ pub struct PatternParams {
 }
 
 impl PatternParams {
+    /// Most cells a pattern may have.
+    pub const MAX_CELLS: u32 = 256;
+
     /// Checks every field.
     ///
     /// # Errors
     /// [`FractureError::InvalidParameter`] naming the field.
     pub fn validate(&self) -> Result<(), FractureError> {
-        if !(1..=MAX_CELLS).contains(&self.cells) {
+        if !(1..=Self::MAX_CELLS).contains(&self.cells) {
             return Err(invalid("cells", self.cells, "must be in 1..=256"));
         }
         if !(self.radius.is_finite() && self.radius > 0.0 && self.radius <= MAX_COORDINATE) {

@@ -24,29 +24,29 @@ pub fn builtin_asset(name: &str) -> Result<Asset, MeshError> {
 }
 
 /// Loads an asset from a spec, as [`load`](super::load) loads a mesh: a built-in name
-/// ([`builtin_asset`]), an `.obj` ([`load_obj_asset`](super::load_obj_asset)), a `.ply` (its
-/// mesh alone) or, with the `io` feature, a `.gltf`/`.glb` (`load_gltf_asset`).
+/// ([`builtin_asset`]), an `.obj` (UV sets, normals, face groups), a `.ply` (its mesh alone) or,
+/// with the `io` feature, a `.gltf`/`.glb` (every attribute set, skins, split vertices).
 ///
 /// # Errors
 /// [`MeshError::UnsupportedFormat`] for anything else; otherwise as the format's reader.
-pub fn load_asset(spec: &str) -> Result<Asset, MeshError> {
-    if BUILTIN_NAMES.contains(&spec) {
-        return builtin_asset(spec);
+pub fn load_asset(spec: impl AsRef<Path>) -> Result<Asset, MeshError> {
+    let path = spec.as_ref();
+    if let Some(name) = path.to_str().filter(|s| BUILTIN_NAMES.contains(s)) {
+        return builtin_asset(name);
     }
-    let path = Path::new(spec);
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match extension.as_deref() {
         Some("obj") => load_obj_asset(path),
         Some("ply") => load_ply(path).map(Asset::from_mesh),
         #[cfg(feature = "io")]
         Some("gltf" | "glb") => load_gltf_asset(path),
-        _ => Err(unsupported(spec)),
+        _ => Err(unsupported(path)),
     }
 }
 
-/// Writes `asset` in the format the extension of `path` names (case-insensitive): `.obj`
-/// ([`save_obj_asset`](super::save_obj_asset)) or, with the `io` feature, `.glb`
-/// (`save_glb_asset`).
+/// Writes `asset` in the format the extension of `path` names (case-insensitive): `.obj` (with
+/// its UV sets, normals and face groups) or, with the `io` feature, `.glb` (every attribute set,
+/// skins); [`obj_asset_text`](super::obj_asset_text) and `glb_asset_bytes` encode in memory.
 ///
 /// # Errors
 /// [`MeshError::UnsupportedSaveFormat`] for any other extension (nothing is written);

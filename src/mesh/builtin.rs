@@ -56,38 +56,41 @@ pub fn builtin(name: &str) -> Result<TriMesh, MeshError> {
         "plank" => plank(8.0, 0.5, 0.25, 128),
         "cylinder" => cylinder(0.5, 2.0, 48, 16),
         "crate" => Ok(super::builtin_crate::crate_asset().into_parts().0),
-        _ => Err(unsupported(name)),
+        _ => Err(unsupported(Path::new(name))),
     }
 }
 
 /// Loads a mesh from a spec: a built-in name (see [`builtin`]; a name wins over a file of the same
-/// name) or the path of a `.obj`, `.ply`, `.gltf` or `.glb` file (extension case-insensitive).
+/// name) or the path of a `.obj`, `.ply`, `.gltf` or `.glb` file (extension case-insensitive),
+/// the one way to read a mesh file ([`parse_obj`](super::parse_obj),
+/// [`parse_ply`](super::parse_ply) and `parse_gltf` read bytes already in memory).
 ///
 /// # Errors
-/// [`MeshError::UnsupportedFormat`] (listing the built-in names) for anything else; otherwise
-/// as [`load_obj`], [`load_ply`](super::load_ply) or `load_gltf` (glTF needs the `io` feature;
-/// without it a glTF file is an unsupported format).
+/// [`MeshError::UnsupportedFormat`] (listing the built-in names) for anything else;
+/// [`MeshError::Io`] for a file that cannot be read; [`MeshError::Parse`] (with the file and line
+/// or byte) or a validation error for its contents. glTF needs the `io` feature; without it a
+/// glTF file is an unsupported format.
 ///
 /// # Example
 /// ```
 /// let bunny = dentbend::mesh::load("bunny").unwrap();
 /// assert_eq!(bunny.face_count(), 3674);
 /// ```
-pub fn load(spec: &str) -> Result<TriMesh, MeshError> {
-    if BUILTIN_NAMES.contains(&spec) {
-        return builtin(spec);
+pub fn load(spec: impl AsRef<Path>) -> Result<TriMesh, MeshError> {
+    let path = spec.as_ref();
+    if let Some(name) = path.to_str().filter(|s| BUILTIN_NAMES.contains(s)) {
+        return builtin(name);
     }
-    let path = Path::new(spec);
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match extension.as_deref() {
         Some("obj") => load_obj(path),
         Some("ply") => load_ply(path),
         #[cfg(feature = "io")]
         Some("gltf" | "glb") => load_gltf(path),
-        _ => Err(unsupported(spec)),
+        _ => Err(unsupported(path)),
     }
 }
 
-pub(crate) fn unsupported(spec: &str) -> MeshError {
-    MeshError::UnsupportedFormat { path: spec.into(), builtins: BUILTIN_NAMES.join(", ") }
+pub(crate) fn unsupported(spec: &Path) -> MeshError {
+    MeshError::UnsupportedFormat { path: spec.to_path_buf(), builtins: BUILTIN_NAMES.join(", ") }
 }

@@ -9,12 +9,12 @@ const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 const FNV_PRIME: u64 = 0x0000_0100_0000_01b3;
 
 /// FNV-1a 64 of `bytes`, continuing from `state` (start from [`fnv1a64_start`]).
-pub fn fnv1a64(state: u64, bytes: &[u8]) -> u64 {
+pub(crate) fn fnv1a64(state: u64, bytes: &[u8]) -> u64 {
     bytes.iter().fold(state, |h, &b| (h ^ u64::from(b)).wrapping_mul(FNV_PRIME))
 }
 
 /// The FNV-1a 64 state before any byte.
-pub const fn fnv1a64_start() -> u64 {
+pub(crate) const fn fnv1a64_start() -> u64 {
     FNV_OFFSET
 }
 

@@ -19,7 +19,7 @@ use super::atomic_write::write_atomically;
 use super::glb;
 use super::{MeshError, TriMesh};
 
-/// Base colour, linear RGB in [0, 1], of the material [`save_glb`] and [`GltfNode::new`] use:
+/// Base colour, linear RGB in [0, 1], of the material [`save`](super::save) (`.glb`) and [`GltfNode::new`] use:
 /// a neutral grey.
 pub const DEFAULT_GLTF_COLOR: [f32; 3] = [0.6, 0.6, 0.6];
 /// Roughness of every material written; metallic is 0 (a plastic-like dielectric).
@@ -66,12 +66,6 @@ impl<'a> GltfNode<'a> {
 /// # Errors
 /// [`MeshError::Io`] naming `path` if it cannot be written (for example, its directory does not
 /// exist); [`MeshError::InvalidParameter`] if the file would exceed the format's 4 GiB limit.
-///
-/// # Example
-/// ```no_run
-/// let bunny = dentbend::mesh::builtin("bunny").unwrap();
-/// dentbend::mesh::save_glb("bunny.glb", &bunny).unwrap();
-/// ```
 pub fn save_glb(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<(), MeshError> {
     let path = path.as_ref();
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("mesh");
@@ -80,7 +74,7 @@ pub fn save_glb(path: impl AsRef<Path>, mesh: &TriMesh) -> Result<(), MeshError>
 
 /// Writes several bodies as one binary glTF scene: one node per body, in order, with its name,
 /// transform and colour (see [`GltfNode`]), so a viewer opens the whole frame at once. Written
-/// through a temporary sibling file like [`save_glb`].
+/// through a temporary sibling file like [`save`](super::save).
 ///
 /// # Errors
 /// [`MeshError::InvalidParameter`] (nothing is written) for an empty body list, a non-finite

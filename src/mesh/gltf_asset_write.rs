@@ -40,10 +40,10 @@ pub fn save_glb_asset(asset: &Asset, path: impl AsRef<Path>) -> Result<(), MeshE
     write_atomically(path.as_ref(), |out| out.write_all(&bytes))
 }
 
-/// The `.glb` bytes [`save_glb_asset`] writes.
+/// The `.glb` bytes [`save_asset`](super::save_asset) writes for a `.glb` path.
 ///
 /// # Errors
-/// As [`save_glb_asset`], less the I/O.
+/// As [`save_asset`](super::save_asset), less the I/O.
 pub fn glb_asset_bytes(asset: &Asset) -> Result<Vec<u8>, MeshError> {
     let mut doc = Doc::default();
     let mesh = asset.mesh();

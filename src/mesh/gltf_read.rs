@@ -44,12 +44,12 @@ pub fn load_gltf(path: impl AsRef<Path>) -> Result<TriMesh, MeshError> {
     parse_gltf_named(&bytes, path, Some(path.parent().unwrap_or(Path::new(""))))
 }
 
-/// Parses the bytes of a `.gltf` or `.glb` file held in memory, as [`load_gltf`] reads a file,
+/// Parses the bytes of a `.gltf` or `.glb` file held in memory, as [`load`](super::load) reads a `.gltf` or `.glb` file,
 /// except that nothing is read from disk: buffers must be the `.glb` BIN chunk or base64 `data:`
 /// URIs, and a buffer naming a file is refused.
 ///
 /// # Errors
-/// As [`load_gltf`], with [`MeshError::Parse`] for a buffer URI that names a file.
+/// As [`load`](super::load), with [`MeshError::Parse`] for a buffer URI that names a file.
 pub fn parse_gltf(bytes: &[u8]) -> Result<TriMesh, MeshError> {
     parse_gltf_named(bytes, Path::new(MEMORY), None)
 }

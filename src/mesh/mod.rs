@@ -54,27 +54,35 @@ pub(crate) mod umbrella;
 pub(crate) mod weld;
 
 #[cfg(feature = "io")]
-pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb, save_glb_scene};
+pub(crate) use self::gltf::save_glb;
+#[cfg(feature = "io")]
+pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb_scene};
 pub use asset::{Asset, FaceGroup, Skin, VertexAttributes};
 pub use asset_io::{builtin_asset, load_asset, save_asset};
 pub use builtin::{BUILTIN_NAMES, builtin, load};
+#[cfg(feature = "io")]
 pub use confined::resolve_inside;
-pub use content_hash::{content_hash, fnv1a64, fnv1a64_start};
+pub use content_hash::content_hash;
+pub(crate) use content_hash::{fnv1a64, fnv1a64_start};
 pub use edit::MeshEdit;
 pub use error::MeshError;
 #[cfg(feature = "io")]
-pub use gltf_asset_read::{MAX_ATTRIBUTE_SETS, load_gltf_asset, parse_gltf_asset};
+pub use gltf_asset_read::{MAX_ATTRIBUTE_SETS, parse_gltf_asset};
 #[cfg(feature = "io")]
-pub use gltf_asset_write::{glb_asset_bytes, save_glb_asset};
+pub use gltf_asset_write::glb_asset_bytes;
 #[cfg(feature = "io")]
-pub use gltf_read::{load_gltf, parse_gltf};
+pub(crate) use gltf_asset_write::save_glb_asset;
+#[cfg(feature = "io")]
+pub use gltf_read::parse_gltf;
 pub use mass::{MassProperties, mass_properties};
-pub use obj::{load_obj, parse_obj, save_obj};
-pub use obj_asset::{load_obj_asset, parse_obj_asset};
-pub use obj_asset_write::{obj_asset_text, save_obj_asset};
+pub use obj::parse_obj;
+pub(crate) use obj::save_obj;
+pub use obj_asset::parse_obj_asset;
+pub use obj_asset_write::obj_asset_text;
+pub(crate) use obj_asset_write::save_obj_asset;
 
 pub use atomic_write::write_file_atomically;
-pub use ply::{load_ply, parse_ply};
+pub use ply::parse_ply;
 pub use primitives::{MAX_PRIMITIVE_TRIANGLES, cylinder, icosphere, plank, subdivided_box, uv_sphere};
 pub(crate) use principal_axis::principal_axis;
 pub use principal_axis::vertex_principal_axis;

@@ -24,7 +24,7 @@ pub fn save_obj_asset(asset: &Asset, path: impl AsRef<Path>) -> Result<(), MeshE
     write_atomically(path.as_ref(), |out| write_obj_asset(asset, out))
 }
 
-/// The OBJ text of `asset`, as [`save_obj_asset`] writes it.
+/// The OBJ text of `asset`, as [`save_asset`](super::save_asset) writes it for an `.obj` path.
 pub fn obj_asset_text(asset: &Asset) -> String {
     let mut out = Vec::new();
     write_obj_asset(asset, &mut out).expect("writing to memory cannot fail");

@@ -4,8 +4,9 @@ use std::path::Path;
 
 use super::{MeshError, TriMesh, save_obj};
 
-/// Writes `mesh` in the format named by the extension of `path` (case-insensitive): `.obj`
-/// ([`save_obj`]) or `.glb` (`save_glb`, with the `io` feature).
+/// Writes `mesh` in the format named by the extension of `path` (case-insensitive): `.obj` or,
+/// with the `io` feature, `.glb` (one node, default colour; `save_glb_scene` writes several).
+/// The file is replaced atomically: a failed save leaves what was there.
 ///
 /// # Errors
 /// [`MeshError::UnsupportedSaveFormat`] for any other extension (nothing is written); otherwise

@@ -106,6 +106,6 @@ pub enum RecordError {
 }
 
 /// A 64-bit hash as the file writes it: 16 lower-case hex digits.
-pub fn hex64(hash: u64) -> String {
+pub(crate) fn hex64(hash: u64) -> String {
     format!("{hash:016x}")
 }

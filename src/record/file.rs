@@ -35,10 +35,18 @@ pub struct SceneRef {
     pub spec: String,
     /// The built-in scene's size (`full` or `demo`).
     pub size: String,
-    /// [`fnv1a64`](crate::mesh::fnv1a64) of the scene file's bytes; `None` for a built-in scene.
+    /// [`SceneRef::file_hash_of`] the scene file's bytes; `None` for a built-in scene.
     pub file_hash: Option<u64>,
     /// The frame whose meshes the bodies' final stamps are (the run's last).
     pub frame: u64,
+}
+
+impl SceneRef {
+    /// The hash a damage file keeps of a scene file's `bytes` (FNV-1a 64), so that a replay can
+    /// tell the file changed since the run.
+    pub fn file_hash_of(bytes: &[u8]) -> u64 {
+        crate::mesh::fnv1a64(crate::mesh::fnv1a64_start(), bytes)
+    }
 }
 
 /// One body's damage: the mesh it starts from, its records in order, the mesh they end at.

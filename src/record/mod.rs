@@ -27,13 +27,12 @@ mod replay;
 pub mod replication;
 
 pub use bytes::{base64_decode, base64_encode};
-pub use error::{RecordError, hex64};
+pub use error::RecordError;
+pub(crate) use error::hex64;
 pub use file::{BodyDamage, DamageFile, MAX_BODIES, MAX_FILE_BYTES, MeshStamp, SceneRef};
 pub use recorder::{DamageRecorder, RecordForms};
 pub use records::{
     BoneSplit, DamageRecord, DentBatch, FracturePiece, FractureRecord, ImpactDent, JointBend, JointRest, ProjectileRef,
     decode_records, encode_records,
 };
-pub use replay::{
-    DentForm, Projectiles, ReplayStep, Replayed, replay_body, replay_body_traced, replay_body_with_pieces,
-};
+pub use replay::{DentForm, Projectiles, ReplayStep, Replayed, replay_body, replay_body_traced};

@@ -110,30 +110,17 @@ pub struct Replayed {
     pub pieces: Vec<(String, TriMesh)>,
 }
 
-/// `body`'s final mesh, rebuilt from `base` (its own coordinates, not posed): checks that `base`
-/// is the mesh the damage was recorded on, applies every record in order and checks each dent
-/// batch's and fracture's result and the final mesh against their recorded hashes. The pieces
-/// of its fractures are dropped: see [`replay_body_with_pieces`].
-///
-/// # Errors
-/// As [`replay_body_with_pieces`].
-pub fn replay_body(
-    body: &BodyDamage,
-    base: &TriMesh,
-    form: DentForm,
-    projectiles: &Projectiles,
-) -> Result<TriMesh, RecordError> {
-    replay_body_with_pieces(body, base, form, projectiles).map(|r| r.mesh)
-}
-
-/// As [`replay_body`], with the meshes of the pieces its fractures made, bit for bit those the
-/// recording started their bodies from.
+/// `body`'s final mesh, rebuilt from `base` (its own coordinates, not posed), with the meshes of
+/// the pieces its fractures made (bit for bit those the recording started their bodies from):
+/// checks that `base` is the mesh the damage was recorded on, applies every record in order and
+/// checks each dent batch's and fracture's result and the final mesh against their recorded
+/// hashes.
 ///
 /// # Errors
 /// [`RecordError::BaseMismatch`], [`RecordError::Tampered`], [`RecordError::Fracture`] (a
 /// fracture record the fracture module refuses), [`RecordError::Unsupported`] (a progressive
 /// dent as an impact), [`RecordError::MissingProjectile`]; `base` is not touched.
-pub fn replay_body_with_pieces(
+pub fn replay_body(
     body: &BodyDamage,
     base: &TriMesh,
     form: DentForm,
@@ -142,12 +129,12 @@ pub fn replay_body_with_pieces(
     replay_body_traced(body, base, (form, projectiles), &mut |_| {})
 }
 
-/// As [`replay_body_with_pieces`], telling `each` what every record that changed the mesh did,
+/// As [`replay_body`], telling `each` what every record that changed the mesh did,
 /// in order, as it applies (so a caller can carry vertex attributes along). A replay that fails
 /// later may already have told some steps: keep what they built until it succeeds.
 ///
 /// # Errors
-/// As [`replay_body_with_pieces`].
+/// As [`replay_body`].
 pub fn replay_body_traced(
     body: &BodyDamage,
     base: &TriMesh,

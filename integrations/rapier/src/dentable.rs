@@ -179,7 +179,7 @@ impl Dentables {
         body: &BodyDamage,
     ) -> Result<Vec<u32>, AdapterError> {
         let now = self.targets.mesh(handle).ok_or_else(|| not_dentable(handle))?;
-        let restored = replay_body(body, now, DentForm::Edits, &Projectiles::new())?;
+        let restored = replay_body(body, now, DentForm::Edits, &Projectiles::new())?.mesh;
         let moved = changed_vertices(now, &restored);
         let topology_changed = now.faces() != restored.faces();
         let collider = colliders.get(handle).ok_or(AdapterError::UnknownCollider(handle))?;

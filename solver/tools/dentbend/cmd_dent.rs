@@ -216,7 +216,7 @@ fn stage(output: &Output<'_>, path: &Path) -> Result<Staged, CliError> {
     let staged = Staged { temp, path: path.to_owned() };
     let saved = match output {
         Output::Asset(asset) => mesh::save_asset(&staged.temp, asset),
-        Output::Mesh(mesh) => mesh::save_obj(mesh, &staged.temp),
+        Output::Mesh(mesh) => mesh::save(&staged.temp, mesh),
     };
     match saved {
         Ok(()) => Ok(staged),

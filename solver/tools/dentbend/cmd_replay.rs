@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use dentbend::TriMesh;
-use dentbend::record::{DamageFile, DentForm, MAX_FILE_BYTES, Projectiles, hex64, replay_body_with_pieces};
+use dentbend::record::{DamageFile, DentForm, MAX_FILE_BYTES, Projectiles, replay_body};
 use dentbend_solver::scene::{LoadOptions, MeshPaths, SceneSize, load_with};
 
 use crate::cmd_run::{MeshChoice, Shown, write_meshes};
@@ -58,8 +58,8 @@ pub fn run(args: &ReplayArgs) -> Result<String, CliError> {
         return Err(bad(&format!(
             "was recorded on scene file {} with hash {}, which now hashes to {}",
             recorded.spec,
-            recorded.file_hash.map_or("-".into(), hex64),
-            now.file_hash.map_or("-".into(), hex64)
+            recorded.file_hash.map_or("-".into(), |h| format!("{h:016x}")),
+            now.file_hash.map_or("-".into(), |h| format!("{h:016x}"))
         )));
     }
     let mut options = LoadOptions::sized(if size == SizeChoice::Full { SceneSize::Full } else { SceneSize::Demo });
@@ -89,7 +89,7 @@ pub fn run(args: &ReplayArgs) -> Result<String, CliError> {
             None if scene_bases.peek().is_some_and(|b| b.name == body.name) => scene_bases.next().expect("peeked"),
             None => return Err(mismatch(file.bodies.iter().map(|b| b.name.as_str()).collect())),
         };
-        let replayed = replay_body_with_pieces(body, &base.mesh, DentForm::Edits, &projectiles).map_err(|e| bad(&e))?;
+        let replayed = replay_body(body, &base.mesh, DentForm::Edits, &projectiles).map_err(|e| bad(&e))?;
         // As the simulation makes them: a piece is dynamic, in its parent's colour, and does not dent.
         pieces.extend(
             replayed

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use dentbend::mesh::{fnv1a64, fnv1a64_start, write_file_atomically};
+use dentbend::mesh::write_file_atomically;
 use dentbend::record::SceneRef;
 use dentbend_solver::coupling::{DamageLog, Simulation};
 use dentbend_solver::scene::BUILTIN_SCENES;
@@ -37,7 +37,7 @@ pub fn scene_ref(spec: &str, size: SizeChoice, frame: u64) -> Result<SceneRef, C
     } else {
         let bytes =
             std::fs::read(spec).map_err(|e| CliError::Usage(format!("cannot read the scene file {spec}: {e}")))?;
-        Some(fnv1a64(fnv1a64_start(), &bytes))
+        Some(SceneRef::file_hash_of(&bytes))
     };
     let size = match size {
         SizeChoice::Full => "full",
