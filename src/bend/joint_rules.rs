@@ -72,7 +72,7 @@ impl JointRule {
 
 /// The accumulated angular impulse `wanted` (N·m·s) clamped onto the sphere of radius `strength`
 /// (N·m·s): the impulse the joint may take, and whether it clamped (the joint bends).
-pub fn clamp_to_strength(wanted: Vec3, strength: f32) -> (Vec3, bool) {
+pub(crate) fn clamp_to_strength(wanted: Vec3, strength: f32) -> (Vec3, bool) {
     let length = wanted.length();
     if length <= strength || length == 0.0 { (wanted, false) } else { (wanted * (strength / length), true) }
 }
@@ -89,7 +89,7 @@ pub fn damped_bend_rate(turning: Vec3, damping_constant: f32, damping_proportion
 /// The effective inertia (kg·m²) of two bodies' relative rotation about unit `axis`, given their
 /// world inverse inertias (1/(kg·m²)): `1 / (u·(I₁⁻¹ + I₂⁻¹)·u)`, the paper's `(I₁ + I₂)⁻¹I₁I₂`
 /// about that axis. `None` when neither body can turn about it.
-pub fn effective_inertia(inverse_a: Mat3, inverse_b: Mat3, axis: Vec3) -> Option<f32> {
+pub(crate) fn effective_inertia(inverse_a: Mat3, inverse_b: Mat3, axis: Vec3) -> Option<f32> {
     let k = axis.dot((inverse_a + inverse_b) * axis);
     (k > 0.0 && k.is_finite()).then(|| 1.0 / k)
 }
@@ -97,7 +97,7 @@ pub fn effective_inertia(inverse_a: Mat3, inverse_b: Mat3, axis: Vec3) -> Option
 /// The angular impulse (N·m·s, about the spring's axis, applied +j to body b and −j to body a)
 /// that makes a spring of effective `inertia` move from `theta` to `theta_next` (rad) in `dt` s
 /// when it turns at `omega` rad/s now: `I·((θⁿ⁺¹ − θⁿ)/Δt − ωⁿ)`.
-pub fn spring_impulse(inertia: f64, theta: f64, theta_next: f64, omega: f64, dt: f64) -> f64 {
+pub(crate) fn spring_impulse(inertia: f64, theta: f64, theta_next: f64, omega: f64, dt: f64) -> f64 {
     inertia * ((theta_next - theta) / dt - omega)
 }
 

@@ -10,11 +10,13 @@
 //! ```
 
 mod auto_skeleton;
+mod bend_settings;
 mod bunny;
 mod error;
 mod geodesic;
 mod geometry;
 mod joint_rules;
+mod joint_state;
 mod level_set;
 mod rig;
 mod skeleton;
@@ -26,10 +28,12 @@ mod weights_solve;
 
 pub use auto_skeleton::MAX_AUTO_BONES;
 pub use auto_skeleton::auto_skeleton;
+pub use bend_settings::BendSettings;
 pub use bunny::bunny_bones;
 pub use bunny::{BUNNY_BODY, BUNNY_HEAD, BUNNY_LEFT_EAR, BUNNY_RIGHT_EAR, bunny_skeleton};
 pub use error::BendError;
-pub use joint_rules::{JointRule, clamp_to_strength, damped_bend_rate, effective_inertia, spring, spring_impulse};
+pub use joint_rules::{JointRule, damped_bend_rate, spring};
+pub use joint_state::{ElasticJoint, JointBodies, JointState, JointStep, PlasticJoint};
 pub(crate) use level_set::DEFAULT_RESOLUTION;
 pub use level_set::LevelSet;
 pub use rig::{Rig, RigSplit};

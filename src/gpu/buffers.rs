@@ -89,7 +89,7 @@ pub fn read_back_range<T: Pod>(
     // The wait has run every callback of finished work; a mapping that never completes (a device
     // going away) times out rather than blocking the caller forever.
     receiver
-        .recv_timeout(super::WAIT_TIMEOUT)
+        .recv_timeout(GpuContext::WAIT_TIMEOUT)
         .map_err(|e| GpuError::Wait(e.to_string()))?
         .map_err(|e| GpuError::Wait(e.to_string()))?;
     let data = slice.get_mapped_range().map_err(|e| GpuError::Wait(e.to_string()))?;
@@ -170,7 +170,7 @@ pub(crate) fn read_back_all_after<T: Pod>(
     drop(sender);
     context.wait()?;
     for _ in &staging {
-        let (_, result) = receiver.recv_timeout(super::WAIT_TIMEOUT).map_err(|e| GpuError::Wait(e.to_string()))?;
+        let (_, result) = receiver.recv_timeout(GpuContext::WAIT_TIMEOUT).map_err(|e| GpuError::Wait(e.to_string()))?;
         result.map_err(|e| GpuError::Wait(e.to_string()))?;
     }
     let mapped = staging

@@ -5,10 +5,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::GpuError;
 
-/// Longest wait for submitted work before [`GpuContext::wait`] gives up with an error instead of
-/// hanging (a stuck driver or a runaway shader).
-pub const WAIT_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(120);
-
 /// A GPU device ready for compute work: dentbend's own ([`new`](Self::new)) or an application's
 /// ([`from_device`](Self::from_device)).
 ///
@@ -49,6 +45,10 @@ impl std::fmt::Debug for GpuContext {
 pub(crate) const MIN_BUFFER_BYTES: u64 = 16;
 
 impl GpuContext {
+    /// Longest wait for submitted work before [`GpuContext::wait`] gives up with an error
+    /// instead of hanging (a stuck driver or a runaway shader).
+    pub const WAIT_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(120);
+
     /// A buffer of `usage` (plus `COPY_DST`) holding `bytes`, zero-padded to at least 16 bytes
     /// and a multiple of 4. The contents go through the queue rather than `mapped_at_creation`,
     /// so a lost device makes this an error reported at the next wait or error scope, not a
@@ -199,13 +199,13 @@ impl GpuContext {
         self.check_flag().err().unwrap_or(error)
     }
 
-    /// Blocks until all submitted work is done, at most [`WAIT_TIMEOUT`].
+    /// Blocks until all submitted work is done, at most [`WAIT_TIMEOUT`](Self::WAIT_TIMEOUT).
     ///
     /// # Errors
     /// [`GpuError::Wait`] (including a timeout) or [`GpuError::DeviceLost`].
     pub fn wait(&self) -> Result<(), GpuError> {
         self.check_alive()?;
-        let wait = wgpu::PollType::Wait { submission_index: None, timeout: Some(WAIT_TIMEOUT) };
+        let wait = wgpu::PollType::Wait { submission_index: None, timeout: Some(Self::WAIT_TIMEOUT) };
         self.device.poll(wait).map_err(|e| GpuError::Wait(e.to_string()))?;
         self.check_alive()
     }

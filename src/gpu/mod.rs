@@ -41,7 +41,7 @@ mod limits;
 mod recorder;
 pub mod skin;
 
-pub use context::{GpuContext, WAIT_TIMEOUT};
+pub use context::GpuContext;
 pub use dent_backend::GpuBackend;
 pub use denter::{GpuBatchError, GpuDentInfo, GpuDenter, GpuDenterOptions};
 kernels_use!(denter::GpuStages);

@@ -5,11 +5,6 @@ use glam::Affine3A;
 use super::records::{DamageRecord, DentBatch};
 use crate::mesh::{TriMesh, content_hash};
 
-/// Largest damage file read, bytes (256 MiB), checked before reading it.
-pub const MAX_FILE_BYTES: u64 = 256 << 20;
-/// Most bodies a damage file may list.
-pub const MAX_BODIES: usize = 1 << 20;
-
 /// A mesh named by its counts and [`content_hash`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MeshStamp {
@@ -94,6 +89,11 @@ pub struct DamageFile {
 }
 
 impl DamageFile {
+    /// Largest damage file read, bytes (256 MiB), checked before reading it.
+    pub const MAX_FILE_BYTES: u64 = 256 << 20;
+    /// Most bodies a damage file may list.
+    pub const MAX_BODIES: usize = 1 << 20;
+
     /// The body named `name`.
     pub fn body(&self, name: &str) -> Option<&BodyDamage> {
         self.bodies.iter().find(|b| b.name == name)

@@ -5,7 +5,6 @@
 use serde::{Deserialize, Serialize};
 
 use super::bytes::{ByteReader, ByteWriter, base64_decode, base64_encode};
-use super::file::{MAX_BODIES, MAX_FILE_BYTES};
 use super::records::{decode_records, encode_records};
 use super::{BodyDamage, DamageFile, DamageRecord, MeshStamp, RecordError, SceneRef, hex64};
 
@@ -118,11 +117,15 @@ impl DamageFile {
     /// count checked against the bytes that back it before anything is allocated.
     ///
     /// # Errors
-    /// [`RecordError::TooLarge`] past [`MAX_FILE_BYTES`] or [`MAX_BODIES`],
+    /// [`RecordError::TooLarge`] past [`MAX_FILE_BYTES`](Self::MAX_FILE_BYTES) or [`MAX_BODIES`](Self::MAX_BODIES),
     /// [`RecordError::Truncated`], [`RecordError::Version`], [`RecordError::Malformed`].
     pub fn from_json(bytes: &[u8]) -> Result<Self, RecordError> {
-        if bytes.len() as u64 > MAX_FILE_BYTES {
-            return Err(RecordError::TooLarge { what: "bytes", count: bytes.len() as u64, limit: MAX_FILE_BYTES });
+        if bytes.len() as u64 > DamageFile::MAX_FILE_BYTES {
+            return Err(RecordError::TooLarge {
+                what: "bytes",
+                count: bytes.len() as u64,
+                limit: DamageFile::MAX_FILE_BYTES,
+            });
         }
         let json_error = |e: serde_json::Error| {
             if e.is_eof() {
@@ -139,11 +142,11 @@ impl DamageFile {
             return Err(RecordError::Version { found: header.version, supported: VERSION });
         }
         let wire: WireFile = serde_json::from_slice(bytes).map_err(json_error)?;
-        if wire.bodies.len() > MAX_BODIES {
+        if wire.bodies.len() > DamageFile::MAX_BODIES {
             return Err(RecordError::TooLarge {
                 what: "bodies",
                 count: wire.bodies.len() as u64,
-                limit: MAX_BODIES as u64,
+                limit: DamageFile::MAX_BODIES as u64,
             });
         }
         let mut bodies = Vec::with_capacity(wire.bodies.len());

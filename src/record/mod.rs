@@ -29,7 +29,7 @@ pub mod replication;
 pub use bytes::{base64_decode, base64_encode};
 pub use error::RecordError;
 pub(crate) use error::hex64;
-pub use file::{BodyDamage, DamageFile, MAX_BODIES, MAX_FILE_BYTES, MeshStamp, SceneRef};
+pub use file::{BodyDamage, DamageFile, MeshStamp, SceneRef};
 pub use recorder::{DamageRecorder, RecordForms};
 pub use records::{
     BoneSplit, DamageRecord, DentBatch, FracturePiece, FractureRecord, ImpactDent, JointBend, JointRest, ProjectileRef,

@@ -1,13 +1,13 @@
 //! Bendable bodies (paper §4): a mesh with a skeleton, one Rapier rigid body per bone (its
 //! sub-body's convex hull as the collider), neighbouring bones joined by spherical impulse
-//! joints whose angular part is a [`PlasticJoint`] or an [`ElasticJoint`] the adapter applies
+//! joints whose angular part is a [`JointState`] (plastic or elastic) the adapter applies
 //! after each step. Dynamic articulation splits a bone where a fast hit lands (see
 //! [`Bendable::after_step`]). The parent mesh is skinned from the Rapier poses.
 //!
 //! Frames: every piece's body frame is the bendable's rest frame (the mesh's coordinates), so a
 //! piece's Rapier pose *is* its bone's skinning transform (rest → world).
 
-use dentbend::bend::{JointRule, Rig, Skeleton, WeightParams};
+use dentbend::bend::{BendSettings, JointState, Rig, Skeleton};
 use dentbend::mesh::TriMesh;
 use glam::{Quat, Vec3};
 use rapier3d::math::Pose;
@@ -17,43 +17,9 @@ use rapier3d::prelude::{
 };
 
 use crate::contacts::Contact;
-use crate::elastic::ElasticJoint;
-use crate::plastic::PlasticJoint;
+use crate::joints::apply_joint;
 use crate::world::PhysicsWorld;
 use crate::{AdapterError, BodyStates};
-
-/// How a bendable body is built and how it bends.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BendSettings {
-    /// Density of every piece, kg/m³.
-    pub density: f32,
-    /// Friction coefficient of the pieces' colliders.
-    pub friction: f32,
-    /// The joints' rule (the skeleton's joints and the ones dynamic articulation adds).
-    pub joint: JointRule,
-    /// Dynamic articulation: a hit whose normal approach speed (m/s, before the step) reaches
-    /// this splits the bone it lands on; `None`: never split.
-    pub split_speed: Option<f32>,
-    /// No split closer than this to an existing joint, m.
-    pub min_joint_spacing: f32,
-    /// Skinning weights (level-set resolution, influences, falloff).
-    pub weights: WeightParams,
-}
-
-impl BendSettings {
-    /// Plastic joints of `strength` N·m·s with post-bend damping 0.5 rad/s² + 10/s (the paper's
-    /// Figure 14), density `density` kg/m³, no dynamic articulation.
-    pub fn plastic(density: f32, strength: f32) -> Self {
-        Self {
-            density,
-            friction: 0.5,
-            joint: JointRule::plastic(strength),
-            split_speed: None,
-            min_joint_spacing: 0.3,
-            weights: WeightParams::default(),
-        }
-    }
-}
 
 /// One bone's Rapier body.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,15 +30,6 @@ pub struct Piece {
     pub body: RigidBodyHandle,
     /// Its collider (convex hull of the sub-body).
     pub collider: ColliderHandle,
-}
-
-/// A joint's angular rule with its state (rest orientation, accumulated bend).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum JointState {
-    /// Plastic.
-    Plastic(PlasticJoint),
-    /// Elastic.
-    Elastic(ElasticJoint),
 }
 
 /// A joint between two bones' bodies.
@@ -90,29 +47,6 @@ pub struct BendJoint {
     pub rule: JointState,
     /// Whether dynamic articulation made it.
     pub dynamic: bool,
-}
-
-impl JointState {
-    /// `rule` at rest in the relative orientation `rest` (child in parent).
-    ///
-    /// # Errors
-    /// [`AdapterError::InvalidParameter`] for a rule with bad values.
-    pub fn new(rule: JointRule, rest: Quat) -> Result<Self, AdapterError> {
-        Ok(match rule {
-            JointRule::Plastic { strength, damping_constant, damping_proportional } => {
-                Self::Plastic(PlasticJoint::new(strength, damping_constant, damping_proportional, rest)?)
-            }
-            JointRule::Elastic { stiffness, damping } => Self::Elastic(ElasticJoint::new(stiffness, damping, rest)?),
-        })
-    }
-
-    /// Net plastic bend since the joint was made, rad (0 for elastic joints).
-    pub fn bend_angle(&self) -> f32 {
-        match self {
-            JointState::Plastic(p) => p.bend_angle(),
-            JointState::Elastic(_) => 0.0,
-        }
-    }
 }
 
 impl BendJoint {
@@ -240,12 +174,7 @@ impl Bendable {
         for j in &mut self.joints {
             let (b1, b2) = (self.pieces[j.parent].body, self.pieces[j.child].body);
             let (Some(rb1), Some(rb2)) = world.bodies.get_pair_mut(b1, b2) else { continue };
-            match &mut j.rule {
-                JointState::Plastic(p) => report.plastic_bends += usize::from(p.apply(rb1, rb2, dt).yielded),
-                JointState::Elastic(e) => {
-                    e.apply(rb1, rb2, dt);
-                }
-            }
+            report.plastic_bends += usize::from(apply_joint(&mut j.rule, rb1, rb2, dt).yielded);
         }
         Ok(report)
     }

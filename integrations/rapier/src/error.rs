@@ -1,6 +1,7 @@
 //! The adapter's one error type. Every failing entry point returns it before changing any
 //! mesh, collider, body or joint.
 
+use dentbend::bend::BendError;
 use dentbend::damage::DamageError;
 use dentbend::dent::DentError;
 use dentbend::fracture::FractureError;
@@ -92,4 +93,14 @@ pub enum AdapterError {
         /// The rule it breaks.
         reason: &'static str,
     },
+}
+
+impl From<BendError> for AdapterError {
+    /// A parameter out of range keeps its name; anything else is the rig's.
+    fn from(error: BendError) -> Self {
+        match error {
+            BendError::InvalidParameter { name, value, reason } => Self::InvalidParameter { name, value, reason },
+            other => Self::Rig(other.to_string()),
+        }
+    }
 }

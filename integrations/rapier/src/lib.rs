@@ -52,10 +52,9 @@ mod bend_dent;
 mod bendable;
 mod contacts;
 mod dentable;
-mod elastic;
 mod error;
 mod fracture;
-mod plastic;
+mod joints;
 mod refit;
 mod skinned;
 mod split;
@@ -64,15 +63,16 @@ mod world;
 
 pub use adapter::{Adapter, StepReport};
 pub use bend_dent::BendDentReport;
-pub use bendable::{BendJoint, BendReport, BendSettings, Bendable, JointState, Piece};
+pub use bendable::{BendJoint, BendReport, Bendable, Piece};
+/// How bendable bodies are built and their joints' rule and state, as dentbend defines them for
+/// every engine.
+pub use dentbend::bend::{BendSettings, JointState};
 pub mod demo;
 pub use contacts::{Contact, ImpactCollector, ImpactReader};
 pub use dentable::{DentReport, Dentables};
 pub use dentbend::gpu::GpuBackend;
-pub use elastic::ElasticJoint;
 pub use error::AdapterError;
 pub use fracture::{BrokenCollider, PieceBody};
-pub use plastic::{DRIFT_CORRECTION, JointStep, PlasticJoint};
 pub use refit::{Refit, ShapeKind, convex_collider, prepare_refit, refit_collider, shape_kind, trimesh_collider};
 pub use states::{BodyStates, body_state, to_affine};
 pub use world::PhysicsWorld;

@@ -5,7 +5,7 @@
 use image::RgbImage;
 
 use super::gpu_frame::Tile;
-use dentbend::gpu::{GpuContext, GpuError, WAIT_TIMEOUT};
+use dentbend::gpu::{GpuContext, GpuError};
 
 /// Colour format drawn into: 8-bit sRGB, so shaders write linear colour and the hardware encodes.
 pub(super) const COLOUR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -121,7 +121,7 @@ impl Targets {
         });
         context.wait()?;
         receiver
-            .recv_timeout(WAIT_TIMEOUT)
+            .recv_timeout(GpuContext::WAIT_TIMEOUT)
             .map_err(|e| GpuError::Wait(e.to_string()))?
             .map_err(|e| GpuError::Wait(e.to_string()))?;
         let data = slice.get_mapped_range().map_err(|e| GpuError::Wait(e.to_string()))?;

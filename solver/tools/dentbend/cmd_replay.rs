@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use dentbend::TriMesh;
-use dentbend::record::{DamageFile, DentForm, MAX_FILE_BYTES, Projectiles, replay_body};
+use dentbend::record::{DamageFile, DentForm, Projectiles, replay_body};
 use dentbend_solver::scene::{LoadOptions, MeshPaths, SceneSize, load_with};
 
 use crate::cmd_run::{MeshChoice, Shown, write_meshes};
@@ -122,13 +122,13 @@ pub fn run(args: &ReplayArgs) -> Result<String, CliError> {
     ))
 }
 
-/// The file's bytes, refused past [`MAX_FILE_BYTES`] before reading them.
+/// The file's bytes, refused past [`DamageFile::MAX_FILE_BYTES`] before reading them.
 fn read_bounded(path: &std::path::Path) -> Result<Vec<u8>, String> {
     let file = std::fs::File::open(path).map_err(|e| format!("cannot open: {e}"))?;
     let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes).map_err(|e| format!("cannot read: {e}"))?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(format!("larger than {MAX_FILE_BYTES} bytes, the most a damage file may have"));
+    file.take(DamageFile::MAX_FILE_BYTES + 1).read_to_end(&mut bytes).map_err(|e| format!("cannot read: {e}"))?;
+    if bytes.len() as u64 > DamageFile::MAX_FILE_BYTES {
+        return Err(format!("larger than {} bytes, the most a damage file may have", DamageFile::MAX_FILE_BYTES));
     }
     Ok(bytes)
 }
