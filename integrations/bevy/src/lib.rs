@@ -17,10 +17,11 @@
 //! - **CPU path** (no usable device, [`DentbendPlugin::cpu_only`], or settings that need the
 //!   host stages): dents are made on all cores and the mesh asset is updated.
 //!
-//! Bending (with `rapier`): a [`Bendable`] entity is cut into one bevy_rapier3d body per bone of
-//! its skeleton, joined by spherical impulse joints under plastic or elastic rules; its mesh is
-//! skinned from the bones every frame they move, on the GPU path by dentbend's `skin` kernel
-//! straight into Bevy's vertex slab.
+//! Bending (on bevy_rapier3d or Avian): a [`Bendable`] entity is cut into one body of the engine
+//! per bone of its skeleton, joined by the engine's spherical joints under plastic or elastic
+//! rules (dentbend's engine-neutral `bend::JointState`); a fast hit splits the bone it lands on,
+//! a dentable one dents where it is hit; its mesh is skinned from the bones every frame they
+//! move, on the GPU path by dentbend's `skin` kernel straight into Bevy's vertex slab.
 //!
 //! Units: metres, seconds, kilograms; a dentable's mesh is in its entity's own coordinates. A
 //! scaled dentable or projectile (uniform or not; not mirrored) dents in metres on the CPU path:
@@ -61,7 +62,7 @@
 #[cfg(feature = "avian")]
 mod avian;
 mod backend;
-#[cfg(feature = "rapier")]
+#[cfg(any(feature = "rapier", feature = "avian"))]
 mod bend;
 mod components;
 mod contact;
@@ -91,14 +92,12 @@ use bevy::render::mesh::allocator::MeshAllocatorSettings;
 use bevy::render::render_resource::BufferUsages;
 use bevy::render::{Render, RenderApp, RenderStartup, RenderSystems};
 
-#[cfg(feature = "rapier")]
+#[cfg(any(feature = "rapier", feature = "avian"))]
 pub use bend::{BendPiece, Bendable, Bends};
 pub use components::{DentPiece, DentProjectile, Dentable, kernel_params};
 pub use contact::{DentBody, DentContact};
-#[cfg(feature = "rapier")]
-pub use dentbend::bend::JointRule;
-#[cfg(feature = "rapier")]
-pub use dentbend_rapier::BendSettings;
+#[cfg(any(feature = "rapier", feature = "avian"))]
+pub use dentbend::bend::{BendSettings, JointRule};
 pub use events::{BodyBroken, DentApplied, MeshDented};
 pub use link::GpuStatus;
 pub use mesh_data::{MeshDataError, SlabLayout, bevy_mesh, slab_layout, tri_mesh};
@@ -180,8 +179,7 @@ impl DentbendPlugin {
             self.check_named(found, "Avian");
             info!("bevy_dentbend: contacts from Avian, which steps in {found:?}");
             avian::build(app, found);
-            #[cfg(feature = "rapier")]
-            bend::build_unserved(app);
+            bend::build::<avian::Avian>(app, found);
             return;
         }
         #[cfg(feature = "rapier")]
@@ -192,7 +190,7 @@ impl DentbendPlugin {
             }
             let schedule = found.or(self.physics_schedule).unwrap_or(PostUpdate.intern());
             rapier::build(app, schedule);
-            bend::build(app, schedule);
+            bend::build::<rapier::Rapier>(app, schedule);
         }
         #[cfg(not(feature = "rapier"))]
         warn!(

@@ -14,7 +14,7 @@ use bevy::prelude::*;
 use dentbend::dent::BodyState;
 use dentbend::glam::Affine3A;
 
-use crate::{DentBody, DentContact, DentWorld};
+use crate::{BendPiece, DentBody, DentContact, DentWorld};
 
 /// The bodies the plug-in knows as they were before the step, and the pairs that pushed.
 #[derive(Resource, Default)]
@@ -28,6 +28,9 @@ pub(crate) struct AvianImpacts {
     /// Avian's last step when the states were recorded: a step that did not run (physics time
     /// paused) sends nothing.
     recorded_at: Tick,
+    /// The bendable bodies' bones recorded before the step (their own colliders): their pairs
+    /// are read as the dentables' are, for bends, splits and dents.
+    bones: HashSet<Entity>,
 }
 
 /// A collider's pose, the body it belongs to and its restitution.
@@ -49,19 +52,23 @@ type BodyData = (
 /// One body's [`BodyData`].
 type BodyItem<'a> = <BodyData as bevy::ecs::query::QueryData>::Item<'a, 'a>;
 
-/// Records the dentables' and projectiles' poses and states just before Avian's step (O(bodies
-/// the plug-in knows), never a walk over the world).
+/// Records the dentables', projectiles' and bones' poses and states just before Avian's step
+/// (O(bodies the plug-in knows), never a walk over the world).
 pub(crate) fn record_states(
     mut impacts: ResMut<AvianImpacts>,
     world: Res<DentWorld>,
+    bones: Query<Entity, With<BendPiece>>,
     (last_step, default_restitution): (Res<LastPhysicsTick>, Res<DefaultRestitution>),
     colliders: Query<ColliderData>,
     bodies: Query<BodyData>,
 ) {
     impacts.before.clear();
+    impacts.bones.clear();
+    impacts.bones.extend(bones.iter());
     impacts.recorded_at = last_step.0;
     let aliased = world.aliased_colliders();
-    for &mesh in world.bodies.keys().chain(world.surfaces.keys()) {
+    let bones = impacts.bones.iter().copied().collect::<Vec<_>>();
+    for &mesh in world.bodies.keys().chain(world.surfaces.keys()).chain(&bones) {
         let (collider, to_collider) = aliased.get(&mesh).copied().unwrap_or((mesh, Affine3A::IDENTITY));
         let Ok((position, rotation, of, restitution)) = colliders.get(collider) else { continue };
         let pose = Affine3A::from_rotation_translation(rotation.0, position.0) * to_collider;
@@ -122,9 +129,12 @@ pub(crate) fn send_contacts(
     }
     let mut seen = HashSet::new();
     let mut pushing = HashSet::new();
-    // The dentables' colliders, as recorded before the step.
-    let dentable = impacts.before.iter().filter(|(_, body)| world.path(body.entity).is_some());
-    for (&collider, _) in dentable {
+    // The dentables' and bones' colliders, as recorded before the step.
+    let read = |(collider, body): (&Entity, &DentBody)| {
+        (world.path(body.entity).is_some() || impacts.bones.contains(collider)).then_some(*collider)
+    };
+    let colliders: Vec<Entity> = impacts.before.iter().filter_map(read).collect();
+    for collider in colliders {
         for pair in collisions.collisions_with(collider) {
             let key = (pair.collider1, pair.collider2);
             if !seen.insert(key) {

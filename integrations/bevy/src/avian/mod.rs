@@ -7,13 +7,15 @@
 //! step, each dentable's contact pairs in Avian's contact graph are read, so the cost follows
 //! the dentables' contacts, not the number of bodies.
 
+mod bend_joints;
 mod contacts;
 mod give_way;
 
 use avian3d::math::SymmetricTensor;
 use avian3d::prelude::{
-    AngularInertia, AngularVelocity, CenterOfMass, Collider, LinearVelocity, Mass, NoAutoAngularInertia,
-    NoAutoCenterOfMass, NoAutoMass, PhysicsSystems, RigidBody,
+    AngularInertia, AngularVelocity, CenterOfMass, Collider, ColliderDensity, Friction, JointCollisionDisabled,
+    LinearVelocity, Mass, NoAutoAngularInertia, NoAutoCenterOfMass, NoAutoMass, PhysicsSystems, RigidBody,
+    SphericalJoint,
 };
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
@@ -49,6 +51,44 @@ impl Engine for Avian {
         );
         let motion = (LinearVelocity(piece.linear_velocity), AngularVelocity(piece.angular_velocity));
         Some((RigidBody::Dynamic, Collider::convex_hull(hull)?, mass, motion))
+    }
+
+    fn hull(points: &[Vec3]) -> Option<Collider> {
+        Collider::convex_hull(points)
+    }
+
+    fn bone_body(
+        hull: &[Vec3],
+        (density, friction): (f32, f32),
+        transform: Transform,
+        (linear, angular): (Vec3, Vec3),
+    ) -> Option<impl Bundle> {
+        // Avian reads every contact pair of a bone from its contact graph (see `contacts`).
+        Some((
+            RigidBody::Dynamic,
+            Collider::convex_hull(hull)?,
+            ColliderDensity(density),
+            Friction::new(friction),
+            transform,
+            LinearVelocity(linear),
+            AngularVelocity(angular),
+        ))
+    }
+
+    fn join(commands: &mut Commands, parent: Entity, child: Entity, point: Vec3) -> Option<Entity> {
+        let joint = SphericalJoint::new(parent, child).with_local_anchor1(point).with_local_anchor2(point);
+        Some(commands.spawn((joint, JointCollisionDisabled)).id())
+    }
+
+    fn place(commands: &mut Commands, entity: Entity, transform: Transform, (linear, angular): (Vec3, Vec3)) {
+        commands.entity(entity).insert((transform, LinearVelocity(linear), AngularVelocity(angular)));
+    }
+
+    fn add_joint_rules(app: &mut App, physics: InternedScheduleLabel) {
+        app.add_systems(
+            physics,
+            bend_joints::apply_joint_rules.after(PhysicsSystems::Prepare).before(PhysicsSystems::StepSimulation),
+        );
     }
 }
 

@@ -6,13 +6,13 @@
 use std::collections::HashMap;
 
 use bevy::prelude::*;
-use bevy_rapier3d::prelude::Collider;
 use dentbend::damage::{CpuBackend, Hit, TargetSet};
 use dentbend::dent::{Impact, Surface};
 use dentbend::glam::Affine3A;
 
 use super::rig::register_skin;
 use super::{BendPiece, Bends, Rig};
+use crate::engine::Engine;
 use crate::link::MainLink;
 use crate::mesh_data::slab_layout;
 use crate::{DentApplied, DentBody, DentContact, DentPath, DentStats, DentWorld};
@@ -29,13 +29,13 @@ struct BoneHit {
 
 /// Dents every dentable bendable body hit by this step's [`DentContact`]s.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn dent_bendables(
+pub(crate) fn dent_bendables<E: Engine>(
     mut contacts: MessageReader<DentContact>,
     mut bends: ResMut<Bends>,
     world: Res<DentWorld>,
     pieces: Query<&BendPiece>,
     transforms: Query<&GlobalTransform>,
-    mut colliders: Query<&mut Collider>,
+    mut colliders: Query<&mut E::Collider>,
     (mut stats, mut applied): (ResMut<DentStats>, MessageWriter<DentApplied>),
     (link, meshes): (Res<MainLink>, Res<Assets<Mesh>>),
 ) {
@@ -53,7 +53,7 @@ pub(crate) fn dent_bendables(
     }
     for (owner, hits) in by_body {
         let Some(rig) = bends.rigs.get_mut(&owner) else { continue };
-        match dent_body(rig, owner, &hits, &world, &pieces, &transforms) {
+        match dent_body::<E>(rig, owner, &hits, &world, &pieces, &transforms) {
             Ok(made) => {
                 for (bone, hull) in made.hulls {
                     if let Some(&piece) = rig.pieces.get(bone)
@@ -82,21 +82,21 @@ pub(crate) fn dent_bendables(
 }
 
 /// What denting one bendable body made.
-struct Made {
+struct Made<C> {
     /// New hulls of the bones owning a moved vertex.
-    hulls: Vec<(usize, Collider)>,
+    hulls: Vec<(usize, C)>,
     applied: Vec<DentApplied>,
 }
 
 /// Dents `rig` (bendable `owner`) by `hits`, updating its rest mesh and progressive state.
-fn dent_body(
+fn dent_body<E: Engine>(
     rig: &mut Rig,
     owner: Entity,
     hits: &[BoneHit],
     world: &DentWorld,
     pieces: &Query<&BendPiece>,
     transforms: &Query<&GlobalTransform>,
-) -> Result<Made, String> {
+) -> Result<Made<E::Collider>, String> {
     // Each bone's rest → world transform: the contact's pose for a hit bone (the step's start),
     // the bone's transform now for the others.
     let mut bones: Vec<Affine3A> = rig
@@ -143,7 +143,7 @@ fn dent_body(
     let mut hulls = Vec::new();
     for bone in core.bones_owning(&dented.moved) {
         let part = core.part(bone).map_err(|e| e.to_string())?;
-        let hull = Collider::convex_hull(part.positions()).ok_or(format!("bone {bone}'s dented part has no hull"))?;
+        let hull = E::hull(part.positions()).ok_or(format!("bone {bone}'s dented part has no hull"))?;
         hulls.push((bone, hull));
     }
     let applied = plan

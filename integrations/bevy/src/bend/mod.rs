@@ -1,8 +1,9 @@
-//! Bendable bodies (paper §4) in Bevy: a body whose bones are bevy_rapier3d rigid bodies (one
-//! entity per bone, its collider the convex hull of the bone's sub-body) joined by spherical
-//! impulse joints, whose plastic or elastic rule the plug-in applies between Rapier's steps; the
-//! body's own mesh is skinned from the bones' poses every frame, on Bevy's GPU by dentbend's
-//! `skin` kernel straight into Bevy's vertex slab (or on the CPU into the mesh asset).
+//! Bendable bodies (paper §4) in Bevy, on bevy_rapier3d or Avian: a body whose bones are the
+//! engine's rigid bodies (one entity per bone, its collider the convex hull of the bone's
+//! sub-body) joined by the engine's spherical joints, whose plastic or elastic rule
+//! ([`dentbend::bend::JointState`], the same for every engine) the plug-in applies before each
+//! step; the body's own mesh is skinned from the bones' poses every frame, on Bevy's GPU by
+//! dentbend's `skin` kernel straight into Bevy's vertex slab (or on the CPU into the mesh asset).
 //!
 //! A bendable body given dent settings ([`Bendable::dentable`]) dents where its bones are hit:
 //! its rest mesh skinned to the bones' poses is dented, the dent mapped back to the rest mesh
@@ -11,7 +12,6 @@
 //! bone it lands on where it lands (dynamic articulation): a new bone entity and a joint.
 
 mod dents;
-mod joints;
 mod rig;
 mod skinning;
 mod split;
@@ -20,15 +20,14 @@ use std::collections::HashMap;
 
 use bevy::ecs::schedule::InternedScheduleLabel;
 use bevy::prelude::*;
-use bevy_rapier3d::plugin::PhysicsSet;
 use dentbend::TriMesh;
-use dentbend::bend::{self, Skeleton};
+use dentbend::bend::{self, BendSettings, JointState, Skeleton};
 use dentbend::cpu::{SkinBone, SkinInfluence};
 use dentbend::damage::Damage;
 use dentbend::dent::{DentSettings, Refine};
 use dentbend::glam::Affine3A;
-use dentbend_rapier::{BendSettings, JointState};
 
+use crate::engine::Engine;
 use crate::{DentPath, DentSystems};
 
 /// An entity whose mesh ([`Mesh3d`], its own coordinates, m) bends: `skeleton` (same
@@ -76,6 +75,9 @@ pub(crate) struct Joint {
     /// Where it joins them, rest frame, m.
     pub point: Vec3,
     pub rule: JointState,
+    /// The engine's joint entity, where it makes one (Avian); bevy_rapier3d's joint is a
+    /// component of the child's entity.
+    pub link: Option<Entity>,
 }
 
 /// One registered bendable body.
@@ -133,39 +135,18 @@ impl Bends {
     }
 }
 
-/// Adds bending to the app (with the `rapier` feature): the joint rules before every step of
-/// `physics` (the schedule bevy_rapier3d steps in).
-pub(crate) fn build(app: &mut App, physics: InternedScheduleLabel) {
+/// Adds bending to the app on engine `E`: the joint rules before every step of `physics` (the
+/// schedule `E` steps in), bones registered, split and dented in `PostUpdate`.
+pub(crate) fn build<E: Engine>(app: &mut App, physics: InternedScheduleLabel) {
     app.init_resource::<Bends>()
-        .add_systems(PostUpdate, rig::register_bendables.in_set(DentSystems::Register))
-        .add_systems(
-            physics,
-            joints::apply_joint_rules.after(PhysicsSet::SyncBackend).before(PhysicsSet::StepSimulation),
-        )
+        .add_systems(PostUpdate, rig::register_bendables::<E>.in_set(DentSystems::Register))
         .add_systems(
             PostUpdate,
-            (split::split_bones, dents::dent_bendables)
+            (split::split_bones::<E>, dents::dent_bendables::<E>)
                 .chain()
                 .in_set(DentSystems::Decide)
                 .after(crate::decide::decide_dents),
         )
         .add_systems(PostUpdate, (rig::forget_removed, skinning::pose_bendables).chain().in_set(DentSystems::Apply));
-}
-
-/// Bending where another engine steps the app (Avian): each bendable entity is named in one
-/// warning and left out.
-#[cfg(feature = "avian")]
-pub(crate) fn build_unserved(app: &mut App) {
-    app.init_resource::<Bends>().add_systems(PostUpdate, warn_unserved.in_set(DentSystems::Register));
-}
-
-/// Names each new bendable entity the app's engine cannot serve.
-#[cfg(feature = "avian")]
-fn warn_unserved(new: Query<Entity, Added<Bendable>>) {
-    for entity in &new {
-        warn!(
-            "bevy_dentbend: {entity} is Bendable, but bendable bodies are bevy_rapier3d bodies and this app steps \
-             Avian: it is left out (step the app with RapierPhysicsPlugin to bend it)"
-        );
-    }
+    E::add_joint_rules(app, physics);
 }

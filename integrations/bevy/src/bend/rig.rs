@@ -1,15 +1,15 @@
 //! Builds a bendable body's rig when its mesh is available: skinning weights, one dynamic body
-//! per bone (convex hull of its sub-body), spherical joints at the skeleton's joints.
+//! of the engine per bone (convex hull of its sub-body), spherical joints at the skeleton's
+//! joints.
 
 use bevy::prelude::*;
-use bevy_rapier3d::prelude::*;
 use dentbend::TriMesh;
-use dentbend::bend;
+use dentbend::bend::{self, JointState};
 use dentbend::damage::Damage;
 use dentbend::glam::Quat;
-use dentbend_rapier::JointState;
 
 use super::{BendPiece, Bendable, Bends, Joint, Rig};
+use crate::engine::Engine;
 use crate::link::{GpuStatus, MainLink, ToRender};
 use crate::register::{Unregistered, prepare_mesh, refuse};
 use crate::scale::scale_refusal;
@@ -18,12 +18,13 @@ use crate::{DentPath, DentRegistered};
 /// The rig of a bendable body, before anything is spawned.
 struct Built {
     core: bend::Rig,
-    hulls: Vec<Collider>,
+    /// Each bone's sub-body vertices (rest frame, m), its collider's hull.
+    parts: Vec<Vec<Vec3>>,
     rules: Vec<(usize, usize, Vec3, JointState)>,
 }
 
 /// Registers each new bendable body once its mesh is loaded and the GPU's status is known.
-pub(crate) fn register_bendables(
+pub(crate) fn register_bendables<E: Engine>(
     mut commands: Commands,
     mut bends: ResMut<Bends>,
     mut meshes: ResMut<Assets<Mesh>>,
@@ -50,33 +51,23 @@ pub(crate) fn register_bendables(
             }
         };
         let pose = transform.affine();
-        let density = bendable.settings.density;
-        let pieces: Vec<Entity> = built
-            .hulls
+        let at = Transform::from_matrix(Mat4::from(pose));
+        let material = (bendable.settings.density, bendable.settings.friction);
+        let bodies: Option<Vec<_>> =
+            built.parts.iter().map(|hull| E::bone_body(hull, material, at, (Vec3::ZERO, Vec3::ZERO))).collect();
+        let Some(bodies) = bodies else {
+            refuse(&mut commands, entity, "a bone's sub-body has no convex hull".into());
+            continue;
+        };
+        let pieces: Vec<Entity> = bodies
             .into_iter()
             .enumerate()
-            .map(|(bone, hull)| {
-                commands
-                    .spawn((
-                        BendPiece { owner: entity, bone },
-                        RigidBody::Dynamic,
-                        hull,
-                        ColliderMassProperties::Density(density),
-                        Friction::coefficient(bendable.settings.friction),
-                        Transform::from_matrix(Mat4::from(pose)),
-                        Velocity::zero(),
-                        // A dentable body's bones report every push (its impacts dent it).
-                        ActiveEvents::CONTACT_FORCE_EVENTS,
-                        ContactForceEventThreshold(0.0),
-                    ))
-                    .id()
-            })
+            .map(|(bone, body)| commands.spawn((BendPiece { owner: entity, bone }, body)).id())
             .collect();
         let mut joints = Vec::new();
         for (parent, child, point, rule) in built.rules {
-            let joint = SphericalJointBuilder::new().local_anchor1(point).local_anchor2(point).contacts_enabled(false);
-            commands.entity(pieces[child]).insert(ImpulseJoint::new(pieces[parent], joint));
-            joints.push(Joint { parent, child, point, rule });
+            let link = E::join(&mut commands, pieces[parent], pieces[child], point);
+            joints.push(Joint { parent, child, point, rule, link });
         }
         let handle = meshes.add(copy);
         let path = match status {
@@ -123,23 +114,21 @@ pub(crate) fn register_skin(
     });
 }
 
-/// Weights, sub-body hulls and joint rules of `bendable` over `rest`.
+/// Weights, sub-bodies and joint rules of `bendable` over `rest`.
 fn build(rest: TriMesh, bendable: &Bendable) -> Result<Built, String> {
     let (skeleton, settings) = (bendable.skeleton.clone(), &bendable.settings);
     let error = |e: dentbend::bend::BendError| format!("its rig cannot be built: {e}");
     let rig = bend::Rig::new(rest, skeleton, settings.weights, settings.density).map_err(error)?;
-    let mut hulls = Vec::with_capacity(rig.skeleton().len());
-    for bone in 0..rig.skeleton().len() {
-        let part = rig.part(bone).map_err(error)?;
-        hulls
-            .push(Collider::convex_hull(part.positions()).ok_or(format!("bone {bone}'s sub-body has no convex hull"))?);
-    }
+    let parts = (0..rig.skeleton().len())
+        .map(|bone| rig.part(bone).map(|part| part.positions().to_vec()))
+        .collect::<Result<_, _>>()
+        .map_err(error)?;
     let mut rules = Vec::new();
     for j in rig.skeleton().joints() {
         let rule = JointState::new(settings.joint, Quat::IDENTITY).map_err(|e| e.to_string())?;
         rules.push((j.parent, j.child, j.point, rule));
     }
-    Ok(Built { core: rig, hulls, rules })
+    Ok(Built { core: rig, parts, rules })
 }
 
 /// Despawns the bones of bendable bodies that were despawned or lost their component.
@@ -151,7 +140,7 @@ pub(crate) fn forget_removed(
 ) {
     for entity in removed.read() {
         if let Some(rig) = bends.rigs.remove(&entity) {
-            for piece in rig.pieces {
+            for piece in rig.pieces.into_iter().chain(rig.joints.iter().filter_map(|j| j.link)) {
                 commands.entity(piece).try_despawn();
             }
             link.send(ToRender::Forget(entity));

@@ -6,12 +6,12 @@
 //! the split recut gets its new hull.
 
 use bevy::prelude::*;
-use bevy_rapier3d::prelude::*;
+use dentbend::bend::JointState;
 use dentbend::glam::Quat;
-use dentbend_rapier::JointState;
 
 use super::rig::register_skin;
 use super::{BendPiece, Bends, Joint, Rig};
+use crate::engine::Engine;
 use crate::link::MainLink;
 use crate::mesh_data::slab_layout;
 use crate::{DentBody, DentContact, DentPath, DentStats};
@@ -27,12 +27,11 @@ struct Split {
 }
 
 /// Splits the bones that this step's fast hits landed on (one split per bone a step).
-pub(crate) fn split_bones(
+pub(crate) fn split_bones<E: Engine>(
     mut commands: Commands,
     mut contacts: MessageReader<DentContact>,
     mut bends: ResMut<Bends>,
     pieces: Query<&BendPiece>,
-    bodies: Query<&RigidBody>,
     mut stats: ResMut<DentStats>,
     (link, meshes): (Res<MainLink>, Res<Assets<Mesh>>),
 ) {
@@ -57,15 +56,14 @@ pub(crate) fn split_bones(
     }
     for s in splits {
         let Some(rig) = bends.rigs.get_mut(&s.owner) else { continue };
-        match split(&mut commands, rig, &s, &pieces) {
+        match split::<E>(&mut commands, rig, &s, &pieces) {
             Ok(true) => {
                 stats.splits += 1;
                 // The hit is solved again next step, against the articulated body: what hit it
-                // goes back to where and how it was before the step.
-                if bodies.get(s.hitter.entity) == Ok(&RigidBody::Dynamic) {
-                    commands
-                        .entity(s.hitter.entity)
-                        .insert((pre_step_transform(&s.hitter), pre_step_velocity(&s.hitter)));
+                // goes back to where and how it was before the step (a body that takes
+                // impulses: a fixed or kinematic one is where its owner puts it).
+                if s.hitter.state.inverse_mass > 0.0 {
+                    E::place(&mut commands, s.hitter.entity, pre_step_transform(&s.hitter), pre_step_motion(&s.hitter));
                 }
                 rig.last.clear();
                 if rig.path == DentPath::Gpu
@@ -81,54 +79,50 @@ pub(crate) fn split_bones(
 }
 
 /// Makes split `s` of `rig`; whether it was made (a point too near the bone's ends is not).
-fn split(commands: &mut Commands, rig: &mut Rig, s: &Split, pieces: &Query<&BendPiece>) -> Result<bool, String> {
+fn split<E: Engine>(
+    commands: &mut Commands,
+    rig: &mut Rig,
+    s: &Split,
+    pieces: &Query<&BendPiece>,
+) -> Result<bool, String> {
     let Some(made) = rig.core.split(s.bone, s.rest_point, 0.0).map_err(|e| e.to_string())? else { return Ok(false) };
     let (first, second, at) = (made.bone, made.new_bone, made.joint_point);
     let changed = made.changed.clone();
     let mut core = rig.core.clone();
     core.apply_split(made).map_err(|e| e.to_string())?;
-    let hull = |bone: usize| -> Result<Collider, String> {
-        let part = core.part(bone).map_err(|e| e.to_string())?;
-        Collider::convex_hull(part.positions()).ok_or(format!("bone {bone}'s new part has no convex hull"))
+    let part = |bone: usize| -> Result<Vec<Vec3>, String> {
+        Ok(core.part(bone).map_err(|e| e.to_string())?.positions().to_vec())
     };
-    let recut: Vec<(usize, Collider)> = changed.iter().map(|&b| Ok((b, hull(b)?))).collect::<Result<_, String>>()?;
-    let second_hull = hull(second)?;
+    let hull = |bone: usize| E::hull(&part(bone)?).ok_or(format!("bone {bone}'s new part has no convex hull"));
+    let recut: Vec<(usize, E::Collider)> = changed.iter().map(|&b| Ok((b, hull(b)?))).collect::<Result<_, String>>()?;
     let old = rig.pieces[first];
     pieces.get(old).map_err(|_| format!("bone {first}'s entity is gone"))?;
     // Both halves start from the hit bone's pose and velocity before the step.
-    let (transform, velocity) = (pre_step_transform(&s.hit), pre_step_velocity(&s.hit));
+    let (transform, motion) = (pre_step_transform(&s.hit), pre_step_motion(&s.hit));
+    let material = (rig.settings.density, rig.settings.friction);
+    let second_body = E::bone_body(&part(second)?, material, transform, motion)
+        .ok_or(format!("bone {second}'s new part has no convex hull"))?;
     // Checked: commit.
     rig.core = core;
-    commands.entity(old).insert((transform, velocity));
+    E::place(commands, old, transform, motion);
     for (bone, collider) in recut {
         commands.entity(rig.pieces[bone]).insert(collider);
     }
-    let new = commands
-        .spawn((
-            BendPiece { owner: s.owner, bone: second },
-            RigidBody::Dynamic,
-            second_hull,
-            ColliderMassProperties::Density(rig.settings.density),
-            Friction::coefficient(rig.settings.friction),
-            transform,
-            velocity,
-            ActiveEvents::CONTACT_FORCE_EVENTS,
-            ContactForceEventThreshold(0.0),
-        ))
-        .id();
+    let new = commands.spawn((BendPiece { owner: s.owner, bone: second }, second_body)).id();
     rig.pieces.push(new);
     // Joints from the split bone to its children now start at the second half.
     for joint in rig.joints.iter_mut().filter(|j| j.parent == first) {
         if rig.core.skeleton().bones()[joint.child].parent == Some(second) {
             joint.parent = second;
-            let builder = SphericalJointBuilder::new().local_anchor1(joint.point).local_anchor2(joint.point);
-            commands.entity(rig.pieces[joint.child]).insert(ImpulseJoint::new(new, builder.contacts_enabled(false)));
+            if let Some(link) = joint.link {
+                commands.entity(link).try_despawn();
+            }
+            joint.link = E::join(commands, new, rig.pieces[joint.child], joint.point);
         }
     }
     let rule = JointState::new(rig.settings.joint, Quat::IDENTITY).map_err(|e| e.to_string())?;
-    let builder = SphericalJointBuilder::new().local_anchor1(at).local_anchor2(at).contacts_enabled(false);
-    commands.entity(new).insert(ImpulseJoint::new(old, builder));
-    rig.joints.push(Joint { parent: first, child: second, point: at, rule });
+    let link = E::join(commands, old, new, at);
+    rig.joints.push(Joint { parent: first, child: second, point: at, rule, link });
     Ok(true)
 }
 
@@ -137,7 +131,7 @@ fn pre_step_transform(body: &DentBody) -> Transform {
     Transform::from_matrix(Mat4::from(body.pose))
 }
 
-/// `body`'s velocity before the step (its centre of mass's, and its spin).
-fn pre_step_velocity(body: &DentBody) -> Velocity {
-    Velocity { linear: body.state.linear_velocity, angular: body.state.angular_velocity }
+/// `body`'s motion before the step: its centre of mass's velocity and its spin.
+fn pre_step_motion(body: &DentBody) -> (Vec3, Vec3) {
+    (body.state.linear_velocity, body.state.angular_velocity)
 }

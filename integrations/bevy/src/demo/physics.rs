@@ -11,8 +11,7 @@ pub enum Physics {
     #[cfg_attr(feature = "rapier", default)]
     Rapier,
     /// Avian 0.8, one 1/60 s step a frame in its default `FixedPostUpdate` (virtual time
-    /// advances 1/60 s a frame; `avian` feature). The scene leaves its bendable plank out:
-    /// bendable bodies are bevy_rapier3d bodies.
+    /// advances 1/60 s a frame; `avian` feature).
     #[cfg(feature = "avian")]
     #[cfg_attr(not(feature = "rapier"), default)]
     Avian,
@@ -86,6 +85,22 @@ impl Physics {
             Self::Avian => {
                 use avian3d::prelude::{Collider, RigidBody};
                 entity.insert((RigidBody::Static, Collider::trimesh(positions, faces)));
+            }
+        }
+    }
+
+    /// Makes `entity` a fixed box of half-extents `half` m.
+    pub(crate) fn fixed_box(self, entity: &mut EntityCommands, half: Vec3) {
+        match self {
+            #[cfg(feature = "rapier")]
+            Self::Rapier => {
+                use bevy_rapier3d::prelude::{Collider, RigidBody};
+                entity.insert((RigidBody::Fixed, Collider::cuboid(half.x, half.y, half.z)));
+            }
+            #[cfg(feature = "avian")]
+            Self::Avian => {
+                use avian3d::prelude::{Collider, RigidBody};
+                entity.insert((RigidBody::Static, Collider::cuboid(2.0 * half.x, 2.0 * half.y, 2.0 * half.z)));
             }
         }
     }

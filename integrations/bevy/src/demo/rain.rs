@@ -27,7 +27,7 @@ pub struct RainSettings {
     pub dents: bool,
     /// Seed of the spawn positions.
     pub seed: u64,
-    /// A bendable plank on two posts over the block (on bevy_rapier3d only).
+    /// A bendable plank on two posts over the block.
     pub plank: bool,
     /// Z-buffer side of the block's and the bunny's dents, cells (`None`: from the meshes).
     pub resolution: Option<u32>,
@@ -171,9 +171,8 @@ fn setup(
         // 0.7 m wide, on the block's back left quarter (clear of the tests' dropped balls).
         Vec3::new(-1.0, 0.35, -1.0),
     );
-    #[cfg(feature = "rapier")]
-    if settings.plank && physics == Physics::Rapier {
-        spawn_plank(&mut commands, &mut meshes, &mut materials, settings.dents && settings.dent_plank);
+    if settings.plank {
+        spawn_plank(&mut commands, &mut meshes, &mut materials, physics, settings.dents && settings.dent_plank);
     }
     if settings.wall && settings.dents {
         spawn_wall(&mut commands, &mut meshes, &mut materials, physics);
@@ -221,8 +220,7 @@ fn launch_wrecking_ball(
     if *frame != WRECKING_FRAME {
         return;
     }
-    #[cfg(feature = "rapier")]
-    if settings.plank && settings.dent_plank && settings.dents && *physics == Physics::Rapier {
+    if settings.plank && settings.dent_plank && settings.dents {
         // A 5 kg ball dropped at 8 m/s on the plank's right bone, 0.8 m from its joint: it
         // splits the bone there and dents it.
         let radius = 0.12;
@@ -246,32 +244,29 @@ fn launch_wrecking_ball(
 }
 
 /// Height of the plank's posts above the block, m.
-#[cfg(feature = "rapier")]
 const POST: f32 = 0.4;
 
 /// A 3.4 × 0.1 × 0.3 m plank of two bones (plastic joint of 40 N·m·s, 700 kg/m³) on two posts
 /// near the block's front edge: balls that land on it bend it at the joint.
-#[cfg(feature = "rapier")]
 fn spawn_plank(
     commands: &mut Commands,
     meshes: &mut Assets<Mesh>,
     materials: &mut Assets<StandardMaterial>,
+    physics: Physics,
     dents: bool,
 ) {
     use crate::{BendSettings, Bendable};
-    use bevy_rapier3d::prelude::{Collider, RigidBody};
     use dentbend::bend::auto_skeleton;
     use dentbend::dent::DentSettings;
     let wood = materials.add(StandardMaterial { base_color: Color::srgb(0.6, 0.42, 0.25), ..default() });
     let post = meshes.add(Cuboid::new(0.2, POST, 0.3));
     for x in [-1.5, 1.5] {
-        commands.spawn((
+        let mut post = commands.spawn((
             Mesh3d(post.clone()),
             MeshMaterial3d(wood.clone()),
             Transform::from_xyz(x, 0.5 * POST, 1.2),
-            RigidBody::Fixed,
-            Collider::cuboid(0.1, 0.5 * POST, 0.15),
         ));
+        physics.fixed_box(&mut post, Vec3::new(0.1, 0.5 * POST, 0.15));
     }
     let plank = mesh::plank(3.4, 0.3, 0.1, 68).expect("a valid plank");
     let skeleton = auto_skeleton(&plank, 2).expect("a two-bone plank");

@@ -33,6 +33,33 @@ pub(crate) trait Engine: Send + Sync + 'static {
     /// m) with the piece's own mass properties (not the collider's), moving as it broke loose;
     /// `None` when the points span no hull (a sliver).
     fn piece_body(hull: &[Vec3], piece: &DentPiece) -> Option<impl Bundle>;
+
+    /// A convex collider over `points` (the entity's frame, m); `None` when they span no hull.
+    fn hull(points: &[Vec3]) -> Option<Self::Collider>;
+
+    /// A bone of a bendable body: a dynamic body with a convex collider over `hull` (its rest
+    /// frame, m) of `material` (density kg/m³, friction coefficient), at `transform`, moving
+    /// with `motion` (linear m/s, angular rad/s), whose contacts the plug-in reads; `None` when
+    /// the points span no hull.
+    fn bone_body(
+        hull: &[Vec3],
+        material: (f32, f32),
+        transform: Transform,
+        motion: (Vec3, Vec3),
+    ) -> Option<impl Bundle>;
+
+    /// Joins bone body `child` to `parent` with a spherical joint at `point` (the bodies'
+    /// shared rest frame, m), no contacts between them: the engine holds the anchors together
+    /// and the joint's rule turns them. Returns the joint's own entity where the engine makes
+    /// one, to despawn when the child is joined elsewhere (a child has one joint).
+    fn join(commands: &mut Commands, parent: Entity, child: Entity, point: Vec3) -> Option<Entity>;
+
+    /// Puts body `entity` at `transform`, moving with `motion` (linear m/s, angular rad/s).
+    fn place(commands: &mut Commands, entity: Entity, transform: Transform, motion: (Vec3, Vec3));
+
+    /// Adds the system that applies the bendable bodies' joint rules just before each step of
+    /// `physics` (the schedule the engine steps in).
+    fn add_joint_rules(app: &mut App, physics: bevy::ecs::schedule::InternedScheduleLabel);
 }
 
 /// Adds what every engine's contact source needs in `PostUpdate`: finding colliders on other

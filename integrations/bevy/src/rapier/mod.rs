@@ -6,13 +6,17 @@
 //! [`ImpactCollector`](dentbend_rapier::ImpactCollector) turns the solver's contacts into one
 //! point and normal); body states are recorded just before Rapier's step.
 
+mod bend_joints;
 mod contacts;
 mod give_way;
 
 use bevy::ecs::schedule::{InternedScheduleLabel, ScheduleLabel};
 use bevy::prelude::*;
 use bevy_rapier3d::plugin::PhysicsSet;
-use bevy_rapier3d::prelude::{Collider, ColliderMassProperties, MassProperties, RigidBody, Velocity};
+use bevy_rapier3d::prelude::{
+    ActiveEvents, Collider, ColliderMassProperties, ContactForceEventThreshold, Friction, ImpulseJoint, MassProperties,
+    RigidBody, SphericalJointBuilder, Velocity,
+};
 use bevy_rapier3d::rapier::prelude::MassProperties as RapierMass;
 use parry3d::shape::SharedShape;
 
@@ -42,6 +46,47 @@ impl Engine for Rapier {
             ColliderMassProperties::MassProperties(MassProperties::from_rapier(mass)),
             Velocity { linear: piece.linear_velocity, angular: piece.angular_velocity },
         ))
+    }
+
+    fn hull(points: &[Vec3]) -> Option<Collider> {
+        Collider::convex_hull(points)
+    }
+
+    fn bone_body(
+        hull: &[Vec3],
+        (density, friction): (f32, f32),
+        transform: Transform,
+        (linear, angular): (Vec3, Vec3),
+    ) -> Option<impl Bundle> {
+        Some((
+            RigidBody::Dynamic,
+            Collider::convex_hull(hull)?,
+            ColliderMassProperties::Density(density),
+            Friction::coefficient(friction),
+            transform,
+            Velocity { linear, angular },
+            // A bone reports every push (its impacts dent and split it).
+            ActiveEvents::CONTACT_FORCE_EVENTS,
+            ContactForceEventThreshold(0.0),
+        ))
+    }
+
+    fn join(commands: &mut Commands, parent: Entity, child: Entity, point: Vec3) -> Option<Entity> {
+        let joint = SphericalJointBuilder::new().local_anchor1(point).local_anchor2(point).contacts_enabled(false);
+        // The child's one joint: inserting replaces the one it had.
+        commands.entity(child).insert(ImpulseJoint::new(parent, joint));
+        None
+    }
+
+    fn place(commands: &mut Commands, entity: Entity, transform: Transform, (linear, angular): (Vec3, Vec3)) {
+        commands.entity(entity).insert((transform, Velocity { linear, angular }));
+    }
+
+    fn add_joint_rules(app: &mut App, physics: InternedScheduleLabel) {
+        app.add_systems(
+            physics,
+            bend_joints::apply_joint_rules.after(PhysicsSet::SyncBackend).before(PhysicsSet::StepSimulation),
+        );
     }
 }
 

@@ -1,12 +1,12 @@
-//! The joints' plastic or elastic rule, applied to Rapier's bodies between two steps, as
-//! dentbend-rapier's `Bendable::after_step` does (here just before the next step, once Bevy's
-//! changes are synced, so the impulses go straight into it).
+//! The bendable bodies' joint rules applied to bevy_rapier3d's bodies just before each step
+//! (once Bevy's changes are synced, so the impulses go straight into it), as dentbend-rapier's
+//! `Bendable::after_step` applies them.
 
 use bevy::prelude::*;
 use bevy_rapier3d::plugin::context::{RapierContextSimulation, RapierRigidBodySet};
-use dentbend_rapier::JointState;
+use dentbend_rapier::apply_joint;
 
-use super::Bends;
+use crate::bend::Bends;
 
 /// Applies every bendable body's joint rules.
 pub(crate) fn apply_joint_rules(
@@ -21,14 +21,7 @@ pub(crate) fn apply_joint_rules(
                 [rig.pieces[joint.parent], rig.pieces[joint.child]].map(|e| set.entity2body().get(&e).copied());
             let [Some(h1), Some(h2)] = handles else { continue };
             let (Some(b1), Some(b2)) = set.bodies.get_pair_mut(h1, h2) else { continue };
-            match &mut joint.rule {
-                JointState::Plastic(p) => {
-                    p.apply(b1, b2, dt);
-                }
-                JointState::Elastic(e) => {
-                    e.apply(b1, b2, dt);
-                }
-            }
+            apply_joint(&mut joint.rule, b1, b2, dt);
         }
     }
 }
