@@ -18,7 +18,8 @@
 //!                                                                                                plane      refreshed
 //! ```
 //!
-//! The host plans each dent first ([`dent::plan_dent`]: frame, grids, kernel parameter blocks).
+//! The host plans each dent first (`dent::plan_dent`, public with the `kernels` feature: frame,
+//! grids, kernel parameter blocks).
 //! Every kernel lives in [`cpu`] as a plain function over flat slices and in `shaders/` as a
 //! WGSL compute shader that serves a whole batch of dents per dispatch ([`gpu`]); the CPU twins
 //! are the reference in tests and the fallback without an adapter (`DENTBEND_BACKEND=cpu|gpu|auto`).

@@ -1,6 +1,8 @@
 //! The plastic and elastic joint rules of paper §4 as engine-neutral math: what any rigid-body
 //! solver's joint needs to bend and stay bent, or to spring back, whatever its own joint
-//! representation. dentbend's own solver (`sim::joints`) and the Rapier adapter both apply them.
+//! representation. [`JointState`](super::JointState) steps them on any engine's two bodies (the
+//! Rapier adapter and the Bevy plug-in use it); dentbend-solver's `sim::joints` applies them
+//! inside its own solver.
 //!
 //! - Plastic: the joint's angular impulse accumulated over a step is clamped onto the sphere of
 //!   radius `strength` ([`clamp_to_strength`]); when it clamps the joint bends, and its rest

@@ -25,11 +25,9 @@ mod skin_error;
 mod skin_layout;
 mod zbuffer;
 
-pub use attenuation::Attenuation;
-kernels_use!(attenuation::FalloffFn);
+pub use attenuation::{Attenuation, FalloffFn};
 pub(crate) use glance::glance_band;
-pub use interleave::InterleaveParams;
-kernels_use!(interleave::NO_NORMAL);
+pub use interleave::{InterleaveParams, NO_NORMAL};
 kernels_use!(layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff});
 pub use moved::MovedParams;
 pub use skin::{Skinned, skin};

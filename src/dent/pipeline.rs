@@ -90,10 +90,12 @@ pub fn dent_map_stages(
     Ok(DentStages { zbuffer_grid, zbuffer, envelope, smoothed, map, frame, sigma })
 }
 
-/// Builds only the final dent map; see [`dent_map_stages`].
+/// Builds only the final dent map (`dent_map_stages`, public with the `kernels` feature, keeps
+/// every stage).
 ///
 /// # Errors
-/// As [`dent_map_stages`].
+/// Invalid parameters, impact or mesh; [`DentError::ProjectileBehindPlane`];
+/// [`DentError::EmptyProfile`] when nothing is left of the profile.
 pub fn dent_map(
     projectile: &TriMesh,
     impact: &Impact,

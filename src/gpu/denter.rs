@@ -39,8 +39,8 @@ pub enum GpuBatchError {
     /// One dent's input was invalid (reported by job index, as [`crate::dent::dent_batch`] does).
     #[error(transparent)]
     Job(#[from] BatchError),
-    /// A dent given to [`GpuDenter::record_batch`] (or
-    /// [`dent_batch_timed`](GpuDenter::dent_batch_timed)) asks for stages that run on the host,
+    /// A dent given to [`GpuDenter::record_batch`] (or `dent_batch_timed`, with the `kernels`
+    /// feature) asks for stages that run on the host,
     /// which a recording that never waits cannot run; nothing was recorded.
     #[error(
         "dent {job} of the batch asks for {stages}, which run on the host around the kernels, and \

@@ -58,7 +58,7 @@ impl<'a> GltfNode<'a> {
 
 /// Writes `mesh` as a binary glTF file: one node (named after the file stem, identity
 /// transform) holding one mesh in a grey, non-metallic material (roughness 0.6). Positions are
-/// written as f32 unchanged, so [`load_gltf`](super::load_gltf) reads them back bit for bit.
+/// written as f32 unchanged, so [`load`](super::load) reads them back bit for bit.
 ///
 /// The file is written to a temporary sibling and renamed into place, so a failed save leaves
 /// no partial file.

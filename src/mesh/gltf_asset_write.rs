@@ -29,7 +29,7 @@ const ROUGHNESS: f32 = 0.6;
 /// `COLOR_n` (RGBA) of every set, u16 `JOINTS_0` and f32 `WEIGHTS_0`, shared by one node, mesh
 /// and triangle primitive per face group (named after the group's object), whose material keeps
 /// the group's glTF material index (new indices after the largest for OBJ materials) and name.
-/// [`load_gltf_asset`](super::load_gltf_asset) reads the attributes back bit for bit. Written
+/// [`load_asset`](super::load_asset) reads the attributes back bit for bit. Written
 /// through a temporary sibling file.
 ///
 /// # Errors

@@ -30,7 +30,8 @@ pub struct SceneRef {
     pub spec: String,
     /// The built-in scene's size (`full` or `demo`).
     pub size: String,
-    /// [`SceneRef::file_hash_of`] the scene file's bytes; `None` for a built-in scene.
+    /// The hash of the scene file's bytes ([`SceneRef::file_hash_of`]); `None` for a built-in
+    /// scene.
     pub file_hash: Option<u64>,
     /// The frame whose meshes the bodies' final stamps are (the run's last).
     pub frame: u64,

@@ -8,8 +8,7 @@
 //! plank: by default a wrecking ball breaks a wall behind the block, counted in `summary.json`'s
 //! `fractures` and `pieces`, a ball splits a bone of the bendable plank, `splits`, and balls dent
 //! it, `bendable_dents`), `--physics rapier|avian` (the engine: bevy_rapier3d by default, or
-//! Avian 0.8 with the `avian` feature; the bendable plank needs bevy_rapier3d and is left out
-//! on Avian).
+//! Avian 0.8 with the `avian` feature; the plank bends, splits and dents on either).
 //!
 //! Throughput: `--burst N` stops the rain and instead writes N contacts a frame on the block
 //! through the contact hook (a hidden ball landing at 3 m/s at random points: one batch of N

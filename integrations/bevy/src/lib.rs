@@ -174,6 +174,8 @@ impl DentbendPlugin {
     /// (`avian`), else bevy_rapier3d (`rapier`: in the schedule its step is found in, else the
     /// one named, else `PostUpdate`).
     fn add_contact_source(&self, app: &mut App) {
+        // There whichever engine steps (or none): systems of the app may read it.
+        app.init_resource::<bend::Bends>();
         #[cfg(feature = "avian")]
         if let Some(found) = avian::physics_schedule(app) {
             self.check_named(found, "Avian");

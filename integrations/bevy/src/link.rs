@@ -46,9 +46,9 @@ pub(crate) enum ToRender {
     /// A dent to make.
     Dent(GpuJob),
     /// Skin `entity` (Bevy asset `asset`, laid out as `layout`) from its rest vertices (its own
-    /// coordinates) with `influences` over `bones` bones. Only bending (the `rapier` feature)
-    /// sends this and `Pose`.
-    #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
+    /// coordinates) with `influences` over `bones` bones. Only bending (the `rapier` or `avian`
+    /// feature) sends this and `Pose`.
+    #[cfg_attr(not(any(feature = "rapier", feature = "avian")), allow(dead_code))]
     RegisterSkin {
         entity: Entity,
         asset: AssetId<Mesh>,
@@ -59,7 +59,7 @@ pub(crate) enum ToRender {
         layout: SlabLayout,
     },
     /// This frame's bone matrices of skinned `entity` (rest frame → its own coordinates).
-    #[cfg_attr(not(feature = "rapier"), allow(dead_code))]
+    #[cfg_attr(not(any(feature = "rapier", feature = "avian")), allow(dead_code))]
     Pose { entity: Entity, bones: Vec<SkinBone> },
 }
 

@@ -8,7 +8,7 @@ use glam::Mat3;
 use rapier3d::prelude::RigidBody;
 
 /// Applies `rule` to `b1` (parent) and `b2` (child) over a step of `dt` s: the rule's angular
-/// impulse goes to `b2` and its opposite to `b1`, waking both.
+/// impulse goes to `b2` and its opposite to `b1`, waking both when it is not zero.
 pub fn apply_joint(rule: &mut JointState, b1: &mut RigidBody, b2: &mut RigidBody, dt: f32) -> JointStep {
     let bodies = JointBodies {
         rotations: [*b1.rotation(), *b2.rotation()],

@@ -79,8 +79,7 @@ impl MeshCache<'_> {
                     fail(format!("{e} (to read files elsewhere, load the scene with trusted mesh paths: `--trust-paths` on the command line)"))
                 })?,
             };
-            let path_text = path.to_str().ok_or_else(|| fail(format!("mesh path {} is not UTF-8", path.display())))?;
-            mesh::load(path_text).map_err(|e| fail(e.to_string()))?
+            mesh::load(&path).map_err(|e| fail(e.to_string()))?
         };
         self.loaded.insert(name.clone(), mesh.clone());
         Ok(mesh)

@@ -58,7 +58,7 @@ impl RunShape {
     }
 }
 
-/// Estimated bytes of one OBJ file as `mesh::save_obj` writes it: a `v` and a `vn` line of
+/// Estimated bytes of one OBJ file as `mesh::save` writes it: a `v` and a `vn` line of
 /// three shortest-form f32 (about 33 bytes each) per vertex, a `f a//a b//b c//c` line per
 /// triangle.
 fn obj_bytes(vertices: usize, triangles: usize) -> u64 {

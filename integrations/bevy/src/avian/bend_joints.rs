@@ -4,7 +4,7 @@
 //! Avian's spherical joint holds the anchors together.
 
 use avian3d::math::SymmetricTensor;
-use avian3d::prelude::{AngularVelocity, ComputedAngularInertia, RigidBody, Rotation};
+use avian3d::prelude::{AngularVelocity, ComputedAngularInertia, Physics, PhysicsTime, RigidBody, Rotation};
 use bevy::prelude::*;
 use dentbend::bend::JointBodies;
 
@@ -13,11 +13,15 @@ use crate::bend::Bends;
 /// What a bone's rule reads and writes.
 type BoneData = (&'static RigidBody, &'static Rotation, &'static ComputedAngularInertia, &'static mut AngularVelocity);
 
-/// Applies every bendable body's joint rules over the coming step (`time`: the schedule's, the
-/// step Avian takes in it).
-pub(crate) fn apply_joint_rules(mut bends: ResMut<Bends>, time: Res<Time>, mut bones: Query<BoneData>) {
-    let dt = time.delta_secs();
-    if dt <= 0.0 || !dt.is_finite() {
+/// Applies every bendable body's joint rules over the coming step: `time` is the schedule's
+/// clock, scaled by Avian's relative speed; nothing while Avian's clock is paused (no step).
+pub(crate) fn apply_joint_rules(
+    mut bends: ResMut<Bends>,
+    (time, physics): (Res<Time>, Res<Time<Physics>>),
+    mut bones: Query<BoneData>,
+) {
+    let dt = time.delta_secs() * physics.relative_speed();
+    if physics.is_paused() || dt <= 0.0 || !dt.is_finite() {
         return;
     }
     for rig in bends.rigs.values_mut() {

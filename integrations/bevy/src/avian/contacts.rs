@@ -1,5 +1,6 @@
-//! Avian's contacts as [`DentContact`]s: the pairs of a dentable's collider the solver pushed
-//! on this step, with the two bodies as they were before it.
+//! Avian's contacts as [`DentContact`]s: the pairs of a dentable's or a bendable bone's collider
+//! with another body the plug-in knows that the solver pushed on this step, with the two bodies
+//! as they were before it.
 
 use std::collections::{HashMap, HashSet};
 
@@ -113,8 +114,8 @@ fn state_of((kind, position, rotation, linear, angular, mass, inertia, centre, l
     }
 }
 
-/// This step's pushes on each dentable's collider (those recorded before the step), between
-/// bodies the plug-in knows, as
+/// This step's pushes on each dentable's and bone's collider (those recorded before the step),
+/// between bodies the plug-in knows, as
 /// [`DentContact`]s (`started` on the first step a pair pushes).
 pub(crate) fn send_contacts(
     mut impacts: ResMut<AvianImpacts>,

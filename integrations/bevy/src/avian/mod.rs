@@ -2,10 +2,12 @@
 //! [`DentContact`](crate::DentContact)s, dented meshes refit the entities' `Collider`s, and the
 //! pieces of broken bodies become Avian bodies.
 //!
-//! The states of the bodies the plug-in knows (dentables and projectiles) are recorded just
-//! before Avian's step, in the schedule it steps in (`FixedPostUpdate` by default); after the
-//! step, each dentable's contact pairs in Avian's contact graph are read, so the cost follows
-//! the dentables' contacts, not the number of bodies.
+//! The states of the bodies the plug-in knows (dentables, projectiles and bendable bodies'
+//! bones) are recorded just before Avian's step, in the schedule it steps in (`FixedPostUpdate`
+//! by default); after the step, each dentable's and bone's contact pairs with those bodies in
+//! Avian's contact graph are read, so the cost follows their contacts, not the number of bodies.
+//! Bones are Avian bodies joined by `SphericalJoint` entities; their joint rules turn them
+//! just before each step.
 
 mod bend_joints;
 mod contacts;
@@ -29,6 +31,7 @@ pub(crate) struct Avian;
 
 impl Engine for Avian {
     type Collider = Collider;
+    type Body = RigidBody;
     const NAME: &'static str = "Avian";
 
     fn shape(collider: &Collider) -> &SharedShape {
@@ -80,6 +83,10 @@ impl Engine for Avian {
         Some(commands.spawn((joint, JointCollisionDisabled)).id())
     }
 
+    fn is_dynamic(body: &RigidBody) -> bool {
+        body.is_dynamic()
+    }
+
     fn place(commands: &mut Commands, entity: Entity, transform: Transform, (linear, angular): (Vec3, Vec3)) {
         commands.entity(entity).insert((transform, LinearVelocity(linear), AngularVelocity(angular)));
     }
@@ -87,7 +94,10 @@ impl Engine for Avian {
     fn add_joint_rules(app: &mut App, physics: InternedScheduleLabel) {
         app.add_systems(
             physics,
-            bend_joints::apply_joint_rules.after(PhysicsSystems::Prepare).before(PhysicsSystems::StepSimulation),
+            bend_joints::apply_joint_rules
+                .after(PhysicsSystems::Prepare)
+                .before(contacts::record_states)
+                .before(PhysicsSystems::StepSimulation),
         );
     }
 }

@@ -32,6 +32,7 @@ pub(crate) fn split_bones<E: Engine>(
     mut contacts: MessageReader<DentContact>,
     mut bends: ResMut<Bends>,
     pieces: Query<&BendPiece>,
+    bodies: Query<&E::Body>,
     mut stats: ResMut<DentStats>,
     (link, meshes): (Res<MainLink>, Res<Assets<Mesh>>),
 ) {
@@ -60,9 +61,9 @@ pub(crate) fn split_bones<E: Engine>(
             Ok(true) => {
                 stats.splits += 1;
                 // The hit is solved again next step, against the articulated body: what hit it
-                // goes back to where and how it was before the step (a body that takes
-                // impulses: a fixed or kinematic one is where its owner puts it).
-                if s.hitter.state.inverse_mass > 0.0 {
+                // goes back to where and how it was before the step (a dynamic body whose entity
+                // is the one hit: a fixed or kinematic one is where its owner puts it).
+                if bodies.get(s.hitter.entity).is_ok_and(E::is_dynamic) {
                     E::place(&mut commands, s.hitter.entity, pre_step_transform(&s.hitter), pre_step_motion(&s.hitter));
                 }
                 rig.last.clear();

@@ -1,7 +1,7 @@
 //! What every physics engine's contact source shares: the engine's collider component and
 //! shape, finding a dentable mesh's collider on another entity, refitting colliders after dents,
-//! bodies for broken pieces, and finding the schedule the engine steps in. `rapier` and `avian`
-//! features.
+//! bodies for broken pieces, the bodies and joints of bendable bodies' bones and their joint
+//! rules, and finding the schedule the engine steps in. `rapier` and `avian` features.
 
 mod alias;
 mod pieces;
@@ -19,6 +19,8 @@ use crate::{DentPiece, DentSystems};
 pub(crate) trait Engine: Send + Sync + 'static {
     /// The engine's collider component.
     type Collider: Component<Mutability = bevy::ecs::component::Mutable>;
+    /// The engine's rigid-body component.
+    type Body: Component;
     /// The engine's name in log lines, as its users know it.
     const NAME: &'static str;
 
@@ -53,6 +55,9 @@ pub(crate) trait Engine: Send + Sync + 'static {
     /// and the joint's rule turns them. Returns the joint's own entity where the engine makes
     /// one, to despawn when the child is joined elsewhere (a child has one joint).
     fn join(commands: &mut Commands, parent: Entity, child: Entity, point: Vec3) -> Option<Entity>;
+
+    /// Whether `body` is a dynamic body (one the solver moves).
+    fn is_dynamic(body: &Self::Body) -> bool;
 
     /// Puts body `entity` at `transform`, moving with `motion` (linear m/s, angular rad/s).
     fn place(commands: &mut Commands, entity: Entity, transform: Transform, motion: (Vec3, Vec3));

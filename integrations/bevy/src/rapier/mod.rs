@@ -28,6 +28,7 @@ pub(crate) struct Rapier;
 
 impl Engine for Rapier {
     type Collider = Collider;
+    type Body = RigidBody;
     const NAME: &'static str = "bevy_rapier3d";
 
     fn shape(collider: &Collider) -> &SharedShape {
@@ -78,6 +79,10 @@ impl Engine for Rapier {
         None
     }
 
+    fn is_dynamic(body: &RigidBody) -> bool {
+        *body == RigidBody::Dynamic
+    }
+
     fn place(commands: &mut Commands, entity: Entity, transform: Transform, (linear, angular): (Vec3, Vec3)) {
         commands.entity(entity).insert((transform, Velocity { linear, angular }));
     }
@@ -85,7 +90,10 @@ impl Engine for Rapier {
     fn add_joint_rules(app: &mut App, physics: InternedScheduleLabel) {
         app.add_systems(
             physics,
-            bend_joints::apply_joint_rules.after(PhysicsSet::SyncBackend).before(PhysicsSet::StepSimulation),
+            bend_joints::apply_joint_rules
+                .after(PhysicsSet::SyncBackend)
+                .before(contacts::record_states)
+                .before(PhysicsSet::StepSimulation),
         );
     }
 }
