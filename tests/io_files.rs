@@ -158,9 +158,9 @@ fn heatmap_has_the_grid_dimensions_and_orientation() {
     assert!(luma(rgb.get_pixel(0, 0)) > luma(rgb.get_pixel(3, 1)));
     assert!(luma(rgb.get_pixel(3, 1)) > 0);
     assert_eq!(rgb, heatmap_rgb(&data, w, h, 2.0).unwrap());
-    // The ramp grows lighter all the way up.
-    let ramp: Vec<u32> =
-        (0..=100).map(|k| dentbend::io::heat_colour(k as f32 / 100.0).iter().map(|&c| u32::from(c)).sum()).collect();
+    // The ramp grows lighter all the way up: 0 to the maximum in 101 steps along a row.
+    let row: Vec<f32> = (0..=100).map(|k| k as f32 / 100.0).collect();
+    let ramp: Vec<u32> = heatmap_rgb(&row, 101, 1, 1.0).unwrap().pixels().map(luma).collect();
     assert!(ramp.windows(2).all(|w| w[1] >= w[0]), "{ramp:?}");
     // A zero maximum gives an all-dark picture.
     let dark = heatmap_rgb(&data, w, h, 0.0).unwrap();

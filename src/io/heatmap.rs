@@ -20,7 +20,7 @@ const RAMP: [(f32, [f32; 3]); 6] = [
 
 /// The ramp colour of `t` in [0, 1] (values outside are clamped, NaN is 0), piecewise linear
 /// between the control points.
-pub fn heat_colour(t: f32) -> [u8; 3] {
+fn heat_colour(t: f32) -> [u8; 3] {
     let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
     let upper = RAMP.iter().position(|&(at, _)| at >= t).unwrap_or(RAMP.len() - 1).max(1);
     let ((t0, c0), (t1, c1)) = (RAMP[upper - 1], RAMP[upper]);
