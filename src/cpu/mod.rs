@@ -30,9 +30,9 @@ pub(crate) use glance::glance_band;
 pub use interleave::{InterleaveParams, NO_NORMAL};
 kernels_use!(layout::{DisplaceParams, EnvelopeParams, GlanceParams, GridUniform, HeatParams, ZbufferParams, falloff});
 pub use moved::MovedParams;
-pub use skin::{Skinned, skin};
 #[cfg(feature = "gpu")]
-pub(crate) use skin::{check_length, validate_bones, validate_vertices};
+pub(crate) use skin::check_length;
+pub use skin::{Skinned, skin};
 pub use skin_error::{SkinError, WEIGHT_SUM_TOLERANCE};
 pub use skin_layout::{SkinBone, SkinInfluence, SkinParams, skin_bones};
 

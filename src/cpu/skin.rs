@@ -62,49 +62,12 @@ fn influence_error(vertex: usize, influence: &SkinInfluence, bone_count: u32) ->
     SkinError::WeightSum { vertex, sum: weight_sum(&influence.weights) }
 }
 
-/// Checks every vertex's rest position and normal (finite) and influences (finite,
-/// non-negative weights summing to one, bones below the bone count) in one pass; reports the
-/// first bad vertex.
-///
-/// # Errors
-/// [`SkinError::Length`] if the slices differ in length; [`SkinError::NonFiniteRest`],
-/// [`SkinError::NonFiniteWeight`], [`SkinError::NegativeWeight`], [`SkinError::WeightSum`] or
-/// [`SkinError::BoneIndex`].
-pub(crate) fn validate_vertices(
-    rest_positions: &[Vec3],
-    rest_normals: &[Vec3],
-    influences: &[SkinInfluence],
-    bone_count: u32,
-) -> Result<(), SkinError> {
-    check_length("rest normals", rest_normals.len(), rest_positions.len())?;
-    check_length("influences", influences.len(), rest_positions.len())?;
-    let rest_ok = |v: usize| rest_positions[v].is_finite() & rest_normals[v].is_finite();
-    let bad = first_bad(influences, |v, i| !(rest_ok(v) & influence_ok(i, bone_count)));
-    match bad {
-        Some(vertex) if !rest_ok(vertex) => Err(SkinError::NonFiniteRest { vertex }),
-        Some(vertex) => Err(influence_error(vertex, &influences[vertex], bone_count)),
-        None => Ok(()),
-    }
-}
-
 /// The index of the first item for which `bad(index, item)` holds, searched in parallel chunks.
 fn first_bad<T: Sync>(items: &[T], bad: impl Fn(usize, &T) -> bool + Sync) -> Option<usize> {
     let chunks = items.par_chunks(CHUNK).enumerate();
     chunks
         .filter_map(|(c, chunk)| (c * CHUNK..).zip(chunk).position(|(v, item)| bad(v, item)).map(|k| c * CHUNK + k))
         .min()
-}
-
-/// Checks a bone count against `params` and every bone matrix for NaN and ∞.
-///
-/// # Errors
-/// [`SkinError::Length`] or [`SkinError::NonFiniteBone`].
-pub(crate) fn validate_bones(bones: &[SkinBone], bone_count: u32) -> Result<(), SkinError> {
-    check_length("bone matrices", bones.len(), bone_count as usize)?;
-    match bones.iter().position(|b| !b.is_finite()) {
-        Some(bone) => Err(SkinError::NonFiniteBone { bone }),
-        None => Ok(()),
-    }
 }
 
 impl SkinInfluence {
@@ -123,7 +86,15 @@ impl SkinInfluence {
         influences: &[Self],
         bone_count: u32,
     ) -> Result<(), SkinError> {
-        validate_vertices(rest_positions, rest_normals, influences, bone_count)
+        check_length("rest normals", rest_normals.len(), rest_positions.len())?;
+        check_length("influences", influences.len(), rest_positions.len())?;
+        let rest_ok = |v: usize| rest_positions[v].is_finite() & rest_normals[v].is_finite();
+        let bad = first_bad(influences, |v, i| !(rest_ok(v) & influence_ok(i, bone_count)));
+        match bad {
+            Some(vertex) if !rest_ok(vertex) => Err(SkinError::NonFiniteRest { vertex }),
+            Some(vertex) => Err(influence_error(vertex, &influences[vertex], bone_count)),
+            None => Ok(()),
+        }
     }
 }
 
@@ -133,7 +104,11 @@ impl SkinBone {
     /// # Errors
     /// [`SkinError::Length`] or [`SkinError::NonFiniteBone`].
     pub fn validate_all(bones: &[Self], bone_count: u32) -> Result<(), SkinError> {
-        validate_bones(bones, bone_count)
+        check_length("bone matrices", bones.len(), bone_count as usize)?;
+        match bones.iter().position(|b| !b.is_finite()) {
+            Some(bone) => Err(SkinError::NonFiniteBone { bone }),
+            None => Ok(()),
+        }
     }
 }
 
@@ -195,8 +170,8 @@ pub fn skin(
     check_length("influences", influences.len(), n)?;
     check_length("skinned positions", positions.len(), n)?;
     check_length("skinned normals", normals.len(), n)?;
-    validate_bones(bones, params.bone_count)?;
-    validate_vertices(rest_positions, rest_normals, influences, params.bone_count)?;
+    SkinBone::validate_all(bones, params.bone_count)?;
+    SkinInfluence::validate_all(rest_positions, rest_normals, influences, params.bone_count)?;
 
     positions.par_chunks_mut(CHUNK).zip(normals.par_chunks_mut(CHUNK)).enumerate().for_each(
         |(chunk, (positions, normals))| {

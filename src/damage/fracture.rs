@@ -226,7 +226,7 @@ pub(crate) fn break_at<K: Copy>(
         rest_origins: outcome.rest_origins,
         rest_mass: outcome.rest_mass,
         pieces,
-        projectile_velocity: velocity_after_giving_way(&b.projectile_state, used),
+        projectile_velocity: b.projectile_state.velocity_after_giving_way(used),
     }))
 }
 
@@ -256,22 +256,18 @@ impl BodyState {
     /// its kinetic energy (computed from its velocities and inverse mass and inertia); `None`
     /// for a body that takes no impulse.
     pub fn velocity_after_giving_way(&self, used: f32) -> Option<(Vec3, Vec3)> {
-        velocity_after_giving_way(self, used)
+        if self.inverse_mass <= 0.0 {
+            return None;
+        }
+        let linear = 0.5 * self.linear_velocity.length_squared() / self.inverse_mass;
+        let inertia = self.inverse_inertia.inverse();
+        let angular = if inertia.is_finite() {
+            0.5 * self.angular_velocity.dot(inertia * self.angular_velocity).max(0.0)
+        } else {
+            0.0
+        };
+        let before = linear + angular;
+        let keep = if before > 0.0 { ((before - used.max(0.0)) / before).clamp(0.0, 1.0).sqrt() } else { 0.0 };
+        Some((self.linear_velocity * keep, self.angular_velocity * keep))
     }
-}
-
-fn velocity_after_giving_way(state: &BodyState, used: f32) -> Option<(Vec3, Vec3)> {
-    if state.inverse_mass <= 0.0 {
-        return None;
-    }
-    let linear = 0.5 * state.linear_velocity.length_squared() / state.inverse_mass;
-    let inertia = state.inverse_inertia.inverse();
-    let angular = if inertia.is_finite() {
-        0.5 * state.angular_velocity.dot(inertia * state.angular_velocity).max(0.0)
-    } else {
-        0.0
-    };
-    let before = linear + angular;
-    let keep = if before > 0.0 { ((before - used.max(0.0)) / before).clamp(0.0, 1.0).sqrt() } else { 0.0 };
-    Some((state.linear_velocity * keep, state.angular_velocity * keep))
 }

@@ -33,7 +33,7 @@ use glam::{Vec3, Vec4};
 
 use super::{Binding, GpuContext, GpuError, Kernel, buffers};
 pub use crate::cpu::Skinned;
-use crate::cpu::{SkinBone, SkinError, SkinInfluence, SkinParams, check_length, validate_bones, validate_vertices};
+use crate::cpu::{SkinBone, SkinError, SkinInfluence, SkinParams, check_length};
 
 /// Invocations per workgroup along x. Keep in sync with `WORKGROUP` in `shaders/skin.wgsl`.
 pub(crate) const WORKGROUP: u32 = 64;
@@ -137,7 +137,7 @@ impl Skin {
         if groups > limit {
             return Err(over_limit("skin workgroups (vertices / WORKGROUP)", groups, limit));
         }
-        validate_vertices(rest_positions, rest_normals, influences, bone_count)?;
+        SkinInfluence::validate_all(rest_positions, rest_normals, influences, bone_count)?;
         let rest: Vec<SkinRest> = rest_positions
             .iter()
             .zip(rest_normals)
@@ -187,7 +187,7 @@ impl Skin {
         mesh: &SkinMesh,
         bones: &[SkinBone],
     ) -> Result<(), SkinError> {
-        validate_bones(bones, mesh.params.bone_count)?;
+        SkinBone::validate_all(bones, mesh.params.bone_count)?;
         if !bones.is_empty() {
             context.queue.write_buffer(&mesh.bones, 0, bytemuck::cast_slice(bones));
         }
@@ -212,7 +212,7 @@ impl Skin {
         jobs: &[(&SkinMesh, &[SkinBone])],
     ) -> Result<(), SkinError> {
         for (mesh, bones) in jobs {
-            validate_bones(bones, mesh.params.bone_count)?;
+            SkinBone::validate_all(bones, mesh.params.bone_count)?;
         }
         let mut dispatches = Vec::with_capacity(jobs.len());
         for (mesh, bones) in jobs {
@@ -240,13 +240,8 @@ impl Skin {
         let mut encoder = context.device.create_command_encoder(&Default::default());
         context.scoped("skin", || self.encode(context, &mut encoder, mesh, bones))??;
         context.queue.submit([encoder.finish()]);
-        let n = mesh.vertex_count();
-        let positions: Vec<Vec4> = buffers::read_back(context, &mesh.positions, n)?;
-        let normals: Vec<Vec4> = buffers::read_back(context, &mesh.normals, n)?;
-        Ok(Skinned {
-            positions: positions.iter().map(|v| v.truncate()).collect(),
-            normals: normals.iter().map(|v| v.truncate()).collect(),
-        })
+        let skinned = SkinMesh::read_back_all(context, &[mesh])?;
+        Ok(skinned.into_iter().next().expect("one mesh read back"))
     }
 }
 
