@@ -68,8 +68,7 @@ pub(crate) fn record_states(
     impacts.bones.extend(bones.iter());
     impacts.recorded_at = last_step.0;
     let aliased = world.aliased_colliders();
-    let bones = impacts.bones.iter().copied().collect::<Vec<_>>();
-    for &mesh in world.bodies.keys().chain(world.surfaces.keys()).chain(&bones) {
+    for mesh in world.bodies.keys().chain(world.surfaces.keys()).copied().chain(bones.iter()) {
         let (collider, to_collider) = aliased.get(&mesh).copied().unwrap_or((mesh, Affine3A::IDENTITY));
         let Ok((position, rotation, of, restitution)) = colliders.get(collider) else { continue };
         let pose = Affine3A::from_rotation_translation(rotation.0, position.0) * to_collider;
@@ -134,8 +133,7 @@ pub(crate) fn send_contacts(
     let read = |(collider, body): (&Entity, &DentBody)| {
         (world.path(body.entity).is_some() || impacts.bones.contains(collider)).then_some(*collider)
     };
-    let colliders: Vec<Entity> = impacts.before.iter().filter_map(read).collect();
-    for collider in colliders {
+    for collider in impacts.before.iter().filter_map(read) {
         for pair in collisions.collisions_with(collider) {
             let key = (pair.collider1, pair.collider2);
             if !seen.insert(key) {
