@@ -87,16 +87,22 @@ fn triangle_solid_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
 /// Whether each directed edge of `faces` appears once and its reverse once, and
 /// `V − E + F = 2` with `V` the `corners` the faces use.
 fn closed_sphere_topology(faces: &[[u32; 3]], corners: usize) -> bool {
-    let mut edges: Vec<(u32, u32)> = faces.iter().flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])]).collect();
+    // Each directed edge as its undirected key and its direction in the lowest bit: sorted,
+    // a closed, consistently oriented surface lists every key exactly twice, once each way.
+    let mut edges: Vec<u128> = Vec::with_capacity(3 * faces.len());
+    for f in faces {
+        for (a, b) in [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])] {
+            if a == b {
+                return false;
+            }
+            let (lo, hi) = (u128::from(a.min(b)), u128::from(a.max(b)));
+            edges.push((lo << 33) | (hi << 1) | u128::from(a < b));
+        }
+    }
     edges.sort_unstable();
-    if edges.windows(2).any(|w| w[0] == w[1]) {
-        return false;
-    }
-    if !edges.iter().all(|&(a, b)| a != b && edges.binary_search(&(b, a)).is_ok()) {
-        return false;
-    }
+    let paired = edges.chunks(2).all(|pair| matches!(pair, [one, other] if one ^ other == 1 && one & 1 == 0));
     let (v, e, f) = (corners as i64, edges.len() as i64 / 2, faces.len() as i64);
-    v - e + f == 2
+    paired && v - e + f == 2
 }
 
 #[cfg(test)]

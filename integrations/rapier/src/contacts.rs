@@ -114,6 +114,10 @@ impl ImpactCollector {
 #[derive(Debug, Default)]
 pub struct ImpactReader {
     pushing: HashSet<(ColliderHandle, ColliderHandle)>,
+    /// This step's pushing pairs while they are read (kept for its memory).
+    pushing_now: HashSet<(ColliderHandle, ColliderHandle)>,
+    /// The pairs read this step (kept for its memory).
+    read: HashSet<(ColliderHandle, ColliderHandle)>,
 }
 
 impl ImpactReader {
@@ -134,26 +138,27 @@ impl ImpactReader {
         bodies: &RigidBodySet,
         set: &ColliderSet,
     ) -> Vec<Contact> {
-        let mut pushing = HashSet::with_capacity_and_hasher(self.pushing.len(), Default::default());
-        // A pair of two known colliders is met from both: read once.
-        let mut read = HashSet::default();
+        self.pushing_now.clear();
+        self.read.clear();
         let mut out = Vec::new();
         for handle in colliders {
             for pair in narrow_phase.contact_pairs_with(handle) {
+                // A pair of two known colliders is met from both: read once.
                 let key = (pair.collider1, pair.collider2);
-                if !read.insert(key) {
+                if !self.read.insert(key) {
                     continue;
                 }
-                let Some(raw) = raw_impact(pair, !self.pushing.contains(&key), bodies, set) else { continue };
                 // A pair whose contact cannot be placed (a moving collider added after the
                 // states were recorded) is not marked: its impact starts on the next step.
-                if let Some(contact) = to_contact(&raw, states) {
-                    pushing.insert(key);
+                let pose = |h| states.collider_pose(h).or_else(|| still_pose(h, bodies, set));
+                let (Some(pose1), Some(pose2)) = (pose(pair.collider1), pose(pair.collider2)) else { continue };
+                if let Some(contact) = pair_contact(pair, !self.pushing.contains(&key), pose1, pose2) {
+                    self.pushing_now.insert(key);
                     out.push(contact);
                 }
             }
         }
-        self.pushing = pushing;
+        std::mem::swap(&mut self.pushing, &mut self.pushing_now);
         out
     }
 }
@@ -178,33 +183,73 @@ impl EventHandler for ImpactCollector {
     fn handle_soft_body_tear_event(&self, _: &SoftBodySet, _: &SoftBodyTearEvent) {}
 }
 
-/// The contacts of `pair`'s solver manifolds that pushed, and the normal of the manifold that
-/// pushed most; `None` when none pushed.
-fn raw_impact(pair: &ContactPair, started: bool, bodies: &RigidBodySet, colliders: &ColliderSet) -> Option<RawImpact> {
-    let mut points = Vec::new();
-    let (mut best, mut normal) = (0.0, Vec3::ZERO);
+/// Calls `visit` with each contact of `pair`'s solver manifolds that pushed (point on 1 in
+/// 1's frame, point on 2 in 2's frame, normal impulse N·s), in order; returns the world normal
+/// (1 → 2) of the manifold that pushed most, `None` when none pushed.
+fn pushed_contacts(pair: &ContactPair, mut visit: impl FnMut(Vec3, Vec3, f32)) -> Option<Vec3> {
+    let (mut best, mut normal, mut any) = (0.0, Vec3::ZERO, false);
     for m in pair.solver_manifolds() {
         let total: f32 = m.contacts().iter().map(|c| c.data.impulse.max(0.0)).sum();
         if total > best {
             (best, normal) = (total, m.data.normal);
         }
-        points.extend(
-            m.contacts().iter().filter(|c| c.data.impulse > 0.0).map(|c| (c.local_p1, c.local_p2, c.data.impulse)),
-        );
+        for c in m.contacts().iter().filter(|c| c.data.impulse > 0.0) {
+            any = true;
+            visit(c.local_p1, c.local_p2, c.data.impulse);
+        }
     }
-    let still = |h: ColliderHandle| {
-        let c = colliders.get(h)?;
-        let fixed = c.parent().is_none_or(|b| bodies.get(b).is_none_or(|rb| rb.is_fixed()));
-        fixed.then(|| crate::to_affine(c.position()))
-    };
-    (!points.is_empty()).then(|| RawImpact {
+    any.then_some(normal)
+}
+
+/// The pose of collider `h` when it cannot move (no body, or a fixed one).
+fn still_pose(h: ColliderHandle, bodies: &RigidBodySet, colliders: &ColliderSet) -> Option<Affine3A> {
+    let c = colliders.get(h)?;
+    let fixed = c.parent().is_none_or(|b| bodies.get(b).is_none_or(|rb| rb.is_fixed()));
+    fixed.then(|| crate::to_affine(c.position()))
+}
+
+/// The contacts of `pair`'s solver manifolds that pushed, and the normal of the manifold that
+/// pushed most; `None` when none pushed.
+fn raw_impact(pair: &ContactPair, started: bool, bodies: &RigidBodySet, colliders: &ColliderSet) -> Option<RawImpact> {
+    let mut points = Vec::new();
+    let normal = pushed_contacts(pair, |p1, p2, j| points.push((p1, p2, j)))?;
+    Some(RawImpact {
         collider1: pair.collider1,
         collider2: pair.collider2,
         points,
         normal,
         started,
-        still: [still(pair.collider1), still(pair.collider2)],
+        still: [still_pose(pair.collider1, bodies, colliders), still_pose(pair.collider2, bodies, colliders)],
     })
+}
+
+/// `pair`'s impact at the colliders' poses `pose1` and `pose2`, as [`world_contact`] makes it,
+/// without gathering its contacts first; `None` when none pushed.
+fn pair_contact(pair: &ContactPair, started: bool, pose1: Affine3A, pose2: Affine3A) -> Option<Contact> {
+    let mut sum = Weighted::default();
+    let normal = pushed_contacts(pair, |p1, p2, j| sum.add(pose1, pose2, p1, p2, j))?;
+    Some(sum.contact(pair.collider1, pair.collider2, normal, started))
+}
+
+/// The impulse-weighted sum of the midpoints of two colliders' contact points.
+#[derive(Default)]
+struct Weighted {
+    impulse: f32,
+    point: Vec3,
+}
+
+impl Weighted {
+    /// Adds the contact between `p1` (1's frame, at `pose1`) and `p2` (2's frame, at `pose2`)
+    /// with impulse `j`, N·s.
+    fn add(&mut self, pose1: Affine3A, pose2: Affine3A, p1: Vec3, p2: Vec3, j: f32) {
+        self.impulse += j;
+        self.point += 0.5 * (pose1.transform_point3(p1) + pose2.transform_point3(p2)) * j;
+    }
+
+    /// The contact at the weighted mean point.
+    fn contact(self, collider1: ColliderHandle, collider2: ColliderHandle, normal: Vec3, started: bool) -> Contact {
+        Contact { collider1, collider2, point: self.point / self.impulse, normal, impulse: self.impulse, started }
+    }
 }
 
 /// `raw` in world coordinates from `states`' poses (a still collider's own); `None` when a
@@ -218,16 +263,9 @@ fn to_contact(raw: &RawImpact, states: &BodyStates) -> Option<Contact> {
 /// `raw` at the colliders' poses `pose1` and `pose2`: the impulse-weighted mean of the
 /// midpoints of the two colliders' contact points.
 fn world_contact(raw: &RawImpact, pose1: Affine3A, pose2: Affine3A) -> Contact {
-    let impulse: f32 = raw.points.iter().map(|p| p.2).sum();
-    let point = raw.points.iter().fold(Vec3::ZERO, |acc, (p1, p2, j)| {
-        acc + 0.5 * (pose1.transform_point3(*p1) + pose2.transform_point3(*p2)) * *j
-    }) / impulse;
-    Contact {
-        collider1: raw.collider1,
-        collider2: raw.collider2,
-        point,
-        normal: raw.normal,
-        impulse,
-        started: raw.started,
+    let mut sum = Weighted::default();
+    for &(p1, p2, j) in &raw.points {
+        sum.add(pose1, pose2, p1, p2, j);
     }
+    sum.contact(raw.collider1, raw.collider2, raw.normal, raw.started)
 }
