@@ -12,6 +12,7 @@ mod builtin_crate;
 #[cfg(feature = "io")]
 mod confined;
 mod content_hash;
+mod convex_hull;
 pub(crate) mod cover_mask;
 mod edit;
 mod error;

@@ -176,7 +176,7 @@ impl Bendable {
         let mut out = Vec::new();
         for p in self.pieces.iter().filter(|p| bones.contains(&p.bone)) {
             let (sub, _) = self.rig.sub_bodies().sub_mesh(rest, p.bone).map_err(rig)?;
-            let hull = SharedShape::convex_hull(sub.positions()).ok_or_else(|| AdapterError::Refit {
+            let hull = crate::convex_shape(&sub).ok_or_else(|| AdapterError::Refit {
                 collider: p.collider,
                 reason: "no convex hull of the dented sub-body".into(),
             })?;

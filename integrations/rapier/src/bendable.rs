@@ -241,7 +241,7 @@ pub(crate) fn hulls(rig: &Rig, bones: &[usize]) -> Result<Vec<(usize, ColliderBu
 /// The convex hull of `bone`'s part of `rig`.
 pub(crate) fn part_hull(rig: &Rig, bone: usize) -> Result<SharedShape, AdapterError> {
     let part = rig.part(bone).map_err(rig_error)?;
-    SharedShape::convex_hull(part.positions())
+    crate::convex_shape(&part)
         .ok_or_else(|| AdapterError::Rig(format!("bone {bone}'s part has no convex hull (flat or degenerate)")))
 }
 

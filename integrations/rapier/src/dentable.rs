@@ -279,35 +279,60 @@ impl Dentables {
         let refit_start = Instant::now();
         let broken = |key| plan.fractures.iter().any(|f| f.body == key);
         let refittable: Vec<&DentedTarget<ColliderHandle>> = plan.targets.iter().filter(|t| !broken(t.key)).collect();
-        let (set, kinds): (&ColliderSet, _) = (colliders, &self.kinds);
-        let prepare = |t: &DentedTarget<ColliderHandle>, on_copy: bool| {
-            let collider = set.get(t.key).ok_or(AdapterError::UnknownCollider(t.key))?;
+        // Tri-mesh refits of an unchanged topology are checked here and applied in place, while
+        // the others (hulls, rebuilt tri-meshes) are made on the pool from copies of their
+        // colliders (a shape is shared, not copied); undone if anything below fails.
+        let mut in_place: Vec<(&DentedTarget<ColliderHandle>, Refit)> = Vec::new();
+        let mut others: Vec<(&DentedTarget<ColliderHandle>, Collider)> = Vec::new();
+        for t in &refittable {
+            let collider = colliders.get(t.key).ok_or(AdapterError::UnknownCollider(t.key))?;
+            match self.kinds[&t.key] {
+                ShapeKind::TriMesh if !t.topology_changed => {
+                    in_place.push((t, prepare_refit(t.key, collider, ShapeKind::TriMesh, &t.mesh, &t.moved)?));
+                }
+                _ => others.push((t, collider.clone())),
+            }
+        }
+        let kinds = &self.kinds;
+        let prepare = |(t, collider): &(&DentedTarget<ColliderHandle>, Collider)| {
             // A refined mesh has new vertices and faces: its tri-mesh collider is rebuilt.
-            let refit = match kinds[&t.key] {
-                ShapeKind::TriMesh if t.topology_changed => rebuild_trimesh(t.key, collider, &t.mesh)?,
-                kind => prepare_refit(t.key, collider, kind, &t.mesh, &t.moved)?,
-            };
-            let refit = if on_copy { refit.applied_to_copy(collider) } else { refit };
-            Ok::<_, AdapterError>((t.key, refit, t.moved.clone()))
+            match kinds[&t.key] {
+                ShapeKind::TriMesh => rebuild_trimesh(t.key, collider, &t.mesh),
+                kind => prepare_refit(t.key, collider, kind, &t.mesh, &t.moved),
+            }
+            .map(|refit| (t.key, refit))
         };
-        // Several refits (a ball's hull beside the tri-mesh it dented) run side by side on the
-        // pool, each tri-mesh refitted on a copy the commit swaps in; a lone one runs here and
-        // is applied in place.
-        let refits: Vec<(ColliderHandle, Refit, Vec<u32>)> = if refittable.len() > 1 {
-            refittable.par_iter().map(|t| prepare(t, true)).collect::<Result<_, _>>()?
-        } else {
-            refittable.iter().map(|t| prepare(t, false)).collect::<Result<_, _>>()?
+        let (made, ()) = rayon::join(
+            || others.par_iter().map(prepare).collect::<Result<Vec<_>, _>>(),
+            || in_place.iter().for_each(|(t, refit)| commit(colliders, t.key, refit.clone())),
+        );
+        let undo = |colliders: &mut ColliderSet| undo_in_place(colliders, targets, &in_place);
+        let refits = match made {
+            Ok(refits) => refits,
+            Err(e) => {
+                undo(colliders);
+                return Err(e);
+            }
         };
-        let fractures: Vec<PreparedFracture> = plan
-            .fractures
-            .iter()
-            .map(|f| fracture::prepare(colliders, self.kinds[&f.body], f))
-            .collect::<Result<_, _>>()?;
+        let mut refitted: Vec<(ColliderHandle, Vec<u32>)> =
+            refittable.iter().map(|t| (t.key, t.moved.clone())).collect();
+        let fractures: Result<Vec<PreparedFracture>, AdapterError> =
+            plan.fractures.iter().map(|f| fracture::prepare(colliders, self.kinds[&f.body], f)).collect();
+        let fractures = match fractures {
+            Ok(fractures) => fractures,
+            Err(e) => {
+                undo(colliders);
+                return Err(e);
+            }
+        };
         let refit_seconds = refit_start.elapsed().as_secs_f64();
         // The record comes last of what may fail: it fails (recording nothing) on a mesh changed
         // behind the recorder's back; nothing after it can.
         let record_start = Instant::now();
-        self.recorder.record(targets, &hits, &plan)?;
+        if let Err(e) = self.recorder.record(targets, &hits, &plan) {
+            undo(colliders);
+            return Err(e.into());
+        }
 
         // Everything checked: commit.
         let commit_start = Instant::now();
@@ -318,10 +343,8 @@ impl Dentables {
         let dent_seconds =
             dent_seconds + commit_start.elapsed().as_secs_f64() + (commit_start - record_start).as_secs_f64();
         let commit_start = Instant::now();
-        let mut refitted = Vec::with_capacity(refits.len());
-        for (key, refit, moved) in refits {
+        for (key, refit) in refits {
             commit(colliders, key, refit);
-            refitted.push((key, moved));
         }
         move_projectiles(&plan.dents, bodies, colliders);
         let mut broken = Vec::with_capacity(fractures.len());
@@ -532,6 +555,20 @@ struct Side {
     normal: Vec3,
 }
 
+/// Puts back the tri-mesh colliders `in_place` refitted, to their meshes in `targets` (those
+/// from before the dents).
+fn undo_in_place(
+    colliders: &mut ColliderSet,
+    targets: &TargetSet<ColliderHandle>,
+    in_place: &[(&DentedTarget<ColliderHandle>, Refit)],
+) {
+    for (t, _) in in_place {
+        let Some(before) = targets.mesh(t.key) else { continue };
+        let positions: Vec<Vec3> = t.moved.iter().map(|&v| before.positions()[v as usize]).collect();
+        commit(colliders, t.key, Refit::Vertices(t.moved.clone(), positions));
+    }
+}
+
 fn commit(colliders: &mut ColliderSet, key: ColliderHandle, refit: Refit) {
     if let Some(collider) = colliders.get_mut(key) {
         refit.commit(collider);
@@ -548,5 +585,45 @@ fn move_projectiles(dents: &[AppliedDent<ColliderHandle>], bodies: &mut RigidBod
             let t = rb.translation() + dent.projectile_offset;
             rb.set_translation(t, true);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use dentbend::mesh;
+    use rapier3d::prelude::ColliderBuilder;
+
+    use super::*;
+    use crate::trimesh_collider;
+
+    /// A refit applied in place and undone leaves the tri-mesh collider as it was: its vertices
+    /// bit for bit, and its bounding box (the tree refits from them).
+    #[test]
+    fn a_refit_applied_in_place_is_undone_exactly() {
+        let block = mesh::subdivided_box(Vec3::new(1.0, 0.5, 0.4), [8, 4, 4]).unwrap();
+        let mut colliders = ColliderSet::new();
+        let key = colliders.insert(trimesh_collider(&block).unwrap());
+        colliders.insert(ColliderBuilder::ball(0.1));
+        let shape_of = |c: &ColliderSet| {
+            let t = c[key].shape().as_trimesh().unwrap();
+            (t.vertices().to_vec(), t.local_aabb())
+        };
+        let before = shape_of(&colliders);
+        let mut targets = TargetSet::new();
+        targets.insert(key, block.clone(), Affine3A::IDENTITY, DentSettings::new(1.0, 0.01, 0.05)).unwrap();
+        // Every vertex with y > 0.2 pushed 5 cm down: the box's top caves in.
+        let moved: Vec<u32> =
+            (0..block.vertex_count() as u32).filter(|&v| block.positions()[v as usize].y > 0.2).collect();
+        let mut dented = block.positions().to_vec();
+        moved.iter().for_each(|&v| dented[v as usize].y -= 0.05);
+        let mut dented_mesh = block.clone();
+        dented_mesh.set_positions(dented).unwrap();
+        let target =
+            DentedTarget { key, mesh: dented_mesh, moved, refinement: Default::default(), topology_changed: false };
+        let refit = prepare_refit(key, &colliders[key], ShapeKind::TriMesh, &target.mesh, &target.moved).unwrap();
+        commit(&mut colliders, key, refit.clone());
+        assert_ne!(shape_of(&colliders), before, "the refit moved the collider");
+        undo_in_place(&mut colliders, &targets, &[(&target, refit)]);
+        assert_eq!(shape_of(&colliders), before);
     }
 }

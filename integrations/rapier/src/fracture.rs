@@ -78,7 +78,7 @@ pub(crate) fn prepare(
         Some(rest) => {
             let shape = match kind {
                 ShapeKind::TriMesh => trimesh_shape(handle, collider, rest)?,
-                ShapeKind::Convex => SharedShape::convex_hull(rest.positions()).ok_or_else(|| AdapterError::Refit {
+                ShapeKind::Convex => crate::convex_shape(rest).ok_or_else(|| AdapterError::Refit {
                     collider: handle,
                     reason: "no convex hull of the fracture's rest".into(),
                 })?,

@@ -74,7 +74,9 @@ pub use dentbend::gpu::GpuBackend;
 pub use error::AdapterError;
 pub use fracture::{BrokenCollider, PieceBody};
 pub use joints::apply_joint;
-pub use refit::{Refit, ShapeKind, convex_collider, prepare_refit, refit_collider, shape_kind, trimesh_collider};
+pub use refit::{
+    Refit, ShapeKind, convex_collider, convex_shape, prepare_refit, refit_collider, shape_kind, trimesh_collider,
+};
 pub use states::{BodyStates, body_state, to_affine};
 pub use world::PhysicsWorld;
 

@@ -1,13 +1,14 @@
 //! Collider refits after a dent: the one place the adapter changes a collider's shape.
 //!
-//! - Tri-mesh colliders are refitted over the moved vertices only (in place; or, where several
-//!   refits of a step run side by side, on a copy that the commit swaps in)
+//! - Tri-mesh colliders are refitted in place over the moved vertices only
 //!   ([`dentbend::collider::refit_trimesh`]: validated, then parry's `update_vertices`, which refits
 //!   the tree keeping its structure); build them with [`trimesh_collider`] (deformable, no
 //!   pseudo-normals, vertices in the mesh's order) so the refit stays cheap.
-//! - Convex colliders (dynamic bodies) get the convex hull of the dented vertices.
+//! - Convex colliders (dynamic bodies) get the convex hull of the dented vertices
+//!   ([`convex_shape`]: dentbend's hull, which costs half of parry's, handed to parry as a
+//!   convex mesh).
 
-use dentbend::collider::{refit_shared_trimesh, refit_trimesh, validate_refit};
+use dentbend::collider::{refit_trimesh, validate_refit};
 use dentbend::mesh::TriMesh;
 use glam::Vec3;
 use rapier3d::parry::shape::TriMeshFlags;
@@ -30,7 +31,7 @@ pub enum Refit {
     /// The moved tri-mesh vertices (indices, ascending) and their new positions (collider
     /// frame, m).
     Vertices(Vec<u32>, Vec<Vec3>),
-    /// A new shape: a convex hull, a rebuilt tri-mesh, or a tri-mesh refitted ahead on a copy.
+    /// A new shape: a convex hull or a rebuilt tri-mesh.
     Shape(SharedShape),
 }
 
@@ -70,6 +71,17 @@ pub fn convex_collider(mesh: &TriMesh) -> Result<ColliderBuilder, AdapterError> 
     })
 }
 
+/// The convex polyhedron of `mesh`'s vertices ([`TriMesh::convex_hull`], then parry's
+/// convex mesh, which merges coplanar faces); parry's own hull where that refuses it. `None`
+/// for a flat or degenerate mesh. The refits' hull: the same solid as parry's
+/// ([`convex_collider`]'s) in half the time, its faces split and its vertices ordered
+/// differently (contacts on it may differ in the last bits).
+pub fn convex_shape(mesh: &TriMesh) -> Option<SharedShape> {
+    let ours =
+        mesh.convex_hull().ok().and_then(|hull| SharedShape::convex_mesh(hull.positions().to_vec(), hull.faces()));
+    ours.or_else(|| SharedShape::convex_hull(mesh.positions()))
+}
+
 /// The refit that makes `collider` (handle `handle`, of `kind`) match `mesh`, whose vertices
 /// `moved` changed (ascending); checked, nothing changed.
 ///
@@ -103,9 +115,7 @@ pub fn prepare_refit(
             if collider.shape().as_convex_polyhedron().is_none() {
                 return Err(bad("shape is not a convex polyhedron".into()));
             }
-            SharedShape::convex_hull(mesh.positions())
-                .map(Refit::Shape)
-                .ok_or_else(|| bad("no convex hull of the dented mesh".into()))
+            convex_shape(mesh).map(Refit::Shape).ok_or_else(|| bad("no convex hull of the dented mesh".into()))
         }
     }
 }
@@ -121,23 +131,6 @@ impl Refit {
                 }
             }
             Refit::Shape(shape) => collider.set_shape(shape),
-        }
-    }
-
-    /// This refit done ahead on a copy of `collider`'s shape, so that committing it only swaps
-    /// shapes in: a tri-mesh refit becomes the refitted copy; a new shape stays as it is. The
-    /// copy costs about a fifth of the refit; it pays where refits run side by side.
-    pub(crate) fn applied_to_copy(self, collider: &Collider) -> Refit {
-        match self {
-            Refit::Vertices(moved, positions) => {
-                let mut shape = collider.shared_shape().clone();
-                // Checked by `prepare_refit`; should it fail, the refit stays one to apply.
-                match refit_shared_trimesh(&mut shape, &moved, &positions) {
-                    Ok(_) => Refit::Shape(shape),
-                    Err(_) => Refit::Vertices(moved, positions),
-                }
-            }
-            shape => shape,
         }
     }
 }
