@@ -65,7 +65,7 @@ pub fn trimesh_collider(mesh: &TriMesh) -> Result<ColliderBuilder, AdapterError>
 /// # Errors
 /// [`AdapterError::Refit`] for a flat or degenerate mesh.
 pub fn convex_collider(mesh: &TriMesh) -> Result<ColliderBuilder, AdapterError> {
-    ColliderBuilder::convex_hull(mesh.positions()).ok_or_else(|| AdapterError::Refit {
+    convex_shape(mesh).map(ColliderBuilder::new).ok_or_else(|| AdapterError::Refit {
         collider: ColliderHandle::invalid(),
         reason: "no convex hull (flat or degenerate mesh)".into(),
     })

@@ -3,12 +3,14 @@
 //! that applies the messages ends with the server's rest bit for bit, and the pieces it replays
 //! are the meshes of the server's piece bodies, with the same ids. Pieces falling on the rest
 //! dent it; the stream names them by piece id, and a client that joined after the break (its
-//! snapshot carries the pieces) follows those dents bit for bit too.
+//! snapshot carries the pieces) follows those dents bit for bit too. So that one surely does,
+//! a piece is dropped on the rest's top as the late client joins.
 
 use dentbend::dent::DentSettings;
 use dentbend::mesh::content_hash;
 use dentbend::record::replication::{ReplicationClient, ReplicationServer};
-use dentbend_rapier::demo::wall::{WALL_DENT, Wall};
+use dentbend_rapier::demo::wall::{WALL_DENT, WALL_SIZE, Wall};
+use glam::Vec3;
 
 const WALL_ID: u32 = 1;
 const BALL_SHAPE: u32 = 1;
@@ -31,6 +33,7 @@ fn a_broken_wall_replicates_its_rest_and_pieces_bit_for_bit() {
 
     let mut server_pieces = Vec::new();
     let mut piece_colliders = Vec::new();
+    let mut piece_bodies = Vec::new();
     let mut client_pieces = Vec::new();
     let mut late: Option<ReplicationClient> = None;
     let mut piece_dents_after_join = 0;
@@ -41,6 +44,7 @@ fn a_broken_wall_replicates_its_rest_and_pieces_bit_for_bit() {
                 let mesh = wall.adapter.dentables.surface(p.collider).expect("a piece's surface");
                 server_pieces.push((p.id, content_hash(mesh)));
                 piece_colliders.push(p.collider);
+                piece_bodies.push(p.body);
             }
         }
         if late.is_some() {
@@ -70,6 +74,12 @@ fn a_broken_wall_replicates_its_rest_and_pieces_bit_for_bit() {
                     assert_eq!(joiner.piece(*id).map(content_hash), Some(*hash), "the snapshot carries piece {id:?}");
                 }
                 late = Some(joiner);
+                // The last piece, 0.6 m over the rest's top far from the hit, falling at 3 m/s:
+                // it lands at about 4.5 m/s, past the rest's 2 m/s dent threshold.
+                let piece = &mut wall.world.bodies[*piece_bodies.last().expect("a piece body")];
+                piece.set_translation(Vec3::new(-1.2, WALL_SIZE.y + 0.6, 0.0), true);
+                piece.set_linvel(Vec3::new(0.0, -3.0, 0.0), true);
+                piece.set_angvel(Vec3::ZERO, true);
             }
             None => {}
         }
