@@ -1,0 +1,122 @@
+/* dent.c: the dentbend C API from C. A ball of radius 0.3 m hits a unit sphere on top at
+ * 3 m/s; the sphere takes a dent up to 0.1 m deep. Then each kind of bad call is shown to fail
+ * with a status and a message, changing nothing. Exits 0 when everything behaves so.
+ *
+ *   cargo build --release -p dentbend-c
+ *   cc -std=c99 -Wall -Wextra -Iintegrations/c/include integrations/c/examples/dent.c \
+ *      target/release/libdentbend_c.a -lm -lpthread -ldl -o dent && ./dent
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dentbend.h"
+
+#define SEGMENTS 32
+#define RINGS 16
+#define VERTICES (2 + (RINGS - 1) * SEGMENTS)
+#define TRIANGLES (2 * SEGMENTS * (RINGS - 1))
+
+static int failures = 0;
+
+static void check(int ok, const char *what) {
+    printf("%s %s\n", ok ? "ok  " : "FAIL", what);
+    if (!ok) failures++;
+}
+
+/* A UV sphere of `radius` at height `y`: poles first and last, rings between, triangles
+ * counter-clockwise seen from outside. */
+static DbMesh *sphere(float radius, float y) {
+    static float positions[3 * VERTICES];
+    static uint32_t indices[3 * TRIANGLES];
+    const double pi = 3.14159265358979323846;
+    size_t v = 0, t = 0;
+    positions[v++] = 0.0f; positions[v++] = y + radius; positions[v++] = 0.0f;
+    for (int i = 1; i < RINGS; i++) {
+        double theta = pi * i / RINGS;
+        for (int j = 0; j < SEGMENTS; j++) {
+            double phi = 2.0 * pi * j / SEGMENTS;
+            positions[v++] = (float)(radius * sin(theta) * cos(phi));
+            positions[v++] = (float)(y + radius * cos(theta));
+            positions[v++] = (float)(radius * sin(theta) * sin(phi));
+        }
+    }
+    positions[v++] = 0.0f; positions[v++] = y - radius; positions[v++] = 0.0f;
+    uint32_t bottom = VERTICES - 1;
+#define RING(i, j) ((uint32_t)(1 + ((i) - 1) * SEGMENTS + ((j) % SEGMENTS)))
+    for (int j = 0; j < SEGMENTS; j++) {
+        indices[t++] = 0; indices[t++] = RING(1, j + 1); indices[t++] = RING(1, j);
+        for (int i = 1; i + 1 < RINGS; i++) {
+            uint32_t a = RING(i, j), b = RING(i, j + 1), c = RING(i + 1, j), d = RING(i + 1, j + 1);
+            indices[t++] = a; indices[t++] = b; indices[t++] = d;
+            indices[t++] = a; indices[t++] = d; indices[t++] = c;
+        }
+        indices[t++] = RING(RINGS - 1, j); indices[t++] = RING(RINGS - 1, j + 1); indices[t++] = bottom;
+    }
+    return db_mesh_new(positions, VERTICES, indices, TRIANGLES);
+}
+
+int main(void) {
+    DbMesh *target = sphere(1.0f, 0.0f);
+    DbMesh *ball = sphere(0.3f, 1.3f);
+    check(target != NULL && ball != NULL, "two spheres made");
+    if (target == NULL || ball == NULL) {
+        printf("  %s\n", db_last_error());
+        return 1;
+    }
+    check(db_mesh_vertex_count(target) == VERTICES && db_mesh_triangle_count(target) == TRIANGLES,
+          "counts read back");
+
+    DbImpact impact = {{0.0f, 1.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, {0.0f, -3.0f, 0.0f}};
+    DbDentOptions options = db_dent_options_default(0.1f);
+    DbDentReport report;
+    int status = db_dent_ex(target, ball, &impact, &options, &report);
+    check(status == DB_OK, "the ball dents the sphere");
+    if (status != DB_OK) printf("  %s\n", db_last_error());
+
+    const float *p = db_mesh_positions(target);
+    float top = p[1];
+    printf("     top vertex at y = %.4f m, %zu vertices moved, deepest %.4f m\n", top,
+           db_mesh_moved_count(target), report.max_displacement);
+    check(top < 0.97f && top > 0.85f, "the top sinks by most of the 0.1 m dent");
+    check(report.max_displacement > 0.05f && report.max_displacement <= 0.1001f, "the deepest move is at most 0.1 m");
+    size_t moved = db_mesh_moved_count(target);
+    const uint32_t *which = db_mesh_moved(target);
+    check(moved > 0 && moved == report.moved_vertices + report.added_vertices && which[0] == 0,
+          "the moved vertices are listed, the top first");
+
+    /* Bad calls: a status, a message, nothing changed. */
+    float before[3 * VERTICES];
+    size_t count = db_mesh_vertex_count(target);
+    memcpy(before, db_mesh_positions(target), sizeof(float) * 3 * (count < VERTICES ? count : VERTICES));
+
+    check(db_dent(NULL, ball, &impact, 0.1f) == DB_ERR_NULL_POINTER && strlen(db_last_error()) > 0,
+          "a null target is refused");
+    check(db_dent(target, ball, NULL, 0.1f) == DB_ERR_NULL_POINTER, "a null impact is refused");
+    check(db_dent(target, target, &impact, 0.1f) == DB_ERR_INVALID_ARGUMENT, "a mesh denting itself is refused");
+    check(db_dent(target, ball, &impact, NAN) == DB_ERR_INVALID_ARGUMENT, "a NaN dent distance is refused");
+    DbImpact nan_impact = impact;
+    nan_impact.point[0] = NAN;
+    check(db_dent(target, ball, &nan_impact, 0.1f) == DB_ERR_INVALID_ARGUMENT, "a NaN contact point is refused");
+    printf("     (%s)\n", db_last_error());
+    check(memcmp(before, db_mesh_positions(target), sizeof(float) * 3 * VERTICES) == 0,
+          "the refused calls changed nothing");
+
+    float tri[9] = {0, 0, 0, 1, 0, 0, 0, NAN, 0};
+    uint32_t face[3] = {0, 1, 2};
+    check(db_mesh_new(tri, 3, face, 1) == NULL, "a NaN coordinate is refused");
+    tri[7] = 1.0f;
+    uint32_t far_face[3] = {0, 1, 7};
+    check(db_mesh_new(tri, 3, far_face, 1) == NULL, "an index out of range is refused");
+    printf("     (%s)\n", db_last_error());
+    check(db_mesh_new(NULL, 3, face, 1) == NULL, "null positions are refused");
+    check(db_mesh_new(tri, (size_t)1 << 40, face, 1) == NULL, "an absurd count is refused");
+    check(db_mesh_vertex_count(NULL) == 0 && db_mesh_positions(NULL) == NULL, "a null mesh reads as empty");
+
+    db_mesh_free(target);
+    db_mesh_free(ball);
+    db_mesh_free(NULL);
+    printf("%s\n", failures == 0 ? "all ok" : "failures");
+    return failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,27 @@
+//! The C API of dentbend: dent and bend rigid bodies from C, C++, C# (Unity's P/Invoke), Unreal
+//! and Godot (GDExtension), through opaque handles and flat arrays.
+//!
+//! - Every function returns a status (`DB_OK` is 0) or a null handle on failure, and leaves
+//!   the thread's message for [`db_last_error`]. No panic crosses the boundary: one is caught
+//!   and reported as `DB_ERR_INTERNAL`.
+//! - Arrays are passed as a pointer and a count; positions are 3 floats a vertex, triangles 3
+//!   `uint32_t` indices each. The library copies what it keeps and hands back pointers into
+//!   its own memory, valid until the next change of the object they belong to.
+//! - A call that fails changes nothing.
+//!
+//! The header, `include/dentbend.h`, is generated from this crate by cbindgen and committed;
+//! a test fails when it is stale.
+
+#![warn(missing_docs)]
+
+mod dent;
+mod handles;
+mod mesh;
+mod status;
+
+pub use dent::{DbDentOptions, DbDentReport, DbImpact, db_dent, db_dent_ex, db_dent_options_default};
+pub use mesh::{
+    DB_MAX_TRIANGLES, DB_MAX_VERTICES, DbMesh, db_mesh_free, db_mesh_indices, db_mesh_moved, db_mesh_moved_count,
+    db_mesh_new, db_mesh_normals, db_mesh_positions, db_mesh_triangle_count, db_mesh_vertex_count,
+};
+pub use status::{DB_ERR_DENT, DB_ERR_INTERNAL, DB_ERR_INVALID_ARGUMENT, DB_ERR_NULL_POINTER, DB_OK, db_last_error};

@@ -1,0 +1,147 @@
+//! The C API called as C calls it: meshes in and out through flat arrays, a dent, and every
+//! kind of bad call refused with a status and a message, changing nothing.
+
+use std::ffi::CStr;
+
+use dentbend::mesh;
+use dentbend_c::*;
+
+/// A mesh of the library's `TriMesh`, through `db_mesh_new`.
+fn made(m: &dentbend::TriMesh) -> *mut DbMesh {
+    let positions: Vec<f32> = m.positions().iter().flat_map(|p| p.to_array()).collect();
+    let indices: Vec<u32> = m.faces().iter().flatten().copied().collect();
+    // SAFETY: both arrays are as long as the counts say.
+    let handle = unsafe { db_mesh_new(positions.as_ptr(), m.vertex_count(), indices.as_ptr(), m.face_count()) };
+    assert!(!handle.is_null(), "{}", last_error());
+    handle
+}
+
+fn last_error() -> String {
+    // SAFETY: the library's message, NUL-terminated.
+    unsafe { CStr::from_ptr(db_last_error()) }.to_string_lossy().into_owned()
+}
+
+/// The positions of `mesh`, copied out.
+fn positions(mesh: *const DbMesh) -> Vec<f32> {
+    // SAFETY: a live mesh; the pointer holds 3 floats a vertex.
+    unsafe { std::slice::from_raw_parts(db_mesh_positions(mesh), 3 * db_mesh_vertex_count(mesh)).to_vec() }
+}
+
+/// A unit sphere and a 0.3 m ball resting on its top.
+fn pair() -> (*mut DbMesh, *mut DbMesh) {
+    let target = made(&mesh::icosphere(1.0, 3).unwrap());
+    let mut ball = mesh::icosphere(0.3, 2).unwrap();
+    ball.transform(dentbend::glam::Affine3A::from_translation(dentbend::glam::Vec3::new(0.0, 1.3, 0.0))).unwrap();
+    (target, made(&ball))
+}
+
+const DOWN: DbImpact =
+    DbImpact { point: [0.0, 1.0, 0.0], normal: [0.0, -1.0, 0.0], relative_velocity: [0.0, -3.0, 0.0] };
+
+#[test]
+fn a_dent_through_the_c_api_moves_what_it_reports() {
+    let (target, ball) = pair();
+    let before = positions(target);
+    let options = db_dent_options_default(0.1);
+    let mut report = DbDentReport::default();
+    // SAFETY: live, distinct meshes and valid structs.
+    let status = unsafe { db_dent_ex(target, ball, &DOWN, &options, &mut report) };
+    assert_eq!(status, DB_OK, "{}", last_error());
+    let after = positions(target);
+    // The deepest move is the dent distance, 0.1 m (f32 rounding of a unit sphere's top).
+    assert!(report.max_displacement > 0.05 && report.max_displacement <= 0.1 + 1e-5, "{report:?}");
+    // SAFETY: live mesh; the pointer holds `db_mesh_moved_count` indices.
+    let moved = unsafe { std::slice::from_raw_parts(db_mesh_moved(target), db_mesh_moved_count(target)) };
+    assert_eq!(moved.len(), report.moved_vertices + report.added_vertices);
+    for v in 0..before.len() / 3 {
+        let changed = before[3 * v..3 * v + 3] != after[3 * v..3 * v + 3];
+        assert_eq!(changed, moved.binary_search(&(v as u32)).is_ok(), "vertex {v}: listed as moved iff it moved");
+    }
+    // SAFETY: live meshes, freed once.
+    unsafe {
+        db_mesh_free(target);
+        db_mesh_free(ball);
+    }
+}
+
+#[test]
+fn bad_calls_are_refused_with_a_message_and_change_nothing() {
+    let (target, ball) = pair();
+    let before = positions(target);
+    let nan_point = DbImpact { point: [f32::NAN, 1.0, 0.0], ..DOWN };
+    let mut bad_sigma = db_dent_options_default(0.1);
+    bad_sigma.sigma = -1.0;
+    let refused = |what: &str, status: std::ffi::c_int, expected: std::ffi::c_int, says: &str| {
+        assert_eq!(status, expected, "{what}: {}", last_error());
+        assert!(last_error().contains(says), "{what}: {}", last_error());
+        assert_eq!(positions(target), before, "{what}: nothing changed");
+    };
+    let (null, invalid) = (DB_ERR_NULL_POINTER, DB_ERR_INVALID_ARGUMENT);
+    // SAFETY: each call passes live meshes or null, and valid structs or null.
+    unsafe {
+        refused("null target", db_dent(std::ptr::null_mut(), ball, &DOWN, 0.1), null, "target is null");
+        refused("null projectile", db_dent(target, std::ptr::null(), &DOWN, 0.1), null, "projectile is null");
+        refused("null impact", db_dent(target, ball, std::ptr::null(), 0.1), null, "impact is null");
+        let no_options = std::ptr::null();
+        refused("null options", db_dent_ex(target, ball, &DOWN, no_options, std::ptr::null_mut()), null, "options");
+        refused("itself", db_dent(target, target, &DOWN, 0.1), invalid, "same mesh");
+        refused("NaN distance", db_dent(target, ball, &DOWN, f32::NAN), invalid, "dent_distance");
+        refused("infinite distance", db_dent(target, ball, &DOWN, f32::INFINITY), invalid, "dent_distance");
+        refused("negative distance", db_dent(target, ball, &DOWN, -0.1), invalid, "dent_distance");
+        refused("NaN point", db_dent(target, ball, &nan_point, 0.1), invalid, "not finite");
+        refused("negative sigma", db_dent_ex(target, ball, &DOWN, &bad_sigma, std::ptr::null_mut()), invalid, "sigma");
+    }
+    // SAFETY: live meshes, freed once.
+    unsafe {
+        db_mesh_free(target);
+        db_mesh_free(ball);
+    }
+}
+
+#[test]
+fn bad_meshes_are_refused_with_a_message() {
+    let tri = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    let mut nan = tri;
+    nan[4] = f32::NAN;
+    let mut huge = tri;
+    huge[0] = 1e30;
+    let face = [0u32, 1, 2];
+    let far = [0u32, 1, 3];
+    let refused = |what: &str, handle: *mut DbMesh, says: &str| {
+        assert!(handle.is_null(), "{what}: refused");
+        assert!(last_error().contains(says), "{what}: {}", last_error());
+    };
+    // SAFETY: each array is as long as its count says, or the pointer is null.
+    unsafe {
+        refused("NaN", db_mesh_new(nan.as_ptr(), 3, face.as_ptr(), 1), "non-finite");
+        refused("huge", db_mesh_new(huge.as_ptr(), 3, face.as_ptr(), 1), "beyond");
+        refused("index", db_mesh_new(tri.as_ptr(), 3, far.as_ptr(), 1), "vertex 3");
+        refused("null positions", db_mesh_new(std::ptr::null(), 3, face.as_ptr(), 1), "positions is null");
+        refused("null indices", db_mesh_new(tri.as_ptr(), 3, std::ptr::null(), 1), "indices is null");
+        refused("empty", db_mesh_new(std::ptr::null(), 0, std::ptr::null(), 0), "empty");
+        refused("absurd count", db_mesh_new(tri.as_ptr(), usize::MAX / 2, face.as_ptr(), 1), "garbage");
+    }
+    // SAFETY: null handles are allowed.
+    unsafe {
+        assert_eq!(db_mesh_vertex_count(std::ptr::null()), 0);
+        assert!(db_mesh_positions(std::ptr::null()).is_null());
+        db_mesh_free(std::ptr::null_mut());
+    }
+}
+
+/// Debug builds of the library track live meshes: a second free, or a freed mesh used, is an
+/// error with a message instead of undefined behaviour.
+#[cfg(debug_assertions)]
+#[test]
+fn a_mesh_freed_twice_is_caught_in_debug_builds() {
+    let (target, ball) = pair();
+    // SAFETY: the second free and the use after it are what debug builds catch.
+    unsafe {
+        db_mesh_free(target);
+        db_mesh_free(target);
+        assert!(last_error().contains("not alive"), "{}", last_error());
+        assert_eq!(db_dent(target, ball, &DOWN, 0.1), DB_ERR_INVALID_ARGUMENT);
+        assert!(last_error().contains("not a live mesh"), "{}", last_error());
+        db_mesh_free(ball);
+    }
+}
