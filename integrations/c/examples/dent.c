@@ -1,6 +1,8 @@
 /* dent.c: the dentbend C API from C. A ball of radius 0.3 m hits a unit sphere on top at
  * 3 m/s; the sphere takes a dent up to 0.1 m deep. Then each kind of bad call is shown to fail
- * with a status and a message, changing nothing. Exits 0 when everything behaves so.
+ * with a status and a message, changing nothing. Last, the same hit as a game reports it:
+ * bodies keyed by the engine's ids, a step's contacts with both bodies' motion, the dent depth
+ * earned from the impact speed. Exits 0 when everything behaves so.
  *
  *   cargo build --release -p dentbend-c
  *   cc -std=c99 -Wall -Wextra -Iintegrations/c/include integrations/c/examples/dent.c \
@@ -113,6 +115,48 @@ int main(void) {
     check(db_mesh_new(NULL, 3, face, 1) == NULL, "null positions are refused");
     check(db_mesh_new(tri, (size_t)1 << 40, face, 1) == NULL, "an absurd count is refused");
     check(db_mesh_vertex_count(NULL) == 0 && db_mesh_positions(NULL) == NULL, "a null mesh reads as empty");
+
+    /* A game's step: body 7 (a fixed sphere) dents 2 cm per m/s above 1 m/s, at most 15 cm;
+     * body 8 (the ball, 2 kg) falls on it at 8 m/s. */
+    DbMesh *fresh = sphere(1.0f, 0.0f);
+    DbDamage *damage = db_damage_new();
+    const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    DbDentSettings settings = db_dent_settings_default(1.0f, 0.02f, 0.15f);
+    check(db_damage_add_body(damage, 7, fresh, identity, &settings) == DB_OK, "body 7 dents");
+    check(db_damage_add_projectile(damage, 8) == DB_OK, "body 8 hits");
+    float inverse_inertia = 1.0f / (0.4f * 2.0f * 0.3f * 0.3f);
+    DbHit hit;
+    memset(&hit, 0, sizeof hit);
+    hit.target = 7;
+    hit.projectile = 8;
+    hit.point[1] = 1.0f;
+    hit.normal[1] = -1.0f;
+    hit.projectile_state.center_of_mass[1] = 1.3f;
+    hit.projectile_state.linear_velocity[1] = -8.0f;
+    hit.projectile_state.mass = 2.0f;
+    hit.projectile_state.inverse_inertia[0] = inverse_inertia;
+    hit.projectile_state.inverse_inertia[4] = inverse_inertia;
+    hit.projectile_state.inverse_inertia[8] = inverse_inertia;
+    hit.projectile_surface = ball;
+    memcpy(hit.projectile_to_world, identity, sizeof identity); /* the ball's mesh is in world coordinates */
+    status = db_damage_step(damage, &hit, 1);
+    check(status == DB_OK, "the step dents body 7");
+    if (status != DB_OK) printf("  %s\n", db_last_error());
+    DbAppliedDent made;
+    size_t moved_count = 0, vertex_count = 0;
+    const float *body = db_damage_positions(damage, 7, &vertex_count);
+    db_damage_moved(damage, 7, &moved_count);
+    check(db_damage_dent_count(damage) == 1 && db_damage_dent(damage, 0, &made) == DB_OK && made.target == 7,
+          "one dent, on body 7");
+    printf("     earned %.3f m, made %.3f m, %zu vertices moved, top at y = %.4f m\n", made.dent_distance,
+           made.depth_made, moved_count, body[1]);
+    check(fabsf(made.dent_distance - 0.14f) < 1e-4f && moved_count > 0 && body[1] < 0.95f,
+          "(8 - 1) m/s x 2 cm per m/s = 14 cm earned, the top sunk");
+    hit.target = 99;
+    check(db_damage_step(damage, &hit, 1) == DB_ERR_INVALID_ARGUMENT, "a hit on an unknown body is refused");
+    printf("     (%s)\n", db_last_error());
+    db_damage_free(damage);
+    db_mesh_free(fresh);
 
     db_mesh_free(target);
     db_mesh_free(ball);

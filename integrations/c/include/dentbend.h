@@ -7,6 +7,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// Most hits one step may take (a larger count is taken for garbage).
+#define DB_MAX_HITS (1 << 20)
+
 // Most vertices a mesh may have: larger counts are taken for garbage (the library reads
 // `3 · vertex_count` floats from the caller's pointer and could not check the buffer).
 #define DB_MAX_VERTICES (1 << 27)
@@ -30,9 +33,84 @@
 // A bug inside the library (a caught panic); the objects involved are unchanged.
 #define DB_ERR_INTERNAL 4
 
+// The bodies of a world that dent, their damage state and the last step's dents (opaque in
+// C).
+typedef struct DbDamage DbDamage;
+
 // A triangle mesh the library owns (opaque in C): positions, triangles, vertex normals, and
 // the vertices the last change moved.
 typedef struct DbMesh DbMesh;
+
+// How a body dents: the dent's depth from the normal impact speed, and its shape. Start from
+// `db_dent_settings_default`.
+typedef struct {
+  // Normal impact speed below which nothing dents, m/s.
+  float threshold_speed;
+  // Dent depth per m/s above the threshold, m per m/s.
+  float depth_per_speed;
+  // Deepest dent, m.
+  float max_depth;
+  // Width of the dent's smoothing, m; 0 for half the dent's depth.
+  float sigma;
+  // Non-zero: put each dent's volume back as a raised rim around it.
+  int preserve_volume;
+  // Non-zero: hits of one body while the contact lasts deepen one dent.
+  int progressive;
+} DbDentSettings;
+
+// A body's motion before the step, world coordinates.
+typedef struct {
+  // Centre of mass, m.
+  float center_of_mass[3];
+  // Linear velocity, m/s.
+  float linear_velocity[3];
+  // Angular velocity, rad/s.
+  float angular_velocity[3];
+  // Mass, kg; 0 for a body that cannot move (static ground, a wall).
+  float mass;
+  // World inverse inertia, 1/(kg·m²), 3×3 column by column (ignored when `mass` is 0).
+  float inverse_inertia[9];
+} DbBodyState;
+
+// One contact of the step, as the engine reported it before resolving it.
+typedef struct {
+  // The body that may dent.
+  uint64_t target;
+  // The body that hit it (a body of `db_damage_add_body` or `db_damage_add_projectile`).
+  uint64_t projectile;
+  // Contact point, world, m.
+  float point[3];
+  // Contact normal, world, into the target.
+  float normal[3];
+  // The target's state before the step.
+  DbBodyState target_state;
+  // The projectile's state before the step.
+  DbBodyState projectile_state;
+  // The projectile's surface (its own coordinates), not freed before the step returns.
+  const DbMesh *projectile_surface;
+  // The projectile's mesh → world transform, 3×4 column by column (the three axes, then the
+  // translation).
+  float projectile_to_world[12];
+} DbHit;
+
+// One dent a step made.
+typedef struct {
+  // The dented body.
+  uint64_t target;
+  // The body that dented it.
+  uint64_t projectile;
+  // Contact point, world, m.
+  float point[3];
+  // Dent distance the hit earned, m.
+  float dent_distance;
+  // Largest displacement the dent made, m (below `dent_distance` where the crossing guard
+  // limited it).
+  float depth_made;
+  // How far to move the projectile into the dent, world, m (zero unless asked for).
+  float projectile_offset[3];
+  // Vertices the dent moved.
+  size_t moved_vertices;
+} DbAppliedDent;
 
 // How a dent is shaped; start from `db_dent_options_default`.
 typedef struct {
@@ -75,6 +153,94 @@ typedef struct {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+// Settings for a body that dents `depth_per_speed` m per m/s of normal impact speed above
+// `threshold_speed`, at most `max_depth` m: automatic smoothing, no rim, not progressive.
+DbDentSettings db_dent_settings_default(float threshold_speed,
+                                        float depth_per_speed,
+                                        float max_depth);
+
+// A new damage context with no body. Free it with `db_damage_free`.
+DbDamage *db_damage_new(void);
+
+// Frees `damage` (null: nothing); as `db_mesh_free` for a second free.
+//
+// # Safety
+// `damage` is null or a context of `db_damage_new` not freed yet.
+void db_damage_free(DbDamage *damage);
+
+// Adds body `id` (replacing one of that id), which dents: a copy of `mesh` (its own
+// coordinates, m), placed by `to_world` (12 floats, 3×4 column by column) and denting as
+// `settings` says.
+//
+// # Safety
+// `damage` and `mesh` are null or live; `to_world` is null or holds 12 floats; `settings` is
+// null or points to a `DbDentSettings`.
+int db_damage_add_body(DbDamage *damage,
+                       uint64_t id,
+                       const DbMesh *mesh,
+                       const float *to_world,
+                       const DbDentSettings *settings);
+
+// Adds body `id`, which hits others but does not dent (its surface comes with each hit).
+//
+// # Safety
+// `damage` is null or live.
+int db_damage_add_projectile(DbDamage *damage, uint64_t id);
+
+// Moves body `id` to `to_world` (12 floats, 3×4 column by column), as the engine moved it.
+//
+// # Safety
+// `damage` is null or live; `to_world` is null or holds 12 floats.
+int db_damage_set_pose(DbDamage *damage, uint64_t id, const float *to_world);
+
+// Decides, makes and applies the dents of one step's `count` hits (all of them or none: on
+// failure no body changes). Afterwards `db_damage_dent_count` and `db_damage_dent` read the
+// dents made, `db_damage_positions` and `db_damage_moved` each body's new surface.
+//
+// # Safety
+// `damage` is null or live; `hits` is null (with `count` 0) or holds `count` `DbHit`s whose
+// surfaces are live meshes.
+int db_damage_step(DbDamage *damage, const DbHit *hits, size_t count);
+
+// How many dents the last step made (0 for a null or dead context).
+//
+// # Safety
+// `damage` is null or live.
+size_t db_damage_dent_count(const DbDamage *damage);
+
+// Writes the last step's dent `index` to `out`.
+//
+// # Safety
+// `damage` is null or live; `out` is null or points to a writable `DbAppliedDent`.
+int db_damage_dent(const DbDamage *damage, size_t index, DbAppliedDent *out);
+
+// Body `id`'s positions (3 floats a vertex, its own coordinates), the vertex count written to
+// `vertex_count`; valid until the next step or change of the context.
+//
+// # Safety
+// `damage` is null or live; `vertex_count` is null or writable.
+const float *db_damage_positions(const DbDamage *damage, uint64_t id, size_t *vertex_count);
+
+// Body `id`'s vertex normals, as `db_damage_positions`.
+//
+// # Safety
+// As `db_damage_positions`.
+const float *db_damage_normals(const DbDamage *damage, uint64_t id, size_t *vertex_count);
+
+// Body `id`'s triangles (3 indices each), the count written to `triangle_count`; a step that
+// refines the body changes them.
+//
+// # Safety
+// As `db_damage_positions`.
+const uint32_t *db_damage_indices(const DbDamage *damage, uint64_t id, size_t *triangle_count);
+
+// The vertices of body `id` the last step moved or added (ascending), their count written to
+// `count` (0 when the step left it alone).
+//
+// # Safety
+// As `db_damage_positions`.
+const uint32_t *db_damage_moved(const DbDamage *damage, uint64_t id, size_t *count);
 
 // The default options for a dent of `dent_distance` m: automatic smoothing, no rim,
 // refinement and the crossing guard on.

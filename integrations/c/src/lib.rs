@@ -14,11 +14,18 @@
 
 #![warn(missing_docs)]
 
+mod damage;
 mod dent;
 mod handles;
 mod mesh;
 mod status;
 
+pub use damage::{
+    DB_MAX_HITS, DbAppliedDent, DbBodyState, DbDamage, DbDentSettings, DbHit, db_damage_add_body,
+    db_damage_add_projectile, db_damage_dent, db_damage_dent_count, db_damage_free, db_damage_indices, db_damage_moved,
+    db_damage_new, db_damage_normals, db_damage_positions, db_damage_set_pose, db_damage_step,
+    db_dent_settings_default,
+};
 pub use dent::{DbDentOptions, DbDentReport, DbImpact, db_dent, db_dent_ex, db_dent_options_default};
 pub use mesh::{
     DB_MAX_TRIANGLES, DB_MAX_VERTICES, DbMesh, db_mesh_free, db_mesh_indices, db_mesh_moved, db_mesh_moved_count,

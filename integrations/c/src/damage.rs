@@ -1,0 +1,461 @@
+//! Damage for games: bodies keyed by the caller's 64-bit ids, one step's hits decided, dented
+//! and applied at once (`dentbend::Damage` on a `TargetSet`), the results read back without
+//! copies.
+
+use std::collections::HashMap;
+use std::ffi::c_int;
+
+use dentbend::damage::{AppliedDent, CpuBackend, Damage, DamageError, Hit, TargetSet};
+use dentbend::dent::{BodyState, DentSettings, Impact, Surface, VolumeMode};
+use dentbend::glam::{Affine3A, Mat3, Vec3};
+
+use crate::handles;
+use crate::mesh::DbMesh;
+use crate::status::{DB_ERR_DENT, Failure, guarded, guarded_value};
+
+/// Most hits one step may take (a larger count is taken for garbage).
+pub const DB_MAX_HITS: usize = 1 << 20;
+
+/// The bodies of a world that dent, their damage state and the last step's dents (opaque in
+/// C).
+#[derive(Debug, Default)]
+pub struct DbDamage {
+    targets: TargetSet<u64>,
+    damage: Damage<u64>,
+    step: u64,
+    /// The last step's dents.
+    dents: Vec<AppliedDent<u64>>,
+    /// The vertices the last step moved or added, per body.
+    moved: HashMap<u64, Vec<u32>>,
+}
+
+/// How a body dents: the dent's depth from the normal impact speed, and its shape. Start from
+/// `db_dent_settings_default`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct DbDentSettings {
+    /// Normal impact speed below which nothing dents, m/s.
+    pub threshold_speed: f32,
+    /// Dent depth per m/s above the threshold, m per m/s.
+    pub depth_per_speed: f32,
+    /// Deepest dent, m.
+    pub max_depth: f32,
+    /// Width of the dent's smoothing, m; 0 for half the dent's depth.
+    pub sigma: f32,
+    /// Non-zero: put each dent's volume back as a raised rim around it.
+    pub preserve_volume: c_int,
+    /// Non-zero: hits of one body while the contact lasts deepen one dent.
+    pub progressive: c_int,
+}
+
+/// A body's motion before the step, world coordinates.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct DbBodyState {
+    /// Centre of mass, m.
+    pub center_of_mass: [f32; 3],
+    /// Linear velocity, m/s.
+    pub linear_velocity: [f32; 3],
+    /// Angular velocity, rad/s.
+    pub angular_velocity: [f32; 3],
+    /// Mass, kg; 0 for a body that cannot move (static ground, a wall).
+    pub mass: f32,
+    /// World inverse inertia, 1/(kg·m²), 3×3 column by column (ignored when `mass` is 0).
+    pub inverse_inertia: [f32; 9],
+}
+
+/// One contact of the step, as the engine reported it before resolving it.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct DbHit {
+    /// The body that may dent.
+    pub target: u64,
+    /// The body that hit it (a body of `db_damage_add_body` or `db_damage_add_projectile`).
+    pub projectile: u64,
+    /// Contact point, world, m.
+    pub point: [f32; 3],
+    /// Contact normal, world, into the target.
+    pub normal: [f32; 3],
+    /// The target's state before the step.
+    pub target_state: DbBodyState,
+    /// The projectile's state before the step.
+    pub projectile_state: DbBodyState,
+    /// The projectile's surface (its own coordinates), not freed before the step returns.
+    pub projectile_surface: *const DbMesh,
+    /// The projectile's mesh → world transform, 3×4 column by column (the three axes, then the
+    /// translation).
+    pub projectile_to_world: [f32; 12],
+}
+
+/// One dent a step made.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct DbAppliedDent {
+    /// The dented body.
+    pub target: u64,
+    /// The body that dented it.
+    pub projectile: u64,
+    /// Contact point, world, m.
+    pub point: [f32; 3],
+    /// Dent distance the hit earned, m.
+    pub dent_distance: f32,
+    /// Largest displacement the dent made, m (below `dent_distance` where the crossing guard
+    /// limited it).
+    pub depth_made: f32,
+    /// How far to move the projectile into the dent, world, m (zero unless asked for).
+    pub projectile_offset: [f32; 3],
+    /// Vertices the dent moved.
+    pub moved_vertices: usize,
+}
+
+/// Settings for a body that dents `depth_per_speed` m per m/s of normal impact speed above
+/// `threshold_speed`, at most `max_depth` m: automatic smoothing, no rim, not progressive.
+#[unsafe(no_mangle)]
+pub extern "C" fn db_dent_settings_default(
+    threshold_speed: f32,
+    depth_per_speed: f32,
+    max_depth: f32,
+) -> DbDentSettings {
+    DbDentSettings { threshold_speed, depth_per_speed, max_depth, sigma: 0.0, preserve_volume: 0, progressive: 0 }
+}
+
+impl DbDamage {
+    /// The damage behind `handle`, checked as [`DbMesh::get`] checks meshes.
+    ///
+    /// # Safety
+    /// `handle` is null or a pointer `db_damage_new` returned and `db_damage_free` has not
+    /// freed.
+    unsafe fn get<'a>(handle: *const DbDamage) -> Result<&'a DbDamage, Failure> {
+        if handle.is_null() {
+            return Err(Failure::null("damage"));
+        }
+        if !handles::alive(handle as usize) {
+            return Err(Failure::invalid("damage is not alive (freed, or not made by db_damage_new)"));
+        }
+        // SAFETY: not null, and alive by the caller's contract.
+        Ok(unsafe { &*handle })
+    }
+
+    /// As [`get`](Self::get), mutably.
+    ///
+    /// # Safety
+    /// As [`get`](Self::get), and no other reference to it is in use.
+    unsafe fn get_mut<'a>(handle: *mut DbDamage) -> Result<&'a mut DbDamage, Failure> {
+        // SAFETY: the caller's contract.
+        unsafe { Self::get(handle)? };
+        // SAFETY: checked above; exclusive by the caller's contract.
+        Ok(unsafe { &mut *handle })
+    }
+}
+
+/// A new damage context with no body. Free it with `db_damage_free`.
+#[unsafe(no_mangle)]
+pub extern "C" fn db_damage_new() -> *mut DbDamage {
+    let handle = Box::into_raw(Box::<DbDamage>::default());
+    handles::born(handle as usize);
+    handle
+}
+
+/// Frees `damage` (null: nothing); as `db_mesh_free` for a second free.
+///
+/// # Safety
+/// `damage` is null or a context of `db_damage_new` not freed yet.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_free(damage: *mut DbDamage) {
+    guarded(|| {
+        if damage.is_null() {
+            return Ok(());
+        }
+        if !handles::died(damage as usize) {
+            return Err(Failure::invalid("db_damage_free: not alive (freed twice, or not made by db_damage_new)"));
+        }
+        // SAFETY: made by `Box::into_raw` in `db_damage_new`, not freed yet by the contract.
+        drop(unsafe { Box::from_raw(damage) });
+        Ok(())
+    });
+}
+
+/// Reads a 3×4 mesh → world transform, column by column; rigid within rounding.
+///
+/// # Safety
+/// `pose` is null or holds 12 floats.
+unsafe fn pose(pose: *const f32) -> Result<Affine3A, Failure> {
+    if pose.is_null() {
+        return Err(Failure::null("to_world"));
+    }
+    // SAFETY: not null, 12 floats by the caller's contract.
+    let values: [f32; 12] = unsafe { *pose.cast::<[f32; 12]>() };
+    Ok(Affine3A::from_cols_array(&values))
+}
+
+/// Adds body `id` (replacing one of that id), which dents: a copy of `mesh` (its own
+/// coordinates, m), placed by `to_world` (12 floats, 3×4 column by column) and denting as
+/// `settings` says.
+///
+/// # Safety
+/// `damage` and `mesh` are null or live; `to_world` is null or holds 12 floats; `settings` is
+/// null or points to a `DbDentSettings`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_add_body(
+    damage: *mut DbDamage,
+    id: u64,
+    mesh: *const DbMesh,
+    to_world: *const f32,
+    settings: *const DbDentSettings,
+) -> c_int {
+    guarded(|| {
+        // SAFETY: the caller's contract.
+        let (damage, mesh, to_world) =
+            unsafe { (DbDamage::get_mut(damage)?, DbMesh::get(mesh, "mesh")?, pose(to_world)?) };
+        if settings.is_null() {
+            return Err(Failure::null("settings"));
+        }
+        // SAFETY: not null, a `DbDentSettings` by the caller's contract.
+        let settings = dent_settings(unsafe { &*settings });
+        damage
+            .targets
+            .insert(id, mesh.mesh.clone(), to_world, settings)
+            .map_err(|e| Failure::invalid(e.to_string()))?;
+        damage.damage.forget(id);
+        Ok(())
+    })
+}
+
+/// The library's settings for `settings`.
+fn dent_settings(settings: &DbDentSettings) -> DentSettings {
+    let mut out = DentSettings::new(settings.threshold_speed, settings.depth_per_speed, settings.max_depth);
+    if settings.sigma != 0.0 {
+        out.params.sigma = Some(settings.sigma);
+    }
+    out.params.volume = if settings.preserve_volume != 0 { VolumeMode::Preserve } else { VolumeMode::Free };
+    out.progressive = settings.progressive != 0;
+    out
+}
+
+/// Adds body `id`, which hits others but does not dent (its surface comes with each hit).
+///
+/// # Safety
+/// `damage` is null or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_add_projectile(damage: *mut DbDamage, id: u64) -> c_int {
+    guarded(|| {
+        // SAFETY: the caller's contract.
+        unsafe { DbDamage::get_mut(damage)? }.targets.insert_rigid(id);
+        Ok(())
+    })
+}
+
+/// Moves body `id` to `to_world` (12 floats, 3×4 column by column), as the engine moved it.
+///
+/// # Safety
+/// `damage` is null or live; `to_world` is null or holds 12 floats.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_set_pose(damage: *mut DbDamage, id: u64, to_world: *const f32) -> c_int {
+    guarded(|| {
+        // SAFETY: the caller's contract.
+        let (damage, to_world) = unsafe { (DbDamage::get_mut(damage)?, pose(to_world)?) };
+        if damage.targets.mesh(id).is_none() {
+            return Err(Failure::invalid(format!("body {id} does not dent (add it with db_damage_add_body)")));
+        }
+        damage.targets.set_pose(id, to_world).map_err(|e| Failure::invalid(e.to_string()))
+    })
+}
+
+/// The library's state for `state`.
+fn body_state(state: &DbBodyState) -> BodyState {
+    if state.mass == 0.0 {
+        return BodyState::FIXED;
+    }
+    BodyState::moving(
+        Vec3::from_array(state.center_of_mass),
+        Vec3::from_array(state.linear_velocity),
+        Vec3::from_array(state.angular_velocity),
+        state.mass,
+        Mat3::from_cols_array(&state.inverse_inertia),
+    )
+}
+
+/// Decides, makes and applies the dents of one step's `count` hits (all of them or none: on
+/// failure no body changes). Afterwards `db_damage_dent_count` and `db_damage_dent` read the
+/// dents made, `db_damage_positions` and `db_damage_moved` each body's new surface.
+///
+/// # Safety
+/// `damage` is null or live; `hits` is null (with `count` 0) or holds `count` `DbHit`s whose
+/// surfaces are live meshes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHit, count: usize) -> c_int {
+    guarded(|| {
+        // SAFETY: the caller's contract.
+        let damage = unsafe { DbDamage::get_mut(damage)? };
+        if count > DB_MAX_HITS {
+            return Err(Failure::invalid(format!("{count} hits: the limit is {DB_MAX_HITS}")));
+        }
+        let raw: &[DbHit] = match count {
+            0 => &[],
+            _ if hits.is_null() => return Err(Failure::null("hits")),
+            // SAFETY: not null, `count` hits by the caller's contract.
+            _ => unsafe { std::slice::from_raw_parts(hits, count) },
+        };
+        let mut list = Vec::with_capacity(raw.len());
+        for (k, h) in raw.iter().enumerate() {
+            let bad = |e: String| Failure::invalid(format!("hit {k}: {e}"));
+            // SAFETY: the caller's contract.
+            let surface =
+                unsafe { DbMesh::get(h.projectile_surface, "projectile_surface") }.map_err(|f| bad(f.message))?;
+            let (target_state, projectile_state) = (body_state(&h.target_state), body_state(&h.projectile_state));
+            let point = Vec3::from_array(h.point);
+            let impact = Impact::from_contact(point, Vec3::from_array(h.normal), &target_state, &projectile_state)
+                .map_err(|e| bad(e.to_string()))?;
+            let to_world = Affine3A::from_cols_array(&h.projectile_to_world);
+            if !to_world.is_finite() {
+                return Err(bad("projectile_to_world is not finite".into()));
+            }
+            let projectile_surface = Surface { mesh: &surface.mesh, to_world };
+            list.push(Hit {
+                target: h.target,
+                projectile: h.projectile,
+                impact,
+                target_state,
+                projectile_state,
+                projectile_surface,
+            });
+        }
+        let mut state = damage.damage.clone();
+        let step = damage.step + 1;
+        let plan = state.plan(&damage.targets, &list, step, &mut CpuBackend).map_err(|e| match e {
+            DamageError::UnknownBody { .. } => Failure::invalid(e.to_string()),
+            _ => Failure { status: DB_ERR_DENT, message: e.to_string() },
+        })?;
+        damage.damage = state;
+        damage.step = step;
+        damage.dents = plan.dents;
+        for fracture in &plan.fractures {
+            damage.targets.apply_fracture(fracture);
+        }
+        damage.moved = damage.targets.apply(plan.targets).into_iter().collect();
+        Ok(())
+    })
+}
+
+/// How many dents the last step made (0 for a null or dead context).
+///
+/// # Safety
+/// `damage` is null or live.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_dent_count(damage: *const DbDamage) -> usize {
+    // SAFETY: the caller's contract.
+    guarded_value(|| unsafe { DbDamage::get(damage) }.map(|d| d.dents.len())).unwrap_or(0)
+}
+
+/// Writes the last step's dent `index` to `out`.
+///
+/// # Safety
+/// `damage` is null or live; `out` is null or points to a writable `DbAppliedDent`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_dent(damage: *const DbDamage, index: usize, out: *mut DbAppliedDent) -> c_int {
+    guarded(|| {
+        // SAFETY: the caller's contract.
+        let damage = unsafe { DbDamage::get(damage)? };
+        let count = damage.dents.len();
+        let dent = damage.dents.get(index).ok_or_else(|| Failure::invalid(format!("dent {index} of {count}")))?;
+        if out.is_null() {
+            return Err(Failure::null("out"));
+        }
+        let made = DbAppliedDent {
+            target: dent.target,
+            projectile: dent.projectile,
+            point: dent.impact.point.to_array(),
+            dent_distance: dent.dent_distance,
+            depth_made: dent.depth_made,
+            projectile_offset: dent.projectile_offset.to_array(),
+            moved_vertices: dent.moved_vertices,
+        };
+        // SAFETY: not null, writable by the caller's contract.
+        unsafe { out.write(made) };
+        Ok(())
+    })
+}
+
+/// Reads one of body `id`'s arrays: its pointer, and its count into `count` (when not null);
+/// null and 0 for an unknown body.
+///
+/// # Safety
+/// `damage` is null or live; `count` is null or writable.
+unsafe fn body_array<T>(
+    damage: *const DbDamage,
+    id: u64,
+    count: *mut usize,
+    array: impl FnOnce(&DbDamage) -> Option<(*const T, usize)>,
+) -> *const T {
+    // SAFETY: the caller's contract.
+    let found = guarded_value(|| {
+        let damage = unsafe { DbDamage::get(damage)? };
+        array(damage).ok_or_else(|| Failure::invalid(format!("body {id} does not dent")))
+    });
+    let (pointer, n) = found.unwrap_or((std::ptr::null(), 0));
+    if !count.is_null() {
+        // SAFETY: not null, writable by the caller's contract.
+        unsafe { count.write(n) };
+    }
+    pointer
+}
+
+/// Body `id`'s positions (3 floats a vertex, its own coordinates), the vertex count written to
+/// `vertex_count`; valid until the next step or change of the context.
+///
+/// # Safety
+/// `damage` is null or live; `vertex_count` is null or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_positions(damage: *const DbDamage, id: u64, vertex_count: *mut usize) -> *const f32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        body_array(damage, id, vertex_count, |d| {
+            d.targets.mesh(id).map(|m| (m.positions().as_ptr().cast(), m.vertex_count()))
+        })
+    }
+}
+
+/// Body `id`'s vertex normals, as `db_damage_positions`.
+///
+/// # Safety
+/// As `db_damage_positions`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_normals(damage: *const DbDamage, id: u64, vertex_count: *mut usize) -> *const f32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        body_array(damage, id, vertex_count, |d| {
+            d.targets.mesh(id).map(|m| (m.normals().as_ptr().cast(), m.vertex_count()))
+        })
+    }
+}
+
+/// Body `id`'s triangles (3 indices each), the count written to `triangle_count`; a step that
+/// refines the body changes them.
+///
+/// # Safety
+/// As `db_damage_positions`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_indices(damage: *const DbDamage, id: u64, triangle_count: *mut usize) -> *const u32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        body_array(damage, id, triangle_count, |d| {
+            d.targets.mesh(id).map(|m| (m.faces().as_ptr().cast(), m.face_count()))
+        })
+    }
+}
+
+/// The vertices of body `id` the last step moved or added (ascending), their count written to
+/// `count` (0 when the step left it alone).
+///
+/// # Safety
+/// As `db_damage_positions`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_moved(damage: *const DbDamage, id: u64, count: *mut usize) -> *const u32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        body_array(damage, id, count, |d| {
+            d.targets.mesh(id)?;
+            Some(d.moved.get(&id).map_or((std::ptr::null(), 0), |m| (m.as_ptr(), m.len())))
+        })
+    }
+}
