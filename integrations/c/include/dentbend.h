@@ -17,6 +17,10 @@
 // Most triangles a mesh may have, for the same reason.
 #define DB_MAX_TRIANGLES (1 << 28)
 
+// Most bytes of one message or snapshot the client reads (a larger length is taken for
+// garbage).
+#define DB_MAX_MESSAGE_BYTES (1 << 30)
+
 // Success.
 #define DB_OK 0
 
@@ -40,6 +44,9 @@ typedef struct DbDamage DbDamage;
 // A triangle mesh the library owns (opaque in C): positions, triangles, vertex normals, and
 // the vertices the last change moved.
 typedef struct DbMesh DbMesh;
+
+// A client's copy of the bodies a server's stream carries (opaque in C).
+typedef struct DbReplica DbReplica;
 
 // How a body dents: the dent's depth from the normal impact speed, and its shape. Start from
 // `db_dent_settings_default`.
@@ -335,6 +342,97 @@ size_t db_mesh_moved_count(const DbMesh *mesh);
 // # Safety
 // `mesh` is null or a live mesh.
 const uint32_t *db_mesh_moved(const DbMesh *mesh);
+
+// Carries body `id` on the context's stream as wire id `wire_id`: its mesh now is the base
+// every client must add (`db_replica_add_body`), with the same settings.
+//
+// # Safety
+// `damage` is null or live.
+int db_damage_replicate(DbDamage *damage, uint64_t id, uint32_t wire_id);
+
+// Names a projectile's surface `shape_id` on the stream: dents made by bodies with this mesh
+// (its own coordinates) name it by id, and clients add the same mesh under it.
+//
+// # Safety
+// `damage` and `mesh` are null or live.
+int db_damage_add_wire_projectile(DbDamage *damage, uint32_t shape_id, const DbMesh *mesh);
+
+// The last step's message for the clients (its length written to `length`); null and 0 when
+// it carried nothing. Valid until the next step.
+//
+// # Safety
+// `damage` is null or live; `length` is null or writable.
+const uint8_t *db_damage_message(const DbDamage *damage, size_t *length);
+
+// A late joiner's start (its length written to `length`): every carried body's mesh now, as
+// the smaller of its edit from the base and the whole mesh, bounded by the meshes however many
+// dents came before. Take it after the last step's message was sent. Valid until the next
+// snapshot or step.
+//
+// # Safety
+// `damage` is null or live; `length` is null or writable.
+const uint8_t *db_damage_snapshot(DbDamage *damage, size_t *length);
+
+// A new client replica with no body. Free it with `db_replica_free`.
+DbReplica *db_replica_new(void);
+
+// Frees `replica` (null: nothing); as `db_mesh_free` for a second free.
+//
+// # Safety
+// `replica` is null or a replica of `db_replica_new` not freed yet.
+void db_replica_free(DbReplica *replica);
+
+// Adds the body the server carries as `wire_id`: a copy of its base `mesh` (the server's mesh
+// when it was carried) and the server's `settings` for it. With every body and projectile
+// added, join with the server's snapshot (`db_replica_join`), then apply its messages.
+//
+// # Safety
+// `replica` and `mesh` are null or live; `settings` is null or points to a `DbDentSettings`.
+int db_replica_add_body(DbReplica *replica,
+                        uint32_t wire_id,
+                        const DbMesh *mesh,
+                        const DbDentSettings *settings);
+
+// Adds projectile surface `shape_id` (the mesh the server named so).
+//
+// # Safety
+// `replica` and `mesh` are null or live.
+int db_replica_add_projectile(DbReplica *replica, uint32_t shape_id, const DbMesh *mesh);
+
+// Starts from a server's snapshot (`db_damage_snapshot`), for a client joining late.
+//
+// # Safety
+// `replica` is null or live; `bytes` holds `length` bytes.
+int db_replica_join(DbReplica *replica, const uint8_t *bytes, size_t length);
+
+// Applies a server's message (`db_damage_message`), in order: the bodies it names get the
+// server's meshes bit for bit. A message out of order, repeated, truncated or for other
+// meshes is refused and changes nothing.
+//
+// # Safety
+// `replica` is null or live; `bytes` holds `length` bytes.
+int db_replica_apply(DbReplica *replica, const uint8_t *bytes, size_t length);
+
+// The replica's body `wire_id`: its positions (3 floats a vertex), the count written to
+// `vertex_count`; null and 0 for a body it does not have. Valid until the next message.
+//
+// # Safety
+// `replica` is null or live; `vertex_count` is null or writable.
+const float *db_replica_positions(DbReplica *replica, uint32_t wire_id, size_t *vertex_count);
+
+// The replica's body `wire_id`: its triangles (3 indices each), the count written to
+// `triangle_count`; as `db_replica_positions`.
+//
+// # Safety
+// As `db_replica_positions`.
+const uint32_t *db_replica_indices(DbReplica *replica, uint32_t wire_id, size_t *triangle_count);
+
+// The vertices of body `wire_id` the last message or snapshot moved or added (ascending), the
+// count written to `count` (0 when it left the body alone).
+//
+// # Safety
+// As `db_replica_positions`.
+const uint32_t *db_replica_moved(DbReplica *replica, uint32_t wire_id, size_t *count);
 
 // The message of the last call that failed on this thread (UTF-8, NUL-terminated; empty
 // when none has). Valid until the next failing call on this thread.

@@ -20,13 +20,15 @@ pub const DB_MAX_HITS: usize = 1 << 20;
 /// C).
 #[derive(Debug, Default)]
 pub struct DbDamage {
-    targets: TargetSet<u64>,
+    pub(crate) targets: TargetSet<u64>,
     damage: Damage<u64>,
     step: u64,
     /// The last step's dents.
     dents: Vec<AppliedDent<u64>>,
     /// The vertices the last step moved or added, per body.
     moved: HashMap<u64, Vec<u32>>,
+    /// The replication stream of the bodies it carries, and the last step's message.
+    pub(crate) stream: crate::replication::Stream,
 }
 
 /// How a body dents: the dent's depth from the normal impact speed, and its shape. Start from
@@ -125,7 +127,7 @@ impl DbDamage {
     /// # Safety
     /// `handle` is null or a pointer `db_damage_new` returned and `db_damage_free` has not
     /// freed.
-    unsafe fn get<'a>(handle: *const DbDamage) -> Result<&'a DbDamage, Failure> {
+    pub(crate) unsafe fn get<'a>(handle: *const DbDamage) -> Result<&'a DbDamage, Failure> {
         if handle.is_null() {
             return Err(Failure::null("damage"));
         }
@@ -140,7 +142,7 @@ impl DbDamage {
     ///
     /// # Safety
     /// As [`get`](Self::get), and no other reference to it is in use.
-    unsafe fn get_mut<'a>(handle: *mut DbDamage) -> Result<&'a mut DbDamage, Failure> {
+    pub(crate) unsafe fn get_mut<'a>(handle: *mut DbDamage) -> Result<&'a mut DbDamage, Failure> {
         // SAFETY: the caller's contract.
         unsafe { Self::get(handle)? };
         // SAFETY: checked above; exclusive by the caller's contract.
@@ -217,12 +219,13 @@ pub unsafe extern "C" fn db_damage_add_body(
             .insert(id, mesh.mesh.clone(), to_world, settings)
             .map_err(|e| Failure::invalid(e.to_string()))?;
         damage.damage.forget(id);
+        damage.stream.forget(id);
         Ok(())
     })
 }
 
 /// The library's settings for `settings`.
-fn dent_settings(settings: &DbDentSettings) -> DentSettings {
+pub(crate) fn dent_settings(settings: &DbDentSettings) -> DentSettings {
     let mut out = DentSettings::new(settings.threshold_speed, settings.depth_per_speed, settings.max_depth);
     if settings.sigma != 0.0 {
         out.params.sigma = Some(settings.sigma);
@@ -326,13 +329,32 @@ pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHi
             DamageError::UnknownBody { .. } => Failure::invalid(e.to_string()),
             _ => Failure { status: DB_ERR_DENT, message: e.to_string() },
         })?;
-        damage.damage = state;
-        damage.step = step;
-        damage.dents = plan.dents;
-        for fracture in &plan.fractures {
+        // The step's message is made from the meshes after it: applied here, put back if the
+        // message cannot be made.
+        let before: Vec<(u64, dentbend::TriMesh)> =
+            plan.targets.iter().filter_map(|t| damage.targets.mesh(t.key).map(|m| (t.key, m.clone()))).collect();
+        let (fractures, dents) = (plan.fractures.clone(), plan.dents.clone());
+        let moved = damage.targets.apply(plan.targets);
+        for fracture in &fractures {
             damage.targets.apply_fracture(fracture);
         }
-        damage.moved = damage.targets.apply(plan.targets).into_iter().collect();
+        let surface = |key: u64| list.iter().find(|h| h.projectile == key).map(|h| h.projectile_surface.mesh);
+        if let Err(failure) = damage.stream.after_step(&dents, &fractures, &damage.targets, surface) {
+            for (key, mesh) in before {
+                damage.targets.apply(vec![dentbend::damage::DentedTarget {
+                    key,
+                    mesh,
+                    moved: Vec::new(),
+                    refinement: Default::default(),
+                    topology_changed: true,
+                }]);
+            }
+            return Err(failure);
+        }
+        damage.damage = state;
+        damage.step = step;
+        damage.dents = dents;
+        damage.moved = moved.into_iter().collect();
         Ok(())
     })
 }

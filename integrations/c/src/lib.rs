@@ -18,6 +18,7 @@ mod damage;
 mod dent;
 mod handles;
 mod mesh;
+mod replication;
 mod status;
 
 pub use damage::{
@@ -30,5 +31,10 @@ pub use dent::{DbDentOptions, DbDentReport, DbImpact, db_dent, db_dent_ex, db_de
 pub use mesh::{
     DB_MAX_TRIANGLES, DB_MAX_VERTICES, DbMesh, db_mesh_free, db_mesh_indices, db_mesh_moved, db_mesh_moved_count,
     db_mesh_new, db_mesh_normals, db_mesh_positions, db_mesh_triangle_count, db_mesh_vertex_count,
+};
+pub use replication::{
+    DB_MAX_MESSAGE_BYTES, DbReplica, db_damage_add_wire_projectile, db_damage_message, db_damage_replicate,
+    db_damage_snapshot, db_replica_add_body, db_replica_add_projectile, db_replica_apply, db_replica_free,
+    db_replica_indices, db_replica_join, db_replica_moved, db_replica_new, db_replica_positions,
 };
 pub use status::{DB_ERR_DENT, DB_ERR_INTERNAL, DB_ERR_INVALID_ARGUMENT, DB_ERR_NULL_POINTER, DB_OK, db_last_error};
