@@ -434,6 +434,34 @@ const uint32_t *db_replica_indices(DbReplica *replica, uint32_t wire_id, size_t 
 // As `db_replica_positions`.
 const uint32_t *db_replica_moved(DbReplica *replica, uint32_t wire_id, size_t *count);
 
+// Records body `id`'s damage from now on, as the body `name` of the saved file: its mesh now is
+// the base a restore starts from.
+//
+// # Safety
+// `damage` is null or live; `name` is null or a NUL-terminated string.
+int db_damage_record(DbDamage *damage, uint64_t id, const char *body_name);
+
+// The recorded bodies' damage as a damage file (JSON, its length written to `length`); null
+// and 0 on failure. Valid until the next save or step.
+//
+// # Safety
+// `damage` is null or live; `length` is null or writable.
+const uint8_t *db_damage_save(DbDamage *damage, size_t *length);
+
+// Gives body `id` the damage the file's body `name` recorded (saved from a body with the mesh
+// this one has now): its mesh becomes the saved one, and a recorded body's record goes on
+// from it. A file for another mesh, or one that does not replay, is refused and changes
+// nothing.
+//
+// # Safety
+// `damage` is null or live; `file` holds `length` bytes; `name` is null or a NUL-terminated
+// string.
+int db_damage_restore(DbDamage *damage,
+                      uint64_t id,
+                      const uint8_t *file,
+                      size_t length,
+                      const char *body_name);
+
 // The message of the last call that failed on this thread (UTF-8, NUL-terminated; empty
 // when none has). Valid until the next failing call on this thread.
 const char *db_last_error(void);

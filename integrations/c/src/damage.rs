@@ -8,6 +8,7 @@ use std::ffi::c_int;
 use dentbend::damage::{AppliedDent, CpuBackend, Damage, DamageError, Hit, TargetSet};
 use dentbend::dent::{BodyState, DentSettings, Impact, Surface, VolumeMode};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
+use dentbend::record::{DamageRecorder, RecordForms};
 
 use crate::handles;
 use crate::mesh::DbMesh;
@@ -18,17 +19,20 @@ pub const DB_MAX_HITS: usize = 1 << 20;
 
 /// The bodies of a world that dent, their damage state and the last step's dents (opaque in
 /// C).
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct DbDamage {
     pub(crate) targets: TargetSet<u64>,
-    damage: Damage<u64>,
+    pub(crate) damage: Damage<u64>,
     step: u64,
     /// The last step's dents.
     dents: Vec<AppliedDent<u64>>,
     /// The vertices the last step moved or added, per body.
-    moved: HashMap<u64, Vec<u32>>,
+    pub(crate) moved: HashMap<u64, Vec<u32>>,
     /// The replication stream of the bodies it carries, and the last step's message.
     pub(crate) stream: crate::replication::Stream,
+    /// The damage of the bodies it records, and the last save.
+    pub(crate) recorder: DamageRecorder<u64>,
+    pub(crate) saved: Vec<u8>,
 }
 
 /// How a body dents: the dent's depth from the normal impact speed, and its shape. Start from
@@ -119,6 +123,21 @@ pub extern "C" fn db_dent_settings_default(
     max_depth: f32,
 ) -> DbDentSettings {
     DbDentSettings { threshold_speed, depth_per_speed, max_depth, sigma: 0.0, preserve_volume: 0, progressive: 0 }
+}
+
+impl Default for DbDamage {
+    fn default() -> Self {
+        Self {
+            targets: TargetSet::default(),
+            damage: Damage::default(),
+            step: 0,
+            dents: Vec::new(),
+            moved: HashMap::new(),
+            stream: Default::default(),
+            recorder: DamageRecorder::new(RecordForms::EDITS),
+            saved: Vec::new(),
+        }
+    }
 }
 
 impl DbDamage {
@@ -329,8 +348,11 @@ pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHi
             DamageError::UnknownBody { .. } => Failure::invalid(e.to_string()),
             _ => Failure { status: DB_ERR_DENT, message: e.to_string() },
         })?;
-        // The step's message is made from the meshes after it: applied here, put back if the
+        // The record comes first of what may fail (it fails on a mesh changed behind its back),
+        // then the message, made from the meshes after the step: applied here, put back if the
         // message cannot be made.
+        let mut recorder = damage.recorder.clone();
+        recorder.record(&damage.targets, &list, &plan).map_err(|e| Failure::invalid(e.to_string()))?;
         let before: Vec<(u64, dentbend::TriMesh)> =
             plan.targets.iter().filter_map(|t| damage.targets.mesh(t.key).map(|m| (t.key, m.clone()))).collect();
         let (fractures, dents) = (plan.fractures.clone(), plan.dents.clone());
@@ -352,6 +374,7 @@ pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHi
             return Err(failure);
         }
         damage.damage = state;
+        damage.recorder = recorder;
         damage.step = step;
         damage.dents = dents;
         damage.moved = moved.into_iter().collect();

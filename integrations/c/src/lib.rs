@@ -19,6 +19,7 @@ mod dent;
 mod handles;
 mod mesh;
 mod replication;
+mod save;
 mod status;
 
 pub use damage::{
@@ -37,4 +38,5 @@ pub use replication::{
     db_damage_snapshot, db_replica_add_body, db_replica_add_projectile, db_replica_apply, db_replica_free,
     db_replica_indices, db_replica_join, db_replica_moved, db_replica_new, db_replica_positions,
 };
+pub use save::{db_damage_record, db_damage_restore, db_damage_save};
 pub use status::{DB_ERR_DENT, DB_ERR_INTERNAL, DB_ERR_INVALID_ARGUMENT, DB_ERR_NULL_POINTER, DB_OK, db_last_error};

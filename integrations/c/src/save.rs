@@ -1,0 +1,110 @@
+//! Saving and restoring damage: a context records the damage of the bodies it is told to, as
+//! dentbend's damage file (JSON: each dent as a compact edit of the mesh); a body restored from
+//! it gets its saved mesh bit for bit, with no simulation.
+
+use std::ffi::{CStr, c_char, c_int};
+
+use dentbend::damage::DentedTarget;
+use dentbend::dent::changed_vertices;
+use dentbend::record::{DamageFile, DentForm, Projectiles, replay_body};
+
+use crate::damage::DbDamage;
+use crate::status::{Failure, guarded, guarded_value};
+
+/// Reads a NUL-terminated UTF-8 name.
+///
+/// # Safety
+/// `name` is null or a NUL-terminated string.
+unsafe fn name<'a>(name: *const c_char) -> Result<&'a str, Failure> {
+    if name.is_null() {
+        return Err(Failure::null("name"));
+    }
+    // SAFETY: not null, NUL-terminated by the caller's contract.
+    unsafe { CStr::from_ptr(name) }.to_str().map_err(|_| Failure::invalid("name is not UTF-8"))
+}
+
+/// Records body `id`'s damage from now on, as the body `name` of the saved file: its mesh now is
+/// the base a restore starts from.
+///
+/// # Safety
+/// `damage` is null or live; `name` is null or a NUL-terminated string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_record(damage: *mut DbDamage, id: u64, body_name: *const c_char) -> c_int {
+    guarded(|| {
+        // SAFETY: the caller's contract.
+        let (damage, body_name) = unsafe { (DbDamage::get_mut(damage)?, name(body_name)?) };
+        let mesh = damage.targets.mesh(id).ok_or_else(|| Failure::invalid(format!("body {id} does not dent")))?;
+        damage.recorder.track(id, body_name, mesh);
+        Ok(())
+    })
+}
+
+/// The recorded bodies' damage as a damage file (JSON, its length written to `length`); null
+/// and 0 on failure. Valid until the next save or step.
+///
+/// # Safety
+/// `damage` is null or live; `length` is null or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_save(damage: *mut DbDamage, length: *mut usize) -> *const u8 {
+    let saved = guarded_value(|| {
+        // SAFETY: the caller's contract.
+        let damage = unsafe { DbDamage::get_mut(damage)? };
+        damage.saved = damage.recorder.file().to_json().map_err(|e| Failure::invalid(e.to_string()))?;
+        Ok((damage.saved.as_ptr(), damage.saved.len()))
+    });
+    let (pointer, n) = saved.unwrap_or((std::ptr::null(), 0));
+    if !length.is_null() {
+        // SAFETY: not null, writable by the caller's contract.
+        unsafe { length.write(n) };
+    }
+    pointer
+}
+
+/// Gives body `id` the damage the file's body `name` recorded (saved from a body with the mesh
+/// this one has now): its mesh becomes the saved one, and a recorded body's record goes on
+/// from it. A file for another mesh, or one that does not replay, is refused and changes
+/// nothing.
+///
+/// # Safety
+/// `damage` is null or live; `file` holds `length` bytes; `name` is null or a NUL-terminated
+/// string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_restore(
+    damage: *mut DbDamage,
+    id: u64,
+    file: *const u8,
+    length: usize,
+    body_name: *const c_char,
+) -> c_int {
+    guarded(|| {
+        // SAFETY: the caller's contract.
+        let (damage, body_name) = unsafe { (DbDamage::get_mut(damage)?, name(body_name)?) };
+        if file.is_null() {
+            return Err(Failure::null("file"));
+        }
+        if length as u64 > DamageFile::MAX_FILE_BYTES {
+            return Err(Failure::invalid(format!(
+                "{length} bytes: a damage file is at most {}",
+                DamageFile::MAX_FILE_BYTES
+            )));
+        }
+        // SAFETY: not null, `length` bytes by the caller's contract.
+        let bytes = unsafe { std::slice::from_raw_parts(file, length) };
+        let file = DamageFile::from_json(bytes).map_err(|e| Failure::invalid(e.to_string()))?;
+        let body =
+            file.body(body_name).ok_or_else(|| Failure::invalid(format!("the file has no body {body_name:?}")))?;
+        let now = damage.targets.mesh(id).ok_or_else(|| Failure::invalid(format!("body {id} does not dent")))?;
+        let restored = replay_body(body, now, DentForm::Edits, &Projectiles::new())
+            .map_err(|e| Failure::invalid(e.to_string()))?
+            .mesh;
+        let moved = changed_vertices(now, &restored);
+        let topology_changed = now.faces() != restored.faces();
+        if damage.recorder.body(id).is_some() {
+            damage.recorder.resume(id, body.clone());
+        }
+        damage.damage.forget(id);
+        let dented = DentedTarget { key: id, mesh: restored, moved, refinement: Default::default(), topology_changed };
+        damage.moved = damage.targets.apply(vec![dented]).into_iter().collect();
+        Ok(())
+    })
+}
