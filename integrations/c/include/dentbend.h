@@ -41,8 +41,8 @@
 // C).
 typedef struct DbDamage DbDamage;
 
-// A triangle mesh the library owns (opaque in C): positions, triangles, vertex normals, and
-// the vertices the last change moved.
+// A triangle mesh the library owns (opaque in C): positions, triangles, vertex normals (its
+// own, or the caller's authored ones), UVs when given, and the vertices the last change moved.
 typedef struct DbMesh DbMesh;
 
 // A client's copy of the bodies a server's stream carries (opaque in C).
@@ -289,6 +289,22 @@ DbMesh *db_mesh_new(const float *positions,
                     const uint32_t *indices,
                     size_t triangle_count);
 
+// As `db_mesh_new`, with the caller's vertex `normals` (3 floats a vertex, unit; null: the
+// mesh's own smooth normals) and `uvs` (2 floats a vertex; null: none), copied. A game asset's
+// vertices split at hard edges and UV seams keep them: a dent recomputes the normals around
+// what it moved, each side of a hard edge from its own faces, and new vertices interpolate
+// both from their parents.
+//
+// # Safety
+// As `db_mesh_new`; `normals` is null or holds `3 · vertex_count` floats, `uvs` null or
+// `2 · vertex_count`.
+DbMesh *db_mesh_new_with_attributes(const float *positions,
+                                    size_t vertex_count,
+                                    const uint32_t *indices,
+                                    size_t triangle_count,
+                                    const float *normals,
+                                    const float *uvs);
+
 // Frees `mesh` (null: nothing). Freeing a mesh twice is undefined behaviour; debug builds of
 // the library catch it, leave the memory alone and say so in `db_last_error`.
 //
@@ -315,8 +331,8 @@ size_t db_mesh_triangle_count(const DbMesh *mesh);
 // `mesh` is null or a live mesh.
 const float *db_mesh_positions(const DbMesh *mesh);
 
-// The vertex normals of `mesh` (unit, area-weighted): 3 floats a vertex, valid as
-// `db_mesh_positions`.
+// The vertex normals of `mesh` (the caller's authored ones when given, else unit,
+// area-weighted): 3 floats a vertex, valid as `db_mesh_positions`.
 //
 // # Safety
 // `mesh` is null or a live mesh.
@@ -328,6 +344,13 @@ const float *db_mesh_normals(const DbMesh *mesh);
 // # Safety
 // `mesh` is null or a live mesh.
 const uint32_t *db_mesh_indices(const DbMesh *mesh);
+
+// The UVs of `mesh` (2 floats a vertex, the first set), valid as `db_mesh_positions`; null
+// when it has none.
+//
+// # Safety
+// `mesh` is null or a live mesh.
+const float *db_mesh_uvs(const DbMesh *mesh);
 
 // How many vertices the last successful dent of `mesh` moved or added.
 //

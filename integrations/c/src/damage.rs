@@ -235,7 +235,7 @@ pub unsafe extern "C" fn db_damage_add_body(
         let settings = dent_settings(unsafe { &*settings });
         damage
             .targets
-            .insert(id, mesh.mesh.clone(), to_world, settings)
+            .insert(id, mesh.mesh().clone(), to_world, settings)
             .map_err(|e| Failure::invalid(e.to_string()))?;
         damage.damage.forget(id);
         damage.stream.forget(id);
@@ -332,7 +332,7 @@ pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHi
             if !to_world.is_finite() {
                 return Err(bad("projectile_to_world is not finite".into()));
             }
-            let projectile_surface = Surface { mesh: &surface.mesh, to_world };
+            let projectile_surface = Surface { mesh: surface.mesh(), to_world };
             list.push(Hit {
                 target: h.target,
                 projectile: h.projectile,

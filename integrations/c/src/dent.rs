@@ -1,6 +1,6 @@
 //! One dent: a projectile mesh hits a target mesh.
 
-use dentbend::dent::{DentError, DentParams, Impact, Refine, VolumeMode, changed_vertices, dent};
+use dentbend::dent::{DentError, DentJob, DentParams, Impact, Refine, VolumeMode, dent_batch_tracked};
 use dentbend::glam::Vec3;
 use std::ffi::c_int;
 
@@ -114,9 +114,17 @@ pub unsafe extern "C" fn db_dent_ex(
             },
         };
         let params = params(&options)?;
-        let before = target.mesh.clone();
-        let done = dent(&mut target.mesh, &projectile.mesh, &impact, &params).map_err(dent_failure)?;
-        target.moved = changed_vertices(&before, &target.mesh);
+        // One dent as a batch of one: it hands back what the refinement appended, which the
+        // mesh's UVs and authored normals follow.
+        let mut meshes = [target.mesh().clone()];
+        let job = DentJob { target: 0, projectile: projectile.mesh(), impact, params };
+        let outcome = dent_batch_tracked(&mut meshes, &[job]).map_err(|e| dent_failure(e.error))?;
+        let [dented] = meshes;
+        let refinement = outcome.refined.first().cloned().unwrap_or_default();
+        let moved = outcome.moved.into_iter().next().unwrap_or_default();
+        target.asset.follow_dent(dented, &refinement, &moved).map_err(|e| Failure::invalid(e.to_string()))?;
+        target.moved = moved;
+        let done = outcome.reports.into_iter().next().unwrap_or_default();
         if !report.is_null() {
             let made = DbDentReport {
                 moved_vertices: done.moved_vertices,

@@ -31,7 +31,8 @@ pub use damage::{
 pub use dent::{DbDentOptions, DbDentReport, DbImpact, db_dent, db_dent_ex, db_dent_options_default};
 pub use mesh::{
     DB_MAX_TRIANGLES, DB_MAX_VERTICES, DbMesh, db_mesh_free, db_mesh_indices, db_mesh_moved, db_mesh_moved_count,
-    db_mesh_new, db_mesh_normals, db_mesh_positions, db_mesh_triangle_count, db_mesh_vertex_count,
+    db_mesh_new, db_mesh_new_with_attributes, db_mesh_normals, db_mesh_positions, db_mesh_triangle_count, db_mesh_uvs,
+    db_mesh_vertex_count,
 };
 pub use replication::{
     DB_MAX_MESSAGE_BYTES, DbReplica, db_damage_add_wire_projectile, db_damage_message, db_damage_replicate,

@@ -2,7 +2,8 @@
 //! library's own memory (no copy).
 
 use dentbend::TriMesh;
-use dentbend::glam::Vec3;
+use dentbend::glam::{Vec2, Vec3};
+use dentbend::mesh::{Asset, VertexAttributes};
 
 use crate::handles;
 use crate::status::{Failure, guarded, guarded_value};
@@ -16,16 +17,21 @@ pub const DB_MAX_VERTICES: usize = 1 << 27;
 /// Most triangles a mesh may have, for the same reason.
 pub const DB_MAX_TRIANGLES: usize = 1 << 28;
 
-/// A triangle mesh the library owns (opaque in C): positions, triangles, vertex normals, and
-/// the vertices the last change moved.
+/// A triangle mesh the library owns (opaque in C): positions, triangles, vertex normals (its
+/// own, or the caller's authored ones), UVs when given, and the vertices the last change moved.
 #[derive(Debug)]
 pub struct DbMesh {
-    pub(crate) mesh: TriMesh,
+    pub(crate) asset: Asset,
     /// Vertices the last successful dent moved or added, ascending.
     pub(crate) moved: Vec<u32>,
 }
 
 impl DbMesh {
+    /// The mesh: positions, triangles and smooth normals.
+    pub(crate) fn mesh(&self) -> &TriMesh {
+        self.asset.mesh()
+    }
+
     /// The mesh behind `handle`, checked: not null, and alive (debug builds).
     ///
     /// # Safety
@@ -83,6 +89,37 @@ pub unsafe extern "C" fn db_mesh_new(
     indices: *const u32,
     triangle_count: usize,
 ) -> *mut DbMesh {
+    // SAFETY: the caller's contract; no attributes.
+    unsafe {
+        db_mesh_new_with_attributes(
+            positions,
+            vertex_count,
+            indices,
+            triangle_count,
+            std::ptr::null(),
+            std::ptr::null(),
+        )
+    }
+}
+
+/// As `db_mesh_new`, with the caller's vertex `normals` (3 floats a vertex, unit; null: the
+/// mesh's own smooth normals) and `uvs` (2 floats a vertex; null: none), copied. A game asset's
+/// vertices split at hard edges and UV seams keep them: a dent recomputes the normals around
+/// what it moved, each side of a hard edge from its own faces, and new vertices interpolate
+/// both from their parents.
+///
+/// # Safety
+/// As `db_mesh_new`; `normals` is null or holds `3 · vertex_count` floats, `uvs` null or
+/// `2 · vertex_count`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_mesh_new_with_attributes(
+    positions: *const f32,
+    vertex_count: usize,
+    indices: *const u32,
+    triangle_count: usize,
+    normals: *const f32,
+    uvs: *const f32,
+) -> *mut DbMesh {
     let made = guarded_value(|| {
         if vertex_count > DB_MAX_VERTICES || triangle_count > DB_MAX_TRIANGLES {
             return Err(Failure::invalid(format!(
@@ -96,7 +133,21 @@ pub unsafe extern "C" fn db_mesh_new(
         let points = p.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect();
         let faces = i.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         let mesh = TriMesh::new(points, faces).map_err(|e| Failure::invalid(e.to_string()))?;
-        Ok(Box::new(DbMesh { mesh, moved: Vec::new() }))
+        let mut attributes = VertexAttributes::default();
+        if !normals.is_null() {
+            // SAFETY: not null, `3 · vertex_count` floats by the caller's contract.
+            let n = unsafe { read(normals, vertex_count, 3, "normals")? };
+            attributes.normals = Some(n.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect());
+        }
+        if !uvs.is_null() {
+            // SAFETY: not null, `2 · vertex_count` floats by the caller's contract.
+            let uv = unsafe { read(uvs, vertex_count, 2, "uvs")? };
+            attributes.uvs = vec![uv.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect()];
+        }
+        let groups = vec![Default::default()];
+        let face_groups = vec![0; mesh.face_count()];
+        let asset = Asset::new(mesh, attributes, groups, face_groups).map_err(|e| Failure::invalid(e.to_string()))?;
+        Ok(Box::new(DbMesh { asset, moved: Vec::new() }))
     });
     match made {
         Some(mesh) => {
@@ -147,7 +198,7 @@ unsafe fn read_mesh<T>(mesh: *const DbMesh, fallback: T, value: impl FnOnce(&DbM
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_mesh_vertex_count(mesh: *const DbMesh) -> usize {
     // SAFETY: the caller's contract.
-    unsafe { read_mesh(mesh, 0, |m| m.mesh.vertex_count()) }
+    unsafe { read_mesh(mesh, 0, |m| m.mesh().vertex_count()) }
 }
 
 /// Number of triangles of `mesh` (0 when it is null).
@@ -157,7 +208,7 @@ pub unsafe extern "C" fn db_mesh_vertex_count(mesh: *const DbMesh) -> usize {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_mesh_triangle_count(mesh: *const DbMesh) -> usize {
     // SAFETY: the caller's contract.
-    unsafe { read_mesh(mesh, 0, |m| m.mesh.face_count()) }
+    unsafe { read_mesh(mesh, 0, |m| m.mesh().face_count()) }
 }
 
 /// The positions of `mesh`: 3 floats a vertex, `db_mesh_vertex_count` vertices, valid until the
@@ -168,18 +219,23 @@ pub unsafe extern "C" fn db_mesh_triangle_count(mesh: *const DbMesh) -> usize {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_mesh_positions(mesh: *const DbMesh) -> *const f32 {
     // SAFETY: the caller's contract.
-    unsafe { read_mesh(mesh, std::ptr::null(), |m| m.mesh.positions().as_ptr().cast()) }
+    unsafe { read_mesh(mesh, std::ptr::null(), |m| m.mesh().positions().as_ptr().cast()) }
 }
 
-/// The vertex normals of `mesh` (unit, area-weighted): 3 floats a vertex, valid as
-/// `db_mesh_positions`.
+/// The vertex normals of `mesh` (the caller's authored ones when given, else unit,
+/// area-weighted): 3 floats a vertex, valid as `db_mesh_positions`.
 ///
 /// # Safety
 /// `mesh` is null or a live mesh.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_mesh_normals(mesh: *const DbMesh) -> *const f32 {
     // SAFETY: the caller's contract.
-    unsafe { read_mesh(mesh, std::ptr::null(), |m| m.mesh.normals().as_ptr().cast()) }
+    unsafe {
+        read_mesh(mesh, std::ptr::null(), |m| match &m.asset.attributes().normals {
+            Some(authored) => authored.as_ptr().cast(),
+            None => m.mesh().normals().as_ptr().cast(),
+        })
+    }
 }
 
 /// The triangles of `mesh`: 3 vertex indices each, `db_mesh_triangle_count` triangles, valid as
@@ -190,7 +246,22 @@ pub unsafe extern "C" fn db_mesh_normals(mesh: *const DbMesh) -> *const f32 {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_mesh_indices(mesh: *const DbMesh) -> *const u32 {
     // SAFETY: the caller's contract.
-    unsafe { read_mesh(mesh, std::ptr::null(), |m| m.mesh.faces().as_ptr().cast()) }
+    unsafe { read_mesh(mesh, std::ptr::null(), |m| m.mesh().faces().as_ptr().cast()) }
+}
+
+/// The UVs of `mesh` (2 floats a vertex, the first set), valid as `db_mesh_positions`; null
+/// when it has none.
+///
+/// # Safety
+/// `mesh` is null or a live mesh.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_mesh_uvs(mesh: *const DbMesh) -> *const f32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        read_mesh(mesh, std::ptr::null(), |m| {
+            m.asset.attributes().uvs.first().map_or(std::ptr::null(), |uv| uv.as_ptr().cast())
+        })
+    }
 }
 
 /// How many vertices the last successful dent of `mesh` moved or added.

@@ -90,7 +90,7 @@ pub unsafe extern "C" fn db_damage_add_wire_projectile(
     guarded(|| {
         // SAFETY: the caller's contract.
         let (damage, mesh) = unsafe { (DbDamage::get_mut(damage)?, DbMesh::get(mesh, "mesh")?) };
-        damage.stream.server.add_projectile(shape_id, &mesh.mesh).map_err(|e| Failure::invalid(e.to_string()))
+        damage.stream.server.add_projectile(shape_id, mesh.mesh()).map_err(|e| Failure::invalid(e.to_string()))
     })
 }
 
@@ -217,7 +217,7 @@ pub unsafe extern "C" fn db_replica_add_body(
         }
         // SAFETY: not null, a `DbDentSettings` by the caller's contract.
         let settings = dent_settings(unsafe { &*settings });
-        replica.client.add_body(wire_id, mesh.mesh.clone(), &settings).map_err(|e| Failure::invalid(e.to_string()))
+        replica.client.add_body(wire_id, mesh.mesh().clone(), &settings).map_err(|e| Failure::invalid(e.to_string()))
     })
 }
 
@@ -234,7 +234,7 @@ pub unsafe extern "C" fn db_replica_add_projectile(
     guarded(|| {
         // SAFETY: the caller's contract.
         let (replica, mesh) = unsafe { (DbReplica::get(replica)?, DbMesh::get(mesh, "mesh")?) };
-        replica.client.add_projectile(shape_id, mesh.mesh.clone()).map_err(|e| Failure::invalid(e.to_string()))
+        replica.client.add_projectile(shape_id, mesh.mesh().clone()).map_err(|e| Failure::invalid(e.to_string()))
     })
 }
 

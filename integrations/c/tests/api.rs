@@ -145,3 +145,64 @@ fn a_mesh_freed_twice_is_caught_in_debug_builds() {
         db_mesh_free(ball);
     }
 }
+
+/// A game asset through the C API: the built-in crate (24 vertices split at its hard edges, UV
+/// mapped) with its authored normals and UVs. A dent near an edge refines it; the UVs and
+/// normals follow (one per vertex, finite, unit normals), and vertices that shared a position
+/// still do: the seams do not crack.
+#[test]
+fn uvs_and_hard_edges_follow_a_dent_without_cracks() {
+    let asset = mesh::builtin_asset("crate").unwrap();
+    let m = asset.mesh();
+    let positions: Vec<f32> = m.positions().iter().flat_map(|p| p.to_array()).collect();
+    let indices: Vec<u32> = m.faces().iter().flatten().copied().collect();
+    let normals: Vec<f32> = asset.attributes().normals.as_ref().unwrap().iter().flat_map(|n| n.to_array()).collect();
+    let uvs: Vec<f32> = asset.attributes().uvs[0].iter().flat_map(|uv| uv.to_array()).collect();
+    let (lo, hi) = m.bounds();
+    // SAFETY: every array is as long as the counts say.
+    let target = unsafe {
+        db_mesh_new_with_attributes(
+            positions.as_ptr(),
+            m.vertex_count(),
+            indices.as_ptr(),
+            m.face_count(),
+            normals.as_ptr(),
+            uvs.as_ptr(),
+        )
+    };
+    assert!(!target.is_null(), "{}", last_error());
+    // A 0.2 m ball on the top face, near an edge.
+    let top = hi.y;
+    let mut ball = mesh::icosphere(0.2 * (hi.x - lo.x), 2).unwrap();
+    let at = dentbend::glam::Vec3::new(0.3 * hi.x, top + 0.2 * (hi.x - lo.x), 0.0);
+    ball.transform(dentbend::glam::Affine3A::from_translation(at)).unwrap();
+    let ball = made(&ball);
+    let impact = DbImpact { point: [at.x, top, 0.0], normal: [0.0, -1.0, 0.0], relative_velocity: [0.0, -3.0, 0.0] };
+    let options = DbDentOptions { preserve_volume: 1, ..db_dent_options_default(0.1 * (hi.y - lo.y)) };
+    let mut report = DbDentReport::default();
+    // SAFETY: live meshes and valid structs; every array read back is `vertex_count` long.
+    unsafe {
+        assert_eq!(db_dent_ex(target, ball, &impact, &options, &mut report), DB_OK, "{}", last_error());
+        assert!(report.added_vertices > 0, "the 12-triangle crate is refined under the dent: {report:?}");
+        let n = db_mesh_vertex_count(target);
+        let after = std::slice::from_raw_parts(db_mesh_positions(target), 3 * n);
+        let uv = std::slice::from_raw_parts(db_mesh_uvs(target), 2 * n);
+        let normal = std::slice::from_raw_parts(db_mesh_normals(target), 3 * n);
+        assert!(uv.iter().all(|x| x.is_finite()), "every vertex has finite UVs");
+        for v in 0..n {
+            let length = (normal[3 * v].powi(2) + normal[3 * v + 1].powi(2) + normal[3 * v + 2].powi(2)).sqrt();
+            assert!((length - 1.0).abs() < 1e-3, "vertex {v}'s normal has length {length}");
+        }
+        // Seams: vertices that shared a position before the dent share it after.
+        let before = m.positions();
+        for a in 0..before.len() {
+            for b in a + 1..before.len() {
+                if before[a] == before[b] {
+                    assert_eq!(after[3 * a..3 * a + 3], after[3 * b..3 * b + 3], "vertices {a} and {b} cracked apart");
+                }
+            }
+        }
+        db_mesh_free(target);
+        db_mesh_free(ball);
+    }
+}
