@@ -306,7 +306,8 @@ DbMesh *db_mesh_new_with_attributes(const float *positions,
                                     const float *uvs);
 
 // Frees `mesh` (null: nothing). Freeing a mesh twice is undefined behaviour; debug builds of
-// the library catch it, leave the memory alone and say so in `db_last_error`.
+// the library (and its `track-handles` feature) catch it, leave the memory alone and say so in
+// `db_last_error`.
 //
 // # Safety
 // `mesh` is null or a mesh of `db_mesh_new` not freed yet.

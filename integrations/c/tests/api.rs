@@ -129,9 +129,9 @@ fn bad_meshes_are_refused_with_a_message() {
     }
 }
 
-/// Debug builds of the library track live meshes: a second free, or a freed mesh used, is an
-/// error with a message instead of undefined behaviour.
-#[cfg(debug_assertions)]
+/// Debug builds of the library (and the `track-handles` feature) track live meshes: a second
+/// free, or a freed mesh used, is an error with a message instead of undefined behaviour.
+#[cfg(any(debug_assertions, feature = "track-handles"))]
 #[test]
 fn a_mesh_freed_twice_is_caught_in_debug_builds() {
     let (target, ball) = pair();
