@@ -141,20 +141,13 @@ impl Default for DbDamage {
 }
 
 impl DbDamage {
-    /// The damage behind `handle`, checked as [`DbMesh::get`] checks meshes.
+    /// The context behind `handle`, checked as meshes are.
     ///
     /// # Safety
-    /// `handle` is null or a pointer `db_damage_new` returned and `db_damage_free` has not
-    /// freed.
+    /// `handle` is null or a context of `db_damage_new` not freed yet.
     pub(crate) unsafe fn get<'a>(handle: *const DbDamage) -> Result<&'a DbDamage, Failure> {
-        if handle.is_null() {
-            return Err(Failure::null("damage"));
-        }
-        if !handles::alive(handle as usize) {
-            return Err(Failure::invalid("damage is not alive (freed, or not made by db_damage_new)"));
-        }
-        // SAFETY: not null, and alive by the caller's contract.
-        Ok(unsafe { &*handle })
+        // SAFETY: the caller's contract.
+        unsafe { handles::get(handle, "damage") }
     }
 
     /// As [`get`](Self::get), mutably.
@@ -163,18 +156,14 @@ impl DbDamage {
     /// As [`get`](Self::get), and no other reference to it is in use.
     pub(crate) unsafe fn get_mut<'a>(handle: *mut DbDamage) -> Result<&'a mut DbDamage, Failure> {
         // SAFETY: the caller's contract.
-        unsafe { Self::get(handle)? };
-        // SAFETY: checked above; exclusive by the caller's contract.
-        Ok(unsafe { &mut *handle })
+        unsafe { handles::get_mut(handle, "damage") }
     }
 }
 
 /// A new damage context with no body. Free it with `db_damage_free`.
 #[unsafe(no_mangle)]
 pub extern "C" fn db_damage_new() -> *mut DbDamage {
-    let handle = Box::into_raw(Box::<DbDamage>::default());
-    handles::born(handle as usize);
-    handle
+    handles::make(DbDamage::default())
 }
 
 /// Frees `damage` (null: nothing); as `db_mesh_free` for a second free.
@@ -183,17 +172,8 @@ pub extern "C" fn db_damage_new() -> *mut DbDamage {
 /// `damage` is null or a context of `db_damage_new` not freed yet.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_damage_free(damage: *mut DbDamage) {
-    guarded(|| {
-        if damage.is_null() {
-            return Ok(());
-        }
-        if !handles::died(damage as usize) {
-            return Err(Failure::invalid("db_damage_free: not alive (freed twice, or not made by db_damage_new)"));
-        }
-        // SAFETY: made by `Box::into_raw` in `db_damage_new`, not freed yet by the contract.
-        drop(unsafe { Box::from_raw(damage) });
-        Ok(())
-    });
+    // SAFETY: the caller's contract.
+    unsafe { handles::free(damage, "db_damage_free") }
 }
 
 /// Reads a 3×4 mesh → world transform, column by column; rigid within rounding.

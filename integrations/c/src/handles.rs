@@ -2,6 +2,8 @@
 //! mesh twice, or using a freed one, is undefined behaviour in release builds (as `free` is)
 //! and a reported error where handles are tracked.
 
+use crate::status::{Failure, guarded};
+
 #[cfg(any(debug_assertions, feature = "track-handles"))]
 use std::collections::HashSet;
 #[cfg(any(debug_assertions, feature = "track-handles"))]
@@ -11,14 +13,14 @@ use std::sync::Mutex;
 static LIVE: Mutex<Option<HashSet<usize>>> = Mutex::new(None);
 
 /// Notes `address` as a live handle.
-pub(crate) fn born(address: usize) {
+fn born(address: usize) {
     #[cfg(any(debug_assertions, feature = "track-handles"))]
     LIVE.lock().unwrap_or_else(|e| e.into_inner()).get_or_insert_with(HashSet::new).insert(address);
     let _ = address;
 }
 
 /// Whether `address` is a live handle (always true where handles are not tracked).
-pub(crate) fn alive(address: usize) -> bool {
+fn alive(address: usize) -> bool {
     #[cfg(any(debug_assertions, feature = "track-handles"))]
     return LIVE.lock().unwrap_or_else(|e| e.into_inner()).as_ref().is_some_and(|live| live.contains(&address));
     #[cfg(not(any(debug_assertions, feature = "track-handles")))]
@@ -29,7 +31,7 @@ pub(crate) fn alive(address: usize) -> bool {
 }
 
 /// Notes `address` as freed; false when it was not alive.
-pub(crate) fn died(address: usize) -> bool {
+fn died(address: usize) -> bool {
     #[cfg(any(debug_assertions, feature = "track-handles"))]
     return LIVE.lock().unwrap_or_else(|e| e.into_inner()).as_mut().is_some_and(|live| live.remove(&address));
     #[cfg(not(any(debug_assertions, feature = "track-handles")))]
@@ -37,4 +39,56 @@ pub(crate) fn died(address: usize) -> bool {
         let _ = address;
         true
     }
+}
+
+/// A new handle owning `value`.
+pub(crate) fn make<T>(value: T) -> *mut T {
+    let handle = Box::into_raw(Box::new(value));
+    born(handle as usize);
+    handle
+}
+
+/// The value behind `handle` (`what` names it in messages): not null, and alive where handles
+/// are tracked.
+///
+/// # Safety
+/// `handle` is null or a handle of [`make`] not freed yet.
+pub(crate) unsafe fn get<'a, T>(handle: *const T, what: &str) -> Result<&'a T, Failure> {
+    if handle.is_null() {
+        return Err(Failure::null(what));
+    }
+    if !alive(handle as usize) {
+        return Err(Failure::invalid(format!("{what} is not alive (freed, or not made by this library)")));
+    }
+    // SAFETY: not null, and alive by the caller's contract.
+    Ok(unsafe { &*handle })
+}
+
+/// As [`get`], mutably.
+///
+/// # Safety
+/// As [`get`], and no other reference to the value is in use.
+pub(crate) unsafe fn get_mut<'a, T>(handle: *mut T, what: &str) -> Result<&'a mut T, Failure> {
+    // SAFETY: the caller's contract.
+    unsafe { get(handle.cast_const(), what)? };
+    // SAFETY: checked above; exclusive by the caller's contract.
+    Ok(unsafe { &mut *handle })
+}
+
+/// Frees `handle` (null: nothing), reporting a second free where handles are tracked.
+///
+/// # Safety
+/// `handle` is null or a handle of [`make`] not freed yet.
+pub(crate) unsafe fn free<T>(handle: *mut T, what: &str) {
+    guarded(|| {
+        if handle.is_null() {
+            return Ok(());
+        }
+        if !died(handle as usize) {
+            return Err(Failure::invalid(format!("{what}: not alive (freed twice, or not made by this library)")));
+        }
+        // SAFETY: made by `Box::into_raw` in `make`, not freed yet by the contract.
+        drop(unsafe { Box::from_raw(handle) });
+        Ok(())
+    });
 }

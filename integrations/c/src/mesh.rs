@@ -6,7 +6,7 @@ use dentbend::glam::{Vec2, Vec3};
 use dentbend::mesh::{Asset, VertexAttributes};
 
 use crate::handles;
-use crate::status::{Failure, guarded, guarded_value};
+use crate::status::{Failure, guarded_value};
 
 // Positions and normals are handed out as 3 packed floats a vertex.
 const _: () = assert!(std::mem::size_of::<Vec3>() == 12 && std::mem::align_of::<Vec3>() == 4);
@@ -32,19 +32,14 @@ impl DbMesh {
         self.asset.mesh()
     }
 
-    /// The mesh behind `handle`, checked: not null, and alive (debug builds).
+    /// The mesh behind `handle` (`what` names it), checked: not null, and alive where handles
+    /// are tracked.
     ///
     /// # Safety
     /// `handle` is null or a pointer `db_mesh_new` returned and `db_mesh_free` has not freed.
     pub(crate) unsafe fn get<'a>(handle: *const DbMesh, what: &str) -> Result<&'a DbMesh, Failure> {
-        if handle.is_null() {
-            return Err(Failure::null(what));
-        }
-        if !handles::alive(handle as usize) {
-            return Err(Failure::invalid(format!("{what} is not a live mesh (freed, or not made by db_mesh_new)")));
-        }
-        // SAFETY: not null, and by the caller's contract a live mesh of ours.
-        Ok(unsafe { &*handle })
+        // SAFETY: the caller's contract.
+        unsafe { handles::get(handle, what) }
     }
 
     /// As [`get`](Self::get), mutably.
@@ -52,10 +47,8 @@ impl DbMesh {
     /// # Safety
     /// As [`get`](Self::get), and no other reference to the mesh is in use.
     pub(crate) unsafe fn get_mut<'a>(handle: *mut DbMesh, what: &str) -> Result<&'a mut DbMesh, Failure> {
-        // SAFETY: as the caller's contract says.
-        unsafe { Self::get(handle, what)? };
-        // SAFETY: checked above; exclusive by the caller's contract.
-        Ok(unsafe { &mut *handle })
+        // SAFETY: the caller's contract.
+        unsafe { handles::get_mut(handle, what) }
     }
 }
 
@@ -147,16 +140,9 @@ pub unsafe extern "C" fn db_mesh_new_with_attributes(
         let groups = vec![Default::default()];
         let face_groups = vec![0; mesh.face_count()];
         let asset = Asset::new(mesh, attributes, groups, face_groups).map_err(|e| Failure::invalid(e.to_string()))?;
-        Ok(Box::new(DbMesh { asset, moved: Vec::new() }))
+        Ok(DbMesh { asset, moved: Vec::new() })
     });
-    match made {
-        Some(mesh) => {
-            let handle = Box::into_raw(mesh);
-            handles::born(handle as usize);
-            handle
-        }
-        None => std::ptr::null_mut(),
-    }
+    made.map_or(std::ptr::null_mut(), handles::make)
 }
 
 /// Frees `mesh` (null: nothing). Freeing a mesh twice is undefined behaviour; debug builds of
@@ -167,19 +153,8 @@ pub unsafe extern "C" fn db_mesh_new_with_attributes(
 /// `mesh` is null or a mesh of `db_mesh_new` not freed yet.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_mesh_free(mesh: *mut DbMesh) {
-    guarded(|| {
-        if mesh.is_null() {
-            return Ok(());
-        }
-        if !handles::died(mesh as usize) {
-            return Err(Failure::invalid(
-                "db_mesh_free: the mesh is not alive (freed twice, or not made by db_mesh_new)",
-            ));
-        }
-        // SAFETY: made by `Box::into_raw` in `db_mesh_new` and, by the contract, not freed yet.
-        drop(unsafe { Box::from_raw(mesh) });
-        Ok(())
-    });
+    // SAFETY: the caller's contract.
+    unsafe { handles::free(mesh, "db_mesh_free") }
 }
 
 /// Reads one value from live mesh `mesh`; `fallback` (with the reason in `db_last_error`) when

@@ -158,23 +158,15 @@ impl DbReplica {
     /// `handle` is null or a live replica of `db_replica_new`; no other reference to it is in
     /// use.
     unsafe fn get<'a>(handle: *mut DbReplica) -> Result<&'a mut DbReplica, Failure> {
-        if handle.is_null() {
-            return Err(Failure::null("replica"));
-        }
-        if !handles::alive(handle as usize) {
-            return Err(Failure::invalid("replica is not alive (freed, or not made by db_replica_new)"));
-        }
-        // SAFETY: not null, alive, exclusive by the caller's contract.
-        Ok(unsafe { &mut *handle })
+        // SAFETY: the caller's contract.
+        unsafe { handles::get_mut(handle, "replica") }
     }
 }
 
 /// A new client replica with no body. Free it with `db_replica_free`.
 #[unsafe(no_mangle)]
 pub extern "C" fn db_replica_new() -> *mut DbReplica {
-    let handle = Box::into_raw(Box::<DbReplica>::default());
-    handles::born(handle as usize);
-    handle
+    handles::make(DbReplica::default())
 }
 
 /// Frees `replica` (null: nothing); as `db_mesh_free` for a second free.
@@ -183,17 +175,8 @@ pub extern "C" fn db_replica_new() -> *mut DbReplica {
 /// `replica` is null or a replica of `db_replica_new` not freed yet.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_replica_free(replica: *mut DbReplica) {
-    guarded(|| {
-        if replica.is_null() {
-            return Ok(());
-        }
-        if !handles::died(replica as usize) {
-            return Err(Failure::invalid("db_replica_free: not alive (freed twice, or not made by db_replica_new)"));
-        }
-        // SAFETY: made by `Box::into_raw` in `db_replica_new`, not freed yet by the contract.
-        drop(unsafe { Box::from_raw(replica) });
-        Ok(())
-    });
+    // SAFETY: the caller's contract.
+    unsafe { handles::free(replica, "db_replica_free") }
 }
 
 /// Adds the body the server carries as `wire_id`: a copy of its base `mesh` (the server's mesh

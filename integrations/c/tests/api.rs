@@ -1,25 +1,11 @@
 //! The C API called as C calls it: meshes in and out through flat arrays, a dent, and every
 //! kind of bad call refused with a status and a message, changing nothing.
 
-use std::ffi::CStr;
+mod common;
 
+use common::{last_error, made};
 use dentbend::mesh;
 use dentbend_c::*;
-
-/// A mesh of the library's `TriMesh`, through `db_mesh_new`.
-fn made(m: &dentbend::TriMesh) -> *mut DbMesh {
-    let positions: Vec<f32> = m.positions().iter().flat_map(|p| p.to_array()).collect();
-    let indices: Vec<u32> = m.faces().iter().flatten().copied().collect();
-    // SAFETY: both arrays are as long as the counts say.
-    let handle = unsafe { db_mesh_new(positions.as_ptr(), m.vertex_count(), indices.as_ptr(), m.face_count()) };
-    assert!(!handle.is_null(), "{}", last_error());
-    handle
-}
-
-fn last_error() -> String {
-    // SAFETY: the library's message, NUL-terminated.
-    unsafe { CStr::from_ptr(db_last_error()) }.to_string_lossy().into_owned()
-}
 
 /// The positions of `mesh`, copied out.
 fn positions(mesh: *const DbMesh) -> Vec<f32> {
@@ -141,7 +127,7 @@ fn a_mesh_freed_twice_is_caught_in_debug_builds() {
         db_mesh_free(target);
         assert!(last_error().contains("not alive"), "{}", last_error());
         assert_eq!(db_dent(target, ball, &DOWN, 0.1), DB_ERR_INVALID_ARGUMENT);
-        assert!(last_error().contains("not a live mesh"), "{}", last_error());
+        assert!(last_error().contains("target is not alive"), "{}", last_error());
         db_mesh_free(ball);
     }
 }

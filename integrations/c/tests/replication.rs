@@ -2,8 +2,9 @@
 //! the server's bit for bit, a late joiner's snapshot too; a message out of order, repeated or
 //! truncated is refused and changes nothing.
 
-use std::ffi::CStr;
+mod common;
 
+use common::{IDENTITY, falling_ball, last_error, made};
 use dentbend::glam::Vec3;
 use dentbend::mesh;
 use dentbend_c::*;
@@ -12,51 +13,6 @@ const FLOOR: u64 = 10;
 const BALL: u64 = 20;
 const WIRE_FLOOR: u32 = 1;
 const BALL_SHAPE: u32 = 7;
-
-fn last_error() -> String {
-    // SAFETY: the library's message, NUL-terminated.
-    unsafe { CStr::from_ptr(db_last_error()) }.to_string_lossy().into_owned()
-}
-
-fn made(m: &dentbend::TriMesh) -> *mut DbMesh {
-    let positions: Vec<f32> = m.positions().iter().flat_map(|p| p.to_array()).collect();
-    let indices: Vec<u32> = m.faces().iter().flatten().copied().collect();
-    // SAFETY: both arrays are as long as the counts say.
-    unsafe { db_mesh_new(positions.as_ptr(), m.vertex_count(), indices.as_ptr(), m.face_count()) }
-}
-
-const IDENTITY: [f32; 12] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
-
-/// The ball falling at `speed` m/s on the floor's top at `(x, 0.25, z)`.
-fn hit(ball: *const DbMesh, x: f32, z: f32, speed: f32) -> DbHit {
-    let inverse_inertia = 1.0 / (0.4 * 2.0 * 0.3 * 0.3);
-    let fixed = DbBodyState {
-        center_of_mass: [0.0; 3],
-        linear_velocity: [0.0; 3],
-        angular_velocity: [0.0; 3],
-        mass: 0.0,
-        inverse_inertia: [0.0; 9],
-    };
-    let falling = DbBodyState {
-        center_of_mass: [x, 0.55, z],
-        linear_velocity: [0.0, -speed, 0.0],
-        mass: 2.0,
-        inverse_inertia: [inverse_inertia, 0.0, 0.0, 0.0, inverse_inertia, 0.0, 0.0, 0.0, inverse_inertia],
-        ..fixed
-    };
-    let mut to_world = IDENTITY;
-    to_world[9..].copy_from_slice(&[x, 0.55, z]);
-    DbHit {
-        target: FLOOR,
-        projectile: BALL,
-        point: [x, 0.25, z],
-        normal: [0.0, -1.0, 0.0],
-        target_state: fixed,
-        projectile_state: falling,
-        projectile_surface: ball,
-        projectile_to_world: to_world,
-    }
-}
 
 fn bytes(pointer: *const u8, length: usize) -> Vec<u8> {
     // SAFETY: the library's array of `length` bytes (or null with 0).
@@ -96,7 +52,7 @@ fn clients_follow_the_server_bit_for_bit_and_refuse_bad_messages() {
         assert_eq!(db_replica_join(client, start.as_ptr(), start.len()), DB_OK, "{}", last_error());
         let mut messages = Vec::new();
         for (k, (x, z)) in [(-1.0, -1.0), (1.0, 0.5), (0.0, 1.2)].into_iter().enumerate() {
-            let hits = [hit(ball, x, z, 6.0 + k as f32)];
+            let hits = [falling_ball(FLOOR, BALL, ball, x, z, 6.0 + k as f32)];
             assert_eq!(db_damage_step(damage, hits.as_ptr(), 1), DB_OK, "{}", last_error());
             let message = bytes(db_damage_message(damage, &mut length), length);
             assert!(!message.is_empty() && message.len() < 200, "one dent's message: {} bytes", message.len());
@@ -122,7 +78,7 @@ fn clients_follow_the_server_bit_for_bit_and_refuse_bad_messages() {
         assert_eq!(db_replica_join(late, snapshot.as_ptr(), snapshot.len()), DB_OK, "{}", last_error());
         assert_eq!(replica_positions(late), server_positions(damage), "the late joiner, bit for bit");
         assert_eq!(db_replica_apply(late, early.as_ptr(), early.len()), DB_ERR_INVALID_ARGUMENT, "an old message");
-        let hits = [hit(ball, 1.2, -1.2, 8.0)];
+        let hits = [falling_ball(FLOOR, BALL, ball, 1.2, -1.2, 8.0)];
         assert_eq!(db_damage_step(damage, hits.as_ptr(), 1), DB_OK);
         let message = bytes(db_damage_message(damage, &mut length), length);
         for replica in [client, late] {

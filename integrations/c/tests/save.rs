@@ -2,27 +2,17 @@
 //! bit for bit with no simulation; a file for another mesh, a truncated file or a name it does
 //! not have is refused and changes nothing.
 
-use std::ffi::{CStr, CString};
+use std::ffi::CString;
 
+mod common;
+
+use common::{IDENTITY, falling_ball, last_error, made};
 use dentbend::glam::Vec3;
 use dentbend::mesh;
 use dentbend_c::*;
 
 const FLOOR: u64 = 3;
 const BALL: u64 = 4;
-const IDENTITY: [f32; 12] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
-
-fn last_error() -> String {
-    // SAFETY: the library's message, NUL-terminated.
-    unsafe { CStr::from_ptr(db_last_error()) }.to_string_lossy().into_owned()
-}
-
-fn made(m: &dentbend::TriMesh) -> *mut DbMesh {
-    let positions: Vec<f32> = m.positions().iter().flat_map(|p| p.to_array()).collect();
-    let indices: Vec<u32> = m.faces().iter().flatten().copied().collect();
-    // SAFETY: both arrays are as long as the counts say.
-    unsafe { db_mesh_new(positions.as_ptr(), m.vertex_count(), indices.as_ptr(), m.face_count()) }
-}
 
 /// A context with `floor` as body FLOOR and the ball as a projectile.
 fn context(floor: *const DbMesh) -> *mut DbDamage {
@@ -42,37 +32,6 @@ fn positions(damage: *const DbDamage) -> Vec<f32> {
     unsafe { std::slice::from_raw_parts(db_damage_positions(damage, FLOOR, &mut n), 3 * n) }.to_vec()
 }
 
-/// The ball falling at `speed` m/s on the floor's top at `(x, 0.25, 0)`.
-fn hit(ball: *const DbMesh, x: f32, speed: f32) -> DbHit {
-    let i = 1.0 / (0.4 * 2.0 * 0.3 * 0.3);
-    let fixed = DbBodyState {
-        center_of_mass: [0.0; 3],
-        linear_velocity: [0.0; 3],
-        angular_velocity: [0.0; 3],
-        mass: 0.0,
-        inverse_inertia: [0.0; 9],
-    };
-    let falling = DbBodyState {
-        center_of_mass: [x, 0.55, 0.0],
-        linear_velocity: [0.0, -speed, 0.0],
-        mass: 2.0,
-        inverse_inertia: [i, 0.0, 0.0, 0.0, i, 0.0, 0.0, 0.0, i],
-        ..fixed
-    };
-    let mut to_world = IDENTITY;
-    to_world[9..].copy_from_slice(&[x, 0.55, 0.0]);
-    DbHit {
-        target: FLOOR,
-        projectile: BALL,
-        point: [x, 0.25, 0.0],
-        normal: [0.0, -1.0, 0.0],
-        target_state: fixed,
-        projectile_state: falling,
-        projectile_surface: ball,
-        projectile_to_world: to_world,
-    }
-}
-
 #[test]
 fn a_saved_body_is_restored_bit_for_bit_and_bad_files_are_refused() {
     let floor_mesh = mesh::subdivided_box(Vec3::new(4.0, 0.5, 4.0), [32, 4, 32]).unwrap();
@@ -83,7 +42,7 @@ fn a_saved_body_is_restored_bit_for_bit_and_bad_files_are_refused() {
     unsafe {
         assert_eq!(db_damage_record(server, FLOOR, name.as_ptr()), DB_OK, "{}", last_error());
         for (x, speed) in [(-1.0, 6.0), (1.0, 9.0)] {
-            let hits = [hit(ball, x, speed)];
+            let hits = [falling_ball(FLOOR, BALL, ball, x, 0.0, speed)];
             assert_eq!(db_damage_step(server, hits.as_ptr(), 1), DB_OK, "{}", last_error());
         }
         let mut length = 0;
