@@ -380,3 +380,98 @@ fn a_gltf_asset_comes_out_as_glb_with_its_texcoords() {
     assert_eq!(asset.attributes().uvs.len(), 1);
     assert!(asset.attributes().uvs[0].iter().all(|uv| (0.0..=1.0).contains(&uv.x) && (0.0..=1.0).contains(&uv.y)));
 }
+
+/// `--impacts`: three impacts from one JSON file in one call, each with its own depth (and one
+/// with its own projectile pose), dent the block's top at each point and nowhere else; bad
+/// files exit with code 2, one `error:` line naming the entry, and no output.
+#[test]
+fn an_impacts_file_dents_many_points_in_one_call() {
+    let dir = TempDir::new("impacts");
+    let out = dir.path("dented.obj");
+    let (_, top) = sphere_on_block();
+    let (sphere_low, _) = dentbend::mesh::builtin("sphere").unwrap().bounds();
+    // The sphere at half size rests on the top at x = −0.6 with its own pose.
+    let half = format!("[-0.6, {}, 0]", top - 0.5 * sphere_low.y);
+    let impacts = dir.path("impacts.json");
+    let points = [(0.0, 0.15), (0.6, 0.05), (-0.6, 0.1)];
+    std::fs::write(
+        &impacts,
+        format!(
+            r#"[
+                {{"point": [0, {top}, 0], "normal": [0, -1, 0], "depth": 0.15}},
+                {{"point": [0.6, {top}, 0], "normal": [0, -1, 0], "velocity": [0.3, -2, 0], "depth": 0.05}},
+                {{"point": [-0.6, {top}, 0], "normal": [0, -1, 0], "depth": 0.1, "scale": 0.5, "translate": {half}}}
+            ]"#
+        ),
+    )
+    .unwrap();
+    let impacts_s = impacts.to_str().unwrap();
+    let output = dentbend(&[
+        "dent",
+        "--target",
+        "block",
+        "--projectile",
+        "sphere",
+        "--impacts",
+        impacts_s,
+        "--dent-distance",
+        "0.2",
+        "--refine",
+        "off",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(text(&output.stdout).contains("3 impacts"), "{}", text(&output.stdout));
+    let (before, _) = (dentbend::mesh::builtin("block").unwrap().positions().to_vec(), ());
+    let (after, _) = read_obj(&out);
+    assert_eq!(before.len(), after.len(), "--refine off keeps the vertices");
+    // Under each point the top sinks by a good part of that impact's depth; no vertex moves
+    // farther than the three depths together (each dent moves a vertex by at most its own; the
+    // broad ones overlap). OBJ text rounding: 1e-5.
+    for (x, depth) in points {
+        let sunk = before
+            .iter()
+            .zip(&after)
+            .filter(|(b, _)| (b.y - top).abs() < 1e-5 && (b.x - x).abs() < 0.05 && b.z.abs() < 0.05)
+            .map(|(b, a)| b.y - a.y)
+            .fold(0.0f32, f32::max);
+        assert!(sunk > 0.5 * depth, "at x = {x}: sunk {sunk} for a {depth} dent");
+    }
+    let total: f32 = points.iter().map(|p| p.1).sum();
+    let farthest = before.iter().zip(&after).map(|(b, a)| b.distance(*a)).fold(0.0f32, f32::max);
+    assert!(farthest <= total + 1e-5, "a vertex moved {farthest}, more than the {total} of all three dents");
+    // Bad files: a zero normal in entry 1, a missing field, not a list, an unknown field.
+    let cases = [
+        (r#"[{"point": [0, 1, 0], "normal": [0, -1, 0]}, {"point": [0, 1, 0], "normal": [0, 0, 0]}]"#, "impact 1"),
+        (r#"[{"point": [0, 1, 0]}]"#, "normal"),
+        (r#"{"point": [0, 1, 0]}"#, "list"),
+        (r#"[{"point": [0, 1, 0], "normal": [0, -1, 0], "speed": 3}]"#, "speed"),
+        (r#"[{"point": [0, 1, 0], "normal": [0, -1, 0], "depth": -1}]"#, "impact 0"),
+        ("[]", "1 to"),
+    ];
+    std::fs::remove_file(&out).unwrap();
+    for (body, says) in cases {
+        std::fs::write(&impacts, body).unwrap();
+        let output = dentbend(&[
+            "dent",
+            "--target",
+            "block",
+            "--projectile",
+            "sphere",
+            "--impacts",
+            impacts_s,
+            "--dent-distance",
+            "0.2",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let stderr = text(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{body}: {stderr}");
+        assert!(
+            stderr.starts_with("error: ") && stderr.lines().count() == 1 && stderr.contains(says),
+            "{body}: {stderr}"
+        );
+        assert!(!out.exists(), "{body}: output written anyway");
+    }
+}

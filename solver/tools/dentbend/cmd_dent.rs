@@ -10,8 +10,9 @@ use dentbend::glam::Vec3;
 use dentbend::mesh::Asset;
 use dentbend::{Attenuation, Impact, MeshError, TriMesh, VolumeMode, mesh};
 
-use crate::backend::{BackendOption, dent_pair_or_one};
+use crate::backend::{BackendChoice, BackendOption, dent_pair_or_one};
 use crate::error::{CliError, flag_error};
+use crate::impacts;
 use crate::options::{MapOptions, ProjectileOptions, nonzero, parse_refine, sig3};
 use crate::output::require_extension;
 use crate::vector::parse_vec3;
@@ -46,17 +47,27 @@ pub struct DentArgs {
     pub projectile: ProjectileOptions,
 
     /// Contact point, mesh units
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
-    pub point: Vec3,
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true,
+          required_unless_present = "impacts", conflicts_with = "impacts")]
+    pub point: Option<Vec3>,
 
     /// Denting normal at the contact, pointing into the target
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
-    pub normal: Vec3,
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true,
+          required_unless_present = "impacts", conflicts_with = "impacts")]
+    pub normal: Option<Vec3>,
 
     /// Velocity of the projectile relative to the target; its angle to the normal is θ
     /// [default: the normal, head-on]
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true,
+          conflicts_with = "impacts")]
     pub velocity: Option<Vec3>,
+
+    /// Many impacts in one call, instead of --point, --normal and --velocity: a JSON list of
+    /// {"point": [x,y,z], "normal": [x,y,z]} entries, each with an optional "velocity",
+    /// "depth" (else --dent-distance) and projectile pose ("scale", "rotate" in degrees,
+    /// "translate", after the command line's), dented as one batch on the CPU
+    #[arg(long, value_name = "FILE.json", conflicts_with = "projectile_out")]
+    pub impacts: Option<PathBuf>,
 
     #[command(flatten)]
     pub map: MapOptions,
@@ -114,8 +125,14 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
     if let Some(path) = &args.projectile_out {
         require_extension(path, "--projectile-out", &["obj"])?;
     }
-    let normal = nonzero(args.normal, "--normal")?;
-    let impact = Impact { point: args.point, normal, relative_velocity: args.velocity.unwrap_or(normal) };
+    if let Some(path) = &args.impacts {
+        return run_impacts(args, path, &params);
+    }
+    let (Some(point), Some(normal)) = (args.point, args.normal) else {
+        return Err(CliError::Usage("give --point and --normal, or --impacts".into()));
+    };
+    let normal = nonzero(normal, "--normal")?;
+    let impact = Impact { point, normal, relative_velocity: args.velocity.unwrap_or(normal) };
     impact.validate()?;
     let mut asset = mesh::load_asset(&args.target).map_err(|source| CliError::Load {
         role: "target",
@@ -165,6 +182,51 @@ pub fn run(args: &DentArgs) -> Result<(String, Vec<String>), CliError> {
     let mut warnings = report.warnings;
     if report.moved_vertices == 0 {
         warnings.push("the dent moved no vertex of the target: does the projectile touch it near --point?".into());
+    }
+    Ok((summary, warnings))
+}
+
+/// `dent --impacts`: every impact of the file on the target, as one batch.
+fn run_impacts(args: &DentArgs, path: &Path, params: &dentbend::DentParams) -> Result<(String, Vec<String>), CliError> {
+    if args.backend.backend == Some(BackendChoice::Gpu) {
+        return Err(CliError::Usage("--impacts dents on the CPU, as one batch: drop --backend gpu".into()));
+    }
+    let mut asset = mesh::load_asset(&args.target).map_err(|source| CliError::Load {
+        role: "target",
+        spec: args.target.clone(),
+        source,
+    })?;
+    let projectile = args.projectile.load()?;
+    let planned = impacts::read(path, params, &projectile)?;
+    let (dented, outcome) = impacts::dent_all(asset.mesh(), &projectile, &planned)?;
+    let refinement = outcome.refined.first().cloned().unwrap_or_default();
+    let moved = outcome.moved.first().cloned().unwrap_or_default();
+    asset
+        .follow_dent(dented, &refinement, &moved)
+        .map_err(|source| CliError::Save { path: args.out.clone(), source })?;
+    stage(&Output::Asset(&asset), &args.out)?.commit()?;
+    let deepest = outcome.reports.iter().map(|r| r.max_displacement).fold(0.0, f32::max);
+    let summary = format!(
+        "dent: {} impacts moved {} of {} vertices of {} by up to {} (+{} vertices refined) → {}",
+        planned.len(),
+        moved.len(),
+        asset.mesh().vertex_count(),
+        args.target,
+        sig3(deepest),
+        refinement.vertices.len(),
+        args.out.display(),
+    );
+    let mut warnings: Vec<String> = outcome
+        .reports
+        .iter()
+        .enumerate()
+        .flat_map(|(k, r)| r.warnings.iter().map(move |w| format!("impact {k}: {w}")))
+        .collect();
+    let idle = outcome.reports.iter().filter(|r| r.moved_vertices == 0).count();
+    if idle > 0 {
+        warnings.push(format!(
+            "{idle} of the impacts moved no vertex: do their projectiles touch the target near their points?"
+        ));
     }
     Ok((summary, warnings))
 }

@@ -14,6 +14,7 @@ mod error;
 mod file_names;
 #[path = "../common/headless.rs"]
 mod headless;
+mod impacts;
 mod logging;
 mod options;
 mod output;
