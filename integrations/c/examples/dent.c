@@ -72,7 +72,7 @@ int main(void) {
 
     DbImpact impact = {{0.0f, 1.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, {0.0f, -3.0f, 0.0f}};
     DbDentOptions options = db_dent_options_default(0.1f);
-    DbDentReport report;
+    DbDentReport report = {0};
     int status = db_dent_ex(target, ball, &impact, &options, &report);
     check(status == DB_OK, "the ball dents the sphere");
     if (status != DB_OK) printf("  %s\n", db_last_error());

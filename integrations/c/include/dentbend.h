@@ -11,7 +11,7 @@
 #define DB_MAX_HITS (1 << 20)
 
 // Most vertices a mesh may have: larger counts are taken for garbage (the library reads
-// `3 · vertex_count` floats from the caller's pointer and could not check the buffer).
+// `3 * vertex_count` floats from the caller's pointer and could not check the buffer).
 #define DB_MAX_VERTICES (1 << 27)
 
 // Most triangles a mesh may have, for the same reason.
@@ -31,10 +31,11 @@
 #define DB_ERR_INVALID_ARGUMENT 2
 
 // The dent could not be made (the message says why: a projectile behind the contact plane, a
-// separating impact, …).
+// separating impact, ...).
 #define DB_ERR_DENT 3
 
-// A bug inside the library (a caught panic); the objects involved are unchanged.
+// A bug inside the library (a caught panic): the objects involved may have changed part way;
+// free them.
 #define DB_ERR_INTERNAL 4
 
 // The bodies of a world that dent, their damage state and the last step's dents (opaque in
@@ -75,7 +76,7 @@ typedef struct {
   float angular_velocity[3];
   // Mass, kg; 0 for a body that cannot move (static ground, a wall).
   float mass;
-  // World inverse inertia, 1/(kg·m²), 3×3 column by column (ignored when `mass` is 0).
+  // World inverse inertia, 1/(kg*m^2), 3x3 column by column (ignored when `mass` is 0).
   float inverse_inertia[9];
 } DbBodyState;
 
@@ -95,7 +96,7 @@ typedef struct {
   DbBodyState projectile_state;
   // The projectile's surface (its own coordinates), not freed before the step returns.
   const DbMesh *projectile_surface;
-  // The projectile's mesh → world transform, 3×4 column by column (the three axes, then the
+  // The projectile's mesh -> world transform, 3x4 column by column (the three axes, then the
   // translation).
   float projectile_to_world[12];
 } DbHit;
@@ -113,7 +114,8 @@ typedef struct {
   // Largest displacement the dent made, m (below `dent_distance` where the crossing guard
   // limited it).
   float depth_made;
-  // How far to move the projectile into the dent, world, m (zero unless asked for).
+  // How far to move the projectile into the dent, world, m (zero: the C API does not ask
+  // for it yet).
   float projectile_offset[3];
   // Vertices the dent moved.
   size_t moved_vertices;
@@ -177,7 +179,7 @@ DbDamage *db_damage_new(void);
 void db_damage_free(DbDamage *damage);
 
 // Adds body `id` (replacing one of that id), which dents: a copy of `mesh` (its own
-// coordinates, m), placed by `to_world` (12 floats, 3×4 column by column) and denting as
+// coordinates, m), placed by `to_world` (12 floats, 3x4 column by column) and denting as
 // `settings` says.
 //
 // # Safety
@@ -195,7 +197,7 @@ int db_damage_add_body(DbDamage *damage,
 // `damage` is null or live.
 int db_damage_add_projectile(DbDamage *damage, uint64_t id);
 
-// Moves body `id` to `to_world` (12 floats, 3×4 column by column), as the engine moved it.
+// Moves body `id` to `to_world` (12 floats, 3x4 column by column), as the engine moved it.
 //
 // # Safety
 // `damage` is null or live; `to_world` is null or holds 12 floats.
@@ -223,7 +225,8 @@ size_t db_damage_dent_count(const DbDamage *damage);
 int db_damage_dent(const DbDamage *damage, size_t index, DbAppliedDent *out);
 
 // Body `id`'s positions (3 floats a vertex, its own coordinates), the vertex count written to
-// `vertex_count`; valid until the next step or change of the context.
+// `vertex_count`; valid until the next `db_damage_step` (whether or not it succeeds) or
+// other change of the context.
 //
 // # Safety
 // `damage` is null or live; `vertex_count` is null or writable.
@@ -279,11 +282,11 @@ int db_dent_ex(DbMesh *target,
 // A new mesh from `vertex_count` positions (3 floats each, x y z) and `triangle_count`
 // triangles (3 vertex indices each, counter-clockwise seen from outside). Both arrays are
 // copied. Returns null on failure (null pointers, counts past `DB_MAX_VERTICES` or
-// `DB_MAX_TRIANGLES`, an empty mesh, a coordinate that is NaN, infinite or beyond ±1e6, an index
+// `DB_MAX_TRIANGLES`, an empty mesh, a coordinate that is NaN, infinite or beyond +-1e6, an index
 // out of range), with the reason in `db_last_error`.
 //
 // # Safety
-// `positions` holds `3 · vertex_count` floats and `indices` `3 · triangle_count` values.
+// `positions` holds `3 * vertex_count` floats and `indices` `3 * triangle_count` values.
 DbMesh *db_mesh_new(const float *positions,
                     size_t vertex_count,
                     const uint32_t *indices,
@@ -296,8 +299,8 @@ DbMesh *db_mesh_new(const float *positions,
 // both from their parents.
 //
 // # Safety
-// As `db_mesh_new`; `normals` is null or holds `3 · vertex_count` floats, `uvs` null or
-// `2 · vertex_count`.
+// As `db_mesh_new`; `normals` is null or holds `3 * vertex_count` floats, `uvs` null or
+// `2 * vertex_count`.
 DbMesh *db_mesh_new_with_attributes(const float *positions,
                                     size_t vertex_count,
                                     const uint32_t *indices,
@@ -382,7 +385,7 @@ int db_damage_replicate(DbDamage *damage, uint64_t id, uint32_t wire_id);
 int db_damage_add_wire_projectile(DbDamage *damage, uint32_t shape_id, const DbMesh *mesh);
 
 // The last step's message for the clients (its length written to `length`); null and 0 when
-// it carried nothing. Valid until the next step.
+// it carried nothing. Valid until the next `db_damage_step`.
 //
 // # Safety
 // `damage` is null or live; `length` is null or writable.
@@ -438,7 +441,8 @@ int db_replica_join(DbReplica *replica, const uint8_t *bytes, size_t length);
 int db_replica_apply(DbReplica *replica, const uint8_t *bytes, size_t length);
 
 // The replica's body `wire_id`: its positions (3 floats a vertex), the count written to
-// `vertex_count`; null and 0 for a body it does not have. Valid until the next message.
+// `vertex_count`; null and 0 for a body it does not have. Valid until the next
+// `db_replica_apply` or `db_replica_join`.
 //
 // # Safety
 // `replica` is null or live; `vertex_count` is null or writable.
@@ -456,13 +460,13 @@ const uint32_t *db_replica_indices(DbReplica *replica, uint32_t wire_id, size_t 
 //
 // # Safety
 // As `db_replica_positions`.
-const uint32_t *db_replica_moved(DbReplica *replica, uint32_t wire_id, size_t *count);
+const uint32_t *db_replica_moved(const DbReplica *replica, uint32_t wire_id, size_t *count);
 
 // Records body `id`'s damage from now on, as the body `name` of the saved file: its mesh now is
 // the base a restore starts from.
 //
 // # Safety
-// `damage` is null or live; `name` is null or a NUL-terminated string.
+// `damage` is null or live; `body_name` is null or a NUL-terminated string.
 int db_damage_record(DbDamage *damage, uint64_t id, const char *body_name);
 
 // The recorded bodies' damage as a damage file (JSON, its length written to `length`); null
@@ -478,8 +482,8 @@ const uint8_t *db_damage_save(DbDamage *damage, size_t *length);
 // nothing.
 //
 // # Safety
-// `damage` is null or live; `file` holds `length` bytes; `name` is null or a NUL-terminated
-// string.
+// `damage` is null or live; `file` holds `length` bytes; `body_name` is null or a
+// NUL-terminated string.
 int db_damage_restore(DbDamage *damage,
                       uint64_t id,
                       const uint8_t *file,

@@ -66,7 +66,7 @@ pub struct DbBodyState {
     pub angular_velocity: [f32; 3],
     /// Mass, kg; 0 for a body that cannot move (static ground, a wall).
     pub mass: f32,
-    /// World inverse inertia, 1/(kg·m²), 3×3 column by column (ignored when `mass` is 0).
+    /// World inverse inertia, 1/(kg*m^2), 3x3 column by column (ignored when `mass` is 0).
     pub inverse_inertia: [f32; 9],
 }
 
@@ -88,7 +88,7 @@ pub struct DbHit {
     pub projectile_state: DbBodyState,
     /// The projectile's surface (its own coordinates), not freed before the step returns.
     pub projectile_surface: *const DbMesh,
-    /// The projectile's mesh → world transform, 3×4 column by column (the three axes, then the
+    /// The projectile's mesh -> world transform, 3x4 column by column (the three axes, then the
     /// translation).
     pub projectile_to_world: [f32; 12],
 }
@@ -108,7 +108,8 @@ pub struct DbAppliedDent {
     /// Largest displacement the dent made, m (below `dent_distance` where the crossing guard
     /// limited it).
     pub depth_made: f32,
-    /// How far to move the projectile into the dent, world, m (zero unless asked for).
+    /// How far to move the projectile into the dent, world, m (zero: the C API does not ask
+    /// for it yet).
     pub projectile_offset: [f32; 3],
     /// Vertices the dent moved.
     pub moved_vertices: usize,
@@ -176,7 +177,7 @@ pub unsafe extern "C" fn db_damage_free(damage: *mut DbDamage) {
     unsafe { handles::free(damage, "db_damage_free") }
 }
 
-/// Reads a 3×4 mesh → world transform, column by column; rigid within rounding.
+/// Reads a 3x4 mesh -> world transform, column by column; rigid within rounding.
 ///
 /// # Safety
 /// `pose` is null or holds 12 floats.
@@ -190,7 +191,7 @@ unsafe fn pose(pose: *const f32) -> Result<Affine3A, Failure> {
 }
 
 /// Adds body `id` (replacing one of that id), which dents: a copy of `mesh` (its own
-/// coordinates, m), placed by `to_world` (12 floats, 3×4 column by column) and denting as
+/// coordinates, m), placed by `to_world` (12 floats, 3x4 column by column) and denting as
 /// `settings` says.
 ///
 /// # Safety
@@ -219,6 +220,11 @@ pub unsafe extern "C" fn db_damage_add_body(
             .map_err(|e| Failure::invalid(e.to_string()))?;
         damage.damage.forget(id);
         damage.stream.forget(id);
+        damage.moved.remove(&id);
+        // A recorded body replaced starts its record again from the new mesh, same name.
+        if let Some(name) = damage.recorder.body(id).map(|b| b.name.clone()) {
+            damage.recorder.track(id, name, &mesh.mesh().clone());
+        }
         Ok(())
     })
 }
@@ -247,7 +253,7 @@ pub unsafe extern "C" fn db_damage_add_projectile(damage: *mut DbDamage, id: u64
     })
 }
 
-/// Moves body `id` to `to_world` (12 floats, 3×4 column by column), as the engine moved it.
+/// Moves body `id` to `to_world` (12 floats, 3x4 column by column), as the engine moved it.
 ///
 /// # Safety
 /// `damage` is null or live; `to_world` is null or holds 12 floats.
@@ -263,18 +269,21 @@ pub unsafe extern "C" fn db_damage_set_pose(damage: *mut DbDamage, id: u64, to_w
     })
 }
 
-/// The library's state for `state`.
-fn body_state(state: &DbBodyState) -> BodyState {
-    if state.mass == 0.0 {
-        return BodyState::FIXED;
+/// The library's state for `state`; a mass that is not finite and >= 0 is refused.
+fn body_state(state: &DbBodyState) -> Result<BodyState, String> {
+    if !(state.mass.is_finite() && state.mass >= 0.0) {
+        return Err(format!("mass {} must be finite and >= 0 (0: a body that cannot move)", state.mass));
     }
-    BodyState::moving(
+    if state.mass == 0.0 {
+        return Ok(BodyState::FIXED);
+    }
+    Ok(BodyState::moving(
         Vec3::from_array(state.center_of_mass),
         Vec3::from_array(state.linear_velocity),
         Vec3::from_array(state.angular_velocity),
         state.mass,
         Mat3::from_cols_array(&state.inverse_inertia),
-    )
+    ))
 }
 
 /// Decides, makes and applies the dents of one step's `count` hits (all of them or none: on
@@ -304,7 +313,9 @@ pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHi
             // SAFETY: the caller's contract.
             let surface =
                 unsafe { DbMesh::get(h.projectile_surface, "projectile_surface") }.map_err(|f| bad(f.message))?;
-            let (target_state, projectile_state) = (body_state(&h.target_state), body_state(&h.projectile_state));
+            let target_state = body_state(&h.target_state).map_err(|e| bad(format!("target_state: {e}")))?;
+            let projectile_state =
+                body_state(&h.projectile_state).map_err(|e| bad(format!("projectile_state: {e}")))?;
             let point = Vec3::from_array(h.point);
             let impact = Impact::from_contact(point, Vec3::from_array(h.normal), &target_state, &projectile_state)
                 .map_err(|e| bad(e.to_string()))?;
@@ -426,7 +437,8 @@ unsafe fn body_array<T>(
 }
 
 /// Body `id`'s positions (3 floats a vertex, its own coordinates), the vertex count written to
-/// `vertex_count`; valid until the next step or change of the context.
+/// `vertex_count`; valid until the next `db_damage_step` (whether or not it succeeds) or
+/// other change of the context.
 ///
 /// # Safety
 /// `damage` is null or live; `vertex_count` is null or writable.

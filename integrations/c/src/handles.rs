@@ -4,47 +4,61 @@
 
 use crate::status::{Failure, guarded};
 
+use std::any::TypeId;
 #[cfg(any(debug_assertions, feature = "track-handles"))]
-use std::collections::HashSet;
+use std::collections::HashMap;
 #[cfg(any(debug_assertions, feature = "track-handles"))]
 use std::sync::Mutex;
 
 #[cfg(any(debug_assertions, feature = "track-handles"))]
-static LIVE: Mutex<Option<HashSet<usize>>> = Mutex::new(None);
+static LIVE: Mutex<Option<HashMap<usize, TypeId>>> = Mutex::new(None);
 
-/// Notes `address` as a live handle.
-fn born(address: usize) {
+/// Notes `address` as a live handle of type `kind`.
+fn born(address: usize, kind: TypeId) {
     #[cfg(any(debug_assertions, feature = "track-handles"))]
-    LIVE.lock().unwrap_or_else(|e| e.into_inner()).get_or_insert_with(HashSet::new).insert(address);
-    let _ = address;
+    LIVE.lock().unwrap_or_else(|e| e.into_inner()).get_or_insert_with(HashMap::new).insert(address, kind);
+    let _ = (address, kind);
 }
 
-/// Whether `address` is a live handle (always true where handles are not tracked).
-fn alive(address: usize) -> bool {
+/// Whether `address` is a live handle of type `kind` (always true where handles are not
+/// tracked).
+fn alive(address: usize, kind: TypeId) -> bool {
     #[cfg(any(debug_assertions, feature = "track-handles"))]
-    return LIVE.lock().unwrap_or_else(|e| e.into_inner()).as_ref().is_some_and(|live| live.contains(&address));
+    return LIVE
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .as_ref()
+        .is_some_and(|live| live.get(&address) == Some(&kind));
     #[cfg(not(any(debug_assertions, feature = "track-handles")))]
     {
-        let _ = address;
+        let _ = (address, kind);
         true
     }
 }
 
-/// Notes `address` as freed; false when it was not alive.
-fn died(address: usize) -> bool {
+/// Notes `address` as freed; false when it was not a live handle of type `kind`.
+fn died(address: usize, kind: TypeId) -> bool {
     #[cfg(any(debug_assertions, feature = "track-handles"))]
-    return LIVE.lock().unwrap_or_else(|e| e.into_inner()).as_mut().is_some_and(|live| live.remove(&address));
+    {
+        let mut live = LIVE.lock().unwrap_or_else(|e| e.into_inner());
+        let live = live.get_or_insert_with(HashMap::new);
+        if live.get(&address) != Some(&kind) {
+            return false;
+        }
+        live.remove(&address);
+        true
+    }
     #[cfg(not(any(debug_assertions, feature = "track-handles")))]
     {
-        let _ = address;
+        let _ = (address, kind);
         true
     }
 }
 
 /// A new handle owning `value`.
-pub(crate) fn make<T>(value: T) -> *mut T {
+pub(crate) fn make<T: 'static>(value: T) -> *mut T {
     let handle = Box::into_raw(Box::new(value));
-    born(handle as usize);
+    born(handle as usize, TypeId::of::<T>());
     handle
 }
 
@@ -53,12 +67,14 @@ pub(crate) fn make<T>(value: T) -> *mut T {
 ///
 /// # Safety
 /// `handle` is null or a handle of [`make`] not freed yet.
-pub(crate) unsafe fn get<'a, T>(handle: *const T, what: &str) -> Result<&'a T, Failure> {
+pub(crate) unsafe fn get<'a, T: 'static>(handle: *const T, what: &str) -> Result<&'a T, Failure> {
     if handle.is_null() {
         return Err(Failure::null(what));
     }
-    if !alive(handle as usize) {
-        return Err(Failure::invalid(format!("{what} is not alive (freed, or not made by this library)")));
+    if !alive(handle as usize, TypeId::of::<T>()) {
+        return Err(Failure::invalid(format!(
+            "{what} is not alive (freed, another kind of handle, or not made by this library)"
+        )));
     }
     // SAFETY: not null, and alive by the caller's contract.
     Ok(unsafe { &*handle })
@@ -68,7 +84,7 @@ pub(crate) unsafe fn get<'a, T>(handle: *const T, what: &str) -> Result<&'a T, F
 ///
 /// # Safety
 /// As [`get`], and no other reference to the value is in use.
-pub(crate) unsafe fn get_mut<'a, T>(handle: *mut T, what: &str) -> Result<&'a mut T, Failure> {
+pub(crate) unsafe fn get_mut<'a, T: 'static>(handle: *mut T, what: &str) -> Result<&'a mut T, Failure> {
     // SAFETY: the caller's contract.
     unsafe { get(handle.cast_const(), what)? };
     // SAFETY: checked above; exclusive by the caller's contract.
@@ -79,13 +95,15 @@ pub(crate) unsafe fn get_mut<'a, T>(handle: *mut T, what: &str) -> Result<&'a mu
 ///
 /// # Safety
 /// `handle` is null or a handle of [`make`] not freed yet.
-pub(crate) unsafe fn free<T>(handle: *mut T, what: &str) {
+pub(crate) unsafe fn free<T: 'static>(handle: *mut T, what: &str) {
     guarded(|| {
         if handle.is_null() {
             return Ok(());
         }
-        if !died(handle as usize) {
-            return Err(Failure::invalid(format!("{what}: not alive (freed twice, or not made by this library)")));
+        if !died(handle as usize, TypeId::of::<T>()) {
+            return Err(Failure::invalid(format!(
+                "{what}: not alive (freed twice, another kind of handle, or not made by this library)"
+            )));
         }
         // SAFETY: made by `Box::into_raw` in `make`, not freed yet by the contract.
         drop(unsafe { Box::from_raw(handle) });

@@ -12,7 +12,7 @@ use crate::status::{Failure, guarded_value};
 const _: () = assert!(std::mem::size_of::<Vec3>() == 12 && std::mem::align_of::<Vec3>() == 4);
 
 /// Most vertices a mesh may have: larger counts are taken for garbage (the library reads
-/// `3 · vertex_count` floats from the caller's pointer and could not check the buffer).
+/// `3 * vertex_count` floats from the caller's pointer and could not check the buffer).
 pub const DB_MAX_VERTICES: usize = 1 << 27;
 /// Most triangles a mesh may have, for the same reason.
 pub const DB_MAX_TRIANGLES: usize = 1 << 28;
@@ -55,7 +55,7 @@ impl DbMesh {
 /// Reads `count` items of `width` values from `pointer` (null only when `count` is 0).
 ///
 /// # Safety
-/// `pointer` holds `count · width` values when `count` > 0.
+/// `pointer` holds `count * width` values when `count` > 0.
 unsafe fn read<T: Copy>(pointer: *const T, count: usize, width: usize, what: &str) -> Result<&[T], Failure> {
     if count == 0 {
         return Ok(&[]);
@@ -63,18 +63,18 @@ unsafe fn read<T: Copy>(pointer: *const T, count: usize, width: usize, what: &st
     if pointer.is_null() {
         return Err(Failure::null(what));
     }
-    // SAFETY: not null, and by the caller's contract `count · width` values long.
+    // SAFETY: not null, and by the caller's contract `count * width` values long.
     Ok(unsafe { std::slice::from_raw_parts(pointer, count * width) })
 }
 
 /// A new mesh from `vertex_count` positions (3 floats each, x y z) and `triangle_count`
 /// triangles (3 vertex indices each, counter-clockwise seen from outside). Both arrays are
 /// copied. Returns null on failure (null pointers, counts past `DB_MAX_VERTICES` or
-/// `DB_MAX_TRIANGLES`, an empty mesh, a coordinate that is NaN, infinite or beyond ±1e6, an index
+/// `DB_MAX_TRIANGLES`, an empty mesh, a coordinate that is NaN, infinite or beyond +-1e6, an index
 /// out of range), with the reason in `db_last_error`.
 ///
 /// # Safety
-/// `positions` holds `3 · vertex_count` floats and `indices` `3 · triangle_count` values.
+/// `positions` holds `3 * vertex_count` floats and `indices` `3 * triangle_count` values.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_mesh_new(
     positions: *const f32,
@@ -102,8 +102,8 @@ pub unsafe extern "C" fn db_mesh_new(
 /// both from their parents.
 ///
 /// # Safety
-/// As `db_mesh_new`; `normals` is null or holds `3 · vertex_count` floats, `uvs` null or
-/// `2 · vertex_count`.
+/// As `db_mesh_new`; `normals` is null or holds `3 * vertex_count` floats, `uvs` null or
+/// `2 * vertex_count`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_mesh_new_with_attributes(
     positions: *const f32,
@@ -128,12 +128,12 @@ pub unsafe extern "C" fn db_mesh_new_with_attributes(
         let mesh = TriMesh::new(points, faces).map_err(|e| Failure::invalid(e.to_string()))?;
         let mut attributes = VertexAttributes::default();
         if !normals.is_null() {
-            // SAFETY: not null, `3 · vertex_count` floats by the caller's contract.
+            // SAFETY: not null, `3 * vertex_count` floats by the caller's contract.
             let n = unsafe { read(normals, vertex_count, 3, "normals")? };
             attributes.normals = Some(n.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect());
         }
         if !uvs.is_null() {
-            // SAFETY: not null, `2 · vertex_count` floats by the caller's contract.
+            // SAFETY: not null, `2 * vertex_count` floats by the caller's contract.
             let uv = unsafe { read(uvs, vertex_count, 2, "uvs")? };
             attributes.uvs = vec![uv.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])).collect()];
         }

@@ -39,13 +39,18 @@ impl Stream {
         targets: &'m TargetSet<u64>,
         surface: impl Fn(u64) -> Option<&'m TriMesh>,
     ) -> Result<(), Failure> {
-        self.message.clear();
         if self.carried.is_empty() {
+            self.message.clear();
             return Ok(());
         }
         let made = self.server.message(dents, fractures, |k| targets.mesh(k), surface);
         self.message = made.map_err(|e| Failure::invalid(e.to_string()))?.unwrap_or_default();
         Ok(())
+    }
+
+    /// Whether body `id` is carried.
+    pub(crate) fn carries(&self, id: u64) -> bool {
+        self.carried.contains(&id)
     }
 
     /// Stops carrying body `id` (replaced or removed).
@@ -95,7 +100,7 @@ pub unsafe extern "C" fn db_damage_add_wire_projectile(
 }
 
 /// The last step's message for the clients (its length written to `length`); null and 0 when
-/// it carried nothing. Valid until the next step.
+/// it carried nothing. Valid until the next `db_damage_step`.
 ///
 /// # Safety
 /// `damage` is null or live; `length` is null or writable.
@@ -160,6 +165,15 @@ impl DbReplica {
     unsafe fn get<'a>(handle: *mut DbReplica) -> Result<&'a mut DbReplica, Failure> {
         // SAFETY: the caller's contract.
         unsafe { handles::get_mut(handle, "replica") }
+    }
+
+    /// As [`get`](Self::get), to read.
+    ///
+    /// # Safety
+    /// `handle` is null or a live replica of `db_replica_new`.
+    unsafe fn read<'a>(handle: *const DbReplica) -> Result<&'a DbReplica, Failure> {
+        // SAFETY: the caller's contract.
+        unsafe { handles::get(handle, "replica") }
     }
 }
 
@@ -269,7 +283,8 @@ pub unsafe extern "C" fn db_replica_apply(replica: *mut DbReplica, bytes: *const
 }
 
 /// The replica's body `wire_id`: its positions (3 floats a vertex), the count written to
-/// `vertex_count`; null and 0 for a body it does not have. Valid until the next message.
+/// `vertex_count`; null and 0 for a body it does not have. Valid until the next
+/// `db_replica_apply` or `db_replica_join`.
 ///
 /// # Safety
 /// `replica` is null or live; `vertex_count` is null or writable.
@@ -281,7 +296,7 @@ pub unsafe extern "C" fn db_replica_positions(
 ) -> *const f32 {
     let found = guarded_value(|| {
         // SAFETY: the caller's contract.
-        let replica = unsafe { DbReplica::get(replica)? };
+        let replica = unsafe { DbReplica::read(replica)? };
         let mesh = replica.client.mesh(wire_id).ok_or_else(|| Failure::invalid(format!("no body {wire_id}")))?;
         Ok((mesh.positions().as_ptr().cast::<f32>(), mesh.vertex_count()))
     });
@@ -302,7 +317,7 @@ pub unsafe extern "C" fn db_replica_indices(
 ) -> *const u32 {
     let found = guarded_value(|| {
         // SAFETY: the caller's contract.
-        let replica = unsafe { DbReplica::get(replica)? };
+        let replica = unsafe { DbReplica::read(replica)? };
         let mesh = replica.client.mesh(wire_id).ok_or_else(|| Failure::invalid(format!("no body {wire_id}")))?;
         Ok((mesh.faces().as_ptr().cast::<u32>(), mesh.face_count()))
     });
@@ -316,10 +331,10 @@ pub unsafe extern "C" fn db_replica_indices(
 /// # Safety
 /// As `db_replica_positions`.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn db_replica_moved(replica: *mut DbReplica, wire_id: u32, count: *mut usize) -> *const u32 {
+pub unsafe extern "C" fn db_replica_moved(replica: *const DbReplica, wire_id: u32, count: *mut usize) -> *const u32 {
     let found = guarded_value(|| {
         // SAFETY: the caller's contract.
-        let replica = unsafe { DbReplica::get(replica)? };
+        let replica = unsafe { DbReplica::read(replica)? };
         Ok(replica.moved.get(&wire_id).map_or((std::ptr::null(), 0), |m| (m.as_ptr(), m.len())))
     });
     // SAFETY: the caller's contract.

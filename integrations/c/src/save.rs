@@ -27,7 +27,7 @@ unsafe fn name<'a>(name: *const c_char) -> Result<&'a str, Failure> {
 /// the base a restore starts from.
 ///
 /// # Safety
-/// `damage` is null or live; `name` is null or a NUL-terminated string.
+/// `damage` is null or live; `body_name` is null or a NUL-terminated string.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_damage_record(damage: *mut DbDamage, id: u64, body_name: *const c_char) -> c_int {
     guarded(|| {
@@ -66,8 +66,8 @@ pub unsafe extern "C" fn db_damage_save(damage: *mut DbDamage, length: *mut usiz
 /// nothing.
 ///
 /// # Safety
-/// `damage` is null or live; `file` holds `length` bytes; `name` is null or a NUL-terminated
-/// string.
+/// `damage` is null or live; `file` holds `length` bytes; `body_name` is null or a
+/// NUL-terminated string.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_damage_restore(
     damage: *mut DbDamage,
@@ -94,6 +94,12 @@ pub unsafe extern "C" fn db_damage_restore(
         let body =
             file.body(body_name).ok_or_else(|| Failure::invalid(format!("the file has no body {body_name:?}")))?;
         let now = damage.targets.mesh(id).ok_or_else(|| Failure::invalid(format!("body {id} does not dent")))?;
+        if damage.stream.carries(id) {
+            return Err(Failure::invalid(format!(
+                "body {id} is on the replication stream: restore it before db_damage_replicate (clients would \
+                 dent the mesh they have)"
+            )));
+        }
         let restored = replay_body(body, now, DentForm::Edits, &Projectiles::new())
             .map_err(|e| Failure::invalid(e.to_string()))?
             .mesh;
@@ -104,7 +110,7 @@ pub unsafe extern "C" fn db_damage_restore(
         }
         damage.damage.forget(id);
         let dented = DentedTarget { key: id, mesh: restored, moved, refinement: Default::default(), topology_changed };
-        damage.moved = damage.targets.apply(vec![dented]).into_iter().collect();
+        damage.moved.extend(damage.targets.apply(vec![dented]));
         Ok(())
     })
 }

@@ -11,9 +11,10 @@ pub const DB_ERR_NULL_POINTER: c_int = 1;
 /// An argument was out of range, not finite, of the wrong size, or a handle not alive.
 pub const DB_ERR_INVALID_ARGUMENT: c_int = 2;
 /// The dent could not be made (the message says why: a projectile behind the contact plane, a
-/// separating impact, …).
+/// separating impact, ...).
 pub const DB_ERR_DENT: c_int = 3;
-/// A bug inside the library (a caught panic); the objects involved are unchanged.
+/// A bug inside the library (a caught panic): the objects involved may have changed part way;
+/// free them.
 pub const DB_ERR_INTERNAL: c_int = 4;
 
 /// A failed call: its status and message.
@@ -43,14 +44,14 @@ thread_local! {
 /// has, would cut it there).
 fn set_last_error(message: &str) {
     let text = CString::new(message.replace('\0', " ")).unwrap_or_default();
-    LAST_ERROR.with(|last| *last.borrow_mut() = text);
+    let _ = LAST_ERROR.try_with(|last| *last.borrow_mut() = text);
 }
 
 /// The message of the last call that failed on this thread (UTF-8, NUL-terminated; empty
 /// when none has). Valid until the next failing call on this thread.
 #[unsafe(no_mangle)]
 pub extern "C" fn db_last_error() -> *const c_char {
-    LAST_ERROR.with(|last| last.borrow().as_ptr())
+    LAST_ERROR.try_with(|last| last.borrow().as_ptr()).unwrap_or(c"".as_ptr())
 }
 
 /// Runs `body`, turning a failure or a panic into its status and this thread's message.

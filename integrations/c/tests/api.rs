@@ -50,6 +50,24 @@ fn a_dent_through_the_c_api_moves_what_it_reports() {
     }
 }
 
+/// Where handles are tracked, a handle of one kind passed as another is refused, and freeing
+/// it as the wrong kind leaves it alone.
+#[cfg(any(debug_assertions, feature = "track-handles"))]
+#[test]
+fn a_handle_of_another_kind_is_caught_where_handles_are_tracked() {
+    let (target, ball) = pair();
+    let posing_as_damage = target.cast::<DbDamage>();
+    // SAFETY: the wrong kind of handle is what tracked builds catch.
+    unsafe {
+        assert_eq!(db_damage_step(posing_as_damage, std::ptr::null(), 0), DB_ERR_INVALID_ARGUMENT);
+        assert!(last_error().contains("another kind"), "{}", last_error());
+        db_damage_free(posing_as_damage);
+        assert_eq!(db_mesh_vertex_count(target), 642, "the mesh is still there");
+        db_mesh_free(target);
+        db_mesh_free(ball);
+    }
+}
+
 #[test]
 fn bad_calls_are_refused_with_a_message_and_change_nothing() {
     let (target, ball) = pair();

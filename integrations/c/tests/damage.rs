@@ -79,6 +79,8 @@ fn bad_steps_are_refused_and_change_no_body() {
     nan.projectile_state.linear_velocity[1] = f32::NAN;
     let mut no_surface = falling_ball(FLOOR, BALL, ball, 0.0, 0.0, 8.0);
     no_surface.projectile_surface = std::ptr::null();
+    let mut nan_mass = falling_ball(FLOOR, BALL, ball, 0.0, 0.0, 8.0);
+    nan_mass.projectile_state.mass = f32::NAN;
     let mut bad_pose = falling_ball(FLOOR, BALL, ball, 0.0, 0.0, 8.0);
     bad_pose.projectile_to_world[9] = f32::INFINITY;
     let cases = [
@@ -86,6 +88,7 @@ fn bad_steps_are_refused_and_change_no_body() {
         ("NaN velocity", nan, "hit 1"),
         ("no surface", no_surface, "projectile_surface is null"),
         ("infinite pose", bad_pose, "not finite"),
+        ("NaN mass", nan_mass, "mass"),
     ];
     for (what, bad, says) in cases {
         let hits = [falling_ball(FLOOR, BALL, ball, 0.0, 0.0, 8.0), bad];

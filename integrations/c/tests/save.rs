@@ -70,6 +70,15 @@ fn a_saved_body_is_restored_bit_for_bit_and_bad_files_are_refused() {
         assert_eq!(positions(restored), before);
         assert_eq!(positions(other), other_before, "a file for another mesh changes nothing");
         assert_eq!(db_damage_restore(restored, FLOOR, std::ptr::null(), 10, name.as_ptr()), DB_ERR_NULL_POINTER);
+        // A body on a replication stream is refused: its clients would dent the mesh they have.
+        let carried = context(floor);
+        assert_eq!(db_damage_replicate(carried, FLOOR, 1), DB_OK);
+        assert_eq!(
+            db_damage_restore(carried, FLOOR, file.as_ptr(), file.len(), name.as_ptr()),
+            DB_ERR_INVALID_ARGUMENT
+        );
+        assert!(last_error().contains("replication stream"), "{}", last_error());
+        db_damage_free(carried);
         // Restored: the server's mesh, bit for bit.
         assert_eq!(
             db_damage_restore(restored, FLOOR, file.as_ptr(), file.len(), name.as_ptr()),
