@@ -280,8 +280,10 @@ impl<'a> Quickhull<'a> {
         result
     }
 
-    /// The vertex farthest in front of face `f` (which has some); of those within the
-    /// tolerance of it, the one farthest from the face's centre ([`farthest`]).
+    /// The vertex farthest in front of face `f` (which has some), in one pass over its list:
+    /// a vertex clearly higher than the best so far replaces it, and one as high within the
+    /// tolerance replaces it when it lies farther from the face's centre (so that, as in
+    /// [`farthest`], a tie among coplanar vertices goes to a corner of theirs).
     fn farthest_outside(&self, f: usize) -> u32 {
         let face = &self.faces[f];
         let centre = face.corners.iter().map(|&v| self.points[v as usize]).sum::<DVec3>() / 3.0;
@@ -383,25 +385,9 @@ struct HorizonEdge {
 /// (the point of a set farthest from any point is a vertex of the set's hull), not to one that
 /// would stay on the hull as a needless vertex.
 fn farthest(points: &[DVec3], measure: impl Fn(DVec3) -> f64, centre: DVec3, tolerance: f64) -> usize {
-    let all: Vec<u32> = (0..points.len() as u32).collect();
-    farthest_of(&all, |v| measure(points[v as usize]), |v| points[v as usize], centre, tolerance)
-}
-
-/// As [`farthest`], over the vertices `candidates` (not empty): the position in it.
-fn farthest_of(
-    candidates: &[u32],
-    measure: impl Fn(u32) -> f64,
-    position: impl Fn(u32) -> DVec3,
-    centre: DVec3,
-    tolerance: f64,
-) -> usize {
-    let top = candidates.iter().map(|&v| measure(v)).fold(f64::NEG_INFINITY, f64::max);
-    (0..candidates.len())
-        .filter(|&k| measure(candidates[k]) >= top - tolerance)
-        .max_by(|&i, &j| {
-            position(candidates[i])
-                .distance_squared(centre)
-                .total_cmp(&position(candidates[j]).distance_squared(centre))
-        })
+    let top = points.iter().map(|&p| measure(p)).fold(f64::NEG_INFINITY, f64::max);
+    (0..points.len())
+        .filter(|&k| measure(points[k]) >= top - tolerance)
+        .max_by(|&i, &j| points[i].distance_squared(centre).total_cmp(&points[j].distance_squared(centre)))
         .unwrap_or(0)
 }

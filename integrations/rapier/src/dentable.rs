@@ -306,33 +306,22 @@ impl Dentables {
             || others.par_iter().map(prepare).collect::<Result<Vec<_>, _>>(),
             || in_place.iter().for_each(|(t, refit)| commit(colliders, t.key, refit.clone())),
         );
+        // Whatever fails from here puts the in-place refits back.
         let undo = |colliders: &mut ColliderSet| undo_in_place(colliders, targets, &in_place);
-        let refits = match made {
-            Ok(refits) => refits,
-            Err(e) => {
-                undo(colliders);
-                return Err(e);
-            }
-        };
+        let refits = made.inspect_err(|_| undo(colliders))?;
         let mut refitted: Vec<(ColliderHandle, Vec<u32>)> =
             refittable.iter().map(|t| (t.key, t.moved.clone())).collect();
-        let fractures: Result<Vec<PreparedFracture>, AdapterError> =
-            plan.fractures.iter().map(|f| fracture::prepare(colliders, self.kinds[&f.body], f)).collect();
-        let fractures = match fractures {
-            Ok(fractures) => fractures,
-            Err(e) => {
-                undo(colliders);
-                return Err(e);
-            }
-        };
+        let fractures: Vec<PreparedFracture> = plan
+            .fractures
+            .iter()
+            .map(|f| fracture::prepare(colliders, self.kinds[&f.body], f))
+            .collect::<Result<_, _>>()
+            .inspect_err(|_| undo(colliders))?;
         let refit_seconds = refit_start.elapsed().as_secs_f64();
         // The record comes last of what may fail: it fails (recording nothing) on a mesh changed
         // behind the recorder's back; nothing after it can.
         let record_start = Instant::now();
-        if let Err(e) = self.recorder.record(targets, &hits, &plan) {
-            undo(colliders);
-            return Err(e.into());
-        }
+        self.recorder.record(targets, &hits, &plan).inspect_err(|_| undo(colliders))?;
 
         // Everything checked: commit.
         let commit_start = Instant::now();

@@ -73,9 +73,9 @@ pub fn convex_collider(mesh: &TriMesh) -> Result<ColliderBuilder, AdapterError> 
 
 /// The convex polyhedron of `mesh`'s vertices ([`TriMesh::convex_hull`], then parry's
 /// convex mesh, which merges coplanar faces); parry's own hull where that refuses it. `None`
-/// for a flat or degenerate mesh. The refits' hull: the same solid as parry's
-/// ([`convex_collider`]'s) in half the time, its faces split and its vertices ordered
-/// differently (contacts on it may differ in the last bits).
+/// for a flat or degenerate mesh. [`convex_collider`] builds with it and every refit of a
+/// convex collider makes it: the same solid as parry's own hull in half the time, its faces
+/// split and its vertices ordered differently.
 pub fn convex_shape(mesh: &TriMesh) -> Option<SharedShape> {
     let ours =
         mesh.convex_hull().ok().and_then(|hull| SharedShape::convex_mesh(hull.positions().to_vec(), hull.faces()));
