@@ -446,14 +446,16 @@ int db_replica_apply(DbReplica *replica, const uint8_t *bytes, size_t length);
 //
 // # Safety
 // `replica` is null or live; `vertex_count` is null or writable.
-const float *db_replica_positions(DbReplica *replica, uint32_t wire_id, size_t *vertex_count);
+const float *db_replica_positions(const DbReplica *replica, uint32_t wire_id, size_t *vertex_count);
 
 // The replica's body `wire_id`: its triangles (3 indices each), the count written to
 // `triangle_count`; as `db_replica_positions`.
 //
 // # Safety
 // As `db_replica_positions`.
-const uint32_t *db_replica_indices(DbReplica *replica, uint32_t wire_id, size_t *triangle_count);
+const uint32_t *db_replica_indices(const DbReplica *replica,
+                                   uint32_t wire_id,
+                                   size_t *triangle_count);
 
 // The vertices of body `wire_id` the last message or snapshot moved or added (ascending), the
 // count written to `count` (0 when it left the body alone).

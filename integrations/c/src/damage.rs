@@ -5,14 +5,14 @@
 use std::collections::HashMap;
 use std::ffi::c_int;
 
-use dentbend::damage::{AppliedDent, CpuBackend, Damage, DamageError, Hit, TargetSet};
+use dentbend::damage::{AppliedDent, CpuBackend, Damage, DamageError, DamagePlan, DentedTarget, Hit, TargetSet};
 use dentbend::dent::{BodyState, DentSettings, Impact, Surface, VolumeMode};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::record::{DamageRecorder, RecordForms};
 
 use crate::handles;
 use crate::mesh::DbMesh;
-use crate::status::{DB_ERR_DENT, Failure, guarded, guarded_value};
+use crate::status::{DB_ERR_DENT, Failure, guarded, guarded_value, hand_out};
 
 /// Most hits one step may take (a larger count is taken for garbage).
 pub const DB_MAX_HITS: usize = 1 << 20;
@@ -344,24 +344,30 @@ pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHi
         // message cannot be made.
         let mut recorder = damage.recorder.clone();
         recorder.record(&damage.targets, &list, &plan).map_err(|e| Failure::invalid(e.to_string()))?;
-        let before: Vec<(u64, dentbend::TriMesh)> =
-            plan.targets.iter().filter_map(|t| damage.targets.mesh(t.key).map(|m| (t.key, m.clone()))).collect();
-        let (fractures, dents) = (plan.fractures.clone(), plan.dents.clone());
-        let moved = damage.targets.apply(plan.targets);
-        for fracture in &fractures {
-            damage.targets.apply_fracture(fracture);
-        }
-        let surface = |key: u64| list.iter().find(|h| h.projectile == key).map(|h| h.projectile_surface.mesh);
-        if let Err(failure) = damage.stream.after_step(&dents, &fractures, &damage.targets, surface) {
-            for (key, mesh) in before {
-                damage.targets.apply(vec![dentbend::damage::DentedTarget {
+        let DamagePlan { dents, targets, fractures, .. } = plan;
+        // Only a message, made when the stream carries a body, can fail now: the meshes it
+        // would change are kept to be put back then.
+        let before: Vec<DentedTarget<u64>> = match damage.stream.carries_any() {
+            false => Vec::new(),
+            true => targets
+                .iter()
+                .filter_map(|t| damage.targets.mesh(t.key).map(|m| (t.key, m.clone())))
+                .map(|(key, mesh)| DentedTarget {
                     key,
                     mesh,
                     moved: Vec::new(),
                     refinement: Default::default(),
                     topology_changed: true,
-                }]);
-            }
+                })
+                .collect(),
+        };
+        let moved = damage.targets.apply(targets);
+        for fracture in &fractures {
+            damage.targets.apply_fracture(fracture);
+        }
+        let surface = |key: u64| list.iter().find(|h| h.projectile == key).map(|h| h.projectile_surface.mesh);
+        if let Err(failure) = damage.stream.after_step(&dents, &fractures, &damage.targets, surface) {
+            damage.targets.apply(before);
             return Err(failure);
         }
         damage.damage = state;
@@ -413,7 +419,7 @@ pub unsafe extern "C" fn db_damage_dent(damage: *const DbDamage, index: usize, o
 }
 
 /// Reads one of body `id`'s arrays: its pointer, and its count into `count` (when not null);
-/// null and 0 for an unknown body.
+/// null and 0 for an unknown body or an empty array.
 ///
 /// # Safety
 /// `damage` is null or live; `count` is null or writable.
@@ -428,12 +434,8 @@ unsafe fn body_array<T>(
         let damage = unsafe { DbDamage::get(damage)? };
         array(damage).ok_or_else(|| Failure::invalid(format!("body {id} does not dent")))
     });
-    let (pointer, n) = found.unwrap_or((std::ptr::null(), 0));
-    if !count.is_null() {
-        // SAFETY: not null, writable by the caller's contract.
-        unsafe { count.write(n) };
-    }
-    pointer
+    // SAFETY: the caller's contract.
+    unsafe { hand_out(found, count) }
 }
 
 /// Body `id`'s positions (3 floats a vertex, its own coordinates), the vertex count written to

@@ -13,7 +13,7 @@ use dentbend::record::replication::{ReplicationClient, ReplicationServer};
 use crate::damage::{DbDamage, DbDentSettings, dent_settings};
 use crate::handles;
 use crate::mesh::DbMesh;
-use crate::status::{Failure, guarded, guarded_value};
+use crate::status::{Failure, guarded, guarded_value, hand_out};
 
 /// Most bytes of one message or snapshot the client reads (a larger length is taken for
 /// garbage).
@@ -39,13 +39,18 @@ impl Stream {
         targets: &'m TargetSet<u64>,
         surface: impl Fn(u64) -> Option<&'m TriMesh>,
     ) -> Result<(), Failure> {
-        if self.carried.is_empty() {
+        if !self.carries_any() {
             self.message.clear();
             return Ok(());
         }
         let made = self.server.message(dents, fractures, |k| targets.mesh(k), surface);
         self.message = made.map_err(|e| Failure::invalid(e.to_string()))?.unwrap_or_default();
         Ok(())
+    }
+
+    /// Whether any body is carried.
+    pub(crate) fn carries_any(&self) -> bool {
+        !self.carried.is_empty()
     }
 
     /// Whether body `id` is carried.
@@ -132,20 +137,6 @@ pub unsafe extern "C" fn db_damage_snapshot(damage: *mut DbDamage, length: *mut 
     });
     // SAFETY: the caller's contract.
     unsafe { hand_out(bytes, length) }
-}
-
-/// Writes the length of `bytes` (0 when none) to `length` when that is not null; the pointer,
-/// null for none or an empty array.
-///
-/// # Safety
-/// `length` is null or writable.
-unsafe fn hand_out<T>(bytes: Option<(*const T, usize)>, length: *mut usize) -> *const T {
-    let (pointer, n) = bytes.filter(|b| b.1 > 0).unwrap_or((std::ptr::null(), 0));
-    if !length.is_null() {
-        // SAFETY: not null, writable by the caller's contract.
-        unsafe { length.write(n) };
-    }
-    pointer
 }
 
 /// A client's copy of the bodies a server's stream carries (opaque in C).
@@ -282,6 +273,27 @@ pub unsafe extern "C" fn db_replica_apply(replica: *mut DbReplica, bytes: *const
     })
 }
 
+/// Reads one of the replica's body `wire_id`'s mesh arrays: its pointer, its count into
+/// `count` (when not null); null and 0 for a body it does not have.
+///
+/// # Safety
+/// `replica` is null or live; `count` is null or writable.
+unsafe fn replica_array<T>(
+    replica: *const DbReplica,
+    wire_id: u32,
+    count: *mut usize,
+    array: impl FnOnce(&TriMesh) -> (*const T, usize),
+) -> *const T {
+    let found = guarded_value(|| {
+        // SAFETY: the caller's contract.
+        let replica = unsafe { DbReplica::read(replica)? };
+        let mesh = replica.client.mesh(wire_id).ok_or_else(|| Failure::invalid(format!("no body {wire_id}")))?;
+        Ok(array(mesh))
+    });
+    // SAFETY: the caller's contract.
+    unsafe { hand_out(found, count) }
+}
+
 /// The replica's body `wire_id`: its positions (3 floats a vertex), the count written to
 /// `vertex_count`; null and 0 for a body it does not have. Valid until the next
 /// `db_replica_apply` or `db_replica_join`.
@@ -290,18 +302,12 @@ pub unsafe extern "C" fn db_replica_apply(replica: *mut DbReplica, bytes: *const
 /// `replica` is null or live; `vertex_count` is null or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_replica_positions(
-    replica: *mut DbReplica,
+    replica: *const DbReplica,
     wire_id: u32,
     vertex_count: *mut usize,
 ) -> *const f32 {
-    let found = guarded_value(|| {
-        // SAFETY: the caller's contract.
-        let replica = unsafe { DbReplica::read(replica)? };
-        let mesh = replica.client.mesh(wire_id).ok_or_else(|| Failure::invalid(format!("no body {wire_id}")))?;
-        Ok((mesh.positions().as_ptr().cast::<f32>(), mesh.vertex_count()))
-    });
     // SAFETY: the caller's contract.
-    unsafe { hand_out(found, vertex_count) }
+    unsafe { replica_array(replica, wire_id, vertex_count, |m| (m.positions().as_ptr().cast(), m.vertex_count())) }
 }
 
 /// The replica's body `wire_id`: its triangles (3 indices each), the count written to
@@ -311,18 +317,12 @@ pub unsafe extern "C" fn db_replica_positions(
 /// As `db_replica_positions`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn db_replica_indices(
-    replica: *mut DbReplica,
+    replica: *const DbReplica,
     wire_id: u32,
     triangle_count: *mut usize,
 ) -> *const u32 {
-    let found = guarded_value(|| {
-        // SAFETY: the caller's contract.
-        let replica = unsafe { DbReplica::read(replica)? };
-        let mesh = replica.client.mesh(wire_id).ok_or_else(|| Failure::invalid(format!("no body {wire_id}")))?;
-        Ok((mesh.faces().as_ptr().cast::<u32>(), mesh.face_count()))
-    });
     // SAFETY: the caller's contract.
-    unsafe { hand_out(found, triangle_count) }
+    unsafe { replica_array(replica, wire_id, triangle_count, |m| (m.faces().as_ptr().cast(), m.face_count())) }
 }
 
 /// The vertices of body `wire_id` the last message or snapshot moved or added (ascending), the

@@ -9,7 +9,7 @@ use dentbend::dent::changed_vertices;
 use dentbend::record::{DamageFile, DentForm, Projectiles, replay_body};
 
 use crate::damage::DbDamage;
-use crate::status::{Failure, guarded, guarded_value};
+use crate::status::{Failure, guarded, guarded_value, hand_out};
 
 /// Reads a NUL-terminated UTF-8 name.
 ///
@@ -52,12 +52,8 @@ pub unsafe extern "C" fn db_damage_save(damage: *mut DbDamage, length: *mut usiz
         damage.saved = damage.recorder.file().to_json().map_err(|e| Failure::invalid(e.to_string()))?;
         Ok((damage.saved.as_ptr(), damage.saved.len()))
     });
-    let (pointer, n) = saved.unwrap_or((std::ptr::null(), 0));
-    if !length.is_null() {
-        // SAFETY: not null, writable by the caller's contract.
-        unsafe { length.write(n) };
-    }
-    pointer
+    // SAFETY: the caller's contract.
+    unsafe { hand_out(saved, length) }
 }
 
 /// Gives body `id` the damage the file's body `name` recorded (saved from a body with the mesh

@@ -1,4 +1,5 @@
-//! Status codes, the thread's last error message, and the guard every entry point runs in.
+//! Status codes, the thread's last error message, the guard every entry point runs in, and
+//! how arrays are handed out.
 
 use std::cell::RefCell;
 use std::ffi::{CString, c_char, c_int};
@@ -79,4 +80,18 @@ pub(crate) fn guarded_value<T>(body: impl FnOnce() -> Result<T, Failure>) -> Opt
 /// A panic payload's text.
 fn panic_text(panic: &Box<dyn std::any::Any + Send>) -> &str {
     panic.downcast_ref::<&str>().copied().or_else(|| panic.downcast_ref::<String>().map(String::as_str)).unwrap_or("")
+}
+
+/// Writes the length of `bytes` (0 when none) to `length` when that is not null; the pointer,
+/// null for none or an empty array.
+///
+/// # Safety
+/// `length` is null or writable.
+pub(crate) unsafe fn hand_out<T>(bytes: Option<(*const T, usize)>, length: *mut usize) -> *const T {
+    let (pointer, n) = bytes.filter(|b| b.1 > 0).unwrap_or((std::ptr::null(), 0));
+    if !length.is_null() {
+        // SAFETY: not null, writable by the caller's contract.
+        unsafe { length.write(n) };
+    }
+    pointer
 }
