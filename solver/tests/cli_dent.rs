@@ -406,24 +406,17 @@ fn an_impacts_file_dents_many_points_in_one_call() {
     )
     .unwrap();
     let impacts_s = impacts.to_str().unwrap();
-    let output = dentbend(&[
-        "dent",
-        "--target",
-        "block",
-        "--projectile",
-        "sphere",
-        "--impacts",
-        impacts_s,
-        "--dent-distance",
-        "0.2",
-        "--refine",
-        "off",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let out_s = out.to_str().unwrap();
+    let dent_with_impacts = |more: &[&str]| {
+        let mut args = vec!["dent", "--target", "block", "--projectile", "sphere", "--impacts", impacts_s];
+        args.extend(["--dent-distance", "0.2", "--out", out_s]);
+        args.extend(more);
+        dentbend(&args)
+    };
+    let output = dent_with_impacts(&["--refine", "off"]);
     assert!(output.status.success(), "{}", text(&output.stderr));
     assert!(text(&output.stdout).contains("3 impacts"), "{}", text(&output.stdout));
-    let (before, _) = (dentbend::mesh::builtin("block").unwrap().positions().to_vec(), ());
+    let before = dentbend::mesh::builtin("block").unwrap().positions().to_vec();
     let (after, _) = read_obj(&out);
     assert_eq!(before.len(), after.len(), "--refine off keeps the vertices");
     // Under each point the top sinks by a good part of that impact's depth; no vertex moves
@@ -453,19 +446,7 @@ fn an_impacts_file_dents_many_points_in_one_call() {
     std::fs::remove_file(&out).unwrap();
     for (body, says) in cases {
         std::fs::write(&impacts, body).unwrap();
-        let output = dentbend(&[
-            "dent",
-            "--target",
-            "block",
-            "--projectile",
-            "sphere",
-            "--impacts",
-            impacts_s,
-            "--dent-distance",
-            "0.2",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let output = dent_with_impacts(&[]);
         let stderr = text(&output.stderr);
         assert_eq!(output.status.code(), Some(2), "{body}: {stderr}");
         assert!(

@@ -10,12 +10,12 @@
 use std::path::Path;
 
 use dentbend::dent::{BatchOutcome, DentJob, dent_batch_tracked};
-use dentbend::glam::{Affine3A, Mat3, Vec3};
+use dentbend::glam::Vec3;
 use dentbend::{DentParams, Impact, TriMesh};
 use serde::Deserialize;
 
 use crate::error::CliError;
-use crate::options::{nonzero, rotation};
+use crate::options::{nonzero, placement};
 
 /// Most impacts one file may hold.
 pub const MAX_IMPACTS: usize = 100_000;
@@ -85,9 +85,11 @@ fn plan(e: &Entry, params: &DentParams, projectile: &TriMesh) -> Result<PlannedI
             if !(scale.is_finite() && scale > 0.0) {
                 return Err(format!("scale {scale} must be finite and > 0"));
             }
-            let linear =
-                rotation(rotate.map_or(Vec3::ZERO, Vec3::from_array)) * Mat3::from_diagonal(Vec3::splat(scale));
-            let placed = Affine3A::from_mat3_translation(linear, translate.map_or(Vec3::ZERO, Vec3::from_array));
+            let placed = placement(
+                scale,
+                rotate.map_or(Vec3::ZERO, Vec3::from_array),
+                translate.map_or(Vec3::ZERO, Vec3::from_array),
+            );
             let mut moved = projectile.clone();
             moved.transform(placed).map_err(|e| e.to_string())?;
             Some(moved)

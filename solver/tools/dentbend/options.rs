@@ -51,9 +51,8 @@ impl ProjectileOptions {
         }
         let mut projectile = load_mesh("projectile", &self.projectile)?;
         if self.scale.is_some() || self.rotate.is_some() || self.translate.is_some() {
-            let linear = rotation(self.rotate_deg()) * Mat3::from_diagonal(Vec3::splat(scale));
-            let placement = Affine3A::from_mat3_translation(linear, self.translation());
-            projectile.transform(placement).map_err(CliError::Place)?;
+            let placed = placement(scale, self.rotate_deg(), self.translation());
+            projectile.transform(placed).map_err(CliError::Place)?;
         }
         Ok(projectile)
     }
@@ -67,6 +66,11 @@ impl ProjectileOptions {
     pub fn translation(&self) -> Vec3 {
         self.translate.unwrap_or(Vec3::ZERO)
     }
+}
+
+/// Scales by `scale`, then rotates by `degrees` ([`rotation`]), then moves by `translate`.
+pub fn placement(scale: f32, degrees: Vec3, translate: Vec3) -> Affine3A {
+    Affine3A::from_mat3_translation(rotation(degrees) * Mat3::from_diagonal(Vec3::splat(scale)), translate)
 }
 
 /// `Rz·Ry·Rx` for Euler angles in degrees: rotate about x first, then y, then z.
