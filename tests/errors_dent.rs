@@ -128,6 +128,35 @@ fn degenerate_projectiles() {
 }
 
 #[test]
+fn degenerate_targets_are_refused_by_every_cpu_entry_point() {
+    let (block, ball, impact) = setup();
+    let collapsed = TriMesh::new(vec![Vec3::ZERO; block.vertex_count()], block.faces().to_vec()).unwrap();
+    let line = (0..block.vertex_count()).map(|i| Vec3::X * i as f32).collect();
+    let on_a_line = TriMesh::new(line, block.faces().to_vec()).unwrap();
+    let params = DentParams::new(0.2);
+    for degenerate in [collapsed, on_a_line] {
+        let mut target = degenerate.clone();
+        let err = dent(&mut target, &ball, &impact, &params).unwrap_err();
+        assert!(matches!(err, DentError::DegenerateTarget), "{err:?}");
+        assert_eq!(target, degenerate);
+        let mut other = block.clone();
+        let err = dentbend::dent::dent_pair(&mut target, &mut other, &impact, &params, &params).unwrap_err();
+        assert!(matches!(err, DentError::DegenerateTarget), "{err:?}");
+        assert_eq!((&target, &other), (&degenerate, &block));
+        // In a batch, the job on the degenerate target is named and no target changes.
+        let mut targets = [block.clone(), degenerate.clone()];
+        let jobs = [
+            dentbend::dent::DentJob { target: 0, projectile: &ball, impact, params: params.clone() },
+            dentbend::dent::DentJob { target: 1, projectile: &ball, impact, params: params.clone() },
+        ];
+        let err = dentbend::dent::dent_batch_tracked(&mut targets, &jobs).unwrap_err();
+        assert_eq!(err.job, 1);
+        assert!(matches!(err.error, DentError::DegenerateTarget), "{err:?}");
+        assert_eq!(targets, [block.clone(), degenerate.clone()]);
+    }
+}
+
+#[test]
 fn empty_and_malformed_meshes_cannot_be_built() {
     assert!(matches!(TriMesh::new(vec![], vec![]), Err(dentbend::MeshError::Empty { .. })));
     assert!(matches!(TriMesh::new(vec![Vec3::ZERO; 3], vec![]), Err(dentbend::MeshError::Empty { .. })));

@@ -2,6 +2,7 @@
 
 use super::guard::{guard_crossings, makes_new_crossings};
 use super::map::PendingDisplacement;
+use super::plan::check_target;
 use super::refine_target::{Footprint, RefinedTarget, refine_for_dents};
 use super::volume::{restore_volume, volume_change};
 use super::{DentError, DentParams, Impact, dent_map_stages};
@@ -57,6 +58,7 @@ pub fn dent(
     impact: &Impact,
     params: &DentParams,
 ) -> Result<DentReport, DentError> {
+    check_target(target)?;
     let edges = target.edge_lengths();
     let stages = dent_map_stages(projectile, impact, params, Some(edges.mean))?;
     let mut refined =
@@ -94,6 +96,8 @@ pub fn dent_pair(
     params_a: &DentParams,
     params_b: &DentParams,
 ) -> Result<(DentReport, DentReport), DentError> {
+    check_target(a)?;
+    check_target(b)?;
     let (edges_a, edges_b) = (a.edge_lengths(), b.edge_lengths());
     let stages_a = dent_map_stages(b, impact, params_a, Some(edges_a.mean))?;
     let stages_b = dent_map_stages(a, &impact.reversed(), params_b, Some(edges_b.mean))?;

@@ -83,6 +83,13 @@ pub fn dent_batch_tracked(targets: &mut [TriMesh], jobs: &[DentJob<'_>]) -> Resu
         let error = super::error::invalid("target", bad.target, "must index the batch's target list");
         return Err(BatchError { job, error });
     }
+    if let Some((job, error)) = jobs
+        .iter()
+        .enumerate()
+        .find_map(|(job, j)| super::plan::check_target(&targets[j.target]).err().map(|error| (job, error)))
+    {
+        return Err(BatchError { job, error });
+    }
     // Each target's edge lengths once: the mean sets automatic grids, the longest tells the
     // refine stage whether any edge could be too coarse.
     let edges: Vec<EdgeLengths> = targets.par_iter().map(TriMesh::edge_lengths).collect();

@@ -36,6 +36,10 @@ pub enum DentError {
     /// The projectile has no area: every triangle is degenerate.
     #[error("the projectile is degenerate: its triangles have zero total area")]
     DegenerateProjectile,
+    /// The target has no area: every triangle is degenerate (all its vertices on a line or a
+    /// point), so it has no surface to dent.
+    #[error("the target is degenerate: its triangles have zero total area, so it has no surface to dent")]
+    DegenerateTarget,
     /// Nothing is left of the profile: σ or d is far outside the projectile's scale.
     #[error(
         "the projectile leaves no imprint: its profile vanished on the dent grid (check sigma and dent_distance against its size)"

@@ -43,6 +43,22 @@ pub struct DentPlan {
 
 /// Validates one dent's inputs and plans it: frame, grids, and the parameter block of each kernel.
 ///
+/// Whether `mesh`'s triangles have area: more than 1e-10 of its bounding box diagonal
+/// squared.
+fn has_area(mesh: &TriMesh) -> bool {
+    let (lo, hi) = mesh.bounds();
+    // Positions are finite and bounded (a `TriMesh` invariant), so the area is never NaN.
+    mesh.area_exceeds(1e-10 * f64::from(lo.distance_squared(hi)))
+}
+
+/// Checks that `target` has a surface to dent.
+///
+/// # Errors
+/// [`DentError::DegenerateTarget`] when its triangles have no area.
+pub(crate) fn check_target(target: &TriMesh) -> Result<(), DentError> {
+    if has_area(target) { Ok(()) } else { Err(DentError::DegenerateTarget) }
+}
+
 /// `target_edge` is the target's mean edge length (world units), used with the projectile's for
 /// the automatic resolution; `None` uses the projectile's alone.
 ///
@@ -62,9 +78,7 @@ pub fn plan_dent(
     {
         return Err(super::error::invalid("target_edge", edge, "must be finite and >= 0"));
     }
-    let (lo, hi) = projectile.bounds();
-    // Positions are finite and bounded (a `TriMesh` invariant), so the area is never NaN.
-    if !projectile.area_exceeds(1e-10 * f64::from(lo.distance_squared(hi))) {
+    if !has_area(projectile) {
         return Err(DentError::DegenerateProjectile);
     }
     let frame = DentFrame::new(impact, params.min_cos);

@@ -5,6 +5,7 @@
 use std::collections::HashMap;
 use std::ffi::c_int;
 
+use dentbend::TriMesh;
 use dentbend::damage::{AppliedDent, CpuBackend, Damage, DamageError, DamagePlan, DentedTarget, Hit, TargetSet};
 use dentbend::dent::{BodyState, DentSettings, Impact, Surface, VolumeMode};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
@@ -177,6 +178,115 @@ pub unsafe extern "C" fn db_damage_free(damage: *mut DbDamage) {
     unsafe { handles::free(damage, "db_damage_free") }
 }
 
+impl DbDamage {
+    /// Adds body `id` (replacing one of that id), which dents: `mesh` (its own coordinates, m),
+    /// placed by `to_world`, denting as `settings` say. A recorded body replaced starts its
+    /// record again from the new mesh, under the same name.
+    ///
+    /// # Errors
+    /// A mesh or pose the target set refuses (the body set is unchanged then).
+    pub fn add_body(
+        &mut self,
+        id: u64,
+        mesh: TriMesh,
+        to_world: Affine3A,
+        settings: DentSettings,
+    ) -> Result<(), Failure> {
+        self.targets.insert(id, mesh, to_world, settings).map_err(|e| Failure::invalid(e.to_string()))?;
+        self.damage.forget(id);
+        self.stream.forget(id);
+        self.moved.remove(&id);
+        let recorded = self.recorder.body(id).map(|b| b.name.clone());
+        if let (Some(name), Some(mesh)) = (recorded, self.targets.mesh(id)) {
+            self.recorder.track(id, name, mesh);
+        }
+        Ok(())
+    }
+
+    /// Adds body `id`, which hits others but does not dent (its surface comes with each hit).
+    pub fn add_projectile(&mut self, id: u64) {
+        self.targets.insert_rigid(id);
+    }
+
+    /// Moves body `id` to `to_world`, as the engine moved it.
+    ///
+    /// # Errors
+    /// A body that does not dent, or a pose the target set refuses.
+    pub fn set_pose(&mut self, id: u64, to_world: Affine3A) -> Result<(), Failure> {
+        if self.targets.mesh(id).is_none() {
+            return Err(Failure::invalid(format!("body {id} does not dent (add it as a body that dents first)")));
+        }
+        self.targets.set_pose(id, to_world).map_err(|e| Failure::invalid(e.to_string()))
+    }
+
+    /// Body `id`'s mesh (its own coordinates), if it dents.
+    pub fn mesh(&self, id: u64) -> Option<&TriMesh> {
+        self.targets.mesh(id)
+    }
+
+    /// The last step's dents.
+    pub fn dents(&self) -> &[AppliedDent<u64>] {
+        &self.dents
+    }
+
+    /// The vertices of body `id` the last step (or restore) moved or added, ascending.
+    pub fn moved(&self, id: u64) -> &[u32] {
+        self.moved.get(&id).map_or(&[], Vec::as_slice)
+    }
+
+    /// Decides, makes and applies the dents of one step's `hits`, all of them or none: on
+    /// failure no body changes.
+    ///
+    /// # Errors
+    /// A hit on a body the context does not know (`DB_ERR_INVALID_ARGUMENT`), a dent that
+    /// cannot be made (`DB_ERR_DENT`), a record or message that cannot be made.
+    pub fn step(&mut self, list: &[Hit<'_, u64>]) -> Result<(), Failure> {
+        let mut state = self.damage.clone();
+        let step = self.step + 1;
+        let plan = state.plan(&self.targets, list, step, &mut CpuBackend).map_err(|e| match e {
+            DamageError::UnknownBody { .. } => Failure::invalid(e.to_string()),
+            _ => Failure { status: DB_ERR_DENT, message: e.to_string() },
+        })?;
+        // The record comes first of what may fail (it fails on a mesh changed behind its back),
+        // then the message, made from the meshes after the step: applied here, put back if the
+        // message cannot be made.
+        let mut recorder = self.recorder.clone();
+        recorder.record(&self.targets, list, &plan).map_err(|e| Failure::invalid(e.to_string()))?;
+        let DamagePlan { dents, targets, fractures, .. } = plan;
+        // Only a message, made when the stream carries a body, can fail now: the meshes it
+        // would change are kept to be put back then.
+        let before: Vec<DentedTarget<u64>> = match self.stream.carries_any() {
+            false => Vec::new(),
+            true => targets
+                .iter()
+                .filter_map(|t| self.targets.mesh(t.key).map(|m| (t.key, m.clone())))
+                .map(|(key, mesh)| DentedTarget {
+                    key,
+                    mesh,
+                    moved: Vec::new(),
+                    refinement: Default::default(),
+                    topology_changed: true,
+                })
+                .collect(),
+        };
+        let moved = self.targets.apply(targets);
+        for fracture in &fractures {
+            self.targets.apply_fracture(fracture);
+        }
+        let surface = |key: u64| list.iter().find(|h| h.projectile == key).map(|h| h.projectile_surface.mesh);
+        if let Err(failure) = self.stream.after_step(&dents, &fractures, &self.targets, surface) {
+            self.targets.apply(before);
+            return Err(failure);
+        }
+        self.damage = state;
+        self.recorder = recorder;
+        self.step = step;
+        self.dents = dents;
+        self.moved = moved.into_iter().collect();
+        Ok(())
+    }
+}
+
 /// Reads a 3x4 mesh -> world transform, column by column; rigid within rounding.
 ///
 /// # Safety
@@ -214,23 +324,12 @@ pub unsafe extern "C" fn db_damage_add_body(
         }
         // SAFETY: not null, a `DbDentSettings` by the caller's contract.
         let settings = dent_settings(unsafe { &*settings });
-        damage
-            .targets
-            .insert(id, mesh.mesh().clone(), to_world, settings)
-            .map_err(|e| Failure::invalid(e.to_string()))?;
-        damage.damage.forget(id);
-        damage.stream.forget(id);
-        damage.moved.remove(&id);
-        // A recorded body replaced starts its record again from the new mesh, same name.
-        if let Some(name) = damage.recorder.body(id).map(|b| b.name.clone()) {
-            damage.recorder.track(id, name, &mesh.mesh().clone());
-        }
-        Ok(())
+        damage.add_body(id, mesh.mesh().clone(), to_world, settings)
     })
 }
 
 /// The library's settings for `settings`.
-pub(crate) fn dent_settings(settings: &DbDentSettings) -> DentSettings {
+pub fn dent_settings(settings: &DbDentSettings) -> DentSettings {
     let mut out = DentSettings::new(settings.threshold_speed, settings.depth_per_speed, settings.max_depth);
     if settings.sigma != 0.0 {
         out.params.sigma = Some(settings.sigma);
@@ -248,7 +347,7 @@ pub(crate) fn dent_settings(settings: &DbDentSettings) -> DentSettings {
 pub unsafe extern "C" fn db_damage_add_projectile(damage: *mut DbDamage, id: u64) -> c_int {
     guarded(|| {
         // SAFETY: the caller's contract.
-        unsafe { DbDamage::get_mut(damage)? }.targets.insert_rigid(id);
+        unsafe { DbDamage::get_mut(damage)? }.add_projectile(id);
         Ok(())
     })
 }
@@ -262,15 +361,12 @@ pub unsafe extern "C" fn db_damage_set_pose(damage: *mut DbDamage, id: u64, to_w
     guarded(|| {
         // SAFETY: the caller's contract.
         let (damage, to_world) = unsafe { (DbDamage::get_mut(damage)?, pose(to_world)?) };
-        if damage.targets.mesh(id).is_none() {
-            return Err(Failure::invalid(format!("body {id} does not dent (add it with db_damage_add_body)")));
-        }
-        damage.targets.set_pose(id, to_world).map_err(|e| Failure::invalid(e.to_string()))
+        damage.set_pose(id, to_world)
     })
 }
 
 /// The library's state for `state`; a mass that is not finite and >= 0 is refused.
-fn body_state(state: &DbBodyState) -> Result<BodyState, String> {
+pub fn body_state(state: &DbBodyState) -> Result<BodyState, String> {
     if !(state.mass.is_finite() && state.mass >= 0.0) {
         return Err(format!("mass {} must be finite and >= 0 (0: a body that cannot move)", state.mass));
     }
@@ -333,49 +429,7 @@ pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHi
                 projectile_surface,
             });
         }
-        let mut state = damage.damage.clone();
-        let step = damage.step + 1;
-        let plan = state.plan(&damage.targets, &list, step, &mut CpuBackend).map_err(|e| match e {
-            DamageError::UnknownBody { .. } => Failure::invalid(e.to_string()),
-            _ => Failure { status: DB_ERR_DENT, message: e.to_string() },
-        })?;
-        // The record comes first of what may fail (it fails on a mesh changed behind its back),
-        // then the message, made from the meshes after the step: applied here, put back if the
-        // message cannot be made.
-        let mut recorder = damage.recorder.clone();
-        recorder.record(&damage.targets, &list, &plan).map_err(|e| Failure::invalid(e.to_string()))?;
-        let DamagePlan { dents, targets, fractures, .. } = plan;
-        // Only a message, made when the stream carries a body, can fail now: the meshes it
-        // would change are kept to be put back then.
-        let before: Vec<DentedTarget<u64>> = match damage.stream.carries_any() {
-            false => Vec::new(),
-            true => targets
-                .iter()
-                .filter_map(|t| damage.targets.mesh(t.key).map(|m| (t.key, m.clone())))
-                .map(|(key, mesh)| DentedTarget {
-                    key,
-                    mesh,
-                    moved: Vec::new(),
-                    refinement: Default::default(),
-                    topology_changed: true,
-                })
-                .collect(),
-        };
-        let moved = damage.targets.apply(targets);
-        for fracture in &fractures {
-            damage.targets.apply_fracture(fracture);
-        }
-        let surface = |key: u64| list.iter().find(|h| h.projectile == key).map(|h| h.projectile_surface.mesh);
-        if let Err(failure) = damage.stream.after_step(&dents, &fractures, &damage.targets, surface) {
-            damage.targets.apply(before);
-            return Err(failure);
-        }
-        damage.damage = state;
-        damage.recorder = recorder;
-        damage.step = step;
-        damage.dents = dents;
-        damage.moved = moved.into_iter().collect();
-        Ok(())
+        damage.step(&list)
     })
 }
 

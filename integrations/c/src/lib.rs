@@ -9,6 +9,9 @@
 //!   its own memory, valid until the next change of the object they belong to.
 //! - A call that fails changes nothing.
 //!
+//! From Rust (the Python package builds on it), [`DbDamage`]'s methods are the same damage
+//! context without pointers.
+//!
 //! The header, `include/dentbend.h`, is generated from this crate by cbindgen and committed;
 //! a test fails when it is stale.
 
@@ -23,10 +26,10 @@ mod save;
 mod status;
 
 pub use damage::{
-    DB_MAX_HITS, DbAppliedDent, DbBodyState, DbDamage, DbDentSettings, DbHit, db_damage_add_body,
+    DB_MAX_HITS, DbAppliedDent, DbBodyState, DbDamage, DbDentSettings, DbHit, body_state, db_damage_add_body,
     db_damage_add_projectile, db_damage_dent, db_damage_dent_count, db_damage_free, db_damage_indices, db_damage_moved,
     db_damage_new, db_damage_normals, db_damage_positions, db_damage_set_pose, db_damage_step,
-    db_dent_settings_default,
+    db_dent_settings_default, dent_settings,
 };
 pub use dent::{DbDentOptions, DbDentReport, DbImpact, db_dent, db_dent_ex, db_dent_options_default};
 pub use mesh::{
@@ -40,4 +43,6 @@ pub use replication::{
     db_replica_indices, db_replica_join, db_replica_moved, db_replica_new, db_replica_positions,
 };
 pub use save::{db_damage_record, db_damage_restore, db_damage_save};
-pub use status::{DB_ERR_DENT, DB_ERR_INTERNAL, DB_ERR_INVALID_ARGUMENT, DB_ERR_NULL_POINTER, DB_OK, db_last_error};
+pub use status::{
+    DB_ERR_DENT, DB_ERR_INTERNAL, DB_ERR_INVALID_ARGUMENT, DB_ERR_NULL_POINTER, DB_OK, Failure, db_last_error,
+};

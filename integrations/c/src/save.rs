@@ -33,9 +33,7 @@ pub unsafe extern "C" fn db_damage_record(damage: *mut DbDamage, id: u64, body_n
     guarded(|| {
         // SAFETY: the caller's contract.
         let (damage, body_name) = unsafe { (DbDamage::get_mut(damage)?, name(body_name)?) };
-        let mesh = damage.targets.mesh(id).ok_or_else(|| Failure::invalid(format!("body {id} does not dent")))?;
-        damage.recorder.track(id, body_name, mesh);
-        Ok(())
+        damage.record(id, body_name)
     })
 }
 
@@ -49,8 +47,7 @@ pub unsafe extern "C" fn db_damage_save(damage: *mut DbDamage, length: *mut usiz
     let saved = guarded_value(|| {
         // SAFETY: the caller's contract.
         let damage = unsafe { DbDamage::get_mut(damage)? };
-        damage.saved = damage.recorder.file().to_json().map_err(|e| Failure::invalid(e.to_string()))?;
-        Ok((damage.saved.as_ptr(), damage.saved.len()))
+        damage.save().map(|saved| (saved.as_ptr(), saved.len()))
     });
     // SAFETY: the caller's contract.
     unsafe { hand_out(saved, length) }
@@ -86,11 +83,51 @@ pub unsafe extern "C" fn db_damage_restore(
         }
         // SAFETY: not null, `length` bytes by the caller's contract.
         let bytes = unsafe { std::slice::from_raw_parts(file, length) };
+        damage.restore(id, bytes, body_name)
+    })
+}
+
+impl DbDamage {
+    /// Records body `id`'s damage from now on, as the body `body_name` of the saved file: its
+    /// mesh now is the base a restore starts from.
+    ///
+    /// # Errors
+    /// A body that does not dent.
+    pub fn record(&mut self, id: u64, body_name: &str) -> Result<(), Failure> {
+        let mesh = self.targets.mesh(id).ok_or_else(|| Failure::invalid(format!("body {id} does not dent")))?;
+        self.recorder.track(id, body_name, mesh);
+        Ok(())
+    }
+
+    /// The recorded bodies' damage as a damage file (JSON), kept until the next save.
+    ///
+    /// # Errors
+    /// A file that cannot be written (it never is for recorded damage).
+    pub fn save(&mut self) -> Result<&[u8], Failure> {
+        self.saved = self.recorder.file().to_json().map_err(|e| Failure::invalid(e.to_string()))?;
+        Ok(&self.saved)
+    }
+
+    /// Gives body `id` the damage the damage file `bytes`' body `body_name` recorded (saved
+    /// from a body with the mesh this one has now): its mesh becomes the saved one, and a
+    /// recorded body's record goes on from it.
+    ///
+    /// # Errors
+    /// A file that does not parse, has no such body, is for another mesh or does not replay; a
+    /// body on the replication stream. Nothing changes then.
+    pub fn restore(&mut self, id: u64, bytes: &[u8], body_name: &str) -> Result<(), Failure> {
+        if bytes.len() as u64 > DamageFile::MAX_FILE_BYTES {
+            return Err(Failure::invalid(format!(
+                "{} bytes: a damage file is at most {}",
+                bytes.len(),
+                DamageFile::MAX_FILE_BYTES
+            )));
+        }
         let file = DamageFile::from_json(bytes).map_err(|e| Failure::invalid(e.to_string()))?;
         let body =
             file.body(body_name).ok_or_else(|| Failure::invalid(format!("the file has no body {body_name:?}")))?;
-        let now = damage.targets.mesh(id).ok_or_else(|| Failure::invalid(format!("body {id} does not dent")))?;
-        if damage.stream.carries(id) {
+        let now = self.targets.mesh(id).ok_or_else(|| Failure::invalid(format!("body {id} does not dent")))?;
+        if self.stream.carries(id) {
             return Err(Failure::invalid(format!(
                 "body {id} is on the replication stream: restore it before db_damage_replicate (clients would \
                  dent the mesh they have)"
@@ -101,12 +138,12 @@ pub unsafe extern "C" fn db_damage_restore(
             .mesh;
         let moved = changed_vertices(now, &restored);
         let topology_changed = now.faces() != restored.faces();
-        if damage.recorder.body(id).is_some() {
-            damage.recorder.resume(id, body.clone());
+        if self.recorder.body(id).is_some() {
+            self.recorder.resume(id, body.clone());
         }
-        damage.damage.forget(id);
+        self.damage.forget(id);
         let dented = DentedTarget { key: id, mesh: restored, moved, refinement: Default::default(), topology_changed };
-        damage.moved.extend(damage.targets.apply(vec![dented]));
+        self.moved.extend(self.targets.apply(vec![dented]));
         Ok(())
-    })
+    }
 }

@@ -18,12 +18,22 @@ pub const DB_ERR_DENT: c_int = 3;
 /// free them.
 pub const DB_ERR_INTERNAL: c_int = 4;
 
-/// A failed call: its status and message.
-#[derive(Debug)]
-pub(crate) struct Failure {
-    pub(crate) status: c_int,
-    pub(crate) message: String,
+/// A failed call: its status (a `DB_ERR_*` code) and message.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Failure {
+    /// The status the C function returns.
+    pub status: c_int,
+    /// What went wrong, and the fix where there is one.
+    pub message: String,
 }
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Failure {}
 
 impl Failure {
     /// A null `what`.

@@ -1,0 +1,334 @@
+//! `dentbend.Damage`: the bodies of a world that dent, keyed by the caller's 64-bit ids, one
+//! step's hits decided, dented and applied at once, with save and restore (the C API's damage
+//! context).
+
+use std::sync::Arc;
+
+use dentbend::TriMesh;
+use dentbend::damage::Hit as LibraryHit;
+use dentbend::dent::{Impact, Surface};
+use dentbend::glam::{Affine3A, Mat3, Vec3};
+use dentbend_c::{DbBodyState, DbDamage, DbDentSettings, body_state, dent_settings};
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+
+use crate::arrays::{faces_out, list_out, pose, positions_out, refused, vec3};
+
+/// A triangle mesh made once (checked, its normals computed) and shared by every hit that uses
+/// it as a projectile's surface.
+#[pyclass(module = "dentbend", frozen)]
+pub struct Mesh {
+    mesh: Arc<TriMesh>,
+}
+
+#[pymethods]
+impl Mesh {
+    /// A mesh from `(N, 3)` positions (m) and `(M, 3)` triangles (counter-clockwise seen from
+    /// outside); both copied.
+    #[new]
+    fn new(py: Python<'_>, positions: &Bound<'_, PyAny>, faces: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let (p, f) = (crate::arrays::positions(positions, "positions")?, crate::arrays::faces(faces, "faces")?);
+        let mesh = py.detach(|| TriMesh::new(p, f)).map_err(|e| refused(e.to_string()))?;
+        Ok(Self { mesh: Arc::new(mesh) })
+    }
+
+    /// Its positions, a new `(N, 3)` float32 array.
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
+        positions_out(py, self.mesh.positions())
+    }
+
+    /// Its triangles, a new `(M, 3)` uint32 array.
+    #[getter]
+    fn faces<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<u32>> {
+        faces_out(py, self.mesh.faces())
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Mesh(vertices={}, faces={})", self.mesh.vertex_count(), self.mesh.face_count())
+    }
+}
+
+/// A body's motion before the step, world coordinates.
+#[pyclass(module = "dentbend", frozen)]
+#[derive(Clone)]
+pub struct BodyState {
+    state: DbBodyState,
+}
+
+#[pymethods]
+impl BodyState {
+    /// `mass` kg (0: a body that cannot move, the default), centre of mass (m), linear (m/s)
+    /// and angular (rad/s) velocity, and the world inverse inertia (3x3, 1/(kg m^2); `None`:
+    /// that of a solid ball of radius 0.5 m).
+    #[new]
+    #[pyo3(signature = (mass = 0.0, center_of_mass = None, linear_velocity = None, angular_velocity = None, inverse_inertia = None))]
+    fn new(
+        mass: f32,
+        center_of_mass: Option<&Bound<'_, PyAny>>,
+        linear_velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        inverse_inertia: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let optional = |v: Option<&Bound<'_, PyAny>>, what| v.map_or(Ok(Vec3::ZERO), |v| vec3(v, what));
+        let inverse_inertia = match inverse_inertia {
+            Some(m) => matrix3(m)?,
+            // A solid ball of radius r: I = 2/5 m r^2.
+            None if mass > 0.0 => Mat3::from_diagonal(Vec3::splat(1.0 / (0.4 * mass * 0.25))),
+            None => Mat3::ZERO,
+        };
+        let state = DbBodyState {
+            center_of_mass: optional(center_of_mass, "center_of_mass")?.to_array(),
+            linear_velocity: optional(linear_velocity, "linear_velocity")?.to_array(),
+            angular_velocity: optional(angular_velocity, "angular_velocity")?.to_array(),
+            mass,
+            inverse_inertia: inverse_inertia.to_cols_array(),
+        };
+        body_state(&state).map_err(refused)?;
+        Ok(Self { state })
+    }
+
+    fn __repr__(&self) -> String {
+        let s = &self.state;
+        format!("BodyState(mass={}, linear_velocity={:?})", s.mass, s.linear_velocity)
+    }
+}
+
+/// A 3x3 matrix of numbers.
+fn matrix3(value: &Bound<'_, PyAny>) -> PyResult<Mat3> {
+    let rows: Vec<Vec<f32>> = value
+        .py()
+        .import("numpy")?
+        .call_method1("asarray", (value, "float32"))
+        .and_then(|a| a.call_method0("tolist"))
+        .and_then(|l| l.extract())
+        .map_err(|_| refused("inverse_inertia must be a 3x3 matrix of numbers"))?;
+    if rows.len() != 3 || rows.iter().any(|r| r.len() != 3) {
+        return Err(refused("inverse_inertia must be a 3x3 matrix of numbers"));
+    }
+    Ok(Mat3::from_cols_array_2d(&[
+        [rows[0][0], rows[1][0], rows[2][0]],
+        [rows[0][1], rows[1][1], rows[2][1]],
+        [rows[0][2], rows[1][2], rows[2][2]],
+    ]))
+}
+
+/// One contact of the step, as the engine reported it before resolving it.
+#[pyclass(module = "dentbend", frozen)]
+pub struct Hit {
+    target: u64,
+    projectile: u64,
+    point: Vec3,
+    normal: Vec3,
+    surface: Arc<TriMesh>,
+    to_world: Affine3A,
+    target_state: DbBodyState,
+    projectile_state: DbBodyState,
+}
+
+#[pymethods]
+impl Hit {
+    /// Body `target` hit by body `projectile` at `point` (world, m), `normal` pointing into the
+    /// target; the projectile's surface is `projectile_surface` (its own coordinates) placed by
+    /// `projectile_to_world` (4x4; `None`: identity); the bodies' states before the step
+    /// (`None`: a body that cannot move).
+    #[new]
+    #[pyo3(signature = (target, projectile, point, normal, projectile_surface, *, projectile_to_world = None, target_state = None, projectile_state = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        target: u64,
+        projectile: u64,
+        point: &Bound<'_, PyAny>,
+        normal: &Bound<'_, PyAny>,
+        projectile_surface: &Mesh,
+        projectile_to_world: Option<&Bound<'_, PyAny>>,
+        target_state: Option<&BodyState>,
+        projectile_state: Option<&BodyState>,
+    ) -> PyResult<Self> {
+        let fixed = BodyState::new(0.0, None, None, None, None)?;
+        Ok(Self {
+            target,
+            projectile,
+            point: vec3(point, "point")?,
+            normal: vec3(normal, "normal")?,
+            surface: projectile_surface.mesh.clone(),
+            to_world: pose(projectile_to_world, "projectile_to_world")?,
+            target_state: target_state.unwrap_or(&fixed).state,
+            projectile_state: projectile_state.unwrap_or(&fixed).state,
+        })
+    }
+}
+
+/// One dent a step made.
+#[pyclass(module = "dentbend", frozen, get_all)]
+pub struct AppliedDent {
+    /// The dented body.
+    target: u64,
+    /// The body that dented it.
+    projectile: u64,
+    /// Contact point, world, m.
+    point: [f32; 3],
+    /// Dent distance the hit earned, m.
+    dent_distance: f32,
+    /// Largest displacement the dent made, m.
+    depth_made: f32,
+    /// Vertices the dent moved.
+    moved_vertices: usize,
+}
+
+#[pymethods]
+impl AppliedDent {
+    fn __repr__(&self) -> String {
+        format!(
+            "AppliedDent(target={}, projectile={}, dent_distance={:.6}, depth_made={:.6}, moved_vertices={})",
+            self.target, self.projectile, self.dent_distance, self.depth_made, self.moved_vertices
+        )
+    }
+}
+
+/// The bodies of a world that dent, keyed by your 64-bit ids: each `step` decides, makes and
+/// applies one step's dents at once (all of them or none).
+#[pyclass(module = "dentbend")]
+#[derive(Default)]
+pub struct Damage {
+    inner: DbDamage,
+}
+
+#[pymethods]
+impl Damage {
+    #[new]
+    fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds body `id` (replacing one of that id), which dents: `positions` `(N, 3)` and
+    /// `faces` `(M, 3)` in its own coordinates (m), placed by `to_world` (4x4), denting
+    /// `depth_per_speed` m per m/s of normal impact speed above `threshold_speed` m/s, at most
+    /// `max_depth` m.
+    #[pyo3(signature = (id, positions, faces, *, to_world = None, threshold_speed = 1.0, depth_per_speed = 0.01, max_depth = 0.1, sigma = None, preserve_volume = false, progressive = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_body(
+        &mut self,
+        py: Python<'_>,
+        id: u64,
+        positions: &Bound<'_, PyAny>,
+        faces: &Bound<'_, PyAny>,
+        to_world: Option<&Bound<'_, PyAny>>,
+        threshold_speed: f32,
+        depth_per_speed: f32,
+        max_depth: f32,
+        sigma: Option<f32>,
+        preserve_volume: bool,
+        progressive: bool,
+    ) -> PyResult<()> {
+        let (p, f) = (crate::arrays::positions(positions, "positions")?, crate::arrays::faces(faces, "faces")?);
+        let to_world = pose(to_world, "to_world")?;
+        let settings = dent_settings(&DbDentSettings {
+            threshold_speed,
+            depth_per_speed,
+            max_depth,
+            sigma: sigma.unwrap_or(0.0),
+            preserve_volume: preserve_volume.into(),
+            progressive: progressive.into(),
+        });
+        settings.params.validate().map_err(|e| refused(e.to_string()))?;
+        let mesh = py.detach(|| TriMesh::new(p, f)).map_err(|e| refused(e.to_string()))?;
+        let inner = &mut self.inner;
+        py.detach(|| inner.add_body(id, mesh, to_world, settings)).map_err(|e| refused(e.message))
+    }
+
+    /// Adds body `id`, which hits others but does not dent (its surface comes with each hit).
+    fn add_projectile(&mut self, id: u64) {
+        self.inner.add_projectile(id);
+    }
+
+    /// Moves body `id` to `to_world` (4x4), as the engine moved it.
+    fn set_pose(&mut self, id: u64, to_world: &Bound<'_, PyAny>) -> PyResult<()> {
+        let to_world = pose(Some(to_world), "to_world")?;
+        self.inner.set_pose(id, to_world).map_err(|e| refused(e.message))
+    }
+
+    /// Decides, makes and applies the dents of one step's `hits` (all of them or none: on an
+    /// error no body changes); returns the dents made.
+    fn step(&mut self, py: Python<'_>, hits: Vec<PyRef<'_, Hit>>) -> PyResult<Vec<AppliedDent>> {
+        let mut list = Vec::with_capacity(hits.len());
+        for (k, h) in hits.iter().enumerate() {
+            let bad = |e: String| refused(format!("hit {k}: {e}"));
+            let target_state = body_state(&h.target_state).map_err(|e| bad(format!("target_state: {e}")))?;
+            let projectile_state =
+                body_state(&h.projectile_state).map_err(|e| bad(format!("projectile_state: {e}")))?;
+            let impact = Impact::from_contact(h.point, h.normal, &target_state, &projectile_state)
+                .map_err(|e| bad(e.to_string()))?;
+            list.push(LibraryHit {
+                target: h.target,
+                projectile: h.projectile,
+                impact,
+                target_state,
+                projectile_state,
+                projectile_surface: Surface { mesh: &h.surface, to_world: h.to_world },
+            });
+        }
+        let inner = &mut self.inner;
+        py.detach(|| inner.step(&list)).map_err(|e| refused(e.message))?;
+        Ok(self
+            .inner
+            .dents()
+            .iter()
+            .map(|d| AppliedDent {
+                target: d.target,
+                projectile: d.projectile,
+                point: d.impact.point.to_array(),
+                dent_distance: d.dent_distance,
+                depth_made: d.depth_made,
+                moved_vertices: d.moved_vertices,
+            })
+            .collect())
+    }
+
+    /// Body `id`'s positions (its own coordinates, m), a new `(N, 3)` float32 array.
+    fn positions<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        Ok(positions_out(py, self.mesh(id)?.positions()))
+    }
+
+    /// Body `id`'s vertex normals, a new `(N, 3)` float32 array.
+    fn normals<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        Ok(positions_out(py, self.mesh(id)?.normals()))
+    }
+
+    /// Body `id`'s triangles, a new `(M, 3)` uint32 array (a step that refines it changes them).
+    fn faces<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Bound<'py, PyArray2<u32>>> {
+        Ok(faces_out(py, self.mesh(id)?.faces()))
+    }
+
+    /// The vertices of body `id` the last step (or restore) moved or added, ascending uint32.
+    fn moved<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        self.mesh(id)?;
+        Ok(list_out(py, self.inner.moved(id).to_vec()))
+    }
+
+    /// Records body `id`'s damage from now on, as the body `name` of the saved file.
+    fn record(&mut self, id: u64, name: &str) -> PyResult<()> {
+        self.inner.record(id, name).map_err(|e| refused(e.message))
+    }
+
+    /// The recorded bodies' damage as a damage file (JSON bytes).
+    fn save<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let saved = self.inner.save().map_err(|e| refused(e.message))?;
+        Ok(PyBytes::new(py, saved))
+    }
+
+    /// Gives body `id` the damage that the damage file `data`'s body `name` recorded (saved from
+    /// a body with the mesh this one has now), with no simulation.
+    fn restore(&mut self, py: Python<'_>, id: u64, data: &[u8], name: &str) -> PyResult<()> {
+        let inner = &mut self.inner;
+        py.detach(|| inner.restore(id, data, name)).map_err(|e| refused(e.message))
+    }
+}
+
+impl Damage {
+    /// Body `id`'s mesh, or the error for a body that does not dent.
+    fn mesh(&self, id: u64) -> PyResult<&TriMesh> {
+        self.inner.mesh(id).ok_or_else(|| refused(format!("body {id} does not dent")))
+    }
+}
