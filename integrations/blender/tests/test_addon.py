@@ -2,6 +2,7 @@
 sphere, check the dent, the attributes and undo."""
 
 import os
+import pathlib
 import sys
 
 import numpy as np
@@ -149,3 +150,44 @@ def test_refine_off_moves_the_vertices_it_has(scene):
     assert positions[:, 2].max() > 1.0  # the rim the kept volume raises
     top = (np.abs(positions[:, 0]) < 0.999) & (np.abs(positions[:, 1]) < 0.999) & (positions[:, 2] > 0.5)
     assert positions[top, 2].min() == pytest.approx(0.9, abs=1e-4)
+
+
+INSTALL = """
+import sys, bpy, numpy as np
+bpy.ops.wm.read_homefile()
+window = bpy.context.window_manager.windows[0]
+with bpy.context.temp_override(window=window):
+    assert bpy.ops.extensions.package_install_files(
+        filepath=sys.argv[1], repo="user_default", enable_on_install=True) == {"FINISHED"}
+assert "bl_ext.user_default.dentbend" in bpy.context.preferences.addons
+site = bpy.utils.user_resource("EXTENSIONS", path=".local")
+for obj in list(bpy.data.objects):
+    bpy.data.objects.remove(obj)
+bpy.ops.mesh.primitive_cube_add(size=2.0)
+cube = bpy.context.active_object
+bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(0.0, 0.0, 2.0))
+cube.select_set(True)
+with bpy.context.temp_override(window=window):
+    assert bpy.ops.object.dentbend_dent(depth=0.2) == {"FINISHED"}
+co = np.empty(3 * len(cube.data.vertices), np.float32)
+cube.data.vertices.foreach_get("co", co)
+co = co.reshape(-1, 3)
+top = (np.abs(co[:, 0]) < 0.999) & (np.abs(co[:, 1]) < 0.999) & (co[:, 2] > 0.5)
+print("installed", site, co[top, 2].min())
+"""
+
+
+@pytest.mark.skipif(not os.environ.get("DENTBEND_BLENDER_ZIP"), reason="DENTBEND_BLENDER_ZIP names no packed extension")
+def test_the_packed_extension_installs_with_its_wheel_and_dents(tmp_path):
+    """The zip build_extension.py packs installs as Blender installs extensions (in a fresh
+    user configuration), its dentbend wheel with it, and its operator dents."""
+    import subprocess
+
+    archive = os.path.abspath(os.environ["DENTBEND_BLENDER_ZIP"])
+    env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path), HOME=str(tmp_path))
+    run = subprocess.run([sys.executable, "-c", INSTALL, archive], env=env, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+    line = next(l for l in run.stdout.splitlines() if l.startswith("installed"))
+    _, site, lowest = line.split()
+    assert list(pathlib.Path(site).glob("lib/python3*/site-packages/dentbend/__init__.py"))
+    assert float(lowest) == pytest.approx(0.8, abs=1e-4)
