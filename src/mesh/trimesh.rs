@@ -96,6 +96,11 @@ impl TriMesh {
         &self.normals
     }
 
+    /// The mesh's arrays, moved out: positions, faces and normals (as the accessors above).
+    pub fn into_parts(self) -> (Vec<Vec3>, Vec<[u32; 3]>, Vec<Vec3>) {
+        (self.positions, self.faces, self.normals)
+    }
+
     /// Number of vertices.
     pub fn vertex_count(&self) -> usize {
         self.positions.len()

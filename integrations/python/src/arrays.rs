@@ -85,6 +85,9 @@ pub fn faces(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[u32; 3]>> {
 
 /// Three numbers (a point or a vector).
 pub fn vec3(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec3> {
+    if let Ok([x, y, z]) = value.extract::<[f32; 3]>() {
+        return Ok(Vec3::new(x, y, z));
+    }
     let numbers = numbers(value, what, 3)?;
     Ok(Vec3::new(numbers[0], numbers[1], numbers[2]))
 }
@@ -126,27 +129,23 @@ pub fn pose(value: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Affine3A> 
     Ok(affine)
 }
 
-/// Positions as a new `(N, 3)` float32 array.
-pub fn positions_out<'py>(py: Python<'py>, points: &[Vec3]) -> Bound<'py, PyArray2<f32>> {
-    let flat: Vec<f32> = points.iter().flat_map(|p| p.to_array()).collect();
-    let shaped = Array2::from_shape_vec((points.len(), 3), flat).expect("3 values a point");
-    shaped.into_pyarray(py)
+/// Positions as a new `(N, 3)` float32 array that takes over `points`' memory (no copy).
+pub fn positions_out(py: Python<'_>, points: Vec<Vec3>) -> Bound<'_, PyArray2<f32>> {
+    let count = points.len();
+    let flat: Vec<f32> = bytemuck::allocation::try_cast_vec(points)
+        .unwrap_or_else(|(_, points)| points.iter().flat_map(|p| p.to_array()).collect());
+    Array2::from_shape_vec((count, 3), flat).expect("3 values a point").into_pyarray(py)
 }
 
-/// Triangles as a new `(M, 3)` uint32 array.
-pub fn faces_out<'py>(py: Python<'py>, faces: &[[u32; 3]]) -> Bound<'py, PyArray2<u32>> {
-    let flat: Vec<u32> = faces.as_flattened().to_vec();
-    let shaped = Array2::from_shape_vec((faces.len(), 3), flat).expect("3 indices a face");
-    shaped.into_pyarray(py)
+/// Rows of `N` values as a new `(count, N)` array that takes over `rows`' memory (no copy).
+pub fn rows_out<const N: usize>(py: Python<'_>, rows: Vec<[u32; N]>) -> Bound<'_, PyArray2<u32>> {
+    let count = rows.len();
+    let flat: Vec<u32> =
+        bytemuck::allocation::try_cast_vec(rows).unwrap_or_else(|(_, rows)| rows.as_flattened().to_vec());
+    Array2::from_shape_vec((count, N), flat).expect("N values a row").into_pyarray(py)
 }
 
 /// A list as a new 1-D array, handed over without a copy.
 pub fn list_out<T: numpy::Element>(py: Python<'_>, values: Vec<T>) -> Bound<'_, PyArray1<T>> {
     Array1::from_vec(values).into_pyarray(py)
-}
-
-/// Index pairs as a new `(K, 2)` uint32 array.
-pub fn pairs_out<'py>(py: Python<'py>, pairs: &[[u32; 2]]) -> Bound<'py, PyArray2<u32>> {
-    let shaped = Array2::from_shape_vec((pairs.len(), 2), pairs.as_flattened().to_vec()).expect("2 indices a pair");
-    shaped.into_pyarray(py)
 }

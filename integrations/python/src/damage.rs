@@ -13,7 +13,7 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::arrays::{faces_out, list_out, pose, positions_out, refused, vec3};
+use crate::arrays::{list_out, pose, positions_out, refused, rows_out, vec3};
 
 /// A triangle mesh made once (checked, its normals computed) and shared by every hit that uses
 /// it as a projectile's surface.
@@ -36,13 +36,13 @@ impl Mesh {
     /// Its positions, a new `(N, 3)` float32 array.
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
-        positions_out(py, self.mesh.positions())
+        positions_out(py, self.mesh.positions().to_vec())
     }
 
     /// Its triangles, a new `(M, 3)` uint32 array.
     #[getter]
     fn faces<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<u32>> {
-        faces_out(py, self.mesh.faces())
+        rows_out(py, self.mesh.faces().to_vec())
     }
 
     fn __repr__(&self) -> String {
@@ -288,17 +288,17 @@ impl Damage {
 
     /// Body `id`'s positions (its own coordinates, m), a new `(N, 3)` float32 array.
     fn positions<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        Ok(positions_out(py, self.mesh(id)?.positions()))
+        Ok(positions_out(py, self.mesh(id)?.positions().to_vec()))
     }
 
     /// Body `id`'s vertex normals, a new `(N, 3)` float32 array.
     fn normals<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        Ok(positions_out(py, self.mesh(id)?.normals()))
+        Ok(positions_out(py, self.mesh(id)?.normals().to_vec()))
     }
 
     /// Body `id`'s triangles, a new `(M, 3)` uint32 array (a step that refines it changes them).
     fn faces<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Bound<'py, PyArray2<u32>>> {
-        Ok(faces_out(py, self.mesh(id)?.faces()))
+        Ok(rows_out(py, self.mesh(id)?.faces().to_vec()))
     }
 
     /// The vertices of body `id` the last step (or restore) moved or added, ascending uint32.

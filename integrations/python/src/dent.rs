@@ -8,7 +8,7 @@ use dentbend::glam::Vec3;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
-use crate::arrays::{faces, faces_out, list_out, positions, positions_out, refused, vec3};
+use crate::arrays::{faces, list_out, positions, positions_out, refused, rows_out, vec3};
 
 /// What `dentbend.dent` made: the dented target's arrays and what the dent did.
 #[pyclass(module = "dentbend", frozen, get_all)]
@@ -195,16 +195,17 @@ pub fn dent(
 fn result(py: Python<'_>, made: Made) -> DentResult {
     let Made { mesh, moved, refinement, report } = made;
     let base_faces = if refinement.is_empty() { mesh.face_count() } else { refinement.base_face_count };
+    let (positions, faces, _) = mesh.into_parts();
     let face_parents: Vec<u32> = (0..base_faces as u32).chain(refinement.face_parents.iter().copied()).collect();
     let parents: Vec<[u32; 2]> = refinement.vertices.iter().map(|v| v.parents).collect();
     let fractions: Vec<f32> = refinement.vertices.iter().map(|v| v.fraction).collect();
     DentResult {
-        positions: positions_out(py, mesh.positions()).unbind(),
-        faces: faces_out(py, mesh.faces()).unbind(),
+        positions: positions_out(py, positions).unbind(),
+        faces: rows_out(py, faces).unbind(),
         moved: list_out(py, moved).unbind(),
         max_displacement: report.max_displacement,
         kept: report.limited_to.unwrap_or(1.0),
-        parents: crate::arrays::pairs_out(py, &parents).unbind(),
+        parents: rows_out(py, parents).unbind(),
         fractions: list_out(py, fractions).unbind(),
         face_parents: list_out(py, face_parents).unbind(),
         warnings: report.warnings,
