@@ -195,6 +195,13 @@ def rebuild(mesh, source, result, local):
     mesh.polygons.add(len(starts))
     mesh.polygons.foreach_set("loop_start", starts.astype(np.int32))
     mesh.update(calc_edges=True)
+    loose = loose_edges(old_edges, corner_vertex, loop_start, loop_total)
+    if len(loose):
+        # Edges of no polygon (wires) are never split: they come back as they were.
+        made = read(mesh.edges, "vertices", 2, np.int32)
+        mesh.edges.add(len(loose))
+        mesh.edges.foreach_set("vertices", np.concatenate([made, loose]).ravel())
+        mesh.update()
 
     edges = edge_blend(old_edges, read(mesh.edges, "vertices", 2, np.int32), weights, base_vertices)
     blends = {"POINT": points, "CORNER": corners, "EDGE": edges}
@@ -220,6 +227,17 @@ def rebuild(mesh, source, result, local):
         lengths = np.linalg.norm(custom_normals, axis=1, keepdims=True)
         mesh.normals_split_custom_set((custom_normals / np.maximum(lengths, 1e-12)).tolist())
     mesh.update()
+
+
+def loose_edges(edges, corner_vertex, loop_start, loop_total):
+    """The edges no polygon uses, (k, 2)."""
+    following = np.arange(len(corner_vertex)) + 1
+    ends = np.repeat(loop_start + loop_total, loop_total)
+    following[following == ends] = np.repeat(loop_start, loop_total)[following == ends]
+    a, b = corner_vertex, corner_vertex[following]
+    used = set(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist()))
+    keys = zip(edges.min(axis=1).tolist(), edges.max(axis=1).tolist())
+    return edges[[key not in used for key in keys]].reshape(-1, 2)
 
 
 def edge_blend(old_edges, new_edges, weights, base_vertices):

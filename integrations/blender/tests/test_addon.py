@@ -191,3 +191,34 @@ def test_the_packed_extension_installs_with_its_wheel_and_dents(tmp_path):
     _, site, lowest = line.split()
     assert list(pathlib.Path(site).glob("lib/python3*/site-packages/dentbend/__init__.py"))
     assert float(lowest) == pytest.approx(0.8, abs=1e-4)
+
+
+def test_edges_wires_loose_vertices_and_custom_normals_survive_a_refining_dent(scene):
+    cube, _ = scene
+    mesh = cube.data
+    for edge in mesh.edges:
+        edge.use_seam = True
+    mesh.normals_split_custom_set([(0.0, 0.0, 1.0)] * len(mesh.loops))
+    # A wire edge and a loose vertex, far from the dent.
+    mesh.vertices.add(3)
+    mesh.vertices.foreach_set("co", np.concatenate([read(mesh.vertices, "co", 3)[:8].ravel(), [3, 0, 0, 3, 1, 0, 4, 4, 4]]))
+    mesh.edges.add(1)
+    mesh.edges[-1].vertices = (8, 9)
+    mesh.update()
+    assert in_window(bpy.ops.object.dentbend_dent, depth=DEPTH) == {"FINISHED"}
+    positions = read(mesh.vertices, "co", 3)
+    edges = read(mesh.edges, "vertices", 2, np.int32)
+    seams = np.array([edge.use_seam for edge in mesh.edges])
+    # The cube's 12 edges were split by the refinement; every piece is still a seam, and no
+    # new edge across a face is: a seam's two ends lie on one cube edge (two coordinates at +-1).
+    on_cube_edge = (np.abs(np.abs(positions) - 1.0) < 1e-6).sum(axis=1) >= 2
+    assert seams.sum() > 12
+    assert np.all(on_cube_edge[edges[seams]])
+    # The wire edge and the loose vertex are still there, unchanged.
+    wire = [i for i, (a, b) in enumerate(edges.tolist()) if {a, b} == {8, 9}]
+    assert len(wire) == 1 and np.allclose(positions[8:11], [[3, 0, 0], [3, 1, 0], [4, 4, 4]])
+    # The custom normals are interpolated: every corner's is still +z, to Blender's storage
+    # (two 16-bit angles in each corner's normal space: 1e-4 rad a step, a few steps here).
+    assert mesh.has_custom_normals
+    normals = read(mesh.corner_normals, "vector", 3)
+    assert np.allclose(normals, [0.0, 0.0, 1.0], atol=1e-3)
