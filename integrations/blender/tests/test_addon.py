@@ -218,7 +218,8 @@ def test_edges_wires_loose_vertices_and_custom_normals_survive_a_refining_dent(s
     wire = [i for i, (a, b) in enumerate(edges.tolist()) if {a, b} == {8, 9}]
     assert len(wire) == 1 and np.allclose(positions[8:11], [[3, 0, 0], [3, 1, 0], [4, 4, 4]])
     # The custom normals are interpolated: every corner's is still +z, to Blender's storage
-    # (two 16-bit angles in each corner's normal space: 1e-4 rad a step, a few steps here).
+    # (two 16-bit angles in each corner's normal space, which the dent tilts: 2.5e-3 at worst
+    # here, 0.15 degrees; a normal left out or taken from the wrong corner is off by 0.1 or more).
     assert mesh.has_custom_normals
     normals = read(mesh.corner_normals, "vector", 3)
-    assert np.allclose(normals, [0.0, 0.0, 1.0], atol=1e-3)
+    assert np.allclose(normals, [0.0, 0.0, 1.0], atol=5e-3)
