@@ -37,7 +37,7 @@ fn contiguous<'py>(
     if !(shape.len() == 2 && shape[1] == width) {
         return Err(refused(format!("{what} has shape {shape:?}: it must be (count, {width})")));
     }
-    Ok(numpy.call_method1("ascontiguousarray", (array, dtype))?)
+    numpy.call_method1("ascontiguousarray", (array, dtype))
 }
 
 /// Vertex positions, m: an `(N, 3)` array of float32 (read in place), or of another float or
