@@ -23,7 +23,7 @@ def first_contact(target_positions, target_triangles, projectile_positions, proj
         (projectile_positions, target_triangles, target_positions, 1.0),
         (target_positions, projectile_triangles, projectile_positions, -1.0),
     ):
-        tree = BVHTree.FromPolygons([Vector(p) for p in hit_positions], triangles.tolist(), all_triangles=True)
+        tree = BVHTree.FromPolygons(hit_positions.tolist(), triangles.tolist(), all_triangles=True)
         ray = d * sign
         for p in sources:
             start = Vector(p) - ray * back

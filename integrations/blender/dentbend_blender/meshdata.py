@@ -35,6 +35,12 @@ def read(collection, key, width, dtype):
     return values.reshape(len(collection), width)
 
 
+def world_winding(triangles, world):
+    """Triangles wound counter-clockwise seen from outside in world coordinates: a mirroring
+    placement (negative determinant) turns them inside out, so they are flipped back."""
+    return triangles[:, [0, 2, 1]] if np.linalg.det(world[:3, :3]) < 0.0 else triangles
+
+
 class Triangulated:
     """A mesh's vertices (world coordinates) and loop triangles, with what ties them back."""
 
@@ -46,6 +52,13 @@ class Triangulated:
         self.triangles = read(mesh.loop_triangles, "vertices", 3, np.int32).astype(np.uint32)
         self.loops = read(mesh.loop_triangles, "loops", 3, np.int32)
         self.polygons = read(mesh.loop_triangles, "polygon_index", 1, np.int32)[:, 0]
+        self.mirrored = np.linalg.det(world[:3, :3]) < 0.0
+        # As dentbend sees them (world winding); `own_winding` turns its output faces back.
+        self.world_triangles = world_winding(self.triangles, world)
+
+    def own_winding(self, faces):
+        """Faces in world winding back in the mesh's own."""
+        return faces[:, [0, 2, 1]] if self.mirrored else faces
 
 
 def evaluated_world_mesh(obj, depsgraph):
@@ -57,7 +70,7 @@ def evaluated_world_mesh(obj, depsgraph):
         local = read(mesh.vertices, "co", 3, np.float32).astype(np.float64)
         world = np.array(evaluated.matrix_world, dtype=np.float64)
         positions = (local @ world[:3, :3].T + world[:3, 3]).astype(np.float32)
-        triangles = read(mesh.loop_triangles, "vertices", 3, np.int32).astype(np.uint32)
+        triangles = world_winding(read(mesh.loop_triangles, "vertices", 3, np.int32).astype(np.uint32), world)
     finally:
         evaluated.to_mesh_clear()
     return positions, triangles
@@ -138,7 +151,7 @@ def rebuild(mesh, source, result, local):
     """Rebuilds ``mesh`` (read as ``source``) as the refined, dented ``result`` (local positions
     ``local``), keeping untouched polygons and carrying every attribute."""
     base_vertices, base_triangles = len(source.local), len(source.triangles)
-    faces, face_parents = result.faces, result.face_parents.astype(np.int64)
+    faces, face_parents = source.own_winding(result.faces), result.face_parents.astype(np.int64)
     split = np.zeros(base_triangles, bool)
     split[face_parents[base_triangles:]] = True
     split |= np.any(faces[:base_triangles] != source.triangles, axis=1)

@@ -157,14 +157,14 @@ class OBJECT_OT_dentbend_dent(bpy.types.Operator):
         world = np.array(target.matrix_world, dtype=np.float64)
         source = meshdata.Triangulated(target, world)
         positions, triangles = projectile
-        found = contact.first_contact(source.world, source.triangles, positions, triangles, direction)
+        found = contact.first_contact(source.world, source.world_triangles, positions, triangles, direction)
         if found is None:
             return None
         travel, point = found
         at_contact = (positions.astype(np.float64) + travel * direction).astype(np.float32)
         result = dentbend.dent(
             source.world,
-            source.triangles,
+            source.world_triangles,
             at_contact,
             triangles,
             point,
@@ -176,7 +176,7 @@ class OBJECT_OT_dentbend_dent(bpy.types.Operator):
             sigma=self.smoothing if self.smoothing > 0.0 else None,
         )
         local = meshdata.to_local(result.positions, world)
-        if len(result.positions) == len(source.local) and np.array_equal(result.faces, source.triangles):
+        if len(result.positions) == len(source.local) and np.array_equal(result.faces, source.world_triangles):
             meshdata.write_positions(target.data, local)
         else:
             meshdata.rebuild(target.data, source, result, local)

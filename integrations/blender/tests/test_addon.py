@@ -223,3 +223,19 @@ def test_edges_wires_loose_vertices_and_custom_normals_survive_a_refining_dent(s
     assert mesh.has_custom_normals
     normals = read(mesh.corner_normals, "vector", 3)
     assert np.allclose(normals, [0.0, 0.0, 1.0], atol=5e-3)
+
+
+def test_a_mirrored_object_is_dented_inwards(scene):
+    cube, _ = scene
+    # Mirrored in x: its triangles are inside out in world coordinates until turned back.
+    cube.scale = (-1.0, 1.0, 1.0)
+    bpy.context.view_layer.update()
+    assert in_window(bpy.ops.object.dentbend_dent, depth=DEPTH) == {"FINISHED"}
+    positions = read(cube.data.vertices, "co", 3)
+    top = (np.abs(positions[:, 0]) < 0.999) & (np.abs(positions[:, 1]) < 0.999) & (positions[:, 2] > 0.5)
+    assert positions[top, 2].min() == pytest.approx(1.0 - DEPTH, abs=1e-4)
+    assert positions[:, 2].max() == pytest.approx(1.0, abs=1e-6)
+    # The mesh's own winding is kept: its polygons still face out in its own coordinates.
+    normals = read(cube.data.polygons, "normal", 3)
+    centres = read(cube.data.polygons, "center", 3)
+    assert np.all(np.einsum("ij,ij->i", normals, centres) > 0.0)
