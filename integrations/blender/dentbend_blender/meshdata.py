@@ -113,16 +113,27 @@ class Blend:
     def __init__(self, count):
         self.count = count
         self.rows, self.columns, self.weights = [], [], []
+        self.chunks = []
 
     def add(self, row, column, weight):
         self.rows.append(row)
         self.columns.append(column)
         self.weights.append(weight)
 
+    def copy(self, rows, columns):
+        """Rows that copy old elements whole (arrays of equal length)."""
+        self.chunks.append((np.asarray(rows, np.int64), np.asarray(columns, np.int64), np.ones(len(rows))))
+
+    def entries(self):
+        """All (rows, columns, weights) as arrays."""
+        parts = self.chunks + [
+            (np.asarray(self.rows, np.int64), np.asarray(self.columns, np.int64), np.asarray(self.weights, np.float64))
+        ]
+        return tuple(np.concatenate([part[k] for part in parts]) for k in range(3))
+
     def apply(self, old, interpolate):
         """The new elements' values from the old ones: weighted sums, or the heaviest source."""
-        rows, columns = np.asarray(self.rows, np.int64), np.asarray(self.columns, np.int64)
-        weights = np.asarray(self.weights, np.float64)
+        rows, columns, weights = self.entries()
         if interpolate:
             out = np.zeros((self.count, old.shape[1]), np.float64)
             np.add.at(out, rows, weights[:, None] * old[columns].astype(np.float64))
@@ -171,8 +182,7 @@ def rebuild(mesh, source, result, local):
     kept_loops = kept_loops.astype(np.int64)
     corner_count = len(kept_loops) + 3 * len(pieces)
     corners = Blend(corner_count)
-    for row, loop in enumerate(kept_loops.tolist()):
-        corners.add(row, loop, 1.0)
+    corners.copy(np.arange(len(kept_loops)), kept_loops)
     row = len(kept_loops)
     for piece in pieces.tolist():
         parent = face_parents[piece]
@@ -188,7 +198,8 @@ def rebuild(mesh, source, result, local):
 
     # Points: new vertices blend their input vertices.
     points = Blend(len(local))
-    for vertex in range(len(local)):
+    points.copy(np.arange(base_vertices), np.arange(base_vertices))
+    for vertex in range(base_vertices, len(local)):
         for base, w in weights.of(vertex).items():
             points.add(vertex, base, w)
 
