@@ -91,7 +91,8 @@ class BodyState:
         angular_velocity: Optional[ArrayLike] = None,
         inverse_inertia: Optional[ArrayLike] = None,
     ) -> None:
-        """``mass`` kg (0: cannot move), m, m/s, rad/s, world inverse inertia 3x3 (1/(kg m^2))."""
+        """``mass`` kg (0: cannot move), m, m/s, rad/s, world inverse inertia 3x3 (1/(kg m^2);
+        ``None``: that of a solid ball of radius 0.5 m and this mass)."""
 
 class Hit:
     """One contact of a step, as the engine reported it before resolving it."""
