@@ -5,9 +5,8 @@
 //! the authored normals stay bit for bit until a dent moves the surface around them, and after
 //! one only the normals near it change. Reports tell the depth the dent really made.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use bevy::prelude::*;
 use bevy_dentbend::dentbend::dent::{DentSettings, VolumeMode};
@@ -128,7 +127,7 @@ fn the_game_dent_on_the_gpu_path_matches_the_cpu_path() {
     let (gpu, cpu) = (g.target_now(), c.target_now());
     assert_eq!(gpu.faces(), cpu.faces(), "the same refinement on both paths");
     assert!(gpu.vertex_count() > 24, "the cuboid was not refined");
-    // Tolerance as tests/gpu_path.rs: one dent of at most 4 cm, the map's 2e-5·d error plus a
+    // Tolerance as gpu_path.rs: one dent of at most 4 cm, the map's 2e-5·d error plus a
     // few ulps of the coordinate, margin 3.
     let tol = 3.0 * (2e-5 * 0.04 + 8.0 * f32::EPSILON * 1.5);
     let worst = gpu.positions().iter().zip(cpu.positions()).map(|(a, b)| a.distance(*b)).fold(0.0, f32::max);
@@ -186,17 +185,20 @@ fn a_body_too_coarse_for_its_dents_is_named_with_the_fix() {
     assert!(s.app.world().get::<DentAdvice>(game).is_none(), "refinement serves the game crate");
 }
 
-fn main() -> ExitCode {
-    common::run(vec![
-        ("a_bevy_uv_sphere_dents_and_keeps_its_shading", a_bevy_uv_sphere_dents_and_keeps_its_shading),
-        (
-            "a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges",
-            a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges,
-        ),
-        ("the_game_dent_on_the_gpu_path_matches_the_cpu_path", the_game_dent_on_the_gpu_path_matches_the_cpu_path),
-        (
-            "a_body_too_coarse_for_its_dents_is_named_with_the_fix",
-            a_body_too_coarse_for_its_dents_is_named_with_the_fix,
-        ),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::gpu_trials(
+        module_path!(),
+        vec![
+            ("a_bevy_uv_sphere_dents_and_keeps_its_shading", a_bevy_uv_sphere_dents_and_keeps_its_shading),
+            (
+                "a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges",
+                a_bevy_cuboid_is_refined_under_the_dent_and_keeps_its_hard_edges,
+            ),
+            ("the_game_dent_on_the_gpu_path_matches_the_cpu_path", the_game_dent_on_the_gpu_path_matches_the_cpu_path),
+            (
+                "a_body_too_coarse_for_its_dents_is_named_with_the_fix",
+                a_body_too_coarse_for_its_dents_is_named_with_the_fix,
+            ),
+        ],
+    )
 }

@@ -4,9 +4,8 @@
 //! refined past the device's buffers, an app without a renderer. Each gets a clear outcome (refusal with a reason, the CPU path, or no
 //! dent) and the app goes on denting what it can.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use bevy::asset::RenderAssetUsages;
 use bevy::mesh::PrimitiveTopology;
@@ -62,7 +61,7 @@ fn meshes_that_cannot_dent_are_refused_with_a_reason() {
     s.frames(3);
     assert!(refusal(&s, e).expect("refused").contains("render world"));
 
-    // A scaled body dents (tests/scaled.rs); a mirrored one cannot (its faces would turn inside out).
+    // A scaled body dents (scaled.rs); a mirrored one cannot (its faces would turn inside out).
     let e = spawn(&mut s, common::with_uvs(&tri), ok.clone(), Transform::from_scale(Vec3::new(-1.0, 1.0, 1.0)));
     assert!(refusal(&s, e).expect("refused").contains("mirrors"));
 
@@ -207,15 +206,18 @@ fn an_app_without_a_renderer_dents_on_the_cpu() {
     assert_ne!(s.target_asset_positions(), s.target_mesh.positions());
 }
 
-fn main() -> ExitCode {
-    common::run(vec![
-        ("meshes_that_cannot_dent_are_refused_with_a_reason", meshes_that_cannot_dent_are_refused_with_a_reason),
-        ("a_mesh_without_normals_gets_normals", a_mesh_without_normals_gets_normals),
-        ("bad_contacts_are_rejected", bad_contacts_are_rejected),
-        ("a_body_despawned_mid_batch", a_body_despawned_mid_batch),
-        ("the_last_body_despawned_mid_batch", the_last_body_despawned_mid_batch),
-        ("a_device_without_the_limits_takes_the_cpu_path", a_device_without_the_limits_takes_the_cpu_path),
-        ("a_body_outgrowing_the_device_takes_the_cpu_path", a_body_outgrowing_the_device_takes_the_cpu_path),
-        ("an_app_without_a_renderer_dents_on_the_cpu", an_app_without_a_renderer_dents_on_the_cpu),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::gpu_trials(
+        module_path!(),
+        vec![
+            ("meshes_that_cannot_dent_are_refused_with_a_reason", meshes_that_cannot_dent_are_refused_with_a_reason),
+            ("a_mesh_without_normals_gets_normals", a_mesh_without_normals_gets_normals),
+            ("bad_contacts_are_rejected", bad_contacts_are_rejected),
+            ("a_body_despawned_mid_batch", a_body_despawned_mid_batch),
+            ("the_last_body_despawned_mid_batch", the_last_body_despawned_mid_batch),
+            ("a_device_without_the_limits_takes_the_cpu_path", a_device_without_the_limits_takes_the_cpu_path),
+            ("a_body_outgrowing_the_device_takes_the_cpu_path", a_body_outgrowing_the_device_takes_the_cpu_path),
+            ("an_app_without_a_renderer_dents_on_the_cpu", an_app_without_a_renderer_dents_on_the_cpu),
+        ],
+    )
 }

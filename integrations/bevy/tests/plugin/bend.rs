@@ -3,9 +3,8 @@
 //! rest mesh skinned by the bones' poses (dentbend's `skin` kernel, no read-back), equal to the
 //! CPU twin within the skinning tolerance, and the CPU path bends the same way.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use bevy::prelude::*;
 use bevy_dentbend::demo::headless_app;
@@ -238,11 +237,14 @@ fn a_fast_hit_splits_the_bone_it_lands_on() {
     }
 }
 
-fn main() -> ExitCode {
-    common::run(vec![
-        ("a_fast_hit_splits_the_bone_it_lands_on", a_fast_hit_splits_the_bone_it_lands_on),
-        ("a_dentable_plank_keeps_its_dent", a_dentable_plank_keeps_its_dent),
-        ("the_plank_bends_and_the_slab_is_skinned", the_plank_bends_and_the_slab_is_skinned),
-        ("the_cpu_path_bends_the_same", the_cpu_path_bends_the_same),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::gpu_trials(
+        module_path!(),
+        vec![
+            ("a_fast_hit_splits_the_bone_it_lands_on", a_fast_hit_splits_the_bone_it_lands_on),
+            ("a_dentable_plank_keeps_its_dent", a_dentable_plank_keeps_its_dent),
+            ("the_plank_bends_and_the_slab_is_skinned", the_plank_bends_and_the_slab_is_skinned),
+            ("the_cpu_path_bends_the_same", the_cpu_path_bends_the_same),
+        ],
+    )
 }

@@ -1,12 +1,10 @@
-//! Shared by the plug-in's tests: a libtest-mimic runner that runs Bevy apps one at a time and
-//! skips them without a GPU adapter (unless `DENTBEND_REQUIRE_GPU=1`), and a scripted scene:
+//! Shared by the plug-in's tests: their trials (apps with a renderer skipped without a GPU
+//! adapter, unless `DENTBEND_REQUIRE_GPU=1`), and a scripted scene:
 //! a dentable plate under a camera, a hidden ball, and dents made through the contact hook.
 
 #![allow(dead_code)]
 
 pub mod slab;
-
-use std::process::ExitCode;
 
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::prelude::*;
@@ -18,47 +16,52 @@ use bevy_dentbend::dentbend::{TriMesh, mesh};
 use bevy_dentbend::{
     DentBody, DentContact, DentGpu, DentPath, DentProjectile, DentStats, DentWorld, Dentable, GpuStatus,
 };
-use libtest_mimic::{Arguments, Failed, Trial};
+use libtest_mimic::{Failed, Trial};
 
-/// Runs `tests` one at a time (each builds a Bevy app with a renderer).
-pub fn run(tests: Vec<(&'static str, fn())>) -> ExitCode {
-    let mut args = Arguments::from_args();
-    args.test_threads = Some(1);
+/// The trials of `module`'s tests that build a Bevy app with a renderer: without a GPU
+/// adapter they are ignored, with the reason (failed under `DENTBEND_REQUIRE_GPU=1`).
+pub fn gpu_trials(module: &str, tests: Vec<(&'static str, fn())>) -> Vec<Trial> {
     let adapter = bevy_dentbend::dentbend::gpu::GpuContext::new().err().map(|e| e.to_string());
     let required = std::env::var("DENTBEND_REQUIRE_GPU").as_deref() == Ok("1");
-    let trials = tests
-        .into_iter()
-        .map(|(name, body)| match (&adapter, required) {
-            (None, _) => Trial::test(name, move || {
-                body();
-                Ok(())
-            }),
-            (Some(why), true) => {
-                let why = why.clone();
-                Trial::test(name, move || {
-                    Err(Failed::from(format!("no GPU adapter ({why}) and DENTBEND_REQUIRE_GPU=1")))
-                })
-            }
-            (Some(why), false) => {
-                Trial::test(name, || Ok(())).with_ignored_flag(true).with_kind(format!("no GPU: {why}"))
-            }
-        })
-        .collect();
-    libtest_mimic::run(&args, trials).exit_code()
-}
-
-/// Runs `tests`, apps without a renderer that need no GPU, in parallel.
-pub fn run_headless(tests: Vec<(&'static str, fn())>) -> ExitCode {
-    let trials = tests
+    tests
         .into_iter()
         .map(|(name, body)| {
-            Trial::test(name, move || {
+            let name = trial_name(module, name);
+            match (&adapter, required) {
+                (None, _) => Trial::test(name, move || {
+                    body();
+                    Ok(())
+                }),
+                (Some(why), true) => {
+                    let why = why.clone();
+                    Trial::test(name, move || {
+                        Err(Failed::from(format!("no GPU adapter ({why}) and DENTBEND_REQUIRE_GPU=1")))
+                    })
+                }
+                (Some(why), false) => {
+                    Trial::test(name, || Ok(())).with_ignored_flag(true).with_kind(format!("no GPU: {why}"))
+                }
+            }
+        })
+        .collect()
+}
+
+/// The trials of `module`'s tests that build apps without a renderer (no GPU needed).
+pub fn headless_trials(module: &str, tests: Vec<(&'static str, fn())>) -> Vec<Trial> {
+    tests
+        .into_iter()
+        .map(|(name, body)| {
+            Trial::test(trial_name(module, name), move || {
                 body();
                 Ok(())
             })
         })
-        .collect();
-    libtest_mimic::run(&Arguments::from_args(), trials).exit_code()
+        .collect()
+}
+
+/// `file::test`, from the test's module path and name.
+fn trial_name(module: &str, name: &str) -> String {
+    format!("{}::{name}", module.rsplit("::").next().unwrap_or(module))
 }
 
 /// Frame size of the scripted scene, pixels.

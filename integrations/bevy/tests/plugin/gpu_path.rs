@@ -3,9 +3,8 @@
 //! without passing through the main world (no render read-back), lands in Bevy's vertex slab at
 //! the mesh's offset and stride without touching its other attributes, and matches the CPU path.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use bevy::prelude::*;
 use bevy_dentbend::demo::Frame;
@@ -207,14 +206,17 @@ fn same_dents_paper() {
     the_gpu_and_cpu_paths_make_the_same_dents(|| Dentable::paper(1.0, 0.01, 0.08));
 }
 
-fn main() -> ExitCode {
-    common::run(vec![
-        ("the_frame_changes_at_the_dent_and_nowhere_far::gpu", frame_changes_gpu_path),
-        ("the_frame_changes_at_the_dent_and_nowhere_far::cpu", frame_changes_cpu_path),
-        ("no_render_read_back_on_the_gpu_path", no_render_read_back_on_the_gpu_path),
-        ("the_slab_holds_the_dent_at_bevys_offset_and_stride", the_slab_holds_the_dent_at_bevys_offset_and_stride),
-        ("the_gpu_and_cpu_paths_make_the_same_dents::game", same_dents_game),
-        ("the_gpu_and_cpu_paths_make_the_same_dents::paper", same_dents_paper),
-        ("the_energy_model_sets_the_depth", the_energy_model_sets_the_depth),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::gpu_trials(
+        module_path!(),
+        vec![
+            ("the_frame_changes_at_the_dent_and_nowhere_far::gpu", frame_changes_gpu_path),
+            ("the_frame_changes_at_the_dent_and_nowhere_far::cpu", frame_changes_cpu_path),
+            ("no_render_read_back_on_the_gpu_path", no_render_read_back_on_the_gpu_path),
+            ("the_slab_holds_the_dent_at_bevys_offset_and_stride", the_slab_holds_the_dent_at_bevys_offset_and_stride),
+            ("the_gpu_and_cpu_paths_make_the_same_dents::game", same_dents_game),
+            ("the_gpu_and_cpu_paths_make_the_same_dents::paper", same_dents_paper),
+            ("the_energy_model_sets_the_depth", the_energy_model_sets_the_depth),
+        ],
+    )
 }

@@ -4,9 +4,8 @@
 //! breakable body whose mesh is open is refused with a reason naming the fix. A textured wall's
 //! rest and pieces keep its UVs.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use bevy::prelude::*;
 use bevy_dentbend::dentbend::fracture::{FractureSettings, PatternParams};
@@ -182,10 +181,13 @@ fn an_open_breakable_mesh_is_refused() {
     assert!(app.world().resource::<DentWorld>().mesh(wall).is_none());
 }
 
-fn main() -> ExitCode {
-    common::run_headless(vec![
-        ("a_ball_breaks_a_wall_into_bodies", a_ball_breaks_a_wall_into_bodies),
-        ("a_broken_wall_keeps_its_uvs", a_broken_wall_keeps_its_uvs),
-        ("an_open_breakable_mesh_is_refused", an_open_breakable_mesh_is_refused),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::headless_trials(
+        module_path!(),
+        vec![
+            ("a_ball_breaks_a_wall_into_bodies", a_ball_breaks_a_wall_into_bodies),
+            ("a_broken_wall_keeps_its_uvs", a_broken_wall_keeps_its_uvs),
+            ("an_open_breakable_mesh_is_refused", an_open_breakable_mesh_is_refused),
+        ],
+    )
 }

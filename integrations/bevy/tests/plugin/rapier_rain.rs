@@ -2,9 +2,8 @@
 //! path (the game dent too), the bodies' `Collider`s (and Rapier's own colliders) take the dented
 //! vertices from the collider read-back, and a ball at rest dents nothing more.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use bevy::prelude::*;
 use bevy_dentbend::demo::{RainPlugin, RainSettings, Target, headless_app};
@@ -110,9 +109,12 @@ fn a_ball_at_rest_dents_no_more() {
     assert!(v < 0.5 && (0.0..0.3).contains(&y), "the ball was launched ({v} m/s at y = {y} m)");
 }
 
-fn main() -> ExitCode {
-    common::run(vec![
-        ("impacts_dent_and_colliders_follow", impacts_dent_and_colliders_follow),
-        ("a_ball_at_rest_dents_no_more", a_ball_at_rest_dents_no_more),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::gpu_trials(
+        module_path!(),
+        vec![
+            ("impacts_dent_and_colliders_follow", impacts_dent_and_colliders_follow),
+            ("a_ball_at_rest_dents_no_more", a_ball_at_rest_dents_no_more),
+        ],
+    )
 }

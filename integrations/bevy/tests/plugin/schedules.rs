@@ -4,14 +4,12 @@
 //! fixed block dents it once in every set-up: Rapier in `PostUpdate`, in `FixedUpdate` found or
 //! named, and named wrongly (Rapier's own schedule wins, with a warning).
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
 
 use bevy::prelude::*;
 use bevy_dentbend::{DentStats, Dentable, DentbendPlugin, bevy_mesh, dentbend};
 use bevy_rapier3d::prelude::*;
-use libtest_mimic::{Arguments, Trial};
+use libtest_mimic::Trial;
 
 /// Where Rapier steps, and whether the plug-in is told.
 #[derive(Clone, Copy)]
@@ -51,19 +49,17 @@ fn dents(setup: Setup) -> u64 {
     app.world().resource::<DentStats>().dents
 }
 
-fn main() -> ExitCode {
-    let args = Arguments::from_args();
+pub fn tests() -> Vec<Trial> {
     let trial = |name: &'static str, setup: Setup| {
-        Trial::test(name, move || match dents(setup) {
+        Trial::test(format!("schedules::{name}"), move || match dents(setup) {
             1 => Ok(()),
             n => Err(format!("{n} dents, expected the ball's one").into()),
         })
     };
-    let trials = vec![
+    vec![
         trial("rapier_in_post_update_dents", Setup::PostUpdate),
         trial("rapier_in_the_fixed_schedule_dents_found_by_the_plug_in", Setup::FixedFound),
         trial("rapier_in_the_fixed_schedule_dents_when_named", Setup::FixedNamed),
         trial("a_misnamed_schedule_gives_way_to_rapier_s_own", Setup::Misnamed),
-    ];
-    libtest_mimic::run(&args, trials).exit_code()
+    ]
 }

@@ -3,9 +3,8 @@
 //! ball hits it, sized in metres: the plug-in's mesh is the asset's times the scale, the dent's
 //! depth is the one decided (world metres), and the collider bevy_rapier3d scales follows it.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use bevy::prelude::*;
 use bevy_dentbend::dentbend::mesh;
@@ -77,9 +76,12 @@ fn dents_scaled(scale: Vec3) {
     }
 }
 
-fn main() -> ExitCode {
-    common::run_headless(vec![
-        ("a_uniformly_scaled_body_dents_in_metres", || dents_scaled(Vec3::splat(2.0))),
-        ("a_non_uniformly_scaled_body_dents_in_metres", || dents_scaled(Vec3::new(2.0, 0.5, 1.5))),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::headless_trials(
+        module_path!(),
+        vec![
+            ("a_uniformly_scaled_body_dents_in_metres", || dents_scaled(Vec3::splat(2.0))),
+            ("a_non_uniformly_scaled_body_dents_in_metres", || dents_scaled(Vec3::new(2.0, 0.5, 1.5))),
+        ],
+    )
 }

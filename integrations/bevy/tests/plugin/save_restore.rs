@@ -4,9 +4,8 @@
 //! (the vertices the dents' refinement added included). Damage saved from another mesh is
 //! refused and changes nothing.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use bevy::prelude::*;
 use bevy_dentbend::dentbend::record::DamageFile;
@@ -132,10 +131,13 @@ fn damage_of_another_mesh_is_refused() {
     assert_eq!(app.world().resource::<DentWorld>().mesh(fresh), Some(&other), "unchanged");
 }
 
-fn main() -> ExitCode {
-    common::run_headless(vec![
-        ("a_saved_block_restores_bit_for_bit", a_saved_block_restores_bit_for_bit),
-        ("a_refined_block_restores_its_uvs", a_refined_block_restores_its_uvs),
-        ("damage_of_another_mesh_is_refused", damage_of_another_mesh_is_refused),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::headless_trials(
+        module_path!(),
+        vec![
+            ("a_saved_block_restores_bit_for_bit", a_saved_block_restores_bit_for_bit),
+            ("a_refined_block_restores_its_uvs", a_refined_block_restores_its_uvs),
+            ("damage_of_another_mesh_is_refused", damage_of_another_mesh_is_refused),
+        ],
+    )
 }

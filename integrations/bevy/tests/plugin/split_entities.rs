@@ -4,9 +4,8 @@
 //! both, and the collider on the other entity follows the dent in its own coordinates. A
 //! `Dentable` over several meshes is refused, naming them.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use bevy::prelude::*;
 use bevy_dentbend::dentbend::{TriMesh, mesh};
@@ -85,12 +84,15 @@ fn several_meshes_are_refused() {
     assert!(why.contains("2 descendants") && why.contains("put a Dentable on each mesh entity"), "{why}");
 }
 
-fn main() -> ExitCode {
-    common::run_headless(vec![
-        ("a_dentable_body_dents_its_child_mesh", || dents_through_the_other_entity(Layout::OnBody)),
-        ("a_dentable_child_mesh_dents_through_its_parent_s_collider", || {
-            dents_through_the_other_entity(Layout::OnMesh)
-        }),
-        ("a_dentable_over_several_meshes_is_refused", several_meshes_are_refused),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::headless_trials(
+        module_path!(),
+        vec![
+            ("a_dentable_body_dents_its_child_mesh", || dents_through_the_other_entity(Layout::OnBody)),
+            ("a_dentable_child_mesh_dents_through_its_parent_s_collider", || {
+                dents_through_the_other_entity(Layout::OnMesh)
+            }),
+            ("a_dentable_over_several_meshes_is_refused", several_meshes_are_refused),
+        ],
+    )
 }

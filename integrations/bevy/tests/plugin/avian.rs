@@ -6,9 +6,8 @@
 //! a body's locked rotation axes take no angular impulse in the state the plug-in records; a
 //! bendable plank of Avian bodies splits where a fast ball lands, bends there and keeps its dent.
 
-mod common;
-
-use std::process::ExitCode;
+use crate::common;
+use libtest_mimic::Trial;
 
 use avian3d::prelude::*;
 use bevy::prelude::*;
@@ -338,18 +337,21 @@ fn a_bendable_plank_splits_bends_and_dents_on_avian() {
     assert_eq!(joints.iter(app.world()).count(), 1);
 }
 
-fn main() -> ExitCode {
-    common::run_headless(vec![
-        ("a_dropped_ball_dents_in_fixed_post_update", || a_dropped_ball_dents(FixedPostUpdate)),
-        ("a_dropped_ball_dents_in_post_update", || a_dropped_ball_dents(PostUpdate)),
-        ("a_ball_breaks_a_wall_into_avian_bodies", a_ball_breaks_a_wall_into_avian_bodies),
-        ("a_parent_collider_dents_its_child_mesh", a_parent_collider_dents_its_child_mesh),
-        ("a_moving_turned_body_dents_where_it_was_hit", a_moving_turned_body_dents_where_it_was_hit),
-        ("a_paused_avian_sends_no_contacts", a_paused_avian_sends_no_contacts),
-        (
-            "a_body_with_locked_rotation_takes_no_angular_impulse_about_it",
-            a_body_with_locked_rotation_takes_no_angular_impulse_about_it,
-        ),
-        ("a_bendable_plank_splits_bends_and_dents_on_avian", a_bendable_plank_splits_bends_and_dents_on_avian),
-    ])
+pub fn tests() -> Vec<Trial> {
+    common::headless_trials(
+        module_path!(),
+        vec![
+            ("a_dropped_ball_dents_in_fixed_post_update", || a_dropped_ball_dents(FixedPostUpdate)),
+            ("a_dropped_ball_dents_in_post_update", || a_dropped_ball_dents(PostUpdate)),
+            ("a_ball_breaks_a_wall_into_avian_bodies", a_ball_breaks_a_wall_into_avian_bodies),
+            ("a_parent_collider_dents_its_child_mesh", a_parent_collider_dents_its_child_mesh),
+            ("a_moving_turned_body_dents_where_it_was_hit", a_moving_turned_body_dents_where_it_was_hit),
+            ("a_paused_avian_sends_no_contacts", a_paused_avian_sends_no_contacts),
+            (
+                "a_body_with_locked_rotation_takes_no_angular_impulse_about_it",
+                a_body_with_locked_rotation_takes_no_angular_impulse_about_it,
+            ),
+            ("a_bendable_plank_splits_bends_and_dents_on_avian", a_bendable_plank_splits_bends_and_dents_on_avian),
+        ],
+    )
 }
