@@ -45,7 +45,7 @@ def main():
             start = time.perf_counter()
             dentbend.dent(*arguments)
             python_times.append(time.perf_counter() - start)
-        rust_times.append(_dentbend.rust_dent_seconds(*arguments, args.per_round))
+        rust_times.append(_dentbend.rust_dent_seconds(arguments, args.per_round))
     python_median = statistics.median(python_times)
     rust_median = statistics.median(rust_times)
     figures = {

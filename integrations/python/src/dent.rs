@@ -7,6 +7,7 @@ use dentbend::dent::{DentJob, DentParams, Impact, Refine, VolumeMode, dent_batch
 use dentbend::glam::Vec3;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
+use pyo3::types::PyTuple;
 
 use crate::arrays::{faces, list_out, positions, positions_out, refused, rows_out, vec3};
 
@@ -212,44 +213,18 @@ fn result(py: Python<'_>, made: Made) -> DentResult {
     }
 }
 
-/// The median time of the Rust call `dentbend.dent` makes (the meshes made from the arrays and
-/// the dent, no Python object involved), s, over `repeats` runs: the baseline of the Python
-/// overhead benchmark.
+/// The median time of the Rust call `dentbend.dent(*arguments)` makes (the meshes made from
+/// the arrays and the dent, no Python object involved), s, over `repeats` runs: the baseline
+/// of the Python overhead benchmark. `arguments` are `dent`'s eight positional arguments.
 #[pyfunction]
-#[pyo3(signature = (
-    target_positions, target_faces, projectile_positions, projectile_faces, point, normal,
-    relative_velocity, dent_distance, repeats
-))]
-#[allow(clippy::too_many_arguments)]
-pub fn rust_dent_seconds(
-    py: Python<'_>,
-    target_positions: &Bound<'_, PyAny>,
-    target_faces: &Bound<'_, PyAny>,
-    projectile_positions: &Bound<'_, PyAny>,
-    projectile_faces: &Bound<'_, PyAny>,
-    point: &Bound<'_, PyAny>,
-    normal: &Bound<'_, PyAny>,
-    relative_velocity: &Bound<'_, PyAny>,
-    dent_distance: f32,
-    repeats: usize,
-) -> PyResult<f64> {
-    let auto = pyo3::types::PyString::new(py, "auto");
-    let read = || {
-        Request::read(
-            target_positions,
-            target_faces,
-            projectile_positions,
-            projectile_faces,
-            point,
-            normal,
-            relative_velocity,
-            dent_distance,
-            false,
-            auto.as_any(),
-            None,
-            true,
-        )
+pub fn rust_dent_seconds(py: Python<'_>, arguments: &Bound<'_, PyTuple>, repeats: usize) -> PyResult<f64> {
+    let items: Vec<Bound<'_, PyAny>> = arguments.iter().collect();
+    let [tp, tf, pp, pf, point, normal, velocity, distance] = items.as_slice() else {
+        return Err(refused(format!("dent takes 8 positional arguments, got {}", items.len())));
     };
+    let distance: f32 = distance.extract()?;
+    let auto = pyo3::types::PyString::new(py, "auto");
+    let read = || Request::read(tp, tf, pp, pf, point, normal, velocity, distance, false, auto.as_any(), None, true);
     let mut times = Vec::with_capacity(repeats.max(1));
     for _ in 0..repeats.max(1) {
         let request = read()?;
