@@ -1,5 +1,5 @@
-"""Packs the Blender extension: builds the dentbend wheel for this platform into
-dentbend_blender/wheels/, lists it in the manifest, and zips the add-on.
+"""Packs the Blender extension: builds the dentbend wheel for this platform (into
+<out>/stage/wheels), lists it and its platform in the manifest, and zips the add-on with it.
 
     python integrations/blender/build_extension.py --out target/blender
 
@@ -34,10 +34,20 @@ def build_wheel(wheels):
     return built[0]
 
 
+def platform_of(wheel):
+    """Blender's name for the platform a wheel's tag names (the extension installs only there)."""
+    tag = wheel.stem.split("-")[-1]
+    system = "linux" if "linux" in tag else "windows" if tag.startswith("win") else "macos" if "macosx" in tag else None
+    machine = "arm64" if ("aarch64" in tag or "arm64" in tag) else "x64" if ("x86_64" in tag or "amd64" in tag) else None
+    if system is None or machine is None:
+        raise SystemExit(f"no Blender platform for the wheel tag {tag}")
+    return f"{system}-{machine}"
+
+
 def manifest_with(wheel):
-    """The manifest's text with its wheels list naming ``wheel``."""
+    """The manifest's text with its wheels list naming ``wheel``, and its platform."""
     text = (ADDON / "blender_manifest.toml").read_text()
-    listed = f'wheels = ["./wheels/{wheel.name}"]'
+    listed = f'wheels = ["./wheels/{wheel.name}"]\nplatforms = ["{platform_of(wheel)}"]'
     text, count = re.subn(r"(?m)^wheels = \[.*\]$", listed, text)
     if count != 1:
         raise SystemExit("blender_manifest.toml has no one-line `wheels = [...]` entry")

@@ -2,10 +2,15 @@
 
 A dent that only moves vertices writes their positions and nothing else. A dent that refines
 rebuilds the mesh: polygons none of whose triangles changed are kept as they were (quads and
-n-gons included); the pieces of the others become triangles. Every attribute is carried over:
-point and corner values of new vertices and corners interpolate their parents' (floats
-linearly, other types from the nearer parent), faces keep their polygon's values, and edges
-that lie along an old edge keep its values.
+n-gons included); the pieces of the others become triangles. Every attribute but strings is
+carried over: point and corner values of new vertices and corners interpolate their parents'
+(floats, vectors and colours linearly; integers, booleans, quaternions and matrices from the
+nearer parent), faces keep their polygon's values, and edges that lie along an old edge keep
+its values. Vertex-group weights are interpolated like point floats.
+
+dentbend works in float32, so positions go to it relative to an origin near the target
+(computed in float64), and the vertices a dent did not move keep their own coordinates
+exactly.
 """
 
 import numpy as np
@@ -42,13 +47,18 @@ def world_winding(triangles, world):
 
 
 class Triangulated:
-    """A mesh's vertices (world coordinates) and loop triangles, with what ties them back."""
+    """A mesh's vertices and loop triangles as dentbend sees them (world coordinates relative
+    to ``origin``, float32), with what ties them back to the mesh."""
 
     def __init__(self, obj, world):
         mesh = obj.data
         mesh.calc_loop_triangles()
+        self.world_matrix = world
         self.local = read(mesh.vertices, "co", 3, np.float32).astype(np.float64)
-        self.world = (self.local @ world[:3, :3].T + world[:3, 3]).astype(np.float32)
+        world_positions = self.local @ world[:3, :3].T + world[:3, 3]
+        # The centre of the target's box: float32 keeps about 1e-7 of the distance from it.
+        self.origin = (world_positions.min(axis=0) + world_positions.max(axis=0)) / 2.0
+        self.relative = (world_positions - self.origin).astype(np.float32)
         self.triangles = read(mesh.loop_triangles, "vertices", 3, np.int32).astype(np.uint32)
         self.loops = read(mesh.loop_triangles, "loops", 3, np.int32)
         self.polygons = read(mesh.loop_triangles, "polygon_index", 1, np.int32)[:, 0]
@@ -60,26 +70,31 @@ class Triangulated:
         """Faces in world winding back in the mesh's own."""
         return faces[:, [0, 2, 1]] if self.mirrored else faces
 
+    def to_local(self, relative, moved):
+        """dentbend's output positions (relative to the origin) in the object's coordinates;
+        input vertices not in ``moved`` keep their own coordinates exactly."""
+        inverse = np.linalg.inv(self.world_matrix)
+        world_positions = relative.astype(np.float64) + self.origin
+        local = world_positions @ inverse[:3, :3].T + inverse[:3, 3]
+        still = np.ones(len(self.local), bool)
+        still[moved[moved < len(self.local)]] = False
+        local[: len(self.local)][still] = self.local[still]
+        return local
+
 
 def evaluated_world_mesh(obj, depsgraph):
-    """The object as seen (modifiers applied): world positions (float32) and triangles."""
+    """The object as seen (modifiers applied): world positions (float64) and triangles."""
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
         mesh.calc_loop_triangles()
         local = read(mesh.vertices, "co", 3, np.float32).astype(np.float64)
         world = np.array(evaluated.matrix_world, dtype=np.float64)
-        positions = (local @ world[:3, :3].T + world[:3, 3]).astype(np.float32)
+        positions = local @ world[:3, :3].T + world[:3, 3]
         triangles = world_winding(read(mesh.loop_triangles, "vertices", 3, np.int32).astype(np.uint32), world)
     finally:
         evaluated.to_mesh_clear()
     return positions, triangles
-
-
-def to_local(world_positions, world):
-    """World positions back into the object's coordinates."""
-    inverse = np.linalg.inv(world)
-    return world_positions.astype(np.float64) @ inverse[:3, :3].T + inverse[:3, 3]
 
 
 def write_positions(mesh, local):
@@ -158,9 +173,11 @@ def read_attributes(mesh):
     return out
 
 
-def rebuild(mesh, source, result, local):
-    """Rebuilds ``mesh`` (read as ``source``) as the refined, dented ``result`` (local positions
-    ``local``), keeping untouched polygons and carrying every attribute."""
+def rebuild(obj, source, result, local):
+    """Rebuilds ``obj``'s mesh (read as ``source``) as the refined, dented ``result`` (local
+    positions ``local``), keeping untouched polygons and carrying every attribute and the
+    vertex-group weights."""
+    mesh = obj.data
     base_vertices, base_triangles = len(source.local), len(source.triangles)
     faces, face_parents = source.own_winding(result.faces), result.face_parents.astype(np.int64)
     split = np.zeros(base_triangles, bool)
@@ -207,6 +224,10 @@ def rebuild(mesh, source, result, local):
     uv_active = mesh.uv_layers.active.name if mesh.uv_layers.active else None
     uv_render = next((uv.name for uv in mesh.uv_layers if uv.active_render), None)
     color_active, color_default = mesh.attributes.active_color_name, mesh.attributes.default_color_name
+    groups = read_groups(mesh, len(obj.vertex_groups))
+    # Clearing the geometry clears the groups too: their names, locks and the active one.
+    group_names = [(g.name, g.lock_weight) for g in obj.vertex_groups]
+    active_group = obj.vertex_groups.active_index
     custom_normals = None
     if mesh.has_custom_normals:
         custom_normals = corners.apply(read(mesh.corner_normals, "vector", 3, np.float32), True)
@@ -247,10 +268,39 @@ def rebuild(mesh, source, result, local):
         mesh.attributes.active_color_name = color_active
     if color_default:
         mesh.attributes.default_color_name = color_default
+    if groups is not None:
+        for name, lock in group_names:
+            group = obj.vertex_groups.get(name) or obj.vertex_groups.new(name=name)
+            group.lock_weight = lock
+        obj.vertex_groups.active_index = active_group
+        write_groups(obj, points.apply(groups[0], True), points.apply(groups[1], True) > 0.0)
     if custom_normals is not None:
         lengths = np.linalg.norm(custom_normals, axis=1, keepdims=True)
         mesh.normals_split_custom_set((custom_normals / np.maximum(lengths, 1e-12)).tolist())
     mesh.update()
+
+
+def read_groups(mesh, count):
+    """Vertex-group weights and membership, (vertices, groups) each; None without groups."""
+    if count == 0:
+        return None
+    weights = np.zeros((len(mesh.vertices), count), np.float32)
+    member = np.zeros((len(mesh.vertices), count), np.float32)
+    for vertex in mesh.vertices:
+        for element in vertex.groups:
+            if element.group < count:
+                weights[vertex.index, element.group] = element.weight
+                member[vertex.index, element.group] = 1.0
+    return weights, member
+
+
+def write_groups(obj, weights, member):
+    """Puts vertex-group weights back after a rebuild: a vertex is in a group when any of its
+    parents was."""
+    for group in obj.vertex_groups:
+        column = group.index
+        for vertex in np.flatnonzero(member[:, column]).tolist():
+            group.add([vertex], float(weights[vertex, column]), "REPLACE")
 
 
 def loose_edges(edges, corner_vertex, loop_start, loop_total):

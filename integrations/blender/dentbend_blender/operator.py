@@ -115,7 +115,7 @@ class OBJECT_OT_dentbend_dent(bpy.types.Operator):
         if len(projectile[1]) == 0:
             self.report({"ERROR"}, f"{active.name} has no faces to dent with")
             return {"CANCELLED"}
-        dented, deepest, seen = [], 0.0, set()
+        dented, deepest, seen = [], 0.0, {active.data.as_pointer()}
         for target in context.selected_objects:
             if target is active or target.type != "MESH":
                 continue
@@ -123,7 +123,7 @@ class OBJECT_OT_dentbend_dent(bpy.types.Operator):
             if problem:
                 self.report({"WARNING"}, problem)
                 continue
-            seen.add(target.data.name)
+            seen.add(target.data.as_pointer())
             try:
                 depth = self.dent_one(dentbend, target, projectile, direction)
             except dentbend.DentError as error:
@@ -145,10 +145,15 @@ class OBJECT_OT_dentbend_dent(bpy.types.Operator):
         """Why ``target`` cannot be dented as it is (its fix named), or None."""
         if target.data.shape_keys is not None:
             return f"{target.name} has shape keys, which a dent cannot carry: apply or remove them first"
-        if target.data.name in seen:
-            return f"{target.name} shares its mesh with an object dented already: make it single user first"
+        if target.data.as_pointer() in seen:
+            return (
+                f"{target.name} shares its mesh with the active object or an object dented already: "
+                "make it single user first"
+            )
         if len(target.data.polygons) == 0:
             return f"{target.name} has no faces"
+        if abs(np.linalg.det(np.array(target.matrix_world, dtype=np.float64)[:3, :3])) < 1e-12:
+            return f"{target.name} is scaled to zero along an axis: give it a non-zero scale"
         return None
 
     def dent_one(self, dentbend, target, projectile, direction):
@@ -157,13 +162,14 @@ class OBJECT_OT_dentbend_dent(bpy.types.Operator):
         world = np.array(target.matrix_world, dtype=np.float64)
         source = meshdata.Triangulated(target, world)
         positions, triangles = projectile
-        found = contact.first_contact(source.world, source.world_triangles, positions, triangles, direction)
+        relative = (positions - source.origin).astype(np.float32)
+        found = contact.first_contact(source.relative, source.world_triangles, relative, triangles, direction)
         if found is None:
             return None
         travel, point = found
-        at_contact = (positions.astype(np.float64) + travel * direction).astype(np.float32)
+        at_contact = (relative.astype(np.float64) + travel * direction).astype(np.float32)
         result = dentbend.dent(
-            source.world,
+            source.relative,
             source.world_triangles,
             at_contact,
             triangles,
@@ -175,9 +181,9 @@ class OBJECT_OT_dentbend_dent(bpy.types.Operator):
             refine="auto" if self.refine else "off",
             sigma=self.smoothing if self.smoothing > 0.0 else None,
         )
-        local = meshdata.to_local(result.positions, world)
+        local = source.to_local(result.positions, result.moved)
         if len(result.positions) == len(source.local) and np.array_equal(result.faces, source.world_triangles):
             meshdata.write_positions(target.data, local)
         else:
-            meshdata.rebuild(target.data, source, result, local)
+            meshdata.rebuild(target, source, result, local)
         return float(result.max_displacement)

@@ -239,3 +239,58 @@ def test_a_mirrored_object_is_dented_inwards(scene):
     normals = read(cube.data.polygons, "normal", 3)
     centres = read(cube.data.polygons, "center", 3)
     assert np.all(np.einsum("ij,ij->i", normals, centres) > 0.0)
+
+
+def test_vertex_group_weights_survive_a_refining_dent(scene):
+    cube, _ = scene
+    group = cube.vertex_groups.new(name="Weights")
+    # Weight = (rest height + 1) / 2: 1 on top, 0 at the bottom, so new vertices' weights
+    # follow their rest height.
+    for vertex in cube.data.vertices:
+        group.add([vertex.index], (vertex.co.z + 1.0) / 2.0, "REPLACE")
+    assert in_window(bpy.ops.object.dentbend_dent, depth=DEPTH) == {"FINISHED"}
+    mesh = cube.data
+    assert len(mesh.vertices) > 8
+    rest = read(mesh.attributes["rest_height"].data, "value", 1)[:, 0]
+    # The group is made again by the rebuild: found by name, at its old index.
+    index = cube.vertex_groups["Weights"].index
+    assert index == 0 and cube.vertex_groups.active_index == 0
+    weights = np.array([next(g.weight for g in v.groups if g.group == index) for v in mesh.vertices])
+    assert np.allclose(weights, (rest + 1.0) / 2.0, atol=1e-6)
+
+
+def test_a_far_away_object_keeps_its_untouched_vertices_exactly(scene):
+    cube, sphere = scene
+    # 20 km from the origin, turned: float32 world coordinates there are 2 mm apart.
+    for obj in (cube, sphere):
+        obj.location.x += 20000.0
+    cube.rotation_euler = (0.0, 0.0, 0.5)
+    bpy.context.view_layer.update()
+    before = read(cube.data.vertices, "co", 3)
+    assert in_window(bpy.ops.object.dentbend_dent, depth=DEPTH, refine=False) == {"FINISHED"}
+    after = read(cube.data.vertices, "co", 3)
+    # The 8-vertex cube has only corners: the dent moves the top four; the bottom four are
+    # untouched and keep their coordinates bit for bit.
+    bottom = before[:, 2] < 0.0
+    assert np.array_equal(after[bottom], before[bottom])
+    # The dent is made near the target, so it is as exact there as at the origin: the corners
+    # it moves went down, by at most the depth.
+    drop = before[~bottom, 2] - after[~bottom, 2]
+    assert np.all(drop >= 0.0) and drop.max() <= DEPTH + 1e-5
+
+
+def test_zero_scale_and_a_mesh_shared_with_the_active_object_are_refused(scene):
+    cube, sphere = scene
+    cube.scale = (1.0, 1.0, 0.0)
+    bpy.context.view_layer.update()
+    assert in_window(bpy.ops.object.dentbend_dent, depth=DEPTH) == {"CANCELLED"}
+    cube.scale = (1.0, 1.0, 1.0)
+    twin = sphere.copy()  # shares the sphere's mesh
+    bpy.context.collection.objects.link(twin)
+    twin.location = (0.0, 0.0, 0.8)
+    cube.select_set(False)
+    twin.select_set(True)
+    bpy.context.view_layer.update()
+    vertices = len(sphere.data.vertices)
+    assert in_window(bpy.ops.object.dentbend_dent, depth=DEPTH) == {"CANCELLED"}
+    assert len(sphere.data.vertices) == vertices
