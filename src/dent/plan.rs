@@ -41,8 +41,6 @@ pub struct DentPlan {
     pub dent_distance: f32,
 }
 
-/// Validates one dent's inputs and plans it: frame, grids, and the parameter block of each kernel.
-///
 /// Whether `mesh`'s triangles have area: more than 1e-10 of its bounding box diagonal
 /// squared.
 fn has_area(mesh: &TriMesh) -> bool {
@@ -59,6 +57,8 @@ pub(crate) fn check_target(target: &TriMesh) -> Result<(), DentError> {
     if has_area(target) { Ok(()) } else { Err(DentError::DegenerateTarget) }
 }
 
+/// Validates one dent's inputs and plans it: frame, grids, and the parameter block of each kernel.
+///
 /// `target_edge` is the target's mean edge length (world units), used with the projectile's for
 /// the automatic resolution; `None` uses the projectile's alone.
 ///

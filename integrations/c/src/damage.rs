@@ -238,9 +238,13 @@ impl DbDamage {
     /// failure no body changes.
     ///
     /// # Errors
-    /// A hit on a body the context does not know (`DB_ERR_INVALID_ARGUMENT`), a dent that
-    /// cannot be made (`DB_ERR_DENT`), a record or message that cannot be made.
+    /// A projectile pose that is not finite or a hit on a body the context does not know
+    /// (`DB_ERR_INVALID_ARGUMENT`), a dent that cannot be made (`DB_ERR_DENT`), a record or
+    /// message that cannot be made.
     pub fn step(&mut self, list: &[Hit<'_, u64>]) -> Result<(), Failure> {
+        if let Some(k) = list.iter().position(|h| !h.projectile_surface.to_world.is_finite()) {
+            return Err(Failure::invalid(format!("hit {k}: projectile_to_world is not finite")));
+        }
         let mut state = self.damage.clone();
         let step = self.step + 1;
         let plan = state.plan(&self.targets, list, step, &mut CpuBackend).map_err(|e| match e {
@@ -416,9 +420,6 @@ pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHi
             let impact = Impact::from_contact(point, Vec3::from_array(h.normal), &target_state, &projectile_state)
                 .map_err(|e| bad(e.to_string()))?;
             let to_world = Affine3A::from_cols_array(&h.projectile_to_world);
-            if !to_world.is_finite() {
-                return Err(bad("projectile_to_world is not finite".into()));
-            }
             let projectile_surface = Surface { mesh: surface.mesh(), to_world };
             list.push(Hit {
                 target: h.target,

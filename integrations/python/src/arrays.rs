@@ -1,6 +1,6 @@
 //! numpy arrays in and out: positions `(N, 3)` float32 and faces `(M, 3)` uint32 read in place
-//! when they already have that layout, converted once (exactly) otherwise; results handed to
-//! numpy without a second copy.
+//! when they already have that layout, converted once otherwise (positions rounded to float32,
+//! faces range-checked first); results handed to numpy without a second copy.
 
 use dentbend::glam::{Affine3A, Vec3};
 use numpy::ndarray::{Array1, Array2};
@@ -31,7 +31,7 @@ fn contiguous<'py>(
     let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
     let name: String = array.getattr("dtype")?.getattr("name")?.extract()?;
     if !kinds.contains(kind.as_str()) {
-        return Err(refused(format!("{what} has dtype {name}: it must be {dtype} or convertible to it exactly")));
+        return Err(refused(format!("{what} has dtype {name}: it must be {dtype}, or a float or integer dtype")));
     }
     let shape: Vec<usize> = array.getattr("shape")?.extract()?;
     if !(shape.len() == 2 && shape[1] == width) {
@@ -63,11 +63,20 @@ pub fn faces(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[u32; 3]>> {
     let array = match value.cast::<PyArray2<u32>>() {
         Ok(array) if array.is_c_contiguous() && array.shape()[1] == 3 => array,
         _ => {
-            let checked = contiguous(value, "int64", 3, "iu", what)?;
+            // Unsigned indices are range-checked as uint64, signed ones as int64: no wrapping.
+            let kind: String = value
+                .py()
+                .import("numpy")?
+                .call_method1("asarray", (value,))?
+                .getattr("dtype")?
+                .getattr("kind")?
+                .extract()?;
+            let wide = if kind == "u" { "uint64" } else { "int64" };
+            let checked = contiguous(value, wide, 3, "iu", what)?;
             if checked.getattr("size")?.extract::<usize>()? > 0 {
-                let (low, high): (i64, i64) =
+                let (low, high): (i128, i128) =
                     (checked.call_method0("min")?.extract()?, checked.call_method0("max")?.extract()?);
-                if low < 0 || high > i64::from(u32::MAX) {
+                if low < 0 || high > i128::from(u32::MAX) {
                     return Err(refused(format!(
                         "{what} has indices from {low} to {high}: vertex indices are from 0 to {}",
                         u32::MAX
@@ -105,7 +114,8 @@ fn numbers(value: &Bound<'_, PyAny>, what: &str, count: usize) -> PyResult<Vec<f
 }
 
 /// A rigid placement, mesh -> world: a 4x4 matrix (the last row 0 0 0 1) or the 3x4 top of
-/// one; `None` is the identity.
+/// one, whose 3x3 part is a rotation (orthonormal within 1e-4, determinant +1: dentbend works
+/// in metres, so a scaled body is given scaled positions instead); `None` is the identity.
 pub fn pose(value: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Affine3A> {
     let Some(value) = value.filter(|v| !v.is_none()) else {
         return Ok(Affine3A::IDENTITY);
@@ -125,6 +135,14 @@ pub fn pose(value: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Affine3A> 
     let affine = Affine3A::from_cols(column(0).into(), column(1).into(), column(2).into(), column(3).into());
     if !affine.is_finite() {
         return Err(refused(format!("{what} is not finite")));
+    }
+    let rotation = dentbend::glam::Mat3::from(affine.matrix3);
+    let off = (rotation.transpose() * rotation - dentbend::glam::Mat3::IDENTITY).abs().to_cols_array();
+    if off.iter().any(|&e| e > 1e-4) || rotation.determinant() < 0.0 {
+        return Err(refused(format!(
+            "{what} is not a rotation and translation (scaled, sheared or mirrored): dentbend works in \
+             metres, so scale the positions instead"
+        )));
     }
     Ok(affine)
 }

@@ -168,7 +168,7 @@ pub struct AppliedDent {
     /// The body that dented it.
     projectile: u64,
     /// Contact point, world, m.
-    point: [f32; 3],
+    point: (f32, f32, f32),
     /// Dent distance the hit earned, m.
     dent_distance: f32,
     /// Largest displacement the dent made, m.
@@ -224,14 +224,16 @@ impl Damage {
     ) -> PyResult<()> {
         let (p, f) = (crate::arrays::positions(positions, "positions")?, crate::arrays::faces(faces, "faces")?);
         let to_world = pose(to_world, "to_world")?;
-        let settings = dent_settings(&DbDentSettings {
+        let mut settings = dent_settings(&DbDentSettings {
             threshold_speed,
             depth_per_speed,
             max_depth,
-            sigma: sigma.unwrap_or(0.0),
+            sigma: 0.0,
             preserve_volume: preserve_volume.into(),
             progressive: progressive.into(),
         });
+        // `None` is automatic smoothing; a given width is checked as `dent`'s is (0 refused).
+        settings.params.sigma = sigma;
         settings.params.validate().map_err(|e| refused(e.to_string()))?;
         let mesh = py.detach(|| TriMesh::new(p, f)).map_err(|e| refused(e.to_string()))?;
         let inner = &mut self.inner;
@@ -278,7 +280,7 @@ impl Damage {
             .map(|d| AppliedDent {
                 target: d.target,
                 projectile: d.projectile,
-                point: d.impact.point.to_array(),
+                point: d.impact.point.into(),
                 dent_distance: d.dent_distance,
                 depth_made: d.depth_made,
                 moved_vertices: d.moved_vertices,

@@ -3,11 +3,13 @@
 //!
 //! - Arrays come in as numpy arrays (or anything `numpy.asarray` takes): positions `(N, 3)`
 //!   float32, faces `(M, 3)` uint32. Arrays already of that dtype and C-contiguous are read in
-//!   place; others are converted once, refusing what cannot be converted exactly.
+//!   place; other float and integer arrays are converted once (positions rounded to float32,
+//!   faces range-checked), other dtypes refused.
 //! - Results go out as new numpy arrays that own the library's output (no second copy).
 //! - The interpreter lock is released while the library works, so other Python threads run.
-//! - Every refused input raises `dentbend.DentError` (a `ValueError`) with the library's
-//!   message; nothing the caller passed is modified.
+//! - Every refused value raises `dentbend.DentError` (a `ValueError`) with the library's
+//!   message (an argument of the wrong Python type raises `TypeError`, as Python's own
+//!   functions do); nothing the caller passed is modified.
 
 mod arrays;
 mod damage;

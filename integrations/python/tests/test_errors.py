@@ -75,7 +75,11 @@ def test_indices_out_of_range_are_refused(target, ball, impact):
     assert "-1" in dent_with(target, ball, impact, target_faces=negative)
     too_big = tf.astype(np.int64)
     too_big[0, 0] = 2**40
-    dent_with(target, ball, impact, target_faces=too_big)
+    assert str(2**40) in dent_with(target, ball, impact, target_faces=too_big)
+    # Unsigned indices past int64's range are named as they are, not wrapped.
+    huge = tf.astype(np.uint64)
+    huge[0, 0] = 2**63 + 5
+    assert str(2**63 + 5) in dent_with(target, ball, impact, target_faces=huge)
 
 
 def test_empty_and_degenerate_meshes_are_refused(target, ball, impact):

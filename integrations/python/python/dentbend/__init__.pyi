@@ -105,7 +105,7 @@ class Hit:
         normal: ArrayLike,
         projectile_surface: Mesh,
         *,
-        projectile_to_world: Optional[ArrayLike] = None,
+        projectile_to_world: Optional[ArrayLike] = None,  # 4x4 rotation and translation
         target_state: Optional[BodyState] = None,
         projectile_state: Optional[BodyState] = None,
     ) -> None: ...
