@@ -64,15 +64,15 @@ pub fn faces(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[u32; 3]>> {
         Ok(array) if array.is_c_contiguous() && array.shape()[1] == 3 => array,
         _ => {
             // Unsigned indices are range-checked as uint64, signed ones as int64: no wrapping.
-            let kind: String = value
+            // One conversion of a list or tuple to an array, read twice below.
+            let array = value
                 .py()
                 .import("numpy")?
-                .call_method1("asarray", (value,))?
-                .getattr("dtype")?
-                .getattr("kind")?
-                .extract()?;
+                .call_method1("asarray", (value,))
+                .map_err(|e| refused(format!("{what}: not an array ({e})")))?;
+            let kind: String = array.getattr("dtype")?.getattr("kind")?.extract()?;
             let wide = if kind == "u" { "uint64" } else { "int64" };
-            let checked = contiguous(value, wide, 3, "iu", what)?;
+            let checked = contiguous(&array, wide, 3, "iu", what)?;
             if checked.getattr("size")?.extract::<usize>()? > 0 {
                 let (low, high): (i128, i128) =
                     (checked.call_method0("min")?.extract()?, checked.call_method0("max")?.extract()?);
