@@ -369,6 +369,23 @@ pub unsafe extern "C" fn db_damage_set_pose(damage: *mut DbDamage, id: u64, to_w
     })
 }
 
+/// One hit of a step from its parts: both bodies' states checked, the impact made from the
+/// contact. The error names the part at fault.
+pub fn hit<'m>(
+    target: u64,
+    projectile: u64,
+    point: Vec3,
+    normal: Vec3,
+    target_state: &DbBodyState,
+    projectile_state: &DbBodyState,
+    projectile_surface: Surface<'m>,
+) -> Result<Hit<'m, u64>, String> {
+    let target_state = body_state(target_state).map_err(|e| format!("target_state: {e}"))?;
+    let projectile_state = body_state(projectile_state).map_err(|e| format!("projectile_state: {e}"))?;
+    let impact = Impact::from_contact(point, normal, &target_state, &projectile_state).map_err(|e| e.to_string())?;
+    Ok(Hit { target, projectile, impact, target_state, projectile_state, projectile_surface })
+}
+
 /// The library's state for `state`; a mass that is not finite and >= 0 is refused.
 pub fn body_state(state: &DbBodyState) -> Result<BodyState, String> {
     if !(state.mass.is_finite() && state.mass >= 0.0) {
@@ -413,22 +430,19 @@ pub unsafe extern "C" fn db_damage_step(damage: *mut DbDamage, hits: *const DbHi
             // SAFETY: the caller's contract.
             let surface =
                 unsafe { DbMesh::get(h.projectile_surface, "projectile_surface") }.map_err(|f| bad(f.message))?;
-            let target_state = body_state(&h.target_state).map_err(|e| bad(format!("target_state: {e}")))?;
-            let projectile_state =
-                body_state(&h.projectile_state).map_err(|e| bad(format!("projectile_state: {e}")))?;
-            let point = Vec3::from_array(h.point);
-            let impact = Impact::from_contact(point, Vec3::from_array(h.normal), &target_state, &projectile_state)
-                .map_err(|e| bad(e.to_string()))?;
             let to_world = Affine3A::from_cols_array(&h.projectile_to_world);
-            let projectile_surface = Surface { mesh: surface.mesh(), to_world };
-            list.push(Hit {
-                target: h.target,
-                projectile: h.projectile,
-                impact,
-                target_state,
-                projectile_state,
-                projectile_surface,
-            });
+            let surface = Surface { mesh: surface.mesh(), to_world };
+            let point = Vec3::from_array(h.point);
+            let made = hit(
+                h.target,
+                h.projectile,
+                point,
+                Vec3::from_array(h.normal),
+                &h.target_state,
+                &h.projectile_state,
+                surface,
+            );
+            list.push(made.map_err(bad)?);
         }
         damage.step(&list)
     })

@@ -5,10 +5,9 @@
 use std::sync::Arc;
 
 use dentbend::TriMesh;
-use dentbend::damage::Hit as LibraryHit;
-use dentbend::dent::{Impact, Surface};
+use dentbend::dent::Surface;
 use dentbend::glam::{Affine3A, Mat3, Vec3};
-use dentbend_c::{DbBodyState, DbDamage, DbDentSettings, body_state, dent_settings};
+use dentbend_c::{DbBodyState, DbDamage, DbDentSettings, body_state, dent_settings, hit};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -257,19 +256,9 @@ impl Damage {
         let mut list = Vec::with_capacity(hits.len());
         for (k, h) in hits.iter().enumerate() {
             let bad = |e: String| refused(format!("hit {k}: {e}"));
-            let target_state = body_state(&h.target_state).map_err(|e| bad(format!("target_state: {e}")))?;
-            let projectile_state =
-                body_state(&h.projectile_state).map_err(|e| bad(format!("projectile_state: {e}")))?;
-            let impact = Impact::from_contact(h.point, h.normal, &target_state, &projectile_state)
-                .map_err(|e| bad(e.to_string()))?;
-            list.push(LibraryHit {
-                target: h.target,
-                projectile: h.projectile,
-                impact,
-                target_state,
-                projectile_state,
-                projectile_surface: Surface { mesh: &h.surface, to_world: h.to_world },
-            });
+            let surface = Surface { mesh: &h.surface, to_world: h.to_world };
+            let made = hit(h.target, h.projectile, h.point, h.normal, &h.target_state, &h.projectile_state, surface);
+            list.push(made.map_err(bad)?);
         }
         let inner = &mut self.inner;
         py.detach(|| inner.step(&list)).map_err(|e| refused(e.message))?;
