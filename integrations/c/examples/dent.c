@@ -155,6 +155,31 @@ int main(void) {
     hit.target = 99;
     check(db_damage_step(damage, &hit, 1) == DB_ERR_INVALID_ARGUMENT, "a hit on an unknown body is refused");
     printf("     (%s)\n", db_last_error());
+
+    /* Body 7 also breaks now, within 0.5 m of a hit that removes more than 40 J (the ball's
+     * 64 J does): the engine makes a body of each piece, placed by the fracture's to_world. */
+    DbFractureSettings breaks = db_fracture_settings_default(8, 1, 0.5f, 40.0f, INFINITY);
+    check(db_damage_set_fracture(damage, 7, &breaks) == DB_OK, "body 7 breaks");
+    hit.target = 7;
+    hit.point[0] = hit.projectile_state.center_of_mass[0] = hit.projectile_to_world[9] = 0.3f;
+    hit.point[1] = sqrtf(1.0f - 0.09f) - 0.1f; /* on the dent's slope, just below the old surface */
+    hit.projectile_state.center_of_mass[1] = hit.projectile_to_world[10] = hit.point[1] + 0.3f;
+    status = db_damage_step(damage, &hit, 1);
+    check(status == DB_OK && db_damage_fracture_count(damage) == 1, "a second hit breaks body 7");
+    if (status != DB_OK) printf("  %s\n", db_last_error());
+    DbFracture broken;
+    memset(&broken, 0, sizeof broken);
+    float piece_mass = 0.0f;
+    if (db_damage_fracture(damage, 0, &broken) == DB_OK) {
+        for (size_t k = 0; k < broken.piece_count; k++) {
+            DbPiece piece;
+            if (db_damage_piece(damage, 0, k, &piece) == DB_OK) piece_mass += piece.mass;
+        }
+    }
+    printf("     %.1f J broke it: %zu pieces of %.1f kg together, the rest %.1f kg\n", broken.energy,
+           broken.piece_count, piece_mass, broken.rest_mass);
+    check(broken.body == 7 && !broken.whole && broken.piece_count > 0 && piece_mass > 0.0f && broken.rest_mass > 0.0f,
+          "pieces broke loose; the rest stays body 7");
     db_damage_free(damage);
     db_mesh_free(fresh);
 

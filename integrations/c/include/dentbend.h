@@ -10,6 +10,12 @@
 // Most hits one step may take (a larger count is taken for garbage).
 #define DB_MAX_HITS (1 << 20)
 
+// `DbFracture::cause`: an impact's energy passed the toughness.
+#define DB_FRACTURE_ENERGY 0
+
+// `DbFracture::cause`: the body's accumulated dent passed its dent limit.
+#define DB_FRACTURE_DENT 1
+
 // Most vertices a mesh may have: larger counts are taken for garbage (the library reads
 // `3 * vertex_count` floats from the caller's pointer and could not check the buffer).
 #define DB_MAX_VERTICES (1 << 27)
@@ -159,6 +165,112 @@ typedef struct {
   float kept;
 } DbDentReport;
 
+// How a body breaks; start from `db_fracture_settings_default`. A body breaks when one
+// impact's energy passes `toughness`, or its accumulated dent passes `dent_limit`, whichever
+// comes first (at least one of them finite).
+typedef struct {
+  // Voronoi cells of the pattern, 1..=256 (finer near the hit).
+  uint32_t cells;
+  // Seed of the pattern's cells: the same seed, cells and radius give the same pattern.
+  uint64_t seed;
+  // Radius of the pattern around the hit, m (> 0): the part within it breaks off.
+  float radius;
+  // Kinetic energy one impact must remove along its normal to break the body, J (>= 0);
+  // `INFINITY`: impacts alone never break it.
+  float toughness;
+  // Accumulated dent distance that breaks the body, m (>= 0); `INFINITY`: dents never
+  // break it.
+  float dent_limit;
+  // Density of the pieces of a body of mass 0 (static), kg/m^3; a moving body's pieces
+  // take its own density.
+  float density;
+  // Most pieces one break may make, 1..=65536: a break that would make more is refused
+  // (the step fails, nothing changes).
+  uint32_t max_pieces;
+} DbFractureSettings;
+
+// A body a step broke. Its pieces are read with `db_damage_piece`.
+typedef struct {
+  // The body that broke: it keeps this id with its rest, unless `whole`.
+  uint64_t body;
+  // The body that broke it.
+  uint64_t projectile;
+  // The fracture's number (counted by the context from 0): its pieces' `fracture`.
+  uint64_t number;
+  // `DB_FRACTURE_ENERGY` or `DB_FRACTURE_DENT`.
+  int cause;
+  // Non-zero: the pattern took the whole body; the context no longer has it (remove it).
+  int whole;
+  // The energy the breaking hit removed along its normal, J.
+  float energy;
+  // The body's accumulated dent when it broke, m.
+  float accumulated_dent;
+  // The body's mesh -> world transform when it broke, 3x4 column by column: it places the
+  // rest and the pieces, which are in the body's mesh coordinates.
+  float to_world[12];
+  // The rest's mass, kg, at the body's density (0 when `whole`).
+  float rest_mass;
+  // The rest's centre of mass, mesh coordinates, m.
+  float rest_center_of_mass[3];
+  // The rest's inertia about its centre of mass, mesh axes, kg*m^2, 3x3 column by column.
+  float rest_inertia[9];
+  // How many pieces broke loose.
+  size_t piece_count;
+  // Non-zero when the projectile takes the velocity below: it went on through the body,
+  // which gave way, with the energy the break used up taken from it.
+  int has_projectile_velocity;
+  // The projectile's new linear velocity, world, m/s.
+  float projectile_linear_velocity[3];
+  // The projectile's new angular velocity, world, rad/s.
+  float projectile_angular_velocity[3];
+} DbFracture;
+
+// One piece that broke loose, for the engine to make a body of: a closed mesh in the broken
+// body's mesh coordinates (place it with the fracture's `to_world`) and its mass properties.
+// The arrays are the library's, valid until the next step (for a context) or message (for a
+// replica).
+typedef struct {
+  // The fracture's number.
+  uint64_t fracture;
+  // The piece's index among the fracture's pieces.
+  uint32_t index;
+  // Mass, kg.
+  float mass;
+  // Centre of mass, mesh coordinates, m.
+  float center_of_mass[3];
+  // Inertia about the centre of mass, mesh axes, kg*m^2, 3x3 column by column.
+  float inertia[9];
+  // Velocity of its centre of mass, world, m/s (zero on a replica: velocities are the
+  // game's state to replicate).
+  float linear_velocity[3];
+  // Angular velocity, world, rad/s (zero on a replica).
+  float angular_velocity[3];
+  // Its vertices, 3 floats each, mesh coordinates.
+  const float *positions;
+  // Points for its convex collider, 3 floats each, `vertex_count` of them: the vertices
+  // shrunk by 3 % toward the centre of mass, so pieces start clear of the rest and of each
+  // other.
+  const float *hull_points;
+  // How many vertices.
+  size_t vertex_count;
+  // Its triangles, 3 indices each.
+  const uint32_t *indices;
+  // How many triangles.
+  size_t triangle_count;
+} DbPiece;
+
+// A client replica's view of one fracture, for C.
+typedef struct {
+  // The wire id of the body that broke: it keeps this id with its rest, unless `whole`.
+  uint32_t body;
+  // Non-zero: the pattern took the whole body; the replica no longer has it.
+  int whole;
+  // The server's fracture number: its pieces' `fracture`.
+  uint64_t number;
+  // How many pieces broke loose.
+  size_t piece_count;
+} DbReplicaFracture;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -279,6 +391,57 @@ int db_dent_ex(DbMesh *target,
                const DbDentOptions *options,
                DbDentReport *report);
 
+// Settings that break along a pattern of `cells` cells (seeded with `seed`, `radius` m)
+// when an impact removes `toughness` J or the dents add up to `dent_limit` m (`INFINITY`
+// for either: never for that reason); pieces of a static body at 1000 kg/m^3, at most 1024
+// pieces.
+DbFractureSettings db_fracture_settings_default(uint32_t cells,
+                                                uint64_t seed,
+                                                float radius,
+                                                float toughness,
+                                                float dent_limit);
+
+// Makes body `id` breakable with `settings` (copied), or never breakable again when
+// `settings` is null. Its mesh must be closed.
+//
+// # Safety
+// `damage` is null or live; `settings` is null or points to a `DbFractureSettings`.
+int db_damage_set_fracture(DbDamage *damage, uint64_t id, const DbFractureSettings *settings);
+
+// How many bodies the last step broke (0 for a null or dead context).
+//
+// # Safety
+// `damage` is null or live.
+size_t db_damage_fracture_count(const DbDamage *damage);
+
+// Writes the last step's fracture `index` to `out`.
+//
+// # Safety
+// `damage` is null or live; `out` is null or points to a writable `DbFracture`.
+int db_damage_fracture(const DbDamage *damage, size_t index, DbFracture *out);
+
+// Writes piece `piece` of the last step's fracture `fracture` to `out`; its arrays are
+// valid until the next step.
+//
+// # Safety
+// `damage` is null or live; `out` is null or points to a writable `DbPiece`.
+int db_damage_piece(const DbDamage *damage, size_t fracture, size_t piece, DbPiece *out);
+
+// A new mesh, a copy of piece `piece` of the last step's fracture `fracture`: to add it as
+// a body that dents (`db_damage_add_body`, placed by the fracture's `to_world`), or to hand
+// it as a projectile's surface. Null on failure. Free it with `db_mesh_free`.
+//
+// # Safety
+// `damage` is null or live.
+DbMesh *db_damage_piece_mesh(const DbDamage *damage, size_t fracture, size_t piece);
+
+// Stops naming piece (`fracture_number`, `index`) on the context's replication stream: call
+// when the game removes the piece (clients call `db_replica_forget_piece`).
+//
+// # Safety
+// `damage` is null or live.
+int db_damage_forget_piece(DbDamage *damage, uint64_t fracture_number, uint32_t index);
+
 // A new mesh from `vertex_count` positions (3 floats each, x y z) and `triangle_count`
 // triangles (3 vertex indices each, counter-clockwise seen from outside). Both arrays are
 // copied. Returns null on failure (null pointers, counts past `DB_MAX_VERTICES` or
@@ -370,36 +533,6 @@ size_t db_mesh_moved_count(const DbMesh *mesh);
 // `mesh` is null or a live mesh.
 const uint32_t *db_mesh_moved(const DbMesh *mesh);
 
-// Carries body `id` on the context's stream as wire id `wire_id`: its mesh now is the base
-// every client must add (`db_replica_add_body`), with the same settings.
-//
-// # Safety
-// `damage` is null or live.
-int db_damage_replicate(DbDamage *damage, uint64_t id, uint32_t wire_id);
-
-// Names a projectile's surface `shape_id` on the stream: dents made by bodies with this mesh
-// (its own coordinates) name it by id, and clients add the same mesh under it.
-//
-// # Safety
-// `damage` and `mesh` are null or live.
-int db_damage_add_wire_projectile(DbDamage *damage, uint32_t shape_id, const DbMesh *mesh);
-
-// The last step's message for the clients (its length written to `length`); null and 0 when
-// it carried nothing. Valid until the next `db_damage_step`.
-//
-// # Safety
-// `damage` is null or live; `length` is null or writable.
-const uint8_t *db_damage_message(const DbDamage *damage, size_t *length);
-
-// A late joiner's start (its length written to `length`): every carried body's mesh now, as
-// the smaller of its edit from the base and the whole mesh, bounded by the meshes however many
-// dents came before. Take it after the last step's message was sent. Valid until the next
-// snapshot or step.
-//
-// # Safety
-// `damage` is null or live; `length` is null or writable.
-const uint8_t *db_damage_snapshot(DbDamage *damage, size_t *length);
-
 // A new client replica with no body. Free it with `db_replica_free`.
 DbReplica *db_replica_new(void);
 
@@ -433,8 +566,9 @@ int db_replica_add_projectile(DbReplica *replica, uint32_t shape_id, const DbMes
 int db_replica_join(DbReplica *replica, const uint8_t *bytes, size_t length);
 
 // Applies a server's message (`db_damage_message`), in order: the bodies it names get the
-// server's meshes bit for bit. A message out of order, repeated, truncated or for other
-// meshes is refused and changes nothing.
+// server's meshes bit for bit, and its fractures the server's pieces
+// (`db_replica_fracture`). A message out of order, repeated, truncated or for other meshes is
+// refused and changes nothing.
 //
 // # Safety
 // `replica` is null or live; `bytes` holds `length` bytes.
@@ -463,6 +597,63 @@ const uint32_t *db_replica_indices(const DbReplica *replica,
 // # Safety
 // As `db_replica_positions`.
 const uint32_t *db_replica_moved(const DbReplica *replica, uint32_t wire_id, size_t *count);
+
+// How many bodies the last message or snapshot broke (0 for a null or dead replica).
+//
+// # Safety
+// `replica` is null or live.
+size_t db_replica_fracture_count(const DbReplica *replica);
+
+// Writes the last message's fracture `index` to `out`.
+//
+// # Safety
+// `replica` is null or live; `out` is null or points to a writable `DbReplicaFracture`.
+int db_replica_fracture(const DbReplica *replica, size_t index, DbReplicaFracture *out);
+
+// Writes piece `piece` of the last message's fracture `fracture` to `out` (the server's piece
+// bit for bit; its velocities are zero: they are the game's state to replicate). Its arrays
+// are valid until the next `db_replica_apply` or `db_replica_join`.
+//
+// # Safety
+// `replica` is null or live; `out` is null or points to a writable `DbPiece`.
+int db_replica_piece(const DbReplica *replica, size_t fracture, size_t piece, DbPiece *out);
+
+// Stops keeping piece (`fracture_number`, `index`): call when the game removes it (the
+// server calls `db_damage_forget_piece`).
+//
+// # Safety
+// `replica` is null or live.
+int db_replica_forget_piece(DbReplica *replica, uint64_t fracture_number, uint32_t index);
+
+// Carries body `id` on the context's stream as wire id `wire_id`: its mesh now is the base
+// every client must add (`db_replica_add_body`), with the same settings.
+//
+// # Safety
+// `damage` is null or live.
+int db_damage_replicate(DbDamage *damage, uint64_t id, uint32_t wire_id);
+
+// Names a projectile's surface `shape_id` on the stream: dents made by bodies with this mesh
+// (its own coordinates) name it by id, and clients add the same mesh under it.
+//
+// # Safety
+// `damage` and `mesh` are null or live.
+int db_damage_add_wire_projectile(DbDamage *damage, uint32_t shape_id, const DbMesh *mesh);
+
+// The last step's message for the clients (its length written to `length`); null and 0 when
+// it carried nothing. Valid until the next `db_damage_step`.
+//
+// # Safety
+// `damage` is null or live; `length` is null or writable.
+const uint8_t *db_damage_message(const DbDamage *damage, size_t *length);
+
+// A late joiner's start (its length written to `length`): every carried body's mesh now, as
+// the smaller of its edit from the base and the whole mesh, bounded by the meshes however many
+// dents came before. Take it after the last step's message was sent. Valid until the next
+// snapshot or step.
+//
+// # Safety
+// `damage` is null or live; `length` is null or writable.
+const uint8_t *db_damage_snapshot(DbDamage *damage, size_t *length);
 
 // Records body `id`'s damage from now on, as the body `name` of the saved file: its mesh now is
 // the base a restore starts from.

@@ -6,11 +6,12 @@ use std::collections::HashMap;
 use std::ffi::c_int;
 
 use dentbend::TriMesh;
-use dentbend::damage::{AppliedDent, CpuBackend, Damage, DamageError, DamagePlan, DentedTarget, Hit, TargetSet};
+use dentbend::damage::{AppliedDent, CpuBackend, Damage, DamageError, DamagePlan, Hit, TargetSet};
 use dentbend::dent::{BodyState, DentSettings, Impact, Surface, VolumeMode};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
 use dentbend::record::{DamageRecorder, RecordForms};
 
+use crate::fracture::{MadeFracture, Patterns};
 use crate::handles;
 use crate::mesh::DbMesh;
 use crate::status::{DB_ERR_DENT, Failure, guarded, guarded_value, hand_out};
@@ -34,6 +35,10 @@ pub struct DbDamage {
     /// The damage of the bodies it records, and the last save.
     pub(crate) recorder: DamageRecorder<u64>,
     pub(crate) saved: Vec<u8>,
+    /// The last step's fractures.
+    pub(crate) fractures: Vec<MadeFracture>,
+    /// The fracture patterns built so far.
+    pub(crate) patterns: Patterns,
 }
 
 /// How a body dents: the dent's depth from the normal impact speed, and its shape. Start from
@@ -138,6 +143,8 @@ impl Default for DbDamage {
             stream: Default::default(),
             recorder: DamageRecorder::new(RecordForms::EDITS),
             saved: Vec::new(),
+            fractures: Vec::new(),
+            patterns: Patterns::default(),
         }
     }
 }
@@ -234,13 +241,13 @@ impl DbDamage {
         self.moved.get(&id).map_or(&[], Vec::as_slice)
     }
 
-    /// Decides, makes and applies the dents of one step's `hits`, all of them or none: on
-    /// failure no body changes.
+    /// Decides, makes and applies the dents and fractures of one step's `hits`, all of them or
+    /// none: on failure no body changes. A body a fracture took whole is removed.
     ///
     /// # Errors
     /// A projectile pose that is not finite or a hit on a body the context does not know
-    /// (`DB_ERR_INVALID_ARGUMENT`), a dent that cannot be made (`DB_ERR_DENT`), a record or
-    /// message that cannot be made.
+    /// (`DB_ERR_INVALID_ARGUMENT`), a dent or fracture that cannot be made (`DB_ERR_DENT`), a
+    /// record or message that cannot be made.
     pub fn step(&mut self, list: &[Hit<'_, u64>]) -> Result<(), Failure> {
         if let Some(k) = list.iter().position(|h| !h.projectile_surface.to_world.is_finite()) {
             return Err(Failure::invalid(format!("hit {k}: projectile_to_world is not finite")));
@@ -251,42 +258,42 @@ impl DbDamage {
             DamageError::UnknownBody { .. } => Failure::invalid(e.to_string()),
             _ => Failure { status: DB_ERR_DENT, message: e.to_string() },
         })?;
-        // The record comes first of what may fail (it fails on a mesh changed behind its back),
-        // then the message, made from the meshes after the step: applied here, put back if the
-        // message cannot be made.
+        // What may fail comes first, before any body changes: the record (it fails on a mesh
+        // changed behind its back), then the message, made from the meshes the step gives.
         let mut recorder = self.recorder.clone();
         recorder.record(&self.targets, list, &plan).map_err(|e| Failure::invalid(e.to_string()))?;
         let DamagePlan { dents, targets, fractures, .. } = plan;
-        // Only a message, made when the stream carries a body, can fail now: the meshes it
-        // would change are kept to be put back then.
-        let before: Vec<DentedTarget<u64>> = match self.stream.carries_any() {
-            false => Vec::new(),
-            true => targets
-                .iter()
-                .filter_map(|t| self.targets.mesh(t.key).map(|m| (t.key, m.clone())))
-                .map(|(key, mesh)| DentedTarget {
-                    key,
-                    mesh,
-                    moved: Vec::new(),
-                    refinement: Default::default(),
-                    topology_changed: true,
-                })
-                .collect(),
-        };
-        let moved = self.targets.apply(targets);
-        for fracture in &fractures {
-            self.targets.apply_fracture(fracture);
-        }
+        let after =
+            |key: u64| targets.iter().find(|t| t.key == key).map(|t| &t.mesh).or_else(|| self.targets.mesh(key));
         let surface = |key: u64| list.iter().find(|h| h.projectile == key).map(|h| h.projectile_surface.mesh);
-        if let Err(failure) = self.stream.after_step(&dents, &fractures, &self.targets, surface) {
-            self.targets.apply(before);
-            return Err(failure);
+        self.stream.after_step(&dents, &fractures, after, surface)?;
+
+        // Everything made: commit.
+        let mut moved: HashMap<u64, Vec<u32>> = self.targets.apply(targets).into_iter().collect();
+        let mut made = Vec::with_capacity(fractures.len());
+        for fracture in fractures {
+            let body = fracture.body;
+            let to_world = self.targets.pose(body).unwrap_or(Affine3A::IDENTITY);
+            self.targets.apply_fracture(&fracture);
+            match self.targets.mesh(body) {
+                // The rest: every vertex is new.
+                Some(rest) => {
+                    moved.insert(body, (0..rest.vertex_count() as u32).collect());
+                }
+                None => {
+                    moved.remove(&body);
+                    state.forget(body);
+                    self.stream.forget(body);
+                }
+            }
+            made.push(MadeFracture::new(fracture, to_world));
         }
         self.damage = state;
         self.recorder = recorder;
         self.step = step;
         self.dents = dents;
-        self.moved = moved.into_iter().collect();
+        self.moved = moved;
+        self.fractures = made;
         Ok(())
     }
 }
