@@ -219,9 +219,9 @@ impl DbDamage {
         self.targets.set_fracture(id, made).map_err(|e| Failure::invalid(e.to_string()))
     }
 
-    /// The last step's fractures.
-    pub fn fractures(&self) -> impl ExactSizeIterator<Item = &BodyFracture<u64>> {
-        self.fractures.iter().map(|f| &f.fracture)
+    /// The last step's fractures, each with the body's mesh -> world transform when it broke.
+    pub fn fractures(&self) -> impl ExactSizeIterator<Item = (&BodyFracture<u64>, Affine3A)> {
+        self.fractures.iter().map(|f| (&f.fracture, f.to_world))
     }
 
     /// The collider points of piece `piece` of the last step's fracture `fracture` (indices

@@ -1,18 +1,20 @@
-//! `dentbend.Damage`: the bodies of a world that dent, keyed by the caller's 64-bit ids, one
-//! step's hits decided, dented and applied at once, with save and restore (the C API's damage
-//! context).
+//! `dentbend.Damage`: the bodies of a world that dent and break, keyed by the caller's 64-bit
+//! ids, one step's hits decided, dented, broken and applied at once, with save and restore and
+//! a replication stream (the C API's damage context).
 
 use std::sync::Arc;
 
 use dentbend::TriMesh;
-use dentbend::dent::Surface;
+use dentbend::damage::PieceId;
+use dentbend::dent::{DentSettings, Surface};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
-use dentbend_c::{DbBodyState, DbDamage, DbDentSettings, body_state, dent_settings, hit};
+use dentbend_c::{DbBodyState, DbDamage, DbDentSettings, body_state, hit};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::arrays::{list_out, pose, positions_out, refused, rows_out, vec3};
+use crate::fracture::{Fracture, fracture};
 
 /// A triangle mesh made once (checked, its normals computed) and shared by every hit that uses
 /// it as a projectile's surface.
@@ -47,6 +49,36 @@ impl Mesh {
     fn __repr__(&self) -> String {
         format!("Mesh(vertices={}, faces={})", self.mesh.vertex_count(), self.mesh.face_count())
     }
+}
+
+impl Mesh {
+    /// The mesh.
+    pub(crate) fn mesh(&self) -> &TriMesh {
+        &self.mesh
+    }
+}
+
+/// Dent settings from `Damage.add_body`'s keywords (`sigma` `None`: automatic smoothing; a
+/// given width is checked as `dent`'s is, 0 refused).
+pub(crate) fn dent_settings(
+    threshold_speed: f32,
+    depth_per_speed: f32,
+    max_depth: f32,
+    sigma: Option<f32>,
+    preserve_volume: bool,
+    progressive: bool,
+) -> PyResult<DentSettings> {
+    let mut settings = dentbend_c::dent_settings(&DbDentSettings {
+        threshold_speed,
+        depth_per_speed,
+        max_depth,
+        sigma: 0.0,
+        preserve_volume: preserve_volume.into(),
+        progressive: progressive.into(),
+    });
+    settings.params.sigma = sigma;
+    settings.params.validate().map_err(|e| refused(e.to_string()))?;
+    Ok(settings)
 }
 
 /// A body's motion before the step, world coordinates.
@@ -186,8 +218,8 @@ impl AppliedDent {
     }
 }
 
-/// The bodies of a world that dent, keyed by your 64-bit ids: each `step` decides, makes and
-/// applies one step's dents at once (all of them or none).
+/// The bodies of a world that dent and break, keyed by your 64-bit ids: each `step` decides,
+/// makes and applies one step's dents and fractures at once (all of them or none).
 #[pyclass(module = "dentbend")]
 #[derive(Default)]
 pub struct Damage {
@@ -223,17 +255,7 @@ impl Damage {
     ) -> PyResult<()> {
         let (p, f) = (crate::arrays::positions(positions, "positions")?, crate::arrays::faces(faces, "faces")?);
         let to_world = pose(to_world, "to_world")?;
-        let mut settings = dent_settings(&DbDentSettings {
-            threshold_speed,
-            depth_per_speed,
-            max_depth,
-            sigma: 0.0,
-            preserve_volume: preserve_volume.into(),
-            progressive: progressive.into(),
-        });
-        // `None` is automatic smoothing; a given width is checked as `dent`'s is (0 refused).
-        settings.params.sigma = sigma;
-        settings.params.validate().map_err(|e| refused(e.to_string()))?;
+        let settings = dent_settings(threshold_speed, depth_per_speed, max_depth, sigma, preserve_volume, progressive)?;
         let mesh = py.detach(|| TriMesh::new(p, f)).map_err(|e| refused(e.to_string()))?;
         let inner = &mut self.inner;
         py.detach(|| inner.add_body(id, mesh, to_world, settings)).map_err(|e| refused(e.message))
@@ -296,6 +318,71 @@ impl Damage {
     fn moved<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Bound<'py, PyArray1<u32>>> {
         self.mesh(id)?;
         Ok(list_out(py, self.inner.moved(id).to_vec()))
+    }
+
+    /// Makes body `id` break, as well as dent, along a prescored pattern of `cells` Voronoi
+    /// cells (1..=256, seeded with `seed`) within `radius` m of the hit that breaks it: when one
+    /// impact removes `toughness` J along its normal, or its dents add up to `dent_limit` m
+    /// (at least one given). Pieces of a body of mass 0 get `density` kg/m^3; a break that would
+    /// make more than `max_pieces` pieces fails its step. Its mesh must be closed.
+    #[pyo3(signature = (id, *, cells, radius, seed = 0, toughness = None, dent_limit = None, density = 1000.0, max_pieces = 1024))]
+    #[allow(clippy::too_many_arguments)]
+    fn set_fracture(
+        &mut self,
+        py: Python<'_>,
+        id: u64,
+        cells: u32,
+        radius: f32,
+        seed: u64,
+        toughness: Option<f32>,
+        dent_limit: Option<f32>,
+        density: f32,
+        max_pieces: u32,
+    ) -> PyResult<()> {
+        let settings = crate::fracture::settings(cells, seed, radius, toughness, dent_limit, density, max_pieces);
+        let inner = &mut self.inner;
+        py.detach(|| inner.set_fracture(id, Some(&settings))).map_err(|e| refused(e.message))
+    }
+
+    /// Makes body `id` never break again.
+    fn clear_fracture(&mut self, id: u64) -> PyResult<()> {
+        self.inner.set_fracture(id, None).map_err(|e| refused(e.message))
+    }
+
+    /// The bodies the last step broke. A body keeps its id with its rest (its mesh, all of its
+    /// vertices `moved`), unless the pattern took it whole: then the context no longer has it.
+    fn fractures(&self, py: Python<'_>) -> PyResult<Vec<Fracture>> {
+        self.inner.fractures().map(|(f, to_world)| fracture(py, f, to_world)).collect()
+    }
+
+    /// Stops naming piece `index` of fracture `fracture` on the replication stream (the game
+    /// removed it).
+    fn forget_piece(&mut self, fracture: u64, index: u32) {
+        self.inner.forget_piece(PieceId { fracture, index });
+    }
+
+    /// Carries body `id` on the replication stream as `wire_id`: its mesh now is the base
+    /// every `Replica` adds, with the same settings.
+    fn replicate(&mut self, id: u64, wire_id: u32) -> PyResult<()> {
+        self.inner.replicate(id, wire_id).map_err(|e| refused(e.message))
+    }
+
+    /// Names a projectile's surface `shape_id` on the stream: dents made by bodies with this
+    /// mesh name it by id, and replicas add the same mesh under it.
+    fn add_wire_projectile(&mut self, shape_id: u32, mesh: &Mesh) -> PyResult<()> {
+        self.inner.add_wire_projectile(shape_id, &mesh.mesh).map_err(|e| refused(e.message))
+    }
+
+    /// The last step's message for the replicas (bytes; empty when it carried nothing).
+    fn message<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        PyBytes::new(py, self.inner.message())
+    }
+
+    /// A late joiner's start (bytes): every carried body's mesh now. Take it after the last
+    /// step's message was sent.
+    fn snapshot<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let snapshot = self.inner.snapshot().map_err(|e| refused(e.message))?;
+        Ok(PyBytes::new(py, snapshot))
     }
 
     /// Records body `id`'s damage from now on, as the body `name` of the saved file.

@@ -14,6 +14,8 @@
 mod arrays;
 mod damage;
 mod dent;
+mod fracture;
+mod replica;
 
 use pyo3::prelude::*;
 
@@ -38,5 +40,9 @@ fn _dentbend(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<damage::Hit>()?;
     m.add_class::<damage::AppliedDent>()?;
     m.add_class::<damage::Damage>()?;
+    m.add_class::<fracture::Fracture>()?;
+    m.add_class::<fracture::Piece>()?;
+    m.add_class::<fracture::ReplicaFracture>()?;
+    m.add_class::<replica::Replica>()?;
     Ok(())
 }

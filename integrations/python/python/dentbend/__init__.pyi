@@ -126,8 +126,83 @@ class AppliedDent:
     @property
     def moved_vertices(self) -> int: ...
 
+class Piece:
+    """One piece that broke loose: a closed mesh in the broken body's own coordinates (place it
+    with its fracture's ``to_world``) and its mass properties."""
+
+    @property
+    def fracture(self) -> int: ...
+    @property
+    def index(self) -> int: ...
+    @property
+    def positions(self) -> Float32x3: ...
+    @property
+    def faces(self) -> UInt32: ...
+    @property
+    def hull_points(self) -> Float32x3:
+        """The vertices shrunk 3 % toward the centre of mass: a convex collider's points."""
+    @property
+    def mass(self) -> float: ...
+    @property
+    def center_of_mass(self) -> tuple[float, float, float]: ...
+    @property
+    def inertia(self) -> npt.NDArray[np.float32]:
+        """(3, 3), about the centre of mass, mesh axes, kg m^2."""
+    @property
+    def linear_velocity(self) -> tuple[float, float, float]:
+        """World, m/s (zero on a replica)."""
+    @property
+    def angular_velocity(self) -> tuple[float, float, float]:
+        """World, rad/s (zero on a replica)."""
+
+class Fracture:
+    """A body a step broke; it keeps its id with its rest unless ``whole``."""
+
+    @property
+    def body(self) -> int: ...
+    @property
+    def projectile(self) -> int: ...
+    @property
+    def number(self) -> int: ...
+    @property
+    def cause(self) -> Literal["energy", "dent"]: ...
+    @property
+    def whole(self) -> bool: ...
+    @property
+    def energy(self) -> float: ...
+    @property
+    def accumulated_dent(self) -> float: ...
+    @property
+    def to_world(self) -> npt.NDArray[np.float32]:
+        """(4, 4): the body's mesh -> world transform when it broke."""
+    @property
+    def rest_mass(self) -> Optional[float]: ...
+    @property
+    def rest_center_of_mass(self) -> Optional[tuple[float, float, float]]: ...
+    @property
+    def rest_inertia(self) -> Optional[npt.NDArray[np.float32]]: ...
+    @property
+    def pieces(self) -> list[Piece]: ...
+    @property
+    def projectile_velocity(
+        self,
+    ) -> Optional[tuple[tuple[float, float, float], tuple[float, float, float]]]: ...
+
+class ReplicaFracture:
+    """A fracture a replica's message replayed: the server's pieces, bit for bit."""
+
+    @property
+    def body(self) -> int: ...
+    @property
+    def whole(self) -> bool: ...
+    @property
+    def number(self) -> int: ...
+    @property
+    def pieces(self) -> list[Piece]: ...
+
 class Damage:
-    """Bodies keyed by 64-bit ids; each :meth:`step` applies one step's dents (all or none)."""
+    """Bodies keyed by 64-bit ids; each :meth:`step` applies one step's dents and fractures (all
+    or none)."""
 
     def __init__(self) -> None: ...
     def add_body(
@@ -151,6 +226,58 @@ class Damage:
     def normals(self, id: int) -> Float32x3: ...
     def faces(self, id: int) -> UInt32: ...
     def moved(self, id: int) -> UInt32: ...
+    def set_fracture(
+        self,
+        id: int,
+        *,
+        cells: int,
+        radius: float,
+        seed: int = 0,
+        toughness: Optional[float] = None,
+        dent_limit: Optional[float] = None,
+        density: float = 1000.0,
+        max_pieces: int = 1024,
+    ) -> None:
+        """Breaks along a pattern of ``cells`` cells within ``radius`` m of the hit when an
+        impact removes ``toughness`` J or the dents add up to ``dent_limit`` m."""
+    def clear_fracture(self, id: int) -> None: ...
+    def fractures(self) -> list[Fracture]:
+        """The bodies the last step broke."""
+    def forget_piece(self, fracture: int, index: int) -> None: ...
+    def replicate(self, id: int, wire_id: int) -> None: ...
+    def add_wire_projectile(self, shape_id: int, mesh: Mesh) -> None: ...
+    def message(self) -> bytes:
+        """The last step's message for the replicas (empty when it carried nothing)."""
+    def snapshot(self) -> bytes:
+        """A late joiner's start."""
     def record(self, id: int, name: str) -> None: ...
     def save(self) -> bytes: ...
     def restore(self, id: int, data: bytes, name: str) -> None: ...
+
+class Replica:
+    """A client's copy of the bodies a server's :class:`Damage` carries: add the same base
+    meshes and surfaces, :meth:`join` its snapshot, :meth:`apply` its messages in order."""
+
+    def __init__(self) -> None: ...
+    def add_body(
+        self,
+        wire_id: int,
+        positions: ArrayLike,
+        faces: ArrayLike,
+        *,
+        threshold_speed: float = 1.0,
+        depth_per_speed: float = 0.01,
+        max_depth: float = 0.1,
+        sigma: Optional[float] = None,
+        preserve_volume: bool = False,
+        progressive: bool = False,
+    ) -> None: ...
+    def add_projectile(self, shape_id: int, mesh: Mesh) -> None: ...
+    def join(self, snapshot: bytes) -> None: ...
+    def apply(self, message: bytes) -> None: ...
+    def fractures(self) -> list[ReplicaFracture]:
+        """The bodies the last message broke."""
+    def positions(self, wire_id: int) -> Float32x3: ...
+    def faces(self, wire_id: int) -> UInt32: ...
+    def moved(self, wire_id: int) -> UInt32: ...
+    def forget_piece(self, fracture: int, index: int) -> None: ...
