@@ -199,7 +199,12 @@ pub struct ReplicaFracture {
 impl ReplicaFracture {
     fn __repr__(&self) -> String {
         let whole = if self.whole { "True" } else { "False" };
-        format!("ReplicaFracture(body={}, number={}, whole={whole}, pieces={})", self.body, self.number, self.pieces.len())
+        format!(
+            "ReplicaFracture(body={}, number={}, whole={whole}, pieces={})",
+            self.body,
+            self.number,
+            self.pieces.len()
+        )
     }
 }
 
