@@ -173,7 +173,8 @@ typedef struct {
   uint32_t cells;
   // Seed of the pattern's cells: the same seed, cells and radius give the same pattern.
   uint64_t seed;
-  // Radius of the pattern around the hit, m (> 0): the part within it breaks off.
+  // Radius of the pattern around the hit, m (> 0, at most 1e6): the part within it breaks
+  // off.
   float radius;
   // Kinetic energy one impact must remove along its normal to break the body, J (>= 0);
   // `INFINITY`: impacts alone never break it.
@@ -181,8 +182,8 @@ typedef struct {
   // Accumulated dent distance that breaks the body, m (>= 0); `INFINITY`: dents never
   // break it.
   float dent_limit;
-  // Density of the pieces of a body of mass 0 (static), kg/m^3; a moving body's pieces
-  // take its own density.
+  // Density of the pieces of a body of mass 0 (static), kg/m^3 (> 0, at most 1e6); a moving
+  // body's pieces take its own density.
   float density;
   // Most pieces one break may make, 1..=65536: a break that would make more is refused
   // (the step fails, nothing changes).
@@ -290,9 +291,9 @@ DbDamage *db_damage_new(void);
 // `damage` is null or a context of `db_damage_new` not freed yet.
 void db_damage_free(DbDamage *damage);
 
-// Adds body `id` (replacing one of that id), which dents: a copy of `mesh` (its own
-// coordinates, m), placed by `to_world` (12 floats, 3x4 column by column) and denting as
-// `settings` says.
+// Adds body `id` (replacing one of that id, with its fracture settings), which dents: a copy
+// of `mesh` (its own coordinates, m), placed by `to_world` (12 floats, 3x4 column by column)
+// and denting as `settings` says.
 //
 // # Safety
 // `damage` and `mesh` are null or live; `to_world` is null or holds 12 floats; `settings` is
@@ -315,9 +316,12 @@ int db_damage_add_projectile(DbDamage *damage, uint64_t id);
 // `damage` is null or live; `to_world` is null or holds 12 floats.
 int db_damage_set_pose(DbDamage *damage, uint64_t id, const float *to_world);
 
-// Decides, makes and applies the dents of one step's `count` hits (all of them or none: on
-// failure no body changes). Afterwards `db_damage_dent_count` and `db_damage_dent` read the
-// dents made, `db_damage_positions` and `db_damage_moved` each body's new surface.
+// Decides, makes and applies the dents and fractures of one step's `count` hits (all of them
+// or none: on failure no body changes). Afterwards `db_damage_dent_count` and `db_damage_dent`
+// read the dents made, `db_damage_fracture_count`, `db_damage_fracture` and `db_damage_piece`
+// the bodies that broke (a body the pattern took whole is removed), `db_damage_positions` and
+// `db_damage_moved` each body's new surface, and `db_damage_message` the step's message for
+// replicas.
 //
 // # Safety
 // `damage` is null or live; `hits` is null (with `count` 0) or holds `count` `DbHit`s whose
@@ -567,8 +571,9 @@ int db_replica_join(DbReplica *replica, const uint8_t *bytes, size_t length);
 
 // Applies a server's message (`db_damage_message`), in order: the bodies it names get the
 // server's meshes bit for bit, and its fractures the server's pieces
-// (`db_replica_fracture`). A message out of order, repeated, truncated or for other meshes is
-// refused and changes nothing.
+// (`db_replica_fracture`). An empty message (length 0: a step that changed no carried body)
+// changes nothing. A message out of order, repeated, truncated or for other meshes is refused
+// and changes nothing.
 //
 // # Safety
 // `replica` is null or live; `bytes` holds `length` bytes.
@@ -640,7 +645,8 @@ int db_damage_replicate(DbDamage *damage, uint64_t id, uint32_t wire_id);
 int db_damage_add_wire_projectile(DbDamage *damage, uint32_t shape_id, const DbMesh *mesh);
 
 // The last step's message for the clients (its length written to `length`); null and 0 when
-// it carried nothing. Valid until the next `db_damage_step`.
+// the step changed no carried body (send nothing, or send it empty: `db_replica_apply` takes
+// length 0 as no change). Valid until the next `db_damage_step`.
 //
 // # Safety
 // `damage` is null or live; `length` is null or writable.

@@ -186,9 +186,9 @@ pub unsafe extern "C" fn db_damage_free(damage: *mut DbDamage) {
 }
 
 impl DbDamage {
-    /// Adds body `id` (replacing one of that id), which dents: `mesh` (its own coordinates, m),
-    /// placed by `to_world`, denting as `settings` say. A recorded body replaced starts its
-    /// record again from the new mesh, under the same name.
+    /// Adds body `id` (replacing one of that id, with its fracture settings), which dents:
+    /// `mesh` (its own coordinates, m), placed by `to_world`, denting as `settings` say. A
+    /// recorded body replaced starts its record again from the new mesh, under the same name.
     ///
     /// # Errors
     /// A mesh or pose the target set refuses (the body set is unchanged then).
@@ -311,9 +311,9 @@ unsafe fn pose(pose: *const f32) -> Result<Affine3A, Failure> {
     Ok(Affine3A::from_cols_array(&values))
 }
 
-/// Adds body `id` (replacing one of that id), which dents: a copy of `mesh` (its own
-/// coordinates, m), placed by `to_world` (12 floats, 3x4 column by column) and denting as
-/// `settings` says.
+/// Adds body `id` (replacing one of that id, with its fracture settings), which dents: a copy
+/// of `mesh` (its own coordinates, m), placed by `to_world` (12 floats, 3x4 column by column)
+/// and denting as `settings` says.
 ///
 /// # Safety
 /// `damage` and `mesh` are null or live; `to_world` is null or holds 12 floats; `settings` is
@@ -410,9 +410,12 @@ pub fn body_state(state: &DbBodyState) -> Result<BodyState, String> {
     ))
 }
 
-/// Decides, makes and applies the dents of one step's `count` hits (all of them or none: on
-/// failure no body changes). Afterwards `db_damage_dent_count` and `db_damage_dent` read the
-/// dents made, `db_damage_positions` and `db_damage_moved` each body's new surface.
+/// Decides, makes and applies the dents and fractures of one step's `count` hits (all of them
+/// or none: on failure no body changes). Afterwards `db_damage_dent_count` and `db_damage_dent`
+/// read the dents made, `db_damage_fracture_count`, `db_damage_fracture` and `db_damage_piece`
+/// the bodies that broke (a body the pattern took whole is removed), `db_damage_positions` and
+/// `db_damage_moved` each body's new surface, and `db_damage_message` the step's message for
+/// replicas.
 ///
 /// # Safety
 /// `damage` is null or live; `hits` is null (with `count` 0) or holds `count` `DbHit`s whose

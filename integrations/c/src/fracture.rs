@@ -32,7 +32,8 @@ pub struct DbFractureSettings {
     pub cells: u32,
     /// Seed of the pattern's cells: the same seed, cells and radius give the same pattern.
     pub seed: u64,
-    /// Radius of the pattern around the hit, m (> 0): the part within it breaks off.
+    /// Radius of the pattern around the hit, m (> 0, at most 1e6): the part within it breaks
+    /// off.
     pub radius: f32,
     /// Kinetic energy one impact must remove along its normal to break the body, J (>= 0);
     /// `INFINITY`: impacts alone never break it.
@@ -40,8 +41,8 @@ pub struct DbFractureSettings {
     /// Accumulated dent distance that breaks the body, m (>= 0); `INFINITY`: dents never
     /// break it.
     pub dent_limit: f32,
-    /// Density of the pieces of a body of mass 0 (static), kg/m^3; a moving body's pieces
-    /// take its own density.
+    /// Density of the pieces of a body of mass 0 (static), kg/m^3 (> 0, at most 1e6); a moving
+    /// body's pieces take its own density.
     pub density: f32,
     /// Most pieces one break may make, 1..=65536: a break that would make more is refused
     /// (the step fails, nothing changes).
@@ -162,21 +163,33 @@ impl MadeFracture {
     }
 }
 
-/// The patterns a context has built, by their parameters: bodies that break alike share one.
+/// The patterns of a context's breakable bodies, by their parameters: bodies that break alike
+/// share one. A pattern no body uses any more is dropped when another is kept.
 #[derive(Debug, Default)]
 pub(crate) struct Patterns(HashMap<(u32, u64, u32), Arc<FracturePattern>>);
 
 impl Patterns {
-    /// The pattern of `params`, built once.
-    fn get(&mut self, params: PatternParams) -> Result<Arc<FracturePattern>, Failure> {
-        let key = (params.cells, params.seed, params.radius.to_bits());
-        if let Some(pattern) = self.0.get(&key) {
+    /// The pattern of `params`: the one kept, or a new one (kept only once a body takes it).
+    fn get(&self, params: PatternParams) -> Result<Arc<FracturePattern>, Failure> {
+        if let Some(pattern) = self.0.get(&key(params)) {
             return Ok(pattern.clone());
         }
-        let pattern = Arc::new(FracturePattern::new(params).map_err(|e| Failure::invalid(e.to_string()))?);
-        self.0.insert(key, pattern.clone());
-        Ok(pattern)
+        Ok(Arc::new(FracturePattern::new(params).map_err(|e| Failure::invalid(e.to_string()))?))
     }
+
+    /// Keeps `pattern`, which a body took, for bodies that break alike; drops the patterns no
+    /// body holds.
+    fn keep(&mut self, pattern: Option<Arc<FracturePattern>>) {
+        self.0.retain(|_, p| Arc::strong_count(p) > 1);
+        if let Some(pattern) = pattern {
+            self.0.insert(key(pattern.params()), pattern);
+        }
+    }
+}
+
+/// A pattern's parameters as a key (the radius by its bits).
+fn key(params: PatternParams) -> (u32, u64, u32) {
+    (params.cells, params.seed, params.radius.to_bits())
 }
 
 /// A limit given as a float: `INFINITY` for none; NaN and negative values refused.
@@ -196,16 +209,17 @@ impl DbDamage {
     /// A body that does not dent, settings out of range (both limits infinite among them), or
     /// a mesh that is not closed (it bounds no solid to break). Nothing changes then.
     pub fn set_fracture(&mut self, id: u64, settings: Option<&DbFractureSettings>) -> Result<(), Failure> {
+        if self.targets.mesh(id).is_none() {
+            return Err(Failure::invalid(format!("body {id} does not dent (add it as a body that dents first)")));
+        }
         let made = match settings {
             None => None,
             Some(s) => {
-                let toughness = limit(s.toughness, "toughness", "J")?;
-                let dent_limit = limit(s.dent_limit, "dent_limit", "m")?;
                 let params = PatternParams { cells: s.cells, seed: s.seed, radius: s.radius };
                 let made = FractureSettings {
                     pattern: self.patterns.get(params)?,
-                    toughness,
-                    dent_limit,
+                    toughness: limit(s.toughness, "toughness", "J")?,
+                    dent_limit: limit(s.dent_limit, "dent_limit", "m")?,
                     density: s.density,
                     max_pieces: s.max_pieces,
                 };
@@ -213,10 +227,10 @@ impl DbDamage {
                 Some(made)
             }
         };
-        if self.targets.mesh(id).is_none() {
-            return Err(Failure::invalid(format!("body {id} does not dent (add it with db_damage_add_body first)")));
-        }
-        self.targets.set_fracture(id, made).map_err(|e| Failure::invalid(e.to_string()))
+        let pattern = made.as_ref().map(|m| m.pattern.clone());
+        self.targets.set_fracture(id, made).map_err(|e| Failure::invalid(e.to_string()))?;
+        self.patterns.keep(pattern);
+        Ok(())
     }
 
     /// The last step's fractures, each with the body's mesh -> world transform when it broke.

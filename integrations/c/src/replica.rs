@@ -108,12 +108,18 @@ impl DbReplica {
     }
 
     /// Applies a server's message, in order: the bodies it names get the server's meshes bit
-    /// for bit, its fractures the server's pieces.
+    /// for bit, its fractures the server's pieces. An empty message (a step that changed no
+    /// carried body) changes nothing.
     ///
     /// # Errors
     /// A message out of order, repeated, truncated or for other meshes; nothing changes then.
     pub fn apply(&mut self, message: &[u8]) -> Result<(), Failure> {
         check_length(message.len())?;
+        // A step that changed no carried body has no message: nothing to apply.
+        if message.is_empty() {
+            self.take(Vec::new());
+            return Ok(());
+        }
         let changes = self.client.apply(message).map_err(|e| Failure::invalid(e.to_string()))?;
         self.take(changes);
         Ok(())
@@ -124,12 +130,18 @@ impl DbReplica {
         self.moved.clear();
         self.fractures.clear();
         for change in changes {
+            if change.removed {
+                self.moved.remove(&change.id);
+            } else if change.fracture.is_some() {
+                // The rest: every vertex is new, as on the server.
+                let count = self.client.mesh(change.id).map_or(0, TriMesh::vertex_count) as u32;
+                self.moved.insert(change.id, (0..count).collect());
+            } else {
+                self.moved.insert(change.id, change.moved);
+            }
             if let Some(fracture) = change.fracture {
                 let hulls = fracture.pieces.iter().map(|(_, p)| piece_hull_points(&p.mesh, p.mass.center)).collect();
                 self.fractures.push(ReplicaBreak { body: change.id, whole: change.removed, fracture, hulls });
-            }
-            if !change.removed {
-                self.moved.insert(change.id, change.moved);
             }
         }
     }
@@ -230,6 +242,9 @@ pub unsafe extern "C" fn db_replica_add_projectile(
 /// `bytes` holds `length` bytes when `length` > 0.
 unsafe fn message<'a>(bytes: *const u8, length: usize) -> Result<&'a [u8], Failure> {
     check_length(length)?;
+    if length == 0 {
+        return Ok(&[]);
+    }
     if bytes.is_null() {
         return Err(Failure::null("bytes"));
     }
@@ -252,8 +267,9 @@ pub unsafe extern "C" fn db_replica_join(replica: *mut DbReplica, bytes: *const 
 
 /// Applies a server's message (`db_damage_message`), in order: the bodies it names get the
 /// server's meshes bit for bit, and its fractures the server's pieces
-/// (`db_replica_fracture`). A message out of order, repeated, truncated or for other meshes is
-/// refused and changes nothing.
+/// (`db_replica_fracture`). An empty message (length 0: a step that changed no carried body)
+/// changes nothing. A message out of order, repeated, truncated or for other meshes is refused
+/// and changes nothing.
 ///
 /// # Safety
 /// `replica` is null or live; `bytes` holds `length` bytes.

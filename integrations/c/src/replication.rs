@@ -7,7 +7,7 @@ use std::ffi::c_int;
 
 use dentbend::TriMesh;
 use dentbend::damage::{AppliedDent, BodyFracture, PieceId};
-use dentbend::record::replication::ReplicationServer;
+use dentbend::record::replication::{ReplicationError, ReplicationServer};
 
 use crate::damage::DbDamage;
 use crate::mesh::DbMesh;
@@ -38,8 +38,14 @@ impl Stream {
             self.message.clear();
             return Ok(());
         }
-        let made = self.server.message(dents, fractures, mesh, surface);
-        self.message = made.map_err(|e| Failure::invalid(e.to_string()))?.unwrap_or_default();
+        let made = self.server.message(dents, fractures, mesh, surface).map_err(|e| match e {
+            ReplicationError::UnknownProjectile(_) => Failure::invalid(
+                "the step's message cannot name a projectile's surface: name it with \
+                 db_damage_add_wire_projectile (Python: Damage.add_wire_projectile), and add it to every replica",
+            ),
+            e => Failure::invalid(e.to_string()),
+        })?;
+        self.message = made.unwrap_or_default();
         Ok(())
     }
 
@@ -91,7 +97,7 @@ impl DbDamage {
         self.stream.server.add_projectile(shape_id, mesh).map_err(|e| Failure::invalid(e.to_string()))
     }
 
-    /// The last step's message for the clients; empty when it carried nothing.
+    /// The last step's message for the clients; empty when the step changed no carried body.
     pub fn message(&self) -> &[u8] {
         &self.stream.message
     }
@@ -139,7 +145,8 @@ pub unsafe extern "C" fn db_damage_add_wire_projectile(
 }
 
 /// The last step's message for the clients (its length written to `length`); null and 0 when
-/// it carried nothing. Valid until the next `db_damage_step`.
+/// the step changed no carried body (send nothing, or send it empty: `db_replica_apply` takes
+/// length 0 as no change). Valid until the next `db_damage_step`.
 ///
 /// # Safety
 /// `damage` is null or live; `length` is null or writable.

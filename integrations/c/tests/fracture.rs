@@ -147,6 +147,7 @@ fn a_body_inside_the_pattern_breaks_whole_and_is_removed() {
         assert_eq!(db_damage_add_body(damage, FLOOR, small, IDENTITY.as_ptr(), &settings), DB_OK);
         assert_eq!(db_damage_add_projectile(damage, BALL), DB_OK);
         assert_eq!(db_damage_set_fracture(damage, FLOOR, &fracture), DB_OK, "{}", last_error());
+        assert_eq!(db_damage_record(damage, FLOOR, c"block".as_ptr()), DB_OK);
         assert_eq!(db_damage_step(damage, hits.as_ptr(), 1), DB_OK, "{}", last_error());
         let mut f = DbFracture::default();
         assert_eq!(db_damage_fracture(damage, 0, &mut f), DB_OK);
@@ -154,6 +155,12 @@ fn a_body_inside_the_pattern_breaks_whole_and_is_removed() {
         assert!(f.piece_count >= 1);
         assert!(positions(damage, FLOOR).is_empty(), "the body is gone");
         assert_eq!(db_damage_set_pose(damage, FLOOR, IDENTITY.as_ptr()), DB_ERR_INVALID_ARGUMENT);
+        // Nothing of it is left to record: its record ends, and the file saves without it.
+        let mut length = 0;
+        let saved = String::from_utf8(bytes(db_damage_save(damage, &mut length), length)).unwrap();
+        assert!(saved.starts_with('{') && !saved.contains("\"block\""), "{saved}");
+        // The id is free again.
+        assert_eq!(db_damage_add_body(damage, FLOOR, small, IDENTITY.as_ptr(), &settings), DB_OK);
         db_damage_free(damage);
         db_mesh_free(small);
         db_mesh_free(ball);
@@ -181,8 +188,7 @@ fn bad_fracture_settings_are_refused_and_change_nothing() {
     ];
     // SAFETY: live handles and valid structs throughout.
     unsafe {
-        // Made unbreakable first, so that a refused setting would show as a break below.
-        assert_eq!(db_damage_set_fracture(damage, FLOOR, std::ptr::null()), DB_OK);
+        // The floor breaks as `world` set it (50 J); each refused setting must leave that so.
         for (what, settings, says) in cases {
             assert_eq!(db_damage_set_fracture(damage, FLOOR, &settings), DB_ERR_INVALID_ARGUMENT, "{what}");
             assert!(last_error().contains(says), "{what}: {}", last_error());
@@ -202,8 +208,12 @@ fn bad_fracture_settings_are_refused_and_change_nothing() {
         assert_eq!(db_damage_add_body(damage, 5, open, IDENTITY.as_ptr(), &settings), DB_OK);
         assert_eq!(db_damage_set_fracture(damage, 5, &good), DB_ERR_INVALID_ARGUMENT);
         assert!(last_error().contains("closed"), "{}", last_error());
-        // None of them made the floor breakable: the hard hit dents it and breaks nothing.
+        // The 50 J setting held: the 64 J hit breaks the floor.
         let hits = [falling_ball(FLOOR, BALL, ball, 0.5, -0.5, 8.0)];
+        assert_eq!(db_damage_step(damage, hits.as_ptr(), 1), DB_OK, "{}", last_error());
+        assert_eq!(db_damage_fracture_count(damage), 1, "the refused settings replaced nothing");
+        // A null setting makes the rest unbreakable: the same hit again only dents it.
+        assert_eq!(db_damage_set_fracture(damage, FLOOR, std::ptr::null()), DB_OK);
         assert_eq!(db_damage_step(damage, hits.as_ptr(), 1), DB_OK, "{}", last_error());
         assert_eq!((db_damage_dent_count(damage), db_damage_fracture_count(damage)), (1, 0));
         db_mesh_free(open);
@@ -266,6 +276,14 @@ fn a_replica_gets_the_servers_pieces_bit_for_bit() {
         let mut server = DbFracture::default();
         assert_eq!(db_damage_fracture(damage, 0, &mut server), DB_OK);
         assert_eq!((f.body, f.whole, f.number, f.piece_count), (WIRE_FLOOR, 0, server.number, server.piece_count));
+        assert_eq!(server.number, 0, "the failed step made no fracture");
+        let (mut a, mut b) = (0, 0);
+        let (mine, theirs) = (db_replica_moved(client, WIRE_FLOOR, &mut a), db_damage_moved(damage, FLOOR, &mut b));
+        assert_eq!(
+            std::slice::from_raw_parts(mine, a),
+            std::slice::from_raw_parts(theirs, b),
+            "moved: every vertex of the rest on both sides"
+        );
         for k in 0..f.piece_count {
             let (mut mine, mut theirs) = (std::mem::MaybeUninit::uninit(), std::mem::MaybeUninit::uninit());
             assert_eq!(db_replica_piece(client, 0, k, mine.as_mut_ptr()), DB_OK, "{}", last_error());
@@ -281,8 +299,85 @@ fn a_replica_gets_the_servers_pieces_bit_for_bit() {
         assert_eq!(db_replica_forget_piece(client, server.number, 0), DB_OK);
         assert_eq!(db_damage_forget_piece(damage, server.number, 0), DB_OK);
         assert_eq!(db_replica_fracture(client, 1, &mut f), DB_ERR_INVALID_ARGUMENT);
+        // A step that changes no carried body has an empty message, which changes nothing.
+        assert_eq!(db_damage_step(damage, std::ptr::null(), 0), DB_OK);
+        assert!(db_damage_message(damage, &mut length).is_null() && length == 0);
+        let now = positions(damage, FLOOR);
+        assert_eq!(db_replica_apply(client, std::ptr::null(), 0), DB_OK, "{}", last_error());
+        assert_eq!(std::slice::from_raw_parts(db_replica_positions(client, WIRE_FLOOR, &mut n), 3 * n), now.as_slice());
+        assert_eq!(db_replica_fracture_count(client), 0);
         db_replica_free(client);
         db_damage_free(damage);
+        db_mesh_free(floor);
+        db_mesh_free(ball);
+    }
+}
+
+#[test]
+fn one_step_dents_one_carried_body_and_breaks_another_whole() {
+    const BLOCK: u64 = 11;
+    const WIRE_BLOCK: u32 = 4;
+    let (damage, floor, ball) = world();
+    let block = made(&mesh::subdivided_box(Vec3::new(0.4, 0.5, 0.4), [4, 4, 4]).unwrap());
+    let settings = db_dent_settings_default(1.0, 0.02, 0.15);
+    // The floor only dents; the block, 3 m along x, breaks whole under a 2 m pattern.
+    let mut beside = IDENTITY;
+    beside[9] = 3.0;
+    let whole = db_fracture_settings_default(6, 1, 2.0, 10.0, f32::INFINITY);
+    let client = db_replica_new();
+    let mut length = 0;
+    // SAFETY: live handles and valid structs throughout.
+    unsafe {
+        assert_eq!(db_damage_set_fracture(damage, FLOOR, std::ptr::null()), DB_OK);
+        assert_eq!(db_damage_add_body(damage, BLOCK, block, beside.as_ptr(), &settings), DB_OK);
+        assert_eq!(db_damage_set_fracture(damage, BLOCK, &whole), DB_OK, "{}", last_error());
+        assert_eq!(db_damage_replicate(damage, FLOOR, WIRE_FLOOR), DB_OK);
+        assert_eq!(db_damage_replicate(damage, BLOCK, WIRE_BLOCK), DB_OK);
+        assert_eq!(db_damage_add_wire_projectile(damage, BALL_SHAPE, ball), DB_OK);
+        assert_eq!(db_replica_add_body(client, WIRE_FLOOR, floor, &settings), DB_OK);
+        assert_eq!(db_replica_add_body(client, WIRE_BLOCK, block, &settings), DB_OK);
+        assert_eq!(db_replica_add_projectile(client, BALL_SHAPE, ball), DB_OK);
+        let start = bytes(db_damage_snapshot(damage, &mut length), length);
+        assert_eq!(db_replica_join(client, start.as_ptr(), start.len()), DB_OK, "{}", last_error());
+
+        let hits = [falling_ball(FLOOR, BALL, ball, -0.5, 0.5, 8.0), falling_ball(BLOCK, BALL, ball, 3.0, 0.0, 8.0)];
+        assert_eq!(db_damage_step(damage, hits.as_ptr(), 2), DB_OK, "{}", last_error());
+        assert_eq!((db_damage_dent_count(damage), db_damage_fracture_count(damage)), (2, 1));
+        let mut f = DbFracture::default();
+        assert_eq!(db_damage_fracture(damage, 0, &mut f), DB_OK);
+        assert_eq!((f.body, f.whole), (BLOCK, 1));
+        assert_eq!(f.to_world, beside, "the pose the pieces are placed by");
+        let message = bytes(db_damage_message(damage, &mut length), length);
+        assert_eq!(db_replica_apply(client, message.as_ptr(), message.len()), DB_OK, "{}", last_error());
+        let mut n = 0;
+        let dented = std::slice::from_raw_parts(db_replica_positions(client, WIRE_FLOOR, &mut n), 3 * n);
+        assert_eq!(dented, positions(damage, FLOOR).as_slice(), "the dented floor, bit for bit");
+        assert!(db_replica_positions(client, WIRE_BLOCK, &mut n).is_null() && n == 0, "the block is gone");
+        let mut r = DbReplicaFracture::default();
+        assert_eq!(db_replica_fracture(client, 0, &mut r), DB_OK);
+        assert_eq!((r.body, r.whole, r.piece_count), (WIRE_BLOCK, 1, f.piece_count));
+
+        // A late joiner, from a snapshot after the break: the floor as it is, no block.
+        let snapshot = bytes(db_damage_snapshot(damage, &mut length), length);
+        let late = db_replica_new();
+        assert_eq!(db_replica_add_body(late, WIRE_FLOOR, floor, &settings), DB_OK);
+        assert_eq!(db_replica_add_projectile(late, BALL_SHAPE, ball), DB_OK);
+        assert_eq!(db_replica_join(late, snapshot.as_ptr(), snapshot.len()), DB_OK, "{}", last_error());
+        let joined = std::slice::from_raw_parts(db_replica_positions(late, WIRE_FLOOR, &mut n), 3 * n);
+        assert_eq!(joined, positions(damage, FLOOR).as_slice());
+        // Both follow the next dent.
+        let hits = [falling_ball(FLOOR, BALL, ball, 1.0, 1.0, 6.0)];
+        assert_eq!(db_damage_step(damage, hits.as_ptr(), 1), DB_OK, "{}", last_error());
+        let message = bytes(db_damage_message(damage, &mut length), length);
+        for replica in [client, late] {
+            assert_eq!(db_replica_apply(replica, message.as_ptr(), message.len()), DB_OK, "{}", last_error());
+            let now = std::slice::from_raw_parts(db_replica_positions(replica, WIRE_FLOOR, &mut n), 3 * n);
+            assert_eq!(now, positions(damage, FLOOR).as_slice());
+        }
+        db_replica_free(late);
+        db_replica_free(client);
+        db_damage_free(damage);
+        db_mesh_free(block);
         db_mesh_free(floor);
         db_mesh_free(ball);
     }

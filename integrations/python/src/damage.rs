@@ -233,10 +233,10 @@ impl Damage {
         Self::default()
     }
 
-    /// Adds body `id` (replacing one of that id), which dents: `positions` `(N, 3)` and
-    /// `faces` `(M, 3)` in its own coordinates (m), placed by `to_world` (4x4), denting
-    /// `depth_per_speed` m per m/s of normal impact speed above `threshold_speed` m/s, at most
-    /// `max_depth` m.
+    /// Adds body `id` (replacing one of that id, with its fracture settings), which dents:
+    /// `positions` `(N, 3)` and `faces` `(M, 3)` in its own coordinates (m), placed by
+    /// `to_world` (4x4), denting `depth_per_speed` m per m/s of normal impact speed above
+    /// `threshold_speed` m/s, at most `max_depth` m.
     #[pyo3(signature = (id, positions, faces, *, to_world = None, threshold_speed = 1.0, depth_per_speed = 0.01, max_depth = 0.1, sigma = None, preserve_volume = false, progressive = false))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
@@ -373,7 +373,8 @@ impl Damage {
         self.inner.add_wire_projectile(shape_id, &mesh.mesh).map_err(|e| refused(e.message))
     }
 
-    /// The last step's message for the replicas (bytes; empty when it carried nothing).
+    /// The last step's message for the replicas (bytes; empty when the step changed no carried
+    /// body, which `Replica.apply` takes as no change).
     fn message<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
         PyBytes::new(py, self.inner.message())
     }

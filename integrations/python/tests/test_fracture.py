@@ -126,8 +126,15 @@ def test_a_replica_follows_the_servers_dents_and_pieces(target, ball):
     for a, b in zip(mine.pieces, theirs.pieces):
         assert np.array_equal(a.positions, b.positions) and np.array_equal(a.faces, b.faces)
         assert a.mass == b.mass and a.linear_velocity == (0.0, 0.0, 0.0)
+    # Every vertex of the rest is new, on both sides.
+    assert np.array_equal(client.moved(WIRE_SLAB), server.moved(SLAB))
     client.forget_piece(mine.number, 0)
     server.forget_piece(theirs.number, 0)
+    # A step that changes no carried body sends an empty message: no change.
+    server.step([])
+    assert server.message() == b""
+    client.apply(server.message())
+    assert client.fractures() == [] and len(client.moved(WIRE_SLAB)) == 0
     # A message repeated, truncated or garbage is refused, nothing changed.
     now = client.positions(WIRE_SLAB)
     for bad in [messages[-1], messages[-1][:5], b"\x00" * 40]:
