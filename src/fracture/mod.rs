@@ -4,10 +4,12 @@
 //! pattern is [placed](Placement) at the impact point along its normal and [`break_body`] cuts
 //! the body into closed pieces (one per cell within the radius, with mass properties) and one
 //! closed rest. Engine-neutral: meshes and body states in, meshes and velocities out
-//! ([`Piece::velocity`]); a [`FractureRecord`] [replays](replay) a fracture bit for bit. Dent
-//! first, then break, so the pieces keep the dent.
+//! ([`Piece::velocity`]); a [`FractureRecord`] [replays](replay) a fracture bit for bit;
+//! [`carry_asset`] carries a game asset's UVs and other attributes over to the rest and pieces.
+//! Dent first, then break, so the pieces keep the dent.
 
 mod cap;
+mod carry;
 mod cell_cut;
 mod clip;
 mod error;
@@ -21,6 +23,7 @@ mod split_table;
 mod tally;
 mod weld;
 
+pub use carry::carry_asset;
 pub use error::FractureError;
 pub use origin::{SurfacePoint, VertexOrigin};
 pub use outcome::{FractureOutcome, FractureRecord, Piece, break_body, replay, volume_after};
