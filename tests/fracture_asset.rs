@@ -53,7 +53,9 @@ fn panel() -> (Asset, Vec<(usize, bool)>) {
         uvs: vec![points.iter().zip(&sides).map(|(&p, s)| uv_on(s.0, p)).collect()],
         normals: Some(sides.iter().map(|&s| side_normal(s)).collect()),
         tangents: Some(sides.iter().map(|&s| tangent(s)).collect()),
-        colors: vec![points.iter().zip(&sides).map(|(p, &s)| Vec4::new(p.x, f32::from(s == (2, true)), 0.0, 1.0)).collect()],
+        colors: vec![
+            points.iter().zip(&sides).map(|(p, &s)| Vec4::new(p.x, f32::from(s == (2, true)), 0.0, 1.0)).collect(),
+        ],
         skin: Some(Skin {
             joints: sides.iter().map(|&(axis, _)| [axis as u16, 0, 0, 0]).collect(),
             weights: vec![Vec4::X; points.len()],

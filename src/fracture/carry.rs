@@ -74,7 +74,8 @@ pub fn carry_asset(broken: &Asset, mesh: TriMesh, origins: &[VertexOrigin]) -> R
             .collect()
     });
     // Colours and skin: a cut vertex takes its nearest surface point's.
-    let colors = from.colors.iter().map(|set| origins.iter().map(|o| corners(o).map_or(set[0], |c| blend(set, c))).collect());
+    let colors =
+        from.colors.iter().map(|set| origins.iter().map(|o| corners(o).map_or(set[0], |c| blend(set, c))).collect());
     let skin = from.skin.as_ref().map(|s| {
         let at = |o: &VertexOrigin| corners(o).map_or(0, heaviest);
         Skin {

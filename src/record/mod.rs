@@ -24,6 +24,7 @@ mod params_codec;
 mod recorder;
 mod records;
 mod replay;
+mod replay_asset;
 pub mod replication;
 
 pub use bytes::{base64_decode, base64_encode};

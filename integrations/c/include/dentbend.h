@@ -248,6 +248,12 @@ typedef struct {
   float angular_velocity[3];
   // Its vertices, 3 floats each, mesh coordinates.
   const float *positions;
+  // Its vertex normals, 3 floats each (a body's authored normals carried over, a cut's
+  // normal on its faces).
+  const float *normals;
+  // Its UVs, 2 floats a vertex, when the body's mesh came with UVs (null otherwise): the
+  // surface's carried over, a cut's projected on its plane at the mesh's texel density.
+  const float *uvs;
   // Points for its convex collider, 3 floats each, `vertex_count` of them: the vertices
   // shrunk by 3 % toward the centre of mass, so pieces start clear of the rest and of each
   // other.
@@ -348,11 +354,19 @@ int db_damage_dent(const DbDamage *damage, size_t index, DbAppliedDent *out);
 // `damage` is null or live; `vertex_count` is null or writable.
 const float *db_damage_positions(const DbDamage *damage, uint64_t id, size_t *vertex_count);
 
-// Body `id`'s vertex normals, as `db_damage_positions`.
+// Body `id`'s vertex normals (its authored ones brought through its dents, when its mesh came
+// with them), as `db_damage_positions`.
 //
 // # Safety
 // As `db_damage_positions`.
 const float *db_damage_normals(const DbDamage *damage, uint64_t id, size_t *vertex_count);
+
+// Body `id`'s UVs (2 floats a vertex: its mesh's, new vertices interpolated), as
+// `db_damage_positions`; null and 0 for a body whose mesh came without UVs.
+//
+// # Safety
+// As `db_damage_positions`.
+const float *db_damage_uvs(const DbDamage *damage, uint64_t id, size_t *vertex_count);
 
 // Body `id`'s triangles (3 indices each), the count written to `triangle_count`; a step that
 // refines the body changes them.
@@ -431,13 +445,15 @@ int db_damage_fracture(const DbDamage *damage, size_t index, DbFracture *out);
 // `damage` is null or live; `out` is null or points to a writable `DbPiece`.
 int db_damage_piece(const DbDamage *damage, size_t fracture, size_t piece, DbPiece *out);
 
-// A new mesh, a copy of piece `piece` of the last step's fracture `fracture`: to add it as
-// a body that dents (`db_damage_add_body`, placed by the fracture's `to_world`), or to hand
+// A new mesh, a copy of piece `piece` of the last step's fracture `fracture` with its
+// normals and UVs: to add it as a body that dents (`db_damage_add_body`, placed by the fracture's `to_world`), or to hand
 // it as a projectile's surface. Null on failure. Free it with `db_mesh_free`.
 //
 // # Safety
 // `damage` is null or live.
-DbMesh *db_damage_piece_mesh(const DbDamage *damage, size_t fracture, size_t piece);
+DbMesh *db_damage_piece_mesh(const DbDamage *damage,
+                             size_t fracture,
+                             size_t piece);
 
 // Stops naming piece (`fracture_number`, `index`) on the context's replication stream: call
 // when the game removes the piece (clients call `db_replica_forget_piece`).
@@ -676,8 +692,8 @@ int db_damage_record(DbDamage *damage, uint64_t id, const char *body_name);
 const uint8_t *db_damage_save(DbDamage *damage, size_t *length);
 
 // Gives body `id` the damage the file's body `name` recorded (saved from a body with the mesh
-// this one has now): its mesh becomes the saved one, and a recorded body's record goes on
-// from it. A file for another mesh, or one that does not replay, is refused and changes
+// this one has now): its mesh becomes the saved one (its UVs and normals brought along), and
+// a recorded body's record goes on from it. A file for another mesh, or one that does not replay, is refused and changes
 // nothing.
 //
 // # Safety

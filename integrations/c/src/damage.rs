@@ -9,8 +9,10 @@ use dentbend::TriMesh;
 use dentbend::damage::{AppliedDent, CpuBackend, Damage, DamageError, DamagePlan, Hit, TargetSet};
 use dentbend::dent::{BodyState, DentSettings, Impact, Surface, VolumeMode};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
+use dentbend::mesh::Asset;
 use dentbend::record::{DamageRecorder, RecordForms};
 
+use crate::attributes::Attributes;
 use crate::fracture::{MadeFracture, Patterns};
 use crate::handles;
 use crate::mesh::DbMesh;
@@ -39,6 +41,8 @@ pub struct DbDamage {
     pub(crate) fractures: Vec<MadeFracture>,
     /// The fracture patterns built so far.
     pub(crate) patterns: Patterns,
+    /// The attributes (UVs, authored normals) of the bodies that have them.
+    pub(crate) attributes: Attributes,
 }
 
 /// How a body dents: the dent's depth from the normal impact speed, and its shape. Start from
@@ -145,6 +149,7 @@ impl Default for DbDamage {
             saved: Vec::new(),
             fractures: Vec::new(),
             patterns: Patterns::default(),
+            attributes: Attributes::default(),
         }
     }
 }
@@ -187,7 +192,8 @@ pub unsafe extern "C" fn db_damage_free(damage: *mut DbDamage) {
 
 impl DbDamage {
     /// Adds body `id` (replacing one of that id, with its fracture settings), which dents:
-    /// `mesh` (its own coordinates, m), placed by `to_world`, denting as `settings` say. A
+    /// `asset`'s mesh (its own coordinates, m), placed by `to_world`, denting as `settings`
+    /// say. Its attributes (UVs, authored normals, ...) follow every dent and fracture. A
     /// recorded body replaced starts its record again from the new mesh, under the same name.
     ///
     /// # Errors
@@ -195,11 +201,13 @@ impl DbDamage {
     pub fn add_body(
         &mut self,
         id: u64,
-        mesh: TriMesh,
+        asset: Asset,
         to_world: Affine3A,
         settings: DentSettings,
     ) -> Result<(), Failure> {
+        let mesh = asset.mesh().clone();
         self.targets.insert(id, mesh, to_world, settings).map_err(|e| Failure::invalid(e.to_string()))?;
+        self.attributes.keep(id, asset);
         self.damage.forget(id);
         self.stream.forget(id);
         self.moved.remove(&id);
@@ -229,6 +237,16 @@ impl DbDamage {
     /// Body `id`'s mesh (its own coordinates), if it dents.
     pub fn mesh(&self, id: u64) -> Option<&TriMesh> {
         self.targets.mesh(id)
+    }
+
+    /// Body `id`'s authored normals, brought through its dents, when it was added with them.
+    pub fn shading_normals(&self, id: u64) -> Option<&[Vec3]> {
+        self.attributes.normals(id)
+    }
+
+    /// Body `id`'s first UV set, new vertices interpolated, when it was added with UVs.
+    pub fn uvs(&self, id: u64) -> Option<&[dentbend::glam::Vec2]> {
+        self.attributes.uvs(id)
     }
 
     /// The last step's dents.
@@ -263,6 +281,7 @@ impl DbDamage {
         let mut recorder = self.recorder.clone();
         recorder.record(&self.targets, list, &plan).map_err(|e| Failure::invalid(e.to_string()))?;
         let DamagePlan { dents, targets, fractures, .. } = plan;
+        let mut followed = self.attributes.follow(&targets, &fractures)?;
         let after =
             |key: u64| targets.iter().find(|t| t.key == key).map(|t| &t.mesh).or_else(|| self.targets.mesh(key));
         let surface = |key: u64| list.iter().find(|h| h.projectile == key).map(|h| h.projectile_surface.mesh);
@@ -270,8 +289,9 @@ impl DbDamage {
 
         // Everything made: commit.
         let mut moved: HashMap<u64, Vec<u32>> = self.targets.apply(targets).into_iter().collect();
+        self.attributes.commit(&mut followed);
         let mut made = Vec::with_capacity(fractures.len());
-        for fracture in fractures {
+        for (fracture, assets) in fractures.into_iter().zip(followed.pieces) {
             let body = fracture.body;
             let to_world = self.targets.pose(body).unwrap_or(Affine3A::IDENTITY);
             self.targets.apply_fracture(&fracture);
@@ -286,7 +306,7 @@ impl DbDamage {
                     self.stream.forget(body);
                 }
             }
-            made.push(MadeFracture::new(fracture, to_world));
+            made.push(MadeFracture::new(fracture, to_world, assets));
         }
         self.damage = state;
         self.recorder = recorder;
@@ -335,7 +355,7 @@ pub unsafe extern "C" fn db_damage_add_body(
         }
         // SAFETY: not null, a `DbDentSettings` by the caller's contract.
         let settings = dent_settings(unsafe { &*settings });
-        damage.add_body(id, mesh.mesh().clone(), to_world, settings)
+        damage.add_body(id, mesh.asset.clone(), to_world, settings)
     })
 }
 
@@ -533,7 +553,8 @@ pub unsafe extern "C" fn db_damage_positions(damage: *const DbDamage, id: u64, v
     }
 }
 
-/// Body `id`'s vertex normals, as `db_damage_positions`.
+/// Body `id`'s vertex normals (its authored ones brought through its dents, when its mesh came
+/// with them), as `db_damage_positions`.
 ///
 /// # Safety
 /// As `db_damage_positions`.
@@ -542,7 +563,25 @@ pub unsafe extern "C" fn db_damage_normals(damage: *const DbDamage, id: u64, ver
     // SAFETY: the caller's contract.
     unsafe {
         body_array(damage, id, vertex_count, |d| {
-            d.targets.mesh(id).map(|m| (m.normals().as_ptr().cast(), m.vertex_count()))
+            let mesh = d.targets.mesh(id)?;
+            let normals = d.attributes.normals(id).unwrap_or(mesh.normals());
+            Some((normals.as_ptr().cast(), normals.len()))
+        })
+    }
+}
+
+/// Body `id`'s UVs (2 floats a vertex: its mesh's, new vertices interpolated), as
+/// `db_damage_positions`; null and 0 for a body whose mesh came without UVs.
+///
+/// # Safety
+/// As `db_damage_positions`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_damage_uvs(damage: *const DbDamage, id: u64, vertex_count: *mut usize) -> *const f32 {
+    // SAFETY: the caller's contract.
+    unsafe {
+        body_array(damage, id, vertex_count, |d| {
+            d.targets.mesh(id)?;
+            Some(d.attributes.uvs(id).map_or((std::ptr::null(), 0), |uvs| (uvs.as_ptr().cast(), uvs.len())))
         })
     }
 }

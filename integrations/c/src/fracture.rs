@@ -134,6 +134,12 @@ pub struct DbPiece {
     pub angular_velocity: [f32; 3],
     /// Its vertices, 3 floats each, mesh coordinates.
     pub positions: *const f32,
+    /// Its vertex normals, 3 floats each (a body's authored normals carried over, a cut's
+    /// normal on its faces).
+    pub normals: *const f32,
+    /// Its UVs, 2 floats a vertex, when the body's mesh came with UVs (null otherwise): the
+    /// surface's carried over, a cut's projected on its plane at the mesh's texel density.
+    pub uvs: *const f32,
     /// Points for its convex collider, 3 floats each, `vertex_count` of them: the vertices
     /// shrunk by 3 % toward the centre of mass, so pieces start clear of the rest and of each
     /// other.
@@ -146,7 +152,8 @@ pub struct DbPiece {
     pub triangle_count: usize,
 }
 
-/// A fracture read back: the library's, with each piece's collider points.
+/// A fracture read back: the library's, with each piece's collider points and, for a body with
+/// attributes, each piece's asset.
 #[derive(Debug)]
 pub(crate) struct MadeFracture {
     pub(crate) fracture: BodyFracture<u64>,
@@ -154,12 +161,22 @@ pub(crate) struct MadeFracture {
     pub(crate) to_world: Affine3A,
     /// Each piece's collider points.
     pub(crate) hulls: Vec<Vec<Vec3>>,
+    /// Each piece's asset (UVs, normals carried over), when the body had attributes.
+    pub(crate) assets: Option<Vec<Asset>>,
 }
 
 impl MadeFracture {
-    pub(crate) fn new(fracture: BodyFracture<u64>, to_world: Affine3A) -> Self {
+    pub(crate) fn new(fracture: BodyFracture<u64>, to_world: Affine3A, assets: Option<Vec<Asset>>) -> Self {
         let hulls = fracture.pieces.iter().map(|p| piece_hull_points(&p.mesh, p.mass.center)).collect();
-        Self { fracture, to_world, hulls }
+        Self { fracture, to_world, hulls, assets }
+    }
+
+    /// Piece `k`'s asset: its carried attributes, or its mesh alone.
+    pub(crate) fn asset(&self, k: usize) -> Asset {
+        match &self.assets {
+            Some(assets) => assets[k].clone(),
+            None => Asset::from_mesh(self.fracture.pieces[k].mesh.clone()),
+        }
     }
 }
 
@@ -233,9 +250,10 @@ impl DbDamage {
         Ok(())
     }
 
-    /// The last step's fractures, each with the body's mesh -> world transform when it broke.
-    pub fn fractures(&self) -> impl ExactSizeIterator<Item = (&BodyFracture<u64>, Affine3A)> {
-        self.fractures.iter().map(|f| (&f.fracture, f.to_world))
+    /// The last step's fractures, each with the body's mesh -> world transform when it broke
+    /// and, for a body with attributes, its pieces' assets (UVs and normals carried over).
+    pub fn fractures(&self) -> impl ExactSizeIterator<Item = (&BodyFracture<u64>, Affine3A, Option<&[Asset]>)> {
+        self.fractures.iter().map(|f| (&f.fracture, f.to_world, f.assets.as_deref()))
     }
 
     /// The collider points of piece `piece` of the last step's fracture `fracture` (indices
@@ -266,11 +284,14 @@ fn mass_parts(mass: &MassProperties) -> (f32, [f32; 3], [f32; 9]) {
 pub(crate) fn piece_view(
     id: PieceId,
     mesh: &TriMesh,
+    asset: Option<&Asset>,
     mass: &MassProperties,
     velocity: (Vec3, Vec3),
     hull: &[Vec3],
 ) -> DbPiece {
     let (mass, center_of_mass, inertia) = mass_parts(mass);
+    let normals = asset.map_or(mesh.normals(), Asset::shading_normals);
+    let uvs = asset.and_then(|a| a.attributes().uvs.first()).map_or(std::ptr::null(), |uv| uv.as_ptr().cast());
     DbPiece {
         fracture: id.fracture,
         index: id.index,
@@ -280,6 +301,8 @@ pub(crate) fn piece_view(
         linear_velocity: velocity.0.to_array(),
         angular_velocity: velocity.1.to_array(),
         positions: mesh.positions().as_ptr().cast(),
+        normals: normals.as_ptr().cast(),
+        uvs,
         hull_points: hull.as_ptr().cast(),
         vertex_count: mesh.vertex_count(),
         indices: mesh.faces().as_ptr().cast(),
@@ -384,14 +407,16 @@ pub unsafe extern "C" fn db_damage_piece(
         let made = unsafe { DbDamage::get(damage)? }.made_fracture(fracture)?;
         let count = made.fracture.pieces.len();
         let p = made.fracture.pieces.get(piece).ok_or_else(|| Failure::invalid(format!("piece {piece} of {count}")))?;
-        let view = piece_view(p.id, &p.mesh, &p.mass, (p.linear_velocity, p.angular_velocity), &made.hulls[piece]);
+        let asset = made.assets.as_ref().map(|a| &a[piece]);
+        let velocity = (p.linear_velocity, p.angular_velocity);
+        let view = piece_view(p.id, &p.mesh, asset, &p.mass, velocity, &made.hulls[piece]);
         // SAFETY: the caller's contract.
         unsafe { write_out(out, view) }
     })
 }
 
-/// A new mesh, a copy of piece `piece` of the last step's fracture `fracture`: to add it as
-/// a body that dents (`db_damage_add_body`, placed by the fracture's `to_world`), or to hand
+/// A new mesh, a copy of piece `piece` of the last step's fracture `fracture` with its
+/// normals and UVs: to add it as a body that dents (`db_damage_add_body`, placed by the fracture's `to_world`), or to hand
 /// it as a projectile's surface. Null on failure. Free it with `db_mesh_free`.
 ///
 /// # Safety
@@ -402,10 +427,12 @@ pub unsafe extern "C" fn db_damage_piece_mesh(damage: *const DbDamage, fracture:
         // SAFETY: the caller's contract.
         let made = unsafe { DbDamage::get(damage)? }.made_fracture(fracture)?;
         let count = made.fracture.pieces.len();
-        let p = made.fracture.pieces.get(piece).ok_or_else(|| Failure::invalid(format!("piece {piece} of {count}")))?;
-        Ok(p.mesh.clone())
+        if piece >= count {
+            return Err(Failure::invalid(format!("piece {piece} of {count}")));
+        }
+        Ok(made.asset(piece))
     });
-    mesh.map_or(std::ptr::null_mut(), |mesh| handles::make(DbMesh { asset: Asset::from_mesh(mesh), moved: Vec::new() }))
+    mesh.map_or(std::ptr::null_mut(), |asset| handles::make(DbMesh { asset, moved: Vec::new() }))
 }
 
 /// Stops naming piece (`fracture_number`, `index`) on the context's replication stream: call

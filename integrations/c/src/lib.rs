@@ -17,6 +17,7 @@
 
 #![warn(missing_docs)]
 
+mod attributes;
 mod damage;
 mod dent;
 mod fracture;
@@ -30,7 +31,7 @@ mod status;
 pub use damage::{
     DB_MAX_HITS, DbAppliedDent, DbBodyState, DbDamage, DbDentSettings, DbHit, body_state, db_damage_add_body,
     db_damage_add_projectile, db_damage_dent, db_damage_dent_count, db_damage_free, db_damage_indices, db_damage_moved,
-    db_damage_new, db_damage_normals, db_damage_positions, db_damage_set_pose, db_damage_step,
+    db_damage_new, db_damage_normals, db_damage_positions, db_damage_set_pose, db_damage_step, db_damage_uvs,
     db_dent_settings_default, dent_settings, hit,
 };
 pub use dent::{DbDentOptions, DbDentReport, DbImpact, db_dent, db_dent_ex, db_dent_options_default};

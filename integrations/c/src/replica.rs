@@ -403,7 +403,7 @@ pub unsafe extern "C" fn db_replica_piece(
         let count = made.fracture.pieces.len();
         let (id, p) =
             made.fracture.pieces.get(piece).ok_or_else(|| Failure::invalid(format!("piece {piece} of {count}")))?;
-        let view = piece_view(*id, &p.mesh, &p.mass, (Vec3::ZERO, Vec3::ZERO), &made.hulls[piece]);
+        let view = piece_view(*id, &p.mesh, None, &p.mass, (Vec3::ZERO, Vec3::ZERO), &made.hulls[piece]);
         // SAFETY: the caller's contract.
         unsafe { write_out(out, view) }
     })

@@ -6,7 +6,7 @@ use std::ffi::{CStr, c_char, c_int};
 
 use dentbend::damage::DentedTarget;
 use dentbend::dent::changed_vertices;
-use dentbend::record::{DamageFile, DentForm, Projectiles, replay_body};
+use dentbend::record::{DamageFile, DentForm, Projectiles, ReplayStep, replay_body_traced};
 
 use crate::damage::DbDamage;
 use crate::status::{Failure, guarded, guarded_value, hand_out};
@@ -54,8 +54,8 @@ pub unsafe extern "C" fn db_damage_save(damage: *mut DbDamage, length: *mut usiz
 }
 
 /// Gives body `id` the damage the file's body `name` recorded (saved from a body with the mesh
-/// this one has now): its mesh becomes the saved one, and a recorded body's record goes on
-/// from it. A file for another mesh, or one that does not replay, is refused and changes
+/// this one has now): its mesh becomes the saved one (its UVs and normals brought along), and
+/// a recorded body's record goes on from it. A file for another mesh, or one that does not replay, is refused and changes
 /// nothing.
 ///
 /// # Safety
@@ -133,9 +133,17 @@ impl DbDamage {
                  dent the mesh they have)"
             )));
         }
-        let restored = replay_body(body, now, DentForm::Edits, &Projectiles::new())
-            .map_err(|e| Failure::invalid(e.to_string()))?
-            .mesh;
+        // A body with attributes brings them through each record as it replays.
+        let mut asset = self.attributes.get(id).cloned();
+        let mut carried = Ok(());
+        let mut carry = |step: ReplayStep<'_>| {
+            if let (Some(asset), Ok(())) = (asset.as_mut(), &carried) {
+                carried = step.carry(asset);
+            }
+        };
+        let replayed = replay_body_traced(body, now, (DentForm::Edits, &Projectiles::new()), &mut carry);
+        let restored = replayed.map_err(|e| Failure::invalid(e.to_string()))?.mesh;
+        carried.map_err(|e| Failure::invalid(format!("the body's attributes cannot follow its damage: {e}")))?;
         let moved = changed_vertices(now, &restored);
         let topology_changed = now.faces() != restored.faces();
         if self.recorder.body(id).is_some() {
@@ -144,6 +152,9 @@ impl DbDamage {
         self.damage.forget(id);
         let dented = DentedTarget { key: id, mesh: restored, moved, refinement: Default::default(), topology_changed };
         self.moved.extend(self.targets.apply(vec![dented]));
+        if let Some(asset) = asset {
+            self.attributes.replace(id, asset);
+        }
         Ok(())
     }
 }

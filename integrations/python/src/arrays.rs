@@ -2,7 +2,7 @@
 //! when they already have that layout, converted once otherwise (positions rounded to float32,
 //! faces range-checked first); results handed to numpy without a second copy.
 
-use dentbend::glam::{Affine3A, Vec3};
+use dentbend::glam::{Affine3A, Vec2, Vec3};
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -54,6 +54,22 @@ pub fn positions(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec3>> {
     let read = array.try_readonly().map_err(|e| refused(format!("{what}: {e}")))?;
     let flat = read.as_slice().map_err(|e| refused(format!("{what}: {e}")))?;
     Ok(flat.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect())
+}
+
+/// Texture coordinates: an `(N, 2)` array of float32 (converted from another float or integer
+/// dtype).
+pub fn uvs(value: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec2>> {
+    let converted = contiguous(value, "float32", 2, "fiu", what)?;
+    let array = converted.cast::<PyArray2<f32>>().map_err(|e| refused(format!("{what}: {e}")))?;
+    let read = array.try_readonly().map_err(|e| refused(format!("{what}: {e}")))?;
+    let flat = read.as_slice().map_err(|e| refused(format!("{what}: {e}")))?;
+    Ok(flat.chunks_exact(2).map(|p| Vec2::new(p[0], p[1])).collect())
+}
+
+/// UVs as a new `(N, 2)` float32 array.
+pub fn uvs_out<'py>(py: Python<'py>, uvs: &[Vec2]) -> Bound<'py, PyArray2<f32>> {
+    let flat: Vec<f32> = uvs.iter().flat_map(|p| p.to_array()).collect();
+    Array2::from_shape_vec((uvs.len(), 2), flat).expect("2 values a point").into_pyarray(py)
 }
 
 /// Triangles: an `(M, 3)` array of uint32 vertex indices (read in place), or of another

@@ -8,12 +8,13 @@ use dentbend::TriMesh;
 use dentbend::damage::PieceId;
 use dentbend::dent::{DentSettings, Surface};
 use dentbend::glam::{Affine3A, Mat3, Vec3};
+use dentbend::mesh::{Asset, FaceGroup, VertexAttributes};
 use dentbend_c::{DbBodyState, DbDamage, DbDentSettings, body_state, hit};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::arrays::{list_out, pose, positions_out, refused, rows_out, vec3};
+use crate::arrays::{list_out, pose, positions_out, refused, rows_out, uvs_out, vec3};
 use crate::fracture::{Fracture, fracture};
 
 /// A triangle mesh made once (checked, its normals computed) and shared by every hit that uses
@@ -236,8 +237,10 @@ impl Damage {
     /// Adds body `id` (replacing one of that id, with its fracture settings), which dents:
     /// `positions` `(N, 3)` and `faces` `(M, 3)` in its own coordinates (m), placed by
     /// `to_world` (4x4), denting `depth_per_speed` m per m/s of normal impact speed above
-    /// `threshold_speed` m/s, at most `max_depth` m.
-    #[pyo3(signature = (id, positions, faces, *, to_world = None, threshold_speed = 1.0, depth_per_speed = 0.01, max_depth = 0.1, sigma = None, preserve_volume = false, progressive = false))]
+    /// `threshold_speed` m/s, at most `max_depth` m. A game asset's `uvs` `(N, 2)` and authored
+    /// `normals` `(N, 3)` (vertices split at its seams and hard edges) follow every dent and
+    /// fracture: new vertices interpolate them.
+    #[pyo3(signature = (id, positions, faces, *, to_world = None, threshold_speed = 1.0, depth_per_speed = 0.01, max_depth = 0.1, sigma = None, preserve_volume = false, progressive = false, uvs = None, normals = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -252,13 +255,25 @@ impl Damage {
         sigma: Option<f32>,
         preserve_volume: bool,
         progressive: bool,
+        uvs: Option<&Bound<'_, PyAny>>,
+        normals: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let (p, f) = (crate::arrays::positions(positions, "positions")?, crate::arrays::faces(faces, "faces")?);
         let to_world = pose(to_world, "to_world")?;
         let settings = dent_settings(threshold_speed, depth_per_speed, max_depth, sigma, preserve_volume, progressive)?;
-        let mesh = py.detach(|| TriMesh::new(p, f)).map_err(|e| refused(e.to_string()))?;
+        let attributes = VertexAttributes {
+            uvs: uvs.map(|u| crate::arrays::uvs(u, "uvs")).transpose()?.into_iter().collect(),
+            normals: normals.map(|n| crate::arrays::positions(n, "normals")).transpose()?,
+            ..VertexAttributes::default()
+        };
+        let asset = py.detach(|| {
+            let mesh = TriMesh::new(p, f).map_err(|e| e.to_string())?;
+            let faces = mesh.face_count();
+            Asset::new(mesh, attributes, vec![FaceGroup::default()], vec![0; faces]).map_err(|e| e.to_string())
+        });
+        let asset = asset.map_err(refused)?;
         let inner = &mut self.inner;
-        py.detach(|| inner.add_body(id, mesh, to_world, settings)).map_err(|e| refused(e.message))
+        py.detach(|| inner.add_body(id, asset, to_world, settings)).map_err(|e| refused(e.message))
     }
 
     /// Adds body `id`, which hits others but does not dent (its surface comes with each hit).
@@ -304,9 +319,19 @@ impl Damage {
         Ok(positions_out(py, self.mesh(id)?.positions().to_vec()))
     }
 
-    /// Body `id`'s vertex normals, a new `(N, 3)` float32 array.
+    /// Body `id`'s vertex normals (its authored ones brought through its dents, when it was
+    /// added with them), a new `(N, 3)` float32 array.
     fn normals<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        Ok(positions_out(py, self.mesh(id)?.normals().to_vec()))
+        let mesh = self.mesh(id)?;
+        let normals = self.inner.shading_normals(id).unwrap_or(mesh.normals());
+        Ok(positions_out(py, normals.to_vec()))
+    }
+
+    /// Body `id`'s UVs (new vertices interpolated), a new `(N, 2)` float32 array; `None` for a
+    /// body added without UVs.
+    fn uvs<'py>(&self, py: Python<'py>, id: u64) -> PyResult<Option<Bound<'py, PyArray2<f32>>>> {
+        self.mesh(id)?;
+        Ok(self.inner.uvs(id).map(|uvs| uvs_out(py, uvs)))
     }
 
     /// Body `id`'s triangles, a new `(M, 3)` uint32 array (a step that refines it changes them).
@@ -352,7 +377,7 @@ impl Damage {
     /// The bodies the last step broke. A body keeps its id with its rest (its mesh, all of its
     /// vertices `moved`), unless the pattern took it whole: then the context no longer has it.
     fn fractures(&self, py: Python<'_>) -> PyResult<Vec<Fracture>> {
-        self.inner.fractures().map(|(f, to_world)| fracture(py, f, to_world)).collect()
+        self.inner.fractures().map(|(f, to_world, assets)| fracture(py, f, to_world, assets)).collect()
     }
 
     /// Stops naming piece `index` of fracture `fracture` on the replication stream (the game

@@ -5,13 +5,13 @@ use dentbend::TriMesh;
 use dentbend::damage::{BodyFracture, PieceId};
 use dentbend::fracture::FractureCause;
 use dentbend::glam::{Affine3A, Mat3, Mat4, Vec3};
-use dentbend::mesh::MassProperties;
+use dentbend::mesh::{Asset, MassProperties};
 use dentbend_c::{DbFractureSettings, ReplicaBreak, db_fracture_settings_default};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::prelude::*;
 
-use crate::arrays::{positions_out, rows_out};
+use crate::arrays::{positions_out, rows_out, uvs_out};
 
 type Triple = (f32, f32, f32);
 
@@ -47,6 +47,12 @@ pub struct Piece {
     positions: Py<PyArray2<f32>>,
     /// Its triangles, `(M, 3)` uint32.
     faces: Py<PyArray2<u32>>,
+    /// Its vertex normals, `(N, 3)` float32 (the body's authored normals carried over, a cut's
+    /// normal on its faces).
+    normals: Py<PyArray2<f32>>,
+    /// Its UVs, `(N, 2)` float32, when the body had UVs (the surface's carried over, a cut's
+    /// projected on its plane at the body's texel density); `None` otherwise.
+    uvs: Option<Py<PyArray2<f32>>>,
     /// Points for its convex collider, `(N, 3)` float32: the vertices shrunk 3 % toward the
     /// centre of mass, so that pieces start clear of each other.
     hull_points: Py<PyArray2<f32>>,
@@ -86,15 +92,20 @@ fn piece(
     py: Python<'_>,
     id: PieceId,
     mesh: &TriMesh,
+    asset: Option<&Asset>,
     mass: &MassProperties,
     velocity: (Vec3, Vec3),
 ) -> PyResult<Py<Piece>> {
     let hull = dentbend::damage::piece_hull_points(mesh, mass.center);
+    let normals = asset.map_or(mesh.normals(), Asset::shading_normals);
+    let uvs = asset.and_then(|a| a.attributes().uvs.first());
     let made = Piece {
         fracture: id.fracture,
         index: id.index,
         positions: positions_out(py, mesh.positions().to_vec()).unbind(),
         faces: rows_out(py, mesh.faces().to_vec()).unbind(),
+        normals: positions_out(py, normals.to_vec()).unbind(),
+        uvs: uvs.map(|u| uvs_out(py, u).unbind()),
         hull_points: positions_out(py, hull).unbind(),
         mass: mass.mass,
         center_of_mass: mass.center.into(),
@@ -156,11 +167,20 @@ impl Fracture {
 }
 
 /// A fracture's Python object.
-pub fn fracture(py: Python<'_>, f: &BodyFracture<u64>, to_world: Affine3A) -> PyResult<Fracture> {
+pub fn fracture(
+    py: Python<'_>,
+    f: &BodyFracture<u64>,
+    to_world: Affine3A,
+    assets: Option<&[Asset]>,
+) -> PyResult<Fracture> {
     let pieces = f
         .pieces
         .iter()
-        .map(|p| piece(py, p.id, &p.mesh, &p.mass, (p.linear_velocity, p.angular_velocity)))
+        .enumerate()
+        .map(|(k, p)| {
+            let asset = assets.map(|a| &a[k]);
+            piece(py, p.id, &p.mesh, asset, &p.mass, (p.linear_velocity, p.angular_velocity))
+        })
         .collect::<PyResult<_>>()?;
     Ok(Fracture {
         body: f.body,
@@ -211,7 +231,11 @@ impl ReplicaFracture {
 /// A replica's fracture's Python object.
 pub fn replica_fracture(py: Python<'_>, made: &ReplicaBreak) -> PyResult<ReplicaFracture> {
     let still = (Vec3::ZERO, Vec3::ZERO);
-    let pieces =
-        made.fracture.pieces.iter().map(|(id, p)| piece(py, *id, &p.mesh, &p.mass, still)).collect::<PyResult<_>>()?;
+    let pieces = made
+        .fracture
+        .pieces
+        .iter()
+        .map(|(id, p)| piece(py, *id, &p.mesh, None, &p.mass, still))
+        .collect::<PyResult<_>>()?;
     Ok(ReplicaFracture { body: made.body, whole: made.whole, number: made.fracture.number, pieces })
 }

@@ -62,3 +62,32 @@ def box(size=(2.0, 2.0, 0.5), cells=(8, 8, 2)):
                     else:
                         faces += [(a, d, b), (a, c, d)]
     return np.asarray(positions, dtype=np.float32), np.asarray(faces, dtype=np.uint32)
+
+
+def box_asset(size=(4.0, 4.0, 0.5), cells=(4, 4, 1)):
+    """``box`` as a game asset: one vertex per side at its hard edges, each side's normal
+    authored, UVs projected per side at 2 UV units a metre (the side's other two coordinates).
+    (positions, faces, normals, uvs)."""
+    welded, faces = box(size, cells)
+    positions, normals, uvs, out, index = [], [], [], [], {}
+    for face in faces:
+        a, b, c = welded[face].astype(np.float64)
+        n = np.cross(b - a, c - a)
+        axis = int(np.argmax(np.abs(n)))
+        sign = 1.0 if n[axis] > 0 else -1.0
+        corners = []
+        for v in face:
+            key = (int(v), axis, sign)
+            if key not in index:
+                index[key] = len(positions)
+                p = welded[v]
+                positions.append(p)
+                normal = np.zeros(3)
+                normal[axis] = sign
+                normals.append(normal)
+                others = [k for k in range(3) if k != axis]
+                uvs.append(2.0 * p[others])
+            corners.append(index[key])
+        out.append(corners)
+    return (np.asarray(positions, dtype=np.float32), np.asarray(out, dtype=np.uint32),
+            np.asarray(normals, dtype=np.float32), np.asarray(uvs, dtype=np.float32))

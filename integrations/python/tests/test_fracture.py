@@ -143,3 +143,36 @@ def test_a_replica_follows_the_servers_dents_and_pieces(target, ball):
         assert np.array_equal(client.positions(WIRE_SLAB), now)
     with pytest.raises(dentbend.DentError, match="no body"):
         client.positions(99)
+
+
+def test_a_game_asset_keeps_its_uvs_and_hard_edges_through_dents_and_breaks(ball):
+    """A slab of 1 m cells (too coarse for the dent: it refines) with UVs and authored normals:
+    a head-on dent from above keeps every top vertex's UV at twice its (x, y) within 1e-5 (new
+    vertices included: it moves them straight down), the other sides' normals within 0.02 rad of
+    their side's (a smoothed hard edge would turn them 45 degrees); its pieces carry UVs and unit
+    normals."""
+    positions, faces, normals, uvs = meshes.box_asset()
+    damage = dentbend.Damage()
+    damage.add_body(SLAB, positions, faces, threshold_speed=1.0, depth_per_speed=0.01, max_depth=0.1,
+                    uvs=uvs, normals=normals)
+    damage.add_projectile(BALL)
+    damage.step([ball_hit(ball, 8.0)[1]])
+    after, now_normals, now_uvs = damage.positions(SLAB), damage.normals(SLAB), damage.uvs(SLAB)
+    assert len(after) > len(positions), "the dent refined the top"
+    assert now_uvs.shape == (len(after), 2)
+    top = np.concatenate([normals[:, 2] > 0.5, np.ones(len(after) - len(positions), dtype=bool)])
+    assert np.abs(now_uvs[top] - 2.0 * after[top][:, :2]).max() < 1e-5
+    off = ~top[: len(positions)]
+    cos = np.einsum("ij,ij->i", now_normals[: len(positions)][off], normals[off])
+    assert cos.min() > np.cos(0.02)
+    damage.set_fracture(SLAB, cells=10, radius=0.6, seed=2, toughness=20.0)
+    damage.step([ball_hit(ball, 8.0, x=-0.6, y=0.7)[1]])
+    (f,) = damage.fractures()
+    for piece in f.pieces:
+        assert piece.uvs.shape == (len(piece.positions), 2) and np.isfinite(piece.uvs).all()
+        assert np.allclose(np.linalg.norm(piece.normals, axis=1), 1.0, atol=1e-4)
+    assert damage.uvs(SLAB).shape == (len(damage.positions(SLAB)), 2)
+    # A body added without UVs has none.
+    plain = dentbend.Damage()
+    plain.add_body(1, positions, faces)
+    assert plain.uvs(1) is None
