@@ -18,7 +18,9 @@ impl ReplayStep<'_> {
     ///
     /// # Errors
     /// [`MeshError::DentMismatch`] when `asset` is not of `before`'s mesh (its vertex or face
-    /// count) or the edit removed faces; `asset` is unchanged then.
+    /// count), or the edit is no refinement of it (faces removed, a face slot holding corners
+    /// of another face, a new vertex on no edge: `before` and `after` are not one damage
+    /// history apart); `asset` is unchanged then.
     pub fn carry(&self, asset: &mut Asset) -> Result<(), MeshError> {
         let (before, expected) = match self {
             Self::Edited { before, .. } | Self::Broke { before, .. } => (*before, asset.mesh()),
@@ -41,6 +43,9 @@ impl ReplayStep<'_> {
                     ));
                 }
                 let vertices = self.splits();
+                if !is_refinement(before.faces(), after.faces(), before.vertex_count() as u32, &vertices) {
+                    return Err(mismatch("an edit that refines the mesh before (its faces and splits)", 0, 1));
+                }
                 let base = before.vertex_count() as u32;
                 let face_parents = corner_faces(before.faces(), base, &vertices, &after.faces()[before.face_count()..]);
                 let refinement = Refinement {
@@ -80,4 +85,13 @@ fn corner_faces(faces: &[[u32; 3]], base: u32, splits: &[SplitVertex], new_faces
         v
     };
     new_faces.iter().map(|f| first_face.get(&root(f[0])).copied().unwrap_or(0)).collect()
+}
+
+/// Whether `after` is `before` (over `base` vertices) moved and refined: no face removed, each
+/// old face's slot holding only its own corners and new vertices, each new vertex on an edge
+/// (`splits` with two different parents).
+fn is_refinement(before: &[[u32; 3]], after: &[[u32; 3]], base: u32, splits: &[SplitVertex]) -> bool {
+    after.len() >= before.len()
+        && splits.iter().all(|s| s.parents[0] != s.parents[1])
+        && before.iter().zip(after).all(|(old, new)| new.iter().all(|v| *v >= base || old.contains(v)))
 }

@@ -612,6 +612,20 @@ const uint32_t *db_replica_indices(const DbReplica *replica,
                                    uint32_t wire_id,
                                    size_t *triangle_count);
 
+// The replica's body `wire_id`: its vertex normals (its authored ones brought along, when its
+// mesh came with them), as `db_replica_positions`.
+//
+// # Safety
+// As `db_replica_positions`.
+const float *db_replica_normals(const DbReplica *replica, uint32_t wire_id, size_t *vertex_count);
+
+// The replica's body `wire_id`: its UVs (2 floats a vertex, new vertices interpolated), as
+// `db_replica_positions`; null and 0 for a body whose mesh came without UVs.
+//
+// # Safety
+// As `db_replica_positions`.
+const float *db_replica_uvs(const DbReplica *replica, uint32_t wire_id, size_t *vertex_count);
+
 // The vertices of body `wire_id` the last message or snapshot moved or added (ascending), the
 // count written to `count` (0 when it left the body alone).
 //

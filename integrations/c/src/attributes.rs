@@ -3,23 +3,35 @@
 //! mesh read back from the context never cracks or loses its texture where a dent refined it.
 
 use std::collections::HashMap;
+use std::hash::Hash;
 
+use dentbend::TriMesh;
 use dentbend::damage::{BodyFracture, DentedTarget};
 use dentbend::fracture::carry_asset;
 use dentbend::glam::{Vec2, Vec3};
 use dentbend::mesh::{Asset, VertexAttributes};
+use dentbend::record::ReplayStep;
+use dentbend::record::replication::ReplicaChange;
 
 use crate::status::Failure;
 
-/// The assets of the bodies that have attributes, by id.
-#[derive(Debug, Default)]
-pub(crate) struct Attributes(HashMap<u64, Asset>);
+/// The assets of the bodies that have attributes, by id (a context's 64-bit ids, a replica's
+/// wire ids).
+#[derive(Debug)]
+pub(crate) struct Attributes<K>(HashMap<K, Asset>);
 
-/// A step's assets, made before anything is committed: each changed body's new asset (`None`:
-/// the body is gone), and each fracture's pieces' (`None` for a body without attributes).
-#[derive(Debug, Default)]
-pub(crate) struct Followed {
-    bodies: Vec<(u64, Option<Asset>)>,
+impl<K> Default for Attributes<K> {
+    fn default() -> Self {
+        Self(HashMap::new())
+    }
+}
+
+/// A step's (or message's) assets, made before anything is committed: each changed body's new
+/// asset (`None`: the body is gone), and each fracture's pieces' (`None` for a body without
+/// attributes).
+#[derive(Debug)]
+pub(crate) struct Followed<K> {
+    bodies: Vec<(K, Option<Asset>)>,
     pub(crate) pieces: Vec<Option<Vec<Asset>>>,
 }
 
@@ -36,9 +48,9 @@ fn failed(e: impl std::fmt::Display) -> Failure {
     Failure::invalid(format!("the body's attributes cannot follow: {e}"))
 }
 
-impl Attributes {
+impl<K: Copy + Eq + Hash> Attributes<K> {
     /// Keeps `asset` as body `id`'s when it has attributes (forgets the body's otherwise).
-    pub(crate) fn keep(&mut self, id: u64, asset: Asset) {
+    pub(crate) fn keep(&mut self, id: K, asset: Asset) {
         match any(asset.attributes()) {
             true => self.0.insert(id, asset),
             false => self.0.remove(&id),
@@ -46,18 +58,18 @@ impl Attributes {
     }
 
     /// Body `id`'s asset, if it has attributes.
-    pub(crate) fn get(&self, id: u64) -> Option<&Asset> {
+    pub(crate) fn get(&self, id: K) -> Option<&Asset> {
         self.0.get(&id)
     }
 
     /// Body `id`'s normals to shade with: the authored ones brought through its dents, when it
     /// has them.
-    pub(crate) fn normals(&self, id: u64) -> Option<&[Vec3]> {
+    pub(crate) fn normals(&self, id: K) -> Option<&[Vec3]> {
         self.0.get(&id).and_then(|a| a.attributes().normals.as_deref())
     }
 
     /// Body `id`'s first UV set, when it has one.
-    pub(crate) fn uvs(&self, id: u64) -> Option<&[Vec2]> {
+    pub(crate) fn uvs(&self, id: K) -> Option<&[Vec2]> {
         self.0.get(&id).and_then(|a| a.attributes().uvs.first()).map(Vec::as_slice)
     }
 
@@ -68,10 +80,10 @@ impl Attributes {
     /// A dent or fracture that does not describe a body's mesh (a bug, not an input).
     pub(crate) fn follow(
         &self,
-        targets: &[DentedTarget<u64>],
-        fractures: &[BodyFracture<u64>],
-    ) -> Result<Followed, Failure> {
-        let mut now: HashMap<u64, Option<Asset>> = HashMap::new();
+        targets: &[DentedTarget<K>],
+        fractures: &[BodyFracture<K>],
+    ) -> Result<Followed<K>, Failure> {
+        let mut now: HashMap<K, Option<Asset>> = HashMap::new();
         for t in targets {
             if let Some(asset) = self.0.get(&t.key) {
                 let mut asset = asset.clone();
@@ -100,7 +112,7 @@ impl Attributes {
     }
 
     /// Takes a step's assets (its pieces' stay with the caller).
-    pub(crate) fn commit(&mut self, followed: &mut Followed) {
+    pub(crate) fn commit(&mut self, followed: &mut Followed<K>) {
         for (id, asset) in followed.bodies.drain(..) {
             match asset {
                 Some(asset) => self.0.insert(id, asset),
@@ -109,8 +121,73 @@ impl Attributes {
         }
     }
 
+    /// Whether no body has attributes.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
     /// Gives body `id` `asset` (a restore's, checked by the caller).
-    pub(crate) fn replace(&mut self, id: u64, asset: Asset) {
+    pub(crate) fn replace(&mut self, id: K, asset: Asset) {
         self.0.insert(id, asset);
+    }
+
+    /// The assets a replica's `changes` (from a message or snapshot) give its bodies that have
+    /// attributes, `mesh` giving each body's mesh after them, and each fracture's pieces', in
+    /// the order of the changes' fractures; nothing is changed.
+    ///
+    /// # Errors
+    /// A body whose attributes cannot follow its new mesh: one message's dents always can; a
+    /// snapshot's mesh, several records from the base, only when it is one refinement of it
+    /// (not after refining dents or a break).
+    pub(crate) fn follow_replica<'m>(
+        &self,
+        changes: &[ReplicaChange],
+        mesh: impl Fn(K) -> Option<&'m TriMesh>,
+        key: impl Fn(u32) -> K,
+    ) -> Result<Followed<K>, Failure> {
+        let mut bodies = Vec::new();
+        let mut pieces = Vec::new();
+        for c in changes {
+            let id = key(c.id);
+            let Some(asset) = self.0.get(&id) else {
+                pieces.extend(c.fracture.as_ref().map(|_| None));
+                continue;
+            };
+            let mut asset = asset.clone();
+            // Up to the mesh that broke, or the new mesh.
+            let edited = match (&c.fracture, mesh(id)) {
+                (Some(f), _) => &f.broken,
+                (None, Some(now)) => now,
+                (None, None) => continue,
+            };
+            if asset.mesh() != edited {
+                let before = asset.mesh().clone();
+                ReplayStep::Edited { before: &before, after: edited }.carry(&mut asset).map_err(|e| {
+                    Failure::invalid(format!(
+                        "body {}'s attributes (UVs, normals) cannot follow: its new mesh is not one refinement of the \
+                         mesh the replica has ({e}); a snapshot of a body dented with refinement or broken is; join \
+                         before the body is damaged, or add it without attributes",
+                        c.id
+                    ))
+                })?;
+            }
+            if let Some(f) = &c.fracture {
+                let made: Vec<Asset> = f
+                    .pieces
+                    .iter()
+                    .map(|(_, p)| carry_asset(&asset, p.mesh.clone(), &p.origins))
+                    .collect::<Result<_, _>>()
+                    .map_err(failed)?;
+                pieces.push(Some(made));
+                let rest = match (c.removed, mesh(id)) {
+                    (false, Some(rest)) => Some(carry_asset(&asset, rest.clone(), &f.rest_origins).map_err(failed)?),
+                    _ => None,
+                };
+                bodies.push((id, rest));
+            } else {
+                bodies.push((id, Some(asset)));
+            }
+        }
+        Ok(Followed { bodies, pieces })
     }
 }

@@ -42,7 +42,7 @@ pub struct DbDamage {
     /// The fracture patterns built so far.
     pub(crate) patterns: Patterns,
     /// The attributes (UVs, authored normals) of the bodies that have them.
-    pub(crate) attributes: Attributes,
+    pub(crate) attributes: Attributes<u64>,
 }
 
 /// How a body dents: the dent's depth from the normal impact speed, and its shape. Start from

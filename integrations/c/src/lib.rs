@@ -48,7 +48,8 @@ pub use mesh::{
 pub use replica::{
     DB_MAX_MESSAGE_BYTES, DbReplica, DbReplicaFracture, ReplicaBreak, db_replica_add_body, db_replica_add_projectile,
     db_replica_apply, db_replica_forget_piece, db_replica_fracture, db_replica_fracture_count, db_replica_free,
-    db_replica_indices, db_replica_join, db_replica_moved, db_replica_new, db_replica_piece, db_replica_positions,
+    db_replica_indices, db_replica_join, db_replica_moved, db_replica_new, db_replica_normals, db_replica_piece,
+    db_replica_positions, db_replica_uvs,
 };
 pub use replication::{db_damage_add_wire_projectile, db_damage_message, db_damage_replicate, db_damage_snapshot};
 pub use save::{db_damage_record, db_damage_restore, db_damage_save};

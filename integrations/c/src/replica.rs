@@ -9,9 +9,11 @@ use std::ffi::c_int;
 use dentbend::TriMesh;
 use dentbend::damage::{PieceId, piece_hull_points};
 use dentbend::dent::DentSettings;
-use dentbend::glam::Vec3;
-use dentbend::record::replication::{ReplicaChange, ReplicaFracture, ReplicationClient};
+use dentbend::glam::{Vec2, Vec3};
+use dentbend::mesh::Asset;
+use dentbend::record::replication::{ReplicaChange, ReplicaFracture, ReplicationClient, ReplicationError};
 
+use crate::attributes::Attributes;
 use crate::damage::{DbDentSettings, dent_settings};
 use crate::fracture::{DbPiece, piece_view, write_out};
 use crate::handles;
@@ -30,6 +32,8 @@ pub struct DbReplica {
     moved: HashMap<u32, Vec<u32>>,
     /// The last message's fractures.
     fractures: Vec<ReplicaBreak>,
+    /// The attributes (UVs, authored normals) of the bodies that have them.
+    attributes: Attributes<u32>,
 }
 
 /// A fracture the last message replayed.
@@ -43,6 +47,8 @@ pub struct ReplicaBreak {
     pub fracture: ReplicaFracture,
     /// Each piece's collider points (as `piece_hull_points` makes them).
     pub hulls: Vec<Vec<Vec3>>,
+    /// Each piece's asset (UVs and normals carried over), when the body had attributes.
+    pub assets: Option<Vec<Asset>>,
 }
 
 /// A client replica's view of one fracture, for C.
@@ -79,13 +85,16 @@ impl DbReplica {
         unsafe { handles::get(handle, "replica") }
     }
 
-    /// Adds the body the server carries as `wire_id`: its base `mesh` (the server's mesh when
-    /// it was carried) and the server's `settings` for it.
+    /// Adds the body the server carries as `wire_id`: its base `asset` (the server's mesh when
+    /// it was carried; its attributes, UVs and authored normals, follow every message) and the
+    /// server's `settings` for it.
     ///
     /// # Errors
     /// A wire id already added, or settings the stream cannot carry.
-    pub fn add_body(&mut self, wire_id: u32, mesh: TriMesh, settings: &DentSettings) -> Result<(), Failure> {
-        self.client.add_body(wire_id, mesh, settings).map_err(|e| Failure::invalid(e.to_string()))
+    pub fn add_body(&mut self, wire_id: u32, asset: Asset, settings: &DentSettings) -> Result<(), Failure> {
+        self.client.add_body(wire_id, asset.mesh().clone(), settings).map_err(|e| Failure::invalid(e.to_string()))?;
+        self.attributes.keep(wire_id, asset);
+        Ok(())
     }
 
     /// Adds projectile surface `shape_id` (the mesh the server named so).
@@ -102,9 +111,7 @@ impl DbReplica {
     /// A snapshot that does not parse or is for other meshes; nothing changes then.
     pub fn join(&mut self, snapshot: &[u8]) -> Result<(), Failure> {
         check_length(snapshot.len())?;
-        let changes = self.client.join(snapshot).map_err(|e| Failure::invalid(e.to_string()))?;
-        self.take(changes);
-        Ok(())
+        self.update(|client| client.join(snapshot))
     }
 
     /// Applies a server's message, in order: the bodies it names get the server's meshes bit
@@ -117,18 +124,39 @@ impl DbReplica {
         check_length(message.len())?;
         // A step that changed no carried body has no message: nothing to apply.
         if message.is_empty() {
-            self.take(Vec::new());
+            self.take(Vec::new(), Vec::new());
             return Ok(());
         }
-        let changes = self.client.apply(message).map_err(|e| Failure::invalid(e.to_string()))?;
-        self.take(changes);
+        self.update(|client| client.apply(message))
+    }
+
+    /// Runs `change` on the client and brings the bodies' attributes along, all or nothing:
+    /// with attributes to follow, on a copy of the client, kept once they have followed.
+    fn update(
+        &mut self,
+        change: impl FnOnce(&mut ReplicationClient) -> Result<Vec<ReplicaChange>, ReplicationError>,
+    ) -> Result<(), Failure> {
+        let refused = |e: ReplicationError| Failure::invalid(e.to_string());
+        if self.attributes.is_empty() {
+            let changes = change(&mut self.client).map_err(refused)?;
+            self.take(changes, Vec::new());
+            return Ok(());
+        }
+        let mut client = self.client.clone();
+        let changes = change(&mut client).map_err(refused)?;
+        let mut followed = self.attributes.follow_replica(&changes, |id| client.mesh(id), |id| id)?;
+        self.client = client;
+        self.attributes.commit(&mut followed);
+        self.take(changes, std::mem::take(&mut followed.pieces));
         Ok(())
     }
 
-    /// Keeps the last snapshot's or message's changes.
-    fn take(&mut self, changes: Vec<ReplicaChange>) {
+    /// Keeps the last snapshot's or message's changes, with the pieces' assets of the
+    /// fractures among them (in order; empty when no body has attributes).
+    fn take(&mut self, changes: Vec<ReplicaChange>, mut assets: Vec<Option<Vec<Asset>>>) {
         self.moved.clear();
         self.fractures.clear();
+        assets.reverse();
         for change in changes {
             if change.removed {
                 self.moved.remove(&change.id);
@@ -141,7 +169,8 @@ impl DbReplica {
             }
             if let Some(fracture) = change.fracture {
                 let hulls = fracture.pieces.iter().map(|(_, p)| piece_hull_points(&p.mesh, p.mass.center)).collect();
-                self.fractures.push(ReplicaBreak { body: change.id, whole: change.removed, fracture, hulls });
+                let assets = assets.pop().flatten();
+                self.fractures.push(ReplicaBreak { body: change.id, whole: change.removed, fracture, hulls, assets });
             }
         }
     }
@@ -149,6 +178,19 @@ impl DbReplica {
     /// Body `wire_id`'s mesh now, if the replica has it.
     pub fn mesh(&self, wire_id: u32) -> Option<&TriMesh> {
         self.client.mesh(wire_id)
+    }
+
+    /// Body `wire_id`'s normals to shade with: its authored ones, brought along, when it was
+    /// added with them; else its mesh's.
+    pub fn normals(&self, wire_id: u32) -> Option<&[Vec3]> {
+        let mesh = self.client.mesh(wire_id)?;
+        Some(self.attributes.normals(wire_id).unwrap_or(mesh.normals()))
+    }
+
+    /// Body `wire_id`'s first UV set, new vertices interpolated, when it was added with UVs.
+    pub fn uvs(&self, wire_id: u32) -> Option<&[Vec2]> {
+        self.client.mesh(wire_id)?;
+        self.attributes.uvs(wire_id)
     }
 
     /// The vertices of body `wire_id` the last message or snapshot moved or added, ascending.
@@ -215,7 +257,7 @@ pub unsafe extern "C" fn db_replica_add_body(
         let (replica, mesh) = unsafe { (DbReplica::get(replica)?, DbMesh::get(mesh, "mesh")?) };
         // SAFETY: null or a `DbDentSettings` by the caller's contract.
         let settings = unsafe { settings.as_ref() }.ok_or_else(|| Failure::null("settings"))?;
-        replica.add_body(wire_id, mesh.mesh().clone(), &dent_settings(settings))
+        replica.add_body(wire_id, mesh.asset.clone(), &dent_settings(settings))
     })
 }
 
@@ -334,6 +376,47 @@ pub unsafe extern "C" fn db_replica_indices(
     unsafe { replica_array(replica, wire_id, triangle_count, |m| (m.faces().as_ptr().cast(), m.face_count())) }
 }
 
+/// The replica's body `wire_id`: its vertex normals (its authored ones brought along, when its
+/// mesh came with them), as `db_replica_positions`.
+///
+/// # Safety
+/// As `db_replica_positions`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_replica_normals(
+    replica: *const DbReplica,
+    wire_id: u32,
+    vertex_count: *mut usize,
+) -> *const f32 {
+    let found = guarded_value(|| {
+        // SAFETY: the caller's contract.
+        let replica = unsafe { DbReplica::read(replica)? };
+        let normals = replica.normals(wire_id).ok_or_else(|| Failure::invalid(format!("no body {wire_id}")))?;
+        Ok((normals.as_ptr().cast(), normals.len()))
+    });
+    // SAFETY: the caller's contract.
+    unsafe { hand_out(found, vertex_count) }
+}
+
+/// The replica's body `wire_id`: its UVs (2 floats a vertex, new vertices interpolated), as
+/// `db_replica_positions`; null and 0 for a body whose mesh came without UVs.
+///
+/// # Safety
+/// As `db_replica_positions`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn db_replica_uvs(
+    replica: *const DbReplica,
+    wire_id: u32,
+    vertex_count: *mut usize,
+) -> *const f32 {
+    let found = guarded_value(|| {
+        // SAFETY: the caller's contract.
+        let uvs = unsafe { DbReplica::read(replica)? }.uvs(wire_id).unwrap_or(&[]);
+        Ok((uvs.as_ptr().cast(), uvs.len()))
+    });
+    // SAFETY: the caller's contract.
+    unsafe { hand_out(found, vertex_count) }
+}
+
 /// The vertices of body `wire_id` the last message or snapshot moved or added (ascending), the
 /// count written to `count` (0 when it left the body alone).
 ///
@@ -403,7 +486,8 @@ pub unsafe extern "C" fn db_replica_piece(
         let count = made.fracture.pieces.len();
         let (id, p) =
             made.fracture.pieces.get(piece).ok_or_else(|| Failure::invalid(format!("piece {piece} of {count}")))?;
-        let view = piece_view(*id, &p.mesh, None, &p.mass, (Vec3::ZERO, Vec3::ZERO), &made.hulls[piece]);
+        let asset = made.assets.as_ref().map(|a| &a[piece]);
+        let view = piece_view(*id, &p.mesh, asset, &p.mass, (Vec3::ZERO, Vec3::ZERO), &made.hulls[piece]);
         // SAFETY: the caller's contract.
         unsafe { write_out(out, view) }
     })

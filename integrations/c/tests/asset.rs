@@ -220,3 +220,121 @@ fn a_restored_asset_has_the_saved_uvs_and_normals() {
         db_mesh_free(ball);
     }
 }
+
+/// The replica's body `wire_id`: positions, normals and UVs, copied out.
+fn replica_body(replica: *const DbReplica, wire_id: u32) -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+    let (mut n, mut m, mut k) = (0, 0, 0);
+    // SAFETY: a live replica.
+    unsafe {
+        let p = db_replica_positions(replica, wire_id, &mut n);
+        let normals = db_replica_normals(replica, wire_id, &mut m);
+        let uvs = db_replica_uvs(replica, wire_id, &mut k);
+        assert_eq!((n, m), (k, k), "one normal and one UV a vertex");
+        (floats(p, n, 3), floats(normals, m, 3), floats(uvs, k, 2))
+    }
+}
+
+/// The server's body as the replica's arrays are laid out.
+fn server_body(damage: *const DbDamage) -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+    let (p, n, uv) = body(damage, SLAB);
+    (
+        p.iter().flat_map(|v| v.to_array()).collect(),
+        n.iter().flat_map(|v| v.to_array()).collect(),
+        uv.iter().flat_map(|v| v.to_array()).collect(),
+    )
+}
+
+/// Both sides' arrays agree: positions bit for bit, normals within 1e-5 and UVs within 1e-6
+/// (the replica interpolates each new vertex from its edge's ends as the meshes tell them).
+fn same(a: &(Vec<f32>, Vec<f32>, Vec<f32>), b: &(Vec<f32>, Vec<f32>, Vec<f32>), what: &str) {
+    assert_eq!(a.0, b.0, "{what}: positions");
+    assert!(a.1.iter().zip(&b.1).all(|(x, y)| (x - y).abs() < 1e-5), "{what}: normals");
+    assert!(a.2.iter().zip(&b.2).all(|(x, y)| (x - y).abs() < 1e-6), "{what}: UVs");
+}
+
+/// A replica of a game asset follows the server's refining dents and its break with the same
+/// UVs and normals, message by message. A late joiner given the asset's attributes after
+/// refining dents is refused (the snapshot cannot tell which edge each new vertex split),
+/// changing nothing; one without them joins.
+#[test]
+fn a_replica_keeps_the_assets_uvs_through_messages() {
+    let slab = slab();
+    let damage = world(slab);
+    let ball = made(&mesh::icosphere(0.3, 2).unwrap());
+    let settings = db_dent_settings_default(1.0, 0.02, 0.15);
+    let breaks = db_fracture_settings_default(10, 2, 0.6, 50.0, f32::INFINITY);
+    let client = db_replica_new();
+    let mut length = 0;
+    let bytes = |p: *const u8, n: usize| {
+        if p.is_null() { Vec::new() } else { unsafe { std::slice::from_raw_parts(p, n) }.to_vec() }
+    };
+    // SAFETY: live handles and valid structs throughout.
+    unsafe {
+        assert_eq!(db_damage_set_fracture(damage, SLAB, &breaks), DB_OK);
+        assert_eq!(db_damage_replicate(damage, SLAB, 1), DB_OK);
+        assert_eq!(db_damage_add_wire_projectile(damage, 2, ball), DB_OK);
+        assert_eq!(db_replica_add_body(client, 1, slab, &settings), DB_OK);
+        assert_eq!(db_replica_add_projectile(client, 2, ball), DB_OK);
+        let start = bytes(db_damage_snapshot(damage, &mut length), length);
+        assert_eq!(db_replica_join(client, start.as_ptr(), start.len()), DB_OK, "{}", last_error());
+        for (x, z, speed) in [(-1.0, 1.0, 4.0), (1.2, 0.8, 5.0)] {
+            let hits = [falling_ball(SLAB, BALL, ball, x, z, speed)];
+            assert_eq!(db_damage_step(damage, hits.as_ptr(), 1), DB_OK, "{}", last_error());
+            let message = bytes(db_damage_message(damage, &mut length), length);
+            assert_eq!(db_replica_apply(client, message.as_ptr(), message.len()), DB_OK, "{}", last_error());
+            same(&replica_body(client, 1), &server_body(damage), "after a dent");
+        }
+        // A late joiner after refining dents cannot tell the new vertices' edges from the
+        // snapshot: refused with the fix, nothing changed; without attributes it joins.
+        let snapshot = bytes(db_damage_snapshot(damage, &mut length), length);
+        let refused = db_replica_new();
+        assert_eq!(db_replica_add_body(refused, 1, slab, &settings), DB_OK);
+        assert_eq!(db_replica_join(refused, snapshot.as_ptr(), snapshot.len()), DB_ERR_INVALID_ARGUMENT);
+        assert!(last_error().contains("join before the body is damaged"), "{}", last_error());
+        let mut n = 0;
+        db_replica_positions(refused, 1, &mut n);
+        assert_eq!(n, db_mesh_vertex_count(slab), "nothing changed");
+        // The same mesh without its UVs and normals.
+        let (vertices, triangles) = (db_mesh_vertex_count(slab), db_mesh_triangle_count(slab));
+        let plain_mesh = db_mesh_new(db_mesh_positions(slab), vertices, db_mesh_indices(slab), triangles);
+        let late = db_replica_new();
+        assert_eq!(db_replica_add_body(late, 1, plain_mesh, &settings), DB_OK);
+        assert_eq!(db_replica_add_projectile(late, 2, ball), DB_OK);
+        assert_eq!(db_replica_join(late, snapshot.as_ptr(), snapshot.len()), DB_OK, "{}", last_error());
+        assert_eq!(replica_body_positions(late), server_body(damage).0, "a plain late joiner");
+        db_replica_free(refused);
+
+        let hits = [falling_ball(SLAB, BALL, ball, 0.3, -0.4, 8.0)];
+        assert_eq!(db_damage_step(damage, hits.as_ptr(), 1), DB_OK, "{}", last_error());
+        assert_eq!(db_damage_fracture_count(damage), 1);
+        let message = bytes(db_damage_message(damage, &mut length), length);
+        for replica in [client, late] {
+            assert_eq!(db_replica_apply(replica, message.as_ptr(), message.len()), DB_OK, "{}", last_error());
+        }
+        same(&replica_body(client, 1), &server_body(damage), "the rest");
+        assert_eq!(replica_body_positions(late), server_body(damage).0, "the plain joiner's rest");
+        let mut f = DbFracture::default();
+        assert_eq!(db_damage_fracture(damage, 0, &mut f), DB_OK);
+        for k in 0..f.piece_count {
+            let (mut mine, mut theirs) = (std::mem::MaybeUninit::uninit(), std::mem::MaybeUninit::uninit());
+            assert_eq!(db_replica_piece(client, 0, k, mine.as_mut_ptr()), DB_OK);
+            assert_eq!(db_damage_piece(damage, 0, k, theirs.as_mut_ptr()), DB_OK);
+            let (mine, theirs): (DbPiece, DbPiece) = (mine.assume_init(), theirs.assume_init());
+            let uv = |p: &DbPiece| floats(p.uvs, p.vertex_count, 2);
+            assert!(uv(&mine).iter().zip(uv(&theirs)).all(|(a, b)| (a - b).abs() < 1e-6), "piece {k}'s UVs");
+        }
+        for r in [late, client] {
+            db_replica_free(r);
+        }
+        db_mesh_free(plain_mesh);
+        db_damage_free(damage);
+        db_mesh_free(slab);
+        db_mesh_free(ball);
+    }
+}
+
+fn replica_body_positions(replica: *const DbReplica) -> Vec<f32> {
+    let mut n = 0;
+    // SAFETY: a live replica.
+    floats(unsafe { db_replica_positions(replica, 1, &mut n) }, n, 3)
+}

@@ -59,6 +59,29 @@ impl Mesh {
     }
 }
 
+/// A body's asset from `(N, 3)` positions, `(M, 3)` faces and optional `(N, 2)` UVs and
+/// `(N, 3)` authored normals, checked.
+pub(crate) fn asset(
+    py: Python<'_>,
+    positions: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+    uvs: Option<&Bound<'_, PyAny>>,
+    normals: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Asset> {
+    let (p, f) = (crate::arrays::positions(positions, "positions")?, crate::arrays::faces(faces, "faces")?);
+    let attributes = VertexAttributes {
+        uvs: uvs.map(|u| crate::arrays::uvs(u, "uvs")).transpose()?.into_iter().collect(),
+        normals: normals.map(|n| crate::arrays::positions(n, "normals")).transpose()?,
+        ..VertexAttributes::default()
+    };
+    let asset = py.detach(|| {
+        let mesh = TriMesh::new(p, f).map_err(|e| e.to_string())?;
+        let faces = mesh.face_count();
+        Asset::new(mesh, attributes, vec![FaceGroup::default()], vec![0; faces]).map_err(|e| e.to_string())
+    });
+    asset.map_err(refused)
+}
+
 /// Dent settings from `Damage.add_body`'s keywords (`sigma` `None`: automatic smoothing; a
 /// given width is checked as `dent`'s is, 0 refused).
 pub(crate) fn dent_settings(
@@ -258,20 +281,9 @@ impl Damage {
         uvs: Option<&Bound<'_, PyAny>>,
         normals: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let (p, f) = (crate::arrays::positions(positions, "positions")?, crate::arrays::faces(faces, "faces")?);
         let to_world = pose(to_world, "to_world")?;
         let settings = dent_settings(threshold_speed, depth_per_speed, max_depth, sigma, preserve_volume, progressive)?;
-        let attributes = VertexAttributes {
-            uvs: uvs.map(|u| crate::arrays::uvs(u, "uvs")).transpose()?.into_iter().collect(),
-            normals: normals.map(|n| crate::arrays::positions(n, "normals")).transpose()?,
-            ..VertexAttributes::default()
-        };
-        let asset = py.detach(|| {
-            let mesh = TriMesh::new(p, f).map_err(|e| e.to_string())?;
-            let faces = mesh.face_count();
-            Asset::new(mesh, attributes, vec![FaceGroup::default()], vec![0; faces]).map_err(|e| e.to_string())
-        });
-        let asset = asset.map_err(refused)?;
+        let asset = asset(py, positions, faces, uvs, normals)?;
         let inner = &mut self.inner;
         py.detach(|| inner.add_body(id, asset, to_world, settings)).map_err(|e| refused(e.message))
     }

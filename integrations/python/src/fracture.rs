@@ -235,7 +235,8 @@ pub fn replica_fracture(py: Python<'_>, made: &ReplicaBreak) -> PyResult<Replica
         .fracture
         .pieces
         .iter()
-        .map(|(id, p)| piece(py, *id, &p.mesh, None, &p.mass, still))
+        .enumerate()
+        .map(|(k, (id, p))| piece(py, *id, &p.mesh, made.assets.as_ref().map(|a| &a[k]), &p.mass, still))
         .collect::<PyResult<_>>()?;
     Ok(ReplicaFracture { body: made.body, whole: made.whole, number: made.fracture.number, pieces })
 }

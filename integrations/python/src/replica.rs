@@ -7,8 +7,8 @@ use dentbend_c::DbReplica;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
-use crate::arrays::{list_out, positions_out, refused, rows_out};
-use crate::damage::{Mesh, dent_settings};
+use crate::arrays::{list_out, positions_out, refused, rows_out, uvs_out};
+use crate::damage::{Mesh, asset, dent_settings};
 use crate::fracture::{ReplicaFracture, replica_fracture};
 
 /// A client's copy of the bodies a server's stream carries: add the same base meshes,
@@ -29,8 +29,9 @@ impl Replica {
     }
 
     /// Adds the body the server carries as `wire_id`: its base mesh (the server's mesh when it
-    /// was carried) and the server's dent settings for it (the keywords of `Damage.add_body`).
-    #[pyo3(signature = (wire_id, positions, faces, *, threshold_speed = 1.0, depth_per_speed = 0.01, max_depth = 0.1, sigma = None, preserve_volume = false, progressive = false))]
+    /// was carried, with a game asset's `uvs` and authored `normals`, which follow every
+    /// message) and the server's dent settings for it (the keywords of `Damage.add_body`).
+    #[pyo3(signature = (wire_id, positions, faces, *, threshold_speed = 1.0, depth_per_speed = 0.01, max_depth = 0.1, sigma = None, preserve_volume = false, progressive = false, uvs = None, normals = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
@@ -44,11 +45,12 @@ impl Replica {
         sigma: Option<f32>,
         preserve_volume: bool,
         progressive: bool,
+        uvs: Option<&Bound<'_, PyAny>>,
+        normals: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let settings = dent_settings(threshold_speed, depth_per_speed, max_depth, sigma, preserve_volume, progressive)?;
-        let (p, f) = (crate::arrays::positions(positions, "positions")?, crate::arrays::faces(faces, "faces")?);
-        let mesh = py.detach(|| TriMesh::new(p, f)).map_err(|e| refused(e.to_string()))?;
-        self.inner.add_body(wire_id, mesh, &settings).map_err(|e| refused(e.message))
+        let asset = asset(py, positions, faces, uvs, normals)?;
+        self.inner.add_body(wire_id, asset, &settings).map_err(|e| refused(e.message))
     }
 
     /// Adds projectile surface `shape_id` (the mesh the server named so with
@@ -79,6 +81,20 @@ impl Replica {
     /// Body `wire_id`'s positions (its own coordinates, m), a new `(N, 3)` float32 array.
     fn positions<'py>(&self, py: Python<'py>, wire_id: u32) -> PyResult<Bound<'py, PyArray2<f32>>> {
         Ok(positions_out(py, self.mesh(wire_id)?.positions().to_vec()))
+    }
+
+    /// Body `wire_id`'s vertex normals (its authored ones brought along, when it was added
+    /// with them), a new `(N, 3)` float32 array.
+    fn normals<'py>(&self, py: Python<'py>, wire_id: u32) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        self.mesh(wire_id)?;
+        Ok(positions_out(py, self.inner.normals(wire_id).unwrap_or_default().to_vec()))
+    }
+
+    /// Body `wire_id`'s UVs (new vertices interpolated), a new `(N, 2)` float32 array; `None`
+    /// for a body added without UVs.
+    fn uvs<'py>(&self, py: Python<'py>, wire_id: u32) -> PyResult<Option<Bound<'py, PyArray2<f32>>>> {
+        self.mesh(wire_id)?;
+        Ok(self.inner.uvs(wire_id).map(|uvs| uvs_out(py, uvs)))
     }
 
     /// Body `wire_id`'s triangles, a new `(M, 3)` uint32 array.

@@ -176,3 +176,27 @@ def test_a_game_asset_keeps_its_uvs_and_hard_edges_through_dents_and_breaks(ball
     plain = dentbend.Damage()
     plain.add_body(1, positions, faces)
     assert plain.uvs(1) is None
+
+
+def test_a_replica_keeps_the_assets_uvs(ball):
+    """A replica given the same game asset follows a refining dent with the server's UVs (within
+    1e-6) and normals (within 1e-5), positions bit for bit."""
+    positions, faces, normals, uvs = meshes.box_asset()
+    server = dentbend.Damage()
+    server.add_body(SLAB, positions, faces, threshold_speed=1.0, depth_per_speed=0.01, max_depth=0.1, uvs=uvs,
+                    normals=normals)
+    server.add_projectile(BALL)
+    surface, hit = ball_hit(ball, 8.0)
+    server.replicate(SLAB, WIRE_SLAB)
+    server.add_wire_projectile(BALL_SHAPE, surface)
+    client = dentbend.Replica()
+    client.add_body(WIRE_SLAB, positions, faces, threshold_speed=1.0, depth_per_speed=0.01, max_depth=0.1, uvs=uvs,
+                    normals=normals)
+    client.add_projectile(BALL_SHAPE, surface)
+    client.join(server.snapshot())
+    server.step([hit])
+    client.apply(server.message())
+    assert len(client.positions(WIRE_SLAB)) > len(positions)
+    assert np.array_equal(client.positions(WIRE_SLAB), server.positions(SLAB))
+    assert np.abs(client.uvs(WIRE_SLAB) - server.uvs(SLAB)).max() < 1e-6
+    assert np.abs(client.normals(WIRE_SLAB) - server.normals(SLAB)).max() < 1e-5

@@ -10,7 +10,7 @@ use super::wire::{
 use super::{ReplicationError, settings_digest};
 use crate::damage::PieceId;
 use crate::dent::{DentJob, DentParams, DentSettings, changed_vertices, dent_batch_tracked};
-use crate::fracture::{Piece, replay};
+use crate::fracture::{Piece, VertexOrigin, replay};
 use crate::mesh::{TriMesh, content_hash};
 use crate::record::hex64;
 
@@ -40,6 +40,12 @@ pub struct ReplicaFracture {
     /// The pieces, each with its id (the server's [`PieceId`]) and its closed mesh and mass
     /// properties in the body's mesh coordinates.
     pub pieces: Vec<(PieceId, Piece)>,
+    /// The mesh that broke (the message's dents included), which the pieces' and the rest's
+    /// [`VertexOrigin`]s point into: for carrying attributes over
+    /// ([`carry_asset`](crate::fracture::carry_asset)).
+    pub broken: TriMesh,
+    /// Where each vertex of the rest lies on `broken` (empty with no rest).
+    pub rest_origins: Vec<VertexOrigin>,
 }
 
 /// A body's new state, staged before anything is committed.
@@ -355,7 +361,9 @@ fn replay_break(
         .enumerate()
         .map(|(index, piece)| (PieceId { fracture: wire.number, index: index as u32 }, piece))
         .collect();
-    Ok((outcome.rest, ReplicaFracture { number: wire.number, pieces }))
+    let fracture =
+        ReplicaFracture { number: wire.number, pieces, broken: mesh.clone(), rest_origins: outcome.rest_origins };
+    Ok((outcome.rest, fracture))
 }
 
 fn other(id: u32, what: &'static str, expected: String, found: String) -> ReplicationError {
