@@ -1,7 +1,8 @@
-//! `fracture::carry_asset`: a game asset that breaks gives a rest and pieces that are game
-//! assets too: UVs, colours, authored normals, tangents, skin and face groups carried over from
-//! the mesh that broke, each surface vertex from its own side of every seam, each cut face with
-//! UVs projected at the asset's texel density.
+//! Game assets through damage as data: `fracture::carry_asset` makes a broken asset's rest and
+//! pieces game assets too (UVs, colours, authored normals, tangents, skin and face groups
+//! carried over, each surface vertex from its own side of every seam, each cut face with UVs
+//! projected at the asset's texel density), and `ReplayStep::carry` brings an asset through a
+//! replayed dent batch with its recorded refinement.
 
 use std::collections::HashMap;
 
@@ -9,6 +10,7 @@ use dentbend::TriMesh;
 use dentbend::fracture::{FracturePattern, PatternParams, Placement, VertexOrigin, break_body, carry_asset};
 use dentbend::glam::{Vec2, Vec3, Vec4};
 use dentbend::mesh::{self, Asset, FaceGroup, MeshError, Skin, VertexAttributes};
+use dentbend::record::{DamageRecord, DentBatch, ReplayStep, decode_records, encode_records};
 
 /// The side of a box a face of unit normal `n` is on: its axis (0 x, 1 y, 2 z) and sign.
 fn side(n: Vec3) -> (usize, bool) {
@@ -149,4 +151,71 @@ fn origins_that_do_not_fit_are_refused() {
     let point = dentbend::fracture::SurfacePoint { face: u32::MAX, weights: [1.0, 0.0, 0.0] };
     let far = vec![VertexOrigin::Surface(point); mesh.vertex_count()];
     assert!(matches!(carry_asset(&asset, mesh, &far), Err(MeshError::DentMismatch { .. })));
+}
+
+/// Where two groups meet at shared vertices (a welded mesh, its material changing at x = 0),
+/// every surface face of the rest and pieces keeps the group of the side its centre lies on,
+/// however its corners' points name a face at a shared vertex.
+#[test]
+fn groups_that_share_vertices_stay_apart_across_the_break() {
+    let welded = mesh::subdivided_box(Vec3::new(1.2, 0.8, 0.1), [24, 16, 2]).unwrap();
+    let centre_x = |m: &TriMesh, f: &[u32; 3]| f.iter().map(|&v| m.positions()[v as usize].x).sum::<f32>() / 3.0;
+    let face_groups = welded.faces().iter().map(|f| u32::from(centre_x(&welded, f) > 0.0)).collect();
+    let right = FaceGroup { material: Some("right".into()), ..FaceGroup::default() };
+    let asset = Asset::new(welded.clone(), VertexAttributes::default(), vec![FaceGroup::default(), right], face_groups)
+        .unwrap();
+    let pattern = FracturePattern::new(PatternParams { cells: 12, seed: 5, radius: 0.25 }).unwrap();
+    let placement = Placement { point: Vec3::new(0.0, 0.0, 0.05), normal: -Vec3::Z };
+    let outcome = break_body(&welded, &pattern, &placement, 1000.0).unwrap().expect("it breaks");
+    let mut outputs: Vec<_> = outcome.pieces.iter().map(|p| (&p.mesh, &p.origins)).collect();
+    outputs.extend(outcome.rest.as_ref().map(|r| (r, &outcome.rest_origins)));
+    let mut checked = 0;
+    for (mesh, origins) in outputs {
+        let carried = carry_asset(&asset, mesh.clone(), origins).unwrap();
+        for (f, face) in mesh.faces().iter().enumerate() {
+            let surface = face.iter().all(|&v| matches!(origins[v as usize], VertexOrigin::Surface(_)));
+            let x = centre_x(mesh, face);
+            if surface && x.abs() > 1e-6 {
+                assert_eq!(carried.face_groups()[f], u32::from(x > 0.0), "face {f} centred at x = {x}");
+                checked += 1;
+            }
+        }
+        assert_eq!(carried.material_libraries(), asset.material_libraries());
+    }
+    assert!(checked > 1000, "{checked} faces checked");
+}
+
+/// A replayed edit brings an asset through a refinement as the refinement itself does, given
+/// the batch's recorded refinement (the same UVs and face groups, bit for bit); an edit that
+/// changed the faces with no refinement to say how is refused, the asset unchanged. The
+/// refinement survives the damage file's encoding.
+#[test]
+fn a_replayed_refinement_carries_attributes_as_the_refinement_does() {
+    let welded = mesh::subdivided_box(Vec3::new(2.0, 0.5, 2.0), [4, 1, 4]).unwrap();
+    let uvs = welded.positions().iter().map(|p| Vec2::new(p.x * 0.7 + p.y, p.z * 1.3)).collect();
+    // Eight groups, face by face, so that a face in the wrong group shows.
+    let groups: Vec<FaceGroup> =
+        (0..8).map(|k| FaceGroup { group: Some(format!("g{k}")), ..FaceGroup::default() }).collect();
+    let face_groups = (0..welded.face_count() as u32).map(|f| f % 8).collect();
+    let attributes = VertexAttributes { uvs: vec![uvs], ..VertexAttributes::default() };
+    let asset = Asset::new(welded.clone(), attributes, groups, face_groups).unwrap();
+    let ball = mesh::Ball { centre: Vec3::new(0.2, 0.25, -0.1), radius: 0.6 };
+    let (refined, refinement) = mesh::refine(&welded, &ball, 0.1, 100_000).unwrap();
+    assert!(refinement.vertices.len() > 100, "{} new vertices", refinement.vertices.len());
+    let mut exact = asset.clone();
+    let moved: Vec<u32> = (welded.vertex_count() as u32..refined.vertex_count() as u32).collect();
+    exact.follow_dent(refined.clone(), &refinement, &moved).unwrap();
+
+    // Through the file's encoding.
+    let batch = DentBatch { dents: 1, impacts: Vec::new(), edit: None, after: 0, refinement: Some(refinement) };
+    let decoded = decode_records(&encode_records(&[DamageRecord::Dents(batch)]).unwrap()).unwrap();
+    let [DamageRecord::Dents(DentBatch { refinement: Some(read), .. })] = &decoded[..] else { panic!("{decoded:?}") };
+    let step = ReplayStep::Edited { before: &welded, after: &refined };
+    let mut replayed = asset.clone();
+    step.carry(&mut replayed, Some(read)).unwrap();
+    assert_eq!(replayed, exact);
+
+    let mut untouched = asset.clone();
+    assert!(matches!(step.carry(&mut untouched, None), Err(MeshError::DentMismatch { .. })));
+    assert_eq!(untouched, asset, "unchanged");
 }

@@ -83,16 +83,44 @@ pub fn carry_asset(broken: &Asset, mesh: TriMesh, origins: &[VertexOrigin]) -> R
             weights: origins.iter().map(|o| s.weights[at(o)]).collect(),
         }
     });
+    // A face lies on the input face nearest its centre among those around its corners' points
+    // (a corner at an input vertex or edge names any one face there, maybe across a group's
+    // border).
+    let mut around: Vec<Vec<u32>> = vec![Vec::new(); broken.mesh().vertex_count()];
+    for (f, face) in faces.iter().enumerate() {
+        face.iter().for_each(|&v| around[v as usize].push(f as u32));
+    }
     let face_groups = mesh
         .faces()
         .iter()
         .map(|f| {
-            let on = f.iter().find_map(|&v| point(&origins[v as usize]));
-            on.map_or(0, |p| broken.face_groups()[p.face as usize])
+            let centre = f.iter().map(|&v| mesh.positions()[v as usize]).sum::<Vec3>() / 3.0;
+            let named = f.iter().filter_map(|&v| point(&origins[v as usize])).map(|p| p.face);
+            let candidates = named.flat_map(|n| faces[n as usize]).flat_map(|v| around[v as usize].iter().copied());
+            let distance = |face: u32| off(broken.mesh(), face, centre);
+            let nearest = candidates.min_by(|&a, &b| distance(a).total_cmp(&distance(b)).then(a.cmp(&b)));
+            nearest.map_or(0, |face| broken.face_groups()[face as usize])
         })
         .collect();
     let attributes = VertexAttributes { uvs, normals, tangents, colors: colors.collect(), skin };
-    Asset::new(mesh, attributes, broken.groups().to_vec(), face_groups)
+    let asset = Asset::new(mesh, attributes, broken.groups().to_vec(), face_groups)?;
+    Ok(asset.with_material_libraries(broken.material_libraries().to_vec()))
+}
+
+/// How far `p` lies off face `face` of `mesh`, m: its distance to the face's plane plus how
+/// far outside the triangle its projection falls (along the edges' scale).
+fn off(mesh: &TriMesh, face: u32, p: Vec3) -> f32 {
+    let [a, b, c] = mesh.faces()[face as usize].map(|v| mesh.positions()[v as usize]);
+    let n = (b - a).cross(c - a);
+    let area2 = n.length_squared();
+    if area2 <= 0.0 {
+        return f32::INFINITY;
+    }
+    let plane = (p - a).dot(n).abs() / area2.sqrt();
+    // Barycentric weights of the projection; the most negative says how far outside.
+    let weights = [(c - b).cross(p - b).dot(n), (a - c).cross(p - c).dot(n), (b - a).cross(p - a).dot(n)];
+    let outside = weights.iter().fold(0.0f32, |m, &w| m.min(w / area2));
+    plane + (-outside) * (b - a).length().max((c - a).length())
 }
 
 fn mismatch(what: &'static str, expected: usize, actual: usize) -> MeshError {

@@ -37,3 +37,4 @@ pub use records::{
     decode_records, encode_records,
 };
 pub use replay::{DentForm, Projectiles, ReplayStep, Replayed, replay_body, replay_body_traced};
+pub use replay_asset::replay_body_asset;

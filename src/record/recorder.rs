@@ -124,7 +124,8 @@ impl<K: Copy + Eq + Hash + std::fmt::Debug> DamageRecorder<K> {
             let impacts =
                 if self.forms.impacts { impact_dents(targets, hits, &dents, &self.builtins)? } else { Vec::new() };
             let after = MeshStamp::of(&dented.mesh);
-            let batch = DentBatch { dents: dents.len() as u32, impacts, edit, after: after.hash };
+            let refinement = (!dented.refinement.is_empty()).then(|| dented.refinement.clone());
+            let batch = DentBatch { dents: dents.len() as u32, impacts, edit, after: after.hash, refinement };
             staged.push((slot, batch, after));
         }
         let mut ended = Vec::new();

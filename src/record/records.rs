@@ -9,7 +9,7 @@ use super::bytes::{ByteReader, ByteWriter};
 use super::edit_codec::{read_edit, write_edit};
 use super::params_codec::{read_params, write_params};
 use crate::dent::{DentParams, Impact};
-use crate::mesh::MeshEdit;
+use crate::mesh::{MeshEdit, Refinement, SplitVertex};
 
 /// Most records of one body, and most dents of one batch.
 pub(crate) const MAX_RECORDS: u64 = 1 << 24;
@@ -57,6 +57,10 @@ pub struct DentBatch {
     pub edit: Option<MeshEdit>,
     /// Content hash of the body's mesh after the batch.
     pub after: u64,
+    /// What the batch's refinement appended (each new vertex's edge, each new face's parent),
+    /// when recorded: a replay carries per-vertex data (UVs, normals) over exactly with it.
+    /// `None` when the batch did not refine, or the recording did not say.
+    pub refinement: Option<Refinement>,
 }
 
 /// A plastic bend of one joint during a step.
@@ -187,7 +191,9 @@ pub fn decode_records(bytes: &[u8]) -> Result<Vec<DamageRecord>, RecordError> {
 /// # Errors
 /// [`RecordError::NotRecordable`] for a dent with a custom falloff.
 fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), RecordError> {
-    out.varint(records.len() as u64);
+    // A batch's refinement is an item of its own after it.
+    let refinements = records.iter().filter(|r| matches!(r, DamageRecord::Dents(b) if b.refinement.is_some()));
+    out.varint((records.len() + refinements.count()) as u64);
     for record in records {
         match record {
             DamageRecord::Dents(b) => {
@@ -205,6 +211,11 @@ fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), R
                     }
                 }
                 out.u64(b.after);
+                if let Some(refinement) = &b.refinement {
+                    // Tag 8 follows the batch it belongs to.
+                    out.u8(REFINEMENT);
+                    write_refinement(out, refinement);
+                }
             }
             DamageRecord::Bend(b) => {
                 out.u8(2);
@@ -251,6 +262,44 @@ fn write_records(out: &mut ByteWriter, records: &[DamageRecord]) -> Result<(), R
 
 /// The tag of a fracture whose output is welded ([`crate::fracture::FractureRecord::weld_output`]).
 const WELDED_FRACTURE: u8 = 7;
+/// The tag of the refinement of the dent batch before it (not a record of its own).
+const REFINEMENT: u8 = 8;
+
+/// Appends a batch's refinement: base counts, new vertices (parents and fraction), new faces'
+/// parents, split and held-back base faces.
+fn write_refinement(out: &mut ByteWriter, r: &Refinement) {
+    out.varint(r.base_vertex_count as u64);
+    out.varint(r.base_face_count as u64);
+    out.varint(r.vertices.len() as u64);
+    for v in &r.vertices {
+        out.u32(v.parents[0]);
+        out.u32(v.parents[1]);
+        out.f32(v.fraction);
+    }
+    for list in [&r.face_parents, &r.split_faces, &r.held_back] {
+        out.varint(list.len() as u64);
+        list.iter().for_each(|&f| out.u32(f));
+    }
+}
+
+/// Reads [`write_refinement`]'s bytes, every count checked against the bytes left.
+fn read_refinement(r: &mut ByteReader<'_>) -> Result<Refinement, RecordError> {
+    let base_vertex_count = r.varint("refinement base vertex count")? as usize;
+    let base_face_count = r.varint("refinement base face count")? as usize;
+    let n = r.count("refinement vertices", 12, MAX_RECORDS)?;
+    let mut vertices = Vec::with_capacity(n);
+    for _ in 0..n {
+        let parents = [r.u32("split parent")?, r.u32("split parent")?];
+        vertices.push(SplitVertex { parents, fraction: r.f32("split fraction")? });
+    }
+    let mut list = |what| -> Result<Vec<u32>, RecordError> {
+        let n = r.count(what, 4, MAX_RECORDS)?;
+        (0..n).map(|_| r.u32(what)).collect()
+    };
+    let (face_parents, split_faces, held_back) =
+        (list("refinement face parents")?, list("refinement split faces")?, list("refinement held-back faces")?);
+    Ok(Refinement { base_vertex_count, base_face_count, vertices, face_parents, split_faces, held_back })
+}
 
 /// Reads [`write_records`]' bytes; every count is checked against the bytes left first.
 fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordError> {
@@ -271,7 +320,18 @@ fn read_records(r: &mut ByteReader<'_>) -> Result<Vec<DamageRecord>, RecordError
                     1 => Some(read_edit(r)?),
                     t => return Err(RecordError::Malformed(format!("edit flag {t}"))),
                 };
-                DamageRecord::Dents(DentBatch { dents, impacts, edit, after: r.u64("hash after the batch")? })
+                let after = r.u64("hash after the batch")?;
+                DamageRecord::Dents(DentBatch { dents, impacts, edit, after, refinement: None })
+            }
+            REFINEMENT => {
+                let refinement = read_refinement(r)?;
+                match out.last_mut() {
+                    Some(DamageRecord::Dents(batch)) if batch.refinement.is_none() => {
+                        batch.refinement = Some(refinement);
+                        continue;
+                    }
+                    _ => return Err(RecordError::Malformed("a refinement not after a dent batch".into())),
+                }
             }
             2 => DamageRecord::Bend(JointBend {
                 frame: r.varint("bend frame")?,

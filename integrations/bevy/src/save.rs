@@ -75,6 +75,7 @@ impl Records {
             impacts: Vec::new(),
             edit: Some(edit),
             after: after.hash,
+            refinement: None,
         }));
         r.damage.final_mesh = after;
         r.last = now.clone();
@@ -108,6 +109,7 @@ impl Records {
             rest_shift: Vec3::ZERO,
             pieces,
             after: after.hash,
+            refinement: None,
         }));
         r.damage.final_mesh = after;
         r.last = rest.clone();

@@ -248,8 +248,8 @@ typedef struct {
   float angular_velocity[3];
   // Its vertices, 3 floats each, mesh coordinates.
   const float *positions;
-  // Its vertex normals, 3 floats each (a body's authored normals carried over, a cut's
-  // normal on its faces).
+  // Its vertex normals, 3 floats each (a body's authored normals carried over, a cut's own
+  // normal on a cut face whose vertices are its own: a mesh split at its hard edges).
   const float *normals;
   // Its UVs, 2 floats a vertex, when the body's mesh came with UVs (null otherwise): the
   // surface's carried over, a cut's projected on its plane at the mesh's texel density.

@@ -7,10 +7,10 @@ use std::hash::Hash;
 
 use dentbend::TriMesh;
 use dentbend::damage::{BodyFracture, DentedTarget};
+use dentbend::dent::changed_vertices;
 use dentbend::fracture::carry_asset;
 use dentbend::glam::{Vec2, Vec3};
-use dentbend::mesh::{Asset, VertexAttributes};
-use dentbend::record::ReplayStep;
+use dentbend::mesh::{Asset, Refinement, VertexAttributes};
 use dentbend::record::replication::ReplicaChange;
 
 use crate::status::Failure;
@@ -98,6 +98,9 @@ impl<K: Copy + Eq + Hash> Attributes<K> {
                 pieces.push(None);
                 continue;
             };
+            if broken.mesh() != &f.broken_mesh {
+                return Err(failed("the body's asset is not of the mesh that broke"));
+            }
             let made: Vec<Asset> = f
                 .pieces
                 .iter()
@@ -136,9 +139,8 @@ impl<K: Copy + Eq + Hash> Attributes<K> {
     /// the order of the changes' fractures; nothing is changed.
     ///
     /// # Errors
-    /// A body whose attributes cannot follow its new mesh: one message's dents always can; a
-    /// snapshot's mesh, several records from the base, only when it is one refinement of it
-    /// (not after refining dents or a break).
+    /// A body whose attributes cannot follow its new mesh: a message's dents and breaks always
+    /// can (the client computes them); a snapshot's mesh only when it is the base's, moved.
     pub(crate) fn follow_replica<'m>(
         &self,
         changes: &[ReplicaChange],
@@ -153,6 +155,10 @@ impl<K: Copy + Eq + Hash> Attributes<K> {
                 pieces.extend(c.fracture.as_ref().map(|_| None));
                 continue;
             };
+            if c.removed && c.fracture.is_none() {
+                bodies.push((id, None));
+                continue;
+            }
             let mut asset = asset.clone();
             // Up to the mesh that broke, or the new mesh.
             let edited = match (&c.fracture, mesh(id)) {
@@ -161,15 +167,7 @@ impl<K: Copy + Eq + Hash> Attributes<K> {
                 (None, None) => continue,
             };
             if asset.mesh() != edited {
-                let before = asset.mesh().clone();
-                ReplayStep::Edited { before: &before, after: edited }.carry(&mut asset).map_err(|e| {
-                    Failure::invalid(format!(
-                        "body {}'s attributes (UVs, normals) cannot follow: its new mesh is not one refinement of the \
-                         mesh the replica has ({e}); a snapshot of a body dented with refinement or broken is; join \
-                         before the body is damaged, or add it without attributes",
-                        c.id
-                    ))
-                })?;
+                follow_change(&mut asset, edited, c)?;
             }
             if let Some(f) = &c.fracture {
                 let made: Vec<Asset> = f
@@ -189,5 +187,27 @@ impl<K: Copy + Eq + Hash> Attributes<K> {
             }
         }
         Ok(Followed { bodies, pieces })
+    }
+}
+
+/// Brings `asset` from its mesh to `edited`, change `c`'s mesh (or the mesh that broke): with
+/// the refinement the client computed, exactly; without one (a change that came as a mesh),
+/// only when the faces are the same (positions moved, normals recomputed).
+///
+/// # Errors
+/// A change that refined the mesh without saying how.
+fn follow_change(asset: &mut Asset, edited: &TriMesh, c: &ReplicaChange) -> Result<(), Failure> {
+    let moved = changed_vertices(asset.mesh(), edited);
+    match &c.refinement {
+        Some(refinement) => asset.follow_dent(edited.clone(), refinement, &moved).map_err(failed),
+        None if asset.mesh().faces() == edited.faces() => {
+            asset.follow_dent(edited.clone(), &Refinement::default(), &moved).map_err(failed)
+        }
+        None => Err(Failure::invalid(format!(
+            "body {}'s attributes (UVs, normals) cannot follow: its mesh came refined, without the edges its new \
+             vertices split (a snapshot after a refining dent or a break); join before the body is damaged, or add \
+             it without attributes",
+            c.id
+        ))),
     }
 }

@@ -134,8 +134,8 @@ pub struct DbPiece {
     pub angular_velocity: [f32; 3],
     /// Its vertices, 3 floats each, mesh coordinates.
     pub positions: *const f32,
-    /// Its vertex normals, 3 floats each (a body's authored normals carried over, a cut's
-    /// normal on its faces).
+    /// Its vertex normals, 3 floats each (a body's authored normals carried over, a cut's own
+    /// normal on a cut face whose vertices are its own: a mesh split at its hard edges).
     pub normals: *const f32,
     /// Its UVs, 2 floats a vertex, when the body's mesh came with UVs (null otherwise): the
     /// surface's carried over, a cut's projected on its plane at the mesh's texel density.

@@ -90,8 +90,16 @@ impl DbReplica {
     /// server's `settings` for it.
     ///
     /// # Errors
-    /// A wire id already added, or settings the stream cannot carry.
+    /// A wire id already added, settings the stream cannot carry, or attributes on a body that
+    /// dents progressively (its dents travel as meshes).
     pub fn add_body(&mut self, wire_id: u32, asset: Asset, settings: &DentSettings) -> Result<(), Failure> {
+        let plain = Asset::from_mesh(asset.mesh().clone());
+        if settings.progressive && asset.attributes() != plain.attributes() {
+            return Err(Failure::invalid(format!(
+                "body {wire_id} dents progressively: its dents travel as meshes, which do not say which edge each new \
+                 vertex split, so its attributes (UVs, normals) cannot follow; add it without them"
+            )));
+        }
         self.client.add_body(wire_id, asset.mesh().clone(), settings).map_err(|e| Failure::invalid(e.to_string()))?;
         self.attributes.keep(wire_id, asset);
         Ok(())
@@ -410,7 +418,9 @@ pub unsafe extern "C" fn db_replica_uvs(
 ) -> *const f32 {
     let found = guarded_value(|| {
         // SAFETY: the caller's contract.
-        let uvs = unsafe { DbReplica::read(replica)? }.uvs(wire_id).unwrap_or(&[]);
+        let replica = unsafe { DbReplica::read(replica)? };
+        replica.mesh(wire_id).ok_or_else(|| Failure::invalid(format!("no body {wire_id}")))?;
+        let uvs = replica.uvs(wire_id).unwrap_or(&[]);
         Ok((uvs.as_ptr().cast(), uvs.len()))
     });
     // SAFETY: the caller's contract.

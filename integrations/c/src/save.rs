@@ -6,7 +6,7 @@ use std::ffi::{CStr, c_char, c_int};
 
 use dentbend::damage::DentedTarget;
 use dentbend::dent::changed_vertices;
-use dentbend::record::{DamageFile, DentForm, Projectiles, ReplayStep, replay_body_traced};
+use dentbend::record::{DamageFile, DentForm, Projectiles, replay_body, replay_body_asset};
 
 use crate::damage::DbDamage;
 use crate::status::{Failure, guarded, guarded_value, hand_out};
@@ -134,16 +134,22 @@ impl DbDamage {
             )));
         }
         // A body with attributes brings them through each record as it replays.
-        let mut asset = self.attributes.get(id).cloned();
-        let mut carried = Ok(());
-        let mut carry = |step: ReplayStep<'_>| {
-            if let (Some(asset), Ok(())) = (asset.as_mut(), &carried) {
-                carried = step.carry(asset);
+        let (restored, asset) = match self.attributes.get(id) {
+            None => {
+                let replayed = replay_body(body, now, DentForm::Edits, &Projectiles::new());
+                (replayed.map_err(|e| Failure::invalid(e.to_string()))?.mesh, None)
+            }
+            Some(asset) => {
+                let replayed = replay_body_asset(body, asset, (DentForm::Edits, &Projectiles::new()));
+                let (replayed, asset) = replayed.map_err(|e| {
+                    Failure::invalid(format!(
+                        "{e}: the body's UVs and normals cannot follow this damage file (saved without its \
+                         refinements); add the body without them to restore it"
+                    ))
+                })?;
+                (replayed.mesh, Some(asset))
             }
         };
-        let replayed = replay_body_traced(body, now, (DentForm::Edits, &Projectiles::new()), &mut carry);
-        let restored = replayed.map_err(|e| Failure::invalid(e.to_string()))?.mesh;
-        carried.map_err(|e| Failure::invalid(format!("the body's attributes cannot follow its damage: {e}")))?;
         let moved = changed_vertices(now, &restored);
         let topology_changed = now.faces() != restored.faces();
         if self.recorder.body(id).is_some() {

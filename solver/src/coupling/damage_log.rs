@@ -100,6 +100,7 @@ impl DamageLog {
                     impacts: Vec::new(),
                     edit: Some(edit),
                     after,
+                    refinement: None,
                 }));
                 logged.damage.final_mesh = MeshStamp::of(dented);
                 *last = dented.clone();

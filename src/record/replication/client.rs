@@ -11,7 +11,7 @@ use super::{ReplicationError, settings_digest};
 use crate::damage::PieceId;
 use crate::dent::{DentJob, DentParams, DentSettings, changed_vertices, dent_batch_tracked};
 use crate::fracture::{Piece, VertexOrigin, replay};
-use crate::mesh::{TriMesh, content_hash};
+use crate::mesh::{Refinement, TriMesh, content_hash};
 use crate::record::hex64;
 
 /// One body a message or snapshot changed on the client.
@@ -29,6 +29,14 @@ pub struct ReplicaChange {
     /// Whether the body is gone (a fracture took it whole): remove it. The client no longer
     /// has it.
     pub removed: bool,
+    /// What refinement appended to the body's mesh (up to the mesh that broke, when it broke),
+    /// when this client computed the message's dents itself: each new vertex's edge and each
+    /// new face's parent, to carry per-vertex data over exactly ([`Asset::follow_dent`]).
+    /// `None` for a change that came as a mesh (a snapshot, a progressive body's or a
+    /// mesh-edit server's message), which does not tell them.
+    ///
+    /// [`Asset::follow_dent`]: crate::mesh::Asset::follow_dent
+    pub refinement: Option<Refinement>,
 }
 
 /// A fracture replayed on the client: the server's pieces, bit for bit, for the caller to make
@@ -54,6 +62,8 @@ struct Staged {
     /// Its mesh after the message; `None` when it is gone.
     mesh: Option<TriMesh>,
     fracture: Option<ReplicaFracture>,
+    /// What the client's own dents refined, when it computed them.
+    refinement: Option<Refinement>,
 }
 
 #[derive(Debug, Clone)]
@@ -180,10 +190,10 @@ impl ReplicationClient {
             if hash != s.hash {
                 return Err(other(s.id, "the joined mesh's hash", hex64(s.hash), hex64(hash)));
             }
-            staged.push(Staged { id: s.id, mesh: Some(mesh), fracture: None });
+            staged.push(Staged { id: s.id, mesh: Some(mesh), fracture: None, refinement: None });
         }
         // Removed bodies this client does not have are passed over by the commit.
-        staged.extend(snapshot.removed.iter().map(|&id| Staged { id, mesh: None, fracture: None }));
+        staged.extend(snapshot.removed.iter().map(|&id| Staged { id, mesh: None, fracture: None, refinement: None }));
         let changes = self.commit(staged);
         self.pieces = snapshot.pieces.into_iter().collect();
         self.next = Some(snapshot.next);
@@ -222,7 +232,7 @@ impl ReplicationClient {
     /// Gives each staged body its new mesh, or removes it; returns what changed.
     fn commit(&mut self, staged: Vec<Staged>) -> Vec<ReplicaChange> {
         let mut changes = Vec::with_capacity(staged.len());
-        for Staged { id, mesh, fracture } in staged {
+        for Staged { id, mesh, fracture, refinement } in staged {
             let made = fracture.iter().flat_map(|f| &f.pieces);
             self.pieces.extend(made.map(|(piece_id, piece)| (*piece_id, piece.mesh.clone())));
             let Some(body) = self.bodies.get_mut(&id) else { continue };
@@ -230,7 +240,7 @@ impl ReplicationClient {
                 Some(mesh) => {
                     let moved = changed_vertices(&body.mesh, &mesh);
                     let topology_changed = body.mesh.faces() != mesh.faces();
-                    changes.push(ReplicaChange { id, moved, topology_changed, fracture, removed: false });
+                    changes.push(ReplicaChange { id, moved, topology_changed, fracture, removed: false, refinement });
                     body.mesh = mesh;
                 }
                 None => {
@@ -241,6 +251,7 @@ impl ReplicationClient {
                         topology_changed: true,
                         fracture,
                         removed: true,
+                        refinement,
                     });
                 }
             }
@@ -251,15 +262,19 @@ impl ReplicationClient {
     /// Body `g.id` after its group: its change checked against the group's hash, then its
     /// fracture replayed and checked.
     fn changed(&self, g: &Group) -> Result<Staged, ReplicationError> {
-        let mesh = self.changed_mesh(g)?;
-        let Some(wire) = &g.fracture else { return Ok(Staged { id: g.id, mesh: Some(mesh), fracture: None }) };
+        let (mesh, refinement) = self.changed_mesh(g)?;
+        let Some(wire) = &g.fracture else {
+            return Ok(Staged { id: g.id, mesh: Some(mesh), fracture: None, refinement });
+        };
         let (rest, fracture) = replay_break(g.id, &mesh, wire)?;
-        Ok(Staged { id: g.id, mesh: rest, fracture: Some(fracture) })
+        Ok(Staged { id: g.id, mesh: rest, fracture: Some(fracture), refinement })
     }
 
-    /// Body `g.id`'s mesh after its group's change, checked against the group's hash.
-    fn changed_mesh(&self, g: &Group) -> Result<TriMesh, ReplicationError> {
+    /// Body `g.id`'s mesh after its group's change, checked against the group's hash, with
+    /// what refinement appended to it when the client computed the dents itself.
+    fn changed_mesh(&self, g: &Group) -> Result<(TriMesh, Option<Refinement>), ReplicationError> {
         let body = self.bodies.get(&g.id).ok_or(ReplicationError::MissingBase { id: g.id })?;
+        let mut refinement = None;
         let mesh = match &g.change {
             GroupChange::Edit(edit) => {
                 edit.apply(&body.mesh).map_err(|error| ReplicationError::Mesh { id: g.id, error })?
@@ -308,17 +323,18 @@ impl ReplicationClient {
                     .collect();
                 let mut meshes = vec![body.mesh.clone()];
                 if jobs.is_empty() {
-                    return self.checked(g, meshes.swap_remove(0));
+                    return Ok((self.checked(g, meshes.swap_remove(0))?, Some(Refinement::default())));
                 }
-                dent_batch_tracked(&mut meshes, &jobs).map_err(|e| ReplicationError::Dent {
+                let outcome = dent_batch_tracked(&mut meshes, &jobs).map_err(|e| ReplicationError::Dent {
                     id: g.id,
                     dent: e.job,
                     error: e.error,
                 })?;
+                refinement = Some(outcome.refined.into_iter().next().unwrap_or_default());
                 meshes.pop().unwrap_or_else(|| body.mesh.clone())
             }
         };
-        self.checked(g, mesh)
+        Ok((self.checked(g, mesh)?, refinement))
     }
 
     /// `mesh` when its hash is the one group `g` carries.
