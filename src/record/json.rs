@@ -10,9 +10,13 @@ use super::{BodyDamage, DamageFile, DamageRecord, MeshStamp, RecordError, SceneR
 
 /// The `format` field of every damage file.
 const FORMAT: &str = "dentbend-damage";
-/// The format version this build writes. It reads this one and version 1, whose fractures
+/// The format version this build writes: dent batches may carry their refinement (record tag
+/// 8). It reads this one, version 2 (no refinements recorded) and version 1, whose fractures
 /// came out welded from meshes with seams (their records replay that way).
-const VERSION: u32 = 2;
+const VERSION: u32 = 3;
+
+/// The version before refinements were recorded.
+const NO_REFINEMENTS: u32 = 2;
 
 /// The version whose fractures welded their output.
 const WELDED_FRACTURES: u32 = 1;
@@ -138,7 +142,7 @@ impl DamageFile {
         if header.format != FORMAT {
             return Err(RecordError::Malformed(format!("format {:?} is not {FORMAT:?}", header.format)));
         }
-        if header.version != VERSION && header.version != WELDED_FRACTURES {
+        if ![VERSION, NO_REFINEMENTS, WELDED_FRACTURES].contains(&header.version) {
             return Err(RecordError::Version { found: header.version, supported: VERSION });
         }
         let wire: WireFile = serde_json::from_slice(bytes).map_err(json_error)?;

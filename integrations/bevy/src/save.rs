@@ -109,7 +109,6 @@ impl Records {
             rest_shift: Vec3::ZERO,
             pieces,
             after: after.hash,
-            refinement: None,
         }));
         r.damage.final_mesh = after;
         r.last = rest.clone();

@@ -200,3 +200,25 @@ def test_a_replica_keeps_the_assets_uvs(ball):
     assert np.array_equal(client.positions(WIRE_SLAB), server.positions(SLAB))
     assert np.abs(client.uvs(WIRE_SLAB) - server.uvs(SLAB)).max() < 1e-6
     assert np.abs(client.normals(WIRE_SLAB) - server.normals(SLAB)).max() < 1e-5
+
+
+def test_a_restored_asset_has_the_saved_uvs(ball):
+    """Damage saved from a game asset (one dent, then two in one step: both refine) restores on
+    a fresh one with the same mesh bit for bit and the same UVs (within 1e-6)."""
+    positions, faces, normals, uvs = meshes.box_asset()
+
+    def fresh():
+        damage = dentbend.Damage()
+        damage.add_body(SLAB, positions, faces, threshold_speed=1.0, depth_per_speed=0.01, max_depth=0.1, uvs=uvs,
+                        normals=normals)
+        damage.add_projectile(BALL)
+        return damage
+
+    damage = fresh()
+    damage.record(SLAB, "slab")
+    damage.step([ball_hit(ball, 8.0, x=-1.0, y=1.0)[1]])
+    damage.step([ball_hit(ball, 6.0, x=1.2, y=0.8)[1], ball_hit(ball, 6.0, x=-1.2, y=-1.0)[1]])
+    other = fresh()
+    other.restore(SLAB, damage.save(), "slab")
+    assert np.array_equal(other.positions(SLAB), damage.positions(SLAB))
+    assert np.abs(other.uvs(SLAB) - damage.uvs(SLAB)).max() < 1e-6
