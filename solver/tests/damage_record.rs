@@ -189,10 +189,14 @@ fn truncated_files_are_refused_with_a_typed_error() {
 fn another_version_or_format_is_refused() {
     let d = small_damage();
     let text = String::from_utf8(d.file.to_json().unwrap()).unwrap();
-    let newer = text.replacen("\"version\":2", "\"version\":3", 1);
-    assert!(matches!(DamageFile::from_json(newer.as_bytes()), Err(RecordError::Version { found: 3, supported: 2 })));
-    let older = text.replacen("\"version\":2", "\"version\":0", 1);
-    assert!(matches!(DamageFile::from_json(older.as_bytes()), Err(RecordError::Version { found: 0, supported: 2 })));
+    assert!(text.contains("\"version\":3"), "written as version 3");
+    let newer = text.replacen("\"version\":3", "\"version\":4", 1);
+    assert!(matches!(DamageFile::from_json(newer.as_bytes()), Err(RecordError::Version { found: 4, supported: 3 })));
+    let older = text.replacen("\"version\":3", "\"version\":0", 1);
+    assert!(matches!(DamageFile::from_json(older.as_bytes()), Err(RecordError::Version { found: 0, supported: 3 })));
+    // Version 2 (before refinements were recorded) still reads.
+    let previous = text.replacen("\"version\":3", "\"version\":2", 1);
+    assert!(DamageFile::from_json(previous.as_bytes()).is_ok());
     let other = text.replacen("dentbend-damage", "something-else", 1);
     assert!(matches!(DamageFile::from_json(other.as_bytes()), Err(RecordError::Malformed(_))));
 }
