@@ -11,7 +11,7 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use super::{SurfacePoint, VertexOrigin};
-use crate::mesh::{Asset, MeshError, Skin, TriMesh, VertexAttributes};
+use crate::mesh::{Asset, MeshError, Skin, TriMesh, VertexAttributes, orthogonal_tangent};
 
 /// The asset of `mesh`, an output of breaking `broken` (its rest or a piece, in the same
 /// coordinates), whose vertices lie where `origins` say on `broken`'s mesh, with `broken`'s
@@ -48,11 +48,11 @@ pub fn carry_asset(broken: &Asset, mesh: TriMesh, origins: &[VertexOrigin]) -> R
         .uvs
         .iter()
         .map(|set| {
-            let density = texel_density(broken.mesh(), set);
+            let density = texel_density(broken.mesh().positions(), broken.mesh().faces(), set);
             (0..origins.len())
                 .map(|k| match cut_normal(k) {
                     Some(n) => {
-                        let (u, v) = plane_axes(n);
+                        let (u, v) = cut_uv_axes(n);
                         let p = mesh.positions()[k];
                         Vec2::new(u.dot(p), v.dot(p)) * density
                     }
@@ -64,7 +64,7 @@ pub fn carry_asset(broken: &Asset, mesh: TriMesh, origins: &[VertexOrigin]) -> R
     let tangents = from.tangents.as_ref().map(|authored| {
         (0..origins.len())
             .map(|k| match (cut_normal(k), corners(&origins[k])) {
-                (Some(n), _) => perpendicular(plane_axes(n).0.extend(1.0), shading[k]),
+                (Some(n), _) => perpendicular(cut_uv_axes(n).0.extend(1.0), shading[k]),
                 (None, Some(c)) => {
                     let w = authored[heaviest(c)].w;
                     perpendicular(blend(authored, c).truncate().extend(w), shading[k])
@@ -149,33 +149,36 @@ fn heaviest((corners, weights): ([usize; 3], [f32; 3])) -> usize {
     corners[k]
 }
 
-/// UV units per metre along `mesh`'s surface for UV set `uvs`: the total UV length of its
-/// faces' edges over their total length (1 for a mesh with no length or no UV length).
-fn texel_density(mesh: &TriMesh, uvs: &[Vec2]) -> f32 {
+/// UV units per metre along a mesh's surface (`positions`, `faces`) for the UV set `uvs`: the
+/// total UV length of its faces' edges over their total length; 1 for a mesh with no length or
+/// no UV length. Edges with an end past either array are left out.
+pub fn texel_density(positions: &[Vec3], faces: &[[u32; 3]], uvs: &[Vec2]) -> f32 {
     let (mut along_uv, mut along_surface) = (0.0f64, 0.0f64);
-    for face in mesh.faces() {
+    for face in faces {
         for k in 0..3 {
             let (a, b) = (face[k] as usize, face[(k + 1) % 3] as usize);
-            along_surface += f64::from(mesh.positions()[a].distance(mesh.positions()[b]));
-            along_uv += f64::from(uvs[a].distance(uvs[b]));
+            let (Some(pa), Some(pb), Some(ua), Some(ub)) = (positions.get(a), positions.get(b), uvs.get(a), uvs.get(b))
+            else {
+                continue;
+            };
+            along_surface += f64::from(pa.distance(*pb));
+            along_uv += f64::from(ua.distance(*ub));
         }
     }
     let density = (along_uv / along_surface) as f32;
     if density.is_finite() && density > 0.0 { density } else { 1.0 }
 }
 
-/// Two unit axes of the plane of unit normal `n`, with u × v = n: the same for every vertex of
-/// one cut, which share its normal, so its projection has no seam.
-fn plane_axes(n: Vec3) -> (Vec3, Vec3) {
-    let helper = if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
-    let u = (helper - n * n.dot(helper)).normalize_or_zero();
-    (u, n.cross(u))
+/// The axes (u, v) a cut of unit normal `normal` projects UVs on, with u × v = normal: the
+/// same for every vertex of one cut, which share its normal, so its projection has no seam.
+pub fn cut_uv_axes(normal: Vec3) -> (Vec3, Vec3) {
+    let helper = if normal.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
+    let u = (helper - normal * normal.dot(helper)).normalize_or_zero();
+    (u, normal.cross(u))
 }
 
-/// `tangent` (xyz, w the handedness) made unit and perpendicular to `normal`, w ±1; any unit
-/// vector perpendicular to the normal where nothing of it is.
+/// `tangent` made unit and perpendicular to `normal`, its handedness w made ±1.
 fn perpendicular(tangent: Vec4, normal: Vec3) -> Vec4 {
     let w = if tangent.w < 0.0 { -1.0 } else { 1.0 };
-    let t = tangent.truncate();
-    (t - normal * normal.dot(t)).try_normalize().unwrap_or_else(|| normal.any_orthonormal_vector()).extend(w)
+    orthogonal_tangent(tangent.truncate().extend(w), normal)
 }

@@ -23,7 +23,7 @@ mod split_table;
 mod tally;
 mod weld;
 
-pub use carry::carry_asset;
+pub use carry::{carry_asset, cut_uv_axes, texel_density};
 pub use error::FractureError;
 pub use origin::{SurfacePoint, VertexOrigin};
 pub use outcome::{FractureOutcome, FractureRecord, Piece, break_body, replay, volume_after};

@@ -187,8 +187,8 @@ fn recompute_normals(mesh: &TriMesh, affected: &[bool], normals: &mut [Vec3]) {
 }
 
 /// `tangent`'s xyz made unit and perpendicular to `normal` (any perpendicular if it was along
-/// it), w kept.
-fn orthogonal_tangent(tangent: Vec4, normal: Vec3) -> Vec4 {
+/// it), w (the handedness) kept: a tangent re-orthogonalised after its normal changed.
+pub fn orthogonal_tangent(tangent: Vec4, normal: Vec3) -> Vec4 {
     let t = tangent.truncate();
     let along = t - normal * normal.dot(t);
     let xyz =

@@ -59,6 +59,7 @@ pub(crate) use self::gltf::save_glb;
 #[cfg(feature = "io")]
 pub use self::gltf::{DEFAULT_GLTF_COLOR, GltfNode, save_glb_scene};
 pub use asset::{Asset, FaceGroup, Skin, VertexAttributes};
+pub use asset_follow::orthogonal_tangent;
 pub use asset_io::{builtin_asset, load_asset, save_asset};
 pub use builtin::{BUILTIN_NAMES, builtin, load};
 #[cfg(feature = "io")]

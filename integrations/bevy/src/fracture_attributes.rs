@@ -7,8 +7,9 @@
 //! from the nearest surface point.
 
 use bevy::mesh::{Mesh, VertexAttributeValues};
-use dentbend::fracture::{SurfacePoint, VertexOrigin};
+use dentbend::fracture::{SurfacePoint, VertexOrigin, cut_uv_axes, texel_density};
 use dentbend::glam::{Vec2, Vec3, Vec4};
+use dentbend::mesh::orthogonal_tangent;
 
 /// What a fracture's output mesh takes its attributes from: the asset that broke (one value
 /// per vertex of `faces`' mesh), the faces its origins name, the scale the output's
@@ -75,7 +76,7 @@ pub(crate) fn carry_attributes(out: &mut Mesh, broken: &Broken, origins: &[Verte
                 VertexOrigin::Cut { normal, .. } => normal * broken.body_scale,
                 VertexOrigin::Surface(_) => normals[k] * broken.scale,
             };
-            plane_axes(n.normalize_or_zero())
+            cut_uv_axes(n.normalize_or_zero())
         };
         match &mut carried {
             VertexAttributeValues::Float32x2(uvs) if id == Mesh::ATTRIBUTE_UV_0.id || id == Mesh::ATTRIBUTE_UV_1.id => {
@@ -101,43 +102,23 @@ pub(crate) fn carry_attributes(out: &mut Mesh, broken: &Broken, origins: &[Verte
     }
 }
 
-/// The UV units per metre along `asset`'s surface (total UV length of its `faces`' edges over
-/// their total length; 1 without UVs or with a degenerate mesh).
+/// The UV units per metre along `asset`'s surface ([`texel_density`] of its `faces` and first
+/// UV set; 1 without UVs).
 fn uv_density(asset: &Mesh, faces: &[[u32; 3]]) -> f32 {
     let (Some(VertexAttributeValues::Float32x3(p)), Some(VertexAttributeValues::Float32x2(uv))) =
         (asset.attribute(Mesh::ATTRIBUTE_POSITION), asset.attribute(Mesh::ATTRIBUTE_UV_0))
     else {
         return 1.0;
     };
-    let (mut along_uv, mut along_surface) = (0.0f64, 0.0f64);
-    for face in faces {
-        for k in 0..3 {
-            let (a, b) = (face[k] as usize, face[(k + 1) % 3] as usize);
-            let (Some(pa), Some(pb), Some(ua), Some(ub)) = (p.get(a), p.get(b), uv.get(a), uv.get(b)) else {
-                continue;
-            };
-            along_surface += f64::from(Vec3::from_array(*pa).distance(Vec3::from_array(*pb)));
-            along_uv += f64::from(Vec2::from_array(*ua).distance(Vec2::from_array(*ub)));
-        }
-    }
-    let density = (along_uv / along_surface) as f32;
-    if density.is_finite() && density > 0.0 { density } else { 1.0 }
+    let positions: Vec<Vec3> = p.iter().map(|p| Vec3::from_array(*p)).collect();
+    let uvs: Vec<Vec2> = uv.iter().map(|u| Vec2::from_array(*u)).collect();
+    texel_density(&positions, faces, &uvs)
 }
 
-/// Two unit axes of the plane of unit normal `n`, with u × v = n; the same for every vertex
-/// of one cut, whose vertices share its normal.
-fn plane_axes(n: Vec3) -> (Vec3, Vec3) {
-    let helper = if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
-    let u = (helper - n * n.dot(helper)).normalize_or_zero();
-    (u, n.cross(u))
-}
-
-/// `tangent` (xyz, w the handedness) made unit and perpendicular to `normal`, w ±1; as it is
-/// where nothing of it is perpendicular to the normal.
+/// `tangent` made unit and perpendicular to `normal`, its handedness w made ±1.
 fn perpendicular(tangent: Vec4, normal: Vec3) -> Vec4 {
-    let t = tangent.truncate();
     let w = if tangent.w < 0.0 { -1.0 } else { 1.0 };
-    (t - normal * normal.dot(t)).try_normalize().map_or(tangent, |u| u.extend(w))
+    orthogonal_tangent(tangent.truncate().extend(w), normal)
 }
 
 /// The surface point each origin takes its attributes from (a cut's nearest; `None`: none).
