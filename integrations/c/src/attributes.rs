@@ -36,7 +36,7 @@ pub(crate) struct Followed<K> {
 }
 
 /// Whether `attributes` holds anything beyond positions and faces.
-fn any(attributes: &VertexAttributes) -> bool {
+pub(crate) fn any(attributes: &VertexAttributes) -> bool {
     !attributes.uvs.is_empty()
         || attributes.normals.is_some()
         || attributes.tangents.is_some()

@@ -152,6 +152,11 @@ pub struct DbPiece {
     pub triangle_count: usize,
 }
 
+/// One of a step's fractures as [`DbDamage::fractures`] gives it: the fracture, the body's mesh
+/// -> world transform when it broke, its pieces' collider points, and its pieces' assets when
+/// the body had attributes.
+pub type StepFracture<'a> = (&'a BodyFracture<u64>, Affine3A, &'a [Vec<Vec3>], Option<&'a [Asset]>);
+
 /// A fracture read back: the library's, with each piece's collider points and, for a body with
 /// attributes, each piece's asset.
 #[derive(Debug)]
@@ -250,16 +255,11 @@ impl DbDamage {
         Ok(())
     }
 
-    /// The last step's fractures, each with the body's mesh -> world transform when it broke
-    /// and, for a body with attributes, its pieces' assets (UVs and normals carried over).
-    pub fn fractures(&self) -> impl ExactSizeIterator<Item = (&BodyFracture<u64>, Affine3A, Option<&[Asset]>)> {
-        self.fractures.iter().map(|f| (&f.fracture, f.to_world, f.assets.as_deref()))
-    }
-
-    /// The collider points of piece `piece` of the last step's fracture `fracture` (indices
-    /// into [`fractures`](Self::fractures)).
-    pub fn piece_hull(&self, fracture: usize, piece: usize) -> Option<&[Vec3]> {
-        self.fractures.get(fracture)?.hulls.get(piece).map(Vec::as_slice)
+    /// The last step's fractures, each with the body's mesh -> world transform when it broke,
+    /// its pieces' collider points and, for a body with attributes, its pieces' assets (UVs and
+    /// normals carried over).
+    pub fn fractures(&self) -> impl ExactSizeIterator<Item = StepFracture<'_>> {
+        self.fractures.iter().map(|f| (&f.fracture, f.to_world, f.hulls.as_slice(), f.assets.as_deref()))
     }
 
     /// Stops naming piece `id` on the replication stream (the game removed it).

@@ -36,9 +36,9 @@ pub use damage::{
 };
 pub use dent::{DbDentOptions, DbDentReport, DbImpact, db_dent, db_dent_ex, db_dent_options_default};
 pub use fracture::{
-    DB_FRACTURE_DENT, DB_FRACTURE_ENERGY, DbFracture, DbFractureSettings, DbPiece, db_damage_forget_piece,
-    db_damage_fracture, db_damage_fracture_count, db_damage_piece, db_damage_piece_mesh, db_damage_set_fracture,
-    db_fracture_settings_default,
+    DB_FRACTURE_DENT, DB_FRACTURE_ENERGY, DbFracture, DbFractureSettings, DbPiece, StepFracture,
+    db_damage_forget_piece, db_damage_fracture, db_damage_fracture_count, db_damage_piece, db_damage_piece_mesh,
+    db_damage_set_fracture, db_fracture_settings_default,
 };
 pub use mesh::{
     DB_MAX_TRIANGLES, DB_MAX_VERTICES, DbMesh, db_mesh_free, db_mesh_indices, db_mesh_moved, db_mesh_moved_count,

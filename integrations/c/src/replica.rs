@@ -13,7 +13,7 @@ use dentbend::glam::{Vec2, Vec3};
 use dentbend::mesh::Asset;
 use dentbend::record::replication::{ReplicaChange, ReplicaFracture, ReplicationClient, ReplicationError};
 
-use crate::attributes::Attributes;
+use crate::attributes::{self, Attributes};
 use crate::damage::{DbDentSettings, dent_settings};
 use crate::fracture::{DbPiece, piece_view, write_out};
 use crate::handles;
@@ -93,8 +93,7 @@ impl DbReplica {
     /// A wire id already added, settings the stream cannot carry, or attributes on a body that
     /// dents progressively (its dents travel as meshes).
     pub fn add_body(&mut self, wire_id: u32, asset: Asset, settings: &DentSettings) -> Result<(), Failure> {
-        let plain = Asset::from_mesh(asset.mesh().clone());
-        if settings.progressive && asset.attributes() != plain.attributes() {
+        if settings.progressive && attributes::any(asset.attributes()) {
             return Err(Failure::invalid(format!(
                 "body {wire_id} dents progressively: its dents travel as meshes, which do not say which edge each new \
                  vertex split, so its attributes (UVs, normals) cannot follow; add it without them"

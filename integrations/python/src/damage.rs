@@ -389,7 +389,7 @@ impl Damage {
     /// The bodies the last step broke. A body keeps its id with its rest (its mesh, all of its
     /// vertices `moved`), unless the pattern took it whole: then the context no longer has it.
     fn fractures(&self, py: Python<'_>) -> PyResult<Vec<Fracture>> {
-        self.inner.fractures().map(|(f, to_world, assets)| fracture(py, f, to_world, assets)).collect()
+        self.inner.fractures().map(|(f, to_world, hulls, assets)| fracture(py, f, to_world, hulls, assets)).collect()
     }
 
     /// Stops naming piece `index` of fracture `fracture` on the replication stream (the game

@@ -95,8 +95,8 @@ fn piece(
     asset: Option<&Asset>,
     mass: &MassProperties,
     velocity: (Vec3, Vec3),
+    hull: &[Vec3],
 ) -> PyResult<Py<Piece>> {
-    let hull = dentbend::damage::piece_hull_points(mesh, mass.center);
     let normals = asset.map_or(mesh.normals(), Asset::shading_normals);
     let uvs = asset.and_then(|a| a.attributes().uvs.first());
     let made = Piece {
@@ -106,7 +106,7 @@ fn piece(
         faces: rows_out(py, mesh.faces().to_vec()).unbind(),
         normals: positions_out(py, normals.to_vec()).unbind(),
         uvs: uvs.map(|u| uvs_out(py, u).unbind()),
-        hull_points: positions_out(py, hull).unbind(),
+        hull_points: positions_out(py, hull.to_vec()).unbind(),
         mass: mass.mass,
         center_of_mass: mass.center.into(),
         inertia: matrix_out(py, mat3_rows(mass.inertia)),
@@ -171,6 +171,7 @@ pub fn fracture(
     py: Python<'_>,
     f: &BodyFracture<u64>,
     to_world: Affine3A,
+    hulls: &[Vec<Vec3>],
     assets: Option<&[Asset]>,
 ) -> PyResult<Fracture> {
     let pieces = f
@@ -179,7 +180,7 @@ pub fn fracture(
         .enumerate()
         .map(|(k, p)| {
             let asset = assets.map(|a| &a[k]);
-            piece(py, p.id, &p.mesh, asset, &p.mass, (p.linear_velocity, p.angular_velocity))
+            piece(py, p.id, &p.mesh, asset, &p.mass, (p.linear_velocity, p.angular_velocity), &hulls[k])
         })
         .collect::<PyResult<_>>()?;
     Ok(Fracture {
@@ -236,7 +237,9 @@ pub fn replica_fracture(py: Python<'_>, made: &ReplicaBreak) -> PyResult<Replica
         .pieces
         .iter()
         .enumerate()
-        .map(|(k, (id, p))| piece(py, *id, &p.mesh, made.assets.as_ref().map(|a| &a[k]), &p.mass, still))
+        .map(|(k, (id, p))| {
+            piece(py, *id, &p.mesh, made.assets.as_ref().map(|a| &a[k]), &p.mass, still, &made.hulls[k])
+        })
         .collect::<PyResult<_>>()?;
     Ok(ReplicaFracture { body: made.body, whole: made.whole, number: made.fracture.number, pieces })
 }
